@@ -1,0 +1,37 @@
+#pragma once
+// Little-endian byte helpers (seed 003 §4: lowest byte first) and hex text.
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace lmcfg {
+
+using Bytes = std::vector<std::uint8_t>;
+using ByteView = std::span<const std::uint8_t>;
+
+inline std::uint16_t get_u16le(ByteView b, std::size_t off) {
+  return static_cast<std::uint16_t>(b[off] | (b[off + 1] << 8));
+}
+inline std::uint32_t get_u32le(ByteView b, std::size_t off) {
+  return static_cast<std::uint32_t>(b[off]) | (static_cast<std::uint32_t>(b[off + 1]) << 8) |
+         (static_cast<std::uint32_t>(b[off + 2]) << 16) | (static_cast<std::uint32_t>(b[off + 3]) << 24);
+}
+inline void put_u16le(Bytes& out, std::uint16_t v) {
+  out.push_back(static_cast<std::uint8_t>(v & 0xFF));
+  out.push_back(static_cast<std::uint8_t>(v >> 8));
+}
+inline void put_u32le(Bytes& out, std::uint32_t v) {
+  for (int i = 0; i < 4; ++i) out.push_back(static_cast<std::uint8_t>((v >> (8 * i)) & 0xFF));
+}
+
+// "01 11 05" (upper case, space separated).
+std::string to_hex(ByteView b, char sep = ' ');
+// Accepts hex digits with optional spaces/colons between byte pairs; nullopt on odd count or non-hex.
+std::optional<Bytes> from_hex(std::string_view text);
+// Parses "0x13A2", "13A2h", "13A2" as hex when hex_default, or decimal otherwise ("5026").
+std::optional<std::uint32_t> parse_number(std::string_view text, bool hex_default);
+
+}  // namespace lmcfg

@@ -1,0 +1,119 @@
+#pragma once
+// Error handling inside the library: a std::error_code plus a message that
+// says what went wrong, where, and what was expected. Exceptions are used only
+// at the edges (tools).
+#include <cassert>
+#include <string>
+#include <system_error>
+#include <utility>
+#include <variant>
+
+namespace lmcfg {
+
+// Library-wide error conditions. Values are stable: tools map them to exit codes.
+enum class Errc {
+  ok = 0,
+  // communication (link)
+  timeout = 1,
+  link_closed,
+  io_error,
+  // telegram (codec)
+  frame_short,
+  frame_overlong,
+  frame_malformed,
+  checksum_mismatch,
+  unexpected_response,
+  // drive answered with an error communication state (see CommStateCategory)
+  drive_refused,
+  // input and files
+  invalid_argument,
+  parse_error,
+  unsupported_version,
+  validation_failed,
+  not_found,
+  file_error,
+  // operations
+  plan_refused,
+  verify_mismatch,
+  cancelled,
+};
+
+const std::error_category& lmcfg_category() noexcept;
+std::error_code make_error_code(Errc e) noexcept;
+
+// Communication state bytes of seed 003 §16.1 (C1..C9) as their own category,
+// so a drive refusal carries the exact state code it answered.
+const std::error_category& comm_state_category() noexcept;
+std::error_code make_comm_state_error(unsigned state_byte) noexcept;
+
+struct Error {
+  std::error_code code;
+  std::string message;
+
+  Error() = default;
+  Error(std::error_code c, std::string m) : code(c), message(std::move(m)) {}
+  Error(Errc e, std::string m) : code(make_error_code(e)), message(std::move(m)) {}
+};
+
+template <class T>
+class [[nodiscard]] Result {
+ public:
+  Result(T value) : v_(std::move(value)) {}  // NOLINT(google-explicit-constructor)
+  Result(Error e) : v_(std::move(e)) {}      // NOLINT(google-explicit-constructor)
+
+  bool ok() const noexcept { return v_.index() == 0; }
+  explicit operator bool() const noexcept { return ok(); }
+
+  T& value() & { assert(ok()); return std::get<0>(v_); }
+  const T& value() const& { assert(ok()); return std::get<0>(v_); }
+  T&& value() && { assert(ok()); return std::get<0>(std::move(v_)); }
+  T* operator->() { return &value(); }
+  const T* operator->() const { return &value(); }
+  T& operator*() & { return value(); }
+  const T& operator*() const& { return value(); }
+
+  const Error& error() const& { assert(!ok()); return std::get<1>(v_); }
+  Error&& error() && { assert(!ok()); return std::get<1>(std::move(v_)); }
+
+ private:
+  std::variant<T, Error> v_;
+};
+
+template <>
+class [[nodiscard]] Result<void> {
+ public:
+  Result() = default;
+  Result(Error e) : err_(std::move(e)), failed_(true) {}  // NOLINT(google-explicit-constructor)
+  bool ok() const noexcept { return !failed_; }
+  explicit operator bool() const noexcept { return ok(); }
+  const Error& error() const& { assert(failed_); return err_; }
+  Error&& error() && { assert(failed_); return std::move(err_); }
+
+ private:
+  Error err_;
+  bool failed_ = false;
+};
+
+}  // namespace lmcfg
+
+namespace std {
+template <>
+struct is_error_code_enum<lmcfg::Errc> : true_type {};
+}  // namespace std
+
+// Propagate an error from an expression returning Result<...>.
+#define LMCFG_TRY(expr)                                      \
+  do {                                                       \
+    auto lmcfg_try_r_ = (expr);                              \
+    if (!lmcfg_try_r_.ok()) return std::move(lmcfg_try_r_).error(); \
+  } while (0)
+
+#define LMCFG_CONCAT_INNER_(a, b) a##b
+#define LMCFG_CONCAT_(a, b) LMCFG_CONCAT_INNER_(a, b)
+#define LMCFG_ASSIGN_OR_RETURN_IMPL_(tmp, lhs, expr) \
+  auto tmp = (expr);                                 \
+  if (!tmp.ok()) return std::move(tmp).error();      \
+  lhs = std::move(tmp).value()
+// LMCFG_ASSIGN_OR_RETURN(auto x, f()); declares x from a successful Result.
+#define LMCFG_ASSIGN_OR_RETURN(lhs, expr) \
+  LMCFG_ASSIGN_OR_RETURN_IMPL_(LMCFG_CONCAT_(lmcfg_aor_, __LINE__), lhs, expr)

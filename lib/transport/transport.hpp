@@ -1,0 +1,99 @@
+#pragma once
+// One small byte interface for every link (libmodbus backend table, lely
+// io_can_chan_vtbl): serial port, TCP gateway, in-process simulated drive.
+// Framing and checksums stay in the codec; a transport only moves bytes.
+#include <array>
+#include <chrono>
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "common/bytes.hpp"
+#include "common/result.hpp"
+
+namespace lmcfg::transport {
+
+using Clock = std::chrono::steady_clock;
+using Millis = std::chrono::milliseconds;
+
+class Transport {
+ public:
+  virtual ~Transport() = default;
+  // Writes all bytes (blocking until handed to the OS / peer).
+  virtual Result<void> write(ByteView bytes) = 0;
+  // Reads what is available, waiting at most `timeout` for the first byte.
+  // Returns an empty vector on timeout; link_closed / io_error on failure.
+  virtual Result<Bytes> read_some(Millis timeout) = 0;
+  // Discards bytes already received but not read (before a retry).
+  virtual void discard_input() = 0;
+  // "serial /dev/ttyUSB0 57600 8N1", "tcp 10.0.0.5:4001", "sim"...
+  virtual std::string describe() const = 0;
+  // Wire time of one byte in microseconds for this link's settings, if it has one
+  // (serial and simulated links); 0 when unknown (TCP).
+  virtual double byte_time_us() const { return 0.0; }
+};
+
+enum class Parity : std::uint8_t { none, even, odd };
+
+struct SerialSettings {
+  std::string device;
+  unsigned baud = 57600;  // seed 003 §15 factory default
+  Parity parity = Parity::none;
+  unsigned stop_bits = 1;
+  friend bool operator==(const SerialSettings&, const SerialSettings&) = default;
+};
+// Bits on the wire per byte: start + 8 data + parity + stop.
+unsigned bits_per_byte(const SerialSettings& s);
+// Validates baud (4800..115200, one of the S1 table rates of §3.2.1), stop bits 1|2.
+Result<void> validate(const SerialSettings& s);
+// The S1 table rates of seed 003 §3.2.1, ascending; the only bauds validate() accepts.
+inline constexpr std::array<unsigned, 6> kSerialBaudRates{4800, 9600, 19200, 38400, 57600, 115200};
+// "57600 8N1", "19200 8E2" (no device).
+std::string format_settings(const SerialSettings& s);
+
+// POSIX termios, raw mode, 8 data bits. Works on ttys and pseudo-terminals.
+Result<std::unique_ptr<Transport>> open_serial(const SerialSettings& s);
+
+// TCP client for serial-to-Ethernet gateways ("host:port").
+Result<std::unique_ptr<Transport>> open_tcp(const std::string& host, std::uint16_t port, Millis connect_timeout);
+
+// Wraps another transport and writes every chunk as a timestamped hex line
+// ("12.345678 TX 01 11 05 02 00 03 A2 13 04") to `sink`; for bug reports (--trace).
+class TraceSink {
+ public:
+  virtual ~TraceSink() = default;
+  virtual void record(bool tx, ByteView bytes) = 0;
+};
+// One line per chunk, "<seconds since the sink was opened, 6 decimals> TX|RX <hex>",
+// written with one write(2) per line so a trace survives a crash of the process.
+// The file is truncated. nullptr when it cannot be opened (open_file_trace says why).
+std::unique_ptr<TraceSink> make_file_trace(const std::string& path);
+Result<std::unique_ptr<TraceSink>> open_file_trace(const std::string& path);
+// TX chunks are recorded before they are handed to `inner` (an attempted write counts),
+// RX chunks when read_some returns bytes; empty chunks are not recorded.
+// A null sink returns `inner` unchanged. describe()/byte_time_us() are forwarded.
+std::unique_ptr<Transport> make_traced(std::unique_ptr<Transport> inner, std::shared_ptr<TraceSink> sink);
+
+// In-memory sink for tests ("zero write telegrams on the wire"). Thread-safe.
+struct TraceRecord {
+  bool tx = false;
+  Bytes bytes;
+  friend bool operator==(const TraceRecord&, const TraceRecord&) = default;
+};
+class MemoryTrace : public TraceSink {
+ public:
+  void record(bool tx, ByteView bytes) override;
+  std::vector<TraceRecord> records() const;  // a copy, in order
+  std::size_t count(bool tx) const;          // number of TX (true) or RX (false) chunks
+  Bytes all_bytes(bool tx) const;            // every TX (or RX) chunk concatenated
+  void clear();
+
+ private:
+  mutable std::mutex mu_;
+  std::vector<TraceRecord> records_;
+};
+
+}  // namespace lmcfg::transport
