@@ -1,0 +1,169 @@
+#pragma once
+// Drive client: request/response over a Transport, per-request deadlines,
+// bounded retries for idempotent reads only, and every operation of the LinRS
+// message groups (seed 003 §6-14) as a typed call.
+//
+// Contract:
+// - One request is in flight at a time; answers from other MACIDs are ignored.
+// - A read that times out or arrives garbled is repeated (discarding input) at
+//   most `read_retries` times. A write is never repeated blindly: it fails with
+//   the link error and the caller re-reads state before deciding.
+// - Block transfers (curve info/data, command table entries) are restarted from
+//   their setup telegram when a chunk is lost, never resumed mid-block.
+// - A drive's error communication state (C1..C9) becomes an Error whose code is
+//   in comm_state_category(), with the state's meaning in the message.
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <vector>
+
+#include "codec/frame.hpp"
+#include "codec/messages.hpp"
+#include "transport/transport.hpp"
+
+namespace lmcfg::client {
+
+using transport::Millis;
+
+struct ClientOptions {
+  std::uint8_t id = 0x11;  // seed 003 §15 factory MACID parameter value
+  codec::ChecksumConfig checksum;
+  codec::DefaultResponseLayout layout;
+  Millis timeout{200};            // ordinary request (drive answers in 0.5-1.5 ms, §6.1.1.1)
+  Millis defaulting_timeout{5000};  // §10.4: "could be more than 1 s"
+  Millis flash_timeout{12000};    // §11/§12: saving to flash, "timeout 10s"
+  Millis reset_timeout{6000};     // §13.1: "ca. 3 s"
+  int read_retries = 2;
+  bool pad_ct_list = true;        // §12 example pads the defined-list request (erratum 3)
+  bool skip_echo = true;          // 2-wire RS485 adapters may echo our own request
+};
+
+struct Stats {
+  std::uint64_t requests = 0;
+  std::uint64_t answers = 0;
+  std::uint64_t bytes_tx = 0;
+  std::uint64_t bytes_rx = 0;
+  std::uint64_t retries = 0;
+  std::uint64_t timeouts = 0;
+  std::uint64_t bad_frames = 0;
+  std::uint64_t write_requests = 0;  // telegrams that change drive state
+};
+
+struct ModifiedParam {
+  std::uint16_t upid = 0;
+  std::uint32_t value = 0;
+  friend bool operator==(const ModifiedParam&, const ModifiedParam&) = default;
+};
+
+struct UpidInfo {
+  std::uint16_t upid = 0;
+  std::uint16_t address_usage = 0;
+  std::uint16_t type = 0;
+  friend bool operator==(const UpidInfo&, const UpidInfo&) = default;
+};
+
+struct CurveSizes {
+  std::uint16_t info = 0;
+  std::uint16_t data = 0;
+};
+
+// Layers of seed 003 §10.2.
+inline constexpr int kLayerOs = 1, kLayerMc = 2, kLayerIntf = 3, kLayerAppl = 4;
+std::uint16_t layer_base(int layer);               // 0000, 1000, 2000, 3000
+std::optional<int> layer_of(std::uint16_t upid);   // nullopt outside the four ranges
+const char* layer_name(int layer);                 // "OS", "MC", "Intf", "Appl"
+
+class Client {
+ public:
+  Client(transport::Transport& link, ClientOptions opt);
+
+  const ClientOptions& options() const { return opt_; }
+  void set_options(const ClientOptions& o) { opt_ = o; }
+  const Stats& stats() const { return stats_; }
+  transport::Transport& link() { return link_; }
+
+  // Sends `req` and waits for the answer the request's group defines.
+  // idempotent: may be retried on timeout/garbled answer.
+  Result<codec::Telegram> transact(const codec::Telegram& req, Millis timeout, bool idempotent);
+
+  // §6
+  Result<codec::DefaultResponse> default_response(codec::ResponseRequest kind = codec::ResponseRequest::default_response);
+  // §7, §8
+  Result<codec::DefaultResponse> write_control_word(std::uint16_t cw);
+
+  // §9 (live values, RAM)
+  Result<std::uint32_t> read_ram(std::uint16_t upid);
+  Result<void> write_ram(std::uint16_t upid, std::uint32_t value);
+  Result<void> write_ram_rom(std::uint16_t upid, std::uint32_t value);
+
+  // §10 parameter configuration
+  Result<std::uint32_t> read_rom(std::uint16_t upid);
+  Result<void> write_rom(std::uint16_t upid, std::uint32_t value);
+  Result<std::uint16_t> get_type(std::uint16_t upid);
+  Result<std::uint32_t> get_min(std::uint16_t upid);
+  Result<std::uint32_t> get_max(std::uint16_t upid);
+  Result<std::uint32_t> get_default(std::uint16_t upid);
+  // Modified-UPID list of a layer (§10.2). C6 ends the list; its UPID counts
+  // once, only if it lies in the layer's range and was not already received
+  // (facts note erratum 5).
+  Result<std::vector<ModifiedParam>> modified_list(int layer);
+  // UPID list of a layer with address usage and type (§10.3), same C6 rule.
+  Result<std::vector<UpidInfo>> upid_list(int layer, const std::function<void(std::size_t)>& progress = {});
+  // ROM of a layer to defaults (§10.4); answer after completion (> 1 s).
+  Result<void> default_layer(int layer);
+
+  // §11 curves. curve_sizes: nullopt when the drive reports no such curve (sizes 0).
+  Result<std::optional<CurveSizes>> curve_sizes(std::uint16_t curve);
+  Result<Bytes> read_curve_info(std::uint16_t curve, std::uint16_t size);
+  Result<Bytes> read_curve_data(std::uint16_t curve, std::uint16_t size);
+  // Reads sizes, info and data; restarts the block transfer on a lost chunk.
+  struct CurveBlocks {
+    Bytes info;
+    Bytes data;
+  };
+  Result<std::optional<CurveBlocks>> read_curve(std::uint16_t curve);
+  Result<void> write_curve(std::uint16_t curve, ByteView info, ByteView data);
+  Result<void> delete_curve(std::uint16_t curve);
+  Result<void> delete_all_curves();
+  Result<void> save_curves();
+
+  // §12 command table
+  Result<std::vector<std::uint16_t>> ct_defined_entries();
+  Result<Bytes> read_ct_entry(std::uint16_t entry);
+  Result<void> write_ct_entry(std::uint16_t entry, ByteView bytes);
+  Result<void> delete_ct_entry(std::uint16_t entry);
+  Result<void> delete_all_ct();
+  Result<void> save_ct();
+
+  // §13
+  Result<void> stop_mc();
+  Result<void> start_mc();   // answer after completion
+  Result<void> reset();      // answer after completion (~3 s)
+
+  // §14
+  Result<std::string> actual_error_text();
+  Result<std::string> error_text(std::uint16_t code);
+  Result<codec::ErrorCounters> error_counters();
+  Result<codec::ErrorLogEntry> error_log_entry(std::uint16_t index);
+
+ private:
+  Result<codec::IdValueResponse> cfg(codec::CfgOp op, std::uint16_t upid, bool idempotent, Millis timeout);
+  Result<codec::IdValueResponse> id_value(const codec::Telegram& req, std::uint8_t expected_sub, bool idempotent,
+                                          Millis timeout);
+  Result<Bytes> read_block(const codec::Telegram& setup, std::uint8_t setup_sub, const codec::Telegram& chunk_req,
+                           std::uint8_t chunk_sub, std::size_t size, const char* what);
+
+  transport::Transport& link_;
+  ClientOptions opt_;
+  codec::StreamDecoder decoder_;
+  Stats stats_;
+};
+
+// Expected answer sub ID for a request (seed 003 §6 table): 00 default
+// response, 40h curves, 50h+sub configuration, 60h program handling (subs 01,
+// 04; others answer the default response), 70h+sub error info, 80h+sub CT.
+std::uint8_t expected_answer_sub(const codec::Telegram& request);
+// True when a request changes drive state (used for "no write on the wire" checks).
+bool is_write_request(const codec::Telegram& request);
+
+}  // namespace lmcfg::client
