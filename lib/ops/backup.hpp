@@ -1,0 +1,45 @@
+#pragma once
+// Backup (issue 5 §1): read a drive's configuration into the model.
+//   parameters: the modified-UPID list of each layer (seed 003 §10.2), or with
+//               `full` every ROM-writable UPID of the UPID list (§10.3) read with
+//               "read ROM value";
+//   curves:     probe IDs 1..max_curve_id ("read sizes", §11; no message lists
+//               curve IDs), read info and data blocks of those that exist;
+//   CT:         defined-entry list (§12), then each defined entry.
+// Nothing is stopped and nothing is written: backup sends read telegrams only.
+#include <array>
+#include <functional>
+#include <string>
+
+#include "client/client.hpp"
+#include "config/model.hpp"
+
+namespace lmcfg::db {
+class Database;
+}
+
+namespace lmcfg::ops {
+
+// Progress: phase name, items done, items expected (0 = unknown).
+using Progress = std::function<void(const std::string& phase, std::size_t done, std::size_t total)>;
+
+struct BackupOptions {
+  std::array<bool, 4> layers{true, true, true, true};
+  bool curves = true;
+  bool command_table = true;
+  bool full = false;
+  std::uint16_t max_curve_id = 100;  // storage limit of 100 curves (facts note)
+  Progress progress;
+};
+
+// Reads the drive behind `c`. db (optional) fills display names and types.
+Result<config::DriveConfig> backup(client::Client& c, const BackupOptions& opt, const db::Database* db);
+
+// Fills display fields (name, unit, scaled text, type) of every parameter from
+// the database; leaves unknown UPIDs untouched.
+void annotate(config::DriveConfig& cfg, const db::Database& db);
+
+// ISO 8601 UTC of now ("2026-11-22T04:05:06Z").
+std::string utc_now();
+
+}  // namespace lmcfg::ops

@@ -1,0 +1,310 @@
+#include "ops/diff.hpp"
+
+#include <map>
+#include <nlohmann/json.hpp>
+#include <set>
+
+#include "db/ct_entry.hpp"
+#include "db/database.hpp"
+
+namespace lmcfg::ops {
+
+namespace {
+
+std::string hex4(std::uint32_t v) {
+  char buf[12];
+  std::snprintf(buf, sizeof buf, "%04Xh", v);
+  return buf;
+}
+
+struct Effective {
+  enum class State { value, at_default, not_writable, unknown } state = State::unknown;
+  std::uint32_t value = 0;
+};
+
+Effective effective(const config::DriveConfig& c, int layer, std::uint16_t upid) {
+  if (!c.scope.layers[static_cast<std::size_t>(layer - 1)]) return {};
+  for (const auto& p : c.layer(layer)) {
+    if (p.upid == upid) return {Effective::State::value, p.value};
+  }
+  if (c.scope.parameters == config::ParamSet::modified) return {Effective::State::at_default, 0};
+  return {Effective::State::not_writable, 0};
+}
+
+std::string show(const Effective& e, const db::Parameter* d, std::optional<std::uint32_t> def) {
+  auto fmt = [&](std::uint32_t v) { return d ? d->format(v) : std::to_string(v) + " (" + hex4(v) + ")"; };
+  switch (e.state) {
+    case Effective::State::value: return fmt(e.value);
+    case Effective::State::at_default: return def ? "default " + fmt(*def) : "default";
+    case Effective::State::not_writable: return "absent";
+    case Effective::State::unknown: return "not captured";
+  }
+  return "";
+}
+
+void diff_parameters(const config::DriveConfig& a, const config::DriveConfig& b, const db::Database* db,
+                     const DefaultLookup& defaults, const DiffOptions& opt, DiffResult& r) {
+  for (int layer = 1; layer <= 4; ++layer) {
+    const bool in_a = a.scope.layers[static_cast<std::size_t>(layer - 1)];
+    const bool in_b = b.scope.layers[static_cast<std::size_t>(layer - 1)];
+    if (in_a != in_b) {
+      r.notes.push_back(std::string("layer ") + std::string(config::layer_name(layer)) + " was captured on only one side; not compared");
+      continue;
+    }
+    if (!in_a) continue;
+    std::set<std::uint16_t> upids;
+    for (const auto& p : a.layer(layer)) upids.insert(p.upid);
+    for (const auto& p : b.layer(layer)) upids.insert(p.upid);
+    for (auto upid : upids) {
+      const db::Parameter* d = db ? db->find(upid) : nullptr;
+      if (opt.ignore_unit && d && d->comm) continue;
+      Effective ea = effective(a, layer, upid), eb = effective(b, layer, upid);
+      std::optional<std::uint32_t> def;
+      if (ea.state != eb.state) def = defaults ? defaults(upid) : std::nullopt;
+      auto resolve = [&](Effective& e) {
+        if (e.state == Effective::State::at_default && def) e = {Effective::State::value, *def};
+      };
+      Effective ra = ea, rb = eb;
+      resolve(ra);
+      resolve(rb);
+      if (ra.state == rb.state && (ra.state != Effective::State::value || ra.value == rb.value)) continue;
+      DiffItem it;
+      it.kind = DiffItem::Kind::parameter;
+      it.layer = layer;
+      it.key = upid;
+      it.name = d ? d->name : "";
+      if (it.name.empty()) {
+        for (const auto* side : {&a, &b})
+          for (const auto& p : side->layer(layer))
+            if (p.upid == upid && !p.name.empty()) it.name = p.name;
+      }
+      it.a = show(ea, d, def);
+      it.b = show(eb, d, def);
+      r.items.push_back(std::move(it));
+    }
+  }
+}
+
+std::string curve_label(const config::Curve& c) {
+  auto v = config::decode_curve(c);
+  std::string s = "curve " + std::to_string(c.id);
+  if (v.ok() && !v->name.empty()) s += " '" + v->name + "'";
+  return s;
+}
+
+std::string curve_summary(const config::Curve& c) {
+  auto v = config::decode_curve(c);
+  if (!v.ok()) return std::to_string(c.info.size()) + " B info, " + std::to_string(c.data.size()) + " B data";
+  return std::to_string(v->setpoint_count) + " setpoints, " + v->length_ms_text() + " ms";
+}
+
+std::string curve_changes(const config::Curve& a, const config::Curve& b) {
+  auto va = config::decode_curve(a);
+  auto vb = config::decode_curve(b);
+  if (!va.ok() || !vb.ok()) return "raw blocks differ";
+  std::vector<std::string> parts;
+  if (va->name != vb->name) parts.push_back("name '" + va->name + "' -> '" + vb->name + "'");
+  if (va->setpoint_count != vb->setpoint_count)
+    parts.push_back("setpoints " + std::to_string(va->setpoint_count) + " -> " + std::to_string(vb->setpoint_count));
+  if (va->length != vb->length) parts.push_back("length " + va->length_ms_text() + " ms -> " + vb->length_ms_text() + " ms");
+  if (va->setpoints.size() == vb->setpoints.size()) {
+    std::size_t n = 0, first = 0;
+    for (std::size_t i = 0; i < va->setpoints.size(); ++i) {
+      if (va->setpoints[i] != vb->setpoints[i]) {
+        if (n++ == 0) first = i;
+      }
+    }
+    if (n) parts.push_back(std::to_string(n) + " setpoint(s) differ, first #" + std::to_string(first + 1));
+  }
+  if (parts.empty()) parts.push_back("info block bytes differ");
+  std::string s;
+  for (auto& p : parts) s += (s.empty() ? "" : ", ") + p;
+  return s;
+}
+
+void diff_curves(const config::DriveConfig& a, const config::DriveConfig& b, DiffResult& r) {
+  if (a.scope.curves != b.scope.curves) {
+    r.notes.push_back("curves were captured on only one side; not compared");
+    return;
+  }
+  if (!a.scope.curves) return;
+  std::set<std::uint32_t> ids;
+  for (auto& c : a.curves) ids.insert(c.id);
+  for (auto& c : b.curves) ids.insert(c.id);
+  for (auto id : ids) {
+    const auto* ca = a.find_curve(id);
+    const auto* cb = b.find_curve(id);
+    if (ca && cb && *ca == *cb) continue;
+    DiffItem it;
+    it.kind = DiffItem::Kind::curve;
+    it.key = id;
+    it.name = curve_label(ca ? *ca : *cb);
+    it.a = ca ? curve_summary(*ca) : "absent";
+    it.b = cb ? curve_summary(*cb) : "absent";
+    if (ca && cb) it.detail = curve_changes(*ca, *cb);
+    r.items.push_back(std::move(it));
+  }
+}
+
+std::string ct_changes(const db::Database* db, const config::CtEntry& a, const config::CtEntry& b) {
+  if (!db) return "raw bytes differ";
+  auto da = db::decode_ct_entry(*db, a.raw);
+  auto dbb = db::decode_ct_entry(*db, b.raw);
+  if (!da.ok() || !dbb.ok()) return "raw bytes differ";
+  std::vector<std::string> parts;
+  if (da->header >> 4 != dbb->header >> 4) {
+    parts.push_back(da->command_name + " -> " + dbb->command_name);
+  } else {
+    for (std::size_t i = 0; i < da->params.size() && i < dbb->params.size(); ++i) {
+      if (da->params[i].raw != dbb->params[i].raw) {
+        parts.push_back(db::summary_label(da->params[i].name) + " " + da->params[i].text + " -> " + dbb->params[i].text);
+      }
+    }
+  }
+  if (da->link != dbb->link) parts.push_back("link " + hex4(da->link) + " -> " + hex4(dbb->link));
+  if (da->name != dbb->name) parts.push_back("name '" + da->name + "' -> '" + dbb->name + "'");
+  if (parts.empty()) parts.push_back("undecoded bytes differ");
+  std::string s;
+  for (auto& p : parts) s += (s.empty() ? "" : ", ") + p;
+  return s;
+}
+
+std::string ct_summary(const db::Database* db, const config::CtEntry& e) {
+  if (db) {
+    auto d = db::decode_ct_entry(*db, e.raw);
+    if (d.ok()) return d->summary();
+  }
+  return std::to_string(e.raw.size()) + " bytes";
+}
+
+void diff_ct(const config::DriveConfig& a, const config::DriveConfig& b, const db::Database* db, DiffResult& r) {
+  if (a.scope.command_table != b.scope.command_table) {
+    r.notes.push_back("the command table was captured on only one side; not compared");
+    return;
+  }
+  if (!a.scope.command_table) return;
+  std::set<std::uint32_t> ids;
+  for (auto& e : a.ct_entries) ids.insert(e.id);
+  for (auto& e : b.ct_entries) ids.insert(e.id);
+  for (auto id : ids) {
+    const auto* ea = a.find_ct_entry(id);
+    const auto* eb = b.find_ct_entry(id);
+    if (ea && eb && *ea == *eb) continue;
+    DiffItem it;
+    it.kind = DiffItem::Kind::ct_entry;
+    it.key = id;
+    it.name = config::ct_entry_name((ea ? ea : eb)->raw);
+    it.a = ea ? ct_summary(db, *ea) : "absent";
+    it.b = eb ? ct_summary(db, *eb) : "absent";
+    if (ea && eb) it.detail = ct_changes(db, *ea, *eb);
+    r.items.push_back(std::move(it));
+  }
+}
+
+void diff_metadata(const config::Identity& a, const config::Identity& b, const DiffOptions& opt, DiffResult& r) {
+  auto cmp = [&](const char* field, const std::string& x, const std::string& y) {
+    if (x != y) r.items.push_back(DiffItem{DiffItem::Kind::metadata, 0, 0, field, x, y, {}});
+  };
+  if (!opt.ignore_unit) cmp("macid", a.macid, b.macid);
+  cmp("product", a.product, b.product);
+  cmp("firmware", a.firmware, b.firmware);
+  cmp("upid_fingerprint", a.upid_fingerprint, b.upid_fingerprint);
+  std::set<std::string> keys;
+  for (auto& [k, v] : a.labels) keys.insert(k);
+  for (auto& [k, v] : b.labels) keys.insert(k);
+  for (auto& k : keys) {
+    auto ia = a.labels.find(k);
+    auto ib = b.labels.find(k);
+    cmp(("label " + k).c_str(), ia == a.labels.end() ? "" : ia->second, ib == b.labels.end() ? "" : ib->second);
+  }
+}
+
+const char* kind_name(DiffItem::Kind k) {
+  switch (k) {
+    case DiffItem::Kind::metadata: return "metadata";
+    case DiffItem::Kind::parameter: return "parameter";
+    case DiffItem::Kind::curve: return "curve";
+    case DiffItem::Kind::ct_entry: return "ct_entry";
+  }
+  return "";
+}
+
+}  // namespace
+
+config::DriveConfig factory_defaults_config() {
+  config::DriveConfig c;
+  c.identity.product = "factory defaults";
+  return c;
+}
+
+DiffResult diff(const config::DriveConfig& a, const config::DriveConfig& b, const db::Database* db,
+                const DefaultLookup& defaults, const DiffOptions& opt) {
+  DiffResult r;
+  if (!opt.ignore_metadata) diff_metadata(a.identity, b.identity, opt, r);
+  diff_parameters(a, b, db, defaults, opt, r);
+  diff_curves(a, b, r);
+  diff_ct(a, b, db, r);
+  return r;
+}
+
+std::string render_text(const DiffResult& r, const std::string& an, const std::string& bn) {
+  std::string out = "--- " + an + "\n+++ " + bn + "\n";
+  std::string section;
+  auto head = [&](const std::string& s) {
+    if (s != section) {
+      section = s;
+      out += "\n" + s + ":\n";
+    }
+  };
+  for (const auto& it : r.items) {
+    switch (it.kind) {
+      case DiffItem::Kind::metadata:
+        head("identity");
+        out += "  " + it.name + ": " + (it.a.empty() ? "(none)" : it.a) + " -> " + (it.b.empty() ? "(none)" : it.b) + "\n";
+        break;
+      case DiffItem::Kind::parameter:
+        head(std::string("layer ") + std::string(config::layer_name(it.layer)));
+        out += "  " + hex4(it.key) + " " + (it.name.empty() ? "(name unknown)" : it.name) + ": " + it.a + " -> " + it.b + "\n";
+        break;
+      case DiffItem::Kind::curve:
+        head("curves");
+        out += "  " + it.name + ": " + it.a + " -> " + it.b + (it.detail.empty() ? "" : " (" + it.detail + ")") + "\n";
+        break;
+      case DiffItem::Kind::ct_entry:
+        head("command table");
+        out += "  entry " + std::to_string(it.key) + (it.name.empty() ? "" : " '" + it.name + "'") + ": " +
+               (it.detail.empty() ? it.a + " -> " + it.b : it.detail) + "\n";
+        break;
+    }
+  }
+  for (const auto& n : r.notes) out += "note: " + n + "\n";
+  out += r.identical() ? "\nidentical\n" : "\n" + std::to_string(r.items.size()) + " difference(s)\n";
+  return out;
+}
+
+std::string render_json(const DiffResult& r, const std::string& an, const std::string& bn) {
+  nlohmann::ordered_json j;
+  j["a"] = an;
+  j["b"] = bn;
+  j["identical"] = r.identical();
+  j["differences"] = nlohmann::ordered_json::array();
+  for (const auto& it : r.items) {
+    nlohmann::ordered_json d;
+    d["kind"] = kind_name(it.kind);
+    if (it.kind == DiffItem::Kind::parameter) {
+      d["layer"] = std::string(config::layer_name(it.layer));
+      d["upid"] = hex4(it.key).substr(0, 4);
+    } else if (it.kind != DiffItem::Kind::metadata) {
+      d["id"] = it.key;
+    }
+    d["name"] = it.name;
+    d["a"] = it.a;
+    d["b"] = it.b;
+    if (!it.detail.empty()) d["detail"] = it.detail;
+    j["differences"].push_back(std::move(d));
+  }
+  j["notes"] = r.notes;
+  return j.dump(2) + "\n";
+}
+
+}  // namespace lmcfg::ops

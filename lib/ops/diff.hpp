@@ -1,0 +1,57 @@
+#pragma once
+// Diff of two drive configurations (issue 5 §2). Parameters are compared by
+// effective value: a UPID absent from a modified-only capture (§10.2) is at its
+// default; absent from a full capture (§10.3) it is not ROM-writable; absent
+// from a layer that was not captured it is unknown and not compared. Curves and
+// command table entries are compared by raw content, with a decoded summary of
+// what changed.
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "config/model.hpp"
+
+namespace lmcfg::db {
+class Database;
+}
+
+namespace lmcfg::ops {
+
+struct DiffOptions {
+  bool ignore_metadata = false;  // identity (MACID, firmware, fingerprint, labels)
+  bool ignore_unit = false;      // per-unit data: communication parameters and the MACID
+};
+
+// Default value of a UPID when the configuration does not list it; nullopt if
+// unknown. The tools chain the database and, with a link, the drive (05h 07h).
+using DefaultLookup = std::function<std::optional<std::uint32_t>(std::uint16_t upid)>;
+
+struct DiffItem {
+  enum class Kind { metadata, parameter, curve, ct_entry };
+  Kind kind = Kind::parameter;
+  int layer = 0;          // parameters: 1..4
+  std::uint32_t key = 0;  // UPID, curve ID or CT entry ID
+  std::string name;       // parameter name, curve name, entry name, or metadata field
+  std::string a;          // value on side A as text ("16", "default 15", "absent")
+  std::string b;
+  std::string detail;     // decoded summary ("target 100 mm -> 50 mm")
+};
+
+struct DiffResult {
+  std::vector<DiffItem> items;
+  std::vector<std::string> notes;  // what could not be compared, and why
+  bool identical() const { return items.empty(); }
+};
+
+DiffResult diff(const config::DriveConfig& a, const config::DriveConfig& b, const db::Database* db,
+                const DefaultLookup& defaults, const DiffOptions& opt);
+
+// Factory state as a configuration: every layer captured, nothing modified, no
+// curves, no command table entries.
+config::DriveConfig factory_defaults_config();
+
+std::string render_text(const DiffResult& r, const std::string& a_name, const std::string& b_name);
+std::string render_json(const DiffResult& r, const std::string& a_name, const std::string& b_name);
+
+}  // namespace lmcfg::ops

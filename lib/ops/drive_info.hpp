@@ -1,0 +1,41 @@
+#pragma once
+// `lmcfg info`: the default response decoded (seed 001 §3: state machine,
+// status word §3.23, warn word §3.24), the actual error text (seed 003 §14.1)
+// and the error log (§14.3, §14.4) with texts from the database.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "client/client.hpp"
+
+namespace lmcfg::db {
+class Database;
+}
+
+namespace lmcfg::ops {
+
+// Main state number (state var high byte) -> name; "" when the seed names none.
+std::string state_name(unsigned main_state);
+// Names of the set bits of the status / warn word.
+std::vector<std::string> status_word_bits(std::uint16_t w);
+std::vector<std::string> warn_word_bits(std::uint16_t w);
+
+struct ErrorLogLine {
+  std::uint16_t code = 0;
+  std::uint32_t millis = 0;
+  std::uint32_t hours = 0;
+  std::string text;  // database text, else the drive's own (§14.2)
+};
+
+struct DriveInfo {
+  codec::DefaultResponse response;
+  std::string actual_error;
+  codec::ErrorCounters counters;
+  std::vector<ErrorLogLine> log;
+};
+
+// Reads at most `max_log` newest error log entries.
+Result<DriveInfo> read_drive_info(client::Client& c, const db::Database* db, std::size_t max_log = 8);
+std::string render_info(const DriveInfo& i);
+
+}  // namespace lmcfg::ops

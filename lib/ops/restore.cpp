@@ -1,0 +1,386 @@
+#include "ops/restore.hpp"
+
+#include <algorithm>
+#include <map>
+
+#include "db/database.hpp"
+
+namespace lmcfg::ops {
+
+namespace {
+
+using Action = PlanStep::Action;
+
+std::string hex4(std::uint32_t v) {
+  char buf[12];
+  std::snprintf(buf, sizeof buf, "%04Xh", v);
+  return buf;
+}
+
+std::string param_label(int layer, std::uint16_t upid, const db::Parameter* d, const config::Parameter* p) {
+  std::string s = std::string(config::layer_name(layer)) + " " + hex4(upid);
+  const std::string& name = d && !d->name.empty() ? d->name : (p ? p->name : std::string());
+  if (!name.empty()) s += " " + name;
+  return s;
+}
+
+// The 4-byte field as an integer of its type: upper bytes must be zero, or
+// the sign extension for signed types (a drive may send either for SINT8/16).
+std::optional<std::int64_t> as_integer(db::TypeCode t, std::uint32_t raw) {
+  const unsigned bits = 8 * db::type_size(t);
+  if (db::is_text_type(t) || t == db::TypeCode::LinFloat) return static_cast<std::int64_t>(raw);
+  if (t == db::TypeCode::Bool || t == db::TypeCode::RadioDirBit) return raw <= 1 ? std::optional<std::int64_t>(raw) : std::nullopt;
+  if (bits >= 32) {
+    return db::is_signed_type(t) ? static_cast<std::int64_t>(static_cast<std::int32_t>(raw)) : static_cast<std::int64_t>(raw);
+  }
+  const std::uint32_t mask = (1u << bits) - 1;
+  const std::uint32_t upper = raw & ~mask;
+  if (upper == 0) {
+    if (!db::is_signed_type(t)) return static_cast<std::int64_t>(raw);
+    const std::uint32_t sign = 1u << (bits - 1);
+    return (raw & sign) ? static_cast<std::int64_t>(raw) - (static_cast<std::int64_t>(1) << bits) : static_cast<std::int64_t>(raw);
+  }
+  if (db::is_signed_type(t) && upper == ~mask && (raw & (1u << (bits - 1)))) {
+    return static_cast<std::int64_t>(static_cast<std::int32_t>(raw));
+  }
+  return std::nullopt;
+}
+
+bool is_comm(const db::Database* db, std::uint16_t upid) {
+  const db::Parameter* d = db ? db->find(upid) : nullptr;
+  return d && d->comm;
+}
+
+// Checks one parameter against the target; appends problems. Link errors propagate.
+Result<void> check_parameter(client::Client& c, const db::Database* db, int layer, const config::Parameter& p,
+                             Plan& plan) {
+  const db::Parameter* d = db ? db->find(p.upid) : nullptr;
+  const std::string label = param_label(layer, p.upid, d, &p);
+  auto type = c.get_type(p.upid);
+  if (!type.ok()) {
+    if (type.error().code == make_comm_state_error(0xC8)) {
+      plan.problems.push_back(label + ": UPID does not exist on the target (type query answered C8h unknown UPID)");
+      return {};
+    }
+    if (type.error().code.category() == comm_state_category()) {
+      plan.problems.push_back(label + ": the target refused the type query: " + type.error().message);
+      return {};
+    }
+    return std::move(type).error();
+  }
+  auto code = db::type_from_code(*type);
+  if (!code) {
+    plan.problems.push_back(label + ": the target reports type code " + hex4(*type) + ", which seed 003 §10 does not define");
+    return {};
+  }
+  if (p.type && *p.type != *type) {
+    plan.problems.push_back(label + ": type differs: the file has " + std::string(db::type_name(static_cast<db::TypeCode>(*p.type))) +
+                            ", the target has " + std::string(db::type_name(*code)));
+    return {};
+  }
+  if (d && d->address_usage && !d->address_usage->rom_write()) {
+    plan.problems.push_back(label + ": read-only on the target (address usage " + hex4(d->address_usage->raw) +
+                            " has no ROM write bit)");
+    return {};
+  }
+  auto value = as_integer(*code, p.value);
+  if (!value) {
+    plan.problems.push_back(label + ": value " + hex4(p.value) + " does not fit type " + std::string(db::type_name(*code)));
+    return {};
+  }
+  db::ValueSpec spec = d ? d->spec : db::ValueSpec{};
+  spec.type = *code;
+  if (!db::is_text_type(*code) && (!spec.min || !spec.max)) {
+    // The database does not know the range: ask the drive (§10 05h/06h).
+    LMCFG_ASSIGN_OR_RETURN(auto mn, c.get_min(p.upid));
+    LMCFG_ASSIGN_OR_RETURN(auto mx, c.get_max(p.upid));
+    spec.min = as_integer(*code, mn);
+    spec.max = as_integer(*code, mx);
+  }
+  if (auto r = db::check_range(spec, *value); !r.ok()) {
+    plan.problems.push_back(label + ": " + r.error().message);
+  }
+  return {};
+}
+
+void check_tables(const config::DriveConfig& file, const RestoreOptions& opt, Plan& plan) {
+  std::size_t memory = 0;
+  if (file.scope.curves) {
+    if (file.curves.size() > opt.max_curve_id) {
+      plan.problems.push_back("the file holds " + std::to_string(file.curves.size()) + " curves; the drive stores at most " +
+                              std::to_string(opt.max_curve_id));
+    }
+    for (const auto& cv : file.curves) {
+      const std::string label = "curve " + std::to_string(cv.id);
+      if (cv.id < 1 || cv.id > opt.max_curve_id) {
+        plan.problems.push_back(label + ": ID outside 1.." + std::to_string(opt.max_curve_id));
+      }
+      if (auto r = config::check_curve_blocks(cv); !r.ok()) plan.problems.push_back(label + ": " + r.error().message);
+      if (cv.info.size() > 0xFFFF || cv.data.size() > 0xFFFF) {
+        plan.problems.push_back(label + ": a block exceeds the 16-bit size field of §11 (65535 bytes)");
+      }
+      memory += cv.info.size() + cv.data.size();
+    }
+    if (memory > opt.curve_memory) {
+      plan.problems.push_back("curves need " + std::to_string(memory) + " bytes of curve memory; the drive has " +
+                              std::to_string(opt.curve_memory));
+    }
+  }
+  if (file.scope.command_table) {
+    for (const auto& e : file.ct_entries) {
+      const std::string label = "command table entry " + std::to_string(e.id);
+      if (e.id > config::kMaxCtEntryId) plan.problems.push_back(label + ": ID outside 0..255");
+      if (e.raw.size() != opt.ct_entry_size) {
+        plan.problems.push_back(label + ": " + std::to_string(e.raw.size()) + " bytes, expected " +
+                                std::to_string(opt.ct_entry_size));
+      }
+    }
+  }
+}
+
+void add_step(Plan& p, Action a, int layer, std::uint32_t key, std::uint32_t value, std::string text,
+              std::size_t write_telegrams) {
+  p.steps.push_back(PlanStep{a, layer, key, value, std::move(text)});
+  p.write_telegrams += write_telegrams;
+}
+
+std::size_t chunks(std::size_t n) { return (n + 3) / 4; }
+
+}  // namespace
+
+Result<Plan> plan_restore(client::Client& c, const config::DriveConfig& file, const db::Database* db,
+                          const RestoreOptions& opt) {
+  Plan plan;
+  plan.expected.identity = file.identity;
+  plan.expected.scope = file.scope;
+  if (file.scope.curves) plan.expected.curves = file.curves;
+  if (file.scope.command_table) plan.expected.ct_entries = file.ct_entries;
+  check_tables(file, opt, plan);
+
+  struct LayerWork {
+    int layer;
+    std::vector<client::ModifiedParam> target;
+    std::vector<config::Parameter> writes;
+  };
+  std::vector<LayerWork> work;
+  std::size_t checked = 0, total = 0;
+  for (const auto& l : file.layers) total += l.size();
+  for (int layer = 1; layer <= 4; ++layer) {
+    if (!file.scope.layers[static_cast<std::size_t>(layer - 1)]) continue;
+    LayerWork w{layer, {}, {}};
+    LMCFG_ASSIGN_OR_RETURN(w.target, c.modified_list(layer));
+    for (const auto& p : file.layer(layer)) {
+      if (opt.progress) opt.progress("plan: checking parameters", ++checked, total);
+      if (is_comm(db, p.upid) && !opt.include_comm) {
+        plan.skipped.push_back(param_label(layer, p.upid, db ? db->find(p.upid) : nullptr, &p) +
+                               ": communication parameter, the target keeps its own value (use --include-comm)");
+        continue;
+      }
+      LMCFG_TRY(check_parameter(c, db, layer, p, plan));
+      w.writes.push_back(p);
+    }
+    // The target's communication parameters survive the restore unless --include-comm.
+    for (const auto& m : w.target) {
+      if (!is_comm(db, m.upid)) continue;
+      const bool file_has = std::any_of(file.layer(layer).begin(), file.layer(layer).end(),
+                                        [&](const config::Parameter& p) { return p.upid == m.upid; });
+      if (!opt.include_comm || !file_has) {
+        if (opt.include_comm) continue;  // the file's (default) value wins
+        w.writes.push_back(config::Parameter{m.upid, m.value, std::nullopt, {}, {}, {}});
+        plan.notes.push_back(param_label(layer, m.upid, db->find(m.upid), nullptr) + ": target's communication value " +
+                             hex4(m.value) + " kept");
+      }
+    }
+    std::sort(w.writes.begin(), w.writes.end(), [](auto& a, auto& b) { return a.upid < b.upid; });
+    work.push_back(std::move(w));
+  }
+  if (!plan.ok()) return plan;
+
+  add_step(plan, Action::stop_mc, 0, 0, 0, "stop MC and application software (§13.3)", 1);
+  bool rom_changed = false;
+  for (auto& w : work) {
+    const std::string lname(config::layer_name(w.layer));
+    auto& expected = plan.expected.layer(w.layer);
+    if (opt.default_first) {
+      add_step(plan, Action::default_layer, w.layer, 0, 0, "default the " + lname + " layer's ROM values (§10.4)", 1);
+      rom_changed = true;
+      for (const auto& m : w.target) {
+        const bool kept = std::any_of(w.writes.begin(), w.writes.end(), [&](auto& p) { return p.upid == m.upid; });
+        if (!kept) plan.notes.push_back("leftover " + lname + " " + hex4(m.upid) + " = " + hex4(m.value) + " goes back to its default");
+      }
+      for (const auto& p : w.writes) {
+        add_step(plan, Action::write_rom, w.layer, p.upid, p.value,
+                 "write ROM " + param_label(w.layer, p.upid, db ? db->find(p.upid) : nullptr, &p) + " = " +
+                     (db && db->find(p.upid) ? db->find(p.upid)->format(p.value) : std::to_string(p.value)),
+                 1);
+      }
+    } else {
+      std::map<std::uint16_t, std::uint32_t> on_target;
+      for (const auto& m : w.target) on_target[m.upid] = m.value;
+      for (const auto& p : w.writes) {
+        auto it = on_target.find(p.upid);
+        if (it != on_target.end() && it->second == p.value) continue;
+        add_step(plan, Action::write_rom, w.layer, p.upid, p.value,
+                 "write ROM " + param_label(w.layer, p.upid, db ? db->find(p.upid) : nullptr, &p) + " = " + std::to_string(p.value), 1);
+        rom_changed = true;
+      }
+      for (const auto& m : w.target) {
+        const bool wanted = std::any_of(w.writes.begin(), w.writes.end(), [&](auto& p) { return p.upid == m.upid; });
+        if (wanted) continue;
+        const db::Parameter* d = db ? db->find(m.upid) : nullptr;
+        std::uint32_t def = 0;
+        if (d && d->default_value) {
+          def = static_cast<std::uint32_t>(*d->default_value);
+        } else {
+          LMCFG_ASSIGN_OR_RETURN(def, c.get_default(m.upid));
+        }
+        add_step(plan, Action::write_rom, w.layer, m.upid, def,
+                 "set leftover " + param_label(w.layer, m.upid, d, nullptr) + " back to its default " + std::to_string(def), 1);
+        rom_changed = true;
+      }
+    }
+    expected = w.writes;
+  }
+  if (file.scope.command_table) {
+    add_step(plan, Action::delete_all_ct, 0, 0, 0, "delete all command table entries in RAM (§12)", 1);
+    for (const auto& e : file.ct_entries) {
+      add_step(plan, Action::write_ct, 0, e.id, 0,
+               "write command table entry " + std::to_string(e.id) + " '" + config::ct_entry_name(e.raw) + "'",
+               1 + chunks(e.raw.size()));
+    }
+    add_step(plan, Action::save_ct, 0, 0, 0, "save the command table to flash (§12, up to 10 s)", 1);
+  }
+  if (file.scope.curves) {
+    add_step(plan, Action::delete_all_curves, 0, 0, 0, "delete all curves in RAM (§11)", 1);
+    for (const auto& cv : file.curves) {
+      auto v = config::decode_curve(cv);
+      add_step(plan, Action::write_curve, 0, cv.id, 0,
+               "write curve " + std::to_string(cv.id) + (v.ok() ? " '" + v->name + "'" : std::string()),
+               1 + chunks(cv.info.size()) + chunks(cv.data.size()));
+    }
+    add_step(plan, Action::save_curves, 0, 0, 0, "save curves to flash (§11, up to 10 s)", 1);
+  }
+  add_step(plan, Action::start_mc, 0, 0, 0, "start MC and application software (§13.4)", 1);
+  if (opt.reset_after && rom_changed) {
+    add_step(plan, Action::reset, 0, 0, 0, "reset the drive so the ROM values become active (§13.1)", 1);
+  }
+  return plan;
+}
+
+std::string render_plan(const Plan& p) {
+  std::string out;
+  if (!p.ok()) {
+    out += "restore refused: " + std::to_string(p.problems.size()) + " problem(s), nothing written:\n";
+    for (const auto& s : p.problems) out += "  problem: " + s + "\n";
+    return out;
+  }
+  out += "plan: " + std::to_string(p.steps.size()) + " step(s), about " + std::to_string(p.write_telegrams) +
+         " write telegram(s)\n";
+  std::size_t n = 0;
+  for (const auto& s : p.steps) out += "  " + std::to_string(++n) + ". " + s.text + "\n";
+  for (const auto& s : p.skipped) out += "  skip: " + s + "\n";
+  for (const auto& s : p.notes) out += "  note: " + s + "\n";
+  return out;
+}
+
+Result<void> execute_plan(client::Client& c, const Plan& p, const RestoreOptions& opt) {
+  if (!p.ok()) return Error(Errc::plan_refused, "the plan has problems; nothing written");
+  const config::DriveConfig& file = p.expected;
+  std::size_t n = 0;
+  for (const auto& s : p.steps) {
+    ++n;
+    if (opt.progress) opt.progress("restore", n, p.steps.size());
+    Result<void> r;
+    switch (s.action) {
+      case Action::stop_mc: r = c.stop_mc(); break;
+      case Action::default_layer: r = c.default_layer(s.layer); break;
+      case Action::write_rom: r = c.write_rom(static_cast<std::uint16_t>(s.key), s.value); break;
+      case Action::delete_all_ct: r = c.delete_all_ct(); break;
+      case Action::write_ct: r = c.write_ct_entry(static_cast<std::uint16_t>(s.key), file.find_ct_entry(s.key)->raw); break;
+      case Action::save_ct: r = c.save_ct(); break;
+      case Action::delete_all_curves: r = c.delete_all_curves(); break;
+      case Action::write_curve: {
+        const auto* cv = file.find_curve(s.key);
+        r = c.write_curve(static_cast<std::uint16_t>(s.key), cv->info, cv->data);
+        break;
+      }
+      case Action::save_curves: r = c.save_curves(); break;
+      case Action::start_mc: r = c.start_mc(); break;
+      case Action::reset: r = c.reset(); break;
+    }
+    if (!r.ok()) {
+      Error e = std::move(r).error();
+      e.message = "restore stopped at step " + std::to_string(n) + " of " + std::to_string(p.steps.size()) + " (" +
+                  s.text + "): " + e.message +
+                  ". The drive is partially configured; run the same restore again to converge.";
+      return e;
+    }
+  }
+  return {};
+}
+
+Result<VerifyReport> verify_restore(client::Client& c, const Plan& p, const RestoreOptions& opt) {
+  VerifyReport rep;
+  const config::DriveConfig& want = p.expected;
+  for (int layer = 1; layer <= 4; ++layer) {
+    if (!want.scope.layers[static_cast<std::size_t>(layer - 1)]) continue;
+    const std::string lname(config::layer_name(layer));
+    LMCFG_ASSIGN_OR_RETURN(auto mods, c.modified_list(layer));
+    std::map<std::uint16_t, std::uint32_t> on_drive;
+    for (const auto& m : mods) on_drive[m.upid] = m.value;
+    for (const auto& e : want.layer(layer)) {
+      auto it = on_drive.find(e.upid);
+      std::uint32_t actual;
+      if (it != on_drive.end()) {
+        actual = it->second;
+        on_drive.erase(it);
+      } else {
+        // Not in the modified list: its ROM holds the default. Read it to compare.
+        LMCFG_ASSIGN_OR_RETURN(actual, c.read_rom(e.upid));
+      }
+      if (actual != e.value) {
+        rep.mismatches.push_back(lname + " " + hex4(e.upid) + ": expected " + std::to_string(e.value) + ", drive has " +
+                                 std::to_string(actual));
+      }
+    }
+    for (const auto& [upid, value] : on_drive) {
+      rep.mismatches.push_back(lname + " " + hex4(upid) + ": modified on the drive (" + std::to_string(value) +
+                               ") but not in the file");
+    }
+  }
+  if (want.scope.command_table) {
+    LMCFG_ASSIGN_OR_RETURN(auto ids, c.ct_defined_entries());
+    std::vector<std::uint16_t> expected_ids;
+    for (const auto& e : want.ct_entries) expected_ids.push_back(static_cast<std::uint16_t>(e.id));
+    if (ids != expected_ids) {
+      rep.mismatches.push_back("command table: drive defines " + std::to_string(ids.size()) + " entries, the file " +
+                               std::to_string(expected_ids.size()));
+    }
+    for (auto id : ids) {
+      const auto* e = want.find_ct_entry(id);
+      if (!e) continue;
+      LMCFG_ASSIGN_OR_RETURN(auto raw, c.read_ct_entry(id));
+      if (raw != e->raw) rep.mismatches.push_back("command table entry " + std::to_string(id) + ": bytes differ");
+    }
+  }
+  if (want.scope.curves) {
+    for (std::uint16_t id = 1; id <= opt.max_curve_id; ++id) {
+      if (opt.progress) opt.progress("verify curves", id, opt.max_curve_id);
+      auto read = c.read_curve(id);
+      if (!read.ok()) return std::move(read).error();
+      const auto& blocks = read.value();
+      const auto* cv = want.find_curve(id);
+      if (!blocks && !cv) continue;
+      if (!blocks) {
+        rep.mismatches.push_back("curve " + std::to_string(id) + ": missing on the drive");
+      } else if (!cv) {
+        rep.mismatches.push_back("curve " + std::to_string(id) + ": on the drive but not in the file");
+      } else if (blocks->info != cv->info || blocks->data != cv->data) {
+        rep.mismatches.push_back("curve " + std::to_string(id) + ": blocks differ");
+      }
+    }
+  }
+  return rep;
+}
+
+}  // namespace lmcfg::ops

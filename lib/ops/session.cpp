@@ -1,0 +1,148 @@
+#include "ops/session.hpp"
+
+#include <filesystem>
+
+#include "sim/link.hpp"
+#include "sim/state_file.hpp"
+
+namespace lmcfg::ops {
+
+Result<codec::ChecksumConfig> parse_checksum(std::string_view t) {
+  codec::ChecksumConfig c;
+  if (t == "none") return c;
+  if (t == "add") {
+    c.mode = codec::ChecksumMode::add;
+    return c;
+  }
+  if (t == "crc" || t == "crc-ffff") {
+    c.mode = codec::ChecksumMode::crc_ccitt;
+    c.crc_init = 0xFFFF;
+    return c;
+  }
+  if (t == "crc-0000") {
+    c.mode = codec::ChecksumMode::crc_ccitt;
+    c.crc_init = 0x0000;
+    return c;
+  }
+  return Error(Errc::invalid_argument,
+               "checksum '" + std::string(t) + "' is not one of none, add, crc, crc-ffff, crc-0000");
+}
+
+std::string checksum_name(const codec::ChecksumConfig& c) {
+  switch (c.mode) {
+    case codec::ChecksumMode::none: return "none";
+    case codec::ChecksumMode::add: return "add";
+    case codec::ChecksumMode::crc_ccitt: return c.crc_init == 0 ? "crc-0000" : "crc-ffff";
+  }
+  return "none";
+}
+
+Result<transport::Parity> parse_parity(std::string_view t) {
+  if (t == "none" || t == "n" || t == "N") return transport::Parity::none;
+  if (t == "even" || t == "e" || t == "E") return transport::Parity::even;
+  if (t == "odd" || t == "o" || t == "O") return transport::Parity::odd;
+  return Error(Errc::invalid_argument, "parity '" + std::string(t) + "' is not one of none, even, odd");
+}
+
+namespace {
+
+const char* parity_name(transport::Parity p) {
+  switch (p) {
+    case transport::Parity::none: return "none";
+    case transport::Parity::even: return "even";
+    case transport::Parity::odd: return "odd";
+  }
+  return "none";
+}
+
+class LinkSession final : public Session {
+ public:
+  LinkSession(LinkOptions opt, std::unique_ptr<transport::Transport> link, sim::SimLink* sim,
+              std::shared_ptr<sim::Drive> sim_drive, std::string sim_path)
+      : opt_(std::move(opt)),
+        link_(std::move(link)),
+        sim_(sim),
+        sim_drive_(std::move(sim_drive)),
+        sim_path_(std::move(sim_path)),
+        client_(*link_, opt_.client) {}
+
+  client::Client& client() override { return client_; }
+  sim::SimLink* sim_link() override { return sim_; }
+  std::string describe() const override { return link_->describe(); }
+
+  Result<void> close() override {
+    if (sim_drive_ && !sim_path_.empty()) {
+      LMCFG_TRY(sim::save_state(sim_drive_->state(), sim_path_));
+      sim_path_.clear();
+    }
+    return {};
+  }
+
+  config::LinkSettings link_settings() const override {
+    config::LinkSettings s;
+    s.port = opt_.port;
+    s.baud = std::to_string(opt_.serial.baud);
+    s.parity = parity_name(opt_.serial.parity);
+    s.stop_bits = std::to_string(opt_.serial.stop_bits);
+    s.checksum = checksum_name(opt_.client.checksum);
+    return s;
+  }
+
+ private:
+  LinkOptions opt_;
+  std::unique_ptr<transport::Transport> link_;
+  sim::SimLink* sim_;
+  std::shared_ptr<sim::Drive> sim_drive_;
+  std::string sim_path_;
+  client::Client client_;
+};
+
+}  // namespace
+
+Result<std::unique_ptr<Session>> open_session(const LinkOptions& opt_in) {
+  LinkOptions opt = opt_in;
+  if (opt.port.empty()) return Error(Errc::invalid_argument, "no --port given (a serial device, tcp://host:port or sim:FILE)");
+  std::unique_ptr<transport::Transport> link;
+  sim::SimLink* sim = nullptr;
+  std::shared_ptr<sim::Drive> drive;
+  std::string sim_path;
+  if (opt.port.rfind("sim:", 0) == 0) {
+    sim_path = opt.port.substr(4);
+    LMCFG_ASSIGN_OR_RETURN(auto state, sim::load_state(sim_path));
+    drive = std::make_shared<sim::Drive>(std::move(state));
+    auto owned = std::make_unique<sim::SimLink>(drive);
+    sim = owned.get();
+    sim->set_real_time(opt.real_time_sim);
+    link = std::move(owned);
+  } else if (opt.port.rfind("tcp://", 0) == 0) {
+    const std::string hp = opt.port.substr(6);
+    const auto colon = hp.rfind(':');
+    if (colon == std::string::npos || colon == 0 || colon + 1 == hp.size()) {
+      return Error(Errc::invalid_argument, "port '" + opt.port + "': expected tcp://host:port");
+    }
+    auto port = parse_number(hp.substr(colon + 1), false);
+    if (!port || *port == 0 || *port > 65535) {
+      return Error(Errc::invalid_argument, "port '" + opt.port + "': TCP port must be 1..65535");
+    }
+    std::string host = hp.substr(0, colon);
+    if (host.size() > 2 && host.front() == '[' && host.back() == ']') host = host.substr(1, host.size() - 2);
+    LMCFG_ASSIGN_OR_RETURN(link, transport::open_tcp(host, static_cast<std::uint16_t>(*port), transport::Millis(3000)));
+  } else {
+    opt.serial.device = opt.port;
+    LMCFG_TRY(transport::validate(opt.serial));
+    std::error_code ec;
+    if (std::filesystem::is_directory(opt.port, ec)) {
+      return Error(Errc::invalid_argument, "port '" + opt.port + "' is a directory, not a serial device");
+    }
+    LMCFG_ASSIGN_OR_RETURN(link, transport::open_serial(opt.serial));
+  }
+  if (!opt.trace_path.empty()) {
+    std::shared_ptr<transport::TraceSink> sink = transport::make_file_trace(opt.trace_path);
+    if (!sink) return Error(Errc::file_error, "cannot open trace file '" + opt.trace_path + "'");
+    link = transport::make_traced(std::move(link), std::move(sink));
+  }
+  return std::unique_ptr<Session>(
+      std::make_unique<LinkSession>(std::move(opt), std::move(link), sim, std::move(drive), std::move(sim_path)));
+}
+
+}  // namespace lmcfg::ops

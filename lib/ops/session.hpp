@@ -1,0 +1,50 @@
+#pragma once
+// A session with one drive: the link the user named, the optional wire trace,
+// and the drive client. Ports:
+//   /dev/ttyUSB0        real serial port (termios)
+//   tcp://host:port     serial-to-Ethernet gateway
+//   sim:STATE.json      the built-in simulated drive, in-process; its state is
+//                       loaded from and saved back to STATE.json on close(), so
+//                       a sequence of commands acts on one persistent drive.
+#include <memory>
+#include <string>
+
+#include "client/client.hpp"
+#include "config/model.hpp"
+#include "transport/transport.hpp"
+
+namespace lmcfg::sim {
+class SimLink;
+}
+
+namespace lmcfg::ops {
+
+struct LinkOptions {
+  std::string port;
+  transport::SerialSettings serial;  // device filled from port for serial links
+  client::ClientOptions client;      // MACID, checksum, timeouts, retries
+  std::string trace_path;            // "" = no trace
+  bool real_time_sim = false;        // sim: sleep for the modelled wire time
+};
+
+// "none", "add", "crc" (0xFFFF init), "crc-ffff", "crc-0000".
+Result<codec::ChecksumConfig> parse_checksum(std::string_view text);
+std::string checksum_name(const codec::ChecksumConfig& c);
+Result<transport::Parity> parse_parity(std::string_view text);
+
+class Session {
+ public:
+  virtual ~Session() = default;
+  virtual client::Client& client() = 0;
+  // The in-process simulated link (sim: ports), else nullptr.
+  virtual sim::SimLink* sim_link() = 0;
+  // Saves the simulated drive's state (sim: ports); closes the link.
+  virtual Result<void> close() = 0;
+  virtual std::string describe() const = 0;
+  // Settings as recorded in a backup's identity.
+  virtual config::LinkSettings link_settings() const = 0;
+};
+
+Result<std::unique_ptr<Session>> open_session(const LinkOptions& opt);
+
+}  // namespace lmcfg::ops

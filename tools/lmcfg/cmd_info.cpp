@@ -1,0 +1,34 @@
+// lmcfg info: state, status/warn word bits, actual error and error log of a drive.
+#include <cstdio>
+
+#include "command.hpp"
+#include "link_options.hpp"
+#include "ops/drive_info.hpp"
+
+namespace lmcfg::cli {
+namespace {
+
+int run(CommonOptions& o) {
+  std::optional<db::Database> holder;
+  const db::Database* db = load_database(o, holder);
+  auto session = open_link(o);
+  if (!session.ok()) return fail("info", session.error());
+  auto info = ops::read_drive_info((*session)->client(), db);
+  auto closed = (*session)->close();
+  if (!info.ok()) return fail("info", info.error());
+  if (!closed.ok()) return fail("info", closed.error());
+  std::fputs(ops::render_info(*info).c_str(), stdout);
+  return kOk;
+}
+
+const Register reg(60, [](CLI::App& app, int& exit_code) {
+  auto o = std::make_shared<CommonOptions>();
+  auto* sub = app.add_subcommand("info", "Show a drive's state, status and warn words, actual error and error log");
+  sub->footer("Example: lmcfg info --port /dev/ttyUSB0 --id 0x11");
+  add_link_options(sub, *o);
+  add_output_options(sub, *o);
+  sub->callback([o, &exit_code] { exit_code = run(*o); });
+});
+
+}  // namespace
+}  // namespace lmcfg::cli

@@ -1,0 +1,54 @@
+#pragma once
+// Options every drive-facing subcommand shares (issue 5): link, output mode,
+// database; the mapping from library errors to the documented exit codes.
+#include <CLI/CLI.hpp>
+#include <optional>
+#include <string>
+
+#include "common/result.hpp"
+#include "db/database.hpp"
+#include "ops/backup.hpp"
+#include "ops/session.hpp"
+
+namespace lmcfg::cli {
+
+struct CommonOptions {
+  std::string port;
+  unsigned baud = 57600;
+  std::string parity = "none";
+  unsigned stop_bits = 1;
+  std::string id = "0x11";
+  std::string checksum = "none";
+  int timeout_ms = 200;
+  int retries = 2;
+  std::string trace;
+  bool quiet = false;
+  bool json = false;
+  std::string db_path;
+};
+
+// --port, --baud, --parity, --stop-bits, --id, --checksum, --timeout-ms, --retries, --trace.
+void add_link_options(CLI::App* sub, CommonOptions& o);
+// --quiet, --json, --db.
+void add_output_options(CLI::App* sub, CommonOptions& o);
+
+// Validates option values (baud 0, ID 300 ... are refused with a message).
+Result<ops::LinkOptions> link_options(const CommonOptions& o);
+Result<std::unique_ptr<ops::Session>> open_link(const CommonOptions& o);
+
+// The database, or nullptr with a warning on stderr: a missing database makes
+// output less readable, never wrong.
+const db::Database* load_database(const CommonOptions& o, std::optional<db::Database>& holder);
+
+// Progress bar on stderr when it is a terminal and not --quiet; else nothing.
+ops::Progress make_progress(const CommonOptions& o);
+void end_progress(const CommonOptions& o);
+
+// "os,mc,intf,appl" (any subset, case-insensitive) -> layer switches.
+Result<std::array<bool, 4>> parse_layers(const std::string& text);
+
+// "lmcfg backup: <message>" on stderr; returns the exit code for the error.
+int fail(const char* command, const Error& e);
+int exit_code_for(const Error& e);
+
+}  // namespace lmcfg::cli
