@@ -1,0 +1,153 @@
+#pragma once
+// Read-only access to the compiled UPID database (lmcfg-upid.sqlite, built from
+// upid-db/*.tsv by upiddb-compile; schema in docs/upid-db.md). open() loads
+// every table into memory, so lookups never touch SQLite and cost microseconds.
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <unordered_map>
+#include <vector>
+
+#include "common/result.hpp"
+#include "db/value.hpp"
+
+namespace lmcfg::db {
+
+// Version of the SQLite schema written by the compiler and required by open().
+inline constexpr int kSchemaVersion = 1;
+// File name looked for next to the running executable.
+inline constexpr std::string_view kDefaultDbFileName = "lmcfg-upid.sqlite";
+// Environment variable that overrides the default location.
+inline constexpr std::string_view kDbPathEnv = "LMCFG_UPID_DB";
+
+// Firmware layers and their UPID ranges (seed 003 §10.2).
+enum class Layer { OS, MC, Intf, Appl };
+std::string_view layer_name(Layer l) noexcept;  // "OS", "MC", "Intf", "Appl"
+std::optional<Layer> layer_from_name(std::string_view name) noexcept;  // case-insensitive
+std::optional<Layer> layer_of_upid(std::uint16_t upid) noexcept;      // nullopt between ranges
+std::uint16_t layer_base_upid(Layer l) noexcept;                       // 0000, 1000, 2000, 3000
+
+// Address usage word (seed 003 §10; resolved bits only, see linrs-facts.md).
+// Bit 7 vs 8 ("live parameter") is unresolved: use raw.
+struct AddressUsage {
+  std::uint16_t raw = 0;
+  bool ram_read() const noexcept { return raw & 0x0001; }
+  bool ram_write() const noexcept { return raw & 0x0002; }
+  bool rom_read() const noexcept { return raw & 0x0004; }
+  bool rom_write() const noexcept { return raw & 0x0008; }
+  bool no_hash() const noexcept { return raw & 0x1000; }
+};
+
+// Where a row came from: the seed citation (`source` column) and the TSV line.
+struct Provenance {
+  std::string source;  // "seed003 §10.1", "entered by hand: ..."
+  std::string file;    // "parameters.tsv"
+  int line = 0;
+};
+
+struct Profile {
+  std::string id, family, software, version, description;
+  Provenance prov;
+};
+
+struct Parameter {
+  std::uint16_t upid = 0;
+  std::vector<std::string> profiles;  // empty = every profile ("*")
+  Layer layer = Layer::OS;
+  std::string name;
+  std::string path;  // "LinRS\RS Config\..."
+  ValueSpec spec;    // type, scale, unit, enum labels, min, max
+  std::optional<std::int64_t> default_value;
+  std::optional<AddressUsage> address_usage;
+  bool comm = false;  // changing it changes how the drive talks on the line
+  std::string description;
+  Provenance prov;
+
+  bool applies_to(std::string_view profile) const;
+  std::string format(std::uint32_t raw) const { return format_value(spec, raw); }
+};
+
+struct ErrorEntry {
+  std::string domain;     // "mc", "linrs", "devicenet"
+  std::uint32_t code = 0;
+  std::string code_text;  // as written in the TSV ("000C", "C1")
+  std::string text, description, action;
+  Provenance prov;
+};
+
+struct MotionParam {
+  int index = 0;   // 1-based
+  int offset = 0;  // from the command header (first parameter at 2)
+  std::string name;
+  ValueSpec spec;
+  Provenance prov;
+};
+
+// Header layout (seed 001 §4.1.1): master ID bits 15..8, sub ID bits 7..4,
+// command count bits 3..0.
+constexpr std::uint16_t motion_header(std::uint8_t master, std::uint8_t sub, std::uint8_t count = 0) noexcept {
+  return static_cast<std::uint16_t>((master << 8) | ((sub & 0x0F) << 4) | (count & 0x0F));
+}
+
+struct MotionCommand {
+  std::uint8_t master = 0;
+  std::uint8_t sub = 0;
+  std::string name, products, description;
+  std::vector<MotionParam> params;  // ordered by index
+  Provenance prov;
+  std::uint16_t header() const noexcept { return motion_header(master, sub); }
+};
+
+struct DbInfo {
+  std::string path;
+  int schema_version = 0;
+  std::string content_hash;  // "fnv1a64:0123456789abcdef"
+  std::string built_from;    // source file list
+  std::map<std::string, std::size_t> counts;  // rows per table
+};
+
+class Database {
+ public:
+  static Result<Database> open(const std::string& path);
+  // $LMCFG_UPID_DB if set, else lmcfg-upid.sqlite next to /proc/self/exe.
+  static Result<Database> open_default();
+  static Result<std::string> default_path();
+
+  // First parameter with this UPID (that applies to `profile`, when given).
+  const Parameter* find(std::uint16_t upid, std::string_view profile = {}) const;
+  // Every definition of the UPID (one per profile group).
+  std::vector<const Parameter*> find_all(std::uint16_t upid) const;
+  // Case-insensitive substring of name or tree path, in UPID order.
+  std::vector<const Parameter*> search(std::string_view needle) const;
+  std::vector<const Parameter*> in_layer(Layer layer) const;
+
+  const ErrorEntry* error(std::string_view domain, std::uint32_t code) const;
+  // All errors, or those of one domain (case-insensitive), ordered by domain, code.
+  std::vector<const ErrorEntry*> errors(std::string_view domain = {}) const;
+
+  // By motion command header; the command count nibble is ignored.
+  const MotionCommand* motion_command(std::uint16_t header) const;
+  const std::vector<MotionCommand>& motion_commands() const { return commands_; }
+
+  const std::vector<Profile>& profiles() const { return profiles_; }
+  const Profile* profile(std::string_view id) const;
+  const std::vector<Parameter>& parameters() const { return params_; }
+  const std::vector<ErrorEntry>& all_errors() const { return errors_; }
+  const DbInfo& info() const { return info_; }
+
+ private:
+  Database() = default;
+  std::vector<Profile> profiles_;
+  std::vector<Parameter> params_;  // sorted by UPID
+  std::vector<ErrorEntry> errors_;  // sorted by domain, code
+  std::vector<MotionCommand> commands_;  // sorted by header
+  std::unordered_map<std::uint16_t, std::vector<std::uint32_t>> by_upid_;
+  std::map<std::pair<std::string, std::uint32_t>, std::uint32_t, std::less<>> by_error_;
+  std::unordered_map<std::uint16_t, std::uint32_t> by_header_;
+  std::vector<std::string> search_keys_;  // lower-case "name\npath" per parameter
+  DbInfo info_;
+};
+
+}  // namespace lmcfg::db

@@ -1,0 +1,156 @@
+#include <sqlite3.h>
+
+#include <catch2/catch.hpp>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <vector>
+
+#include "db/compiler.hpp"
+#include "db_test_support.hpp"
+
+using namespace lmcfg::db;
+using lmcfg::db::test::scratch_dir;
+using lmcfg::db::test::write_file;
+
+namespace {
+
+const char* kProfiles =
+    "profile\tfamily\tsoftware\tversion\tdescription\tsource\n"
+    "e1100\tE1100\t\t\t\tentered by hand: test\n";
+const char* kParamHeader =
+    "upid\tprofiles\tlayer\tname\tpath\ttype\taddress_usage\tmin\tmax\tdefault\tunit\tscale\tenum\tcomm\tdescription\tsource\n";
+
+// A parameters.tsv row with the given key fields; the others empty.
+std::string prow(const std::string& upid, const std::string& profiles, const std::string& layer,
+                 const std::string& type, const std::string& source) {
+  return upid + "\t" + profiles + "\t" + layer + "\tN\t\t" + type + "\t\t\t\t\t\t\t\t\t\t" + source + "\n";
+}
+
+std::vector<std::string> messages(const CompileReport& rep) {
+  std::vector<std::string> v;
+  for (const auto& d : rep.diagnostics) v.push_back(d.str());
+  return v;
+}
+
+}  // namespace
+
+TEST_CASE("compiler reports malformed parameter rows with file:line:column", "[db]") {
+  auto dir = scratch_dir("bad-params");
+  write_file(dir / "profiles.tsv", kProfiles);
+  write_file(dir / "parameters.tsv",
+             std::string("# comment line\n") + kParamHeader +          // lines 1-2
+                 prow("13A2", "*", "MC", "UINT16", "seed003 §9.1") +   // 3 ok
+                 "13A3\t*\tMC\tB\n" +                                  // 4 column count
+                 prow("13G2", "*", "MC", "UINT16", "s") +              // 5 bad hex
+                 prow("13A4", "*", "MC", "UINT64", "s") +              // 6 unknown type
+                 prow("2008", "*", "MC", "UINT16", "s") +              // 7 layer mismatch
+                 prow("13A5", "*", "MC", "UINT16", "") +               // 8 missing source
+                 prow("13A2", "e1100", "MC", "UINT16", "s") +          // 9 duplicate
+                 prow("0F00", "*", "OS", "UINT16", "s") +              // 10 outside ranges
+                 prow("13A6", "e2200", "MC", "UINT16", "s"));          // 11 unknown profile
+  auto out = (dir / "out.sqlite").string();
+  write_file(out, "previous");
+  auto rep = compile_upid_db(dir.string(), out);
+  CHECK_FALSE(rep.ok());
+  CHECK_FALSE(rep.written);
+  const std::string f = (dir / "parameters.tsv").string();
+  std::vector<std::string> expected = {
+      f + ":4:12: error: expected 16 fields (as in the header, line 2), found 4",
+      f + ":5:1: error: bad hex \"13G2\" in column 'upid' (expected 4 hex digits, e.g. 13A2)",
+      f + ":6:14: error: unknown type name \"UINT64\" (expected one of: BOOL UINT8 SINT8 UINT16 SINT16 UINT32 SINT32 "
+          "LIN_FLOAT STRING CAP_DIR RADIO_DIR_BIT RADIO_DIR16 ENUM_DIR8 ENUM_DIR16 STRINGLET CAP_DIRLET)",
+      f + ":7:8: error: layer \"MC\" does not match UPID 2008 (in the Intf range 2000-2EFF)",
+      f + ":8:30: error: missing source (provenance) in column 'source'",
+      f + ":9:1: error: duplicate UPID 13A2 for profile e1100 (first at parameters.tsv:3)",
+      f + ":10:1: error: UPID 0F00 is outside every layer range (OS 0000-0EFF, MC 1000-1EFF, Intf 2000-2EFF, Appl "
+          "3000-3EFF)",
+      f + ":11:6: error: unknown profile \"e2200\" in column 'profiles' (not in profiles.tsv)",
+  };
+  CHECK(messages(rep) == expected);
+  // Nothing written: the previous file is untouched.
+  std::ifstream in(out);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  CHECK(ss.str() == "previous");
+}
+
+TEST_CASE("compiler reports header, hex and reference errors in the other tables", "[db]") {
+  auto dir = scratch_dir("bad-other");
+  write_file(dir / "profiles.tsv", "profile\tfamily\tsoftware\tversion\tdescriptoin\tsource\n");
+  write_file(dir / "errors.tsv",
+             "domain\tcode\ttext\tdescription\taction\tsource\n"
+             "mc\t000C\tPos Lag\t\t\ts\n"
+             "mc\t00XC\tBad\t\t\ts\n"
+             "mc\t000c\tAgain\t\t\ts\n");
+  write_file(dir / "motion_commands.tsv",
+             "master\tsub\tname\tproducts\tdescription\tsource\n"
+             "01\t0\tVAI Go To Pos\t\t\ts\n"
+             "1\t0\tShort\t\t\ts\n");
+  write_file(dir / "motion_command_params.tsv",
+             "master\tsub\tindex\toffset\tname\ttype\tunit\tscale\tsource\n"
+             "01\t0\t1\t2\tTarget Position\tSINT32\tmm\t0.0001\ts\n"
+             "02\t0\t1\t2\tX\tSINT32\t\t\ts\n"
+             "01\t0\t2\t32\tY\tSINT32\t\t\ts\n"
+             "01\t0\t3\t6\tZ\tUINT32\tm/s\tfast\ts\n");
+  write_file(dir / "notes.tsv", "x\n");
+  auto rep = compile_upid_db(dir.string(), "");
+  auto p = [&](const char* n) { return (dir / n).string(); };
+  std::vector<std::string> expected = {
+      p("notes.tsv") + ":1:1: warning: not a table the compiler knows; ignored",
+      p("profiles.tsv") + ":1:33: error: unknown column \"descriptoin\" in the header (expected: profile family "
+                          "software version description source)",
+      p("profiles.tsv") + ":1:51: error: header lacks column \"description\"",
+      p("errors.tsv") + ":3:4: error: bad hex \"00XC\" in column 'code' (expected 1 to 8 hex digits, e.g. 000C)",
+      p("errors.tsv") + ":4:4: error: duplicate error code 000c in domain mc (first at errors.tsv:2)",
+      p("motion_commands.tsv") + ":3:1: error: bad hex \"1\" in column 'master' (expected 2 hex digits, e.g. 01)",
+      p("motion_command_params.tsv") + ":3:1: error: motion command 02/0 is not in motion_commands.tsv",
+      p("motion_command_params.tsv") + ":4:8: error: bad offset \"32\" (expected the byte offset from the header, 2 or "
+                                       "more, with the value ending by byte 34)",
+      p("motion_command_params.tsv") + ":5:23: error: bad scale \"fast\" (expected a positive decimal number, e.g. 0.0001)",
+  };
+  CHECK(messages(rep) == expected);
+}
+
+TEST_CASE("compiler writes a versioned database with provenance atomically", "[db]") {
+  auto dir = scratch_dir("good");
+  auto out = (dir / "db.sqlite").string();
+  auto rep = compile_upid_db(LMCFG_SOURCE_DIR "/tests/fixtures/upid-db", out);
+  INFO((rep.diagnostics.empty() ? std::string() : rep.diagnostics.front().str()));
+  REQUIRE(rep.ok());
+  CHECK(rep.written);
+  CHECK(rep.content_hash.rfind("fnv1a64:", 0) == 0);
+  CHECK(rep.content_hash.size() == 8 + 16);
+  CHECK(rep.counts.at("parameters") == 8);
+  // Same sources, same hash; no temp file left behind.
+  auto rep2 = compile_upid_db(LMCFG_SOURCE_DIR "/tests/fixtures/upid-db", out);
+  CHECK(rep2.content_hash == rep.content_hash);
+  for (const auto& e : std::filesystem::directory_iterator(dir))
+    CHECK(e.path().filename().string().find(".tmp.") == std::string::npos);
+
+  sqlite3* db = nullptr;
+  REQUIRE(sqlite3_open_v2(out.c_str(), &db, SQLITE_OPEN_READONLY, nullptr) == SQLITE_OK);
+  auto scalar = [db](const char* sql) {
+    sqlite3_stmt* s = nullptr;
+    REQUIRE(sqlite3_prepare_v2(db, sql, -1, &s, nullptr) == SQLITE_OK);
+    REQUIRE(sqlite3_step(s) == SQLITE_ROW);
+    std::string v = reinterpret_cast<const char*>(sqlite3_column_text(s, 0));
+    sqlite3_finalize(s);
+    return v;
+  };
+  CHECK(scalar("SELECT value FROM meta WHERE key='schema_version'") == std::to_string(kSchemaVersion));
+  CHECK(scalar("SELECT value FROM meta WHERE key='content_hash'") == rep.content_hash);
+  // Decoded address usage bits (2136h: 1001h = RAM read + not used for hash).
+  CHECK(scalar("SELECT ram_read||ram_write||rom_read||rom_write||no_hash FROM parameters WHERE upid=0x2136") == "10001");
+  CHECK(scalar("SELECT ram_read||ram_write||rom_read||rom_write||no_hash FROM parameters WHERE upid=0x2008") == "10110");
+  CHECK(scalar("SELECT count(*) FROM sqlite_master WHERE type='index' AND name='parameters_upid'") == "1");
+  CHECK(scalar("SELECT src_file||':'||src_line FROM enum_labels WHERE label='By Parameter'") == "parameters.tsv:7");
+  sqlite3_close(db);
+}
+
+TEST_CASE("fnv1a64 matches the reference values", "[db]") {
+  CHECK(fnv1a64("") == 0xcbf29ce484222325ull);
+  CHECK(fnv1a64("a") == 0xaf63dc4c8601ec8cull);
+  CHECK(fnv1a64("foobar") == 0x85944171f73967e8ull);
+  CHECK(fnv1a64("bar", fnv1a64("foo")) == fnv1a64("foobar"));
+}

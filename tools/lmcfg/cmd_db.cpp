@@ -1,0 +1,299 @@
+// lmcfg db: query the compiled UPID database (no drive needed).
+#include <cstdio>
+#include <iostream>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+
+#include "command.hpp"
+#include "common/bytes.hpp"
+#include "db/database.hpp"
+
+namespace lmcfg::cli {
+namespace {
+
+using lmcfg::db::Database;
+using nlohmann::json;
+
+struct DbOptions {
+  std::string db_path;
+  bool json = false;
+  std::string upid;
+  std::string profile;
+  std::string needle;
+  std::string domain;
+};
+
+std::string hex(unsigned v, int digits) {
+  char b[16];
+  std::snprintf(b, sizeof b, "%0*X", digits, v);
+  return b;
+}
+
+std::optional<Database> open_db(const DbOptions& o, int& exit_code) {
+  auto r = o.db_path.empty() ? Database::open_default() : Database::open(o.db_path);
+  if (!r) {
+    std::fprintf(stderr, "lmcfg db: %s\n", r.error().message.c_str());
+    exit_code = kInvalidInput;
+    return std::nullopt;
+  }
+  return std::move(r).value();
+}
+
+json prov_json(const db::Provenance& p) {
+  return {{"source", p.source}, {"file", p.file}, {"line", p.line}};
+}
+std::string prov_text(const db::Provenance& p) { return p.source + " (" + p.file + ":" + std::to_string(p.line) + ")"; }
+
+std::string profiles_text(const db::Parameter& p) {
+  if (p.profiles.empty()) return "*";
+  std::string s;
+  for (const auto& x : p.profiles) s += (s.empty() ? "" : ",") + x;
+  return s;
+}
+
+std::string usage_text(const db::AddressUsage& a) {
+  std::string s;
+  auto add = [&s](bool on, const char* what) {
+    if (on) s += (s.empty() ? "" : ", ") + std::string(what);
+  };
+  add(a.ram_read(), "RAM read");
+  add(a.ram_write(), "RAM write");
+  add(a.rom_read(), "ROM read");
+  add(a.rom_write(), "ROM write");
+  add(a.no_hash(), "not in hash");
+  return s;
+}
+
+// Limits/default shown raw and, when they differ, formatted.
+std::string raw_and_text(const db::Parameter& p, std::int64_t raw) {
+  std::string r = std::to_string(raw);
+  std::string t = p.format(static_cast<std::uint32_t>(static_cast<std::uint64_t>(raw) & 0xFFFFFFFFull));
+  return t == r ? r : r + " = " + t;
+}
+
+json param_json(const db::Parameter& p) {
+  json j = {{"upid", hex(p.upid, 4)},
+            {"layer", std::string(db::layer_name(p.layer))},
+            {"name", p.name},
+            {"path", p.path},
+            {"profiles", p.profiles.empty() ? json::array({"*"}) : json(p.profiles)},
+            {"type", p.spec.type ? json(std::string(db::type_name(*p.spec.type))) : json(nullptr)},
+            {"unit", p.spec.unit},
+            {"scale", p.spec.scale ? json(*p.spec.scale) : json(nullptr)},
+            {"min", p.spec.min ? json(*p.spec.min) : json(nullptr)},
+            {"max", p.spec.max ? json(*p.spec.max) : json(nullptr)},
+            {"default", p.default_value ? json(*p.default_value) : json(nullptr)},
+            {"comm", p.comm},
+            {"description", p.description},
+            {"provenance", prov_json(p.prov)}};
+  if (p.address_usage) {
+    const auto& a = *p.address_usage;
+    j["address_usage"] = {{"raw", hex(a.raw, 4)},       {"ram_read", a.ram_read()}, {"ram_write", a.ram_write()},
+                          {"rom_read", a.rom_read()},   {"rom_write", a.rom_write()}, {"no_hash", a.no_hash()}};
+  } else {
+    j["address_usage"] = nullptr;
+  }
+  json labels = json::array();
+  for (const auto& l : p.spec.labels) labels.push_back({{"raw", l.raw}, {"label", l.label}});
+  j["enum"] = labels;
+  return j;
+}
+
+void print_param(const db::Parameter& p) {
+  auto row = [](const char* k, const std::string& v) {
+    if (!v.empty()) std::printf("  %-13s %s\n", k, v.c_str());
+  };
+  std::printf("%s  %s\n", hex(p.upid, 4).c_str(), p.name.empty() ? "(name not given in the seeds)" : p.name.c_str());
+  row("layer", std::string(db::layer_name(p.layer)));
+  row("path", p.path);
+  row("profiles", profiles_text(p));
+  row("type", p.spec.type ? std::string(db::type_name(*p.spec.type)) : "(unknown)");
+  if (p.address_usage) row("address usage", hex(p.address_usage->raw, 4) + " (" + usage_text(*p.address_usage) + ")");
+  if (p.spec.min) row("min", raw_and_text(p, *p.spec.min));
+  if (p.spec.max) row("max", raw_and_text(p, *p.spec.max));
+  if (p.default_value) row("default", raw_and_text(p, *p.default_value));
+  if (p.spec.scale) row("scale", db::format_scaled(1, *p.spec.scale) + " " + p.spec.unit + " per raw step");
+  else row("unit", p.spec.unit);
+  std::string labels;
+  for (const auto& l : p.spec.labels) labels += (labels.empty() ? "" : ", ") + std::to_string(l.raw) + "=" + l.label;
+  row("values", labels);
+  if (p.comm) row("comm", "yes: changing it changes how the drive talks on the line");
+  row("description", p.description);
+  row("source", prov_text(p.prov));
+}
+
+void print_param_list(const std::vector<const db::Parameter*>& v) {
+  std::printf("%-5s %-4s %-13s %-40s %s\n", "UPID", "LAYR", "TYPE", "NAME", "PATH");
+  for (const auto* p : v)
+    std::printf("%-5s %-4s %-13s %-40s %s\n", hex(p->upid, 4).c_str(), std::string(db::layer_name(p->layer)).c_str(),
+                p->spec.type ? std::string(db::type_name(*p->spec.type)).c_str() : "-", p->name.c_str(),
+                p->path.c_str());
+}
+
+int run_show(const DbOptions& o) {
+  std::string t = o.upid;
+  if (t.size() > 2 && t[0] == '0' && (t[1] == 'x' || t[1] == 'X')) t = t.substr(2);
+  auto v = parse_number(t, true);
+  if (!v || *v > 0xFFFF || t.empty() || t.size() > 4) {
+    std::fprintf(stderr, "lmcfg db show: \"%s\" is not a UPID (expected up to 4 hex digits, e.g. 13A2)\n", o.upid.c_str());
+    return kInvalidInput;
+  }
+  int rc = kOk;
+  auto d = open_db(o, rc);
+  if (!d) return rc;
+  auto upid = static_cast<std::uint16_t>(*v);
+  std::vector<const db::Parameter*> found;
+  for (const auto* p : d->find_all(upid))
+    if (p->applies_to(o.profile)) found.push_back(p);
+  if (o.json) {
+    json arr = json::array();
+    for (const auto* p : found) arr.push_back(param_json(*p));
+    json out = {{"upid", hex(upid, 4)}, {"known", !found.empty()}, {"definitions", arr}};
+    if (found.empty()) out["note"] = "unknown to the database; the drive can be asked";
+    std::cout << out.dump(2) << "\n";
+    return kOk;
+  }
+  if (found.empty()) {
+    std::printf("UPID %s is unknown to the database%s; the drive can be asked for its type and limits.\n",
+                hex(upid, 4).c_str(), o.profile.empty() ? "" : (" for profile " + o.profile).c_str());
+    return kOk;
+  }
+  for (std::size_t i = 0; i < found.size(); ++i) {
+    if (i) std::printf("\n");
+    print_param(*found[i]);
+  }
+  return kOk;
+}
+
+int run_find(const DbOptions& o) {
+  int rc = kOk;
+  auto d = open_db(o, rc);
+  if (!d) return rc;
+  auto v = d->search(o.needle);
+  if (o.json) {
+    json arr = json::array();
+    for (const auto* p : v) arr.push_back(param_json(*p));
+    std::cout << arr.dump(2) << "\n";
+    return kOk;
+  }
+  if (v.empty()) {
+    std::printf("no parameter name or path contains \"%s\"\n", o.needle.c_str());
+    return kOk;
+  }
+  print_param_list(v);
+  return kOk;
+}
+
+int run_errors(const DbOptions& o) {
+  int rc = kOk;
+  auto d = open_db(o, rc);
+  if (!d) return rc;
+  auto v = d->errors(o.domain);
+  if (o.json) {
+    json arr = json::array();
+    for (const auto* e : v)
+      arr.push_back({{"domain", e->domain}, {"code", e->code_text}, {"text", e->text}, {"description", e->description},
+                     {"action", e->action}, {"provenance", prov_json(e->prov)}});
+    std::cout << arr.dump(2) << "\n";
+    return kOk;
+  }
+  std::printf("%-9s %-8s %s\n", "DOMAIN", "CODE", "TEXT");
+  for (const auto* e : v) std::printf("%-9s %-8s %s\n", e->domain.c_str(), e->code_text.c_str(), e->text.c_str());
+  return kOk;
+}
+
+int run_commands(const DbOptions& o) {
+  int rc = kOk;
+  auto d = open_db(o, rc);
+  if (!d) return rc;
+  const auto& v = d->motion_commands();
+  if (o.json) {
+    json arr = json::array();
+    for (const auto& c : v) {
+      json params = json::array();
+      for (const auto& p : c.params)
+        params.push_back({{"index", p.index},
+                          {"offset", p.offset},
+                          {"name", p.name},
+                          {"type", p.spec.type ? json(std::string(db::type_name(*p.spec.type))) : json(nullptr)},
+                          {"unit", p.spec.unit},
+                          {"scale", p.spec.scale ? json(*p.spec.scale) : json(nullptr)},
+                          {"provenance", prov_json(p.prov)}});
+      arr.push_back({{"header", hex(c.header() >> 4, 3) + "x"}, {"master", hex(c.master, 2)}, {"sub", hex(c.sub, 1)},
+                     {"name", c.name}, {"products", c.products}, {"parameters", params},
+                     {"provenance", prov_json(c.prov)}});
+    }
+    std::cout << arr.dump(2) << "\n";
+    return kOk;
+  }
+  std::printf("%-6s %-45s %s\n", "HEADER", "NAME", "PARAMETERS");
+  for (const auto& c : v) {
+    std::string ps;
+    for (const auto& p : c.params) ps += (ps.empty() ? "" : ", ") + p.name + (p.spec.unit.empty() ? "" : " [" + p.spec.unit + "]");
+    std::printf("%-6s %-45s %s\n", (hex(c.header() >> 4, 3) + "x").c_str(), c.name.c_str(), ps.c_str());
+  }
+  return kOk;
+}
+
+int run_info(const DbOptions& o) {
+  int rc = kOk;
+  auto d = open_db(o, rc);
+  if (!d) return rc;
+  const auto& i = d->info();
+  if (o.json) {
+    json counts = json::object();
+    for (const auto& [k, n] : i.counts) counts[k] = n;
+    std::cout << json{{"path", i.path}, {"schema_version", i.schema_version}, {"content_hash", i.content_hash},
+                      {"built_from", i.built_from}, {"counts", counts}}
+                     .dump(2)
+              << "\n";
+    return kOk;
+  }
+  std::printf("database        %s\nschema version  %d\ncontent hash    %s\nbuilt from      %s\n", i.path.c_str(),
+              i.schema_version, i.content_hash.c_str(), i.built_from.empty() ? "(no source files)" : i.built_from.c_str());
+  for (const auto& [k, n] : i.counts) std::printf("  %-22s %zu\n", k.c_str(), n);
+  return kOk;
+}
+
+void setup(CLI::App& app, int& exit_code) {
+  auto o = std::make_shared<DbOptions>();
+  auto* db = app.add_subcommand("db", "Query the UPID database (parameters, errors, motion commands); no drive needed");
+  db->require_subcommand(1);
+  db->footer(
+      "Exit codes: 0 = answered (also when a UPID or text is not in the database: that is a note, not an error;\n"
+      "the drive itself can be asked); 2 = malformed input (a UPID that is not hex) or the database file is missing\n"
+      "or unreadable. The database is lmcfg-upid.sqlite next to the lmcfg binary, or $LMCFG_UPID_DB, or --db PATH.");
+  auto common = [&](CLI::App* sub) {
+    sub->fallthrough();
+    sub->add_option("--db", o->db_path, "UPID database file (default: next to lmcfg, or $LMCFG_UPID_DB)");
+    sub->add_flag("--json", o->json, "Machine-readable JSON on stdout");
+  };
+  common(db);
+
+  auto* show = db->add_subcommand("show", "Show everything the database knows about one UPID");
+  show->add_option("upid", o->upid, "UPID in hex: 13A2, 0x13A2")->required();
+  show->add_option("--profile", o->profile, "Only the definition for this profile id (see upid-db/profiles.tsv)");
+  show->callback([o, &exit_code] { exit_code = run_show(*o); });
+
+  auto* find = db->add_subcommand("find", "Find parameters whose name or tree path contains TEXT (case-insensitive)");
+  find->add_option("text", o->needle, "Substring to look for")->required();
+  find->callback([o, &exit_code] { exit_code = run_find(*o); });
+
+  auto* errors = db->add_subcommand("errors", "List error codes");
+  errors->add_option("--domain", o->domain, "mc, linrs or devicenet");
+  errors->callback([o, &exit_code] { exit_code = run_errors(*o); });
+
+  auto* commands = db->add_subcommand("commands", "List motion commands and their parameters");
+  commands->callback([o, &exit_code] { exit_code = run_commands(*o); });
+
+  auto* info = db->add_subcommand("info", "Schema version, content hash and row counts");
+  info->callback([o, &exit_code] { exit_code = run_info(*o); });
+  for (auto* s : {show, find, errors, commands, info}) common(s);
+}
+
+Register reg(60, setup);
+
+}  // namespace
+}  // namespace lmcfg::cli
