@@ -1,0 +1,611 @@
+#include "sim/drive.hpp"
+
+#include <algorithm>
+#include <array>
+
+namespace lmcfg::sim {
+
+using codec::Main;
+using codec::Telegram;
+namespace st = codec::state;
+
+Layer layer_of(std::uint16_t upid) {
+  if (upid <= 0x0EFF) return Layer::os;
+  if (upid >= 0x1000 && upid <= 0x1EFF) return Layer::mc;
+  if (upid >= 0x2000 && upid <= 0x2EFF) return Layer::intf;
+  if (upid >= 0x3000 && upid <= 0x3EFF) return Layer::appl;
+  return Layer::none;
+}
+
+std::uint16_t layer_base(Layer l) {
+  switch (l) {
+    case Layer::os: return 0x0000;
+    case Layer::mc: return 0x1000;
+    case Layer::intf: return 0x2000;
+    case Layer::appl: return 0x3000;
+    case Layer::none: break;
+  }
+  return 0xFFFF;
+}
+
+const char* layer_name(Layer l) {
+  switch (l) {
+    case Layer::os: return "OS";
+    case Layer::mc: return "MC";
+    case Layer::intf: return "Intf";
+    case Layer::appl: return "Appl";
+    case Layer::none: break;
+  }
+  return "none";
+}
+
+namespace type {
+namespace {
+constexpr std::array<const char*, 16> kNames{"BOOL",    "UINT8",      "SINT8",         "UINT16",
+                                             "SINT16",  "UINT32",     "SINT32",        "LIN_FLOAT",
+                                             "STRING",  "CAP_DIR",    "RADIO_DIR_BIT", "RADIO_DIR16",
+                                             "ENUM_DIR8", "ENUM_DIR16", "STRINGLET",   "CAP_DIRLET"};
+}
+const char* name(std::uint16_t code) { return code < kNames.size() ? kNames[code] : "?"; }
+std::optional<std::uint16_t> from_name(std::string_view n) {
+  for (std::size_t i = 0; i < kNames.size(); ++i)
+    if (n == kNames[i]) return static_cast<std::uint16_t>(i);
+  return std::nullopt;
+}
+}  // namespace type
+
+namespace {
+
+std::int64_t as_number(std::uint16_t t, std::uint32_t v) {
+  switch (t) {
+    case type::sint8: return static_cast<std::int8_t>(v & 0xFF);
+    case type::sint16: return static_cast<std::int16_t>(v & 0xFFFF);
+    case type::sint32: return static_cast<std::int32_t>(v);
+    default: return static_cast<std::int64_t>(v);
+  }
+}
+
+bool range_checked(std::uint16_t t) {
+  switch (t) {
+    case type::lin_float:
+    case type::string:
+    case type::cap_dir:
+    case type::stringlet:
+    case type::cap_dirlet: return false;
+    default: return true;
+  }
+}
+
+}  // namespace
+
+bool in_range(const Parameter& p, std::uint32_t value) {
+  if (!range_checked(p.type)) return true;
+  const auto v = as_number(p.type, value);
+  return v >= as_number(p.type, p.min) && v <= as_number(p.type, p.max);
+}
+
+std::map<std::uint16_t, std::string> default_error_texts() {
+  return {
+      {0x0000, "No Error"},                        // seed 003 §14.1
+      {0x0001, "Err: X4 Logic Supply Too Low"},    // seed 003 §14.2
+      {0x000C, "Err. Pos Lag Standing Too Big"},   // seed 003 §14.4
+  };
+}
+
+Drive::Drive() : Drive(DriveState{}) {}
+
+Drive::Drive(DriveState state) : s_(std::move(state)), decoder_(s_.checksum) {
+  if (s_.error_texts.empty()) s_.error_texts = default_error_texts();
+}
+
+Parameter* Drive::find(std::uint16_t upid) {
+  auto it = s_.params.find(upid);
+  return it == s_.params.end() ? nullptr : &it->second;
+}
+std::optional<std::uint32_t> Drive::ram(std::uint16_t upid) const {
+  auto it = s_.params.find(upid);
+  if (it == s_.params.end()) return std::nullopt;
+  return it->second.ram;
+}
+std::optional<std::uint32_t> Drive::rom(std::uint16_t upid) const {
+  auto it = s_.params.find(upid);
+  if (it == s_.params.end()) return std::nullopt;
+  return it->second.rom;
+}
+
+// ---- byte front end ----------------------------------------------------------
+
+std::vector<Answer> Drive::receive(ByteView bytes, std::int64_t now_ns) {
+  std::vector<Answer> out;
+  // Byte-to-byte receive time-out (§15): a partial telegram is dropped.
+  if (s_.timing.rx_timeout_us > 0 && have_last_byte_ && decoder_.buffered() > 0 &&
+      now_ns - last_byte_ns_ > s_.timing.rx_timeout_us * 1000) {
+    if (decoder_.flush_idle()) ++stats_.bad_frames;
+    window_.clear();
+  }
+  const std::size_t chk = s_.checksum.size();
+  // Bytes are fed one at a time (as a UART delivers them), so when the decoder
+  // reports a broken frame, that frame ends at the byte just fed.
+  auto frame_id_ending_here = [&](bool want_end_marker) -> std::optional<std::uint8_t> {
+    const std::size_t n = window_.size();
+    const std::size_t lo = n > 70 ? n - 70 : 0;
+    for (std::size_t s = lo; s + 4 <= n; ++s) {
+      if (window_[s] != codec::kStartHeader || window_[s + 3] != codec::kStartData) continue;
+      if (s + 3 + window_[s + 2] + chk + 1 != n) continue;
+      if (want_end_marker != (window_.back() == codec::kEndTelegram)) continue;
+      return window_[s + 1];
+    }
+    return std::nullopt;
+  };
+  for (std::uint8_t b : bytes) {
+    window_.push_back(b);
+    if (window_.size() > 512) window_.erase(window_.begin(), window_.end() - 128);
+    decoder_.feed(ByteView(&b, 1));
+    while (auto r = decoder_.next()) {
+      if (r->ok()) {
+        if (auto a = handle(r->value(), now_ns)) out.push_back(std::move(*a));
+        continue;
+      }
+      ++stats_.bad_frames;
+      const auto code = r->error().code;
+      std::optional<std::uint8_t> id;
+      std::uint8_t state = 0;
+      if (code == make_error_code(Errc::checksum_mismatch) && s_.options.respond_on_checksum_error) {
+        id = frame_id_ending_here(true);
+        state = st::checksum_error;
+      } else if (code == make_error_code(Errc::frame_short) && s_.options.respond_on_end_missing) {
+        id = frame_id_ending_here(false);
+        state = st::end_missing;
+      }
+      if (id && *id == s_.macid) {
+        if (auto a = error_answer(state, now_ns)) out.push_back(std::move(*a));
+      }
+    }
+  }
+  last_byte_ns_ = now_ns;
+  have_last_byte_ = true;
+  return out;
+}
+
+// ---- answer construction -----------------------------------------------------
+
+Telegram Drive::default_response(std::uint8_t comm_state, std::optional<std::uint32_t> value) const {
+  codec::DefaultResponse r;
+  r.comm_state = comm_state;
+  // MC stopped: status word and state var read 0 (seed 003 §13.3 and §10.1 captures).
+  r.status_word = s_.mc_running ? s_.live.status_word : 0;
+  r.state_var = s_.mc_running ? s_.live.state_var : 0;
+  r.error_code = s_.live.error_code;
+  r.warn_word = s_.live.warn_word;
+  r.echo_header = last_motion_header_;
+  r.monitoring_1 = s_.live.monitoring_1;
+  r.monitoring_2 = s_.live.monitoring_2;
+  r.value = value;
+  return codec::make_default_response(s_.macid, r, s_.layout);
+}
+
+Telegram Drive::id_value(std::uint8_t sub, std::uint8_t state, std::uint16_t key, std::uint32_t value) const {
+  return codec::make_id_value(s_.macid, sub, state, key, value);
+}
+
+Answer Drive::finish(const Telegram& reply, std::int64_t extra_us, std::int64_t now_ns) {
+  Answer a;
+  auto enc = codec::encode(reply, s_.checksum);
+  if (enc.ok()) a.bytes = std::move(enc).value();
+  a.delay_ns = (s_.timing.turnaround_us + extra_us) * 1000;
+  if (extra_us > 0) busy_until_ns_ = std::max(busy_until_ns_, now_ns + a.delay_ns);
+  ++stats_.answers;
+  if (!reply.data.empty() && st::is_error(reply.data[0])) ++stats_.error_answers;
+  return a;
+}
+
+std::optional<Answer> Drive::error_answer(std::uint8_t comm_state, std::int64_t now_ns) {
+  if (s_.options.ignore_while_busy && busy(now_ns)) {
+    ++stats_.ignored_busy;
+    return std::nullopt;
+  }
+  return finish(default_response(comm_state), 0, now_ns);
+}
+
+// ---- telegram front end ------------------------------------------------------
+
+std::optional<Answer> Drive::handle(const Telegram& t, std::int64_t now) {
+  ++stats_.telegrams_seen;
+  if (t.id != s_.macid) {
+    ++stats_.ignored_other_id;
+    return std::nullopt;
+  }
+  ++stats_.telegrams_for_me;
+  if (s_.options.ignore_while_busy && busy(now)) {
+    ++stats_.ignored_busy;
+    return std::nullopt;
+  }
+  switch (static_cast<Main>(t.main)) {
+    case Main::response: return on_response_request(t, now);
+    case Main::control_word:
+      if (t.data.size() < 2) return error_answer(st::bad_sub_id, now);
+      if (t.sub != 0) return error_answer(st::bad_sub_id, now);
+      control_word_ = get_u16le(t.data, 0);
+      return finish(default_response(st::ok), 0, now);
+    case Main::motion_command:
+      if (t.sub != 0 || t.data.size() < 2) return error_answer(st::bad_sub_id, now);
+      last_motion_header_ = get_u16le(t.data, 0);
+      return finish(default_response(st::ok), 0, now);
+    case Main::parameter: return on_parameter(t, now);
+    case Main::curve: return on_curve(t, now);
+    case Main::param_config: return on_param_config(t, now);
+    case Main::program: return on_program(t, now);
+    case Main::error_info: return on_error_info(t, now);
+    case Main::command_table: return on_command_table(t, now);
+  }
+  return error_answer(st::bad_main_id, now);
+}
+
+std::optional<Answer> Drive::on_response_request(const Telegram& t, std::int64_t now) {
+  switch (t.sub) {
+    case 0x01: return finish(default_response(st::ok), 0, now);
+    case 0x02: return finish(default_response(st::ok, s_.mc_running ? s_.live.status_word : 0u), 0, now);
+    case 0x03: return finish(default_response(st::ok, s_.live.warn_word), 0, now);
+    case 0x04: return finish(default_response(st::ok, s_.mc_running ? s_.live.state_var : 0u), 0, now);
+    default: return error_answer(st::bad_sub_id, now);
+  }
+}
+
+// ---- parameters (§9, §10) ----------------------------------------------------
+
+std::uint8_t Drive::write_value(Parameter& p, bool ram, bool rom, std::uint32_t value) {
+  const auto& o = s_.options;
+  if (o.write_policy != WritePolicy::accept) {
+    const bool au_ok = (!ram || (p.address_usage & au::ram_write)) && (!rom || (p.address_usage & au::rom_write));
+    if (!au_ok) return o.reject_state;
+    if (!in_range(p, value)) {
+      if (o.write_policy == WritePolicy::reject) return o.reject_state;
+      value = as_number(p.type, value) < as_number(p.type, p.min) ? p.min : p.max;
+    }
+  }
+  if (ram) p.ram = value;
+  if (rom) p.rom = value;
+  return st::ok;
+}
+
+void Drive::default_layer(Layer l) {
+  for (auto& [upid, p] : s_.params)
+    if (layer_of(upid) == l && p.has_rom()) p.rom = p.def;
+}
+
+void Drive::load_ram_from_rom() {
+  for (auto& [upid, p] : s_.params)
+    if (p.has_rom()) p.ram = p.rom;
+  if (s_.options.reload_tables_on_start) {
+    s_.curves_ram = s_.curves_flash;
+    s_.ct_ram = s_.ct_flash;
+  }
+  xfer_ = {};
+}
+
+std::optional<Answer> Drive::on_parameter(const Telegram& t, std::int64_t now) {
+  if (t.sub >= 0x11 && t.sub <= 0x14) {
+    default_layer(static_cast<Layer>(t.sub - 0x10));
+    return finish(default_response(st::ok), s_.timing.defaulting_us, now);
+  }
+  if (t.sub > 0x07) return error_answer(st::bad_sub_id, now);
+  const bool is_write = t.sub == 0x01 || t.sub == 0x03 || t.sub == 0x04;
+  if (t.data.size() < (is_write ? 6u : 2u)) return error_answer(st::bad_sub_id, now);
+  const std::uint16_t upid = get_u16le(t.data, 0);
+  Parameter* p = find(upid);
+  if (!p) return error_answer(st::unknown_upid, now);
+  switch (t.sub) {
+    case 0x00: return finish(default_response(st::ok, p->ram), 0, now);
+    case 0x02: return finish(default_response(st::ok, p->rom), 0, now);
+    case 0x05: return finish(default_response(st::ok, p->min), 0, now);
+    case 0x06: return finish(default_response(st::ok, p->max), 0, now);
+    case 0x07: return finish(default_response(st::ok, p->def), 0, now);
+    default: break;
+  }
+  const std::uint32_t v = get_u32le(t.data, 2);
+  const std::uint8_t state = write_value(*p, t.sub != 0x03, t.sub != 0x01, v);
+  return finish(default_response(state), 0, now);
+}
+
+std::optional<Answer> Drive::on_param_config(const Telegram& t, std::int64_t now) {
+  const std::uint8_t sub = static_cast<std::uint8_t>(0x50 + t.sub);
+  const auto& o = s_.options;
+  if (t.sub >= 0x0C && t.sub <= 0x0F) {
+    const auto layer = static_cast<std::uint8_t>(t.sub - 0x0B);
+    default_layer(static_cast<Layer>(layer));
+    const std::uint16_t key = t.data.size() >= 2 ? get_u16le(t.data, 0) : 0;
+    return finish(id_value(sub, st::ok, key, layer), s_.timing.defaulting_us, now);
+  }
+  // 09h/0Bh: the UPID field is ignored (erratum 4, §10.3 "not used").
+  if (t.sub == 0x09) {
+    auto& c = modified_;
+    auto empty = [&] {
+      c.ended = true;
+      return finish(id_value(sub, o.empty_list_state, o.empty_list_upid, 0), 0, now);
+    };
+    if (!c.active || c.ended) return empty();
+    auto it = c.last ? s_.params.upper_bound(*c.last) : s_.params.lower_bound(layer_base(c.layer));
+    auto is_next = [&](const auto& kv) { return layer_of(kv.first) == c.layer && kv.second.modified(); };
+    auto found = std::find_if(it, s_.params.end(), is_next);
+    if (found == s_.params.end()) return empty();
+    const bool more = std::find_if(std::next(found), s_.params.end(), is_next) != s_.params.end();
+    c.last = found->first;
+    if (!more) c.ended = true;
+    return finish(id_value(sub, more ? st::ok : st::last_in_list, found->first, found->second.rom), 0, now);
+  }
+  if (t.sub == 0x0B) {
+    auto& c = upids_;
+    auto entry = [&](std::uint8_t state, const Parameter& p) {
+      return finish(id_value(sub, state, p.upid, static_cast<std::uint32_t>(p.address_usage | (p.type << 16))), 0, now);
+    };
+    if (!c.active) return finish(id_value(sub, o.empty_list_state, o.empty_list_upid, 0), 0, now);
+    if (!c.ended) {
+      auto it = c.last ? s_.params.upper_bound(*c.last) : s_.params.lower_bound(layer_base(c.layer));
+      if (it != s_.params.end() && layer_of(it->first) == c.layer) {
+        c.last = it->first;
+        return entry(st::ok, it->second);
+      }
+      c.ended = true;
+    }
+    // End of list: C6 repeating the previous UPID (§10.3).
+    if (c.last) {
+      if (auto* p = find(*c.last)) return entry(st::last_in_list, *p);
+    }
+    return finish(id_value(sub, o.empty_list_state, o.empty_list_upid, 0), 0, now);
+  }
+  if (t.sub == 0x02 || t.sub == 0x03 || t.sub > 0x0F) return error_answer(st::bad_sub_id, now);
+  if (t.data.size() < (t.sub == 0x01 ? 6u : 2u)) return error_answer(st::bad_sub_id, now);
+  const std::uint16_t upid = get_u16le(t.data, 0);
+  if (t.sub == 0x08 || t.sub == 0x0A) {
+    const Layer l = layer_of(upid);
+    if (l == Layer::none) return finish(id_value(sub, st::unknown_upid, upid, 0), 0, now);
+    ListCursor& c = t.sub == 0x08 ? modified_ : upids_;
+    c = ListCursor{true, false, l, std::nullopt};
+    return finish(id_value(sub, st::ok, upid, 0), 0, now);
+  }
+  Parameter* p = find(upid);
+  if (!p) return finish(id_value(sub, st::unknown_upid, upid, 0), 0, now);
+  switch (t.sub) {
+    case 0x00: return finish(id_value(sub, st::ok, upid, p->rom), 0, now);
+    case 0x01: {
+      const std::uint8_t state = write_value(*p, false, true, get_u32le(t.data, 2));
+      return finish(id_value(sub, state, upid, p->rom), 0, now);
+    }
+    case 0x04: return finish(id_value(sub, st::ok, upid, p->type), 0, now);
+    case 0x05: return finish(id_value(sub, st::ok, upid, p->min), 0, now);
+    case 0x06: return finish(id_value(sub, st::ok, upid, p->max), 0, now);
+    case 0x07: return finish(id_value(sub, st::ok, upid, p->def), 0, now);
+    default: break;
+  }
+  return error_answer(st::bad_sub_id, now);
+}
+
+// ---- block transfers (§11, §12) ----------------------------------------------
+
+std::uint8_t Drive::block_write(Bytes& target, XferKind kind, std::uint16_t key, ByteView chunk) {
+  if (xfer_.kind != kind || xfer_.key != key) xfer_ = Transfer{kind, key, 0};
+  for (std::size_t i = 0; i < 4 && i < chunk.size(); ++i)
+    if (xfer_.offset + i < target.size()) target[xfer_.offset + i] = chunk[i];
+  xfer_.offset += 4;
+  if (xfer_.offset >= target.size()) {
+    xfer_ = {};
+    return st::ok;
+  }
+  return st::more_data;
+}
+
+std::uint8_t Drive::block_read(const Bytes& source, XferKind kind, std::uint16_t key, std::uint32_t& out) {
+  if (xfer_.kind != kind || xfer_.key != key) xfer_ = Transfer{kind, key, 0};
+  Bytes four(4, 0);
+  for (std::size_t i = 0; i < 4; ++i)
+    if (xfer_.offset + i < source.size()) four[i] = source[xfer_.offset + i];
+  out = get_u32le(four, 0);
+  xfer_.offset += 4;
+  if (xfer_.offset >= source.size()) {
+    xfer_ = {};
+    return st::ok;
+  }
+  return st::more_data;
+}
+
+std::int64_t Drive::flash_save_duration_us() {
+  if (slow_flash_) {
+    slow_flash_ = false;
+    return s_.timing.flash_save_max_us;
+  }
+  return s_.timing.flash_save_us;
+}
+
+std::optional<Answer> Drive::on_curve(const Telegram& t, std::int64_t now) {
+  constexpr std::uint8_t sub = 0x40;  // every curve answer is 40h (§11)
+  const auto& o = s_.options;
+  switch (t.sub) {
+    case 0x00:
+      if (s_.mc_running) return finish(id_value(sub, o.flash_refused_state, 0, 0), 0, now);
+      s_.curves_flash = s_.curves_ram;
+      ++stats_.flash_saves;
+      return finish(id_value(sub, st::ok, 0, 0), flash_save_duration_us(), now);
+    case 0x01:
+      s_.curves_ram.clear();
+      xfer_ = {};
+      return finish(id_value(sub, st::ok, 0, 0), 0, now);
+    case 0x02: case 0x04: case 0x05: case 0x06: case 0x08: case 0x09: case 0x0A: break;
+    default: return error_answer(st::bad_sub_id, now);
+  }
+  const std::size_t need = t.sub == 0x04 || t.sub == 0x05 || t.sub == 0x06 ? 6u : 2u;
+  if (t.data.size() < need) return error_answer(st::bad_sub_id, now);
+  const std::uint16_t id = get_u16le(t.data, 0);
+  auto it = s_.curves_ram.find(id);
+  const bool exists = it != s_.curves_ram.end();
+  switch (t.sub) {
+    case 0x02:
+      s_.curves_ram.erase(id);
+      if (xfer_.key == id) xfer_ = {};
+      return finish(id_value(sub, st::ok, id, 0), 0, now);
+    case 0x04:
+      s_.curves_ram[id] = Curve{Bytes(get_u16le(t.data, 2), 0), Bytes(get_u16le(t.data, 4), 0)};
+      xfer_ = {};
+      return finish(id_value(sub, st::ok, id, 0), 0, now);
+    case 0x08:
+      if (!exists) {
+        if (o.missing_curve_zero_sizes) return finish(id_value(sub, st::ok, id, 0), 0, now);
+        return finish(id_value(sub, o.missing_object_state, id, 0), 0, now);
+      }
+      return finish(id_value(sub, st::ok, id,
+                             static_cast<std::uint32_t>(it->second.info.size() | (it->second.data.size() << 16))),
+                    0, now);
+    default: break;
+  }
+  if (!exists) return finish(id_value(sub, o.missing_object_state, id, 0), 0, now);
+  Curve& c = it->second;
+  if (t.sub == 0x05 || t.sub == 0x06) {
+    const bool info = t.sub == 0x05;
+    const auto state = block_write(info ? c.info : c.data, info ? XferKind::curve_info_w : XferKind::curve_data_w, id,
+                                   ByteView(t.data).subspan(2, 4));
+    return finish(id_value(sub, state, id, 0), 0, now);
+  }
+  std::uint32_t v = 0;
+  const bool info = t.sub == 0x09;
+  const auto state = block_read(info ? c.info : c.data, info ? XferKind::curve_info_r : XferKind::curve_data_r, id, v);
+  return finish(id_value(sub, state, id, v), 0, now);
+}
+
+std::optional<Answer> Drive::on_command_table(const Telegram& t, std::int64_t now) {
+  if (t.sub > 0x07) return error_answer(st::bad_sub_id, now);
+  const std::uint8_t sub = static_cast<std::uint8_t>(0x80 + t.sub);
+  const auto& o = s_.options;
+  if (t.sub == 0x00) {
+    if (s_.mc_running) return finish(id_value(sub, o.flash_refused_state, 0, 0), 0, now);
+    s_.ct_flash = s_.ct_ram;
+    ++stats_.flash_saves;
+    return finish(id_value(sub, st::ok, 0, 0), flash_save_duration_us(), now);
+  }
+  if (t.sub == 0x01) {
+    s_.ct_ram.clear();
+    xfer_ = {};
+    return finish(id_value(sub, st::ok, 0, 0), 0, now);
+  }
+  const std::size_t need = t.sub == 0x03 || t.sub == 0x04 ? 6u : 2u;
+  if (t.data.size() < need) return error_answer(st::bad_sub_id, now);
+  const std::uint16_t key = get_u16le(t.data, 0);
+  if (t.sub == 0x07) {
+    if (key > 7) return finish(id_value(sub, o.missing_object_state, key, 0), 0, now);
+    std::uint32_t bits = 0xFFFFFFFF;  // bit = 1: entry not defined
+    for (unsigned i = 0; i < 32; ++i)
+      if (s_.ct_ram.count(static_cast<std::uint16_t>(key * 32 + i))) bits &= ~(1u << i);
+    return finish(id_value(sub, st::ok, key, bits), 0, now);
+  }
+  if (key > 255) return finish(id_value(sub, o.missing_object_state, key, 0), 0, now);
+  auto it = s_.ct_ram.find(key);
+  const bool exists = it != s_.ct_ram.end();
+  switch (t.sub) {
+    case 0x02:
+      s_.ct_ram.erase(key);
+      if (xfer_.key == key) xfer_ = {};
+      return finish(id_value(sub, st::ok, key, 0), 0, now);
+    case 0x03: {
+      const std::uint32_t size = get_u32le(t.data, 2);
+      if (size > 0xFFFF) return finish(id_value(sub, s_.options.reject_state, key, 0), 0, now);
+      s_.ct_ram[key] = Bytes(size, 0);
+      xfer_ = Transfer{XferKind::ct_w, key, 0};
+      return finish(id_value(sub, st::ok, key, 0), 0, now);
+    }
+    case 0x04: {
+      if (!exists) return finish(id_value(sub, o.missing_object_state, key, 0), 0, now);
+      const auto state = block_write(it->second, XferKind::ct_w, key, ByteView(t.data).subspan(2, 4));
+      return finish(id_value(sub, state, key, 0), 0, now);
+    }
+    case 0x05:
+      if (!exists) return finish(id_value(sub, st::ok, key, 0), 0, now);  // size 0 for a missing entry
+      xfer_ = Transfer{XferKind::ct_r, key, 0};
+      return finish(id_value(sub, st::ok, key, static_cast<std::uint32_t>(it->second.size())), 0, now);
+    case 0x06: {
+      if (!exists) return finish(id_value(sub, o.missing_object_state, key, 0), 0, now);
+      std::uint32_t v = 0;
+      const auto state = block_read(it->second, XferKind::ct_r, key, v);
+      return finish(id_value(sub, state, key, v), 0, now);
+    }
+    default: break;
+  }
+  return error_answer(st::bad_sub_id, now);
+}
+
+// ---- program handling (§13) --------------------------------------------------
+
+void Drive::reset(std::int64_t now_ns, bool make_busy) {
+  const bool reload = s_.options.reload_tables_on_start;
+  s_.options.reload_tables_on_start = true;  // a reset always reloads RAM from flash
+  load_ram_from_rom();
+  s_.options.reload_tables_on_start = reload;
+  s_.mc_running = true;
+  xfer_ = {};
+  modified_ = {};
+  upids_ = {};
+  decoder_.reset();
+  decoder_.set_checksum(s_.checksum);
+  window_.clear();
+  ++stats_.resets;
+  if (make_busy) busy_until_ns_ = std::max(busy_until_ns_, now_ns + s_.timing.reset_us * 1000);
+}
+
+std::optional<Answer> Drive::on_program(const Telegram& t, std::int64_t now) {
+  switch (t.sub) {
+    case 0x01:  // reset, answer after completion
+      reset(now, false);
+      return finish(codec::make_program_response(s_.macid, st::ok), s_.timing.reset_us, now);
+    case 0x02: {  // reset, immediate answer; deaf until the reboot completes
+      reset(now, false);
+      auto a = finish(default_response(st::ok), 0, now);
+      busy_until_ns_ = std::max(busy_until_ns_, now + s_.timing.reset_us * 1000);
+      return a;
+    }
+    case 0x03:
+      s_.mc_running = false;
+      return finish(default_response(st::ok), 0, now);
+    case 0x04:
+      load_ram_from_rom();
+      s_.mc_running = true;
+      return finish(codec::make_program_response(s_.macid, st::ok), s_.timing.start_us, now);
+    case 0x05: {
+      load_ram_from_rom();
+      s_.mc_running = true;
+      auto a = finish(default_response(st::ok), 0, now);
+      busy_until_ns_ = std::max(busy_until_ns_, now + s_.timing.start_us * 1000);
+      return a;
+    }
+    default: return error_answer(st::bad_sub_id, now);
+  }
+}
+
+// ---- error info (§14) --------------------------------------------------------
+
+std::optional<Answer> Drive::on_error_info(const Telegram& t, std::int64_t now) {
+  auto text_of = [&](std::uint16_t code) {
+    auto it = s_.error_texts.find(code);
+    return it == s_.error_texts.end() ? std::string() : it->second;
+  };
+  switch (t.sub) {
+    case 0x00:
+      return finish(codec::make_error_text_response(s_.macid, std::nullopt, text_of(s_.live.error_code)), 0, now);
+    case 0x01: {
+      if (t.data.size() < 2) return error_answer(st::bad_sub_id, now);
+      const std::uint16_t code = get_u16le(t.data, 0);
+      return finish(codec::make_error_text_response(s_.macid, code, text_of(code)), 0, now);
+    }
+    case 0x02:
+      return finish(codec::make_error_counters_response(
+                        s_.macid, {static_cast<std::uint16_t>(std::min<std::size_t>(s_.error_log.size(), 0xFFFF)),
+                                   s_.errors_occurred}),
+                    0, now);
+    case 0x03: {
+      if (t.data.size() < 2) return error_answer(st::bad_sub_id, now);
+      const std::uint16_t n = get_u16le(t.data, 0);
+      codec::ErrorLogEntry e{};
+      if (n < s_.error_log.size()) e = s_.error_log[n];
+      return finish(codec::make_error_log_entry_response(s_.macid, e), 0, now);
+    }
+    default: return error_answer(st::bad_sub_id, now);
+  }
+}
+
+}  // namespace lmcfg::sim

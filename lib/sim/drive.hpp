@@ -1,0 +1,258 @@
+#pragma once
+// sim::Drive: a simulated LinMot E1100 drive speaking LinRS (seed 003 §6-§16).
+// A real peer built on the codec: raw request bytes in (codec::StreamDecoder),
+// raw answer bytes out (codec builders + codec::encode). No clock of its own:
+// the caller passes the time at which the bytes arrived and gets each answer
+// with the delay after which the drive puts it on the line.
+// Every choice the manual does not settle is an explicit Options field and is
+// listed in docs/simulator.md.
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "codec/frame.hpp"
+#include "codec/messages.hpp"
+#include "common/bytes.hpp"
+#include "transport/transport.hpp"
+
+namespace lmcfg::sim {
+
+// Firmware layers and their UPID ranges (seed 003 §10.2).
+enum class Layer : std::uint8_t { none = 0, os = 1, mc = 2, intf = 3, appl = 4 };
+Layer layer_of(std::uint16_t upid);
+std::uint16_t layer_base(Layer l);  // 0000h, 1000h, 2000h, 3000h
+const char* layer_name(Layer l);    // "OS", "MC", "Intf", "Appl", "none"
+
+// Address usage word bits (§10, facts note): only the resolved bits act.
+namespace au {
+inline constexpr std::uint16_t ram_read = 0x0001;
+inline constexpr std::uint16_t ram_write = 0x0002;
+inline constexpr std::uint16_t rom_read = 0x0004;
+inline constexpr std::uint16_t rom_write = 0x0008;
+inline constexpr std::uint16_t not_for_hash = 0x1000;
+inline constexpr std::uint16_t parameter = ram_read | ram_write | rom_read | rom_write;  // 000Fh
+}  // namespace au
+
+// Type codes of §10.
+namespace type {
+inline constexpr std::uint16_t boolean = 0x00, uint8 = 0x01, sint8 = 0x02, uint16 = 0x03, sint16 = 0x04,
+                               uint32 = 0x05, sint32 = 0x06, lin_float = 0x07, string = 0x08, cap_dir = 0x09,
+                               radio_dir_bit = 0x0A, radio_dir16 = 0x0B, enum_dir8 = 0x0C, enum_dir16 = 0x0D,
+                               stringlet = 0x0E, cap_dirlet = 0x0F;
+const char* name(std::uint16_t code);                       // "UINT16"; "?" when unknown
+std::optional<std::uint16_t> from_name(std::string_view n);  // "UINT16" -> 3
+}  // namespace type
+
+// One UPID. Values are the raw 4-byte fields of §9 (a word in the two lower bytes...).
+struct Parameter {
+  std::uint16_t upid = 0;
+  std::string name;  // informational only, never on the wire
+  std::uint16_t type = type::uint16;
+  std::uint16_t address_usage = au::parameter;  // raw word, stored as given
+  std::uint32_t min = 0;
+  std::uint32_t max = 0xFFFFFFFF;
+  std::uint32_t def = 0;
+  std::uint32_t rom = 0;
+  std::uint32_t ram = 0;
+
+  bool has_rom() const { return (address_usage & au::rom_write) != 0; }
+  // ROM differs from default on a parameter with ROM write usage (the §10.2 list).
+  bool modified() const { return has_rom() && rom != def; }
+  friend bool operator==(const Parameter&, const Parameter&) = default;
+};
+
+// Value within [min, max], compared as the type's signedness says (SINT types
+// sign-extend their low 8/16 bits; STRING-like types are never range-checked).
+bool in_range(const Parameter& p, std::uint32_t value);
+
+// A curve as the drive stores it: info block and data block bytes (§11).
+struct Curve {
+  Bytes info;
+  Bytes data;
+  friend bool operator==(const Curve&, const Curve&) = default;
+};
+
+// Values the drive measures or derives; the simulator cannot know them, so they
+// are state (tests set them to reproduce a capture's default response).
+struct LiveValues {
+  std::uint16_t status_word = 0x4C37;  // as in the §6.1.2 / §9 captures
+  std::uint16_t state_var = 0x08C2;
+  std::uint16_t warn_word = 0x0080;
+  std::uint16_t error_code = 0x0000;  // actual error (§14.1)
+  std::uint32_t monitoring_1 = 0;
+  std::uint32_t monitoring_2 = 0;
+  friend bool operator==(const LiveValues&, const LiveValues&) = default;
+};
+
+// Durations in microseconds (seed 003 §6.1.1.1, §10.4, §11, §12, §13).
+struct Timing {
+  std::int64_t turnaround_us = 1'000;           // every answer (§6.1.1.1: 0.5..1.5 ms)
+  std::int64_t defaulting_us = 1'200'000;       // defaulting a layer (§10.4 "more than 1 s")
+  std::int64_t flash_save_us = 2'000'000;       // curves / CT RAM -> flash
+  std::int64_t flash_save_max_us = 10'000'000;  // documented worst case (§11, §12 "timeout 10s")
+  std::int64_t reset_us = 3'000'000;            // §13.1 "ca. 3s"
+  std::int64_t start_us = 3'000'000;            // §13.4 "ca. 3s"
+  std::int64_t rx_timeout_us = 20'000;          // byte-to-byte receive time-out (§15); 0 = off
+  friend bool operator==(const Timing&, const Timing&) = default;
+};
+
+// What to do with a write the parameter's min/max or address usage forbids.
+enum class WritePolicy : std::uint8_t {
+  reject,  // no change; answer with Options::reject_state (default C9)
+  clamp,   // store the value clamped to [min, max] (address usage still enforced)
+  accept,  // store whatever comes
+};
+
+// The manual's gaps, as options. Defaults are documented in docs/simulator.md.
+struct Options {
+  // §10.2 empty modified list: the first get-next answers this state/UPID/value 0.
+  // Also the answer to get-next after the list has ended and without a start.
+  std::uint8_t empty_list_state = codec::state::last_in_list;
+  std::uint16_t empty_list_upid = 0xFFFF;
+  // §11 read sizes of a missing curve: true = state 00 with sizes 0/0, false = state C8.
+  bool missing_curve_zero_sizes = true;
+  // RAM/ROM writes out of [min, max] or without the write address-usage bit.
+  WritePolicy write_policy = WritePolicy::reject;
+  std::uint8_t reject_state = codec::state::wrong_type;  // C9
+  // Flash save of curves / CT while MC runs (§11, §12 "MC SW has to be stopped").
+  std::uint8_t flash_refused_state = codec::state::bad_sub_id;  // C4
+  // Block transfer to/from a curve or CT entry that does not exist.
+  std::uint8_t missing_object_state = codec::state::unknown_upid;  // C8
+  // "Respond On Msg With Error" (§15, factory: both on).
+  bool respond_on_checksum_error = true;
+  bool respond_on_end_missing = true;
+  // RAM curves / CT are reloaded from flash at reset and at MC start (like
+  // parameter RAM from ROM).
+  bool reload_tables_on_start = true;
+  // Busy while a delayed answer is pending or rebooting: requests are ignored.
+  bool ignore_while_busy = true;
+  friend bool operator==(const Options&, const Options&) = default;
+};
+
+// Everything the state file holds (see state_file.hpp, docs/simulator.md).
+struct DriveState {
+  std::uint8_t macid = 0x11;  // §15 "MACID Parameter Value" default 11h
+  transport::SerialSettings link;  // baud / parity / stop bits (device unused)
+  codec::ChecksumConfig checksum;
+  codec::DefaultResponseLayout layout;
+  bool mc_running = true;
+  LiveValues live;
+  std::map<std::uint16_t, Parameter> params;
+  std::map<std::uint16_t, Curve> curves_ram, curves_flash;
+  std::map<std::uint16_t, Bytes> ct_ram, ct_flash;  // entry 0..255 -> bytes
+  std::vector<codec::ErrorLogEntry> error_log;       // [0] = newest (§14.4)
+  std::uint16_t errors_occurred = 0;                 // §14.3 total
+  std::map<std::uint16_t, std::string> error_texts;  // code -> short text (§14.1/14.2)
+  Timing timing;
+  Options options;
+
+  // Adds or replaces a parameter.
+  void put(Parameter p) { params[p.upid] = std::move(p); }
+};
+
+// Built-in error texts: 0000 "No Error" and the seed 003 §14 examples.
+std::map<std::uint16_t, std::string> default_error_texts();
+
+struct DriveStats {
+  std::uint64_t telegrams_seen = 0;      // complete, valid telegrams for any ID
+  std::uint64_t telegrams_for_me = 0;
+  std::uint64_t ignored_other_id = 0;
+  std::uint64_t ignored_busy = 0;        // arrived while resetting / processing
+  std::uint64_t bad_frames = 0;          // framing / checksum errors seen
+  std::uint64_t answers = 0;
+  std::uint64_t error_answers = 0;       // answers with state C1..C9
+  std::uint64_t flash_saves = 0;
+  std::uint64_t resets = 0;
+};
+
+// One answer: wire bytes and the delay from the end of the request.
+struct Answer {
+  Bytes bytes;
+  std::int64_t delay_ns = 0;
+};
+
+class Drive {
+ public:
+  Drive();
+  explicit Drive(DriveState state);
+
+  // Byte front end: feed what arrived on the line at `now_ns` (time of the last
+  // byte). Frames for other MACIDs are ignored.
+  std::vector<Answer> receive(ByteView bytes, std::int64_t now_ns);
+  // Telegram front end (the byte front end calls this); nullopt = no answer.
+  std::optional<Answer> handle(const codec::Telegram& t, std::int64_t now_ns);
+
+  // Power cycle / reset (§13.1): RAM := ROM, tables reloaded, transfers and
+  // list cursors forgotten, MC running. With busy, deaf for timing.reset_us.
+  void reset(std::int64_t now_ns, bool busy = true);
+  // The next flash save takes timing.flash_save_max_us (fault injection).
+  void make_next_flash_save_slow() { slow_flash_ = true; }
+  bool busy(std::int64_t now_ns) const { return now_ns < busy_until_ns_; }
+
+  DriveState& state() { return s_; }
+  const DriveState& state() const { return s_; }
+  std::uint8_t macid() const { return s_.macid; }
+  // Applies a changed checksum configuration to the receiver.
+  void sync_checksum() { decoder_.set_checksum(s_.checksum); }
+  const DriveStats& stats() const { return stats_; }
+
+  // Convenience for tests and tools.
+  Parameter* find(std::uint16_t upid);
+  std::optional<std::uint32_t> ram(std::uint16_t upid) const;
+  std::optional<std::uint32_t> rom(std::uint16_t upid) const;
+  bool transfer_active() const { return xfer_.kind != XferKind::none; }
+
+ private:
+  enum class XferKind : std::uint8_t { none, curve_info_w, curve_data_w, curve_info_r, curve_data_r, ct_w, ct_r };
+  struct Transfer {
+    XferKind kind = XferKind::none;
+    std::uint16_t key = 0;
+    std::size_t offset = 0;
+  };
+  struct ListCursor {
+    bool active = false;
+    bool ended = false;
+    Layer layer = Layer::none;
+    std::optional<std::uint16_t> last;  // last UPID answered
+  };
+
+  Answer finish(const codec::Telegram& reply, std::int64_t delay_us, std::int64_t now_ns);
+  codec::Telegram default_response(std::uint8_t comm_state, std::optional<std::uint32_t> value = {}) const;
+  codec::Telegram id_value(std::uint8_t sub, std::uint8_t st, std::uint16_t key, std::uint32_t value) const;
+  std::optional<Answer> error_answer(std::uint8_t comm_state, std::int64_t now_ns);
+
+  std::optional<Answer> on_response_request(const codec::Telegram& t, std::int64_t now);
+  std::optional<Answer> on_parameter(const codec::Telegram& t, std::int64_t now);
+  std::optional<Answer> on_param_config(const codec::Telegram& t, std::int64_t now);
+  std::optional<Answer> on_curve(const codec::Telegram& t, std::int64_t now);
+  std::optional<Answer> on_command_table(const codec::Telegram& t, std::int64_t now);
+  std::optional<Answer> on_program(const codec::Telegram& t, std::int64_t now);
+  std::optional<Answer> on_error_info(const codec::Telegram& t, std::int64_t now);
+
+  // Write with the policy; returns the state (00 or reject_state).
+  std::uint8_t write_value(Parameter& p, bool ram, bool rom, std::uint32_t value);
+  void default_layer(Layer l);
+  void load_ram_from_rom();
+  std::int64_t flash_save_duration_us();
+  // Block transfer helpers. Return the answer state (04 more / 00 last).
+  std::uint8_t block_write(Bytes& target, XferKind kind, std::uint16_t key, ByteView chunk);
+  std::uint8_t block_read(const Bytes& source, XferKind kind, std::uint16_t key, std::uint32_t& out);
+
+  DriveState s_;
+  codec::StreamDecoder decoder_;
+  Bytes window_;  // recent raw bytes, to find the ID of a frame that failed its checksum
+  std::int64_t last_byte_ns_ = 0;
+  bool have_last_byte_ = false;
+  std::int64_t busy_until_ns_ = 0;
+  Transfer xfer_;
+  ListCursor modified_;
+  ListCursor upids_;
+  std::uint16_t last_motion_header_ = 0;
+  std::uint16_t control_word_ = 0;
+  bool slow_flash_ = false;
+  DriveStats stats_;
+};
+
+}  // namespace lmcfg::sim

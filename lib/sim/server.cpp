@@ -1,0 +1,96 @@
+#include "sim/server.hpp"
+
+#include <arpa/inet.h>
+#include <errno.h>
+#include <fcntl.h>
+#include <netinet/in.h>
+#include <poll.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstring>
+#include <vector>
+
+#include "sim/link.hpp"
+
+namespace lmcfg::sim {
+
+Result<void> serve(Drive& drive, transport::Transport& link, const ServeOptions& opt, ServeStats* stats) {
+  using clock = std::chrono::steady_clock;
+  const auto start = clock::now();
+  auto now_ns = [&] {
+    return std::chrono::duration_cast<std::chrono::nanoseconds>(clock::now() - start).count();
+  };
+  struct Due {
+    std::int64_t at_ns;
+    Bytes bytes;
+  };
+  std::vector<Due> pending;  // sorted by at_ns
+  ServeStats local;
+  ServeStats& st = stats ? *stats : local;
+
+  while (!(opt.should_stop && opt.should_stop())) {
+    auto wait = opt.poll;
+    if (!pending.empty()) {
+      const auto left_ns = pending.front().at_ns - now_ns();
+      wait = std::min(wait, transport::Millis(std::max<std::int64_t>(0, (left_ns + 999'999) / 1'000'000)));
+    }
+    auto r = link.read_some(wait);
+    if (!r.ok()) return std::move(r).error();
+    const auto t = now_ns();
+    if (!r->empty()) {
+      st.bytes_in += r->size();
+      if (opt.trace) opt.trace(false, *r);
+      for (auto& a : drive.receive(*r, t)) {
+        std::int64_t at = t;
+        if (opt.real_time) at += a.delay_ns + wire_time_ns(a.bytes.size(), drive.state().link);
+        auto pos = std::upper_bound(pending.begin(), pending.end(), at,
+                                    [](std::int64_t v, const Due& d) { return v < d.at_ns; });
+        pending.insert(pos, Due{at, std::move(a.bytes)});
+      }
+    }
+    while (!pending.empty() && pending.front().at_ns <= now_ns()) {
+      Bytes out = std::move(pending.front().bytes);
+      pending.erase(pending.begin());
+      if (opt.trace) opt.trace(true, out);
+      if (auto w = link.write(out); !w.ok()) return std::move(w).error();
+      st.bytes_out += out.size();
+      ++st.answers;
+    }
+  }
+  return {};
+}
+
+Result<transport::UniqueFd> listen_tcp(const std::string& host, std::uint16_t port, std::uint16_t& bound_port) {
+  sockaddr_in addr{};
+  addr.sin_family = AF_INET;
+  addr.sin_port = htons(port);
+  if (::inet_pton(AF_INET, host.c_str(), &addr.sin_addr) != 1)
+    return Error(Errc::invalid_argument, "listen address '" + host + "' is not an IPv4 address");
+  transport::UniqueFd fd(::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0));
+  if (!fd) return Error(Errc::io_error, std::string("socket: ") + std::strerror(errno));
+  int one = 1;
+  ::setsockopt(fd.get(), SOL_SOCKET, SO_REUSEADDR, &one, sizeof one);
+  if (::bind(fd.get(), reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0)
+    return Error(Errc::io_error, "bind " + host + ":" + std::to_string(port) + ": " + std::strerror(errno));
+  if (::listen(fd.get(), 4) != 0) return Error(Errc::io_error, std::string("listen: ") + std::strerror(errno));
+  socklen_t len = sizeof addr;
+  if (::getsockname(fd.get(), reinterpret_cast<sockaddr*>(&addr), &len) != 0)
+    return Error(Errc::io_error, std::string("getsockname: ") + std::strerror(errno));
+  bound_port = ntohs(addr.sin_port);
+  return fd;
+}
+
+Result<transport::UniqueFd> accept_client(int listen_fd, transport::Millis timeout) {
+  pollfd p{listen_fd, POLLIN, 0};
+  const int rc = ::poll(&p, 1, static_cast<int>(timeout.count()));
+  if (rc < 0 && errno != EINTR) return Error(Errc::io_error, std::string("poll: ") + std::strerror(errno));
+  if (rc <= 0) return transport::UniqueFd();
+  transport::UniqueFd c(::accept4(listen_fd, nullptr, nullptr, SOCK_CLOEXEC));
+  if (!c && errno != EINTR && errno != EAGAIN) return Error(Errc::io_error, std::string("accept: ") + std::strerror(errno));
+  return c;
+}
+
+}  // namespace lmcfg::sim

@@ -1,0 +1,379 @@
+#include "sim/state_file.hpp"
+
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+namespace lmcfg::sim {
+
+using nlohmann::json;
+
+namespace {
+
+struct BadField : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+std::string hex16(unsigned v) {
+  char b[8];
+  std::snprintf(b, sizeof b, "%04X", v & 0xFFFF);
+  return b;
+}
+std::string hex8(unsigned v) {
+  char b[8];
+  std::snprintf(b, sizeof b, "%02X", v & 0xFF);
+  return b;
+}
+
+// Numbers: JSON integers (negative ones as two's complement) or strings
+// ("13A2", "0x13A2", "13A2h": hex).
+std::uint32_t num(const json& v, const char* what) {
+  if (v.is_number_unsigned()) {
+    const auto u = v.get<std::uint64_t>();
+    if (u > 0xFFFFFFFFull) throw BadField(std::string(what) + ": value out of 32-bit range");
+    return static_cast<std::uint32_t>(u);
+  }
+  if (v.is_number_integer()) {
+    const auto i = v.get<std::int64_t>();
+    if (i < INT32_MIN || i > static_cast<std::int64_t>(UINT32_MAX)) throw BadField(std::string(what) + ": out of range");
+    return static_cast<std::uint32_t>(static_cast<std::int32_t>(i));
+  }
+  if (v.is_string()) {
+    auto n = parse_number(v.get<std::string>(), true);
+    if (!n) throw BadField(std::string(what) + ": '" + v.get<std::string>() + "' is not a number");
+    return *n;
+  }
+  throw BadField(std::string(what) + ": expected a number or a hex string");
+}
+std::uint32_t num_or(const json& o, const char* key, std::uint32_t def) {
+  auto it = o.find(key);
+  return it == o.end() ? def : num(*it, key);
+}
+std::uint16_t u16_or(const json& o, const char* key, std::uint16_t def) {
+  const auto v = num_or(o, key, def);
+  if (v > 0xFFFF) throw BadField(std::string(key) + ": exceeds 16 bits");
+  return static_cast<std::uint16_t>(v);
+}
+std::int64_t i64_or(const json& o, const char* key, std::int64_t def) {
+  auto it = o.find(key);
+  if (it == o.end()) return def;
+  if (!it->is_number_integer()) throw BadField(std::string(key) + ": expected an integer");
+  return it->get<std::int64_t>();
+}
+bool bool_or(const json& o, const char* key, bool def) {
+  auto it = o.find(key);
+  if (it == o.end()) return def;
+  if (!it->is_boolean()) throw BadField(std::string(key) + ": expected true/false");
+  return it->get<bool>();
+}
+Bytes bytes_of(const json& v, const char* what) {
+  if (!v.is_string()) throw BadField(std::string(what) + ": expected a hex byte string");
+  auto b = from_hex(v.get<std::string>());
+  if (!b) throw BadField(std::string(what) + ": not a hex byte string");
+  return *b;
+}
+
+const char* mode_name(codec::ChecksumMode m) {
+  switch (m) {
+    case codec::ChecksumMode::none: return "none";
+    case codec::ChecksumMode::add: return "add";
+    case codec::ChecksumMode::crc_ccitt: return "crc_ccitt";
+  }
+  return "none";
+}
+const char* coverage_name(codec::ChecksumCoverage c) {
+  switch (c) {
+    case codec::ChecksumCoverage::id_through_data: return "id_through_data";
+    case codec::ChecksumCoverage::start_through_data: return "start_through_data";
+    case codec::ChecksumCoverage::data_only: return "data_only";
+  }
+  return "id_through_data";
+}
+const char* parity_name(transport::Parity p) {
+  switch (p) {
+    case transport::Parity::none: return "none";
+    case transport::Parity::even: return "even";
+    case transport::Parity::odd: return "odd";
+  }
+  return "none";
+}
+const char* policy_name(WritePolicy p) {
+  switch (p) {
+    case WritePolicy::reject: return "reject";
+    case WritePolicy::clamp: return "clamp";
+    case WritePolicy::accept: return "accept";
+  }
+  return "reject";
+}
+
+template <class E, std::size_t N>
+E enum_of(const json& o, const char* key, E def, const std::pair<const char*, E> (&table)[N]) {
+  auto it = o.find(key);
+  if (it == o.end()) return def;
+  if (!it->is_string()) throw BadField(std::string(key) + ": expected a string");
+  const auto s = it->get<std::string>();
+  for (const auto& [name, value] : table)
+    if (s == name) return value;
+  throw BadField(std::string(key) + ": unknown value '" + s + "'");
+}
+
+json curves_json(const std::map<std::uint16_t, Curve>& m) {
+  json a = json::array();
+  for (const auto& [id, c] : m) a.push_back({{"id", id}, {"info", to_hex(c.info)}, {"data", to_hex(c.data)}});
+  return a;
+}
+std::map<std::uint16_t, Curve> curves_of(const json& a) {
+  if (!a.is_array()) throw BadField("curves: expected an array");
+  std::map<std::uint16_t, Curve> m;
+  for (const auto& c : a) m[u16_or(c, "id", 0)] = Curve{bytes_of(c.at("info"), "curve info"), bytes_of(c.at("data"), "curve data")};
+  return m;
+}
+json ct_json(const std::map<std::uint16_t, Bytes>& m) {
+  json a = json::array();
+  for (const auto& [e, b] : m) a.push_back({{"entry", e}, {"data", to_hex(b)}});
+  return a;
+}
+std::map<std::uint16_t, Bytes> ct_of(const json& a) {
+  if (!a.is_array()) throw BadField("command_table: expected an array");
+  std::map<std::uint16_t, Bytes> m;
+  for (const auto& c : a) {
+    const auto e = u16_or(c, "entry", 0);
+    if (e > 255) throw BadField("command_table: entry above 255");
+    m[e] = bytes_of(c.at("data"), "command table data");
+  }
+  return m;
+}
+
+}  // namespace
+
+json to_json(const DriveState& s) {
+  json j;
+  j["format"] = kStateFormat;
+  j["version"] = kStateVersion;
+  j["macid"] = hex8(s.macid);
+  j["link"] = {{"baud", s.link.baud}, {"parity", parity_name(s.link.parity)}, {"stop_bits", s.link.stop_bits}};
+  j["checksum"] = {{"mode", mode_name(s.checksum.mode)},
+                   {"crc_init", hex16(s.checksum.crc_init)},
+                   {"coverage", coverage_name(s.checksum.coverage)}};
+  const auto& L = s.layout;
+  j["default_response"] = {{"comm_state", L.comm_state},     {"status_word", L.status_word},
+                           {"state_var", L.state_var},       {"error_code", L.error_code},
+                           {"warn_word", L.warn_word},       {"echo_header", L.echo_header},
+                           {"monitoring_1", L.monitoring_1}, {"monitoring_2", L.monitoring_2},
+                           {"mc_response", L.mc_response}};
+  j["mc_running"] = s.mc_running;
+  j["live"] = {{"status_word", hex16(s.live.status_word)}, {"state_var", hex16(s.live.state_var)},
+               {"warn_word", hex16(s.live.warn_word)},     {"error_code", hex16(s.live.error_code)},
+               {"monitoring_1", s.live.monitoring_1},      {"monitoring_2", s.live.monitoring_2}};
+  const auto& T = s.timing;
+  j["timing_us"] = {{"turnaround", T.turnaround_us}, {"defaulting", T.defaulting_us},
+                    {"flash_save", T.flash_save_us}, {"flash_save_max", T.flash_save_max_us},
+                    {"reset", T.reset_us},           {"start", T.start_us},
+                    {"rx_timeout", T.rx_timeout_us}};
+  const auto& O = s.options;
+  j["options"] = {{"empty_list_state", hex8(O.empty_list_state)},
+                  {"empty_list_upid", hex16(O.empty_list_upid)},
+                  {"missing_curve_zero_sizes", O.missing_curve_zero_sizes},
+                  {"write_policy", policy_name(O.write_policy)},
+                  {"reject_state", hex8(O.reject_state)},
+                  {"flash_refused_state", hex8(O.flash_refused_state)},
+                  {"missing_object_state", hex8(O.missing_object_state)},
+                  {"respond_on_checksum_error", O.respond_on_checksum_error},
+                  {"respond_on_end_missing", O.respond_on_end_missing},
+                  {"reload_tables_on_start", O.reload_tables_on_start},
+                  {"ignore_while_busy", O.ignore_while_busy}};
+  json params = json::array();
+  for (const auto& [upid, p] : s.params) {
+    json q = {{"upid", hex16(upid)}};
+    if (!p.name.empty()) q["name"] = p.name;
+    q["type"] = type::name(p.type);
+    if (std::string(type::name(p.type)) == "?") q["type"] = p.type;
+    q["address_usage"] = hex16(p.address_usage);
+    q["min"] = p.min;
+    q["max"] = p.max;
+    q["default"] = p.def;
+    q["rom"] = p.rom;
+    q["ram"] = p.ram;
+    params.push_back(std::move(q));
+  }
+  j["parameters"] = std::move(params);
+  j["curves"] = {{"flash", curves_json(s.curves_flash)}, {"ram", curves_json(s.curves_ram)}};
+  j["command_table"] = {{"flash", ct_json(s.ct_flash)}, {"ram", ct_json(s.ct_ram)}};
+  json log = json::array();
+  for (const auto& e : s.error_log) log.push_back({{"code", hex16(e.code)}, {"ms", e.millis}, {"hours", e.hours}});
+  j["error_log"] = {{"occurred", s.errors_occurred}, {"entries", std::move(log)}};
+  json texts = json::object();
+  for (const auto& [code, text] : s.error_texts) texts[hex16(code)] = text;
+  j["error_texts"] = std::move(texts);
+  return j;
+}
+
+Result<DriveState> from_json(const json& j) {
+  try {
+    if (!j.is_object()) throw BadField("top level: expected an object");
+    if (j.value("format", std::string()) != kStateFormat)
+      throw BadField(std::string("format: expected \"") + kStateFormat + "\"");
+    const auto version = i64_or(j, "version", 0);
+    if (version != kStateVersion)
+      return Error(Errc::unsupported_version, "sim state version " + std::to_string(version) + " (this build reads 1)");
+    DriveState s;
+    const auto macid = num_or(j, "macid", 0x11);
+    if (macid > 0xFF) throw BadField("macid: exceeds FFh");
+    s.macid = static_cast<std::uint8_t>(macid);
+    if (auto it = j.find("link"); it != j.end()) {
+      s.link.baud = num_or(*it, "baud", 57600);
+      s.link.parity = enum_of(*it, "parity", transport::Parity::none,
+                              {std::pair{"none", transport::Parity::none}, std::pair{"even", transport::Parity::even},
+                               std::pair{"odd", transport::Parity::odd}});
+      s.link.stop_bits = num_or(*it, "stop_bits", 1);
+      if (auto v = transport::validate(s.link); !v.ok()) throw BadField("link: " + v.error().message);
+    }
+    if (auto it = j.find("checksum"); it != j.end()) {
+      s.checksum.mode = enum_of(*it, "mode", codec::ChecksumMode::none,
+                                {std::pair{"none", codec::ChecksumMode::none}, std::pair{"add", codec::ChecksumMode::add},
+                                 std::pair{"crc_ccitt", codec::ChecksumMode::crc_ccitt}});
+      s.checksum.crc_init = u16_or(*it, "crc_init", 0xFFFF);
+      s.checksum.coverage =
+          enum_of(*it, "coverage", codec::ChecksumCoverage::id_through_data,
+                  {std::pair{"id_through_data", codec::ChecksumCoverage::id_through_data},
+                   std::pair{"start_through_data", codec::ChecksumCoverage::start_through_data},
+                   std::pair{"data_only", codec::ChecksumCoverage::data_only}});
+    }
+    if (auto it = j.find("default_response"); it != j.end()) {
+      auto& L = s.layout;
+      L.comm_state = bool_or(*it, "comm_state", L.comm_state);
+      L.status_word = bool_or(*it, "status_word", L.status_word);
+      L.state_var = bool_or(*it, "state_var", L.state_var);
+      L.error_code = bool_or(*it, "error_code", L.error_code);
+      L.warn_word = bool_or(*it, "warn_word", L.warn_word);
+      L.echo_header = bool_or(*it, "echo_header", L.echo_header);
+      L.monitoring_1 = bool_or(*it, "monitoring_1", L.monitoring_1);
+      L.monitoring_2 = bool_or(*it, "monitoring_2", L.monitoring_2);
+      L.mc_response = bool_or(*it, "mc_response", L.mc_response);
+    }
+    s.mc_running = bool_or(j, "mc_running", true);
+    if (auto it = j.find("live"); it != j.end()) {
+      auto& V = s.live;
+      V.status_word = u16_or(*it, "status_word", V.status_word);
+      V.state_var = u16_or(*it, "state_var", V.state_var);
+      V.warn_word = u16_or(*it, "warn_word", V.warn_word);
+      V.error_code = u16_or(*it, "error_code", V.error_code);
+      V.monitoring_1 = num_or(*it, "monitoring_1", V.monitoring_1);
+      V.monitoring_2 = num_or(*it, "monitoring_2", V.monitoring_2);
+    }
+    if (auto it = j.find("timing_us"); it != j.end()) {
+      auto& T = s.timing;
+      T.turnaround_us = i64_or(*it, "turnaround", T.turnaround_us);
+      T.defaulting_us = i64_or(*it, "defaulting", T.defaulting_us);
+      T.flash_save_us = i64_or(*it, "flash_save", T.flash_save_us);
+      T.flash_save_max_us = i64_or(*it, "flash_save_max", T.flash_save_max_us);
+      T.reset_us = i64_or(*it, "reset", T.reset_us);
+      T.start_us = i64_or(*it, "start", T.start_us);
+      T.rx_timeout_us = i64_or(*it, "rx_timeout", T.rx_timeout_us);
+    }
+    if (auto it = j.find("options"); it != j.end()) {
+      auto& O = s.options;
+      auto u8_or = [&](const char* k, std::uint8_t d) {
+        const auto v = num_or(*it, k, d);
+        if (v > 0xFF) throw BadField(std::string(k) + ": exceeds FFh");
+        return static_cast<std::uint8_t>(v);
+      };
+      O.empty_list_state = u8_or("empty_list_state", O.empty_list_state);
+      O.empty_list_upid = u16_or(*it, "empty_list_upid", O.empty_list_upid);
+      O.missing_curve_zero_sizes = bool_or(*it, "missing_curve_zero_sizes", O.missing_curve_zero_sizes);
+      O.write_policy = enum_of(*it, "write_policy", O.write_policy,
+                               {std::pair{"reject", WritePolicy::reject}, std::pair{"clamp", WritePolicy::clamp},
+                                std::pair{"accept", WritePolicy::accept}});
+      O.reject_state = u8_or("reject_state", O.reject_state);
+      O.flash_refused_state = u8_or("flash_refused_state", O.flash_refused_state);
+      O.missing_object_state = u8_or("missing_object_state", O.missing_object_state);
+      O.respond_on_checksum_error = bool_or(*it, "respond_on_checksum_error", O.respond_on_checksum_error);
+      O.respond_on_end_missing = bool_or(*it, "respond_on_end_missing", O.respond_on_end_missing);
+      O.reload_tables_on_start = bool_or(*it, "reload_tables_on_start", O.reload_tables_on_start);
+      O.ignore_while_busy = bool_or(*it, "ignore_while_busy", O.ignore_while_busy);
+    }
+    if (auto it = j.find("parameters"); it != j.end()) {
+      if (!it->is_array()) throw BadField("parameters: expected an array");
+      for (const auto& q : *it) {
+        Parameter p;
+        if (!q.contains("upid")) throw BadField("parameters: entry without upid");
+        p.upid = u16_or(q, "upid", 0);
+        p.name = q.value("name", std::string());
+        if (auto t = q.find("type"); t != q.end()) {
+          if (t->is_string()) {
+            auto code = type::from_name(t->get<std::string>());
+            p.type = code ? *code : static_cast<std::uint16_t>(num(*t, "type"));
+          } else {
+            p.type = static_cast<std::uint16_t>(num(*t, "type"));
+          }
+        }
+        p.address_usage = u16_or(q, "address_usage", au::parameter);
+        p.min = num_or(q, "min", 0);
+        p.max = num_or(q, "max", 0xFFFFFFFF);
+        p.def = num_or(q, "default", 0);
+        p.rom = num_or(q, "rom", p.def);
+        p.ram = num_or(q, "ram", p.rom);
+        if (s.params.count(p.upid)) throw BadField("parameters: UPID " + hex16(p.upid) + " given twice");
+        s.params[p.upid] = std::move(p);
+      }
+    }
+    if (auto it = j.find("curves"); it != j.end()) {
+      if (it->contains("flash")) s.curves_flash = curves_of(it->at("flash"));
+      s.curves_ram = it->contains("ram") ? curves_of(it->at("ram")) : s.curves_flash;
+    }
+    if (auto it = j.find("command_table"); it != j.end()) {
+      if (it->contains("flash")) s.ct_flash = ct_of(it->at("flash"));
+      s.ct_ram = it->contains("ram") ? ct_of(it->at("ram")) : s.ct_flash;
+    }
+    if (auto it = j.find("error_log"); it != j.end()) {
+      s.errors_occurred = u16_or(*it, "occurred", 0);
+      if (auto e = it->find("entries"); e != it->end()) {
+        for (const auto& x : *e)
+          s.error_log.push_back({u16_or(x, "code", 0), num_or(x, "ms", 0), num_or(x, "hours", 0)});
+      }
+    }
+    s.error_texts = default_error_texts();
+    if (auto it = j.find("error_texts"); it != j.end()) {
+      if (!it->is_object()) throw BadField("error_texts: expected an object of code -> text");
+      for (const auto& [k, v] : it->items()) {
+        auto code = parse_number(k, true);
+        if (!code || *code > 0xFFFF || !v.is_string()) throw BadField("error_texts: bad entry '" + k + "'");
+        s.error_texts[static_cast<std::uint16_t>(*code)] = v.get<std::string>();
+      }
+    }
+    return s;
+  } catch (const BadField& e) {
+    return Error(Errc::parse_error, std::string("sim state: ") + e.what());
+  } catch (const json::exception& e) {
+    return Error(Errc::parse_error, std::string("sim state: ") + e.what());
+  }
+}
+
+Result<DriveState> load_state(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) return Error(Errc::file_error, "cannot open sim state file " + path);
+  json j;
+  try {
+    in >> j;
+  } catch (const json::exception& e) {
+    return Error(Errc::parse_error, path + ": " + e.what());
+  }
+  auto r = from_json(j);
+  if (!r.ok()) return Error(r.error().code, path + ": " + r.error().message);
+  return r;
+}
+
+Result<void> save_state(const DriveState& s, const std::string& path) {
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::trunc);
+    if (!out) return Error(Errc::file_error, "cannot write " + tmp);
+    out << to_json(s).dump(2) << '\n';
+    if (!out.flush()) return Error(Errc::file_error, "cannot write " + tmp);
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0) return Error(Errc::file_error, "cannot rename " + tmp + " to " + path);
+  return {};
+}
+
+}  // namespace lmcfg::sim

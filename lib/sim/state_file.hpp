@@ -1,0 +1,24 @@
+#pragma once
+// The "sim state file": a Drive's state as JSON (format in docs/simulator.md,
+// fixtures in tests/fixtures/sim/). Format id "lmcfg-sim-state", version 1.
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "common/result.hpp"
+#include "sim/drive.hpp"
+
+namespace lmcfg::sim {
+
+inline constexpr const char* kStateFormat = "lmcfg-sim-state";
+inline constexpr int kStateVersion = 1;
+
+nlohmann::json to_json(const DriveState& s);
+// Errors: parse_error (bad JSON / wrong field types), unsupported_version.
+Result<DriveState> from_json(const nlohmann::json& j);
+
+Result<DriveState> load_state(const std::string& path);
+// Written to `path`.tmp, then renamed over `path`.
+Result<void> save_state(const DriveState& s, const std::string& path);
+
+}  // namespace lmcfg::sim

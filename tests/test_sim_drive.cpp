@@ -1,0 +1,457 @@
+// Semantics of the simulated drive, the virtual clock, fault injection and the
+// state file. The manual's own transcripts are in test_sim_manual.cpp.
+#include <cstdio>
+#include <filesystem>
+
+#include "test_sim_harness.hpp"
+
+using namespace lmcfg;
+using namespace lmcfg::codec;
+using lmcfg::test::load_fixture;
+using lmcfg::test::SimHarness;
+
+namespace {
+constexpr std::uint8_t kId = 0x11;
+
+std::vector<std::uint16_t> modified_list(SimHarness& h, std::uint16_t base, std::uint8_t* last_state = nullptr) {
+  std::vector<std::uint16_t> out;
+  auto start = h.ask_iv(make_cfg(kId, CfgOp::start_modified, base), 0x58);
+  REQUIRE(start.state == 0x00);
+  for (int i = 0; i < 200; ++i) {
+    auto r = h.ask_iv(make_cfg(kId, CfgOp::next_modified, base), 0x59);
+    if (r.key != 0xFFFF) out.push_back(r.key);
+    if (r.state == state::last_in_list) {
+      if (last_state) *last_state = r.state;
+      return out;
+    }
+    REQUIRE(r.state == 0x00);
+  }
+  FAIL("modified list did not end");
+  return out;
+}
+
+DefaultResponse dr(const Telegram& t) {
+  auto r = decode_default_response(t);
+  REQUIRE(r.ok());
+  return *r;
+}
+}  // namespace
+
+// ---- parameters ------------------------------------------------------------------
+
+TEST_CASE("sim: modified-UPID list follows ROM writes and ends with C6 on the last UPID", "[sim]") {
+  SimHarness h("commissioned-axis.json");
+  auto before = modified_list(h, 0x1000);
+  CHECK(std::is_sorted(before.begin(), before.end()));
+  CHECK(std::find(before.begin(), before.end(), 0x13A2) != before.end());
+  CHECK(std::find(before.begin(), before.end(), 0x1710) == before.end());
+  // 05 01: ROM write, answered with the new ROM value.
+  auto w = h.ask_iv(make_cfg_write(kId, 0x1710, 77), 0x51);
+  CHECK(w.state == 0x00);
+  CHECK(w.value == 77u);
+  auto after = modified_list(h, 0x1000);
+  CHECK(after.size() == before.size() + 1);
+  CHECK(std::find(after.begin(), after.end(), 0x1710) != after.end());
+  // Writing the default back removes it; RAM is untouched by ROM writes.
+  CHECK(h.ask_iv(make_cfg_write(kId, 0x1710, 0), 0x51).state == 0x00);
+  CHECK(modified_list(h, 0x1000) == before);
+  CHECK(h.drive->ram(0x1710) == 0u);
+  // Every layer of the commissioned axis has modified parameters.
+  for (int base : {0x0000, 0x1000, 0x2000, 0x3000}) CHECK_FALSE(modified_list(h, static_cast<std::uint16_t>(base)).empty());
+}
+
+TEST_CASE("sim: empty modified list answers C6 with UPID FFFFh (configurable)", "[sim]") {
+  SimHarness h("manual-drive.json");  // no OS parameter modified
+  CHECK(h.ask_iv(make_cfg(kId, CfgOp::start_modified, 0x0000), 0x58).state == 0x00);
+  auto r = h.ask_iv(make_cfg(kId, CfgOp::next_modified, 0x0000), 0x59);
+  CHECK(r.state == 0xC6);
+  CHECK(r.key == 0xFFFF);
+  CHECK(r.value == 0u);
+  h.drive->state().options.empty_list_upid = 0x0000;
+  CHECK(h.ask_iv(make_cfg(kId, CfgOp::start_modified, 0x3000), 0x58).state == 0x00);
+  CHECK(h.ask_iv(make_cfg(kId, CfgOp::next_modified, 0x3000), 0x59).key == 0x0000);
+}
+
+TEST_CASE("sim: UPID list ends with C6 repeating the last UPID", "[sim]") {
+  SimHarness h("commissioned-axis.json");
+  h.ask_iv(make_cfg(kId, CfgOp::start_upid_list, 0x3000), 0x5A);
+  std::vector<std::uint16_t> seen;
+  for (;;) {
+    auto a = h.ask(make_cfg(kId, CfgOp::next_upid, 0));
+    auto e = decode_upid_list_entry(a);
+    REQUIRE(e.ok());
+    if (e->state == 0xC6) {
+      CHECK(e->upid == seen.back());
+      break;
+    }
+    seen.push_back(e->upid);
+    CHECK(e->address_usage == 0x000F);
+  }
+  CHECK(seen == std::vector<std::uint16_t>{0x3010, 0x3020, 0x3030});
+}
+
+TEST_CASE("sim: layer defaulting (03 12h) sets MC ROM to default; RAM follows only after reset", "[sim]") {
+  SimHarness h("commissioned-axis.json");
+  REQUIRE(h.drive->rom(0x13A2) == 40u);
+  const auto t0 = h.link.clock().now_ns();
+  auto a = h.ask(make_param_default_layer(kId, 2));
+  CHECK(dr(a).comm_state == 0x00);
+  CHECK(h.link.clock().now_ns() - t0 >= 1'200'000'000LL);
+  CHECK(h.drive->rom(0x13A2) == 15u);
+  CHECK(h.drive->rom(0x200E) == 2u);  // other layers untouched
+  CHECK(h.drive->ram(0x13A2) == 40u);
+  CHECK(h.ask(make_program(kId, ProgramOp::reset_after_completion)).sub == 0x60);
+  CHECK(h.drive->ram(0x13A2) == 15u);
+}
+
+TEST_CASE("sim: RAM reloads from ROM at reset and at MC start", "[sim]") {
+  SimHarness h("commissioned-axis.json");
+  CHECK(dr(h.ask(make_param_write(kId, ParamOp::write_ram, 0x13A2, 99))).comm_state == 0x00);
+  CHECK(dr(h.ask(make_param_read(kId, ParamOp::read_ram, 0x13A2))).value == 99u);
+  CHECK(dr(h.ask(make_program(kId, ProgramOp::reset_immediate))).comm_state == 0x00);
+  h.idle(3500);
+  CHECK(dr(h.ask(make_param_read(kId, ParamOp::read_ram, 0x13A2))).value == 40u);
+  CHECK(dr(h.ask(make_param_write(kId, ParamOp::write_ram, 0x13A2, 98))).comm_state == 0x00);
+  CHECK(h.ask(make_program(kId, ProgramOp::start_after_completion)).sub == 0x60);
+  CHECK(h.drive->ram(0x13A2) == 40u);
+}
+
+TEST_CASE("sim: out-of-range and read-only ROM writes are refused with C9 (policy configurable)", "[sim]") {
+  SimHarness h("commissioned-axis.json");
+  auto r = h.ask_iv(make_cfg_write(kId, 0x1290, 7), 0x51);  // max 1
+  CHECK(r.state == 0xC9);
+  CHECK(r.value == 0u);  // the unchanged ROM value
+  CHECK(h.ask_iv(make_cfg_write(kId, 0x2136, 1), 0x51).state == 0xC9);  // AU 1001h: no ROM write
+  CHECK(dr(h.ask(make_param_write(kId, ParamOp::write_rom, 0x1290, 7))).comm_state == 0xC9);
+  CHECK(h.ask_iv(make_cfg_write(kId, 0x1040, 0xFFFFFF00), 0x51).state == 0x00);  // SINT16 -256 within range
+  h.drive->state().options.write_policy = sim::WritePolicy::clamp;
+  CHECK(h.ask_iv(make_cfg_write(kId, 0x1290, 7), 0x51).value == 1u);
+}
+
+TEST_CASE("sim: C8 unknown UPID, C3 undefined main ID, C4 undefined sub ID", "[sim]") {
+  SimHarness h("commissioned-axis.json");
+  CHECK(dr(h.ask(make_param_read(kId, ParamOp::read_ram, 0x1234))).comm_state == 0xC8);
+  auto c = h.ask_iv(make_cfg(kId, CfgOp::read_rom, 0x1234), 0x50);
+  CHECK(c.state == 0xC8);
+  CHECK(c.key == 0x1234);
+  CHECK(dr(h.ask(Telegram{kId, 0x00, 0x09, {}})).comm_state == 0xC3);
+  CHECK(dr(h.ask(Telegram{kId, 0x02, 0x05, {0xA2, 0x13}})).comm_state == 0xC4);
+  CHECK(dr(h.ask(Telegram{kId, 0x09, 0x06, {}})).comm_state == 0xC4);
+  CHECK(h.drive->stats().error_answers == 5);
+}
+
+// ---- curves and command table -------------------------------------------------------
+
+TEST_CASE("sim: curve sizes of a missing curve are 0/0 (or C8 by option)", "[sim]") {
+  SimHarness h("commissioned-axis.json");
+  auto r = h.ask_iv(make_curve(kId, CurveOp::read_sizes, 50), 0x40);
+  CHECK(r.state == 0x00);
+  CHECK(r.value == 0u);
+  CHECK(h.ask_iv(make_curve(kId, CurveOp::read_sizes, 2), 0x40).value == (70u | (20u << 16)));
+  h.drive->state().options.missing_curve_zero_sizes = false;
+  CHECK(h.ask_iv(make_curve(kId, CurveOp::read_sizes, 50), 0x40).state == 0xC8);
+  CHECK(h.ask_iv(make_curve(kId, CurveOp::read_info, 50), 0x40).state == 0xC8);
+}
+
+TEST_CASE("sim: flash saves are refused while MC runs and take their time when stopped", "[sim]") {
+  SimHarness h("commissioned-axis.json");
+  h.drive->state().curves_ram.erase(2);
+  h.drive->state().ct_ram.erase(1);
+  CHECK(h.ask_iv(make_curve(kId, CurveOp::save_to_flash), 0x40).state == 0xC4);
+  CHECK(h.ask_iv(make_ct(kId, CtOp::save_to_flash), 0x80).state == 0xC4);
+  CHECK(h.drive->state().curves_flash.count(2) == 1);
+  CHECK(dr(h.ask(make_program(kId, ProgramOp::stop_mc))).status_word == 0);
+  auto t0 = h.link.clock().now_ns();
+  CHECK(h.ask_iv(make_curve(kId, CurveOp::save_to_flash), 0x40).state == 0x00);
+  CHECK(h.link.clock().now_ns() - t0 >= 2'000'000'000LL);
+  CHECK(h.drive->state().curves_flash.count(2) == 0);
+  CHECK(h.ask_iv(make_ct(kId, CtOp::save_to_flash), 0x80).state == 0x00);
+  CHECK(h.drive->state().ct_flash.count(1) == 0);
+  CHECK(h.drive->stats().flash_saves == 2);
+}
+
+TEST_CASE("sim: command table setup/write/read round trip and defined list", "[sim]") {
+  SimHarness h("used-spare.json");
+  Bytes entry(64);
+  for (std::size_t i = 0; i < entry.size(); ++i) entry[i] = static_cast<std::uint8_t>(i * 3);
+  CHECK(h.ask_iv(make_ct_setup_write(kId, 40, 64), 0x83).state == 0x00);
+  for (std::size_t o = 0; o < 64; o += 4) {
+    auto r = h.ask_iv(make_ct_write(kId, 40, {entry[o], entry[o + 1], entry[o + 2], entry[o + 3]}), 0x84);
+    CHECK(r.state == (o + 4 < 64 ? 0x04 : 0x00));
+  }
+  CHECK(h.drive->state().ct_ram.at(40) == entry);
+  CHECK(h.ask_iv(make_ct(kId, CtOp::setup_read, 40), 0x85).value == 64u);
+  CHECK(h.ask_iv(make_ct(kId, CtOp::setup_read, 41), 0x85).value == 0u);
+  Bytes back;
+  for (int i = 0; i < 16; ++i) {
+    auto r = h.ask_iv(make_ct(kId, CtOp::read_data, 40), 0x86);
+    auto raw = r.raw();
+    back.insert(back.end(), raw.begin(), raw.end());
+  }
+  CHECK(back == entry);
+  // 3, 9 (fixture) and 40: block 0 has bits 3 and 9 cleared, block 1 bit 8.
+  CHECK(h.ask_iv(make_ct_defined_list(kId, 0), 0x87).value == (0xFFFFFFFFu & ~(1u << 3) & ~(1u << 9)));
+  CHECK(h.ask_iv(make_ct_defined_list(kId, 1, false), 0x87).value == (0xFFFFFFFFu & ~(1u << 8)));
+}
+
+// ---- bus, checksums ----------------------------------------------------------------
+
+TEST_CASE("sim: frames for other MACIDs are ignored; a bus answers only from the addressed drive", "[sim]") {
+  auto bus = std::make_shared<sim::Bus>();
+  auto a = load_fixture("commissioned-axis.json");
+  auto b = load_fixture("used-spare.json");
+  b.macid = 0x12;
+  bus->add(std::make_shared<sim::Drive>(a));
+  bus->add(std::make_shared<sim::Drive>(b));
+  sim::SimLink link(bus);
+  auto ask = [&](std::uint8_t id) {
+    REQUIRE(link.write(encode(make_cfg(id, CfgOp::read_rom, 0x13A2)).value()).ok());
+    auto r = link.read_some(transport::Millis(100));
+    REQUIRE(r.ok());
+    return *r;
+  };
+  auto r11 = decode_id_value(decode(ask(0x11)).value(), 0x50);
+  auto r12 = decode_id_value(decode(ask(0x12)).value(), 0x50);
+  CHECK(r11->id == 0x11);
+  CHECK(r11->value == 40u);
+  CHECK(r12->id == 0x12);
+  CHECK(r12->value == 25u);
+  CHECK(ask(0x13).empty());
+  CHECK(bus->drive(0x11)->stats().ignored_other_id == 2);
+  CHECK(link.stats().request_telegrams == 3);
+  CHECK(link.stats().answer_telegrams == 2);
+}
+
+TEST_CASE("sim: checksum modes add and CRC; C1 answer on a bad checksum", "[sim]") {
+  for (auto mode : {ChecksumMode::add, ChecksumMode::crc_ccitt}) {
+    auto s = load_fixture("manual-drive.json");
+    s.checksum.mode = mode;
+    SimHarness h(s);
+    INFO("mode " << static_cast<int>(mode));
+    auto ok = h.ask_iv(make_cfg(kId, CfgOp::read_rom, 0x13A2), 0x50);
+    CHECK(ok.value == 0x0Au);
+    Bytes bad = encode(make_cfg(kId, CfgOp::read_rom, 0x13A2), s.checksum).value();
+    bad[bad.size() - 2] ^= 0x5A;
+    auto rx = h.exchange(bad);
+    auto t = decode(rx, s.checksum);
+    REQUIRE(t.ok());
+    CHECK(dr(*t).comm_state == 0xC1);
+    // Not addressed to us: no answer even though the checksum is wrong.
+    Bytes other = encode(make_cfg(0x22, CfgOp::read_rom, 0x13A2), s.checksum).value();
+    other[other.size() - 2] ^= 0x5A;
+    CHECK(h.exchange(other, 50).empty());
+    h.drive->state().options.respond_on_checksum_error = false;
+    CHECK(h.exchange(bad, 50).empty());
+  }
+}
+
+TEST_CASE("sim: C2 answer when the end of telegram is missing", "[sim]") {
+  SimHarness h("manual-drive.json");
+  Bytes broken = from_hex("01 11 05 02 00 05 A2 13 05").value();
+  auto rx = h.exchange(broken);
+  REQUIRE_FALSE(rx.empty());
+  CHECK(dr(decode(rx).value()).comm_state == 0xC2);
+}
+
+// ---- timing ---------------------------------------------------------------------------
+
+TEST_CASE("sim: virtual clock, 9-byte request + 14-byte answer at 57600 8N1 = 23*10/57600 s + 1 ms", "[sim]") {
+  auto s = load_fixture("commissioned-axis.json");
+  SimHarness h(s);
+  CHECK(h.link.byte_time_us() == Approx(10.0 * 1e6 / 57600));
+  const auto t0 = h.link.clock().now_ns();
+  auto rx = h.exchange(from_hex("01 11 05 02 00 05 A2 13 04").value());
+  CHECK(rx.size() == 14);
+  const double expected_ns = 23.0 * 10.0 / 57600.0 * 1e9 + 1e6;
+  CHECK(static_cast<double>(h.link.clock().now_ns() - t0) == Approx(expected_ns).margin(1.0));
+  CHECK(h.link.stats().request_bytes == 9);
+  CHECK(h.link.stats().answer_bytes == 14);
+  CHECK(h.link.stats().request_telegrams == 1);
+  CHECK(h.link.stats().answer_telegrams == 1);
+  // 8E2 at 19200: 12 bits per byte.
+  s.link = {"", 19200, transport::Parity::even, 2};
+  SimHarness h2(s);
+  const auto t1 = h2.link.clock().now_ns();
+  (void)h2.exchange(from_hex("01 11 05 02 00 05 A2 13 04").value());
+  CHECK(static_cast<double>(h2.link.clock().now_ns() - t1) == Approx(23.0 * 12 / 19200 * 1e9 + 1e6).margin(1.0));
+}
+
+TEST_CASE("sim: read_some times out on the virtual clock", "[sim]") {
+  SimHarness h("commissioned-axis.json");
+  const auto t0 = h.link.clock().now_ns();
+  auto r = h.link.read_some(transport::Millis(250));
+  REQUIRE(r.ok());
+  CHECK(r->empty());
+  CHECK(h.link.clock().now_ns() - t0 == 250'000'000);
+  // An answer that needs longer than the timeout is not delivered yet...
+  REQUIRE(h.link.write(encode(make_cfg_default_layer(kId, 1)).value()).ok());
+  CHECK(h.link.read_some(transport::Millis(100))->empty());
+  // ...but comes later.
+  CHECK(h.link.read_some(transport::Millis(2000))->size() == 14);
+  CHECK(h.link.stats().read_timeouts == 2);
+}
+
+TEST_CASE("sim: real-time mode sleeps for the modelled time", "[sim]") {
+  SimHarness h("commissioned-axis.json");
+  h.drive->state().timing.turnaround_us = 20'000;
+  h.link.set_real_time(true);
+  const auto w0 = std::chrono::steady_clock::now();
+  CHECK(h.exchange(from_hex("01 11 05 02 00 05 A2 13 04").value()).size() == 14);
+  const auto wall = std::chrono::steady_clock::now() - w0;
+  CHECK(wall >= std::chrono::milliseconds(20));
+}
+
+// ---- faults ---------------------------------------------------------------------------
+
+TEST_CASE("sim: fault injection per exchange", "[sim][sim-faults]") {
+  SimHarness h("commissioned-axis.json");
+  const Bytes req = encode(make_cfg(kId, CfgOp::read_rom, 0x13A2)).value();
+  const Bytes good = h.exchange(req);  // exchange 0
+  REQUIRE(good.size() == 14);
+  auto& f = h.link.faults();
+
+  SECTION("drop request / drop answer") {
+    f.schedule(1, sim::Fault::drop_request());
+    f.schedule(2, sim::Fault::drop_answer());
+    CHECK(h.exchange(req, 100).empty());
+    CHECK(h.exchange(req, 100).empty());
+    CHECK(h.exchange(req) == good);
+    CHECK(f.counters().dropped_requests == 1);
+    CHECK(f.counters().dropped_answers == 1);
+    CHECK(h.drive->stats().answers == 3);  // the dropped answer was computed
+  }
+  SECTION("corrupt / garbage / wrong ID / delay") {
+    f.schedule(1, sim::Fault::corrupt(9, 0xFF));
+    f.schedule(2, sim::Fault::garbage_burst({0xAA, 0x55}));
+    f.schedule(3, sim::Fault::wrong_id(0x33));
+    f.schedule(4, sim::Fault::delay(500));
+    auto c = h.exchange(req);
+    CHECK(c.size() == good.size());
+    CHECK(c[9] == (good[9] ^ 0xFF));
+    auto g = h.exchange(req);
+    REQUIRE(g.size() == good.size() + 2);
+    CHECK(g[0] == 0xAA);
+    CHECK(g[1] == 0x55);
+    CHECK(Bytes(g.begin() + 2, g.end()) == good);
+    auto w = decode(h.exchange(req));
+    REQUIRE(w.ok());
+    CHECK(w->id == 0x33);
+    REQUIRE(h.link.write(req).ok());
+    CHECK(h.link.read_some(transport::Millis(400))->empty());
+    CHECK(*h.link.read_some(transport::Millis(400)) == good);
+    CHECK(f.counters().total() == 4);
+  }
+  SECTION("reset in the middle of a block transfer: the drive forgets the transfer") {
+    const Bytes info = encode(make_curve(kId, CurveOp::read_info, 1)).value();
+    auto first = h.exchange(info);
+    CHECK(first[6] == 0x04);
+    CHECK(h.drive->transfer_active());
+    f.schedule(2, sim::Fault::reset_drive());
+    CHECK(h.exchange(info, 200).empty());  // rebooting: no answer
+    CHECK_FALSE(h.drive->transfer_active());
+    h.idle(3500);
+    CHECK(h.exchange(info) == first);  // starts over at offset 0
+    f.schedule(4, sim::Fault::reset_drive(true));
+    CHECK(h.exchange(info) == first);  // instant reboot, answered
+    CHECK(f.counters().drive_resets == 2);
+  }
+  SECTION("slow flash save takes the documented 10 s") {
+    (void)h.exchange(encode(make_program(kId, ProgramOp::stop_mc)).value());
+    f.schedule(2, sim::Fault::slow_flash());
+    const auto t0 = h.link.clock().now_ns();
+    CHECK(h.exchange(encode(make_ct(kId, CtOp::save_to_flash)).value(), 20000).size() == 14);
+    CHECK(h.link.clock().now_ns() - t0 >= 10'000'000'000LL);
+  }
+  SECTION("close the link") {
+    f.schedule(1, sim::Fault::close_link());
+    auto w = h.link.write(req);
+    REQUIRE_FALSE(w.ok());
+    CHECK(w.error().code == make_error_code(Errc::link_closed));
+    auto r = h.link.read_some(transport::Millis(10));
+    REQUIRE_FALSE(r.ok());
+    CHECK(r.error().code == make_error_code(Errc::link_closed));
+  }
+  SECTION("callback") {
+    f.set_callback([](std::size_t ex, ByteView) {
+      return ex % 2 == 1 ? std::vector<sim::Fault>{sim::Fault::drop_answer()} : std::vector<sim::Fault>{};
+    });
+    int answered = 0;
+    for (int i = 0; i < 10; ++i) answered += h.exchange(req, 50).empty() ? 0 : 1;
+    CHECK(answered == 5);
+    CHECK(f.counters().dropped_answers == 5);
+  }
+}
+
+TEST_CASE("sim: discard_input drops answers already received", "[sim]") {
+  SimHarness h("commissioned-axis.json");
+  const Bytes req = encode(make_cfg(kId, CfgOp::read_rom, 0x13A2)).value();
+  REQUIRE(h.link.write(req).ok());
+  h.link.clock().advance_us(5000);
+  h.link.discard_input();
+  CHECK(h.link.pending_bytes() == 0);
+  CHECK(h.link.read_some(transport::Millis(10))->empty());
+}
+
+// ---- state file -------------------------------------------------------------------------
+
+TEST_CASE("sim: state file round trip and fixtures", "[sim]") {
+  for (const char* name : {"commissioned-axis.json", "used-spare.json", "manual-drive.json"}) {
+    INFO(name);
+    auto s = load_fixture(name);
+    auto again = sim::from_json(sim::to_json(s));
+    REQUIRE(again.ok());
+    CHECK(again->params == s.params);
+    CHECK(again->curves_ram == s.curves_ram);
+    CHECK(again->curves_flash == s.curves_flash);
+    CHECK(again->ct_ram == s.ct_ram);
+    CHECK(again->ct_flash == s.ct_flash);
+    CHECK(again->macid == s.macid);
+    CHECK(again->link == s.link);
+    CHECK(again->checksum == s.checksum);
+    CHECK(again->layout == s.layout);
+    CHECK(again->live == s.live);
+    CHECK(again->timing == s.timing);
+    CHECK(again->options == s.options);
+    CHECK(again->error_texts == s.error_texts);
+    CHECK(again->error_log.size() == s.error_log.size());
+    CHECK(again->errors_occurred == s.errors_occurred);
+  }
+  auto a = load_fixture("commissioned-axis.json");
+  auto b = load_fixture("used-spare.json");
+  CHECK(a.params.size() >= 24);
+  std::set<sim::Layer> layers;
+  for (const auto& [u, p] : a.params) {
+    CHECK(b.params.count(u) == 1);
+    if (p.modified()) layers.insert(sim::layer_of(u));
+  }
+  CHECK(layers.size() == 4);
+  CHECK(a.curves_flash.size() == 2);
+  CHECK(a.curves_flash.at(1).info.size() == 70);
+  CHECK(a.curves_flash.at(1).data.size() == 84);
+  CHECK(a.ct_flash.size() == 5);
+  CHECK(a.ct_flash.at(2) == from_hex("01 A7 FF FF 00 01 40 42 0F 00 20 A1 07 00 40 0D 03 00 40 0D 03 00"
+                                     "00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 55 6E 6E 61 6D 65 64 00"
+                                     "00 00 00 00 00 00 00 00 FF FF FF FF FF FF FF FF FF FF")
+                                .value());
+  CHECK(b.curves_flash.count(7) == 1);
+  CHECK(b.ct_flash.size() == 2);
+  CHECK(b.ct_flash.count(3) == 1);
+  CHECK(b.ct_flash.count(9) == 1);
+
+  // File save/load after changes made over the wire.
+  SimHarness h(a);
+  CHECK(h.ask_iv(make_cfg_write(kId, 0x3010, 4242), 0x51).state == 0x00);
+  const auto path = (std::filesystem::temp_directory_path() / "lmcfg-sim-roundtrip.json").string();
+  REQUIRE(sim::save_state(h.drive->state(), path).ok());
+  auto back = sim::load_state(path);
+  REQUIRE(back.ok());
+  CHECK(back->params.at(0x3010).rom == 4242u);
+  std::remove(path.c_str());
+
+  auto bad = sim::from_json(nlohmann::json{{"format", "lmcfg-sim-state"}, {"version", 2}});
+  REQUIRE_FALSE(bad.ok());
+  CHECK(bad.error().code == make_error_code(Errc::unsupported_version));
+  auto bad2 = sim::from_json(nlohmann::json::parse(R"({"format":"lmcfg-sim-state","version":1,"parameters":[{"upid":"zz"}]})"));
+  REQUIRE_FALSE(bad2.ok());
+  CHECK(bad2.error().code == make_error_code(Errc::parse_error));
+}

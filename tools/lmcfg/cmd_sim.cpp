@@ -1,0 +1,136 @@
+// `lmcfg sim`: serve a simulated drive (lib/sim) on a pseudo-terminal or a
+// loopback TCP port, in real time, until SIGINT/SIGTERM (or stdin EOF).
+#include <poll.h>
+#include <signal.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <memory>
+#include <string>
+
+#include "command.hpp"
+#include "common/bytes.hpp"
+#include "sim/drive.hpp"
+#include "sim/server.hpp"
+#include "sim/state_file.hpp"
+#include "transport/pty.hpp"
+
+namespace lmcfg::cli {
+namespace {
+
+volatile sig_atomic_t g_stop = 0;
+void on_signal(int) { g_stop = 1; }
+
+struct SimArgs {
+  std::string state;
+  bool pty = false;
+  std::string tcp;
+  bool save_on_exit = false;
+  bool until_stdin_eof = false;
+  bool fast = false;
+  bool verbose = false;
+};
+
+bool stdin_at_eof() {
+  pollfd p{STDIN_FILENO, POLLIN, 0};
+  if (::poll(&p, 1, 0) <= 0) return false;
+  if (p.revents & (POLLHUP | POLLERR | POLLNVAL)) {
+    char c;
+    return ::read(STDIN_FILENO, &c, 1) <= 0;
+  }
+  char buf[256];
+  return ::read(STDIN_FILENO, buf, sizeof buf) == 0;
+}
+
+int run(const SimArgs& a) {
+  auto st = sim::load_state(a.state);
+  if (!st.ok()) {
+    std::fprintf(stderr, "lmcfg sim: %s\n", st.error().message.c_str());
+    return st.error().code == make_error_code(Errc::file_error) ? kInvalidInput : kInvalidInput;
+  }
+  sim::Drive drive(std::move(st).value());
+
+  struct sigaction sa {};
+  sa.sa_handler = on_signal;
+  sigemptyset(&sa.sa_mask);
+  ::sigaction(SIGINT, &sa, nullptr);
+  ::sigaction(SIGTERM, &sa, nullptr);
+  ::signal(SIGPIPE, SIG_IGN);
+
+  sim::ServeOptions opt;
+  opt.real_time = !a.fast;
+  opt.should_stop = [&] { return g_stop != 0 || (a.until_stdin_eof && stdin_at_eof()); };
+  if (a.verbose) {
+    opt.trace = [](bool tx, ByteView b) { std::fprintf(stderr, "%s %s\n", tx ? "TX" : "RX", to_hex(b).c_str()); };
+  }
+
+  int rc = kOk;
+  if (!a.tcp.empty()) {
+    const auto colon = a.tcp.rfind(':');
+    const std::string host = colon == std::string::npos ? "127.0.0.1" : a.tcp.substr(0, colon);
+    const auto port = parse_number(colon == std::string::npos ? a.tcp : a.tcp.substr(colon + 1), false);
+    if (!port || *port > 65535) {
+      std::fprintf(stderr, "lmcfg sim: --tcp expects HOST:PORT, got '%s'\n", a.tcp.c_str());
+      return kInvalidInput;
+    }
+    std::uint16_t bound = 0;
+    auto lfd = sim::listen_tcp(host, static_cast<std::uint16_t>(*port), bound);
+    if (!lfd.ok()) {
+      std::fprintf(stderr, "lmcfg sim: %s\n", lfd.error().message.c_str());
+      return kCommFailure;
+    }
+    std::printf("%u\n", static_cast<unsigned>(bound));
+    std::fflush(stdout);
+    while (!opt.should_stop()) {
+      auto c = sim::accept_client(lfd->get(), transport::Millis(100));
+      if (!c.ok()) {
+        std::fprintf(stderr, "lmcfg sim: %s\n", c.error().message.c_str());
+        rc = kCommFailure;
+        break;
+      }
+      if (!c->valid()) continue;
+      transport::FdTransport t(std::move(c).value(), "tcp client of lmcfg sim");
+      auto r = sim::serve(drive, t, opt);
+      if (!r.ok() && r.error().code != make_error_code(Errc::link_closed))
+        std::fprintf(stderr, "lmcfg sim: %s\n", r.error().message.c_str());
+    }
+  } else {
+    auto p = transport::open_pty();
+    if (!p.ok()) {
+      std::fprintf(stderr, "lmcfg sim: %s\n", p.error().message.c_str());
+      return kCommFailure;
+    }
+    std::printf("%s\n", p->slave_path.c_str());
+    std::fflush(stdout);
+    transport::FdTransport t(std::move(p->master), "pty " + p->slave_path);
+    auto r = sim::serve(drive, t, opt);
+    if (!r.ok()) {
+      std::fprintf(stderr, "lmcfg sim: %s\n", r.error().message.c_str());
+      rc = kCommFailure;
+    }
+  }
+  if (a.save_on_exit) {
+    if (auto s = sim::save_state(drive.state(), a.state); !s.ok()) {
+      std::fprintf(stderr, "lmcfg sim: %s\n", s.error().message.c_str());
+      return kInternal;
+    }
+  }
+  return rc;
+}
+
+const Register reg(90, [](CLI::App& app, int& exit_code) {
+  auto args = std::make_shared<SimArgs>();
+  auto* cmd = app.add_subcommand("sim", "Serve a simulated LinMot drive (LinRS) on a pseudo-terminal or TCP port");
+  cmd->add_option("--state", args->state, "Sim state file (JSON, see docs/simulator.md)")->required();
+  auto* pty = cmd->add_flag("--pty", args->pty, "Serve on a new pseudo-terminal; prints its slave path (default)");
+  cmd->add_option("--tcp", args->tcp, "Listen on HOST:PORT (loopback; port 0 = any); prints the port")
+      ->excludes(pty);
+  cmd->add_flag("--save-on-exit", args->save_on_exit, "Write the drive state back to --state on exit");
+  cmd->add_flag("--until-stdin-eof", args->until_stdin_eof, "Also stop when stdin reaches end of file");
+  cmd->add_flag("--fast", args->fast, "Answer at once instead of after the modelled delays");
+  cmd->add_flag("-v,--verbose", args->verbose, "Trace every chunk to stderr");
+  cmd->callback([args, &exit_code] { exit_code = run(*args); });
+});
+
+}  // namespace
+}  // namespace lmcfg::cli
