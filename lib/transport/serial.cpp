@@ -1,0 +1,142 @@
+// Serial ports through POSIX termios: raw, 8 data bits, no flow control.
+#include <errno.h>
+#include <fcntl.h>
+#include <sys/ioctl.h>
+#include <sys/stat.h>
+#include <sys/sysmacros.h>
+#include <termios.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstring>
+
+#include "transport/pty.hpp"
+
+namespace lmcfg::transport {
+
+namespace {
+
+speed_t speed_constant(unsigned baud) {
+  switch (baud) {
+    case 4800: return B4800;
+    case 9600: return B9600;
+    case 19200: return B19200;
+    case 38400: return B38400;
+    case 57600: return B57600;
+    case 115200: return B115200;
+    default: return B0;
+  }
+}
+
+std::string allowed_bauds() {
+  std::string s;
+  for (const unsigned b : kSerialBaudRates) {
+    if (!s.empty()) s += ", ";
+    s += std::to_string(b);
+  }
+  return s;
+}
+
+// Removes the exclusive-use flag before the descriptor is closed, so the next
+// open of the same device (also by this process) is not refused.
+class SerialTransport final : public FdTransport {
+ public:
+  using FdTransport::FdTransport;
+  ~SerialTransport() override {
+    if (fd() >= 0) ::ioctl(fd(), TIOCNXCL);
+  }
+};
+
+}  // namespace
+
+void make_serial_termios(termios& tio, const SerialSettings& s) {
+  ::cfmakeraw(&tio);
+  tio.c_iflag &= ~static_cast<tcflag_t>(IXON | IXOFF | IXANY | INPCK);
+  tio.c_cflag &= ~static_cast<tcflag_t>(CSIZE | PARENB | PARODD | CSTOPB | CRTSCTS | HUPCL);
+  tio.c_cflag |= CS8 | CLOCAL | CREAD;
+  if (s.parity == Parity::even) tio.c_cflag |= PARENB;
+  if (s.parity == Parity::odd) tio.c_cflag |= PARENB | PARODD;
+  if (s.stop_bits == 2) tio.c_cflag |= CSTOPB;
+  tio.c_cc[VMIN] = 0;
+  tio.c_cc[VTIME] = 0;
+  const speed_t speed = speed_constant(s.baud);
+  ::cfsetispeed(&tio, speed);
+  ::cfsetospeed(&tio, speed);
+}
+
+bool is_pty_slave(int fd) {
+  struct stat st {};
+  if (::fstat(fd, &st) != 0 || !S_ISCHR(st.st_mode)) return false;
+  const unsigned maj = major(st.st_rdev);
+  return maj >= 136 && maj <= 143;  // UNIX98_PTY_SLAVE_MAJOR .. + 7 (Documentation/admin-guide/devices.txt)
+}
+
+unsigned bits_per_byte(const SerialSettings& s) {
+  return 1u + 8u + (s.parity == Parity::none ? 0u : 1u) + s.stop_bits;
+}
+
+Result<void> validate(const SerialSettings& s) {
+  if (std::find(kSerialBaudRates.begin(), kSerialBaudRates.end(), s.baud) == kSerialBaudRates.end()) {
+    return Error(Errc::invalid_argument, "unsupported baud rate " + std::to_string(s.baud) +
+                                             " (allowed: " + allowed_bauds() + ")");
+  }
+  if (s.parity != Parity::none && s.parity != Parity::even && s.parity != Parity::odd) {
+    return Error(Errc::invalid_argument,
+                 "unsupported parity value " + std::to_string(static_cast<unsigned>(s.parity)) +
+                     " (allowed: none, even, odd)");
+  }
+  if (s.stop_bits != 1 && s.stop_bits != 2) {
+    return Error(Errc::invalid_argument,
+                 "unsupported stop bits " + std::to_string(s.stop_bits) + " (allowed: 1, 2)");
+  }
+  return {};
+}
+
+std::string format_settings(const SerialSettings& s) {
+  const char p = s.parity == Parity::even ? 'E' : s.parity == Parity::odd ? 'O' : 'N';
+  return std::to_string(s.baud) + " 8" + p + std::to_string(s.stop_bits);
+}
+
+Result<std::unique_ptr<Transport>> open_serial(const SerialSettings& s) {
+  if (s.device.empty()) return Error(Errc::invalid_argument, "serial device path is empty");
+  LMCFG_TRY(validate(s));
+  const std::string desc = "serial " + s.device + " " + format_settings(s);
+  auto fail = [&](const std::string& what, int err) {
+    return Error(Errc::io_error, desc + ": " + what + ": " + std::strerror(err));
+  };
+
+  // O_NONBLOCK so the open does not wait for carrier; it stays set (reads poll).
+  UniqueFd fd(::open(s.device.c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK | O_CLOEXEC));
+  if (!fd) {
+    const int err = errno;
+    return Error(err == ENOENT ? Errc::not_found : Errc::io_error,
+                 "cannot open serial port " + s.device + ": " + std::strerror(err));
+  }
+  if (::isatty(fd.get()) != 1)
+    return Error(Errc::invalid_argument, "cannot use " + s.device + " as a serial port: not a terminal device");
+  if (::ioctl(fd.get(), TIOCEXCL) != 0) return fail("cannot get exclusive access (TIOCEXCL)", errno);
+  // From here on the fd is owned by the transport, whose destructor clears TIOCEXCL.
+  const double byte_us = 1e6 * bits_per_byte(s) / static_cast<double>(s.baud);
+  auto t = std::make_unique<SerialTransport>(std::move(fd), desc, byte_us);
+  const int f = t->fd();
+
+  termios tio{};
+  if (::tcgetattr(f, &tio) != 0) return fail("tcgetattr failed", errno);
+  make_serial_termios(tio, s);
+  if (::tcsetattr(f, TCSANOW, &tio) != 0) return fail("tcsetattr failed", errno);
+
+  // tcsetattr succeeds when any one change was applied: read back and compare.
+  termios got{};
+  if (::tcgetattr(f, &got) != 0) return fail("tcgetattr failed", errno);
+  tcflag_t mask = CSIZE | PARENB | PARODD | CSTOPB | CRTSCTS | CLOCAL | CREAD;
+  if (is_pty_slave(f)) mask &= ~static_cast<tcflag_t>(PARENB);  // no wire, no parity bit
+  const speed_t speed = speed_constant(s.baud);
+  if (::cfgetospeed(&got) != speed || ::cfgetispeed(&got) != speed ||
+      (got.c_cflag & mask) != (tio.c_cflag & mask)) {
+    return Error(Errc::io_error, desc + ": the device did not accept the line settings");
+  }
+  ::tcflush(f, TCIOFLUSH);  // drop whatever arrived before the settings applied
+  return std::unique_ptr<Transport>(std::move(t));
+}
+
+}  // namespace lmcfg::transport
