@@ -1,0 +1,304 @@
+#include "config/model.hpp"
+
+#include <algorithm>
+#include <set>
+
+namespace lmcfg::config {
+
+int layer_of_upid(std::uint32_t upid) noexcept {
+  for (const auto& l : kLayers)
+    if (upid >= l.first_upid && upid <= l.last_upid) return l.number;
+  return 0;
+}
+
+std::string_view layer_name(int layer) noexcept {
+  if (layer < 1 || layer > kLayerCount) return "?";
+  return kLayers[static_cast<std::size_t>(layer - 1)].name;
+}
+
+std::string_view to_string(ParamSet s) noexcept {
+  return s == ParamSet::full ? "full" : "modified";
+}
+
+std::optional<ParamSet> param_set_from_string(std::string_view s) noexcept {
+  if (s == "modified") return ParamSet::modified;
+  if (s == "full") return ParamSet::full;
+  return std::nullopt;
+}
+
+// ---------------------------------------------------------------------------
+std::string CurveView::length_ms_text() const {
+  // length is in 10 us units: ms = length / 100, printed exactly.
+  std::string s = std::to_string(length / 100);
+  unsigned frac = length % 100;
+  if (frac != 0) {
+    s += '.';
+    s += static_cast<char>('0' + frac / 10);
+    if (frac % 10 != 0) s += static_cast<char>('0' + frac % 10);
+  }
+  return s;
+}
+
+std::string_view CurveView::x_name(int code) noexcept {
+  switch (code) {
+    case 0: return "time";
+    case 1: return "encoder position";
+    case 2: return "position";
+    default: return "unknown";
+  }
+}
+
+std::string_view CurveView::y_name(int code) noexcept {
+  switch (code) {
+    case 0: return "position";
+    case 1: return "velocity";
+    case 2: return "current";
+    case 3: return "encoder position";
+    case 4: return "encoder speed";
+    default: return "unknown";
+  }
+}
+
+Result<void> check_curve_blocks(const Curve& c) {
+  if (c.info.size() < kCurveHeaderMin)
+    return Error(Errc::validation_failed,
+                 "info block has " + std::to_string(c.info.size()) +
+                     " bytes; expected at least 8 (sizes at offsets 0, 4 and 6)");
+  const std::uint16_t info_size = get_u16le(c.info, 0);
+  if (info_size != c.info.size())
+    return Error(Errc::validation_failed, "info block has " + std::to_string(c.info.size()) +
+                                              " bytes but its header (offset 0) says " +
+                                              std::to_string(info_size));
+  const std::uint32_t count = get_u16le(c.info, 4);
+  const std::uint32_t bps = get_u16le(c.info, 6);
+  if (count * bps != c.data.size())
+    return Error(Errc::validation_failed,
+                 "data block has " + std::to_string(c.data.size()) + " bytes but the info block says " +
+                     std::to_string(count) + " setpoints x " + std::to_string(bps) + " bytes = " +
+                     std::to_string(count * bps));
+  return {};
+}
+
+Result<CurveView> decode_curve(const Curve& c) {
+  LMCFG_TRY(check_curve_blocks(c));
+  if (c.info.size() < kCurveInfoFull)
+    return Error(Errc::validation_failed, "info block has " + std::to_string(c.info.size()) +
+                                              " bytes; decoding needs 70");
+  const ByteView b = c.info;
+  CurveView v;
+  v.info_size = get_u16le(b, 0);
+  v.object_type = get_u16le(b, 2);
+  const unsigned hi = v.object_type >> 8;
+  v.x_code = static_cast<int>(hi & 0x0F);
+  v.y_code = static_cast<int>(hi >> 4);
+  v.setpoint_count = get_u16le(b, 4);
+  v.bytes_per_setpoint = get_u16le(b, 6);
+  for (std::size_t i = 8; i < 30 && b[i] != 0; ++i) v.name.push_back(static_cast<char>(b[i]));
+  v.curve_id = get_u16le(b, 30);
+  v.length = get_u32le(b, 32);
+  v.x_dimension = get_u16le(b, 36);
+  v.y_dimension = get_u16le(b, 38);
+  v.wizard = get_u16le(b, 40);
+  for (std::size_t i = 0; i < v.wizard_params.size(); ++i) v.wizard_params[i] = get_u32le(b, 42 + 4 * i);
+  if (v.bytes_per_setpoint != 0 && v.bytes_per_setpoint % 4 == 0) {
+    v.setpoints.reserve(c.data.size() / 4);
+    for (std::size_t off = 0; off + 4 <= c.data.size(); off += 4)
+      v.setpoints.push_back(static_cast<std::int32_t>(get_u32le(c.data, off)));
+  }
+  return v;
+}
+
+std::string ct_entry_name(ByteView raw) {
+  std::string s;
+  for (std::size_t i = 38; i < 54 && i < raw.size() && raw[i] != 0; ++i)
+    s.push_back(static_cast<char>(raw[i]));
+  return s;
+}
+
+// ---------------------------------------------------------------------------
+const Parameter* DriveConfig::find_param(std::uint16_t upid) const {
+  const int l = layer_of_upid(upid);
+  if (l == 0) return nullptr;
+  for (const auto& p : layer(l))
+    if (p.upid == upid) return &p;
+  return nullptr;
+}
+const Curve* DriveConfig::find_curve(std::uint32_t id) const {
+  for (const auto& c : curves)
+    if (c.id == id) return &c;
+  return nullptr;
+}
+const CtEntry* DriveConfig::find_ct_entry(std::uint32_t id) const {
+  for (const auto& e : ct_entries)
+    if (e.id == id) return &e;
+  return nullptr;
+}
+
+void canonicalize(DriveConfig& cfg) {
+  for (auto& l : cfg.layers)
+    std::stable_sort(l.begin(), l.end(), [](const auto& a, const auto& b) { return a.upid < b.upid; });
+  std::stable_sort(cfg.curves.begin(), cfg.curves.end(),
+                   [](const auto& a, const auto& b) { return a.id < b.id; });
+  std::stable_sort(cfg.ct_entries.begin(), cfg.ct_entries.end(),
+                   [](const auto& a, const auto& b) { return a.id < b.id; });
+}
+
+namespace {
+std::string hex4(std::uint32_t v) {
+  static constexpr char kDigits[] = "0123456789ABCDEF";
+  std::string s(4, '0');
+  for (int i = 3; i >= 0; --i) {
+    s[static_cast<std::size_t>(i)] = kDigits[v & 0xF];
+    v >>= 4;
+  }
+  return s;
+}
+}  // namespace
+
+bool is_clean_text(std::string_view s) noexcept {
+  std::size_t i = 0;
+  while (i < s.size()) {
+    const auto c = static_cast<unsigned char>(s[i]);
+    if (c < 0x20 || c == 0x7F) return false;
+    if (c < 0x80) {
+      ++i;
+      continue;
+    }
+    std::size_t n = 0;
+    std::uint32_t cp = 0;
+    if ((c & 0xE0) == 0xC0) { n = 1; cp = c & 0x1Fu; }
+    else if ((c & 0xF0) == 0xE0) { n = 2; cp = c & 0x0Fu; }
+    else if ((c & 0xF8) == 0xF0) { n = 3; cp = c & 0x07u; }
+    else return false;
+    if (i + n >= s.size()) return false;
+    for (std::size_t k = 1; k <= n; ++k) {
+      const auto cc = static_cast<unsigned char>(s[i + k]);
+      if ((cc & 0xC0) != 0x80) return false;
+      cp = (cp << 6) | (cc & 0x3Fu);
+    }
+    if ((n == 1 && cp < 0x80) || (n == 2 && cp < 0x800) || (n == 3 && cp < 0x10000) ||
+        cp > 0x10FFFF || (cp >= 0xD800 && cp <= 0xDFFF) || (cp >= 0x80 && cp < 0xA0))
+      return false;
+    i += n + 1;
+  }
+  return true;
+}
+
+std::optional<Issue> find_issue(const DriveConfig& cfg) {
+  {
+    const auto& id = cfg.identity;
+    const std::pair<const char*, const std::string*> fields[] = {
+        {"macid", &id.macid},
+        {"link.port", &id.link.port},
+        {"link.baud", &id.link.baud},
+        {"link.parity", &id.link.parity},
+        {"link.stop_bits", &id.link.stop_bits},
+        {"link.checksum", &id.link.checksum},
+        {"product", &id.product},
+        {"firmware", &id.firmware},
+        {"upid_fingerprint", &id.upid_fingerprint},
+        {"tool_version", &id.tool_version},
+        {"upid_db.version", &id.upid_db_version},
+        {"upid_db.hash", &id.upid_db_hash},
+        {"captured_at", &id.captured_at},
+    };
+    for (const auto& [field, value] : fields)
+      if (!is_clean_text(*value))
+        return Issue{Issue::Where::identity, 0, 0, field,
+                     "expected UTF-8 text without control characters"};
+    for (const auto& [k, v] : id.labels) {
+      if (k.empty() || !is_clean_text(k))
+        return Issue{Issue::Where::identity, 0, 0, "labels",
+                     "expected label names of UTF-8 text without control characters, not empty"};
+      if (!is_clean_text(v))
+        return Issue{Issue::Where::identity, 0, 0, "labels." + k,
+                     "expected UTF-8 text without control characters"};
+    }
+  }
+  for (int l = 1; l <= kLayerCount; ++l) {
+    const auto& params = cfg.layer(l);
+    const auto& info = kLayers[static_cast<std::size_t>(l - 1)];
+    if (!params.empty() && !cfg.scope.layers[static_cast<std::size_t>(l - 1)]) {
+      Issue is{Issue::Where::layer, l, 0, "", ""};
+      is.message = "layer " + std::to_string(l) + " (" + std::string(info.name) +
+                   ") has parameters but is not in the scope's layers";
+      return is;
+    }
+    std::set<std::uint16_t> seen;
+    for (std::size_t i = 0; i < params.size(); ++i) {
+      const auto& p = params[i];
+      if (p.upid < info.first_upid || p.upid > info.last_upid)
+        return Issue{Issue::Where::param, l, i, "upid",
+                     "UPID " + hex4(p.upid) + "h is outside layer " + std::to_string(l) + " (" +
+                         std::string(info.name) + ") range " + hex4(info.first_upid) + "-" +
+                         hex4(info.last_upid)};
+      if (!seen.insert(p.upid).second)
+        return Issue{Issue::Where::param, l, i, "upid",
+                     "duplicate UPID " + hex4(p.upid) + "h in layer " + std::to_string(l) + " (" +
+                         std::string(info.name) + ")"};
+      for (const auto& [field, value] :
+           {std::pair<const char*, const std::string*>{"name", &p.name}, {"unit", &p.unit},
+            {"scaled", &p.scaled}})
+        if (!is_clean_text(*value))
+          return Issue{Issue::Where::param, l, i, field,
+                       "expected UTF-8 text without control characters"};
+      if (p.type && *p.type > 0x0F)
+        return Issue{Issue::Where::param, l, i, "type",
+                     "type code " + std::to_string(*p.type) + " is not a type code (0..15)"};
+    }
+  }
+  if (!cfg.curves.empty() && !cfg.scope.curves)
+    return Issue{Issue::Where::scope, 0, 0, "curves",
+                 "the file holds curves but its scope says curves were not captured"};
+  std::set<std::uint32_t> curve_ids;
+  for (std::size_t i = 0; i < cfg.curves.size(); ++i) {
+    const auto& c = cfg.curves[i];
+    if (c.id > 0xFFFF)
+      return Issue{Issue::Where::curve, 0, i, "id",
+                   "curve ID " + std::to_string(c.id) + " is outside 0..65535"};
+    if (!curve_ids.insert(c.id).second)
+      return Issue{Issue::Where::curve, 0, i, "id", "duplicate curve ID " + std::to_string(c.id)};
+    if (auto r = check_curve_blocks(c); !r.ok()) {
+      const bool info_problem = c.info.size() < kCurveHeaderMin || get_u16le(c.info, 0) != c.info.size();
+      return Issue{Issue::Where::curve, 0, i, info_problem ? "info" : "data",
+                   "curve " + std::to_string(c.id) + ": " + r.error().message};
+    }
+  }
+  if (!cfg.ct_entries.empty() && !cfg.scope.command_table)
+    return Issue{Issue::Where::scope, 0, 0, "command_table",
+                 "the file holds command table entries but its scope says the command table was "
+                 "not captured"};
+  std::set<std::uint32_t> ct_ids;
+  for (std::size_t i = 0; i < cfg.ct_entries.size(); ++i) {
+    const auto& e = cfg.ct_entries[i];
+    if (e.id > kMaxCtEntryId)
+      return Issue{Issue::Where::ct_entry, 0, i, "id",
+                   "command table entry ID " + std::to_string(e.id) + " is outside 0..255"};
+    if (!ct_ids.insert(e.id).second)
+      return Issue{Issue::Where::ct_entry, 0, i, "id",
+                   "duplicate command table entry ID " + std::to_string(e.id)};
+    if (e.raw.empty())
+      return Issue{Issue::Where::ct_entry, 0, i, "raw",
+                   "command table entry " + std::to_string(e.id) + " has no bytes"};
+  }
+  return std::nullopt;
+}
+
+Result<void> validate(const DriveConfig& cfg) {
+  auto is = find_issue(cfg);
+  if (!is) return {};
+  std::string where;
+  switch (is->where) {
+    case Issue::Where::identity: where = "identity " + is->field; break;
+    case Issue::Where::scope: where = "scope"; break;
+    case Issue::Where::layer: where = "layer " + std::to_string(is->layer); break;
+    case Issue::Where::param:
+      where = "layer " + std::to_string(is->layer) + " parameter #" + std::to_string(is->index + 1);
+      break;
+    case Issue::Where::curve: where = "curve #" + std::to_string(is->index + 1); break;
+    case Issue::Where::ct_entry: where = "command table entry #" + std::to_string(is->index + 1); break;
+  }
+  return Error(Errc::validation_failed, "invalid configuration: " + where + ": " + is->message);
+}
+
+}  // namespace lmcfg::config

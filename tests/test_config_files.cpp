@@ -1,0 +1,122 @@
+#include <unistd.h>
+
+#include <catch2/catch.hpp>
+
+#include "config/atomic_file.hpp"
+#include "config/config_io.hpp"
+#include "test_config_support.hpp"
+
+using namespace lmcfg;
+using namespace lmcfg::config;
+using namespace lmcfg::config::testing;
+namespace fs = std::filesystem;
+
+namespace {
+struct TempDir {
+  fs::path path;
+  TempDir() {
+    path = fs::temp_directory_path() / ("lmcfg-cfg-test-" + std::to_string(::getpid()) + "-" +
+                                        std::to_string(counter()++));
+    fs::remove_all(path);
+    fs::create_directories(path);
+  }
+  ~TempDir() {
+    std::error_code ec;
+    fs::remove_all(path, ec);
+  }
+  static int& counter() {
+    static int c = 0;
+    return c;
+  }
+  std::size_t entries() const {
+    std::size_t n = 0;
+    for ([[maybe_unused]] const auto& e : fs::directory_iterator(path)) ++n;
+    return n;
+  }
+};
+}  // namespace
+
+TEST_CASE("config: atomic write creates and replaces files", "[config]") {
+  TempDir d;
+  const auto f = d.path / "out.json";
+  REQUIRE(write_file_atomic(f, "one").ok());
+  CHECK(slurp(f) == "one");
+  REQUIRE(write_file_atomic(f, "two, longer").ok());
+  CHECK(slurp(f) == "two, longer");
+  CHECK(d.entries() == 1);  // no temporary left behind
+  fs::permissions(f, fs::perms::owner_read | fs::perms::owner_write | fs::perms::group_read);
+  REQUIRE(write_file_atomic(f, "three").ok());
+  CHECK((fs::status(f).permissions() & fs::perms::all) ==
+        (fs::perms::owner_read | fs::perms::owner_write | fs::perms::group_read));
+}
+
+TEST_CASE("config: atomic write failures leave existing files untouched", "[config]") {
+  TempDir d;
+  auto r = write_file_atomic(d.path, "x");
+  REQUIRE_FALSE(r.ok());
+  CHECK(r.error().code == make_error_code(Errc::file_error));
+  CHECK(r.error().message == d.path.string() + ": is a directory; expected a file path");
+
+  const auto f = d.path / "keep.json";
+  spit(f, "original");
+  auto bad = write_file_atomic(f / "child.json", "x");  // parent is a file
+  REQUIRE_FALSE(bad.ok());
+  CHECK(bad.error().message.find("cannot create a temporary file") != std::string::npos);
+  auto missing = write_file_atomic(d.path / "no" / "such" / "dir.json", "x");
+  REQUIRE_FALSE(missing.ok());
+
+  // An invalid model is refused before anything is written.
+  auto cfg = golden_sinrise();
+  cfg.ct_entries.push_back(CtEntry{2, hex("00")});
+  REQUIRE_FALSE(write_config_file(cfg, f).ok());
+  CHECK(slurp(f) == "original");
+  CHECK(d.entries() == 1);
+}
+
+TEST_CASE("config: files round trip through write_config_file/read_config_file", "[config]") {
+  TempDir d;
+  for (const char* name : {"a.json", "a.xml"}) {
+    const auto f = d.path / name;
+    REQUIRE(write_config_file(everything(), f).ok());
+    auto r = read_config_file(f);
+    REQUIRE(r.ok());
+    CHECK(*r == everything());
+  }
+  // Unknown extension: explicit format to write; sniffed to read.
+  const auto t = d.path / "a.txt";
+  CHECK_FALSE(write_config_file(everything(), t).ok());
+  REQUIRE(write_config_file(everything(), t, FileFormat::xml).ok());
+  CHECK(*read_config_file(t) == everything());
+  auto nf = read_config_file(d.path / "missing.json");
+  REQUIRE_FALSE(nf.ok());
+  CHECK(nf.error().code == make_error_code(Errc::not_found));
+  CHECK(read_config_file(d.path).error().message == d.path.string() + ": is a directory; expected a file");
+}
+
+TEST_CASE("config: lmcfg convert", "[config]") {
+  TempDir d;
+  const std::string tool = LMCFG_TOOL_PATH;
+  const auto golden = (fixture_dir() / "golden-sinrise.json").string();
+  const auto x = d.path / "out.xml";
+  REQUIRE(run(tool + " convert " + golden + " " + x.string()) == 0);
+  CHECK(slurp(x) == slurp(fixture_dir() / "golden-sinrise.xml"));
+  const auto j = d.path / "back.json";
+  REQUIRE(run(tool + " convert " + x.string() + " " + j.string()) == 0);
+  CHECK(slurp(j) == slurp(golden));
+  const auto t = d.path / "explicit.cfg";
+  REQUIRE(run(tool + " convert " + golden + " " + t.string() + " --to xml") == 0);
+  CHECK(slurp(t) == slurp(x));
+  // v1 in, v2 out.
+  const auto m = d.path / "migrated.json";
+  REQUIRE(run(tool + " convert " + (fixture_dir() / "v1-sinrise.xml").string() + " " + m.string()) == 0);
+  CHECK(slurp(m).find("\"format_version\": 2") != std::string::npos);
+  // Invalid input: exit 2, nothing written.
+  const auto none = d.path / "none.json";
+  CHECK(run(tool + " convert " + (fixture_dir() / "bad" / "json-dup-upid.json").string() + " " +
+            none.string()) == 2);
+  CHECK_FALSE(fs::exists(none));
+  CHECK(run(tool + " convert " + golden + " " + (d.path / "x.cfg").string()) == 2);
+  CHECK(run(tool + " convert " + golden + " " + none.string() + " --to yaml") == 2);
+  CHECK(run(tool + " convert " + golden + " " + d.path.string() + " --to json") == 2);
+  CHECK_FALSE(fs::exists(none));
+}
