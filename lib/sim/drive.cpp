@@ -447,6 +447,9 @@ std::optional<Answer> Drive::on_curve(const Telegram& t, std::int64_t now) {
       xfer_ = {};
       return finish(id_value(sub, st::ok, id, 0), 0, now);
     case 0x08:
+      // Undocumented: the client restarts a lost block read with "read sizes";
+      // the simulator models that as resetting the curve's transfer cursor.
+      if (xfer_.key == id) xfer_ = {};
       if (!exists) {
         if (o.missing_curve_zero_sizes) return finish(id_value(sub, st::ok, id, 0), 0, now);
         return finish(id_value(sub, o.missing_object_state, id, 0), 0, now);

@@ -20,8 +20,11 @@ namespace lmcfg::sim {
 Result<void> serve(Drive& drive, transport::Transport& link, const ServeOptions& opt, ServeStats* stats) {
   using clock = std::chrono::steady_clock;
   const auto start = clock::now();
+  // Without real time the answers go out at once; the drive's clock then jumps
+  // over the delays nobody waited for, so it is not "busy" afterwards.
+  std::int64_t skipped_ns = 0;
   auto now_ns = [&] {
-    return std::chrono::duration_cast<std::chrono::nanoseconds>(clock::now() - start).count();
+    return std::chrono::duration_cast<std::chrono::nanoseconds>(clock::now() - start).count() + skipped_ns;
   };
   struct Due {
     std::int64_t at_ns;
@@ -45,7 +48,11 @@ Result<void> serve(Drive& drive, transport::Transport& link, const ServeOptions&
       if (opt.trace) opt.trace(false, *r);
       for (auto& a : drive.receive(*r, t)) {
         std::int64_t at = t;
-        if (opt.real_time) at += a.delay_ns + wire_time_ns(a.bytes.size(), drive.state().link);
+        if (opt.real_time) {
+          at += a.delay_ns + wire_time_ns(a.bytes.size(), drive.state().link);
+        } else {
+          skipped_ns += a.delay_ns;
+        }
         auto pos = std::upper_bound(pending.begin(), pending.end(), at,
                                     [](std::int64_t v, const Due& d) { return v < d.at_ns; });
         pending.insert(pos, Due{at, std::move(a.bytes)});
