@@ -118,3 +118,22 @@ Result<config::DriveConfig> backup(client::Client& c, const BackupOptions& opt, 
 }
 
 }  // namespace lmcfg::ops
+
+#include "db/ct_entry.hpp"
+
+namespace lmcfg::ops {
+
+std::optional<config::CtEntryView> DatabaseCtDecoder::decode(std::uint32_t, ByteView raw) const {
+  auto e = db::decode_ct_entry(db_, raw);
+  if (!e.ok() || !e->command) return std::nullopt;
+  config::CtEntryView v;
+  v.summary = e->summary();
+  for (const auto& p : e->params) {
+    const auto space = p.text.find(' ');
+    v.params.push_back(config::CtParam{p.name, p.text.substr(0, space),
+                                       space == std::string::npos ? std::string() : p.text.substr(space + 1)});
+  }
+  return v;
+}
+
+}  // namespace lmcfg::ops

@@ -43,3 +43,20 @@ void annotate(config::DriveConfig& cfg, const db::Database& db);
 std::string utc_now();
 
 }  // namespace lmcfg::ops
+
+#include "config/model.hpp"
+
+namespace lmcfg::ops {
+
+// Decoded command table entries in written files (display only), through the
+// database's motion command catalogue.
+class DatabaseCtDecoder final : public config::CtEntryDecoder {
+ public:
+  explicit DatabaseCtDecoder(const db::Database& db) : db_(db) {}
+  std::optional<config::CtEntryView> decode(std::uint32_t id, ByteView raw) const override;
+
+ private:
+  const db::Database& db_;
+};
+
+}  // namespace lmcfg::ops

@@ -60,7 +60,10 @@ int run(BackupCli& o) {
   if (!closed.ok()) return fail("backup", closed.error());
   cfg->identity.link = (*session)->link_settings();
   cfg->identity.labels = labels;
-  auto w = config::write_config_file(*cfg, o.output, format);
+  config::WriteOptions wo;
+  std::optional<ops::DatabaseCtDecoder> ct_decoder;
+  if (db) wo.ct_decoder = &ct_decoder.emplace(*db);
+  auto w = config::write_config_file(*cfg, o.output, format, wo);
   if (!w.ok()) return fail("backup", w.error());
   std::size_t params = 0;
   for (const auto& l : cfg->layers) params += l.size();
