@@ -2,26 +2,18 @@
 
 #include <cstdio>
 
+#include "common/layers.hpp"
+
 namespace lmcfg::client {
 
 using namespace codec;
 
-std::uint16_t layer_base(int layer) { return static_cast<std::uint16_t>((layer - 1) * 0x1000); }
+std::uint16_t layer_base(int layer) { return layers::base_upid(layer); }
 std::optional<int> layer_of(std::uint16_t upid) {
-  // seed 003 §10.2: each layer owns xx000h..xxEFFh
-  const int hi = upid >> 12;
-  if (hi > 3 || (upid & 0x0FFF) > 0x0EFF) return std::nullopt;
-  return hi + 1;
+  const int l = layers::of_upid(upid);
+  return l == 0 ? std::nullopt : std::optional<int>(l);
 }
-const char* layer_name(int layer) {
-  switch (layer) {
-    case 1: return "OS";
-    case 2: return "MC";
-    case 3: return "Intf";
-    case 4: return "Appl";
-  }
-  return "?";
-}
+const char* layer_name(int layer) { return layers::name(layer).data(); }
 
 std::uint8_t expected_answer_sub(const Telegram& r) {
   switch (static_cast<Main>(r.main)) {
@@ -63,18 +55,52 @@ bool is_link_error(const Error& e) {
 Client::Client(transport::Transport& link, ClientOptions opt)
     : link_(link), opt_(opt), decoder_(opt.checksum) {}
 
+std::optional<std::uint16_t> request_key(const Telegram& r) {
+  if (r.data.size() < 2) return std::nullopt;
+  bool keyed = false;
+  switch (static_cast<Main>(r.main)) {
+    case Main::param_config: keyed = r.sub <= 0x01 || (r.sub >= 0x04 && r.sub <= 0x07); break;
+    case Main::curve: keyed = r.sub == 0x02 || (r.sub >= 0x04 && r.sub <= 0x06) || (r.sub >= 0x08 && r.sub <= 0x0A); break;
+    case Main::command_table: keyed = r.sub >= 0x02 && r.sub <= 0x07; break;
+    default: break;
+  }
+  if (!keyed) return std::nullopt;
+  return static_cast<std::uint16_t>(r.data[0] | r.data[1] << 8);
+}
+
+Result<void> Client::settle_line() {
+  ++stats_.settles;
+  // Bounded: a line that never goes quiet is a link problem, not an answer.
+  for (int reads = 0; reads < 256; ++reads) {
+    auto chunk = link_.read_some(opt_.settle);
+    if (!chunk.ok()) return std::move(chunk).error();
+    if (chunk->empty()) {
+      unsettled_ = false;
+      return {};
+    }
+    stats_.bytes_rx += chunk->size();
+    stats_.settle_bytes += chunk->size();
+  }
+  return Error(Errc::io_error, "the line to drive " + hexid("%02Xh", opt_.id) + " does not go quiet (" +
+                                   std::to_string(opt_.settle.count()) + " ms without bytes never seen in 256 reads)");
+}
+
 Result<Telegram> Client::transact(const Telegram& req_in, Millis timeout, bool idempotent) {
   Telegram req = req_in;
   req.id = opt_.id;
   decoder_.set_checksum(opt_.checksum);
   LMCFG_ASSIGN_OR_RETURN(Bytes wire, encode(req, opt_.checksum));
   const std::uint8_t want_sub = expected_answer_sub(req);
+  const std::optional<std::uint16_t> want_key = request_key(req);
   const int attempts = idempotent ? 1 + opt_.read_retries : 1;
   Error last(Errc::timeout, "");
   for (int attempt = 0; attempt < attempts; ++attempt) {
     if (attempt > 0) ++stats_.retries;
+    // A late answer to an earlier request may still be on its way: let it pass.
+    if (unsettled_ && opt_.settle.count() > 0) LMCFG_TRY(settle_line());
     link_.discard_input();
     decoder_.reset();
+    unsettled_ = true;  // until this exchange has its answer
     LMCFG_TRY(link_.write(wire));
     ++stats_.requests;
     stats_.bytes_tx += wire.size();
@@ -102,23 +128,42 @@ Result<Telegram> Client::transact(const Telegram& req_in, Millis timeout, bool i
         Telegram t = std::move(*item).value();
         if (opt_.skip_echo && t == req) continue;
         if (t.id != opt_.id || t.main != 0x00) continue;  // another drive on the bus, or a request
+        // An answer of another sub ID, or naming another UPID / curve / entry,
+        // belongs to another request (a late answer): not ours, keep waiting.
+        // Error states in the default response form (sub 00h) carry no key and
+        // are accepted as the answer to this request.
+        const bool default_form_error =
+            t.sub == 0x00 && !t.data.empty() && opt_.layout.comm_state && state::is_error(t.data[0]);
+        if (t.sub != want_sub && !default_form_error) {
+          ++stats_.stale_answers;
+          garbled = Error(Errc::unexpected_response, "answer to " + describe(req) + " has sub " +
+                                                         hexid("%02Xh", t.sub) + ", expected " + hexid("%02Xh", want_sub));
+          continue;
+        }
+        if (want_key && t.sub == want_sub && t.data.size() >= 3) {
+          const auto key = static_cast<std::uint16_t>(t.data[1] | t.data[2] << 8);
+          if (key != *want_key) {
+            ++stats_.stale_answers;
+            garbled = Error(Errc::unexpected_response, "answer to " + describe(req) + " names key " +
+                                                           hexid("%04Xh", key) + ", expected " +
+                                                           hexid("%04Xh", *want_key));
+            continue;
+          }
+        }
         answer = std::move(t);
         break;
       }
       if (!answer) continue;
       ++stats_.answers;
+      unsettled_ = false;
+      // Bytes after the answer (noise, a duplicate) must not reach the next exchange.
+      decoder_.reset();
       // Every group answer starts with the comm state; the default response only when configured so.
       const bool has_state = !answer->data.empty() && (answer->sub != 0x00 || opt_.layout.comm_state);
       if (has_state && state::is_error(answer->data[0])) {
         const std::uint8_t s = answer->data[0];
         return Error(make_comm_state_error(s),
                      "drive " + hexid("%02Xh", opt_.id) + " refused " + describe(req) + ": " + state::describe(s));
-      }
-      if (answer->sub != want_sub) {
-        garbled = Error(Errc::unexpected_response, "answer to " + describe(req) + " has sub " +
-                                                       hexid("%02Xh", answer->sub) + ", expected " +
-                                                       hexid("%02Xh", want_sub));
-        break;
       }
       return std::move(*answer);
     }
@@ -194,9 +239,24 @@ Result<std::uint32_t> Client::read_rom(std::uint16_t upid) {
   return checked_value(cfg(CfgOp::read_rom, upid, true, opt_.timeout), upid, "ROM read");
 }
 Result<void> Client::write_rom(std::uint16_t upid, std::uint32_t value) {
-  auto r = id_value(make_cfg_write(opt_.id, upid, value), 0x51, false, opt_.timeout);
-  LMCFG_TRY(checked_value(r, upid, "ROM write"));
-  return {};
+  auto r = checked_value(id_value(make_cfg_write(opt_.id, upid, value), 0x51, false, opt_.timeout), upid, "ROM write");
+  if (r.ok()) return {};
+  Error e = std::move(r).error();
+  if (!is_link_error(e)) return e;
+  // The answer was lost or garbled: the write may or may not have landed.
+  // Never send it again blindly; read the ROM value back and decide.
+  auto back = read_rom(upid);
+  if (back.ok() && *back == value) {
+    ++stats_.writes_confirmed;
+    return {};
+  }
+  if (back.ok()) {
+    e.message += "; read back: ROM of " + hexid("%04Xh", upid) + " holds " + std::to_string(*back) +
+                 ", not the value written";
+  } else {
+    e.message += "; reading the value back failed too: " + back.error().message;
+  }
+  return e;
 }
 Result<std::uint16_t> Client::get_type(std::uint16_t upid) {
   LMCFG_ASSIGN_OR_RETURN(auto v, checked_value(cfg(CfgOp::get_type, upid, true, opt_.timeout), upid, "type query"));
@@ -327,9 +387,12 @@ Result<Bytes> Client::read_block(const Telegram& setup, std::uint8_t setup_sub, 
       const bool last_chunk = i + 1 == chunks;
       const std::uint8_t want = last_chunk ? state::ok : state::more_data;
       if (r->state != want) {
-        return Error(Errc::unexpected_response,
-                     std::string(what) + ": chunk " + std::to_string(i + 1) + " of " + std::to_string(chunks) +
-                         " has state " + hexid("%02Xh", r->state) + ", expected " + hexid("%02Xh", want));
+        // The drive's block cursor is not where ours is (it reset, or a chunk
+        // answer was lost): restart the block from its setup telegram.
+        failed = Error(Errc::unexpected_response,
+                       std::string(what) + ": chunk " + std::to_string(i + 1) + " of " + std::to_string(chunks) +
+                           " has state " + hexid("%02Xh", r->state) + ", expected " + hexid("%02Xh", want));
+        break;
       }
       auto raw = r->raw();
       out.insert(out.end(), raw.begin(), raw.end());
@@ -364,6 +427,16 @@ Result<std::optional<Client::CurveBlocks>> Client::read_curve(std::uint16_t curv
 }
 
 namespace {
+// A block write answers 04h while the drive expects more and 00h after the
+// last chunk. Anything else means the drive lost the transfer (a reset, a
+// restarted block): the write must fail, never report success.
+Result<IdValueResponse> check_chunk_state(const IdValueResponse& r, bool last_chunk) {
+  const std::uint8_t want = last_chunk ? state::ok : state::more_data;
+  if (r.state == want) return r;
+  return Error(Errc::unexpected_response, "the drive answered state " + hexid("%02Xh", r.state) + ", expected " +
+                                              hexid("%02Xh", want) + " (block transfer lost on the drive?)");
+}
+
 std::array<std::uint8_t, 4> chunk_at(ByteView b, std::size_t i) {
   std::array<std::uint8_t, 4> c{0, 0, 0, 0};
   for (std::size_t k = 0; k < 4 && i * 4 + k < b.size(); ++k) c[k] = b[i * 4 + k];
@@ -382,6 +455,7 @@ Result<void> Client::write_curve(std::uint16_t curve, ByteView info, ByteView da
     const std::size_t chunks = (block.size() + 3) / 4;
     for (std::size_t i = 0; i < chunks; ++i) {
       auto r = id_value(make_curve_write(opt_.id, op, curve, chunk_at(block, i)), 0x40, false, opt_.timeout);
+      if (r.ok()) r = check_chunk_state(*r, i + 1 == chunks);
       if (!r.ok()) {
         Error e = std::move(r).error();
         e.message = "curve " + std::to_string(curve) + (op == CurveOp::write_info ? " info" : " data") +
@@ -445,6 +519,7 @@ Result<void> Client::write_ct_entry(std::uint16_t entry, ByteView bytes) {
   const std::size_t chunks = (bytes.size() + 3) / 4;
   for (std::size_t i = 0; i < chunks; ++i) {
     auto r = id_value(make_ct_write(opt_.id, entry, chunk_at(bytes, i)), 0x84, false, opt_.timeout);
+    if (r.ok()) r = check_chunk_state(*r, i + 1 == chunks);
     if (!r.ok()) {
       Error e = std::move(r).error();
       e.message = "command table entry " + std::to_string(entry) + ", chunk " + std::to_string(i + 1) + " of " +

@@ -1,20 +1,15 @@
 #include "config/model.hpp"
 
+#include "common/layers.hpp"
+
 #include <algorithm>
 #include <set>
 
 namespace lmcfg::config {
 
-int layer_of_upid(std::uint32_t upid) noexcept {
-  for (const auto& l : kLayers)
-    if (upid >= l.first_upid && upid <= l.last_upid) return l.number;
-  return 0;
-}
+int layer_of_upid(std::uint32_t upid) noexcept { return layers::of_upid(upid); }
 
-std::string_view layer_name(int layer) noexcept {
-  if (layer < 1 || layer > kLayerCount) return "?";
-  return kLayers[static_cast<std::size_t>(layer - 1)].name;
-}
+std::string_view layer_name(int layer) noexcept { return layers::name(layer); }
 
 std::string_view to_string(ParamSet s) noexcept {
   return s == ParamSet::full ? "full" : "modified";

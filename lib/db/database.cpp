@@ -1,5 +1,7 @@
 #include "db/database.hpp"
 
+#include "common/layers.hpp"
+
 #include <sqlite3.h>
 #include <unistd.h>
 
@@ -59,37 +61,22 @@ std::optional<TypeCode> opt_type(const Query& q, int i) {
 
 }  // namespace
 
-std::string_view layer_name(Layer l) noexcept {
-  switch (l) {
-    case Layer::OS: return "OS";
-    case Layer::MC: return "MC";
-    case Layer::Intf: return "Intf";
-    case Layer::Appl: return "Appl";
-  }
-  return "?";
-}
+// db::Layer is the 0-based view of the layer numbers 1..4 of common/layers.hpp.
+std::string_view layer_name(Layer l) noexcept { return layers::name(static_cast<int>(l) + 1); }
 
 std::optional<Layer> layer_from_name(std::string_view name) noexcept {
-  std::string n = lower(name);
-  if (n == "os") return Layer::OS;
-  if (n == "mc") return Layer::MC;
-  if (n == "intf") return Layer::Intf;
-  if (n == "appl") return Layer::Appl;
-  return std::nullopt;
+  auto n = layers::from_name(name);
+  if (!n) return std::nullopt;
+  return static_cast<Layer>(*n - 1);
 }
 
 std::optional<Layer> layer_of_upid(std::uint16_t upid) noexcept {
-  if ((upid & 0x0FFF) > 0x0EFF) return std::nullopt;
-  switch (upid >> 12) {
-    case 0: return Layer::OS;
-    case 1: return Layer::MC;
-    case 2: return Layer::Intf;
-    case 3: return Layer::Appl;
-    default: return std::nullopt;
-  }
+  const int n = layers::of_upid(upid);
+  if (n == 0) return std::nullopt;
+  return static_cast<Layer>(n - 1);
 }
 
-std::uint16_t layer_base_upid(Layer l) noexcept { return static_cast<std::uint16_t>(static_cast<unsigned>(l) << 12); }
+std::uint16_t layer_base_upid(Layer l) noexcept { return layers::base_upid(static_cast<int>(l) + 1); }
 
 bool Parameter::applies_to(std::string_view profile) const {
   if (profiles.empty() || profile.empty()) return true;

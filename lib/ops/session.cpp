@@ -38,22 +38,11 @@ std::string checksum_name(const codec::ChecksumConfig& c) {
 }
 
 Result<transport::Parity> parse_parity(std::string_view t) {
-  if (t == "none" || t == "n" || t == "N") return transport::Parity::none;
-  if (t == "even" || t == "e" || t == "E") return transport::Parity::even;
-  if (t == "odd" || t == "o" || t == "O") return transport::Parity::odd;
+  if (auto p = transport::parity_from_name(t)) return *p;
   return Error(Errc::invalid_argument, "parity '" + std::string(t) + "' is not one of none, even, odd");
 }
 
 namespace {
-
-const char* parity_name(transport::Parity p) {
-  switch (p) {
-    case transport::Parity::none: return "none";
-    case transport::Parity::even: return "even";
-    case transport::Parity::odd: return "odd";
-  }
-  return "none";
-}
 
 class LinkSession final : public Session {
  public:
@@ -82,7 +71,7 @@ class LinkSession final : public Session {
     config::LinkSettings s;
     s.port = opt_.port;
     s.baud = std::to_string(opt_.serial.baud);
-    s.parity = parity_name(opt_.serial.parity);
+    s.parity = std::string(transport::parity_name(opt_.serial.parity));
     s.stop_bits = std::to_string(opt_.serial.stop_bits);
     s.checksum = checksum_name(opt_.client.checksum);
     return s;

@@ -1,5 +1,7 @@
 #include "sim/drive.hpp"
 
+#include "common/layers.hpp"
+
 #include <algorithm>
 #include <array>
 
@@ -9,35 +11,12 @@ using codec::Main;
 using codec::Telegram;
 namespace st = codec::state;
 
-Layer layer_of(std::uint16_t upid) {
-  if (upid <= 0x0EFF) return Layer::os;
-  if (upid >= 0x1000 && upid <= 0x1EFF) return Layer::mc;
-  if (upid >= 0x2000 && upid <= 0x2EFF) return Layer::intf;
-  if (upid >= 0x3000 && upid <= 0x3EFF) return Layer::appl;
-  return Layer::none;
-}
+// sim::Layer values are the layer numbers of common/layers.hpp (none = 0).
+Layer layer_of(std::uint16_t upid) { return static_cast<Layer>(layers::of_upid(upid)); }
 
-std::uint16_t layer_base(Layer l) {
-  switch (l) {
-    case Layer::os: return 0x0000;
-    case Layer::mc: return 0x1000;
-    case Layer::intf: return 0x2000;
-    case Layer::appl: return 0x3000;
-    case Layer::none: break;
-  }
-  return 0xFFFF;
-}
+std::uint16_t layer_base(Layer l) { return layers::base_upid(static_cast<int>(l)); }
 
-const char* layer_name(Layer l) {
-  switch (l) {
-    case Layer::os: return "OS";
-    case Layer::mc: return "MC";
-    case Layer::intf: return "Intf";
-    case Layer::appl: return "Appl";
-    case Layer::none: break;
-  }
-  return "none";
-}
+const char* layer_name(Layer l) { return l == Layer::none ? "none" : layers::name(static_cast<int>(l)).data(); }
 
 namespace type {
 namespace {

@@ -90,14 +90,6 @@ const char* coverage_name(codec::ChecksumCoverage c) {
   }
   return "id_through_data";
 }
-const char* parity_name(transport::Parity p) {
-  switch (p) {
-    case transport::Parity::none: return "none";
-    case transport::Parity::even: return "even";
-    case transport::Parity::odd: return "odd";
-  }
-  return "none";
-}
 const char* policy_name(WritePolicy p) {
   switch (p) {
     case WritePolicy::reject: return "reject";
@@ -152,7 +144,7 @@ json to_json(const DriveState& s) {
   j["format"] = kStateFormat;
   j["version"] = kStateVersion;
   j["macid"] = hex8(s.macid);
-  j["link"] = {{"baud", s.link.baud}, {"parity", parity_name(s.link.parity)}, {"stop_bits", s.link.stop_bits}};
+  j["link"] = {{"baud", s.link.baud}, {"parity", std::string(transport::parity_name(s.link.parity))}, {"stop_bits", s.link.stop_bits}};
   j["checksum"] = {{"mode", mode_name(s.checksum.mode)},
                    {"crc_init", hex16(s.checksum.crc_init)},
                    {"coverage", coverage_name(s.checksum.coverage)}};

@@ -71,6 +71,22 @@ bool is_pty_slave(int fd) {
   return maj >= 136 && maj <= 143;  // UNIX98_PTY_SLAVE_MAJOR .. + 7 (Documentation/admin-guide/devices.txt)
 }
 
+std::string_view parity_name(Parity p) noexcept {
+  switch (p) {
+    case Parity::none: return "none";
+    case Parity::even: return "even";
+    case Parity::odd: return "odd";
+  }
+  return "none";
+}
+
+std::optional<Parity> parity_from_name(std::string_view t) noexcept {
+  if (t == "none" || t == "n" || t == "N") return Parity::none;
+  if (t == "even" || t == "e" || t == "E") return Parity::even;
+  if (t == "odd" || t == "o" || t == "O") return Parity::odd;
+  return std::nullopt;
+}
+
 unsigned bits_per_byte(const SerialSettings& s) {
   return 1u + 8u + (s.parity == Parity::none ? 0u : 1u) + s.stop_bits;
 }

@@ -7,8 +7,10 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <mutex>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "common/bytes.hpp"
@@ -45,6 +47,11 @@ struct SerialSettings {
   unsigned stop_bits = 1;
   friend bool operator==(const SerialSettings&, const SerialSettings&) = default;
 };
+// "none", "even", "odd".
+std::string_view parity_name(Parity p) noexcept;
+// "none"/"even"/"odd" or the letters N/E/O (either case).
+std::optional<Parity> parity_from_name(std::string_view text) noexcept;
+
 // Bits on the wire per byte: start + 8 data + parity + stop.
 unsigned bits_per_byte(const SerialSettings& s);
 // Validates baud (4800..115200, one of the S1 table rates of §3.2.1), stop bits 1|2.

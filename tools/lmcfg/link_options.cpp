@@ -6,6 +6,7 @@
 #include <cstdio>
 
 #include "command.hpp"
+#include "common/layers.hpp"
 
 namespace lmcfg::cli {
 
@@ -121,12 +122,9 @@ Result<std::array<bool, 4>> parse_layers(const std::string& text) {
   while (pos <= text.size()) {
     auto comma = text.find(',', pos);
     std::string item = text.substr(pos, comma == std::string::npos ? std::string::npos : comma - pos);
-    for (auto& ch : item) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
-    if (item == "os") on[0] = true;
-    else if (item == "mc") on[1] = true;
-    else if (item == "intf") on[2] = true;
-    else if (item == "appl") on[3] = true;
-    else return Error(Errc::invalid_argument, "--layers: '" + item + "' is not one of os, mc, intf, appl");
+    auto layer = layers::from_name(item);
+    if (!layer) return Error(Errc::invalid_argument, "--layers: '" + item + "' is not one of os, mc, intf, appl");
+    on[static_cast<std::size_t>(*layer - 1)] = true;
     if (comma == std::string::npos) break;
     pos = comma + 1;
   }
