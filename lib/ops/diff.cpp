@@ -32,7 +32,8 @@ Effective effective(const config::DriveConfig& c, int layer, std::uint16_t upid)
 }
 
 std::string show(const Effective& e, const db::Parameter* d, std::optional<std::uint32_t> def) {
-  auto fmt = [&](std::uint32_t v) { return d ? d->format(v) : std::to_string(v) + " (" + hex4(v) + ")"; };
+  // The database formats only what it knows the type of; otherwise decimal and hex.
+  auto fmt = [&](std::uint32_t v) { return d && d->spec.type ? d->format(v) : std::to_string(v) + " (" + hex4(v) + ")"; };
   switch (e.state) {
     case Effective::State::value: return fmt(e.value);
     case Effective::State::at_default: return def ? "default " + fmt(*def) : "default";
