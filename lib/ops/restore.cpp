@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <map>
+#include <set>
 
 #include "db/database.hpp"
 
@@ -146,6 +147,19 @@ void add_step(Plan& p, Action a, int layer, std::uint32_t key, std::uint32_t val
 
 std::size_t chunks(std::size_t n) { return (n + 3) / 4; }
 
+// Defaulting a layer: seed 003 §10.4 "could be more than 1 s"; 1.2 s as modelled
+// by the simulator (docs/simulator.md). Only used to choose the cheaper way to
+// bring leftovers to their defaults.
+constexpr double kDefaultingEstimateUs = 1'200'000.0;
+
+// One short exchange (9-byte request, 14-byte answer, ~1 ms turnaround, §6.1.1.1)
+// at the link's byte time; 57600 8N1 when the link does not know it (TCP).
+double telegram_estimate_us(client::Client& c) {
+  double bt = c.link().byte_time_us();
+  if (bt <= 0.0) bt = 10.0 * 1e6 / 57600.0;
+  return 23.0 * bt + 1000.0;
+}
+
 }  // namespace
 
 Result<Plan> plan_restore(client::Client& c, const config::DriveConfig& file, const db::Database* db,
@@ -197,17 +211,46 @@ Result<Plan> plan_restore(client::Client& c, const config::DriveConfig& file, co
   if (!plan.ok()) return plan;
 
   add_step(plan, Action::stop_mc, 0, 0, 0, "stop MC and application software (§13.3)", 1);
+  const double tel_us = telegram_estimate_us(c);
   bool rom_changed = false;
   for (auto& w : work) {
     const std::string lname(config::layer_name(w.layer));
     auto& expected = plan.expected.layer(w.layer);
-    if (opt.default_first) {
+    std::map<std::uint16_t, std::uint32_t> on_target;
+    for (const auto& m : w.target) on_target[m.upid] = m.value;
+    std::set<std::uint16_t> wanted;
+    for (const auto& p : w.writes) wanted.insert(p.upid);
+    // Leftovers: modified on the target, not written by the restore.
+    std::vector<const client::ModifiedParam*> leftovers;
+    for (const auto& m : w.target)
+      if (!wanted.count(m.upid)) leftovers.push_back(&m);
+    // Writes that the target's modified list already shows with the file's value.
+    std::size_t already = 0;
+    for (const auto& p : w.writes) {
+      auto it = on_target.find(p.upid);
+      already += (it != on_target.end() && it->second == p.value) ? 1 : 0;
+    }
+    // default_first brings the layer to its defaults before writing. The modified
+    // list names every ROM value that differs from its default (§10.2), so the
+    // defaulting command (> 1 s, §10.4) is only needed when leftovers exist, and
+    // writing the few leftovers back to their defaults reaches the same ROM state
+    // in less wire time. Pick whichever costs less; the end state is identical.
+    bool use_defaulting = false;
+    if (opt.default_first && !leftovers.empty()) {
+      std::size_t leftover_telegrams = 0;
+      for (const auto* m : leftovers) {
+        const db::Parameter* d = db ? db->find(m->upid) : nullptr;
+        leftover_telegrams += (d && d->default_value) ? 1 : 2;  // default query when the database lacks it
+      }
+      const double cost_writes = static_cast<double>(leftover_telegrams) * tel_us;
+      const double cost_default = tel_us + kDefaultingEstimateUs + static_cast<double>(already) * tel_us;
+      use_defaulting = cost_default < cost_writes;
+    }
+    if (use_defaulting) {
       add_step(plan, Action::default_layer, w.layer, 0, 0, "default the " + lname + " layer's ROM values (§10.4)", 1);
       rom_changed = true;
-      for (const auto& m : w.target) {
-        const bool kept = std::any_of(w.writes.begin(), w.writes.end(), [&](auto& p) { return p.upid == m.upid; });
-        if (!kept) plan.notes.push_back("leftover " + lname + " " + hex4(m.upid) + " = " + hex4(m.value) + " goes back to its default");
-      }
+      for (const auto* m : leftovers)
+        plan.notes.push_back("leftover " + lname + " " + hex4(m->upid) + " = " + hex4(m->value) + " goes back to its default");
       for (const auto& p : w.writes) {
         add_step(plan, Action::write_rom, w.layer, p.upid, p.value,
                  "write ROM " + param_label(w.layer, p.upid, db ? db->find(p.upid) : nullptr, &p) + " = " +
@@ -215,27 +258,27 @@ Result<Plan> plan_restore(client::Client& c, const config::DriveConfig& file, co
                  1);
       }
     } else {
-      std::map<std::uint16_t, std::uint32_t> on_target;
-      for (const auto& m : w.target) on_target[m.upid] = m.value;
       for (const auto& p : w.writes) {
         auto it = on_target.find(p.upid);
-        if (it != on_target.end() && it->second == p.value) continue;
+        if (it != on_target.end() && it->second == p.value) continue;  // already there
         add_step(plan, Action::write_rom, w.layer, p.upid, p.value,
-                 "write ROM " + param_label(w.layer, p.upid, db ? db->find(p.upid) : nullptr, &p) + " = " + std::to_string(p.value), 1);
+                 "write ROM " + param_label(w.layer, p.upid, db ? db->find(p.upid) : nullptr, &p) + " = " +
+                     (db && db->find(p.upid) ? db->find(p.upid)->format(p.value) : std::to_string(p.value)),
+                 1);
         rom_changed = true;
       }
-      for (const auto& m : w.target) {
-        const bool wanted = std::any_of(w.writes.begin(), w.writes.end(), [&](auto& p) { return p.upid == m.upid; });
-        if (wanted) continue;
-        const db::Parameter* d = db ? db->find(m.upid) : nullptr;
+      for (const auto* m : leftovers) {
+        const db::Parameter* d = db ? db->find(m->upid) : nullptr;
         std::uint32_t def = 0;
         if (d && d->default_value) {
           def = static_cast<std::uint32_t>(*d->default_value);
         } else {
-          LMCFG_ASSIGN_OR_RETURN(def, c.get_default(m.upid));
+          LMCFG_ASSIGN_OR_RETURN(def, c.get_default(m->upid));
         }
-        add_step(plan, Action::write_rom, w.layer, m.upid, def,
-                 "set leftover " + param_label(w.layer, m.upid, d, nullptr) + " back to its default " + std::to_string(def), 1);
+        if (opt.default_first)
+          plan.notes.push_back("leftover " + lname + " " + hex4(m->upid) + " = " + hex4(m->value) + " goes back to its default");
+        add_step(plan, Action::write_rom, w.layer, m->upid, def,
+                 "set leftover " + param_label(w.layer, m->upid, d, nullptr) + " back to its default " + std::to_string(def), 1);
         rom_changed = true;
       }
     }
@@ -260,9 +303,13 @@ Result<Plan> plan_restore(client::Client& c, const config::DriveConfig& file, co
     }
     add_step(plan, Action::save_curves, 0, 0, 0, "save curves to flash (§11, up to 10 s)", 1);
   }
-  add_step(plan, Action::start_mc, 0, 0, 0, "start MC and application software (§13.4)", 1);
   if (opt.reset_after && rom_changed) {
-    add_step(plan, Action::reset, 0, 0, 0, "reset the drive so the ROM values become active (§13.1)", 1);
+    // The reset restarts the firmware with MC running (§13.1), so a separate MC
+    // start before it would only cost its ~3 s (§13.4).
+    add_step(plan, Action::reset, 0, 0, 0,
+             "reset the drive so the ROM values become active; MC and application software start with it (§13.1)", 1);
+  } else {
+    add_step(plan, Action::start_mc, 0, 0, 0, "start MC and application software (§13.4)", 1);
   }
   return plan;
 }
@@ -294,7 +341,7 @@ Result<void> execute_plan(client::Client& c, const Plan& p, const RestoreOptions
     switch (s.action) {
       case Action::stop_mc: r = c.stop_mc(); break;
       case Action::default_layer: r = c.default_layer(s.layer); break;
-      case Action::write_rom: r = c.write_rom(static_cast<std::uint16_t>(s.key), s.value); break;
+      case Action::write_rom: r = c.write_rom_confirmed(static_cast<std::uint16_t>(s.key), s.value); break;
       case Action::delete_all_ct: r = c.delete_all_ct(); break;
       case Action::write_ct: r = c.write_ct_entry(static_cast<std::uint16_t>(s.key), file.find_ct_entry(s.key)->raw); break;
       case Action::save_ct: r = c.save_ct(); break;

@@ -9,11 +9,15 @@
 // curve memory limit, command table IDs and entry size. Any problem refuses
 // the whole restore before a single write telegram.
 //
-// execute_plan: the reference algorithm of linrs-facts.md: stop MC; default
-// each restored layer (seed 003 §10.4) unless `default_first` is off, in which
-// case only differences are written and leftovers set back to their defaults;
-// write ROM values; replace the command table and curves in RAM and save both
-// to flash; start MC; reset so the ROM values become active. Communication
+// execute_plan: the reference algorithm of linrs-facts.md: stop MC; bring
+// each restored layer to its defaults (seed 003 §10.4) unless `default_first`
+// is off, in which case only differences are written and leftovers set back to
+// their defaults; write ROM values; replace the command table and curves in RAM
+// and save both to flash; reset so the ROM values become active (the reset
+// starts MC; without a reset, start MC). With `default_first` the plan uses the
+// defaulting command only when the target has leftovers and defaulting costs
+// less wire time than writing those leftovers back to their defaults; otherwise
+// it writes only what differs (same end state, docs/performance.md). Communication
 // parameters (database flag `comm`) keep the target's own values unless
 // `include_comm`. On failure the error names the step and says the drive is
 // partially configured; running the same restore again converges.
