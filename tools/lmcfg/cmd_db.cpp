@@ -1,5 +1,8 @@
-// lmcfg db: query the compiled UPID database (no drive needed).
+// lmcfg db: query the compiled UPID database (no drive needed); `db scan`
+// learns a new firmware profile from a drive, `db merge` adds a scan's fragment
+// to the upid-db sources.
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -8,7 +11,10 @@
 
 #include "command.hpp"
 #include "common/bytes.hpp"
+#include "config/atomic_file.hpp"
 #include "db/database.hpp"
+#include "link_options.hpp"
+#include "ops/db_scan.hpp"
 
 namespace lmcfg::cli {
 namespace {
@@ -257,6 +263,118 @@ int run_info(const DbOptions& o) {
   return kOk;
 }
 
+// ---------------------------------------------------------------- db scan / db merge
+
+struct ScanCli {
+  CommonOptions common;
+  std::string profile;
+  std::string output;
+  std::string family, software, version, description;
+  std::string names_from;
+  std::string layers = "os,mc,intf,appl";
+  std::string date;
+  std::string merge_into;
+  bool restart = false;
+};
+
+void print_merge(const CommonOptions& c, const ops::MergeReport& m, const std::string& dir) {
+  if (c.quiet || c.json) return;
+  std::fprintf(stderr, "merged profile %s into %s: %zu parameter row(s)%s%s\n", m.profile.c_str(), dir.c_str(),
+               m.parameters_added,
+               m.parameters_replaced ? (" (replacing " + std::to_string(m.parameters_replaced) + " of an earlier scan)").c_str() : "",
+               m.profile_replaced ? ", profile row replaced" : "");
+}
+
+int run_scan(ScanCli& o) {
+  auto layers = parse_layers(o.layers);
+  if (!layers.ok()) return fail("db scan", layers.error());
+  std::error_code ec;
+  if (std::filesystem::is_directory(o.output, ec)) {
+    return fail("db scan", Error(Errc::invalid_argument, "output '" + o.output + "' is a directory; name a .tsv file"));
+  }
+  if (!o.merge_into.empty() && !std::filesystem::is_directory(o.merge_into, ec)) {
+    return fail("db scan", Error(Errc::invalid_argument, "--merge-into '" + o.merge_into + "' is not a directory"));
+  }
+  std::optional<db::Database> holder;
+  const db::Database* d = load_database(o.common, holder);
+  if (auto ok = ops::check_scan_profile_id(o.profile, d); !ok.ok()) return fail("db scan", ok.error());
+  const std::string partial = o.output + ".partial";
+  if (o.restart) std::filesystem::remove(partial, ec);
+  auto store = ops::PartialFileStore::open(partial, o.profile);
+  if (!store.ok()) return fail("db scan", store.error());
+  if ((*store)->loaded() > 0 && !o.common.quiet && !o.common.json) {
+    std::fprintf(stderr, "db scan: resuming: %zu UPID(s) already read (%s)\n", (*store)->loaded(), partial.c_str());
+  }
+  auto session = open_link(o.common);
+  if (!session.ok()) return fail("db scan", session.error());
+  ops::DbScanOptions so;
+  so.profile = {o.profile, o.family, o.software, o.version, o.description};
+  so.layers = *layers;
+  so.names_from = o.names_from;
+  so.date = o.date;
+  so.progress = make_progress(o.common);
+  so.store = store->get();
+  auto r = ops::scan_drive_profile((*session)->client(), d, so);
+  end_progress(o.common);
+  auto closed = (*session)->close();
+  if (!r.ok()) {
+    if ((*store)->size() > 0)
+      std::fprintf(stderr, "lmcfg db scan: %zu UPID(s) kept in %s; rerun the same command to continue\n",
+                   (*store)->size(), partial.c_str());
+    return fail("db scan", r.error());
+  }
+  if (!closed.ok()) return fail("db scan", closed.error());
+  const std::string text = ops::scan_fragment_tsv(*r);
+  if (auto w = config::write_file_atomic(o.output, text); !w.ok()) return fail("db scan", w.error());
+  if (auto rm = (*store)->remove(); !rm.ok() && !o.common.quiet)
+    std::fprintf(stderr, "lmcfg db scan: warning: %s\n", rm.error().message.c_str());
+  std::optional<ops::MergeReport> merged;
+  if (!o.merge_into.empty()) {
+    auto m = ops::merge_scan_fragment(o.merge_into, text);
+    if (!m.ok()) return fail("db scan", m.error());
+    merged = *m;
+  }
+  const auto& st = (*session)->client().stats();
+  if (o.common.json) {
+    json j = {{"file", o.output},          {"profile", r->profile.id}, {"source", r->source},
+              {"upids", r->rows.size()},   {"named", r->named},        {"asked", r->asked},
+              {"resumed", r->resumed},     {"refused", r->refused},    {"telegrams", st.requests},
+              {"layers", {{"OS", r->per_layer[0]}, {"MC", r->per_layer[1]}, {"Intf", r->per_layer[2]}, {"Appl", r->per_layer[3]}}}};
+    if (merged) j["merged_into"] = o.merge_into;
+    std::cout << j.dump(2) << "\n";
+  } else if (!o.common.quiet) {
+    std::fprintf(stderr,
+                 "db scan: %zu UPID(s) (OS %zu, MC %zu, Intf %zu, Appl %zu), %zu named from the database, %zu resumed, "
+                 "%zu limit(s) refused -> %s (%llu telegrams)\n",
+                 r->rows.size(), r->per_layer[0], r->per_layer[1], r->per_layer[2], r->per_layer[3], r->named,
+                 r->resumed, r->refused, o.output.c_str(), static_cast<unsigned long long>(st.requests));
+    if (merged) print_merge(o.common, *merged, o.merge_into);
+    else std::fprintf(stderr, "db scan: add it to the database with: lmcfg db merge %s --into upid-db\n", o.output.c_str());
+  }
+  return kOk;
+}
+
+struct MergeCli {
+  CommonOptions common;
+  std::string fragment;
+  std::string into = "upid-db";
+};
+
+int run_merge(MergeCli& o) {
+  auto text = config::read_text_file(o.fragment);
+  if (!text.ok()) return fail("db merge", text.error());
+  auto m = ops::merge_scan_fragment(o.into, *text);
+  if (!m.ok()) return fail("db merge", m.error());
+  if (o.common.json) {
+    std::cout << json{{"profile", m->profile}, {"into", o.into}, {"parameters_added", m->parameters_added},
+                      {"parameters_replaced", m->parameters_replaced}, {"profile_replaced", m->profile_replaced}}
+                     .dump(2)
+              << "\n";
+  }
+  print_merge(o.common, *m, o.into);
+  return kOk;
+}
+
 void setup(CLI::App& app, int& exit_code) {
   auto o = std::make_shared<DbOptions>();
   auto* db = app.add_subcommand("db", "Query the UPID database (parameters, errors, motion commands); no drive needed");
@@ -291,6 +409,40 @@ void setup(CLI::App& app, int& exit_code) {
   auto* info = db->add_subcommand("info", "Schema version, content hash and row counts");
   info->callback([o, &exit_code] { exit_code = run_info(*o); });
   for (auto* s : {show, find, errors, commands, info}) common(s);
+
+  auto so = std::make_shared<ScanCli>();
+  auto* scan = db->add_subcommand("scan", "Learn a new firmware profile from a drive: UPID list, min/max/default");
+  scan->footer(
+      "Examples:\n"
+      "  lmcfg db scan --port /dev/ttyUSB0 --profile e1100-fw-x --names-from e1100-mc-linrs -o scan-e1100-fw-x.tsv\n"
+      "  lmcfg db scan --port sim:drive.json --profile e1100-fw-x -o scan.tsv --merge-into upid-db\n"
+      "Walks the UPID list of each layer (address usage, type) and asks min, max and default of every UPID;\n"
+      "names, paths, units, scales, enum labels and the comm flag come from the database row of the same UPID.\n"
+      "Writes a upid-db fragment (upid-db/FORMAT.md; docs/upid-db.md \"Scanning a drive\") atomically. Progress is\n"
+      "kept in OUTPUT.partial: an interrupted scan continues when the same command is run again (--restart: start\n"
+      "over). Sends read telegrams only. Exit codes as for backup: 2 bad input, 4 link failure, 5 drive refused.");
+  add_link_options(scan, so->common);
+  add_output_options(scan, so->common);
+  scan->add_option("--profile", so->profile, "id of the new profile, e.g. e1100-fw-x")->required();
+  scan->add_option("-o,--output", so->output, "fragment file to write (.tsv)")->required();
+  scan->add_option("--family", so->family, "profile family (default: that of --names-from)");
+  scan->add_option("--software", so->software, "firmware / interface software (default: that of --names-from)");
+  scan->add_option("--version", so->version, "firmware version text");
+  scan->add_option("--description", so->description, "profile description (default: a summary of the scan)");
+  scan->add_option("--names-from", so->names_from, "known profile whose rows give names (default: any row of the UPID)");
+  scan->add_option("--layers", so->layers, "layers to scan: os,mc,intf,appl")->capture_default_str();
+  scan->add_option("--date", so->date, "date in the provenance (default: today, UTC)");
+  scan->add_option("--merge-into", so->merge_into, "also merge the fragment into this upid-db source directory");
+  scan->add_flag("--restart", so->restart, "ignore OUTPUT.partial and scan from the start");
+  scan->callback([so, &exit_code] { exit_code = run_scan(*so); });
+
+  auto mo = std::make_shared<MergeCli>();
+  auto* merge = db->add_subcommand("merge", "Merge a `db scan` fragment into the upid-db sources (profiles.tsv, parameters.tsv)");
+  merge->add_option("fragment", mo->fragment, "fragment written by lmcfg db scan")->required();
+  merge->add_option("--into", mo->into, "upid-db source directory")->capture_default_str();
+  merge->add_flag("--quiet,-q", mo->common.quiet, "no summary");
+  merge->add_flag("--json", mo->common.json, "machine-readable report on stdout");
+  merge->callback([mo, &exit_code] { exit_code = run_merge(*mo); });
 }
 
 Register reg(60, setup);
