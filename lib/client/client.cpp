@@ -239,7 +239,13 @@ Result<std::uint32_t> Client::read_rom(std::uint16_t upid) {
   return checked_value(cfg(CfgOp::read_rom, upid, true, opt_.timeout), upid, "ROM read");
 }
 Result<void> Client::write_rom(std::uint16_t upid, std::uint32_t value) {
-  auto r = checked_value(id_value(make_cfg_write(opt_.id, upid, value), 0x51, false, opt_.timeout), upid, "ROM write");
+  auto r = id_value(make_cfg_write(opt_.id, upid, value), 0x51, false, opt_.timeout);
+  LMCFG_TRY(checked_value(r, upid, "ROM write"));
+  return {};
+}
+
+Result<void> Client::write_rom_confirmed(std::uint16_t upid, std::uint32_t value) {
+  auto r = write_rom(upid, value);
   if (r.ok()) return {};
   Error e = std::move(r).error();
   if (!is_link_error(e)) return e;
@@ -276,6 +282,7 @@ Result<std::vector<ModifiedParam>> Client::modified_list(int layer) {
   const std::uint16_t base = layer_base(layer);
   // Restarting the list is the only safe retry: "get next" advances the drive's cursor.
   Error last(Errc::timeout, "");
+  std::optional<std::vector<ModifiedParam>> unconfirmed;  // a list that ended oddly, to compare with a rerun
   for (int attempt = 0; attempt <= opt_.read_retries; ++attempt) {
     if (attempt > 0) ++stats_.retries;
     auto start = cfg(CfgOp::start_modified, base, true, opt_.timeout);
@@ -299,6 +306,17 @@ Result<std::vector<ModifiedParam>> Client::modified_list(int layer) {
                                                       " outside the layer's range");
         }
         out.push_back({next->key, next->value});
+      }
+      if (last_one && !in_layer) {
+        // C6 with a UPID outside the layer: an empty list's end, or the "no
+        // list" answer of a drive that lost its cursor (it reset in between).
+        // Accept it only when a rerun of the list ends the same way.
+        if (unconfirmed && *unconfirmed == out) return out;
+        unconfirmed = out;
+        failed = Error(Errc::unexpected_response, "modified list of layer " + std::string(layer_name(layer)) +
+                                                      " ended with C6 for UPID " + hexid("%04Xh", next->key) +
+                                                      " outside the layer (drive lost the list cursor?)");
+        break;
       }
       if (last_one) return out;
     }

@@ -7,7 +7,16 @@
 // - One request is in flight at a time; answers from other MACIDs are ignored.
 // - A read that times out or arrives garbled is repeated (discarding input) at
 //   most `read_retries` times. A write is never repeated blindly: it fails with
-//   the link error and the caller re-reads state before deciding.
+//   the link error and the caller re-reads state before deciding. write_rom_confirmed
+//   does that re-read itself: after a lost answer it reads the ROM value back
+//   and succeeds only if the drive holds the value written.
+// - After a lost or garbled answer the client lets the line settle (reads and
+//   drops everything until it has been quiet for `settle`) before it sends the
+//   next request, so a late answer is never taken for the next request's.
+//   Answers that cannot belong to the request in flight (other MACID, other
+//   sub ID, other UPID / curve / entry key) are ignored, not accepted.
+// - Block writes check the drive's state per chunk (04h more, 00h done): a
+//   drive that lost the transfer (reset) makes the write fail, never succeed.
 // - Block transfers (curve info/data, command table entries) are restarted from
 //   their setup telegram when a chunk is lost, never resumed mid-block.
 // - A drive's error communication state (C1..C9) becomes an Error whose code is
@@ -34,6 +43,7 @@ struct ClientOptions {
   Millis flash_timeout{12000};    // §11/§12: saving to flash, "timeout 10s"
   Millis reset_timeout{6000};     // §13.1: "ca. 3 s"
   int read_retries = 2;
+  Millis settle{500};             // quiet time required after a lost/garbled answer
   bool pad_ct_list = true;        // §12 example pads the defined-list request (erratum 3)
   bool skip_echo = true;          // 2-wire RS485 adapters may echo our own request
 };
@@ -47,6 +57,10 @@ struct Stats {
   std::uint64_t timeouts = 0;
   std::uint64_t bad_frames = 0;
   std::uint64_t write_requests = 0;  // telegrams that change drive state
+  std::uint64_t stale_answers = 0;   // answers ignored: other sub ID or key than the request's
+  std::uint64_t settles = 0;         // waits for a quiet line after a lost/garbled answer
+  std::uint64_t settle_bytes = 0;    // bytes dropped while settling (late answers, noise)
+  std::uint64_t writes_confirmed = 0;  // write answers lost, effect confirmed by reading back
 };
 
 struct ModifiedParam {
@@ -99,6 +113,9 @@ class Client {
   // §10 parameter configuration
   Result<std::uint32_t> read_rom(std::uint16_t upid);
   Result<void> write_rom(std::uint16_t upid, std::uint32_t value);
+  // write_rom, and when its answer is lost or garbled, read the ROM value back
+  // (never resend): success only if the drive holds `value`.
+  Result<void> write_rom_confirmed(std::uint16_t upid, std::uint32_t value);
   Result<std::uint16_t> get_type(std::uint16_t upid);
   Result<std::uint32_t> get_min(std::uint16_t upid);
   Result<std::uint32_t> get_max(std::uint16_t upid);
@@ -153,10 +170,14 @@ class Client {
   Result<Bytes> read_block(const codec::Telegram& setup, std::uint8_t setup_sub, const codec::Telegram& chunk_req,
                            std::uint8_t chunk_sub, std::size_t size, const char* what);
 
+  // Reads and drops input until the line has been quiet for opt_.settle.
+  Result<void> settle_line();
+
   transport::Transport& link_;
   ClientOptions opt_;
   codec::StreamDecoder decoder_;
   Stats stats_;
+  bool unsettled_ = false;  // the last exchange ended without its answer
 };
 
 // Expected answer sub ID for a request (seed 003 §6 table): 00 default
@@ -165,5 +186,9 @@ class Client {
 std::uint8_t expected_answer_sub(const codec::Telegram& request);
 // True when a request changes drive state (used for "no write on the wire" checks).
 bool is_write_request(const codec::Telegram& request);
+// The UPID / curve ID / CT entry / list block a request names and its answer
+// must echo (configuration, curve and command table groups); nullopt when the
+// answer's key is not tied to the request (lists, saves, delete all).
+std::optional<std::uint16_t> request_key(const codec::Telegram& request);
 
 }  // namespace lmcfg::client
