@@ -82,3 +82,19 @@ TEST_CASE("e2e over pty: backup, diff defaults, restore onto a used spare, spare
   CHECK(spare_after->ct_flash == source_state->ct_flash);
   fs::remove_all(dir);
 }
+
+TEST_CASE("e2e over TCP on loopback: backup through a serial-gateway style link", "[e2e][tcp]") {
+  const auto dir = temp_dir("tcp");
+  fs::copy_file(test::sim_fixture("commissioned-axis.json"), dir / "axis.sim.json");
+  test::Child server(
+      {LMCFG_TOOL_PATH, "sim", "--state", (dir / "axis.sim.json").string(), "--tcp", "127.0.0.1:0", "--fast"});
+  const std::string port = server.read_line();
+  REQUIRE_FALSE(port.empty());
+  const std::string file = (dir / "axis.json").string();
+  REQUIRE(test::run_tool("backup --quiet --port tcp://127.0.0.1:" + port + " -o " + file) == 0);
+  auto cfg = nlohmann::json::parse(slurp(file));
+  CHECK(cfg["format"] == "lmcfg-drive-config");
+  CHECK(cfg["curves"].size() == 2);
+  server.stop();
+  fs::remove_all(dir);
+}
