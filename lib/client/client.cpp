@@ -307,7 +307,7 @@ Result<std::vector<ModifiedParam>> Client::modified_list(int layer) {
         }
         out.push_back({next->key, next->value});
       }
-      if (last_one && !in_layer) {
+      if (last_one && !in_layer && (!out.empty() || opt_.confirm_empty_lists)) {
         // C6 with a UPID outside the layer: an empty list's end, or the "no
         // list" answer of a drive that lost its cursor (it reset in between).
         // Accept it only when a rerun of the list ends the same way.

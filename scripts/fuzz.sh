@@ -1,0 +1,57 @@
+#!/usr/bin/env bash
+# Build the libFuzzer targets with clang in build-fuzz/ and run each for N
+# seconds (default 60) on a corpus kept in build-fuzz/corpus/<target>/, seeded
+# from the test fixtures. Fails when a target crashes; the crashing input is
+# copied to tests/fixtures/fuzz-regressions/<target>/ so the regular test suite
+# (tests/test_reliability_regressions.cpp) replays it from then on.
+#   scripts/fuzz.sh [SECONDS] [TARGET...]
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+secs="${1:-60}"
+shift || true
+targets=("$@")
+if [[ ${#targets[@]} -eq 0 ]]; then targets=(decoder json_config xml_config client); fi
+build="${LMCFG_FUZZ_BUILD:-$root/build-fuzz}"
+jobs="${LMCFG_JOBS:-2}"
+
+CC=clang CXX=clang++ cmake -S "$root" -B "$build" -DLMCFG_FUZZ=ON -DLMCFG_BUILD_TESTS=OFF \
+  -DLMCFG_BUILD_BENCH=OFF -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null
+cmake --build "$build" -j"$jobs" --target $(printf 'fuzz_%s ' "${targets[@]}")
+
+seed() {  # seed corpus per target from the fixtures
+  local t=$1 dir=$2
+  mkdir -p "$dir"
+  case "$t" in
+    json_config) find "$root/tests/fixtures/config" -name '*.json' -exec cp -n {} "$dir/" \; ;;
+    xml_config) find "$root/tests/fixtures/config" -name '*.xml' -exec cp -n {} "$dir/" \; ;;
+    decoder) [[ -e "$dir/seed-read-rom" ]] || printf '\x00\x07\x01\x11\x0a\x02\x50\x00\x00\xa2\x13\x09\x00\x00\x00\x04' >"$dir/seed-read-rom" ;;
+    client) [[ -e "$dir/seed-read-rom" ]] || printf '\x00\x00\x01\x11\x0a\x02\x50\x00\x00\xa2\x13\x09\x00\x00\x00\x04' >"$dir/seed-read-rom" ;;
+  esac
+  if [[ -d "$root/tests/fixtures/fuzz-regressions/$t" ]]; then
+    find "$root/tests/fixtures/fuzz-regressions/$t" -type f ! -name '*.md' -exec cp -n {} "$dir/" \;
+  fi
+}
+
+status=0
+for t in "${targets[@]}"; do
+  corpus="$build/corpus/$t"
+  artifacts="$build/artifacts/$t"
+  seed "$t" "$corpus"
+  mkdir -p "$artifacts"
+  echo "== fuzz_$t for ${secs}s (corpus $corpus)"
+  if ! "$build/fuzz/fuzz_$t" -max_total_time="$secs" -timeout=10 -rss_limit_mb=2048 -max_len=8192 \
+       -print_final_stats=1 -artifact_prefix="$artifacts/" "$corpus" 2>"$build/fuzz_$t.log"; then
+    status=1
+    echo "fuzz_$t FAILED; see $build/fuzz_$t.log" >&2
+    tail -40 "$build/fuzz_$t.log" >&2
+    mkdir -p "$root/tests/fixtures/fuzz-regressions/$t"
+    for f in "$artifacts"/crash-* "$artifacts"/leak-* "$artifacts"/timeout-* "$artifacts"/oom-*; do
+      [[ -e "$f" ]] || continue
+      cp -n "$f" "$root/tests/fixtures/fuzz-regressions/$t/"
+      echo "  saved $(basename "$f") to tests/fixtures/fuzz-regressions/$t/" >&2
+    done
+  else
+    grep -E '^stat::number_of_executed_units|^stat::peak_rss_mb' "$build/fuzz_$t.log" | sed "s/^/  fuzz_$t /" || true
+  fi
+done
+exit $status
