@@ -8,6 +8,7 @@
 #include <iterator>
 
 #include "../fuzz/fuzz_entries.hpp"
+#include "config/config_io.hpp"
 
 using namespace lmcfg;
 namespace fs = std::filesystem;
@@ -59,11 +60,10 @@ TEST_CASE("fuzz regressions: telegram stream decoder", "[reliability][fuzz]") {
   SUCCEED(std::to_string(n) + " regression input(s)");
 }
 
-// [!mayfail]: fuzz_json_config found that a number too large for a double
-// (e.g. 300 digits) makes nlohmann::json throw out_of_range.406 straight out of
-// config::read_config_text (lib/config/json_io.cpp, not caught there) instead
-// of a parse_error. Reported to the config owner; drop the tag once fixed.
-TEST_CASE("fuzz regressions: JSON configuration reader", "[reliability][fuzz][!mayfail]") {
+// fuzz_json_config found that a number too large for a double (e.g. 300 digits)
+// made nlohmann::json throw out_of_range.406 out of config::read_config_text;
+// the reader now reports it as a parse error with its position.
+TEST_CASE("fuzz regressions: JSON configuration reader", "[reliability][fuzz]") {
   const auto n = replay("json_config", fuzz::json_entry);
   for (const std::string& s : std::vector<std::string>{"", "{", "[]", "{\"format\": 1e999}", "\xEF\xBB\xBF{}", std::string(64, '[')}) {
     fuzz::json_entry(reinterpret_cast<const std::uint8_t*>(s.data()), s.size());
@@ -91,4 +91,11 @@ TEST_CASE("fuzz regressions: client answer handling", "[reliability][fuzz]") {
     fuzz::client_entry(starts.data(), starts.size());
   }
   SUCCEED(std::to_string(n) + " regression input(s)");
+}
+
+TEST_CASE("a JSON number no double can hold is a parse error with its position", "[reliability][config]") {
+  auto r = config::read_config_text("{\n  \"format\": 1e999\n}\n", "big.json", config::FileFormat::json);
+  REQUIRE_FALSE(r.ok());
+  CHECK(r.error().code == Errc::parse_error);
+  CHECK(r.error().message == "big.json:2:13: number 1e999 is out of range (expected an integer value field)");
 }

@@ -570,6 +570,20 @@ Result<DriveConfig> read_json(std::string_view text, std::string_view name) {
     const auto pos = text_position(text, off);
     return Error(Errc::parse_error, std::string(name) + ":" + std::to_string(pos.line) + ":" +
                                         std::to_string(pos.column) + ": " + what);
+  } catch (const json::out_of_range& e) {
+    // A number no double can hold (found by fuzz_json_config): nlohmann names
+    // the token but not its place, so locate the token's first occurrence.
+    std::string what = e.what();
+    std::string token;
+    if (auto q = what.find('\''); q != std::string::npos) {
+      if (auto q2 = what.find('\'', q + 1); q2 != std::string::npos) token = what.substr(q + 1, q2 - q - 1);
+    }
+    const auto at = token.empty() ? std::string_view::npos : text.find(token);
+    const auto pos = text_position(text, at == std::string_view::npos ? 0 : at);
+    std::string shown = token.size() > 24 ? token.substr(0, 24) + "..." : token;
+    return Error(Errc::parse_error, std::string(name) + ":" + std::to_string(pos.line) + ":" +
+                                        std::to_string(pos.column) + ": number " + shown +
+                                        " is out of range (expected an integer value field)");
   }
   Reader r(text, name);
   return r.read_document(doc);

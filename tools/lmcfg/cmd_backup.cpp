@@ -21,6 +21,10 @@ struct BackupCli {
 };
 
 int run(BackupCli& o) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(o.output, ec)) {
+    return fail("backup", Error(Errc::invalid_argument, "output '" + o.output + "' is a directory; name a file"));
+  }
   std::optional<config::FileFormat> format;
   if (!o.format.empty()) {
     auto f = config::format_from_name(o.format);
@@ -28,10 +32,6 @@ int run(BackupCli& o) {
     format = *f;
   } else if (auto f = config::format_from_path(o.output); !f.ok()) {
     return fail("backup", f.error());
-  }
-  std::error_code ec;
-  if (std::filesystem::is_directory(o.output, ec)) {
-    return fail("backup", Error(Errc::invalid_argument, "output '" + o.output + "' is a directory; name a file"));
   }
   auto layers = parse_layers(o.layers);
   if (!layers.ok()) return fail("backup", layers.error());

@@ -36,11 +36,12 @@ Result<ops::LinkOptions> link_options(const CommonOptions& o) {
   l.serial.baud = o.baud;
   l.serial.stop_bits = o.stop_bits;
   LMCFG_ASSIGN_OR_RETURN(l.serial.parity, ops::parse_parity(o.parity));
-  const bool simulated = o.port.rfind("sim:", 0) == 0;
-  if (!simulated && o.port.rfind("tcp://", 0) != 0) {
-    l.serial.device = o.port;
-    LMCFG_TRY(transport::validate(l.serial));
-  }
+  // Line settings are checked for every kind of port: a gateway or the
+  // simulated drive is configured with them too, and an absurd value is a
+  // mistake wherever it is typed.
+  const bool serial = o.port.rfind("sim:", 0) != 0 && o.port.rfind("tcp://", 0) != 0;
+  if (serial) l.serial.device = o.port;
+  LMCFG_TRY(transport::validate(l.serial));
   auto id = parse_number(o.id, false);
   if (!id || *id > 0xFF) {
     return Error(Errc::invalid_argument, "--id '" + o.id + "' is not a MACID 0..255 (0x00..0xFF)");
