@@ -5,6 +5,8 @@
 #include <unistd.h>
 
 #include <catch2/catch.hpp>
+
+#include "transport_test_support.hpp"
 #include <chrono>
 #include <thread>
 
@@ -28,17 +30,7 @@ speed_t expected_speed(unsigned baud) {
   }
 }
 
-// Reads until `want` bytes arrived or 3 s passed (at most 200 reads).
-Bytes read_n(Transport& t, std::size_t want) {
-  Bytes got;
-  const auto deadline = Clock::now() + 3s;
-  for (int i = 0; i < 200 && got.size() < want && Clock::now() < deadline; ++i) {
-    auto r = t.read_some(100ms);
-    REQUIRE(r.ok());
-    got.insert(got.end(), r->begin(), r->end());
-  }
-  return got;
-}
+using test::read_n;
 
 Bytes all_byte_values() {
   Bytes b;

@@ -6,6 +6,8 @@
 #include <unistd.h>
 
 #include <catch2/catch.hpp>
+
+#include "transport_test_support.hpp"
 #include <chrono>
 #include <cstring>
 #include <thread>
@@ -76,16 +78,7 @@ void echo_server(const Listener* l) {
   }
 }
 
-Bytes read_n(Transport& t, std::size_t want) {
-  Bytes got;
-  const auto deadline = Clock::now() + 3s;
-  for (int i = 0; i < 200 && got.size() < want && Clock::now() < deadline; ++i) {
-    auto r = t.read_some(100ms);
-    REQUIRE(r.ok());
-    got.insert(got.end(), r->begin(), r->end());
-  }
-  return got;
-}
+using test::read_n;
 
 }  // namespace
 
