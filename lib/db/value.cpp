@@ -221,6 +221,9 @@ std::string format_scaled(std::int64_t raw, double scale) {
 std::string format_value(const ValueSpec& spec, std::uint32_t raw) {
   char buf[16];
   if (!spec.type || *spec.type == TypeCode::LinFloat) {
+    // A label the seed states for this exact field value needs no type.
+    for (const auto& l : spec.labels)
+      if (l.raw == static_cast<std::int64_t>(raw)) return l.label + " (" + std::to_string(raw) + ")";
     std::snprintf(buf, sizeof buf, "0x%08X", raw);
     return buf;
   }
