@@ -75,8 +75,15 @@ int run(RestoreCli& o) {
   }
   auto verify = ops::verify_restore(client, *plan, ro);
   if (!verify.ok()) {
+    std::string hint;
+    if (o.include_comm && exit_code_for(verify.error()) == kCommFailure) {
+      // The reset made restored communication parameters (baud rate, MACID,
+      // checksum) active; the tool does not derive new link settings from them.
+      hint = ". Communication parameters were restored: the drive may now answer only with the file's settings; "
+             "reconnect with those (--baud, --id, --checksum) and run 'lmcfg diff FILE drive' to verify";
+    }
     return finish(fail("restore", Error(verify.error().code, "written, but verification could not read the drive back: " +
-                                                                 verify.error().message)));
+                                                                 verify.error().message + hint)));
   }
   if (!verify->ok()) {
     if (o.common.json) {
