@@ -23,7 +23,8 @@ step "4. Restore onto the spare: plan, write, verify" \
   "$lmcfg" restore axis.json --port sim:spare.sim.json --trace restore.trace
 step "5. Read the spare back and compare the two drives (per-unit data ignored)" \
   "$lmcfg" backup --port sim:spare.sim.json -o spare.json --quiet
-step "" "$lmcfg" diff axis.json spare.json --ignore-unit --ignore-metadata
+step "6. The two drives now hold the same configuration" \
+  "$lmcfg" diff axis.json spare.json --ignore-unit --ignore-metadata
 rc=$?
 set -e
 printf '\nFiles are in %s (restore.trace holds every telegram of step 4).\n' "$work"

@@ -1,5 +1,6 @@
 #include "ops/backup.hpp"
 
+#include <algorithm>
 #include <ctime>
 
 #include "common/version.hpp"
@@ -13,6 +14,18 @@ std::string utc_now() {
   gmtime_r(&t, &tm);
   char buf[32];
   std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
+  return buf;
+}
+
+std::string display_value(const db::Database* db, std::uint16_t upid, std::uint32_t value) {
+  const db::Parameter* d = db ? db->find(upid) : nullptr;
+  if (d) {
+    const bool labelled = std::any_of(d->spec.labels.begin(), d->spec.labels.end(),
+                                      [&](const db::EnumLabel& l) { return l.raw == static_cast<std::int64_t>(value); });
+    if (d->spec.type || labelled) return d->format(value);
+  }
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%u (%04Xh)", value, value);
   return buf;
 }
 

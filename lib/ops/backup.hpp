@@ -39,6 +39,10 @@ Result<config::DriveConfig> backup(client::Client& c, const BackupOptions& opt, 
 // the database; leaves unknown UPIDs untouched.
 void annotate(config::DriveConfig& cfg, const db::Database& db);
 
+// A parameter value for people: the database's formatting (scale, unit, enum
+// label) when it knows the type or a label for this value, else decimal and hex.
+std::string display_value(const db::Database* db, std::uint16_t upid, std::uint32_t value);
+
 // ISO 8601 UTC of now ("2026-11-22T04:05:06Z").
 std::string utc_now();
 

@@ -1,5 +1,7 @@
 #include "ops/diff.hpp"
 
+#include "ops/backup.hpp"
+
 #include <map>
 #include <nlohmann/json.hpp>
 #include <set>
@@ -31,9 +33,8 @@ Effective effective(const config::DriveConfig& c, int layer, std::uint16_t upid)
   return {Effective::State::not_writable, 0};
 }
 
-std::string show(const Effective& e, const db::Parameter* d, std::optional<std::uint32_t> def) {
-  // The database formats only what it knows the type of; otherwise decimal and hex.
-  auto fmt = [&](std::uint32_t v) { return d && d->spec.type ? d->format(v) : std::to_string(v) + " (" + hex4(v) + ")"; };
+std::string show(const Effective& e, const db::Database* db, std::uint16_t upid, std::optional<std::uint32_t> def) {
+  auto fmt = [&](std::uint32_t v) { return display_value(db, upid, v); };
   switch (e.state) {
     case Effective::State::value: return fmt(e.value);
     case Effective::State::at_default: return def ? "default " + fmt(*def) : "default";
@@ -79,8 +80,8 @@ void diff_parameters(const config::DriveConfig& a, const config::DriveConfig& b,
           for (const auto& p : side->layer(layer))
             if (p.upid == upid && !p.name.empty()) it.name = p.name;
       }
-      it.a = show(ea, d, def);
-      it.b = show(eb, d, def);
+      it.a = show(ea, db, upid, def);
+      it.b = show(eb, db, upid, def);
       r.items.push_back(std::move(it));
     }
   }

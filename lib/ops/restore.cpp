@@ -254,7 +254,7 @@ Result<Plan> plan_restore(client::Client& c, const config::DriveConfig& file, co
       for (const auto& p : w.writes) {
         add_step(plan, Action::write_rom, w.layer, p.upid, p.value,
                  "write ROM " + param_label(w.layer, p.upid, db ? db->find(p.upid) : nullptr, &p) + " = " +
-                     (db && db->find(p.upid) ? db->find(p.upid)->format(p.value) : std::to_string(p.value)),
+                     display_value(db, p.upid, p.value),
                  1);
       }
     } else {
@@ -263,7 +263,7 @@ Result<Plan> plan_restore(client::Client& c, const config::DriveConfig& file, co
         if (it != on_target.end() && it->second == p.value) continue;  // already there
         add_step(plan, Action::write_rom, w.layer, p.upid, p.value,
                  "write ROM " + param_label(w.layer, p.upid, db ? db->find(p.upid) : nullptr, &p) + " = " +
-                     (db && db->find(p.upid) ? db->find(p.upid)->format(p.value) : std::to_string(p.value)),
+                     display_value(db, p.upid, p.value),
                  1);
         rom_changed = true;
       }
