@@ -86,15 +86,22 @@ struct RestoreRun {
   Cost total() const { return plan + execute + verify; }
 };
 
-RestoreRun run_restore(Rig& rig, const config::DriveConfig& file, const db::Database* db, const std::string& what) {
+RestoreRun run_restore(Rig& rig, const config::DriveConfig& file, const db::Database* db,
+                       const std::string& what) {
   ops::RestoreOptions ro;
+  ro.include_comm = true;  // the fixtures' LinRS parameters select the same line
   RestoreRun r;
   ops::Plan plan;
-  r.plan = measure(*rig.link, [&] { plan = must(ops::plan_restore(*rig.client, file, db, ro), what + ": plan"); });
+  r.plan = measure(*rig.link, [&] {
+    plan = must(ops::plan_restore(*rig.client, file, db, ro), what + ": plan");
+  });
   if (!plan.ok()) die(what, Error(Errc::plan_refused, plan.problems.front()));
-  r.execute = measure(*rig.link, [&] { must(ops::execute_plan(*rig.client, plan, ro), what + ": execute"); });
+  r.execute = measure(*rig.link,
+                      [&] { must(ops::execute_plan(*rig.client, plan, ro), what + ": execute"); });
   ops::VerifyReport rep;
-  r.verify = measure(*rig.link, [&] { rep = must(ops::verify_restore(*rig.client, plan, ro), what + ": verify"); });
+  r.verify = measure(*rig.link, [&] {
+    rep = must(ops::verify_restore(*rig.client, plan, ro), what + ": verify");
+  });
   if (!rep.ok()) die(what, Error(Errc::verify_mismatch, rep.mismatches.front()));
   return r;
 }
@@ -114,10 +121,12 @@ void naive_restore(client::Client& c, const config::DriveConfig& full, const std
   for (int l = 1; l <= 4; ++l)
     for (const auto& p : full.layer(l)) must(c.write_rom(p.upid, p.value), what);
   must(c.delete_all_ct(), what);
-  for (const auto& e : full.ct_entries) must(c.write_ct_entry(static_cast<std::uint16_t>(e.id), e.raw), what);
+  for (const auto& e : full.ct_entries)
+    must(c.write_ct_entry(static_cast<std::uint16_t>(e.id), e.raw), what);
   must(c.save_ct(), what);
   must(c.delete_all_curves(), what);
-  for (const auto& cv : full.curves) must(c.write_curve(static_cast<std::uint16_t>(cv.id), cv.info, cv.data), what);
+  for (const auto& cv : full.curves)
+    must(c.write_curve(static_cast<std::uint16_t>(cv.id), cv.info, cv.data), what);
   must(c.save_curves(), what);
   must(c.start_mc(), what);
   must(c.reset(), what);
@@ -126,14 +135,16 @@ void naive_restore(client::Client& c, const config::DriveConfig& full, const std
 struct Row {
   std::string workload, op;
   Cost min, tool;
-  double naive_s = -1;    // naive script, virtual seconds
-  double wall_s = -1;     // real time over a pty / TCP
+  double naive_s = -1;  // naive script, virtual seconds
+  double wall_s = -1;   // real time over a pty / TCP
   std::string note;
 };
 std::vector<Row> rows;  // NOLINT
 bool over_limit = false;
 
-double ratio(const Cost& tool, const Cost& min) { return min.ns ? static_cast<double>(tool.ns) / static_cast<double>(min.ns) : 0.0; }
+double ratio(const Cost& tool, const Cost& min) {
+  return min.ns ? static_cast<double>(tool.ns) / static_cast<double>(min.ns) : 0.0;
+}
 
 // The 1.05 limit judges operations (backup, a whole restore, plan+write).
 // Single restore phases are shown for information: the plan alone spends two
@@ -149,8 +160,8 @@ void add(Row r) {
 }
 
 void print_table() {
-  std::printf("\n%-34s %-20s %8s %8s %10s %10s %7s %10s %7s %9s\n", "workload", "operation", "min tel", "tool tel",
-              "min s", "tool s", "tool/min", "naive s", "naive/t", "wall s");
+  std::printf("\n%-34s %-20s %8s %8s %10s %10s %7s %10s %7s %9s\n", "workload", "operation",
+              "min tel", "tool tel", "min s", "tool s", "tool/min", "naive s", "naive/t", "wall s");
   std::printf("%s\n", std::string(134, '-').c_str());
   for (const auto& r : rows) {
     char naive[16] = "-", nt[16] = "-", wall[16] = "-";
@@ -159,9 +170,10 @@ void print_table() {
       std::snprintf(nt, sizeof nt, "%.2f", r.naive_s / r.tool.seconds());
     }
     if (r.wall_s >= 0) std::snprintf(wall, sizeof wall, "%.3f", r.wall_s);
-    std::printf("%-34s %-20s %8llu %8llu %10.3f %10.3f %7.4f %10s %7s %9s%s%s\n", r.workload.c_str(), r.op.c_str(),
-                static_cast<unsigned long long>(r.min.telegrams), static_cast<unsigned long long>(r.tool.telegrams),
-                r.min.seconds(), r.tool.seconds(), ratio(r.tool, r.min), naive, nt, wall, r.note.empty() ? "" : "  ",
+    std::printf("%-34s %-20s %8llu %8llu %10.3f %10.3f %7.4f %10s %7s %9s%s%s\n",
+                r.workload.c_str(), r.op.c_str(), static_cast<unsigned long long>(r.min.telegrams),
+                static_cast<unsigned long long>(r.tool.telegrams), r.min.seconds(),
+                r.tool.seconds(), ratio(r.tool, r.min), naive, nt, wall, r.note.empty() ? "" : "  ",
                 r.note.c_str());
   }
 }
@@ -251,7 +263,8 @@ double tcp_gateways(const sim::DriveState& state, std::size_t n, const db::Datab
   const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   stop = true;
   for (auto& t : servers) t.join();
-  if (failures) die("TCP gateways", Error(Errc::io_error, std::to_string(failures.load()) + " backups failed"));
+  if (failures)
+    die("TCP gateways", Error(Errc::io_error, std::to_string(failures.load()) + " backups failed"));
   return s;
 }
 
@@ -261,9 +274,12 @@ int main(int argc, char** argv) {
   bool realtime = true, use_db = true;
   std::string fixtures = LMCFG_SOURCE_DIR "/tests/fixtures/sim";
   for (int i = 1; i < argc; ++i) {
-    if (!std::strcmp(argv[i], "--no-realtime")) realtime = false;
-    else if (!std::strcmp(argv[i], "--no-db")) use_db = false;
-    else if (!std::strcmp(argv[i], "--fixtures") && i + 1 < argc) fixtures = argv[++i];
+    if (!std::strcmp(argv[i], "--no-realtime"))
+      realtime = false;
+    else if (!std::strcmp(argv[i], "--no-db"))
+      use_db = false;
+    else if (!std::strcmp(argv[i], "--fixtures") && i + 1 < argc)
+      fixtures = argv[++i];
     else {
       std::fprintf(stderr, "usage: %s [--no-realtime] [--no-db] [--fixtures DIR]\n", argv[0]);
       return 2;
@@ -275,12 +291,16 @@ int main(int argc, char** argv) {
     if (r.ok()) database = std::move(r).value();
   }
   const db::Database* db = database ? &*database : nullptr;
-  std::printf("lmcfg_bench_wire: virtual clock of the simulated drive (lib/sim), 57600 8N1, turnaround 1 ms,\n"
-              "defaulting 1.2 s, flash save 2 s, reset 3 s, MC start 3 s. Demo axis with the UPID database: %s.\n"
-              "Heavy axis without it (synthetic UPIDs). Minimum definitions: docs/performance.md.\n",
-              db ? "yes" : "no");
+  std::printf(
+      "lmcfg_bench_wire: virtual clock of the simulated drive (lib/sim), 57600 8N1, turnaround 1 "
+      "ms,\n"
+      "defaulting 1.2 s, flash save 2 s, reset 3 s, MC start 3 s. Demo axis with the UPID "
+      "database: %s.\n"
+      "Heavy axis without it (synthetic UPIDs). Minimum definitions: docs/performance.md.\n",
+      db ? "yes" : "no");
 
-  const auto demo = must(sim::load_state(fixtures + "/commissioned-axis.json"), "commissioned-axis.json");
+  const auto demo =
+      must(sim::load_state(fixtures + "/commissioned-axis.json"), "commissioned-axis.json");
   const auto spare = must(sim::load_state(fixtures + "/used-spare.json"), "used-spare.json");
   const benchwire::HeavySpec hs;
   const auto heavy = benchwire::heavy_state(hs);
@@ -297,12 +317,15 @@ int main(int argc, char** argv) {
     Rig rig(st);
     config::DriveConfig file;
     Row r{name, "backup", benchwire::min_backup(st), {}, -1, -1, {}};
-    r.tool = measure(*rig.link, [&] { file = must(ops::backup(*rig.client, ops::BackupOptions{}, d), name); });
+    r.tool = measure(*rig.link,
+                     [&] { file = must(ops::backup(*rig.client, ops::BackupOptions{}, d), name); });
     Rig naive(st);
     config::DriveConfig full;
     r.naive_s = measure(*naive.link, [&] { full = naive_backup(naive, name); }).seconds();
     if (is_demo && realtime) {
-      r.wall_s = over_pty(st, [&](client::Client& c) { must(ops::backup(c, ops::BackupOptions{}, d), "pty backup"); });
+      r.wall_s = over_pty(st, [&](client::Client& c) {
+        must(ops::backup(c, ops::BackupOptions{}, d), "pty backup");
+      });
       r.note = served_note("pty", r.wall_s, r.min);
     }
     (is_demo ? demo_file : heavy_file) = file;
@@ -330,16 +353,24 @@ int main(int argc, char** argv) {
     Rig rig(t.state);
     const auto run = run_restore(rig, file, d, t.name);
     Rig naive(t.state);
-    const double naive_s =
-        measure(*naive.link, [&] { naive_restore(*naive.client, t.demo ? demo_full : heavy_full, t.name); }).seconds();
+    const double naive_s = measure(*naive.link, [&] {
+                             naive_restore(*naive.client, t.demo ? demo_full : heavy_full, t.name);
+                           }).seconds();
     Row a{t.name, "restore: plan", m.plan, run.plan, -1, -1, {}};
     Row b{t.name, "restore: write", m.execute, run.execute, -1, -1, {}};
-    Row c{t.name, "restore: plan+write", m.without_verify(), run.without_verify(), naive_s, -1, "naive: default all, rewrite all"};
+    Row c{t.name,
+          "restore: plan+write",
+          m.without_verify(),
+          run.without_verify(),
+          naive_s,
+          -1,
+          "naive: default all, rewrite all"};
     Row v{t.name, "restore: verify", m.verify, run.verify, -1, -1, {}};
     Row all{t.name, "restore: total", m.total(), run.total(), -1, -1, {}};
     if (t.demo && t.name.find("spare") != std::string::npos && realtime) {
       all.wall_s = over_pty(t.state, [&](client::Client& cl) {
         ops::RestoreOptions ro;
+        ro.include_comm = true;  // the fixtures' LinRS parameters select the same line
         auto plan = must(ops::plan_restore(cl, file, d, ro), "pty plan");
         must(ops::execute_plan(cl, plan, ro), "pty execute");
         auto rep = must(ops::verify_restore(cl, plan, ro), "pty verify");
@@ -364,6 +395,7 @@ int main(int argc, char** argv) {
         });
         Rig r(spare);
         ops::RestoreOptions ro;
+        ro.include_comm = true;  // the fixtures' LinRS parameters select the same line
         restores[i] = measure(*r.link, [&] {
           auto plan = ops::plan_restore(*r.client, demo_file, db, ro);
           if (!plan.ok() || !plan->ok() || !ops::execute_plan(*r.client, *plan, ro).ok()) {
@@ -376,7 +408,8 @@ int main(int argc, char** argv) {
       });
     }
     for (auto& t : th) t.join();
-    if (bad) die("(d) gateways", Error(Errc::io_error, std::to_string(bad.load()) + " drives failed"));
+    if (bad)
+      die("(d) gateways", Error(Errc::io_error, std::to_string(bad.load()) + " drives failed"));
     auto total = [](const std::vector<Cost>& v) {
       Cost c;
       for (const auto& x : v) {
@@ -391,16 +424,20 @@ int main(int argc, char** argv) {
     const Cost min_r{single_r.telegrams * n, single_r.ns, single_r.request_ns};
     const Cost tb = total(backups), tr = total(restores);
     char note[96];
-    std::snprintf(note, sizeof note, "total/single-drive %.4f", static_cast<double>(tb.ns) / static_cast<double>(backups[0].ns));
+    std::snprintf(note, sizeof note, "total/single-drive %.4f",
+                  static_cast<double>(tb.ns) / static_cast<double>(backups[0].ns));
     Row rb{"(d) 32 drives, 32 gateways", "backup (max of 32)", min_b, tb, -1, -1, note};
-    std::snprintf(note, sizeof note, "total/single-drive %.4f", static_cast<double>(tr.ns) / static_cast<double>(restores[0].ns));
+    std::snprintf(note, sizeof note, "total/single-drive %.4f",
+                  static_cast<double>(tr.ns) / static_cast<double>(restores[0].ns));
     Row rr{"(d) 32 drives, 32 gateways", "restore+verify (max)", min_r, tr, -1, -1, note};
     if (realtime) {
       const double one = tcp_gateways(demo, 1, db);
       const double all = tcp_gateways(demo, n, db);
       rb.wall_s = all;
-      std::snprintf(note, sizeof note, "total/single-drive %.4f; wall TCP: 1 drive %.3f s, 32 drives %.3f s (x%.3f); ",
-                    static_cast<double>(tb.ns) / static_cast<double>(backups[0].ns), one, all, all / one);
+      std::snprintf(note, sizeof note,
+                    "total/single-drive %.4f; wall TCP: 1 drive %.3f s, 32 drives %.3f s (x%.3f); ",
+                    static_cast<double>(tb.ns) / static_cast<double>(backups[0].ns), one, all,
+                    all / one);
       rb.note = note + served_note("TCP", all, single_b);
     }
     add(rb);
@@ -427,26 +464,35 @@ int main(int argc, char** argv) {
         const std::string what = "(e) drive " + std::to_string(i);
         if (backup) {
           min += benchwire::min_backup(states[static_cast<std::size_t>(i)]);
-          tool += measure(*link, [&] { must(ops::backup(*rig.client, ops::BackupOptions{}, db), what); });
+          tool += measure(*link,
+                          [&] { must(ops::backup(*rig.client, ops::BackupOptions{}, db), what); });
         } else {
           min += benchwire::min_restore(states[static_cast<std::size_t>(i)], demo_file, db).total();
           tool += run_restore(rig, demo_file, db, what).total();
         }
       }
-      add(Row{"(e) 8 drives, one RS485 line", backup ? "backup (sequential)" : "restore+verify (seq.)", min, tool, -1, -1,
+      add(Row{"(e) 8 drives, one RS485 line",
+              backup ? "backup (sequential)" : "restore+verify (seq.)", min, tool, -1, -1,
               backup ? "8 demo axes" : "demo file onto 8 used spares"});
     }
   }
 
   print_table();
-  std::printf("\nmin: protocol minimum (telegrams the operation cannot avoid, exact wire time at the line settings\n"
-              "+ turnaround + documented durations); tool: lmcfg on the virtual clock; naive: a script that walks\n"
-              "every UPID list and reads every ROM-writable value / defaults every layer and rewrites every value\n"
-              "(restore row 'plan+write': the naive script has no checks and no verify); wall: real time.\n");
+  std::printf(
+      "\nmin: protocol minimum (telegrams the operation cannot avoid, exact wire time at the line "
+      "settings\n"
+      "+ turnaround + documented durations); tool: lmcfg on the virtual clock; naive: a script "
+      "that walks\n"
+      "every UPID list and reads every ROM-writable value / defaults every layer and rewrites "
+      "every value\n"
+      "(restore row 'plan+write': the naive script has no checks and no verify); wall: real "
+      "time.\n");
   if (over_limit) {
     std::printf("FAIL: an operation's tool/min ratio exceeds %.2f\n", kLimit);
     return 1;
   }
-  std::printf("every operation's tool/min ratio <= %.2f (single restore phases are informational)\n", kLimit);
+  std::printf(
+      "every operation's tool/min ratio <= %.2f (single restore phases are informational)\n",
+      kLimit);
   return 0;
 }

@@ -3,9 +3,8 @@
 // asserted twice: as a literal (what the tool sends today) and against the
 // protocol-minimum model of bench/wire_workloads.hpp (what it cannot avoid).
 // No timing assertions: the virtual clock is only used by lmcfg_bench_wire.
-#include <catch2/catch.hpp>
-
 #include <algorithm>
+#include <catch2/catch.hpp>
 #include <map>
 
 #include "../bench/wire_workloads.hpp"
@@ -29,7 +28,9 @@ struct PerfRig {
   sim::SimLink link;
   client::Client client;
   explicit PerfRig(sim::DriveState s)
-      : drive(std::make_shared<sim::Drive>(std::move(s))), link(drive), client(link, client::ClientOptions{}) {}
+      : drive(std::make_shared<sim::Drive>(std::move(s))),
+        link(drive),
+        client(link, client::ClientOptions{}) {}
   std::uint64_t telegrams() const { return link.stats().request_telegrams; }
 };
 
@@ -48,9 +49,11 @@ config::DriveConfig backup_counted(const sim::DriveState& st, std::uint64_t& tel
 }
 
 // Plan, execute and verify (what `lmcfg restore` does), counting each phase.
-Counted restore_counted(const sim::DriveState& target, const config::DriveConfig& file, sim::DriveState* after = nullptr) {
+Counted restore_counted(const sim::DriveState& target, const config::DriveConfig& file,
+                        sim::DriveState* after = nullptr) {
   PerfRig rig(target);
   ops::RestoreOptions ro;
+  ro.include_comm = true;  // the fixtures' LinRS parameters select the same line
   Counted n;
   auto plan = ops::plan_restore(rig.client, file, nullptr, ro);
   REQUIRE(plan.ok());
@@ -81,7 +84,8 @@ std::uint64_t empty_list_confirmations(const sim::DriveState& target) {
   return n;
 }
 
-void check_against_model(const Counted& n, const benchwire::RestoreCost& m, const sim::DriveState& target) {
+void check_against_model(const Counted& n, const benchwire::RestoreCost& m,
+                         const sim::DriveState& target) {
   CHECK(n.plan == m.plan.telegrams + empty_list_confirmations(target));
   CHECK(n.execute == m.execute.telegrams);
   CHECK(n.verify == m.verify.telegrams);
@@ -111,7 +115,8 @@ TEST_CASE("perf: backup of the demo axis sends exactly the protocol minimum", "[
   std::uint64_t n = 0;
   backup_counted(demo, n);
   CHECK(n == benchwire::min_backup(demo).telegrams);
-  CHECK(n == 275);  // 4 modified lists (start + n), 100 curve probes + 2 curves, 8 CT list + 5 entries x 17
+  CHECK(n == 275);  // 4 modified lists (start + n), 100 curve probes + 2 curves, 8 CT list + 5
+                    // entries x 17
 }
 
 TEST_CASE("perf: restore of the demo axis onto a used spare and a factory-fresh unit", "[perf]") {
@@ -173,13 +178,16 @@ TEST_CASE("perf: backup and restore of a small generated workload", "[perf]") {
   CHECK(after.ct_flash == source.ct_flash);
 }
 
-TEST_CASE("perf: the restore plan defaults a layer only when that is cheaper than writing leftovers", "[perf]") {
+TEST_CASE(
+    "perf: the restore plan defaults a layer only when that is cheaper than writing leftovers",
+    "[perf]") {
   const auto spec = small_spec();
   const auto source = benchwire::heavy_state(spec);
   std::uint64_t b = 0;
   const auto file = backup_counted(source, b);
   auto count = [](const ops::Plan& p, ops::PlanStep::Action a) {
-    return std::count_if(p.steps.begin(), p.steps.end(), [&](const ops::PlanStep& s) { return s.action == a; });
+    return std::count_if(p.steps.begin(), p.steps.end(),
+                         [&](const ops::PlanStep& s) { return s.action == a; });
   };
   {  // factory-fresh: nothing to default, no separate MC start before the reset
     PerfRig rig(benchwire::factory_fresh(source));
@@ -205,6 +213,7 @@ TEST_CASE("perf: the restore plan defaults a layer only when that is cheaper tha
       if (p.has_rom() && upid >= 0x3000 && upid < 0x3003) p.rom = p.def + 1;
     PerfRig rig(spare);
     ops::RestoreOptions ro;
+    ro.include_comm = true;  // the fixtures' LinRS parameters select the same line
     auto plan = ops::plan_restore(rig.client, big_file, nullptr, ro);
     REQUIRE(plan.ok());
     REQUIRE(plan->ok());

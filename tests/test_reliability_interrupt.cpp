@@ -32,8 +32,9 @@ config::DriveConfig small_file() {
   }
   REQUIRE(kept_layers > 0);
   REQUIRE_FALSE(f.curves.empty());
-  std::sort(f.curves.begin(), f.curves.end(),
-            [](const auto& x, const auto& y) { return x.info.size() + x.data.size() < y.info.size() + y.data.size(); });
+  std::sort(f.curves.begin(), f.curves.end(), [](const auto& x, const auto& y) {
+    return x.info.size() + x.data.size() < y.info.size() + y.data.size();
+  });
   f.curves.resize(1);
   REQUIRE(f.ct_entries.size() >= 2);
   f.ct_entries.resize(2);
@@ -43,11 +44,13 @@ config::DriveConfig small_file() {
 
 }  // namespace
 
-TEST_CASE("restore interrupted at every telegram: reported as failed, a rerun converges", "[reliability][interrupt]") {
+TEST_CASE("restore interrupted at every telegram: reported as failed, a rerun converges",
+          "[reliability][interrupt]") {
   const auto file = small_file();
   const auto spare = test::load_sim_drive("used-spare.json")->state();
   ops::RestoreOptions ro;
-  ro.max_curve_id = 8;  // the file's curve lies below; keeps every run short
+  ro.include_comm = true;  // the fixtures' LinRS parameters select the same line
+  ro.max_curve_id = 8;     // the file's curve lies below; keeps every run short
 
   // A clean run: how many exchanges a whole restore (plan, write, verify) takes.
   std::size_t total = 0;
@@ -96,7 +99,8 @@ TEST_CASE("restore interrupted at every telegram: reported as failed, a rerun co
   CHECK(interrupted == total);
   CHECK(converged == total);
   CHECK(during_writes > 0);
-  std::printf("interruption test: %zu interruption points (every telegram of a %zu-telegram restore), "
-              "%zu after writes began, %zu reruns converged\n",
-              interrupted, total, during_writes, converged);
+  std::printf(
+      "interruption test: %zu interruption points (every telegram of a %zu-telegram restore), "
+      "%zu after writes began, %zu reruns converged\n",
+      interrupted, total, during_writes, converged);
 }

@@ -17,18 +17,31 @@ namespace {
 
 sim::Fault random_fault(std::mt19937& rng) {
   switch (std::uniform_int_distribution<int>(0, 11)(rng)) {
-    case 0: return sim::Fault::corrupt(static_cast<std::size_t>(-1), static_cast<std::uint8_t>(1u << (rng() % 8)));
-    case 1: return sim::Fault::corrupt(rng() % 16, 0xFF);
-    case 2: return sim::Fault::drop_answer();
-    case 3: return sim::Fault::drop_request();
-    case 4: return sim::Fault::delay(std::uniform_int_distribution<std::uint32_t>(1, 190)(rng));
-    case 5: return sim::Fault::delay(std::uniform_int_distribution<std::uint32_t>(201, 650)(rng));
-    case 6: return sim::Fault::wrong_id();
-    case 7: return sim::Fault::garbage_burst(Bytes(1 + rng() % 12, static_cast<std::uint8_t>(rng())));
-    case 8: return sim::Fault::reset_drive(true);
-    case 9: return sim::Fault::reset_drive(false);
-    case 10: return sim::Fault::slow_flash();
-    default: return sim::Fault::close_link();
+    case 0:
+      return sim::Fault::corrupt(static_cast<std::size_t>(-1),
+                                 static_cast<std::uint8_t>(1u << (rng() % 8)));
+    case 1:
+      return sim::Fault::corrupt(rng() % 16, 0xFF);
+    case 2:
+      return sim::Fault::drop_answer();
+    case 3:
+      return sim::Fault::drop_request();
+    case 4:
+      return sim::Fault::delay(std::uniform_int_distribution<std::uint32_t>(1, 190)(rng));
+    case 5:
+      return sim::Fault::delay(std::uniform_int_distribution<std::uint32_t>(201, 650)(rng));
+    case 6:
+      return sim::Fault::wrong_id();
+    case 7:
+      return sim::Fault::garbage_burst(Bytes(1 + rng() % 12, static_cast<std::uint8_t>(rng())));
+    case 8:
+      return sim::Fault::reset_drive(true);
+    case 9:
+      return sim::Fault::reset_drive(false);
+    case 10:
+      return sim::Fault::slow_flash();
+    default:
+      return sim::Fault::close_link();
   }
 }
 
@@ -52,11 +65,13 @@ config::DriveConfig random_config(const config::DriveConfig& all, std::mt19937& 
 
 }  // namespace
 
-TEST_CASE("soak: 1000 backup/restore cycles with random faults, zero silent failures", "[reliability][soak]") {
+TEST_CASE("soak: 1000 backup/restore cycles with random faults, zero silent failures",
+          "[reliability][soak]") {
   const auto t0 = std::chrono::steady_clock::now();
   auto source = test::load_sim_drive("commissioned-axis.json")->state();
   auto spare = test::load_sim_drive("used-spare.json")->state();
-  source.checksum.mode = spare.checksum.mode = codec::ChecksumMode::crc_ccitt;  // corrupted bytes are detectable
+  source.checksum.mode = spare.checksum.mode =
+      codec::ChecksumMode::crc_ccitt;  // corrupted bytes are detectable
   config::DriveConfig all;
   {
     FaultRig rig(std::make_shared<sim::Drive>(source));
@@ -66,10 +81,11 @@ TEST_CASE("soak: 1000 backup/restore cycles with random faults, zero silent fail
   }
   std::mt19937 rng(20261122);
   constexpr int kCycles = 1000;
-  std::size_t faults = 0, restore_ok = 0, restore_failed = 0, backup_ok = 0, backup_failed = 0, silent = 0,
-              reruns_converged = 0, telegrams = 0;
+  std::size_t faults = 0, restore_ok = 0, restore_failed = 0, backup_ok = 0, backup_failed = 0,
+              silent = 0, reruns_converged = 0, telegrams = 0;
   ops::RestoreOptions ro;
-  ro.max_curve_id = 8;  // the commissioned axis's curves lie below; the probe stays short
+  ro.include_comm = true;  // the fixtures' LinRS parameters select the same line
+  ro.max_curve_id = 8;     // the commissioned axis's curves lie below; the probe stays short
   ops::BackupOptions bo;
   bo.max_curve_id = 8;
   for (int cycle = 0; cycle < kCycles; ++cycle) {
@@ -97,7 +113,8 @@ TEST_CASE("soak: 1000 backup/restore cycles with random faults, zero silent fail
         ++restore_ok;
         if (!diffs.empty()) {
           ++silent;
-          UNSCOPED_INFO("cycle " << cycle << ": restore reported success, drive differs: " << diffs.front());
+          UNSCOPED_INFO("cycle " << cycle
+                                 << ": restore reported success, drive differs: " << diffs.front());
         }
       } else {
         ++restore_failed;
@@ -128,7 +145,8 @@ TEST_CASE("soak: 1000 backup/restore cycles with random faults, zero silent fail
         auto diffs = test::backup_vs_drive(*b, *drive);
         if (!diffs.empty()) {
           ++silent;
-          UNSCOPED_INFO("cycle " << cycle << ": backup reported success, differs from the drive: " << diffs.front());
+          UNSCOPED_INFO("cycle " << cycle << ": backup reported success, differs from the drive: "
+                                 << diffs.front());
         }
       } else {
         ++backup_failed;
@@ -138,11 +156,14 @@ TEST_CASE("soak: 1000 backup/restore cycles with random faults, zero silent fail
     }
   }
   const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  std::printf("soak: %d cycles (%d restores + %d backups), %zu telegrams, %zu faults injected; restores: %zu "
-              "verified, %zu reported failures (%zu reruns converged); backups: %zu verified, %zu reported failures; "
-              "silent failures: %zu; %.1f s\n",
-              kCycles, kCycles, kCycles, telegrams, faults, restore_ok, restore_failed, reruns_converged, backup_ok,
-              backup_failed, silent, secs);
+  std::printf(
+      "soak: %d cycles (%d restores + %d backups), %zu telegrams, %zu faults injected; restores: "
+      "%zu "
+      "verified, %zu reported failures (%zu reruns converged); backups: %zu verified, %zu reported "
+      "failures; "
+      "silent failures: %zu; %.1f s\n",
+      kCycles, kCycles, kCycles, telegrams, faults, restore_ok, restore_failed, reruns_converged,
+      backup_ok, backup_failed, silent, secs);
   CHECK(silent == 0);
   CHECK(restore_ok + restore_failed == kCycles);
   CHECK(backup_ok + backup_failed == kCycles);

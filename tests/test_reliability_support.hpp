@@ -67,7 +67,8 @@ struct FaultRig {
   std::unique_ptr<transport::Transport> link;
   std::unique_ptr<client::Client> client;
 
-  explicit FaultRig(std::shared_ptr<sim::Drive> d, client::ClientOptions opt = {}, std::int64_t start_ns = 0)
+  explicit FaultRig(std::shared_ptr<sim::Drive> d, client::ClientOptions opt = {},
+                    std::int64_t start_ns = 0)
       : drive(std::move(d)) {
     auto raw = std::make_unique<sim::SimLink>(drive);
     sim = raw.get();
@@ -99,14 +100,15 @@ inline Aim aim(FaultRig& rig, TelegramMatch match, int nth, std::optional<sim::F
   const auto cfg = rig.drive->state().checksum;
   ByteDropper* dropper = rig.dropper;
   auto hit = a.hit;
-  rig.sim->faults().set_callback([=](std::size_t exchange, ByteView req) -> std::vector<sim::Fault> {
-    auto t = codec::decode(req, cfg);
-    if (!t.ok() || !match(*t) || ++*count != nth) return {};
-    *hit = exchange;
-    if (drop_byte) dropper->arm(exchange, *drop_byte);
-    if (fault) return {*fault};
-    return {};
-  });
+  rig.sim->faults().set_callback(
+      [=](std::size_t exchange, ByteView req) -> std::vector<sim::Fault> {
+        auto t = codec::decode(req, cfg);
+        if (!t.ok() || !match(*t) || ++*count != nth) return {};
+        *hit = exchange;
+        if (drop_byte) dropper->arm(exchange, *drop_byte);
+        if (fault) return {*fault};
+        return {};
+      });
   return a;
 }
 
@@ -121,7 +123,8 @@ inline std::map<std::uint16_t, std::uint32_t> modified_rom(const sim::Drive& d) 
 // Lists every way the drive's stored configuration differs from `file` (ROM
 // values of the file's UPIDs, the modified list of the file's layers, flash
 // curves, flash command table). Empty = the drive equals the file.
-inline std::vector<std::string> drive_vs_file(const sim::Drive& d, const config::DriveConfig& file) {
+inline std::vector<std::string> drive_vs_file(const sim::Drive& d,
+                                              const config::DriveConfig& file) {
   std::vector<std::string> out;
   std::map<std::uint16_t, std::uint32_t> want;
   for (int layer = 1; layer <= 4; ++layer) {
@@ -135,11 +138,13 @@ inline std::vector<std::string> drive_vs_file(const sim::Drive& d, const config:
   for (const auto& [upid, value] : modified_rom(d)) {
     const int layer = (upid >> 12) + 1;
     if (layer < 1 || layer > 4 || !file.scope.layers[static_cast<std::size_t>(layer - 1)]) continue;
-    if (!want.count(upid)) out.push_back("UPID " + std::to_string(upid) + " modified on the drive, not in the file");
+    if (!want.count(upid))
+      out.push_back("UPID " + std::to_string(upid) + " modified on the drive, not in the file");
   }
   if (file.scope.curves) {
     std::map<std::uint16_t, sim::Curve> curves;
-    for (const auto& c : file.curves) curves[static_cast<std::uint16_t>(c.id)] = sim::Curve{c.info, c.data};
+    for (const auto& c : file.curves)
+      curves[static_cast<std::uint16_t>(c.id)] = sim::Curve{c.info, c.data};
     if (curves != d.state().curves_flash) out.push_back("flash curves differ");
   }
   if (file.scope.command_table) {
@@ -157,9 +162,11 @@ inline std::vector<std::string> backup_vs_drive(const config::DriveConfig& b, co
   std::map<std::uint16_t, std::uint32_t> got;
   for (const auto& l : b.layers)
     for (const auto& p : l) got[p.upid] = p.value;
-  if (got != modified_rom(d)) out.push_back("parameters differ from the drive's modified ROM values");
+  if (got != modified_rom(d))
+    out.push_back("parameters differ from the drive's modified ROM values");
   std::map<std::uint16_t, sim::Curve> curves;
-  for (const auto& c : b.curves) curves[static_cast<std::uint16_t>(c.id)] = sim::Curve{c.info, c.data};
+  for (const auto& c : b.curves)
+    curves[static_cast<std::uint16_t>(c.id)] = sim::Curve{c.info, c.data};
   if (curves != d.state().curves_ram) out.push_back("curves differ");
   std::map<std::uint16_t, Bytes> ct;
   for (const auto& e : b.ct_entries) ct[static_cast<std::uint16_t>(e.id)] = e.raw;
@@ -174,7 +181,15 @@ struct RestoreRun {
   std::size_t mismatches = 0;
   bool ok() const { return outcome.ok(); }
 };
-inline RestoreRun run_restore(client::Client& c, const config::DriveConfig& file, const ops::RestoreOptions& ro = {}) {
+// Restores every parameter of the file, the LinRS ones too: the fixtures' LinRS
+// parameters select the line they are served on (docs/simulator.md).
+inline ops::RestoreOptions restore_everything() {
+  ops::RestoreOptions ro;
+  ro.include_comm = true;
+  return ro;
+}
+inline RestoreRun run_restore(client::Client& c, const config::DriveConfig& file,
+                              const ops::RestoreOptions& ro = restore_everything()) {
   RestoreRun run;
   auto plan = ops::plan_restore(c, file, nullptr, ro);
   if (!plan.ok()) {
@@ -202,10 +217,17 @@ inline RestoreRun run_restore(client::Client& c, const config::DriveConfig& file
 inline bool is_comm_failure(const Error& e) {
   if (e.code.category() != lmcfg_category()) return false;
   switch (static_cast<Errc>(e.code.value())) {
-    case Errc::timeout: case Errc::link_closed: case Errc::io_error: case Errc::frame_short:
-    case Errc::frame_overlong: case Errc::frame_malformed: case Errc::checksum_mismatch:
-    case Errc::unexpected_response: return true;
-    default: return false;
+    case Errc::timeout:
+    case Errc::link_closed:
+    case Errc::io_error:
+    case Errc::frame_short:
+    case Errc::frame_overlong:
+    case Errc::frame_malformed:
+    case Errc::checksum_mismatch:
+    case Errc::unexpected_response:
+      return true;
+    default:
+      return false;
   }
 }
 

@@ -36,6 +36,8 @@ enum class Errc {
   plan_refused,
   verify_mismatch,
   cancelled,
+  not_supported,  // the link or drive cannot do what was asked (e.g. change a TCP gateway's baud
+                  // rate)
 };
 
 const std::error_category& lmcfg_category() noexcept;
@@ -64,16 +66,31 @@ class [[nodiscard]] Result {
   bool ok() const noexcept { return v_.index() == 0; }
   explicit operator bool() const noexcept { return ok(); }
 
-  T& value() & { assert(ok()); return std::get<0>(v_); }
-  const T& value() const& { assert(ok()); return std::get<0>(v_); }
-  T&& value() && { assert(ok()); return std::get<0>(std::move(v_)); }
+  T& value() & {
+    assert(ok());
+    return std::get<0>(v_);
+  }
+  const T& value() const& {
+    assert(ok());
+    return std::get<0>(v_);
+  }
+  T&& value() && {
+    assert(ok());
+    return std::get<0>(std::move(v_));
+  }
   T* operator->() { return &value(); }
   const T* operator->() const { return &value(); }
   T& operator*() & { return value(); }
   const T& operator*() const& { return value(); }
 
-  const Error& error() const& { assert(!ok()); return std::get<1>(v_); }
-  Error&& error() && { assert(!ok()); return std::get<1>(std::move(v_)); }
+  const Error& error() const& {
+    assert(!ok());
+    return std::get<1>(v_);
+  }
+  Error&& error() && {
+    assert(!ok());
+    return std::get<1>(std::move(v_));
+  }
 
  private:
   std::variant<T, Error> v_;
@@ -86,8 +103,14 @@ class [[nodiscard]] Result<void> {
   Result(Error e) : err_(std::move(e)), failed_(true) {}  // NOLINT(google-explicit-constructor)
   bool ok() const noexcept { return !failed_; }
   explicit operator bool() const noexcept { return ok(); }
-  const Error& error() const& { assert(failed_); return err_; }
-  Error&& error() && { assert(failed_); return std::move(err_); }
+  const Error& error() const& {
+    assert(failed_);
+    return err_;
+  }
+  Error&& error() && {
+    assert(failed_);
+    return std::move(err_);
+  }
 
  private:
   Error err_;
@@ -102,9 +125,9 @@ struct is_error_code_enum<lmcfg::Errc> : true_type {};
 }  // namespace std
 
 // Propagate an error from an expression returning Result<...>.
-#define LMCFG_TRY(expr)                                      \
-  do {                                                       \
-    auto lmcfg_try_r_ = (expr);                              \
+#define LMCFG_TRY(expr)                                             \
+  do {                                                              \
+    auto lmcfg_try_r_ = (expr);                                     \
     if (!lmcfg_try_r_.ok()) return std::move(lmcfg_try_r_).error(); \
   } while (0)
 

@@ -28,8 +28,12 @@ struct DefaultOptions {
 
 struct DefaultReport {
   std::vector<std::string> done;  // one line per step
+  // include_comm defaulted modified communication parameters: after the reset
+  // the drive takes MACID and baud rate from its hex switches (seed 003 §3.2).
+  bool link_may_change = false;
 };
 
-Result<DefaultReport> default_drive(client::Client& c, const DefaultOptions& opt, const db::Database* db);
+Result<DefaultReport> default_drive(client::Client& c, const DefaultOptions& opt,
+                                    const db::Database* db);
 
 }  // namespace lmcfg::ops

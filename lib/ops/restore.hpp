@@ -36,20 +36,40 @@ class Database;
 
 namespace lmcfg::ops {
 
+// The LinRS parameters that choose baud rate and MACID at start-up (seed 003
+// §3.2, §10.2, §15). They count as communication parameters even without a
+// database, so that --include-comm is never needed to keep a drive reachable.
+inline constexpr std::uint16_t kBaudRateSource = 0x200E, kBaudRateCode = 0x2012,
+                               kMacidSource = 0x206C, kMacidValue = 0x2076;
+// "By Parameter" values of the two source selects (seed 003 §10.2 example).
+inline constexpr std::uint32_t kBaudRateByParameter = 2, kMacidByParameter = 3;
+
+// The database's `comm` flag, or one of the four UPIDs above.
+bool is_comm_parameter(const db::Database* db, std::uint16_t upid);
+
 struct RestoreOptions {
-  bool default_first = true;          // --no-default turns it off
-  bool include_comm = false;          // --include-comm
-  bool reset_after = true;            // reset so ROM values become active (§9.2)
-  std::uint16_t max_curve_id = 100;   // storage limit of 100 curves (facts note)
-  std::size_t curve_memory = 65280;   // 70 B per curve + 4 B per setpoint (facts note)
-  std::size_t ct_entry_size = 64;     // seed 003 §12.1
+  bool default_first = true;         // --no-default turns it off
+  bool include_comm = false;         // --include-comm
+  bool reset_after = true;           // reset so ROM values become active (§9.2)
+  std::uint16_t max_curve_id = 100;  // storage limit of 100 curves (facts note)
+  std::size_t curve_memory = 65280;  // 70 B per curve + 4 B per setpoint (facts note)
+  std::size_t ct_entry_size = 64;    // seed 003 §12.1
   Progress progress;
 };
 
 struct PlanStep {
   enum class Action {
-    stop_mc, default_layer, write_rom, delete_all_ct, write_ct, save_ct, delete_all_curves, write_curve,
-    save_curves, start_mc, reset,
+    stop_mc,
+    default_layer,
+    write_rom,
+    delete_all_ct,
+    write_ct,
+    save_ct,
+    delete_all_curves,
+    write_curve,
+    save_curves,
+    start_mc,
+    reset,
   };
   Action action = Action::stop_mc;
   int layer = 0;
@@ -61,16 +81,20 @@ struct PlanStep {
 struct Plan {
   std::vector<std::string> problems;  // any problem refuses the restore
   std::vector<PlanStep> steps;
-  std::vector<std::string> skipped;   // items deliberately not written, with why
-  std::vector<std::string> notes;     // what the steps will also change (leftovers, defaults)
+  std::vector<std::string> skipped;  // items deliberately not written, with why
+  std::vector<std::string> notes;    // what the steps will also change (leftovers, defaults)
   // Expected state after the restore, for verify.
   config::DriveConfig expected;
-  std::size_t write_telegrams = 0;    // estimate of write telegrams the steps send
+  std::size_t write_telegrams = 0;  // estimate of write telegrams the steps send
+  // --include-comm changes a communication parameter of the target: after the
+  // reset the drive may answer only with other link settings (ops/relink.hpp).
+  // The reset's own answer may then be lost; execute_plan accepts that.
+  bool link_may_change = false;
   bool ok() const { return problems.empty(); }
 };
 
-Result<Plan> plan_restore(client::Client& c, const config::DriveConfig& file, const db::Database* db,
-                          const RestoreOptions& opt);
+Result<Plan> plan_restore(client::Client& c, const config::DriveConfig& file,
+                          const db::Database* db, const RestoreOptions& opt);
 std::string render_plan(const Plan& p);
 
 Result<void> execute_plan(client::Client& c, const Plan& p, const RestoreOptions& opt);

@@ -24,22 +24,26 @@ Result<codec::ChecksumConfig> parse_checksum(std::string_view t) {
     c.crc_init = 0x0000;
     return c;
   }
-  return Error(Errc::invalid_argument,
-               "checksum '" + std::string(t) + "' is not one of none, add, crc, crc-ffff, crc-0000");
+  return Error(Errc::invalid_argument, "checksum '" + std::string(t) +
+                                           "' is not one of none, add, crc, crc-ffff, crc-0000");
 }
 
 std::string checksum_name(const codec::ChecksumConfig& c) {
   switch (c.mode) {
-    case codec::ChecksumMode::none: return "none";
-    case codec::ChecksumMode::add: return "add";
-    case codec::ChecksumMode::crc_ccitt: return c.crc_init == 0 ? "crc-0000" : "crc-ffff";
+    case codec::ChecksumMode::none:
+      return "none";
+    case codec::ChecksumMode::add:
+      return "add";
+    case codec::ChecksumMode::crc_ccitt:
+      return c.crc_init == 0 ? "crc-0000" : "crc-ffff";
   }
   return "none";
 }
 
 Result<transport::Parity> parse_parity(std::string_view t) {
   if (auto p = transport::parity_from_name(t)) return *p;
-  return Error(Errc::invalid_argument, "parity '" + std::string(t) + "' is not one of none, even, odd");
+  return Error(Errc::invalid_argument,
+               "parity '" + std::string(t) + "' is not one of none, even, odd");
 }
 
 namespace {
@@ -67,6 +71,26 @@ class LinkSession final : public Session {
     return {};
   }
 
+  transport::SerialSettings line() const override { return opt_.serial; }
+
+  Result<void> relink(const transport::SerialSettings& line, std::uint8_t id,
+                      const codec::ChecksumConfig& checksum) override {
+    const auto& cur = opt_.serial;
+    if (line.baud != cur.baud || line.parity != cur.parity || line.stop_bits != cur.stop_bits) {
+      LMCFG_TRY(link_->reconfigure(line));
+      const std::string device = opt_.serial.device;
+      opt_.serial = line;
+      opt_.serial.device = device;
+    }
+    auto co = client_.options();
+    co.id = id;
+    co.checksum = checksum;
+    client_.set_options(co);
+    opt_.client.id = id;
+    opt_.client.checksum = checksum;
+    return {};
+  }
+
   config::LinkSettings link_settings() const override {
     config::LinkSettings s;
     s.port = opt_.port;
@@ -90,7 +114,9 @@ class LinkSession final : public Session {
 
 Result<std::unique_ptr<Session>> open_session(const LinkOptions& opt_in) {
   LinkOptions opt = opt_in;
-  if (opt.port.empty()) return Error(Errc::invalid_argument, "no --port given (a serial device, tcp://host:port or sim:FILE)");
+  if (opt.port.empty())
+    return Error(Errc::invalid_argument,
+                 "no --port given (a serial device, tcp://host:port or sim:FILE)");
   std::unique_ptr<transport::Transport> link;
   sim::SimLink* sim = nullptr;
   std::shared_ptr<sim::Drive> drive;
@@ -102,6 +128,10 @@ Result<std::unique_ptr<Session>> open_session(const LinkOptions& opt_in) {
     auto owned = std::make_unique<sim::SimLink>(drive);
     sim = owned.get();
     sim->set_real_time(opt.real_time_sim);
+    // The simulated line is wired at the drive's settings.
+    opt.serial.baud = drive->state().link.baud;
+    opt.serial.parity = drive->state().link.parity;
+    opt.serial.stop_bits = drive->state().link.stop_bits;
     link = std::move(owned);
   } else if (opt.port.rfind("tcp://", 0) == 0) {
     const std::string hp = opt.port.substr(6);
@@ -114,14 +144,17 @@ Result<std::unique_ptr<Session>> open_session(const LinkOptions& opt_in) {
       return Error(Errc::invalid_argument, "port '" + opt.port + "': TCP port must be 1..65535");
     }
     std::string host = hp.substr(0, colon);
-    if (host.size() > 2 && host.front() == '[' && host.back() == ']') host = host.substr(1, host.size() - 2);
-    LMCFG_ASSIGN_OR_RETURN(link, transport::open_tcp(host, static_cast<std::uint16_t>(*port), transport::Millis(3000)));
+    if (host.size() > 2 && host.front() == '[' && host.back() == ']')
+      host = host.substr(1, host.size() - 2);
+    LMCFG_ASSIGN_OR_RETURN(link, transport::open_tcp(host, static_cast<std::uint16_t>(*port),
+                                                     transport::Millis(3000)));
   } else {
     opt.serial.device = opt.port;
     LMCFG_TRY(transport::validate(opt.serial));
     std::error_code ec;
     if (std::filesystem::is_directory(opt.port, ec)) {
-      return Error(Errc::invalid_argument, "port '" + opt.port + "' is a directory, not a serial device");
+      return Error(Errc::invalid_argument,
+                   "port '" + opt.port + "' is a directory, not a serial device");
     }
     LMCFG_ASSIGN_OR_RETURN(link, transport::open_serial(opt.serial));
   }
@@ -130,8 +163,8 @@ Result<std::unique_ptr<Session>> open_session(const LinkOptions& opt_in) {
     if (!sink) return Error(Errc::file_error, "cannot open trace file '" + opt.trace_path + "'");
     link = transport::make_traced(std::move(link), std::move(sink));
   }
-  return std::unique_ptr<Session>(
-      std::make_unique<LinkSession>(std::move(opt), std::move(link), sim, std::move(drive), std::move(sim_path)));
+  return std::unique_ptr<Session>(std::make_unique<LinkSession>(
+      std::move(opt), std::move(link), sim, std::move(drive), std::move(sim_path)));
 }
 
 }  // namespace lmcfg::ops

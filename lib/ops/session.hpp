@@ -43,6 +43,14 @@ class Session {
   virtual std::string describe() const = 0;
   // Settings as recorded in a backup's identity.
   virtual config::LinkSettings link_settings() const = 0;
+  // The line settings the tool talks with now (for sim: ports, the simulated
+  // drive's settings at open; for tcp: ports, what --baud etc. said).
+  virtual transport::SerialSettings line() const = 0;
+  // Talks to the drive with other settings from now on: the serial line is
+  // reconfigured (Errc::not_supported on a TCP gateway when `line` differs),
+  // the client takes the new MACID and checksum.
+  virtual Result<void> relink(const transport::SerialSettings& line, std::uint8_t id,
+                              const codec::ChecksumConfig& checksum) = 0;
 };
 
 Result<std::unique_ptr<Session>> open_session(const LinkOptions& opt);

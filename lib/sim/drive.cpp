@@ -1,9 +1,9 @@
 #include "sim/drive.hpp"
 
-#include "common/layers.hpp"
-
 #include <algorithm>
 #include <array>
+
+#include "common/layers.hpp"
 
 namespace lmcfg::sim {
 
@@ -16,14 +16,16 @@ Layer layer_of(std::uint16_t upid) { return static_cast<Layer>(layers::of_upid(u
 
 std::uint16_t layer_base(Layer l) { return layers::base_upid(static_cast<int>(l)); }
 
-const char* layer_name(Layer l) { return l == Layer::none ? "none" : layers::name(static_cast<int>(l)).data(); }
+const char* layer_name(Layer l) {
+  return l == Layer::none ? "none" : layers::name(static_cast<int>(l)).data();
+}
 
 namespace type {
 namespace {
-constexpr std::array<const char*, 16> kNames{"BOOL",    "UINT8",      "SINT8",         "UINT16",
-                                             "SINT16",  "UINT32",     "SINT32",        "LIN_FLOAT",
-                                             "STRING",  "CAP_DIR",    "RADIO_DIR_BIT", "RADIO_DIR16",
-                                             "ENUM_DIR8", "ENUM_DIR16", "STRINGLET",   "CAP_DIRLET"};
+constexpr std::array<const char*, 16> kNames{
+    "BOOL",      "UINT8",      "SINT8",     "UINT16",    "SINT16",        "UINT32",
+    "SINT32",    "LIN_FLOAT",  "STRING",    "CAP_DIR",   "RADIO_DIR_BIT", "RADIO_DIR16",
+    "ENUM_DIR8", "ENUM_DIR16", "STRINGLET", "CAP_DIRLET"};
 }
 const char* name(std::uint16_t code) { return code < kNames.size() ? kNames[code] : "?"; }
 std::optional<std::uint16_t> from_name(std::string_view n) {
@@ -37,10 +39,14 @@ namespace {
 
 std::int64_t as_number(std::uint16_t t, std::uint32_t v) {
   switch (t) {
-    case type::sint8: return static_cast<std::int8_t>(v & 0xFF);
-    case type::sint16: return static_cast<std::int16_t>(v & 0xFFFF);
-    case type::sint32: return static_cast<std::int32_t>(v);
-    default: return static_cast<std::int64_t>(v);
+    case type::sint8:
+      return static_cast<std::int8_t>(v & 0xFF);
+    case type::sint16:
+      return static_cast<std::int16_t>(v & 0xFFFF);
+    case type::sint32:
+      return static_cast<std::int32_t>(v);
+    default:
+      return static_cast<std::int64_t>(v);
   }
 }
 
@@ -50,8 +56,10 @@ bool range_checked(std::uint16_t t) {
     case type::string:
     case type::cap_dir:
     case type::stringlet:
-    case type::cap_dirlet: return false;
-    default: return true;
+    case type::cap_dirlet:
+      return false;
+    default:
+      return true;
   }
 }
 
@@ -65,9 +73,9 @@ bool in_range(const Parameter& p, std::uint32_t value) {
 
 std::map<std::uint16_t, std::string> default_error_texts() {
   return {
-      {0x0000, "No Error"},                        // seed 003 §14.1
-      {0x0001, "Err: X4 Logic Supply Too Low"},    // seed 003 §14.2
-      {0x000C, "Err. Pos Lag Standing Too Big"},   // seed 003 §14.4
+      {0x0000, "No Error"},                       // seed 003 §14.1
+      {0x0001, "Err: X4 Logic Supply Too Low"},   // seed 003 §14.2
+      {0x000C, "Err. Pos Lag Standing Too Big"},  // seed 003 §14.4
   };
 }
 
@@ -75,6 +83,26 @@ Drive::Drive() : Drive(DriveState{}) {}
 
 Drive::Drive(DriveState state) : s_(std::move(state)), decoder_(s_.checksum) {
   if (s_.error_texts.empty()) s_.error_texts = default_error_texts();
+  if (!s_.switches) s_.switches = HexSwitches{s_.macid, s_.link.baud};
+}
+
+void Drive::apply_comm_parameters() {
+  constexpr std::uint32_t kByParameterBaud = 2;   // seed 003 §10.2: 200Eh value 2 "By Parameter"
+  constexpr std::uint32_t kByParameterMacid = 3;  // seed 003 §10.2: 206Ch value 3 "By Parameter"
+  const HexSwitches sw = s_.switches.value_or(HexSwitches{s_.macid, s_.link.baud});
+  unsigned baud = sw.baud;
+  if (rom(0x200E) == kByParameterBaud) {
+    if (auto code = rom(0x2012)) {
+      if (auto it = s_.options.baud_codes.find(*code); it != s_.options.baud_codes.end())
+        baud = it->second;
+    }
+  }
+  std::uint8_t id = sw.macid;
+  if (rom(0x206C) == kByParameterMacid) {
+    if (auto v = rom(0x2076)) id = static_cast<std::uint8_t>(*v & 0xFF);
+  }
+  s_.link.baud = baud;
+  s_.macid = id;
 }
 
 Parameter* Drive::find(std::uint16_t upid) {
@@ -129,7 +157,8 @@ std::vector<Answer> Drive::receive(ByteView bytes, std::int64_t now_ns) {
       const auto code = r->error().code;
       std::optional<std::uint8_t> id;
       std::uint8_t state = 0;
-      if (code == make_error_code(Errc::checksum_mismatch) && s_.options.respond_on_checksum_error) {
+      if (code == make_error_code(Errc::checksum_mismatch) &&
+          s_.options.respond_on_checksum_error) {
         id = frame_id_ending_here(true);
         state = st::checksum_error;
       } else if (code == make_error_code(Errc::frame_short) && s_.options.respond_on_end_missing) {
@@ -148,7 +177,8 @@ std::vector<Answer> Drive::receive(ByteView bytes, std::int64_t now_ns) {
 
 // ---- answer construction -----------------------------------------------------
 
-Telegram Drive::default_response(std::uint8_t comm_state, std::optional<std::uint32_t> value) const {
+Telegram Drive::default_response(std::uint8_t comm_state,
+                                 std::optional<std::uint32_t> value) const {
   codec::DefaultResponse r;
   r.comm_state = comm_state;
   // MC stopped: status word and state var read 0 (seed 003 §13.3 and §10.1 captures).
@@ -163,7 +193,8 @@ Telegram Drive::default_response(std::uint8_t comm_state, std::optional<std::uin
   return codec::make_default_response(s_.macid, r, s_.layout);
 }
 
-Telegram Drive::id_value(std::uint8_t sub, std::uint8_t state, std::uint16_t key, std::uint32_t value) const {
+Telegram Drive::id_value(std::uint8_t sub, std::uint8_t state, std::uint16_t key,
+                         std::uint32_t value) const {
   return codec::make_id_value(s_.macid, sub, state, key, value);
 }
 
@@ -200,7 +231,8 @@ std::optional<Answer> Drive::handle(const Telegram& t, std::int64_t now) {
     return std::nullopt;
   }
   switch (static_cast<Main>(t.main)) {
-    case Main::response: return on_response_request(t, now);
+    case Main::response:
+      return on_response_request(t, now);
     case Main::control_word:
       if (t.data.size() < 2) return error_answer(st::bad_sub_id, now);
       if (t.sub != 0) return error_answer(st::bad_sub_id, now);
@@ -210,23 +242,34 @@ std::optional<Answer> Drive::handle(const Telegram& t, std::int64_t now) {
       if (t.sub != 0 || t.data.size() < 2) return error_answer(st::bad_sub_id, now);
       last_motion_header_ = get_u16le(t.data, 0);
       return finish(default_response(st::ok), 0, now);
-    case Main::parameter: return on_parameter(t, now);
-    case Main::curve: return on_curve(t, now);
-    case Main::param_config: return on_param_config(t, now);
-    case Main::program: return on_program(t, now);
-    case Main::error_info: return on_error_info(t, now);
-    case Main::command_table: return on_command_table(t, now);
+    case Main::parameter:
+      return on_parameter(t, now);
+    case Main::curve:
+      return on_curve(t, now);
+    case Main::param_config:
+      return on_param_config(t, now);
+    case Main::program:
+      return on_program(t, now);
+    case Main::error_info:
+      return on_error_info(t, now);
+    case Main::command_table:
+      return on_command_table(t, now);
   }
   return error_answer(st::bad_main_id, now);
 }
 
 std::optional<Answer> Drive::on_response_request(const Telegram& t, std::int64_t now) {
   switch (t.sub) {
-    case 0x01: return finish(default_response(st::ok), 0, now);
-    case 0x02: return finish(default_response(st::ok, s_.mc_running ? s_.live.status_word : 0u), 0, now);
-    case 0x03: return finish(default_response(st::ok, s_.live.warn_word), 0, now);
-    case 0x04: return finish(default_response(st::ok, s_.mc_running ? s_.live.state_var : 0u), 0, now);
-    default: return error_answer(st::bad_sub_id, now);
+    case 0x01:
+      return finish(default_response(st::ok), 0, now);
+    case 0x02:
+      return finish(default_response(st::ok, s_.mc_running ? s_.live.status_word : 0u), 0, now);
+    case 0x03:
+      return finish(default_response(st::ok, s_.live.warn_word), 0, now);
+    case 0x04:
+      return finish(default_response(st::ok, s_.mc_running ? s_.live.state_var : 0u), 0, now);
+    default:
+      return error_answer(st::bad_sub_id, now);
   }
 }
 
@@ -235,7 +278,8 @@ std::optional<Answer> Drive::on_response_request(const Telegram& t, std::int64_t
 std::uint8_t Drive::write_value(Parameter& p, bool ram, bool rom, std::uint32_t value) {
   const auto& o = s_.options;
   if (o.write_policy != WritePolicy::accept) {
-    const bool au_ok = (!ram || (p.address_usage & au::ram_write)) && (!rom || (p.address_usage & au::rom_write));
+    const bool au_ok =
+        (!ram || (p.address_usage & au::ram_write)) && (!rom || (p.address_usage & au::rom_write));
     if (!au_ok) return o.reject_state;
     if (!in_range(p, value)) {
       if (o.write_policy == WritePolicy::reject) return o.reject_state;
@@ -274,12 +318,18 @@ std::optional<Answer> Drive::on_parameter(const Telegram& t, std::int64_t now) {
   Parameter* p = find(upid);
   if (!p) return error_answer(st::unknown_upid, now);
   switch (t.sub) {
-    case 0x00: return finish(default_response(st::ok, p->ram), 0, now);
-    case 0x02: return finish(default_response(st::ok, p->rom), 0, now);
-    case 0x05: return finish(default_response(st::ok, p->min), 0, now);
-    case 0x06: return finish(default_response(st::ok, p->max), 0, now);
-    case 0x07: return finish(default_response(st::ok, p->def), 0, now);
-    default: break;
+    case 0x00:
+      return finish(default_response(st::ok, p->ram), 0, now);
+    case 0x02:
+      return finish(default_response(st::ok, p->rom), 0, now);
+    case 0x05:
+      return finish(default_response(st::ok, p->min), 0, now);
+    case 0x06:
+      return finish(default_response(st::ok, p->max), 0, now);
+    case 0x07:
+      return finish(default_response(st::ok, p->def), 0, now);
+    default:
+      break;
   }
   const std::uint32_t v = get_u32le(t.data, 2);
   const std::uint8_t state = write_value(*p, t.sub != 0x03, t.sub != 0x01, v);
@@ -304,22 +354,28 @@ std::optional<Answer> Drive::on_param_config(const Telegram& t, std::int64_t now
     };
     if (!c.active || c.ended) return empty();
     auto it = c.last ? s_.params.upper_bound(*c.last) : s_.params.lower_bound(layer_base(c.layer));
-    auto is_next = [&](const auto& kv) { return layer_of(kv.first) == c.layer && kv.second.modified(); };
+    auto is_next = [&](const auto& kv) {
+      return layer_of(kv.first) == c.layer && kv.second.modified();
+    };
     auto found = std::find_if(it, s_.params.end(), is_next);
     if (found == s_.params.end()) return empty();
     const bool more = std::find_if(std::next(found), s_.params.end(), is_next) != s_.params.end();
     c.last = found->first;
     if (!more) c.ended = true;
-    return finish(id_value(sub, more ? st::ok : st::last_in_list, found->first, found->second.rom), 0, now);
+    return finish(id_value(sub, more ? st::ok : st::last_in_list, found->first, found->second.rom),
+                  0, now);
   }
   if (t.sub == 0x0B) {
     auto& c = upids_;
     auto entry = [&](std::uint8_t state, const Parameter& p) {
-      return finish(id_value(sub, state, p.upid, static_cast<std::uint32_t>(p.address_usage | (p.type << 16))), 0, now);
+      return finish(id_value(sub, state, p.upid,
+                             static_cast<std::uint32_t>(p.address_usage | (p.type << 16))),
+                    0, now);
     };
     if (!c.active) return finish(id_value(sub, o.empty_list_state, o.empty_list_upid, 0), 0, now);
     if (!c.ended) {
-      auto it = c.last ? s_.params.upper_bound(*c.last) : s_.params.lower_bound(layer_base(c.layer));
+      auto it =
+          c.last ? s_.params.upper_bound(*c.last) : s_.params.lower_bound(layer_base(c.layer));
       if (it != s_.params.end() && layer_of(it->first) == c.layer) {
         c.last = it->first;
         return entry(st::ok, it->second);
@@ -345,16 +401,22 @@ std::optional<Answer> Drive::on_param_config(const Telegram& t, std::int64_t now
   Parameter* p = find(upid);
   if (!p) return finish(id_value(sub, st::unknown_upid, upid, 0), 0, now);
   switch (t.sub) {
-    case 0x00: return finish(id_value(sub, st::ok, upid, p->rom), 0, now);
+    case 0x00:
+      return finish(id_value(sub, st::ok, upid, p->rom), 0, now);
     case 0x01: {
       const std::uint8_t state = write_value(*p, false, true, get_u32le(t.data, 2));
       return finish(id_value(sub, state, upid, p->rom), 0, now);
     }
-    case 0x04: return finish(id_value(sub, st::ok, upid, p->type), 0, now);
-    case 0x05: return finish(id_value(sub, st::ok, upid, p->min), 0, now);
-    case 0x06: return finish(id_value(sub, st::ok, upid, p->max), 0, now);
-    case 0x07: return finish(id_value(sub, st::ok, upid, p->def), 0, now);
-    default: break;
+    case 0x04:
+      return finish(id_value(sub, st::ok, upid, p->type), 0, now);
+    case 0x05:
+      return finish(id_value(sub, st::ok, upid, p->min), 0, now);
+    case 0x06:
+      return finish(id_value(sub, st::ok, upid, p->max), 0, now);
+    case 0x07:
+      return finish(id_value(sub, st::ok, upid, p->def), 0, now);
+    default:
+      break;
   }
   return error_answer(st::bad_sub_id, now);
 }
@@ -373,7 +435,8 @@ std::uint8_t Drive::block_write(Bytes& target, XferKind kind, std::uint16_t key,
   return st::more_data;
 }
 
-std::uint8_t Drive::block_read(const Bytes& source, XferKind kind, std::uint16_t key, std::uint32_t& out) {
+std::uint8_t Drive::block_read(const Bytes& source, XferKind kind, std::uint16_t key,
+                               std::uint32_t& out) {
   if (xfer_.kind != kind || xfer_.key != key) xfer_ = Transfer{kind, key, 0};
   Bytes four(4, 0);
   for (std::size_t i = 0; i < 4; ++i)
@@ -408,8 +471,16 @@ std::optional<Answer> Drive::on_curve(const Telegram& t, std::int64_t now) {
       s_.curves_ram.clear();
       xfer_ = {};
       return finish(id_value(sub, st::ok, 0, 0), 0, now);
-    case 0x02: case 0x04: case 0x05: case 0x06: case 0x08: case 0x09: case 0x0A: break;
-    default: return error_answer(st::bad_sub_id, now);
+    case 0x02:
+    case 0x04:
+    case 0x05:
+    case 0x06:
+    case 0x08:
+    case 0x09:
+    case 0x0A:
+      break;
+    default:
+      return error_answer(st::bad_sub_id, now);
   }
   const std::size_t need = t.sub == 0x04 || t.sub == 0x05 || t.sub == 0x06 ? 6u : 2u;
   if (t.data.size() < need) return error_answer(st::bad_sub_id, now);
@@ -434,21 +505,25 @@ std::optional<Answer> Drive::on_curve(const Telegram& t, std::int64_t now) {
         return finish(id_value(sub, o.missing_object_state, id, 0), 0, now);
       }
       return finish(id_value(sub, st::ok, id,
-                             static_cast<std::uint32_t>(it->second.info.size() | (it->second.data.size() << 16))),
+                             static_cast<std::uint32_t>(it->second.info.size() |
+                                                        (it->second.data.size() << 16))),
                     0, now);
-    default: break;
+    default:
+      break;
   }
   if (!exists) return finish(id_value(sub, o.missing_object_state, id, 0), 0, now);
   Curve& c = it->second;
   if (t.sub == 0x05 || t.sub == 0x06) {
     const bool info = t.sub == 0x05;
-    const auto state = block_write(info ? c.info : c.data, info ? XferKind::curve_info_w : XferKind::curve_data_w, id,
-                                   ByteView(t.data).subspan(2, 4));
+    const auto state =
+        block_write(info ? c.info : c.data, info ? XferKind::curve_info_w : XferKind::curve_data_w,
+                    id, ByteView(t.data).subspan(2, 4));
     return finish(id_value(sub, state, id, 0), 0, now);
   }
   std::uint32_t v = 0;
   const bool info = t.sub == 0x09;
-  const auto state = block_read(info ? c.info : c.data, info ? XferKind::curve_info_r : XferKind::curve_data_r, id, v);
+  const auto state = block_read(info ? c.info : c.data,
+                                info ? XferKind::curve_info_r : XferKind::curve_data_r, id, v);
   return finish(id_value(sub, state, id, v), 0, now);
 }
 
@@ -494,20 +569,24 @@ std::optional<Answer> Drive::on_command_table(const Telegram& t, std::int64_t no
     }
     case 0x04: {
       if (!exists) return finish(id_value(sub, o.missing_object_state, key, 0), 0, now);
-      const auto state = block_write(it->second, XferKind::ct_w, key, ByteView(t.data).subspan(2, 4));
+      const auto state =
+          block_write(it->second, XferKind::ct_w, key, ByteView(t.data).subspan(2, 4));
       return finish(id_value(sub, state, key, 0), 0, now);
     }
     case 0x05:
-      if (!exists) return finish(id_value(sub, st::ok, key, 0), 0, now);  // size 0 for a missing entry
+      if (!exists)
+        return finish(id_value(sub, st::ok, key, 0), 0, now);  // size 0 for a missing entry
       xfer_ = Transfer{XferKind::ct_r, key, 0};
-      return finish(id_value(sub, st::ok, key, static_cast<std::uint32_t>(it->second.size())), 0, now);
+      return finish(id_value(sub, st::ok, key, static_cast<std::uint32_t>(it->second.size())), 0,
+                    now);
     case 0x06: {
       if (!exists) return finish(id_value(sub, o.missing_object_state, key, 0), 0, now);
       std::uint32_t v = 0;
       const auto state = block_read(it->second, XferKind::ct_r, key, v);
       return finish(id_value(sub, state, key, v), 0, now);
     }
-    default: break;
+    default:
+      break;
   }
   return error_answer(st::bad_sub_id, now);
 }
@@ -520,6 +599,7 @@ void Drive::reset(std::int64_t now_ns, bool make_busy) {
   load_ram_from_rom();
   s_.options.reload_tables_on_start = reload;
   s_.mc_running = true;
+  apply_comm_parameters();
   xfer_ = {};
   modified_ = {};
   upids_ = {};
@@ -555,7 +635,8 @@ std::optional<Answer> Drive::on_program(const Telegram& t, std::int64_t now) {
       busy_until_ns_ = std::max(busy_until_ns_, now + s_.timing.start_us * 1000);
       return a;
     }
-    default: return error_answer(st::bad_sub_id, now);
+    default:
+      return error_answer(st::bad_sub_id, now);
   }
 }
 
@@ -568,17 +649,21 @@ std::optional<Answer> Drive::on_error_info(const Telegram& t, std::int64_t now) 
   };
   switch (t.sub) {
     case 0x00:
-      return finish(codec::make_error_text_response(s_.macid, std::nullopt, text_of(s_.live.error_code)), 0, now);
+      return finish(
+          codec::make_error_text_response(s_.macid, std::nullopt, text_of(s_.live.error_code)), 0,
+          now);
     case 0x01: {
       if (t.data.size() < 2) return error_answer(st::bad_sub_id, now);
       const std::uint16_t code = get_u16le(t.data, 0);
       return finish(codec::make_error_text_response(s_.macid, code, text_of(code)), 0, now);
     }
     case 0x02:
-      return finish(codec::make_error_counters_response(
-                        s_.macid, {static_cast<std::uint16_t>(std::min<std::size_t>(s_.error_log.size(), 0xFFFF)),
-                                   s_.errors_occurred}),
-                    0, now);
+      return finish(
+          codec::make_error_counters_response(
+              s_.macid,
+              {static_cast<std::uint16_t>(std::min<std::size_t>(s_.error_log.size(), 0xFFFF)),
+               s_.errors_occurred}),
+          0, now);
     case 0x03: {
       if (t.data.size() < 2) return error_answer(st::bad_sub_id, now);
       const std::uint16_t n = get_u16le(t.data, 0);
@@ -586,7 +671,8 @@ std::optional<Answer> Drive::on_error_info(const Telegram& t, std::int64_t now) 
       if (n < s_.error_log.size()) e = s_.error_log[n];
       return finish(codec::make_error_log_entry_response(s_.macid, e), 0, now);
     }
-    default: return error_answer(st::bad_sub_id, now);
+    default:
+      return error_answer(st::bad_sub_id, now);
   }
 }
 

@@ -37,11 +37,12 @@ inline constexpr std::uint16_t parameter = ram_read | ram_write | rom_read | rom
 
 // Type codes of §10.
 namespace type {
-inline constexpr std::uint16_t boolean = 0x00, uint8 = 0x01, sint8 = 0x02, uint16 = 0x03, sint16 = 0x04,
-                               uint32 = 0x05, sint32 = 0x06, lin_float = 0x07, string = 0x08, cap_dir = 0x09,
-                               radio_dir_bit = 0x0A, radio_dir16 = 0x0B, enum_dir8 = 0x0C, enum_dir16 = 0x0D,
+inline constexpr std::uint16_t boolean = 0x00, uint8 = 0x01, sint8 = 0x02, uint16 = 0x03,
+                               sint16 = 0x04, uint32 = 0x05, sint32 = 0x06, lin_float = 0x07,
+                               string = 0x08, cap_dir = 0x09, radio_dir_bit = 0x0A,
+                               radio_dir16 = 0x0B, enum_dir8 = 0x0C, enum_dir16 = 0x0D,
                                stringlet = 0x0E, cap_dirlet = 0x0F;
-const char* name(std::uint16_t code);                       // "UINT16"; "?" when unknown
+const char* name(std::uint16_t code);                        // "UINT16"; "?" when unknown
 std::optional<std::uint16_t> from_name(std::string_view n);  // "UINT16" -> 3
 }  // namespace type
 
@@ -128,20 +129,41 @@ struct Options {
   bool reload_tables_on_start = true;
   // Busy while a delayed answer is pending or rebooting: requests are ignored.
   bool ignore_while_busy = true;
+  // Raw values of "Baud Rate Parameter Def" (2012h) -> baud rate. Seed 003 states
+  // only 8 = 38400 (§10.2 example); the others are this simulator's assumption
+  // (powers of two in the order §15 lists the rates). A code not in the table
+  // leaves the drive at its S1 switch rate.
+  std::map<std::uint32_t, unsigned> baud_codes = default_baud_codes();
   friend bool operator==(const Options&, const Options&) = default;
+
+  static std::map<std::uint32_t, unsigned> default_baud_codes() {
+    return {{1, 4800}, {2, 9600}, {4, 19200}, {8, 38400}, {16, 57600}, {32, 115200}};
+  }
 };
 
 // Everything the state file holds (see state_file.hpp, docs/simulator.md).
+// What the hex switches S1 (baud rate, §3.2.1) and S2 (ID, §3.2.2) select.
+struct HexSwitches {
+  std::uint8_t macid = 0x11;
+  unsigned baud = 57600;
+  friend bool operator==(const HexSwitches&, const HexSwitches&) = default;
+};
+
 struct DriveState {
-  std::uint8_t macid = 0x11;  // §15 "MACID Parameter Value" default 11h
+  // The MACID and line settings the drive uses now. A reset recomputes MACID
+  // and baud rate from the ROM values of 206Ch/2076h and 200Eh/2012h (source
+  // "By Parameter") or else from `switches` (Drive::apply_comm_parameters).
+  std::uint8_t macid = 0x11;       // §15 "MACID Parameter Value" default 11h
   transport::SerialSettings link;  // baud / parity / stop bits (device unused)
+  // Unset: the switches select what `macid` and `link.baud` hold at load.
+  std::optional<HexSwitches> switches;
   codec::ChecksumConfig checksum;
   codec::DefaultResponseLayout layout;
   bool mc_running = true;
   LiveValues live;
   std::map<std::uint16_t, Parameter> params;
   std::map<std::uint16_t, Curve> curves_ram, curves_flash;
-  std::map<std::uint16_t, Bytes> ct_ram, ct_flash;  // entry 0..255 -> bytes
+  std::map<std::uint16_t, Bytes> ct_ram, ct_flash;   // entry 0..255 -> bytes
   std::vector<codec::ErrorLogEntry> error_log;       // [0] = newest (§14.4)
   std::uint16_t errors_occurred = 0;                 // §14.3 total
   std::map<std::uint16_t, std::string> error_texts;  // code -> short text (§14.1/14.2)
@@ -156,13 +178,13 @@ struct DriveState {
 std::map<std::uint16_t, std::string> default_error_texts();
 
 struct DriveStats {
-  std::uint64_t telegrams_seen = 0;      // complete, valid telegrams for any ID
+  std::uint64_t telegrams_seen = 0;  // complete, valid telegrams for any ID
   std::uint64_t telegrams_for_me = 0;
   std::uint64_t ignored_other_id = 0;
-  std::uint64_t ignored_busy = 0;        // arrived while resetting / processing
-  std::uint64_t bad_frames = 0;          // framing / checksum errors seen
+  std::uint64_t ignored_busy = 0;  // arrived while resetting / processing
+  std::uint64_t bad_frames = 0;    // framing / checksum errors seen
   std::uint64_t answers = 0;
-  std::uint64_t error_answers = 0;       // answers with state C1..C9
+  std::uint64_t error_answers = 0;  // answers with state C1..C9
   std::uint64_t flash_saves = 0;
   std::uint64_t resets = 0;
 };
@@ -187,6 +209,12 @@ class Drive {
   // Power cycle / reset (§13.1): RAM := ROM, tables reloaded, transfers and
   // list cursors forgotten, MC running. With busy, deaf for timing.reset_us.
   void reset(std::int64_t now_ns, bool busy = true);
+  // Start-up choice of MACID and baud rate (seed 003 §3.2, §15): MACID Source
+  // Select 206Ch = 3 "By Parameter" (§10.2 example) takes MACID Parameter Value
+  // 2076h, else the switch ID; Baud Rate Source Select 200Eh = 2 "By Parameter"
+  // takes Baud Rate Parameter Def 2012h through Options::baud_codes, else the
+  // S1 rate. Called by reset(); ROM values, since RAM := ROM at start-up.
+  void apply_comm_parameters();
   // The next flash save takes timing.flash_save_max_us (fault injection).
   void make_next_flash_save_slow() { slow_flash_ = true; }
   bool busy(std::int64_t now_ns) const { return now_ns < busy_until_ns_; }
@@ -205,7 +233,15 @@ class Drive {
   bool transfer_active() const { return xfer_.kind != XferKind::none; }
 
  private:
-  enum class XferKind : std::uint8_t { none, curve_info_w, curve_data_w, curve_info_r, curve_data_r, ct_w, ct_r };
+  enum class XferKind : std::uint8_t {
+    none,
+    curve_info_w,
+    curve_data_w,
+    curve_info_r,
+    curve_data_r,
+    ct_w,
+    ct_r
+  };
   struct Transfer {
     XferKind kind = XferKind::none;
     std::uint16_t key = 0;
@@ -219,8 +255,10 @@ class Drive {
   };
 
   Answer finish(const codec::Telegram& reply, std::int64_t delay_us, std::int64_t now_ns);
-  codec::Telegram default_response(std::uint8_t comm_state, std::optional<std::uint32_t> value = {}) const;
-  codec::Telegram id_value(std::uint8_t sub, std::uint8_t st, std::uint16_t key, std::uint32_t value) const;
+  codec::Telegram default_response(std::uint8_t comm_state,
+                                   std::optional<std::uint32_t> value = {}) const;
+  codec::Telegram id_value(std::uint8_t sub, std::uint8_t st, std::uint16_t key,
+                           std::uint32_t value) const;
   std::optional<Answer> error_answer(std::uint8_t comm_state, std::int64_t now_ns);
 
   std::optional<Answer> on_response_request(const codec::Telegram& t, std::int64_t now);
@@ -238,7 +276,8 @@ class Drive {
   std::int64_t flash_save_duration_us();
   // Block transfer helpers. Return the answer state (04 more / 00 last).
   std::uint8_t block_write(Bytes& target, XferKind kind, std::uint16_t key, ByteView chunk);
-  std::uint8_t block_read(const Bytes& source, XferKind kind, std::uint16_t key, std::uint32_t& out);
+  std::uint8_t block_read(const Bytes& source, XferKind kind, std::uint16_t key,
+                          std::uint32_t& out);
 
   DriveState s_;
   codec::StreamDecoder decoder_;

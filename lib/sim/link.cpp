@@ -21,7 +21,8 @@ double byte_time_us(const transport::SerialSettings& line) {
 void VirtualClock::advance_ns(std::int64_t d) {
   if (d <= 0) return;
   now_ns_ += d;
-  if (real_time_) std::this_thread::sleep_until(anchor_ + std::chrono::nanoseconds(now_ns_ - anchor_virtual_ns_));
+  if (real_time_)
+    std::this_thread::sleep_until(anchor_ + std::chrono::nanoseconds(now_ns_ - anchor_virtual_ns_));
 }
 
 void VirtualClock::set_real_time(bool on) {
@@ -36,12 +37,25 @@ std::shared_ptr<Drive> Bus::drive(std::uint8_t macid) const {
   return nullptr;
 }
 
+namespace {
+// Bytes sent at other settings reach a UART as garbage or framing errors: the
+// drive hears nothing it can decode, and the master cannot decode its answers.
+bool same_line(const transport::SerialSettings& a, const transport::SerialSettings& b) {
+  return a.baud == b.baud && a.parity == b.parity && a.stop_bits == b.stop_bits;
+}
+}  // namespace
+
 std::vector<TimedAnswer> Bus::transmit(ByteView bytes, std::int64_t now_ns) {
   std::vector<TimedAnswer> out;
   for (const auto& d : drives_) {
-    for (auto& a : d->receive(bytes, now_ns)) out.push_back({d->macid(), std::move(a.bytes), now_ns + a.delay_ns});
+    if (!same_line(d->state().link, line_)) continue;
+    auto answers = d->receive(bytes, now_ns);
+    // A reset may have switched the drive to other settings before it answers.
+    if (!same_line(d->state().link, line_)) continue;
+    for (auto& a : answers) out.push_back({d->macid(), std::move(a.bytes), now_ns + a.delay_ns});
   }
-  std::stable_sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a.ready_ns < b.ready_ns; });
+  std::stable_sort(out.begin(), out.end(),
+                   [](const auto& a, const auto& b) { return a.ready_ns < b.ready_ns; });
   return out;
 }
 
@@ -58,14 +72,15 @@ std::vector<Fault> FaultPlan::take(std::size_t exchange, ByteView request) {
   return out;
 }
 
-SimLink::SimLink(std::shared_ptr<Drive> drive)
-    : bus_(std::make_shared<Bus>(drive->state().link)) {
+SimLink::SimLink(std::shared_ptr<Drive> drive) : bus_(std::make_shared<Bus>(drive->state().link)) {
   bus_->add(std::move(drive));
 }
 
 SimLink::SimLink(std::shared_ptr<Bus> bus) : bus_(std::move(bus)) {}
 
-Error SimLink::closed_error() const { return Error(Errc::link_closed, describe() + ": link closed"); }
+Error SimLink::closed_error() const {
+  return Error(Errc::link_closed, describe() + ": link closed");
+}
 
 std::int64_t SimLink::arrival_of(const Chunk& c, std::size_t i) const {
   return c.start_ns + wire_time_ns(i + 1, bus_->line());
@@ -75,6 +90,14 @@ std::size_t SimLink::pending_bytes() const {
   std::size_t n = 0;
   for (const auto& c : pending_) n += c.bytes.size();
   return n;
+}
+
+Result<void> SimLink::reconfigure(const transport::SerialSettings& s) {
+  LMCFG_TRY(transport::validate(s));
+  transport::SerialSettings line = s;
+  line.device.clear();
+  bus_->set_line(line);
+  return {};
 }
 
 std::string SimLink::describe() const {
@@ -133,7 +156,9 @@ Result<void> SimLink::write(ByteView bytes) {
           if (!target || d == target) d->make_next_flash_save_slow();
         ++fc.slow_flash_saves;
         break;
-      default: answer_faults.push_back(&f); break;
+      default:
+        answer_faults.push_back(&f);
+        break;
     }
   }
   if (drop_request) return {};
@@ -149,7 +174,8 @@ Result<void> SimLink::write(ByteView bytes) {
           break;
         case Fault::Kind::corrupt_answer:
           if (!a.bytes.empty()) {
-            const std::size_t i = f->byte_index < a.bytes.size() ? f->byte_index : a.bytes.size() / 2;
+            const std::size_t i =
+                f->byte_index < a.bytes.size() ? f->byte_index : a.bytes.size() / 2;
             a.bytes[i] = static_cast<std::uint8_t>(a.bytes[i] ^ f->xor_mask);
             ++fc.corrupted_answers;
           }
@@ -175,7 +201,8 @@ Result<void> SimLink::write(ByteView bytes) {
           ++fc.wrong_id_answers;
           break;
         }
-        default: break;
+        default:
+          break;
       }
     }
     if (dropped) continue;
@@ -195,7 +222,8 @@ Result<Bytes> SimLink::read_some(transport::Millis timeout) {
   if (closed_) return closed_error();
   ++stats_.read_calls;
   auto& clock = bus_->clock();
-  const std::int64_t deadline = clock.now_ns() + static_cast<std::int64_t>(timeout.count()) * 1'000'000;
+  const std::int64_t deadline =
+      clock.now_ns() + static_cast<std::int64_t>(timeout.count()) * 1'000'000;
   if (pending_.empty() || arrival_of(pending_.front(), 0) > deadline) {
     clock.advance_to_ns(deadline);
     ++stats_.read_timeouts;
@@ -209,7 +237,8 @@ Result<Bytes> SimLink::read_some(transport::Millis timeout) {
     pending_.pop_front();
   }
   // Anything else that has completely arrived meanwhile comes along.
-  while (!pending_.empty() && arrival_of(pending_.front(), pending_.front().bytes.size() - 1) <= clock.now_ns()) {
+  while (!pending_.empty() &&
+         arrival_of(pending_.front(), pending_.front().bytes.size() - 1) <= clock.now_ns()) {
     out.insert(out.end(), pending_.front().bytes.begin(), pending_.front().bytes.end());
     pending_.pop_front();
   }

@@ -90,7 +90,7 @@ struct Fault {
   std::size_t byte_index = static_cast<std::size_t>(-1);  // corrupt: default = middle byte
   std::uint8_t xor_mask = 0x01;
   Bytes garbage{0xFF, 0x00, 0x55, 0xAA};
-  std::uint8_t id = 0x00;  // wrong_id: the ID to answer from (0 = MACID XOR 1)
+  std::uint8_t id = 0x00;      // wrong_id: the ID to answer from (0 = MACID XOR 1)
   bool instant_reset = false;  // reset_drive: true = reboot in no time and answer
 
   static Fault drop_request() { return {Kind::drop_request}; }
@@ -126,12 +126,12 @@ struct Fault {
 };
 
 struct FaultCounters {
-  std::uint64_t dropped_requests = 0, dropped_answers = 0, corrupted_answers = 0, delayed_answers = 0,
-                garbage_bursts = 0, wrong_id_answers = 0, drive_resets = 0, slow_flash_saves = 0,
-                link_closures = 0;
+  std::uint64_t dropped_requests = 0, dropped_answers = 0, corrupted_answers = 0,
+                delayed_answers = 0, garbage_bursts = 0, wrong_id_answers = 0, drive_resets = 0,
+                slow_flash_saves = 0, link_closures = 0;
   std::uint64_t total() const {
-    return dropped_requests + dropped_answers + corrupted_answers + delayed_answers + garbage_bursts +
-           wrong_id_answers + drive_resets + slow_flash_saves + link_closures;
+    return dropped_requests + dropped_answers + corrupted_answers + delayed_answers +
+           garbage_bursts + wrong_id_answers + drive_resets + slow_flash_saves + link_closures;
   }
 };
 
@@ -157,14 +157,14 @@ class FaultPlan {
 };
 
 struct LinkStats {
-  std::uint64_t write_calls = 0;        // = exchanges
+  std::uint64_t write_calls = 0;  // = exchanges
   std::uint64_t read_calls = 0;
   std::uint64_t read_timeouts = 0;      // read_some calls that returned nothing
   std::uint64_t request_telegrams = 0;  // complete frames written by the master (any ID)
   std::uint64_t request_bytes = 0;
-  std::uint64_t answer_telegrams = 0;   // answers put on the line (after faults)
-  std::uint64_t answer_bytes = 0;       // bytes put on the line towards the master
-  std::uint64_t delivered_bytes = 0;    // bytes handed out by read_some
+  std::uint64_t answer_telegrams = 0;  // answers put on the line (after faults)
+  std::uint64_t answer_bytes = 0;      // bytes put on the line towards the master
+  std::uint64_t delivered_bytes = 0;   // bytes handed out by read_some
   std::uint64_t discarded_bytes = 0;
 };
 
@@ -179,6 +179,8 @@ class SimLink : public transport::Transport {
   void discard_input() override;
   std::string describe() const override;
   double byte_time_us() const override { return sim::byte_time_us(bus_->line()); }
+  // The master's side of the line: a drive hears only a master at its own settings.
+  Result<void> reconfigure(const transport::SerialSettings& s) override;
 
   VirtualClock& clock() { return bus_->clock(); }
   Bus& bus() { return *bus_; }

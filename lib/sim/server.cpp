@@ -17,14 +17,16 @@
 
 namespace lmcfg::sim {
 
-Result<void> serve(Drive& drive, transport::Transport& link, const ServeOptions& opt, ServeStats* stats) {
+Result<void> serve(Drive& drive, transport::Transport& link, const ServeOptions& opt,
+                   ServeStats* stats) {
   using clock = std::chrono::steady_clock;
   const auto start = clock::now();
   // Without real time the answers go out at once; the drive's clock then jumps
   // over the delays nobody waited for, so it is not "busy" afterwards.
   std::int64_t skipped_ns = 0;
   auto now_ns = [&] {
-    return std::chrono::duration_cast<std::chrono::nanoseconds>(clock::now() - start).count() + skipped_ns;
+    return std::chrono::duration_cast<std::chrono::nanoseconds>(clock::now() - start).count() +
+           skipped_ns;
   };
   struct Due {
     std::int64_t at_ns;
@@ -33,12 +35,18 @@ Result<void> serve(Drive& drive, transport::Transport& link, const ServeOptions&
   std::vector<Due> pending;  // sorted by at_ns
   ServeStats local;
   ServeStats& st = stats ? *stats : local;
+  auto wrong_baud = [&] {
+    if (!opt.master_baud) return false;
+    const auto b = opt.master_baud();
+    return b && *b != drive.state().link.baud;
+  };
 
   while (!(opt.should_stop && opt.should_stop())) {
     auto wait = opt.poll;
     if (!pending.empty()) {
       const auto left_ns = pending.front().at_ns - now_ns();
-      wait = std::min(wait, transport::Millis(std::max<std::int64_t>(0, (left_ns + 999'999) / 1'000'000)));
+      wait = std::min(
+          wait, transport::Millis(std::max<std::int64_t>(0, (left_ns + 999'999) / 1'000'000)));
     }
     auto r = link.read_some(wait);
     if (!r.ok()) return std::move(r).error();
@@ -46,6 +54,10 @@ Result<void> serve(Drive& drive, transport::Transport& link, const ServeOptions&
     if (!r->empty()) {
       st.bytes_in += r->size();
       if (opt.trace) opt.trace(false, *r);
+      if (wrong_baud()) {
+        st.bytes_at_wrong_baud += r->size();
+        r->clear();
+      }
       for (auto& a : drive.receive(*r, t)) {
         std::int64_t at = t;
         if (opt.real_time) {
@@ -61,6 +73,10 @@ Result<void> serve(Drive& drive, transport::Transport& link, const ServeOptions&
     while (!pending.empty() && pending.front().at_ns <= now_ns()) {
       Bytes out = std::move(pending.front().bytes);
       pending.erase(pending.begin());
+      if (wrong_baud()) {  // e.g. the drive rebooted at another rate before answering
+        st.bytes_at_wrong_baud += out.size();
+        continue;
+      }
       if (opt.trace) opt.trace(true, out);
       if (auto w = link.write(out); !w.ok()) return std::move(w).error();
       st.bytes_out += out.size();
@@ -70,7 +86,8 @@ Result<void> serve(Drive& drive, transport::Transport& link, const ServeOptions&
   return {};
 }
 
-Result<transport::UniqueFd> listen_tcp(const std::string& host, std::uint16_t port, std::uint16_t& bound_port) {
+Result<transport::UniqueFd> listen_tcp(const std::string& host, std::uint16_t port,
+                                       std::uint16_t& bound_port) {
   sockaddr_in addr{};
   addr.sin_family = AF_INET;
   addr.sin_port = htons(port);
@@ -81,8 +98,10 @@ Result<transport::UniqueFd> listen_tcp(const std::string& host, std::uint16_t po
   int one = 1;
   ::setsockopt(fd.get(), SOL_SOCKET, SO_REUSEADDR, &one, sizeof one);
   if (::bind(fd.get(), reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0)
-    return Error(Errc::io_error, "bind " + host + ":" + std::to_string(port) + ": " + std::strerror(errno));
-  if (::listen(fd.get(), 4) != 0) return Error(Errc::io_error, std::string("listen: ") + std::strerror(errno));
+    return Error(Errc::io_error,
+                 "bind " + host + ":" + std::to_string(port) + ": " + std::strerror(errno));
+  if (::listen(fd.get(), 4) != 0)
+    return Error(Errc::io_error, std::string("listen: ") + std::strerror(errno));
   socklen_t len = sizeof addr;
   if (::getsockname(fd.get(), reinterpret_cast<sockaddr*>(&addr), &len) != 0)
     return Error(Errc::io_error, std::string("getsockname: ") + std::strerror(errno));
@@ -93,10 +112,12 @@ Result<transport::UniqueFd> listen_tcp(const std::string& host, std::uint16_t po
 Result<transport::UniqueFd> accept_client(int listen_fd, transport::Millis timeout) {
   pollfd p{listen_fd, POLLIN, 0};
   const int rc = ::poll(&p, 1, static_cast<int>(timeout.count()));
-  if (rc < 0 && errno != EINTR) return Error(Errc::io_error, std::string("poll: ") + std::strerror(errno));
+  if (rc < 0 && errno != EINTR)
+    return Error(Errc::io_error, std::string("poll: ") + std::strerror(errno));
   if (rc <= 0) return transport::UniqueFd();
   transport::UniqueFd c(::accept4(listen_fd, nullptr, nullptr, SOCK_CLOEXEC));
-  if (!c && errno != EINTR && errno != EAGAIN) return Error(Errc::io_error, std::string("accept: ") + std::strerror(errno));
+  if (!c && errno != EINTR && errno != EAGAIN)
+    return Error(Errc::io_error, std::string("accept: ") + std::strerror(errno));
   return c;
 }
 

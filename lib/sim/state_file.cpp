@@ -36,7 +36,8 @@ std::uint32_t num(const json& v, const char* what) {
   }
   if (v.is_number_integer()) {
     const auto i = v.get<std::int64_t>();
-    if (i < INT32_MIN || i > static_cast<std::int64_t>(UINT32_MAX)) throw BadField(std::string(what) + ": out of range");
+    if (i < INT32_MIN || i > static_cast<std::int64_t>(UINT32_MAX))
+      throw BadField(std::string(what) + ": out of range");
     return static_cast<std::uint32_t>(static_cast<std::int32_t>(i));
   }
   if (v.is_string()) {
@@ -76,25 +77,34 @@ Bytes bytes_of(const json& v, const char* what) {
 
 const char* mode_name(codec::ChecksumMode m) {
   switch (m) {
-    case codec::ChecksumMode::none: return "none";
-    case codec::ChecksumMode::add: return "add";
-    case codec::ChecksumMode::crc_ccitt: return "crc_ccitt";
+    case codec::ChecksumMode::none:
+      return "none";
+    case codec::ChecksumMode::add:
+      return "add";
+    case codec::ChecksumMode::crc_ccitt:
+      return "crc_ccitt";
   }
   return "none";
 }
 const char* coverage_name(codec::ChecksumCoverage c) {
   switch (c) {
-    case codec::ChecksumCoverage::id_through_data: return "id_through_data";
-    case codec::ChecksumCoverage::start_through_data: return "start_through_data";
-    case codec::ChecksumCoverage::data_only: return "data_only";
+    case codec::ChecksumCoverage::id_through_data:
+      return "id_through_data";
+    case codec::ChecksumCoverage::start_through_data:
+      return "start_through_data";
+    case codec::ChecksumCoverage::data_only:
+      return "data_only";
   }
   return "id_through_data";
 }
 const char* policy_name(WritePolicy p) {
   switch (p) {
-    case WritePolicy::reject: return "reject";
-    case WritePolicy::clamp: return "clamp";
-    case WritePolicy::accept: return "accept";
+    case WritePolicy::reject:
+      return "reject";
+    case WritePolicy::clamp:
+      return "clamp";
+    case WritePolicy::accept:
+      return "accept";
   }
   return "reject";
 }
@@ -112,13 +122,16 @@ E enum_of(const json& o, const char* key, E def, const std::pair<const char*, E>
 
 json curves_json(const std::map<std::uint16_t, Curve>& m) {
   json a = json::array();
-  for (const auto& [id, c] : m) a.push_back({{"id", id}, {"info", to_hex(c.info)}, {"data", to_hex(c.data)}});
+  for (const auto& [id, c] : m)
+    a.push_back({{"id", id}, {"info", to_hex(c.info)}, {"data", to_hex(c.data)}});
   return a;
 }
 std::map<std::uint16_t, Curve> curves_of(const json& a) {
   if (!a.is_array()) throw BadField("curves: expected an array");
   std::map<std::uint16_t, Curve> m;
-  for (const auto& c : a) m[u16_or(c, "id", 0)] = Curve{bytes_of(c.at("info"), "curve info"), bytes_of(c.at("data"), "curve data")};
+  for (const auto& c : a)
+    m[u16_or(c, "id", 0)] =
+        Curve{bytes_of(c.at("info"), "curve info"), bytes_of(c.at("data"), "curve data")};
   return m;
 }
 json ct_json(const std::map<std::uint16_t, Bytes>& m) {
@@ -144,7 +157,12 @@ json to_json(const DriveState& s) {
   j["format"] = kStateFormat;
   j["version"] = kStateVersion;
   j["macid"] = hex8(s.macid);
-  j["link"] = {{"baud", s.link.baud}, {"parity", std::string(transport::parity_name(s.link.parity))}, {"stop_bits", s.link.stop_bits}};
+  j["link"] = {{"baud", s.link.baud},
+               {"parity", std::string(transport::parity_name(s.link.parity))},
+               {"stop_bits", s.link.stop_bits}};
+  // Written only when they select something else than what is active now.
+  if (s.switches && !(s.switches->macid == s.macid && s.switches->baud == s.link.baud))
+    j["switches"] = {{"macid", hex8(s.switches->macid)}, {"baud", s.switches->baud}};
   j["checksum"] = {{"mode", mode_name(s.checksum.mode)},
                    {"crc_init", hex16(s.checksum.crc_init)},
                    {"coverage", coverage_name(s.checksum.coverage)}};
@@ -175,6 +193,11 @@ json to_json(const DriveState& s) {
                   {"respond_on_end_missing", O.respond_on_end_missing},
                   {"reload_tables_on_start", O.reload_tables_on_start},
                   {"ignore_while_busy", O.ignore_while_busy}};
+  if (O.baud_codes != Options::default_baud_codes()) {
+    json codes = json::object();
+    for (const auto& [code, rate] : O.baud_codes) codes[std::to_string(code)] = rate;
+    j["options"]["baud_codes"] = std::move(codes);
+  }
   json params = json::array();
   for (const auto& [upid, p] : s.params) {
     json q = {{"upid", hex16(upid)}};
@@ -193,7 +216,8 @@ json to_json(const DriveState& s) {
   j["curves"] = {{"flash", curves_json(s.curves_flash)}, {"ram", curves_json(s.curves_ram)}};
   j["command_table"] = {{"flash", ct_json(s.ct_flash)}, {"ram", ct_json(s.ct_ram)}};
   json log = json::array();
-  for (const auto& e : s.error_log) log.push_back({{"code", hex16(e.code)}, {"ms", e.millis}, {"hours", e.hours}});
+  for (const auto& e : s.error_log)
+    log.push_back({{"code", hex16(e.code)}, {"ms", e.millis}, {"hours", e.hours}});
   j["error_log"] = {{"occurred", s.errors_occurred}, {"entries", std::move(log)}};
   json texts = json::object();
   for (const auto& [code, text] : s.error_texts) texts[hex16(code)] = text;
@@ -208,23 +232,39 @@ Result<DriveState> from_json(const json& j) {
       throw BadField(std::string("format: expected \"") + kStateFormat + "\"");
     const auto version = i64_or(j, "version", 0);
     if (version != kStateVersion)
-      return Error(Errc::unsupported_version, "sim state version " + std::to_string(version) + " (this build reads 1)");
+      return Error(Errc::unsupported_version,
+                   "sim state version " + std::to_string(version) + " (this build reads 1)");
     DriveState s;
     const auto macid = num_or(j, "macid", 0x11);
     if (macid > 0xFF) throw BadField("macid: exceeds FFh");
     s.macid = static_cast<std::uint8_t>(macid);
     if (auto it = j.find("link"); it != j.end()) {
       s.link.baud = num_or(*it, "baud", 57600);
-      s.link.parity = enum_of(*it, "parity", transport::Parity::none,
-                              {std::pair{"none", transport::Parity::none}, std::pair{"even", transport::Parity::even},
-                               std::pair{"odd", transport::Parity::odd}});
+      s.link.parity = enum_of(
+          *it, "parity", transport::Parity::none,
+          {std::pair{"none", transport::Parity::none}, std::pair{"even", transport::Parity::even},
+           std::pair{"odd", transport::Parity::odd}});
       s.link.stop_bits = num_or(*it, "stop_bits", 1);
-      if (auto v = transport::validate(s.link); !v.ok()) throw BadField("link: " + v.error().message);
+      if (auto v = transport::validate(s.link); !v.ok())
+        throw BadField("link: " + v.error().message);
+    }
+    if (auto it = j.find("switches"); it != j.end()) {
+      HexSwitches sw{s.macid, s.link.baud};
+      const auto id = num_or(*it, "macid", sw.macid);
+      if (id > 0xFF) throw BadField("switches.macid: exceeds FFh");
+      sw.macid = static_cast<std::uint8_t>(id);
+      transport::SerialSettings probe = s.link;
+      probe.baud = num_or(*it, "baud", sw.baud);
+      if (auto v = transport::validate(probe); !v.ok())
+        throw BadField("switches: " + v.error().message);
+      sw.baud = probe.baud;
+      s.switches = sw;
     }
     if (auto it = j.find("checksum"); it != j.end()) {
-      s.checksum.mode = enum_of(*it, "mode", codec::ChecksumMode::none,
-                                {std::pair{"none", codec::ChecksumMode::none}, std::pair{"add", codec::ChecksumMode::add},
-                                 std::pair{"crc_ccitt", codec::ChecksumMode::crc_ccitt}});
+      s.checksum.mode = enum_of(
+          *it, "mode", codec::ChecksumMode::none,
+          {std::pair{"none", codec::ChecksumMode::none}, std::pair{"add", codec::ChecksumMode::add},
+           std::pair{"crc_ccitt", codec::ChecksumMode::crc_ccitt}});
       s.checksum.crc_init = u16_or(*it, "crc_init", 0xFFFF);
       s.checksum.coverage =
           enum_of(*it, "coverage", codec::ChecksumCoverage::id_through_data,
@@ -273,17 +313,34 @@ Result<DriveState> from_json(const json& j) {
       };
       O.empty_list_state = u8_or("empty_list_state", O.empty_list_state);
       O.empty_list_upid = u16_or(*it, "empty_list_upid", O.empty_list_upid);
-      O.missing_curve_zero_sizes = bool_or(*it, "missing_curve_zero_sizes", O.missing_curve_zero_sizes);
-      O.write_policy = enum_of(*it, "write_policy", O.write_policy,
-                               {std::pair{"reject", WritePolicy::reject}, std::pair{"clamp", WritePolicy::clamp},
-                                std::pair{"accept", WritePolicy::accept}});
+      O.missing_curve_zero_sizes =
+          bool_or(*it, "missing_curve_zero_sizes", O.missing_curve_zero_sizes);
+      O.write_policy =
+          enum_of(*it, "write_policy", O.write_policy,
+                  {std::pair{"reject", WritePolicy::reject}, std::pair{"clamp", WritePolicy::clamp},
+                   std::pair{"accept", WritePolicy::accept}});
       O.reject_state = u8_or("reject_state", O.reject_state);
       O.flash_refused_state = u8_or("flash_refused_state", O.flash_refused_state);
       O.missing_object_state = u8_or("missing_object_state", O.missing_object_state);
-      O.respond_on_checksum_error = bool_or(*it, "respond_on_checksum_error", O.respond_on_checksum_error);
+      O.respond_on_checksum_error =
+          bool_or(*it, "respond_on_checksum_error", O.respond_on_checksum_error);
       O.respond_on_end_missing = bool_or(*it, "respond_on_end_missing", O.respond_on_end_missing);
       O.reload_tables_on_start = bool_or(*it, "reload_tables_on_start", O.reload_tables_on_start);
       O.ignore_while_busy = bool_or(*it, "ignore_while_busy", O.ignore_while_busy);
+      if (auto bc = it->find("baud_codes"); bc != it->end()) {
+        if (!bc->is_object())
+          throw BadField("options.baud_codes: expected an object of code -> baud rate");
+        O.baud_codes.clear();
+        for (const auto& [code, rate] : bc->items()) {
+          auto c = parse_number(code, true);
+          if (!c) throw BadField("options.baud_codes: key '" + code + "' is not a number");
+          transport::SerialSettings probe;
+          probe.baud = num(rate, "options.baud_codes value");
+          if (auto v = transport::validate(probe); !v.ok())
+            throw BadField("options.baud_codes: " + v.error().message);
+          O.baud_codes[*c] = probe.baud;
+        }
+      }
     }
     if (auto it = j.find("parameters"); it != j.end()) {
       if (!it->is_array()) throw BadField("parameters: expected an array");
@@ -306,7 +363,8 @@ Result<DriveState> from_json(const json& j) {
         p.def = num_or(q, "default", 0);
         p.rom = num_or(q, "rom", p.def);
         p.ram = num_or(q, "ram", p.rom);
-        if (s.params.count(p.upid)) throw BadField("parameters: UPID " + hex16(p.upid) + " given twice");
+        if (s.params.count(p.upid))
+          throw BadField("parameters: UPID " + hex16(p.upid) + " given twice");
         s.params[p.upid] = std::move(p);
       }
     }
@@ -330,7 +388,8 @@ Result<DriveState> from_json(const json& j) {
       if (!it->is_object()) throw BadField("error_texts: expected an object of code -> text");
       for (const auto& [k, v] : it->items()) {
         auto code = parse_number(k, true);
-        if (!code || *code > 0xFFFF || !v.is_string()) throw BadField("error_texts: bad entry '" + k + "'");
+        if (!code || *code > 0xFFFF || !v.is_string())
+          throw BadField("error_texts: bad entry '" + k + "'");
         s.error_texts[static_cast<std::uint16_t>(*code)] = v.get<std::string>();
       }
     }
@@ -364,7 +423,8 @@ Result<void> save_state(const DriveState& s, const std::string& path) {
     out << to_json(s).dump(2) << '\n';
     if (!out.flush()) return Error(Errc::file_error, "cannot write " + tmp);
   }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) return Error(Errc::file_error, "cannot rename " + tmp + " to " + path);
+  if (std::rename(tmp.c_str(), path.c_str()) != 0)
+    return Error(Errc::file_error, "cannot rename " + tmp + " to " + path);
   return {};
 }
 

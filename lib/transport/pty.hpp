@@ -19,6 +19,12 @@ void make_serial_termios(::termios& t, const SerialSettings& s);
 // clear PARENB whatever is asked, so open_serial does not insist on parity there.
 bool is_pty_slave(int fd);
 
+// The output speed of a terminal as one of kSerialBaudRates; nullopt when it is
+// another speed or `fd` is not a terminal. On Linux the master side of a
+// pseudo-terminal reports the speed its slave was set to, which lets the
+// simulated drive hear only a master that talks at the drive's baud rate.
+std::optional<unsigned> line_baud(int fd);
+
 // Owns one file descriptor; closes it on destruction. Move-only.
 class UniqueFd {
  public:
@@ -71,6 +77,12 @@ class FdTransport : public Transport {
   // Closes the descriptor now; later calls give Errc::link_closed.
   void close() { fd_.reset(); }
 
+ protected:
+  void set_line_description(std::string description, double byte_time_us) {
+    description_ = std::move(description);
+    byte_time_us_ = byte_time_us;
+  }
+
  private:
   Error os_error(const char* what, int err) const;
 
@@ -83,10 +95,10 @@ class FdTransport : public Transport {
 };
 
 struct PtyPair {
-  UniqueFd master;          // raw mode, O_NONBLOCK, close-on-exec
-  UniqueFd slave;           // kept open so the master does not see a hang-up while no
-                            // client has the slave open; reset() it to drop it
-  std::string slave_path;   // "/dev/pts/7": give this to open_serial
+  UniqueFd master;         // raw mode, O_NONBLOCK, close-on-exec
+  UniqueFd slave;          // kept open so the master does not see a hang-up while no
+                           // client has the slave open; reset() it to drop it
+  std::string slave_path;  // "/dev/pts/7": give this to open_serial
 };
 // openpty(3); both ends raw (cfmakeraw on the shared line settings), close-on-exec.
 Result<PtyPair> open_pty();

@@ -18,13 +18,20 @@ namespace {
 
 speed_t speed_constant(unsigned baud) {
   switch (baud) {
-    case 4800: return B4800;
-    case 9600: return B9600;
-    case 19200: return B19200;
-    case 38400: return B38400;
-    case 57600: return B57600;
-    case 115200: return B115200;
-    default: return B0;
+    case 4800:
+      return B4800;
+    case 9600:
+      return B9600;
+    case 19200:
+      return B19200;
+    case 38400:
+      return B38400;
+    case 57600:
+      return B57600;
+    case 115200:
+      return B115200;
+    default:
+      return B0;
   }
 }
 
@@ -37,17 +44,16 @@ std::string allowed_bauds() {
   return s;
 }
 
-// Removes the exclusive-use flag before the descriptor is closed, so the next
-// open of the same device (also by this process) is not refused.
-class SerialTransport final : public FdTransport {
- public:
-  using FdTransport::FdTransport;
-  ~SerialTransport() override {
-    if (fd() >= 0) ::ioctl(fd(), TIOCNXCL);
-  }
-};
-
 }  // namespace
+
+std::optional<unsigned> line_baud(int fd) {
+  termios tio{};
+  if (::tcgetattr(fd, &tio) != 0) return std::nullopt;
+  const speed_t speed = ::cfgetospeed(&tio);
+  for (const unsigned b : kSerialBaudRates)
+    if (speed_constant(b) == speed) return b;
+  return std::nullopt;
+}
 
 void make_serial_termios(termios& tio, const SerialSettings& s) {
   ::cfmakeraw(&tio);
@@ -68,14 +74,18 @@ bool is_pty_slave(int fd) {
   struct stat st {};
   if (::fstat(fd, &st) != 0 || !S_ISCHR(st.st_mode)) return false;
   const unsigned maj = major(st.st_rdev);
-  return maj >= 136 && maj <= 143;  // UNIX98_PTY_SLAVE_MAJOR .. + 7 (Documentation/admin-guide/devices.txt)
+  return maj >= 136 &&
+         maj <= 143;  // UNIX98_PTY_SLAVE_MAJOR .. + 7 (Documentation/admin-guide/devices.txt)
 }
 
 std::string_view parity_name(Parity p) noexcept {
   switch (p) {
-    case Parity::none: return "none";
-    case Parity::even: return "even";
-    case Parity::odd: return "odd";
+    case Parity::none:
+      return "none";
+    case Parity::even:
+      return "even";
+    case Parity::odd:
+      return "odd";
   }
   return "none";
 }
@@ -92,14 +102,15 @@ unsigned bits_per_byte(const SerialSettings& s) {
 }
 
 Result<void> validate(const SerialSettings& s) {
-  if (std::find(kSerialBaudRates.begin(), kSerialBaudRates.end(), s.baud) == kSerialBaudRates.end()) {
+  if (std::find(kSerialBaudRates.begin(), kSerialBaudRates.end(), s.baud) ==
+      kSerialBaudRates.end()) {
     return Error(Errc::invalid_argument, "unsupported baud rate " + std::to_string(s.baud) +
                                              " (allowed: " + allowed_bauds() + ")");
   }
   if (s.parity != Parity::none && s.parity != Parity::even && s.parity != Parity::odd) {
-    return Error(Errc::invalid_argument,
-                 "unsupported parity value " + std::to_string(static_cast<unsigned>(s.parity)) +
-                     " (allowed: none, even, odd)");
+    return Error(Errc::invalid_argument, "unsupported parity value " +
+                                             std::to_string(static_cast<unsigned>(s.parity)) +
+                                             " (allowed: none, even, odd)");
   }
   if (s.stop_bits != 1 && s.stop_bits != 2) {
     return Error(Errc::invalid_argument,
@@ -113,35 +124,27 @@ std::string format_settings(const SerialSettings& s) {
   return std::to_string(s.baud) + " 8" + p + std::to_string(s.stop_bits);
 }
 
-Result<std::unique_ptr<Transport>> open_serial(const SerialSettings& s) {
-  if (s.device.empty()) return Error(Errc::invalid_argument, "serial device path is empty");
-  LMCFG_TRY(validate(s));
-  const std::string desc = "serial " + s.device + " " + format_settings(s);
+Result<void> Transport::reconfigure(const SerialSettings&) {
+  return Error(Errc::not_supported,
+               describe() + ": the line settings of this link cannot be changed from here");
+}
+
+namespace {
+
+std::string serial_description(const SerialSettings& s) {
+  return "serial " + s.device + " " + format_settings(s);
+}
+
+// Applies `s` to an open terminal and reads the settings back: tcsetattr
+// succeeds when any one change was applied.
+Result<void> apply_line_settings(int f, const SerialSettings& s, const std::string& desc) {
   auto fail = [&](const std::string& what, int err) {
     return Error(Errc::io_error, desc + ": " + what + ": " + std::strerror(err));
   };
-
-  // O_NONBLOCK so the open does not wait for carrier; it stays set (reads poll).
-  UniqueFd fd(::open(s.device.c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK | O_CLOEXEC));
-  if (!fd) {
-    const int err = errno;
-    return Error(err == ENOENT ? Errc::not_found : Errc::io_error,
-                 "cannot open serial port " + s.device + ": " + std::strerror(err));
-  }
-  if (::isatty(fd.get()) != 1)
-    return Error(Errc::invalid_argument, "cannot use " + s.device + " as a serial port: not a terminal device");
-  if (::ioctl(fd.get(), TIOCEXCL) != 0) return fail("cannot get exclusive access (TIOCEXCL)", errno);
-  // From here on the fd is owned by the transport, whose destructor clears TIOCEXCL.
-  const double byte_us = 1e6 * bits_per_byte(s) / static_cast<double>(s.baud);
-  auto t = std::make_unique<SerialTransport>(std::move(fd), desc, byte_us);
-  const int f = t->fd();
-
   termios tio{};
   if (::tcgetattr(f, &tio) != 0) return fail("tcgetattr failed", errno);
   make_serial_termios(tio, s);
   if (::tcsetattr(f, TCSANOW, &tio) != 0) return fail("tcsetattr failed", errno);
-
-  // tcsetattr succeeds when any one change was applied: read back and compare.
   termios got{};
   if (::tcgetattr(f, &got) != 0) return fail("tcgetattr failed", errno);
   tcflag_t mask = CSIZE | PARENB | PARODD | CSTOPB | CRTSCTS | CLOCAL | CREAD;
@@ -152,6 +155,58 @@ Result<std::unique_ptr<Transport>> open_serial(const SerialSettings& s) {
     return Error(Errc::io_error, desc + ": the device did not accept the line settings");
   }
   ::tcflush(f, TCIOFLUSH);  // drop whatever arrived before the settings applied
+  return {};
+}
+
+// Removes the exclusive-use flag before the descriptor is closed, so the next
+// open of the same device (also by this process) is not refused.
+class SerialTransport final : public FdTransport {
+ public:
+  SerialTransport(UniqueFd fd, SerialSettings s)
+      : FdTransport(std::move(fd), serial_description(s),
+                    1e6 * bits_per_byte(s) / static_cast<double>(s.baud)),
+        settings_(std::move(s)) {}
+  ~SerialTransport() override {
+    if (fd() >= 0) ::ioctl(fd(), TIOCNXCL);
+  }
+
+  Result<void> reconfigure(const SerialSettings& in) override {
+    SerialSettings s = in;
+    s.device = settings_.device;
+    LMCFG_TRY(validate(s));
+    LMCFG_TRY(apply_line_settings(fd(), s, serial_description(s)));
+    settings_ = s;
+    set_line_description(serial_description(s),
+                         1e6 * bits_per_byte(s) / static_cast<double>(s.baud));
+    return {};
+  }
+
+ private:
+  SerialSettings settings_;
+};
+
+}  // namespace
+
+Result<std::unique_ptr<Transport>> open_serial(const SerialSettings& s) {
+  if (s.device.empty()) return Error(Errc::invalid_argument, "serial device path is empty");
+  LMCFG_TRY(validate(s));
+  // O_NONBLOCK so the open does not wait for carrier; it stays set (reads poll).
+  UniqueFd fd(::open(s.device.c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK | O_CLOEXEC));
+  if (!fd) {
+    const int err = errno;
+    return Error(err == ENOENT ? Errc::not_found : Errc::io_error,
+                 "cannot open serial port " + s.device + ": " + std::strerror(err));
+  }
+  if (::isatty(fd.get()) != 1)
+    return Error(Errc::invalid_argument,
+                 "cannot use " + s.device + " as a serial port: not a terminal device");
+  if (::ioctl(fd.get(), TIOCEXCL) != 0)
+    return Error(Errc::io_error,
+                 serial_description(s) +
+                     ": cannot get exclusive access (TIOCEXCL): " + std::strerror(errno));
+  // From here on the fd is owned by the transport, whose destructor clears TIOCEXCL.
+  auto t = std::make_unique<SerialTransport>(std::move(fd), s);
+  LMCFG_TRY(apply_line_settings(t->fd(), s, serial_description(s)));
   return std::unique_ptr<Transport>(std::move(t));
 }
 

@@ -29,8 +29,10 @@ class FileTrace final : public TraceSink {
     std::size_t off = 0;
     for (int tries = 0; off < line.size() && tries < 100; ++tries) {
       const ssize_t n = ::write(fd_.get(), line.data() + off, line.size() - off);
-      if (n > 0) off += static_cast<std::size_t>(n);
-      else if (n < 0 && errno != EINTR) break;  // tracing is best effort
+      if (n > 0)
+        off += static_cast<std::size_t>(n);
+      else if (n < 0 && errno != EINTR)
+        break;  // tracing is best effort
     }
   }
 
@@ -57,6 +59,7 @@ class TracedTransport final : public Transport {
   void discard_input() override { inner_->discard_input(); }
   std::string describe() const override { return inner_->describe(); }
   double byte_time_us() const override { return inner_->byte_time_us(); }
+  Result<void> reconfigure(const SerialSettings& s) override { return inner_->reconfigure(s); }
 
  private:
   std::unique_ptr<Transport> inner_;
@@ -79,7 +82,8 @@ std::unique_ptr<TraceSink> make_file_trace(const std::string& path) {
   return std::move(r).value();
 }
 
-std::unique_ptr<Transport> make_traced(std::unique_ptr<Transport> inner, std::shared_ptr<TraceSink> sink) {
+std::unique_ptr<Transport> make_traced(std::unique_ptr<Transport> inner,
+                                       std::shared_ptr<TraceSink> sink) {
   if (!sink || !inner) return inner;
   return std::make_unique<TracedTransport>(std::move(inner), std::move(sink));
 }

@@ -7,8 +7,8 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
-#include <optional>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -20,6 +20,8 @@ namespace lmcfg::transport {
 
 using Clock = std::chrono::steady_clock;
 using Millis = std::chrono::milliseconds;
+
+struct SerialSettings;
 
 class Transport {
  public:
@@ -36,6 +38,11 @@ class Transport {
   // Wire time of one byte in microseconds for this link's settings, if it has one
   // (serial and simulated links); 0 when unknown (TCP).
   virtual double byte_time_us() const { return 0.0; }
+  // Changes the line settings (baud, parity, stop bits; `device` is ignored) of
+  // an open link, e.g. to follow a drive whose restored LinRS parameters became
+  // active at its reset. Errc::not_supported where the transport has no line of
+  // its own (a TCP gateway's serial side is configured in the gateway).
+  virtual Result<void> reconfigure(const SerialSettings& s);
 };
 
 enum class Parity : std::uint8_t { none, even, odd };
@@ -65,7 +72,8 @@ std::string format_settings(const SerialSettings& s);
 Result<std::unique_ptr<Transport>> open_serial(const SerialSettings& s);
 
 // TCP client for serial-to-Ethernet gateways ("host:port").
-Result<std::unique_ptr<Transport>> open_tcp(const std::string& host, std::uint16_t port, Millis connect_timeout);
+Result<std::unique_ptr<Transport>> open_tcp(const std::string& host, std::uint16_t port,
+                                            Millis connect_timeout);
 
 // Wraps another transport and writes every chunk as a timestamped hex line
 // ("12.345678 TX 01 11 05 02 00 03 A2 13 04") to `sink`; for bug reports (--trace).
@@ -82,7 +90,8 @@ Result<std::unique_ptr<TraceSink>> open_file_trace(const std::string& path);
 // TX chunks are recorded before they are handed to `inner` (an attempted write counts),
 // RX chunks when read_some returns bytes; empty chunks are not recorded.
 // A null sink returns `inner` unchanged. describe()/byte_time_us() are forwarded.
-std::unique_ptr<Transport> make_traced(std::unique_ptr<Transport> inner, std::shared_ptr<TraceSink> sink);
+std::unique_ptr<Transport> make_traced(std::unique_ptr<Transport> inner,
+                                       std::shared_ptr<TraceSink> sink);
 
 // In-memory sink for tests ("zero write telegrams on the wire"). Thread-safe.
 struct TraceRecord {

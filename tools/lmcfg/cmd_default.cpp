@@ -1,4 +1,5 @@
-// lmcfg default: set chosen layers to factory defaults, optionally delete curves and the command table.
+// lmcfg default: set chosen layers to factory defaults, optionally delete curves and the command
+// table.
 #include <unistd.h>
 
 #include <cstdio>
@@ -31,15 +32,19 @@ int run(DefaultCli& o) {
   d.command_table = o.ct;
   d.include_comm = o.include_comm;
   if (o.layers.empty() && !o.curves && !o.ct) {
-    return fail("default", Error(Errc::invalid_argument, "nothing to do: give --layers, --curves and/or --ct"));
+    return fail("default", Error(Errc::invalid_argument,
+                                 "nothing to do: give --layers, --curves and/or --ct"));
   }
   if (!o.yes) {
     if (!::isatty(STDIN_FILENO)) {
-      return fail("default", Error(Errc::invalid_argument, "refusing to default a drive without --yes when stdin is not a terminal"));
+      return fail("default",
+                  Error(Errc::invalid_argument,
+                        "refusing to default a drive without --yes when stdin is not a terminal"));
     }
-    std::fprintf(stderr, "Set %s%s%s of drive %s on %s to factory defaults? [y/N] ", o.layers.empty() ? "" : ("layers " + o.layers).c_str(),
-                 o.curves ? ", delete all curves" : "", o.ct ? ", delete the command table" : "", o.common.id.c_str(),
-                 o.common.port.c_str());
+    std::fprintf(stderr, "Set %s%s%s of drive %s on %s to factory defaults? [y/N] ",
+                 o.layers.empty() ? "" : ("layers " + o.layers).c_str(),
+                 o.curves ? ", delete all curves" : "", o.ct ? ", delete the command table" : "",
+                 o.common.id.c_str(), o.common.port.c_str());
     std::string answer;
     std::getline(std::cin, answer);
     if (answer != "y" && answer != "Y" && answer != "yes") {
@@ -59,13 +64,19 @@ int run(DefaultCli& o) {
   if (!closed.ok()) return fail("default", closed.error());
   if (!o.common.quiet) {
     for (const auto& s : rep->done) std::fprintf(stderr, "done: %s\n", s.c_str());
+    if (rep->link_may_change)
+      std::fprintf(stderr,
+                   "note: communication parameters are at their factory defaults: the drive now "
+                   "takes its MACID "
+                   "and baud rate from its hex switches S2 and S1 (seed 003 §3.2)\n");
   }
   return kOk;
 }
 
 const Register reg(40, [](CLI::App& app, int& exit_code) {
   auto o = std::make_shared<DefaultCli>();
-  auto* sub = app.add_subcommand("default", "Set layers to factory defaults; optionally delete curves and command table");
+  auto* sub = app.add_subcommand(
+      "default", "Set layers to factory defaults; optionally delete curves and command table");
   sub->footer(
       "Examples:\n"
       "  lmcfg default --port /dev/ttyUSB0 --layers mc,appl --yes\n"
@@ -77,7 +88,9 @@ const Register reg(40, [](CLI::App& app, int& exit_code) {
   sub->add_option("--layers", o->layers, "layers to default: os,mc,intf,appl");
   sub->add_flag("--curves", o->curves, "delete all curves (and save to flash)");
   sub->add_flag("--ct", o->ct, "delete all command table entries (and save to flash)");
-  sub->add_flag("--include-comm", o->include_comm, "also default communication parameters (the drive may stop answering on these settings)");
+  sub->add_flag(
+      "--include-comm", o->include_comm,
+      "also default communication parameters (the drive may stop answering on these settings)");
   sub->add_flag("--yes,-y", o->yes, "do not ask for confirmation");
   sub->callback([o, &exit_code] { exit_code = run(*o); });
 });

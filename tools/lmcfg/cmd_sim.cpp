@@ -61,14 +61,17 @@ int run(const SimArgs& a) {
   opt.real_time = !a.fast;
   opt.should_stop = [&] { return g_stop != 0 || (a.until_stdin_eof && stdin_at_eof()); };
   if (a.verbose) {
-    opt.trace = [](bool tx, ByteView b) { std::fprintf(stderr, "%s %s\n", tx ? "TX" : "RX", to_hex(b).c_str()); };
+    opt.trace = [](bool tx, ByteView b) {
+      std::fprintf(stderr, "%s %s\n", tx ? "TX" : "RX", to_hex(b).c_str());
+    };
   }
 
   int rc = kOk;
   if (!a.tcp.empty()) {
     const auto colon = a.tcp.rfind(':');
     const std::string host = colon == std::string::npos ? "127.0.0.1" : a.tcp.substr(0, colon);
-    const auto port = parse_number(colon == std::string::npos ? a.tcp : a.tcp.substr(colon + 1), false);
+    const auto port =
+        parse_number(colon == std::string::npos ? a.tcp : a.tcp.substr(colon + 1), false);
     if (!port || *port > 65535) {
       std::fprintf(stderr, "lmcfg sim: --tcp expects HOST:PORT, got '%s'\n", a.tcp.c_str());
       return kInvalidInput;
@@ -103,6 +106,18 @@ int run(const SimArgs& a) {
     std::printf("%s\n", p->slave_path.c_str());
     std::fflush(stdout);
     transport::FdTransport t(std::move(p->master), "pty " + p->slave_path);
+    // The drive hears only a master at its own baud rate; say so once per change.
+    opt.master_baud = [&t, &drive, told = 0u]() mutable -> std::optional<unsigned> {
+      auto b = transport::line_baud(t.fd());
+      if (b && *b != drive.state().link.baud && told != *b) {
+        std::fprintf(
+            stderr,
+            "lmcfg sim: the master talks at %u Bd; the drive listens at %u Bd and hears nothing\n",
+            *b, drive.state().link.baud);
+        told = *b;
+      }
+      return b;
+    };
     auto r = sim::serve(drive, t, opt);
     if (!r.ok()) {
       std::fprintf(stderr, "lmcfg sim: %s\n", r.error().message.c_str());
@@ -120,13 +135,19 @@ int run(const SimArgs& a) {
 
 const Register reg(90, [](CLI::App& app, int& exit_code) {
   auto args = std::make_shared<SimArgs>();
-  auto* cmd = app.add_subcommand("sim", "Serve a simulated LinMot drive (LinRS) on a pseudo-terminal or TCP port");
-  cmd->add_option("--state", args->state, "Sim state file (JSON, see docs/simulator.md)")->required();
-  auto* pty = cmd->add_flag("--pty", args->pty, "Serve on a new pseudo-terminal; prints its slave path (default)");
-  cmd->add_option("--tcp", args->tcp, "Listen on HOST:PORT (loopback; port 0 = any); prints the port")
+  auto* cmd = app.add_subcommand(
+      "sim", "Serve a simulated LinMot drive (LinRS) on a pseudo-terminal or TCP port");
+  cmd->add_option("--state", args->state, "Sim state file (JSON, see docs/simulator.md)")
+      ->required();
+  auto* pty = cmd->add_flag("--pty", args->pty,
+                            "Serve on a new pseudo-terminal; prints its slave path (default)");
+  cmd->add_option("--tcp", args->tcp,
+                  "Listen on HOST:PORT (loopback; port 0 = any); prints the port")
       ->excludes(pty);
-  cmd->add_flag("--save-on-exit", args->save_on_exit, "Write the drive state back to --state on exit");
-  cmd->add_flag("--until-stdin-eof", args->until_stdin_eof, "Also stop when stdin reaches end of file");
+  cmd->add_flag("--save-on-exit", args->save_on_exit,
+                "Write the drive state back to --state on exit");
+  cmd->add_flag("--until-stdin-eof", args->until_stdin_eof,
+                "Also stop when stdin reaches end of file");
   cmd->add_flag("--fast", args->fast, "Answer at once instead of after the modelled delays");
   cmd->add_flag("-v,--verbose", args->verbose, "Trace every chunk to stderr");
   cmd->callback([args, &exit_code] { exit_code = run(*args); });

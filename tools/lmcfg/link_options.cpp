@@ -11,22 +11,30 @@
 namespace lmcfg::cli {
 
 void add_link_options(CLI::App* sub, CommonOptions& o) {
-  sub->add_option("--port", o.port, "/dev/ttyUSB0, tcp://host:port (serial gateway) or sim:STATE.json (simulated drive)")
+  sub->add_option(
+         "--port", o.port,
+         "/dev/ttyUSB0, tcp://host:port (serial gateway) or sim:STATE.json (simulated drive)")
       ->required();
-  sub->add_option("--baud", o.baud, "baud rate: 4800, 9600, 19200, 38400, 57600, 115200")->capture_default_str();
+  sub->add_option("--baud", o.baud, "baud rate: 4800, 9600, 19200, 38400, 57600, 115200")
+      ->capture_default_str();
   sub->add_option("--parity", o.parity, "none, even or odd")->capture_default_str();
   sub->add_option("--stop-bits", o.stop_bits, "1 or 2")->capture_default_str();
-  sub->add_option("--id", o.id, "drive MACID, hex (0x11, 11h) or decimal (17)")->capture_default_str();
-  sub->add_option("--checksum", o.checksum, "none, add, crc (= crc-ffff) or crc-0000")->capture_default_str();
-  sub->add_option("--timeout-ms", o.timeout_ms, "answer deadline of an ordinary request")->capture_default_str();
-  sub->add_option("--retries", o.retries, "retries of a read after a lost or garbled answer")->capture_default_str();
+  sub->add_option("--id", o.id, "drive MACID, hex (0x11, 11h) or decimal (17)")
+      ->capture_default_str();
+  sub->add_option("--checksum", o.checksum, "none, add, crc (= crc-ffff) or crc-0000")
+      ->capture_default_str();
+  sub->add_option("--timeout-ms", o.timeout_ms, "answer deadline of an ordinary request")
+      ->capture_default_str();
+  sub->add_option("--retries", o.retries, "retries of a read after a lost or garbled answer")
+      ->capture_default_str();
   sub->add_option("--trace", o.trace, "write every telegram as timestamped hex to FILE");
 }
 
 void add_output_options(CLI::App* sub, CommonOptions& o) {
   sub->add_flag("--quiet,-q", o.quiet, "no progress output");
   sub->add_flag("--json", o.json, "machine-readable report on stdout");
-  sub->add_option("--db", o.db_path, "UPID database (default: lmcfg-upid.sqlite next to lmcfg, or $LMCFG_UPID_DB)");
+  sub->add_option("--db", o.db_path,
+                  "UPID database (default: lmcfg-upid.sqlite next to lmcfg, or $LMCFG_UPID_DB)");
 }
 
 Result<ops::LinkOptions> link_options(const CommonOptions& o) {
@@ -49,14 +57,50 @@ Result<ops::LinkOptions> link_options(const CommonOptions& o) {
   l.client.id = static_cast<std::uint8_t>(*id);
   LMCFG_ASSIGN_OR_RETURN(l.client.checksum, ops::parse_checksum(o.checksum));
   if (o.timeout_ms < 1 || o.timeout_ms > 60000) {
-    return Error(Errc::invalid_argument, "--timeout-ms " + std::to_string(o.timeout_ms) + " is outside 1..60000");
+    return Error(Errc::invalid_argument,
+                 "--timeout-ms " + std::to_string(o.timeout_ms) + " is outside 1..60000");
   }
   if (o.retries < 0 || o.retries > 10) {
-    return Error(Errc::invalid_argument, "--retries " + std::to_string(o.retries) + " is outside 0..10");
+    return Error(Errc::invalid_argument,
+                 "--retries " + std::to_string(o.retries) + " is outside 0..10");
   }
   l.client.timeout = transport::Millis(o.timeout_ms);
   l.client.read_retries = o.retries;
   return l;
+}
+
+void add_reconnect_options(CLI::App* sub, ReconnectOptions& o) {
+  sub->add_option("--reconnect-baud", o.baud,
+                  "with --include-comm: baud rate to try first after the reset");
+  sub->add_option("--reconnect-id", o.id,
+                  "with --include-comm: MACID to try first after the reset");
+  sub->add_option("--reconnect-checksum", o.checksum,
+                  "with --include-comm: checksum to try first after the reset");
+}
+
+Result<ops::RelinkOverrides> relink_overrides(const ReconnectOptions& o) {
+  ops::RelinkOverrides r;
+  if (!o.baud.empty()) {
+    transport::SerialSettings s;
+    auto b = parse_number(o.baud, false);
+    s.baud = b ? *b : 0;
+    if (auto v = transport::validate(s); !v.ok())
+      return Error(Errc::invalid_argument, "--reconnect-baud: " + v.error().message);
+    r.baud = s.baud;
+  }
+  if (!o.id.empty()) {
+    auto id = parse_number(o.id, false);
+    if (!id || *id > 0xFF)
+      return Error(Errc::invalid_argument,
+                   "--reconnect-id '" + o.id + "' is not a MACID 0..255 (0x00..0xFF)");
+    r.macid = static_cast<std::uint8_t>(*id);
+  }
+  if (!o.checksum.empty()) {
+    auto c = ops::parse_checksum(o.checksum);
+    if (!c.ok()) return Error(Errc::invalid_argument, "--reconnect-checksum: " + c.error().message);
+    r.checksum = *c;
+  }
+  return r;
 }
 
 Result<std::unique_ptr<ops::Session>> open_link(const CommonOptions& o) {
@@ -67,7 +111,9 @@ Result<std::unique_ptr<ops::Session>> open_link(const CommonOptions& o) {
 const db::Database* load_database(const CommonOptions& o, std::optional<db::Database>& holder) {
   auto r = o.db_path.empty() ? db::Database::open_default() : db::Database::open(o.db_path);
   if (!r.ok()) {
-    if (!o.quiet) std::fprintf(stderr, "lmcfg: warning: UPID database not loaded (%s); showing raw values\n", r.error().message.c_str());
+    if (!o.quiet)
+      std::fprintf(stderr, "lmcfg: warning: UPID database not loaded (%s); showing raw values\n",
+                   r.error().message.c_str());
     return nullptr;
   }
   holder.emplace(std::move(r).value());
@@ -94,15 +140,20 @@ ops::Progress make_progress(const CommonOptions& o) {
       s.phase = phase;
       s.start = std::chrono::steady_clock::now();
     }
-    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - s.start).count();
+    const double elapsed =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - s.start).count();
     char line[160];
     if (total > 0) {
       const int width = 30;
-      const int filled = static_cast<int>(static_cast<double>(width) * static_cast<double>(done) / static_cast<double>(total));
+      const int filled = static_cast<int>(static_cast<double>(width) * static_cast<double>(done) /
+                                          static_cast<double>(total));
       std::string bar(static_cast<std::size_t>(std::min(filled, width)), '#');
       bar.resize(width, '.');
-      const double eta = done > 0 ? elapsed * static_cast<double>(total - std::min(done, total)) / static_cast<double>(done) : 0.0;
-      std::snprintf(line, sizeof line, "\r%-28.28s [%s] %zu/%zu ETA %.0fs ", phase.c_str(), bar.c_str(), done, total, eta);
+      const double eta = done > 0 ? elapsed * static_cast<double>(total - std::min(done, total)) /
+                                        static_cast<double>(done)
+                                  : 0.0;
+      std::snprintf(line, sizeof line, "\r%-28.28s [%s] %zu/%zu ETA %.0fs ", phase.c_str(),
+                    bar.c_str(), done, total, eta);
     } else {
       std::snprintf(line, sizeof line, "\r%-28.28s %zu ", phase.c_str(), done);
     }
@@ -122,9 +173,12 @@ Result<std::array<bool, 4>> parse_layers(const std::string& text) {
   std::size_t pos = 0;
   while (pos <= text.size()) {
     auto comma = text.find(',', pos);
-    std::string item = text.substr(pos, comma == std::string::npos ? std::string::npos : comma - pos);
+    std::string item =
+        text.substr(pos, comma == std::string::npos ? std::string::npos : comma - pos);
     auto layer = layers::from_name(item);
-    if (!layer) return Error(Errc::invalid_argument, "--layers: '" + item + "' is not one of os, mc, intf, appl");
+    if (!layer)
+      return Error(Errc::invalid_argument,
+                   "--layers: '" + item + "' is not one of os, mc, intf, appl");
     on[static_cast<std::size_t>(*layer - 1)] = true;
     if (comma == std::string::npos) break;
     pos = comma + 1;
@@ -136,7 +190,8 @@ int exit_code_for(const Error& e) {
   if (e.code.category() == comm_state_category()) return kDriveRefused;
   if (e.code.category() != lmcfg_category()) return kCommFailure;  // OS errors on the link
   switch (static_cast<Errc>(e.code.value())) {
-    case Errc::ok: return kOk;
+    case Errc::ok:
+      return kOk;
     case Errc::timeout:
     case Errc::link_closed:
     case Errc::io_error:
@@ -144,17 +199,23 @@ int exit_code_for(const Error& e) {
     case Errc::frame_overlong:
     case Errc::frame_malformed:
     case Errc::checksum_mismatch:
-    case Errc::unexpected_response: return kCommFailure;
-    case Errc::drive_refused: return kDriveRefused;
+    case Errc::unexpected_response:
+      return kCommFailure;
+    case Errc::drive_refused:
+      return kDriveRefused;
     case Errc::invalid_argument:
     case Errc::parse_error:
     case Errc::unsupported_version:
     case Errc::validation_failed:
     case Errc::not_found:
     case Errc::file_error:
-    case Errc::cancelled: return kInvalidInput;
-    case Errc::plan_refused: return kPlanRefused;
-    case Errc::verify_mismatch: return kVerifyMismatch;
+    case Errc::cancelled:
+    case Errc::not_supported:
+      return kInvalidInput;
+    case Errc::plan_refused:
+      return kPlanRefused;
+    case Errc::verify_mismatch:
+      return kVerifyMismatch;
   }
   return kInternal;
 }

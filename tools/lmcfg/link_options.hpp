@@ -8,6 +8,7 @@
 #include "common/result.hpp"
 #include "db/database.hpp"
 #include "ops/backup.hpp"
+#include "ops/relink.hpp"
 #include "ops/session.hpp"
 
 namespace lmcfg::cli {
@@ -43,6 +44,14 @@ const db::Database* load_database(const CommonOptions& o, std::optional<db::Data
 // Progress bar on stderr when it is a terminal and not --quiet; else nothing.
 ops::Progress make_progress(const CommonOptions& o);
 void end_progress(const CommonOptions& o);
+
+// --reconnect-baud, --reconnect-id, --reconnect-checksum (restore --include-comm):
+// the link settings to try first after the drive's reset. Empty strings = not given.
+struct ReconnectOptions {
+  std::string baud, id, checksum;
+};
+void add_reconnect_options(CLI::App* sub, ReconnectOptions& o);
+Result<ops::RelinkOverrides> relink_overrides(const ReconnectOptions& o);
 
 // "os,mc,intf,appl" (any subset, case-insensitive) -> layer switches.
 Result<std::array<bool, 4>> parse_layers(const std::string& text);

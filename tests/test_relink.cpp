@@ -1,0 +1,348 @@
+// Issue 5 §4: "when [communication parameters] are [restored], the tool
+// reconnects with the new settings after the reset and says so". The drive
+// picks MACID and baud rate at start-up from its hex switches or "By
+// Parameter" (seed 003 §3.2, §10.2, §15); the simulated drive models that, and
+// a master at the wrong baud rate hears nothing from it.
+#include <catch2/catch.hpp>
+#include <filesystem>
+#include <fstream>
+
+#include "codec/messages.hpp"
+#include "config/config_io.hpp"
+#include "e2e_support.hpp"
+#include "ops/backup.hpp"
+#include "ops/factory_reset.hpp"
+#include "ops/relink.hpp"
+#include "ops/restore.hpp"
+#include "ops/session.hpp"
+#include "subprocess.hpp"
+
+using namespace lmcfg;
+namespace fs = std::filesystem;
+
+namespace {
+
+fs::path temp_dir(const std::string& name) {
+  auto d = fs::temp_directory_path() / ("lmcfg-relink-" + name + "-" + std::to_string(::getpid()));
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+void set_rom(sim::Drive& d, std::uint16_t upid, std::uint32_t v) {
+  auto* p = d.find(upid);
+  REQUIRE(p != nullptr);
+  p->rom = p->ram = v;
+}
+
+// A backup of the commissioned axis whose LinRS parameters select 38400 Bd
+// (2012h = 8, the one code seed 003 §10.2 gives) and MACID 22h by parameter.
+config::DriveConfig moved_axis_file(const db::Database* db) {
+  test::SimRig axis("commissioned-axis.json");
+  auto cfg = ops::backup(*axis.client, ops::BackupOptions{}, db);
+  REQUIRE(cfg.ok());
+  auto set = [&](std::uint16_t upid, std::uint32_t v) {
+    for (auto& p : cfg->layer(3))
+      if (p.upid == upid) {
+        p.value = v;
+        return;
+      }
+    cfg->layer(3).push_back(
+        config::Parameter{upid, v, std::nullopt, {}, {}, {}});  // at its default on the axis
+    config::canonicalize(*cfg);
+  };
+  set(ops::kBaudRateSource, ops::kBaudRateByParameter);
+  set(ops::kBaudRateCode, 8);
+  set(ops::kMacidSource, ops::kMacidByParameter);
+  set(ops::kMacidValue, 0x22);
+  return std::move(cfg).value();
+}
+
+bool answers(sim::SimLink& link, std::uint8_t id) {
+  auto req = codec::encode(codec::make_cfg(id, codec::CfgOp::read_rom, 0x13A2));
+  REQUIRE(req.ok());
+  REQUIRE(link.write(*req).ok());
+  auto r = link.read_some(transport::Millis(100));
+  REQUIRE(r.ok());
+  return !r->empty();
+}
+
+}  // namespace
+
+TEST_CASE(
+    "sim: a reset takes MACID and baud rate from 206Ch/2076h and 200Eh/2012h (seed 003 §3.2, §15)",
+    "[sim][relink]") {
+  auto drive = test::load_sim_drive("used-spare.json");  // both sources: hex switches
+  REQUIRE(drive->macid() == 0x11);
+  REQUIRE(drive->state().link.baud == 57600);
+  set_rom(*drive, 0x206C, 3);
+  set_rom(*drive, 0x2076, 0x22);
+  set_rom(*drive, 0x200E, 2);
+  set_rom(*drive, 0x2012, 8);
+  CHECK(drive->macid() == 0x11);  // ROM values act at start-up only
+  drive->reset(0);
+  CHECK(drive->macid() == 0x22);
+  CHECK(drive->state().link.baud == 38400);
+
+  // A code outside Options::baud_codes keeps the S1 rate; back to the switches.
+  set_rom(*drive, 0x2012, 0x40);
+  drive->reset(0);
+  CHECK(drive->state().link.baud == 57600);
+  set_rom(*drive, 0x206C, 1);
+  drive->reset(0);
+  CHECK(drive->macid() == 0x11);
+
+  // The state file keeps the switch settings when they differ from the active ones.
+  set_rom(*drive, 0x206C, 3);
+  drive->reset(0);
+  auto reloaded = sim::from_json(sim::to_json(drive->state()));
+  REQUIRE(reloaded.ok());
+  REQUIRE(reloaded->switches.has_value());
+  CHECK(reloaded->switches->macid == 0x11);
+  CHECK(reloaded->macid == 0x22);
+}
+
+TEST_CASE("sim: a master at another baud rate gets no answer until it reconfigures its line",
+          "[sim][relink]") {
+  auto drive = test::load_sim_drive("used-spare.json");
+  sim::SimLink link(drive);
+  CHECK(answers(link, 0x11));
+  transport::SerialSettings slow;
+  slow.baud = 19200;
+  REQUIRE(link.reconfigure(slow).ok());
+  CHECK_FALSE(answers(link, 0x11));
+  CHECK(link.describe().rfind("sim 19200 8N1", 0) == 0);
+  slow.baud = 57600;
+  REQUIRE(link.reconfigure(slow).ok());
+  CHECK(answers(link, 0x11));
+  slow.baud = 12345;
+  CHECK(link.reconfigure(slow).error().message.find("12345") != std::string::npos);
+}
+
+TEST_CASE("relink: what the restored LinRS parameters select, and why", "[relink]") {
+  auto db = test::built_database();
+  REQUIRE(db);
+  ops::Plan plan;
+  plan.expected.scope.layers = {false, false, true, false};
+  auto& intf = plan.expected.layer(3);
+  intf = {config::Parameter{0x200E, 2, std::nullopt, {}, {}, {}},
+          config::Parameter{0x2012, 8, std::nullopt, {}, {}, {}},
+          config::Parameter{0x206C, 3, std::nullopt, {}, {}, {}},
+          config::Parameter{0x2076, 0x22, std::nullopt, {}, {}, {}}};
+  auto e = ops::expected_link(plan, &*db);
+  CHECK(e.baud == 38400u);
+  CHECK(e.macid == std::uint8_t{0x22});
+  REQUIRE(e.reasons.size() == 2);
+  CHECK(e.reasons[0] == "MACID 22h: 206Ch = By Parameter, 2076h MACID Parameter Value = 34");
+  CHECK(e.reasons[1] == "baud rate 38400: 200Eh = By Parameter, 2012h Baud Rate Parameter Def = 8");
+
+  // 2076h absent: its database default 11h. 2012h = 16: a code the seeds do not give.
+  intf = {config::Parameter{0x200E, 2, std::nullopt, {}, {}, {}},
+          config::Parameter{0x2012, 16, std::nullopt, {}, {}, {}},
+          config::Parameter{0x206C, 3, std::nullopt, {}, {}, {}}};
+  e = ops::expected_link(plan, &*db);
+  CHECK(e.macid == std::uint8_t{0x11});
+  CHECK(e.reasons[0] ==
+        "MACID 11h: 206Ch = By Parameter, 2076h MACID Parameter Value = 17 (its default)");
+  CHECK_FALSE(e.baud);
+  CHECK(e.reasons[1] ==
+        "baud rate: 200Eh = By Parameter, but the database has no rate for 2012h = 16 (seed 003 "
+        "states only 8 = 38400 Baud)");
+
+  // Nothing in the file: factory defaults, the hex switches.
+  intf.clear();
+  e = ops::expected_link(plan, &*db);
+  CHECK_FALSE(e.baud);
+  CHECK_FALSE(e.macid);
+  CHECK(e.reasons[0].find("factory default, the hex switches") != std::string::npos);
+
+  // Candidates: overrides, expected, current; then every rate of §3.2.1.
+  ops::ExpectedLink known{38400u, std::uint8_t{0x22}, {}};
+  transport::SerialSettings line;  // 57600 8N1
+  auto c = ops::relink_candidates(known, {}, line, 0x11, codec::ChecksumConfig{});
+  REQUIRE(c.size() == 12);  // 6 rates x 2 IDs
+  CHECK(c[0].line.baud == 38400);
+  CHECK(c[0].macid == 0x22);
+  CHECK(c[1].line.baud == 38400);
+  CHECK(c[1].macid == 0x11);
+  CHECK(c[2].line.baud == 57600);
+  CHECK(c[4].line.baud == 4800);
+  ops::RelinkOverrides o;
+  o.baud = 9600;
+  o.macid = 0x05;
+  c = ops::relink_candidates(known, o, line, 0x11, codec::ChecksumConfig{});
+  CHECK(c[0].line.baud == 9600);
+  CHECK(c[0].macid == 0x05);
+}
+
+TEST_CASE(
+    "relink: restore --include-comm writes LinRS parameters last, value before source, and finds "
+    "the drive again",
+    "[relink][e2e]") {
+  auto db = test::built_database();
+  REQUIRE(db);
+  const auto file = moved_axis_file(&*db);
+  const auto dir = temp_dir("inproc");
+  fs::copy_file(test::sim_fixture("used-spare.json"), dir / "spare.sim.json");
+  ops::LinkOptions lo;
+  lo.port = "sim:" + (dir / "spare.sim.json").string();
+  auto session = ops::open_session(lo);
+  REQUIRE(session.ok());
+  auto& client = (*session)->client();
+
+  ops::RestoreOptions ro;
+  auto without = ops::plan_restore(client, file, &*db, ro);
+  REQUIRE(without.ok());
+  CHECK_FALSE(without->link_may_change);
+
+  ro.include_comm = true;
+  auto plan = ops::plan_restore(client, file, &*db, ro);
+  REQUIRE(plan.ok());
+  REQUIRE(plan->ok());
+  CHECK(plan->link_may_change);
+  // The last ROM writes: 2012h before 200Eh and 2076h before 206Ch (both end
+  // "By Parameter"), after every other parameter of the layer.
+  std::vector<std::uint16_t> rom_keys;
+  for (const auto& s : plan->steps)
+    if (s.action == ops::PlanStep::Action::write_rom && s.layer == 3)
+      rom_keys.push_back(static_cast<std::uint16_t>(s.key));
+  REQUIRE(rom_keys.size() >= 4);
+  const std::vector<std::uint16_t> tail(rom_keys.end() - 4, rom_keys.end());
+  CHECK(tail == std::vector<std::uint16_t>{0x2012, 0x2076, 0x200E, 0x206C});
+
+  REQUIRE(ops::execute_plan(client, *plan, ro).ok());
+  // The old settings no longer reach the drive.
+  auto lost = client.default_response();
+  REQUIRE_FALSE(lost.ok());
+  CHECK(lost.error().code == make_error_code(Errc::timeout));
+
+  auto rep = ops::reconnect(**session, ops::expected_link(*plan, &*db), {});
+  REQUIRE(rep.ok());
+  CHECK(rep->changed);
+  CHECK(rep->attempts == 1);
+  CHECK(rep->summary == "the drive answers at 38400 Bd, MACID 22h, checksum none");
+  CHECK((*session)->line().baud == 38400);
+  CHECK(client.options().id == 0x22);
+  auto verify = ops::verify_restore(client, *plan, ro);
+  REQUIRE(verify.ok());
+  CHECK(verify->ok());
+  REQUIRE((*session)->close().ok());
+  fs::remove_all(dir);
+}
+
+TEST_CASE("relink: a drive on an unknown hex-switch ID is not found; --reconnect-id finds it",
+          "[relink]") {
+  auto db = test::built_database();
+  REQUIRE(db);
+  const auto dir = temp_dir("switch");
+  // The spare's switches select 33h; it answers on 11h by parameter now.
+  auto spare = test::load_sim_drive("used-spare.json");
+  spare->state().switches = sim::HexSwitches{0x33, 57600};
+  set_rom(*spare, 0x206C, 3);
+  REQUIRE(sim::save_state(spare->state(), (dir / "spare.sim.json").string()).ok());
+  ops::LinkOptions lo;
+  lo.port = "sim:" + (dir / "spare.sim.json").string();
+  auto session = ops::open_session(lo);
+  REQUIRE(session.ok());
+  auto& client = (*session)->client();
+
+  // The file sets the MACID source back to the hex switches (its default).
+  test::SimRig axis("used-spare.json");
+  auto file = ops::backup(*axis.client, ops::BackupOptions{}, &*db);
+  REQUIRE(file.ok());
+  ops::RestoreOptions ro;
+  ro.include_comm = true;
+  auto plan = ops::plan_restore(client, *file, &*db, ro);
+  REQUIRE(plan.ok());
+  REQUIRE(plan->ok());
+  CHECK(plan->link_may_change);
+  REQUIRE(ops::execute_plan(client, *plan, ro).ok());
+
+  const auto expected = ops::expected_link(*plan, &*db);
+  CHECK_FALSE(expected.macid);
+  auto none = ops::reconnect(**session, expected, {});
+  REQUIRE_FALSE(none.ok());
+  CHECK(none.error().code == make_error_code(Errc::timeout));
+  CHECK(none.error().message.rfind(
+            "after the reset the drive answered none of the 6 link settings tried "
+            "(57600 Bd, MACID 11h, checksum none ... 115200 Bd, MACID 11h, checksum none)",
+            0) == 0);
+  CHECK(none.error().message.find(
+            "206Ch MACID Source Select is at its factory default, the hex switches") !=
+        std::string::npos);
+  CHECK(client.options().id == 0x11);  // back at the settings it had
+
+  ops::RelinkOverrides o;
+  o.macid = 0x33;
+  auto found = ops::reconnect(**session, expected, o);
+  REQUIRE(found.ok());
+  CHECK(found->summary == "the drive answers at 57600 Bd, MACID 33h, checksum none");
+  auto verify = ops::verify_restore(client, *plan, ro);
+  REQUIRE(verify.ok());
+  CHECK(verify->ok());
+  fs::remove_all(dir);
+}
+
+TEST_CASE(
+    "relink: lmcfg restore --include-comm over a pty follows the drive to 38400 Bd and MACID 22h",
+    "[relink][e2e][pty]") {
+  auto db = test::built_database();
+  REQUIRE(db);
+  const auto dir = temp_dir("pty");
+  const std::string file = (dir / "moved.json").string();
+  REQUIRE(config::write_config_file(moved_axis_file(&*db), file).ok());
+  fs::copy_file(test::sim_fixture("used-spare.json"), dir / "spare.sim.json");
+  test::Child spare({LMCFG_TOOL_PATH, "sim", "--state", (dir / "spare.sim.json").string(), "--pty",
+                     "--fast", "--save-on-exit"});
+  const std::string tty = spare.read_line();
+  REQUIRE(tty.rfind("/dev/pts/", 0) == 0);
+
+  const auto err = dir / "restore.err";
+  CHECK(test::run_tool("restore " + file + " --port " + tty + " --include-comm 2> " +
+                       err.string()) == 0);
+  const std::string said = slurp(err);
+  INFO(said);
+  CHECK(said.find("restore: the restored link settings are active: the drive answers at 38400 Bd, "
+                  "MACID 22h, "
+                  "checksum none; use them from now on") != std::string::npos);
+  // The old settings reach nothing (exit 4); the new ones see the file's configuration.
+  CHECK(test::run_tool("diff " + file + " drive --port " + tty +
+                       " --quiet --timeout-ms 50 --retries 0 2> /dev/null") == 4);
+  CHECK(test::run_tool("diff " + file + " drive --port " + tty +
+                       " --baud 38400 --id 0x22 --quiet --ignore-unit > /dev/null") == 0);
+  CHECK(spare.stop() == 0);
+  auto after = sim::load_state((dir / "spare.sim.json").string());
+  REQUIRE(after.ok());
+  CHECK(after->macid == 0x22);
+  CHECK(after->link.baud == 38400);
+  fs::remove_all(dir);
+}
+
+TEST_CASE(
+    "relink: lmcfg default keeps the LinRS parameters even without a database; --include-comm says "
+    "the switches rule",
+    "[relink]") {
+  test::SimRig rig("manual-drive.json");  // 38400 Bd and MACID 11h, both by parameter
+  ops::DefaultOptions d;
+  d.layers = {false, false, true, false};
+  auto kept = ops::default_drive(*rig.client, d, nullptr);
+  REQUIRE(kept.ok());
+  CHECK_FALSE(kept->link_may_change);
+  CHECK(rig.drive->state().link.baud == 38400);
+  CHECK(rig.drive->rom(ops::kBaudRateSource) == ops::kBaudRateByParameter);
+
+  rig.drive->state().switches = sim::HexSwitches{0x05, 57600};
+  d.include_comm = true;
+  auto dropped = ops::default_drive(*rig.client, d, nullptr);
+  REQUIRE(dropped.ok());
+  CHECK(dropped->link_may_change);
+  CHECK(dropped->done.back() ==
+        "reset (defaults become active; no answer with the old link settings)");
+  CHECK(rig.drive->macid() == 0x05);
+  CHECK(rig.drive->state().link.baud == 57600);
+}
