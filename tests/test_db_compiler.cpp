@@ -154,3 +154,40 @@ TEST_CASE("fnv1a64 matches the reference values", "[db]") {
   CHECK(fnv1a64("foobar") == 0x85944171f73967e8ull);
   CHECK(fnv1a64("bar", fnv1a64("foo")) == fnv1a64("foobar"));
 }
+
+TEST_CASE("compiler reports malformed seed 000 DeviceNet rows with file:line:column", "[db]") {
+  auto dir = scratch_dir("bad-devicenet");
+  write_file(dir / "profiles.tsv", std::string(kProfiles) + "e100-devicenet\t\tDeviceNet\t\t\tentered by hand: test\n");
+  const std::string cmd_header =
+      "id\tdirection\tname\ttable_name\trange\tmin\tmax\tunit\tscale\tunit_text\taddressed\tdirect\tenum\tdescription\tsource\n";
+  auto crow = [](const std::string& id, const std::string& direction, const std::string& min, const std::string& max,
+                 const std::string& addressed, const std::string& source) {
+    return id + "\t" + direction + "\tN\tN\t-\t" + min + "\t" + max + "\t\t\t-\t" + addressed + "\t\t\t\t" + source + "\n";
+  };
+  write_file(dir / "devicenet_commands.tsv", cmd_header +                         // line 1
+                                                 crow("0x11", "set", "", "", "x", "seed000 §5.2") +  // 2 ok
+                                                 crow("0x80", "get", "", "", "x", "s") +            // 3 ID > 7F
+                                                 crow("0x12", "put", "", "", "x", "s") +            // 4 direction
+                                                 crow("0x13", "", "5", "1", "x", "s") +             // 5 max < min
+                                                 crow("0x14", "", "", "", "yes", "s") +             // 6 flag
+                                                 crow("0x11", "set", "", "", "", "s") +             // 7 duplicate
+                                                 crow("0x15", "", "", "", "", ""));                 // 8 source
+  write_file(dir / "devicenet_parameters.tsv",
+             "id\tname\tpath\ttype\tmin\tmax\tdefault\tunit\tscale\tenum\tcomm\tdescription\tsource\n"
+             "DeviceNet\\MACID\tMACID\tDeviceNet\\MACID\t\t\t\t\t\t\t\t1\t\tseed000 §3.1\n"
+             "DeviceNet\\MACID\tMACID\tDeviceNet\\MACID\t\t\t\t\t\t\t\t\t\ts\n");
+  auto rep = compile_upid_db(dir.string(), (dir / "out.sqlite").string());
+  CHECK_FALSE(rep.ok());
+  const std::string c = (dir / "devicenet_commands.tsv").string();
+  const std::string p = (dir / "devicenet_parameters.tsv").string();
+  std::vector<std::string> expected = {
+      p + ":3:1: error: duplicate DeviceNet parameter \"DeviceNet\\MACID\" (first at devicenet_parameters.tsv:2)",
+      c + ":3:1: error: bad command ID \"0x80\" (expected 0x00..0x7F as Table 5-1 writes it, e.g. 0x1A)",
+      c + ":4:6: error: bad direction \"put\" (expected get, set or empty)",
+      c + ":5:15: error: max 1 is below min 5",
+      c + ":6:19: error: bad value \"yes\" in column 'addressed' (expected x or empty)",
+      c + ":7:1: error: duplicate command ID 0x11 (first at devicenet_commands.tsv:2)",
+      c + ":8:23: error: missing source (provenance) in column 'source'",
+  };
+  CHECK(messages(rep) == expected);
+}

@@ -166,7 +166,8 @@ TEST_CASE("the real built database: every row has provenance", "[db]") {
   sqlite3* db = nullptr;
   REQUIRE(sqlite3_open_v2(LMCFG_DB_PATH, &db, SQLITE_OPEN_READONLY, nullptr) == SQLITE_OK);
   for (const char* table :
-       {"profiles", "parameters", "enum_labels", "errors", "motion_commands", "motion_command_params"}) {
+       {"profiles", "parameters", "enum_labels", "errors", "motion_commands", "motion_command_params",
+        "devicenet_parameters", "devicenet_parameter_labels", "devicenet_commands", "devicenet_command_labels"}) {
     std::string sql = std::string("SELECT count(*) FROM ") + table +
                       " WHERE source IS NULL OR trim(source) = '' OR src_file IS NULL OR src_line IS NULL";
     sqlite3_stmt* s = nullptr;

@@ -21,7 +21,7 @@ TEST_CASE("upid-db: row counts of the extraction from seeds 001 and 003", "[db][
   const auto& counts = real_db().info().counts;
   CHECK(counts.at("profiles") == 3);
   CHECK(counts.at("parameters") == 92);  // 82 from seed 001, 10 from seed 003
-  CHECK(counts.at("errors") == 93);      // 85 MC codes 0000-008A, 8 LinRS states
+  CHECK(counts.at("errors") == 113);     // 85 MC codes 0000-008A, 8 LinRS states, 20 DeviceNet codes
   CHECK(counts.at("motion_commands") == 215);
   CHECK(counts.at("motion_command_params") == 469);
 }
@@ -67,4 +67,76 @@ TEST_CASE("upid-db: the motion command catalogue decodes seed 003 §12.1 entry 2
   REQUIRE(c->params.size() == 4);
   CHECK(c->params[0].offset == 2);
   CHECK(c->params[0].name == "Target Position");
+}
+
+// Seed 000, the DeviceNet supplement: counts as in upid-db/DEVICENET.md.
+TEST_CASE("upid-db: seed 000 DeviceNet parameter tree, command set and error codes are all in", "[db][seed]") {
+  const auto& db = real_db();
+  CHECK(db.info().counts.at("devicenet_parameters") == 13);  // §3.1
+  CHECK(db.info().counts.at("devicenet_commands") == 102);   // every row of §5.2 Table 5-1
+  CHECK(db.errors("devicenet").size() == 20);                 // §5.2 Get Error State (0Ah), 8100..8148
+  REQUIRE(db.profile(kDevicenetProfile) != nullptr);
+  CHECK(db.profile(kDevicenetProfile)->prov.source.rfind("seed000", 0) == 0);
+  for (const auto& p : db.devicenet_parameters()) {
+    INFO(p.id);
+    CHECK(p.prov.source.rfind("seed000 §3.1", 0) == 0);
+    CHECK_FALSE(p.spec.type);  // seed 000 states no type for any parameter: unknown, not invented
+    CHECK_FALSE(p.default_value);
+  }
+  std::size_t addressed = 0, direct = 0, get = 0, set = 0;
+  for (const auto& c : db.devicenet_commands()) {
+    INFO(c.id_text);
+    CHECK(c.prov.source.rfind("seed000 §5.2 Table 5-1", 0) == 0);
+    addressed += c.addressed;
+    direct += c.direct;
+    get += c.direction == "get";
+    set += c.direction == "set";
+  }
+  CHECK(addressed == 102);
+  CHECK(direct == 57);
+  CHECK(get == 45);
+  CHECK(set == 44);
+}
+
+TEST_CASE("upid-db: seed 000 spot values (§3.1 MACID Value, §5.2 Table 5-1 0x11 / 0x18 / 0x70, 0Ah codes)", "[db][seed]") {
+  const auto& db = real_db();
+  // §3.1 "MACID Value": DeviceNet\MACID\MACID Value, 0 to 63.
+  const DevicenetParameter* macid = nullptr;
+  for (const auto& p : db.devicenet_parameters())
+    if (p.path == "DeviceNet\\MACID\\MACID Value") macid = &p;
+  REQUIRE(macid != nullptr);
+  CHECK(macid->spec.min == 0);
+  CHECK(macid->spec.max == 63);
+  CHECK(macid->comm);
+
+  // Table 5-1: "0x11 Set Position Setpoint -32256 to +32256 0.01953 mm x x".
+  const DevicenetCommand* c = db.devicenet_command(0x11);
+  REQUIRE(c != nullptr);
+  CHECK(c->name == "Set Position Setpoint");
+  CHECK(c->direction == "set");
+  CHECK(c->range_text == "-32256 to +32256");
+  CHECK(c->spec.min == -32256);
+  CHECK(c->spec.max == 32256);
+  CHECK(c->spec.unit == "mm");
+  CHECK(c->spec.scale == Approx(0.01953125));  // the detail's 19.53125 um
+  CHECK(c->unit_text == "0.01953 mm");
+  CHECK(c->addressed);
+  CHECK(c->direct);
+  // 0x18: the table and the detail disagree on the range, so min/max stay unknown.
+  REQUIRE(db.devicenet_command(0x18) != nullptr);
+  CHECK(db.devicenet_command(0x18)->range_text == "-32768 to +32767");
+  CHECK_FALSE(db.devicenet_command(0x18)->spec.min);
+  // 0x70: 0 to 7 with the Direct Out labels; Addressed module only.
+  const DevicenetCommand* v = db.devicenet_command(0x70);
+  REQUIRE(v != nullptr);
+  REQUIRE(v->spec.labels.size() == 8);
+  CHECK(v->spec.labels[0].label == "Actual Position");
+  CHECK(v->spec.labels[7].label == "Current");
+  CHECK_FALSE(v->direct);
+  CHECK(db.devicenet_command(0x01) == nullptr);  // not in Table 5-1
+  // 0Ah response: "8100 Application needs DN servo controller ... 8148 CAN BOFF error".
+  REQUIRE(db.error("devicenet", 0x8100) != nullptr);
+  CHECK(db.error("devicenet", 0x8100)->text == "Application needs DN servo controller");
+  REQUIRE(db.error("devicenet", 0x8148) != nullptr);
+  CHECK(db.error("devicenet", 0x8148)->text == "CAN BOFF error");
 }

@@ -39,8 +39,10 @@ std::uint64_t fnv1a64(std::string_view data, std::uint64_t h) noexcept {
 }
 
 const std::vector<std::string>& upid_db_source_files() {
-  static const std::vector<std::string> k = {"profiles.tsv", "parameters.tsv", "errors.tsv", "motion_commands.tsv",
-                                             "motion_command_params.tsv"};
+  static const std::vector<std::string> k = {"profiles.tsv",          "parameters.tsv",
+                                             "errors.tsv",            "motion_commands.tsv",
+                                             "motion_command_params.tsv", "devicenet_parameters.tsv",
+                                             "devicenet_commands.tsv"};
   return k;
 }
 
@@ -100,6 +102,7 @@ class Table {
     return kEmpty;
   }
   void error(const Row& r, const Field& f, std::string msg) const { c_.error(path_, r.line, f.column, std::move(msg)); }
+  void file_error(std::string msg) const { c_.error(path_, 1, 1, std::move(msg)); }
 
  private:
   void parse(const std::vector<std::string>& columns) {
@@ -235,6 +238,8 @@ struct Model {
   std::vector<Parameter> params;
   std::vector<ErrorEntry> errors;
   std::vector<MotionCommand> commands;
+  std::vector<DevicenetParameter> dn_params;
+  std::vector<DevicenetCommand> dn_commands;
 };
 
 Provenance prov_of(const Table& t, const Row& r) {
@@ -270,6 +275,78 @@ bool read_scale_unit(const Table& t, const Row& r, ValueSpec& spec) {
   }
   spec.scale = sc;
   return true;
+}
+
+// min, max (and default, when `def` is given): raw decimal values inside the
+// type's range when the type is known; max not below min.
+bool read_range(const Table& t, const Row& r, ValueSpec& spec, std::optional<std::int64_t>* def) {
+  bool ok = true;
+  for (const char* col : {"min", "max", "default"}) {
+    if (col[0] == 'd' && !def) continue;
+    const Field& f = t.get(r, col);
+    if (f.text.empty()) continue;
+    auto v = parse_dec(f.text);
+    if (!v || *v < -2147483648ll || *v > 0xFFFFFFFFll) {
+      t.error(r, f, "bad integer \"" + std::string(f.text) + "\" in column '" + col +
+                        "' (expected a raw decimal value, -2147483648..4294967295)");
+      ok = false;
+      continue;
+    }
+    if (spec.type) {
+      if (auto range = type_range(*spec.type); range && (*v < range->min || *v > range->max)) {
+        t.error(r, f, std::string(col) + " " + std::to_string(*v) + " is outside the " +
+                          std::string(type_name(*spec.type)) + " range " + std::to_string(range->min) + ".." +
+                          std::to_string(range->max));
+        ok = false;
+        continue;
+      }
+    }
+    if (col[1] == 'i') spec.min = v;
+    else if (col[1] == 'a') spec.max = v;
+    else *def = v;
+  }
+  if (spec.min && spec.max && *spec.min > *spec.max) {
+    t.error(r, t.get(r, "max"), "max " + std::to_string(*spec.max) + " is below min " + std::to_string(*spec.min));
+    ok = false;
+  }
+  return ok;
+}
+
+// Column 'enum': raw=Label items separated by |.
+bool read_enum(const Table& t, const Row& r, ValueSpec& spec) {
+  const Field& ef = t.get(r, "enum");
+  if (ef.text.empty()) return true;
+  bool ok = true;
+  std::string_view rest = ef.text;
+  std::set<std::int64_t> raws;
+  while (true) {
+    std::size_t bar = rest.find('|');
+    std::string_view item = rest.substr(0, bar);
+    std::size_t eq = item.find('=');
+    std::optional<std::int64_t> raw = eq == std::string_view::npos ? std::nullopt : parse_dec(item.substr(0, eq));
+    if (!raw || eq + 1 >= item.size()) {
+      t.error(r, ef, "bad enum item \"" + std::string(item) + "\" in column 'enum' (expected raw=Label, e.g. 1=By Parameter)");
+      ok = false;
+    } else if (!raws.insert(*raw).second) {
+      t.error(r, ef, "enum value " + std::to_string(*raw) + " appears twice in column 'enum'");
+      ok = false;
+    } else {
+      spec.labels.push_back({*raw, std::string(item.substr(eq + 1))});
+    }
+    if (bar == std::string_view::npos) break;
+    rest = rest.substr(bar + 1);
+  }
+  return ok;
+}
+
+// A flag column: empty or exactly `mark`.
+bool read_flag(const Table& t, const Row& r, std::string_view col, std::string_view mark, bool& out) {
+  const Field& f = t.get(r, col);
+  out = f.text == mark;
+  if (f.text.empty() || out) return true;
+  t.error(r, f, "bad value \"" + std::string(f.text) + "\" in column '" + std::string(col) + "' (expected " +
+                    std::string(mark) + " or empty)");
+  return false;
 }
 
 void load_profiles(const Table& t, Model& m) {
@@ -369,62 +446,10 @@ void load_parameters(const Table& t, Model& m) {
         p.address_usage = AddressUsage{static_cast<std::uint16_t>(*au)};
       }
     }
-    for (const char* col : {"min", "max", "default"}) {
-      const Field& f = t.get(r, col);
-      if (f.text.empty()) continue;
-      auto v = parse_dec(f.text);
-      if (!v || *v < -2147483648ll || *v > 0xFFFFFFFFll) {
-        t.error(r, f, "bad integer \"" + std::string(f.text) + "\" in column '" + col +
-                          "' (expected a raw decimal value, -2147483648..4294967295)");
-        ok = false;
-        continue;
-      }
-      if (p.spec.type) {
-        if (auto range = type_range(*p.spec.type); range && (*v < range->min || *v > range->max)) {
-          t.error(r, f, std::string(col) + " " + std::to_string(*v) + " is outside the " +
-                            std::string(type_name(*p.spec.type)) + " range " + std::to_string(range->min) + ".." +
-                            std::to_string(range->max));
-          ok = false;
-          continue;
-        }
-      }
-      if (col[1] == 'i') p.spec.min = v;
-      else if (col[1] == 'a') p.spec.max = v;
-      else p.default_value = v;
-    }
-    if (p.spec.min && p.spec.max && *p.spec.min > *p.spec.max) {
-      t.error(r, t.get(r, "max"), "max " + std::to_string(*p.spec.max) + " is below min " + std::to_string(*p.spec.min));
-      ok = false;
-    }
+    if (!read_range(t, r, p.spec, &p.default_value)) ok = false;
     if (!read_scale_unit(t, r, p.spec)) ok = false;
-    const Field& ef = t.get(r, "enum");
-    if (!ef.text.empty()) {
-      std::string_view rest = ef.text;
-      std::set<std::int64_t> raws;
-      while (true) {
-        std::size_t bar = rest.find('|');
-        std::string_view item = rest.substr(0, bar);
-        std::size_t eq = item.find('=');
-        std::optional<std::int64_t> raw = eq == std::string_view::npos ? std::nullopt : parse_dec(item.substr(0, eq));
-        if (!raw || eq + 1 >= item.size()) {
-          t.error(r, ef, "bad enum item \"" + std::string(item) + "\" in column 'enum' (expected raw=Label, e.g. 1=By Parameter)");
-          ok = false;
-        } else if (!raws.insert(*raw).second) {
-          t.error(r, ef, "enum value " + std::to_string(*raw) + " appears twice in column 'enum'");
-          ok = false;
-        } else {
-          p.spec.labels.push_back({*raw, std::string(item.substr(eq + 1))});
-        }
-        if (bar == std::string_view::npos) break;
-        rest = rest.substr(bar + 1);
-      }
-    }
-    const Field& cf = t.get(r, "comm");
-    if (!cf.text.empty() && cf.text != "1") {
-      t.error(r, cf, "bad value \"" + std::string(cf.text) + "\" in column 'comm' (expected 1 or empty)");
-      ok = false;
-    }
-    p.comm = cf.text == "1";
+    if (!read_enum(t, r, p.spec)) ok = false;
+    if (!read_flag(t, r, "comm", "1", p.comm)) ok = false;
     p.description = std::string(t.get(r, "description").text);
     if (!require(t, r, "source", "source (provenance)")) ok = false;
     p.prov = prov_of(t, r);
@@ -595,6 +620,89 @@ void load_command_params(const Table& t, Model& m) {
     std::sort(c.params.begin(), c.params.end(), [](const MotionParam& a, const MotionParam& b) { return a.index < b.index; });
 }
 
+bool check_devicenet_profile(const Table& t, const Model& m) {
+  for (const auto& p : m.profiles)
+    if (p.id == kDevicenetProfile) return true;
+  t.file_error("profile \"" + std::string(kDevicenetProfile) + "\" is not in profiles.tsv; the seed 000 tables belong to it");
+  return false;
+}
+
+// Seed 000 §3.1: rows addressed by tree path; type and most fields unknown.
+void load_devicenet_parameters(const Table& t, Model& m) {
+  if (!check_devicenet_profile(t, m)) return;
+  std::map<std::string, int> seen;
+  for (const auto& r : t.rows()) {
+    bool ok = require(t, r, "id", "parameter id (tree path or name)");
+    DevicenetParameter p;
+    p.id = std::string(t.get(r, "id").text);
+    p.name = std::string(t.get(r, "name").text);
+    p.path = std::string(t.get(r, "path").text);
+    p.spec.type = read_type(t, r, false);
+    if (!p.spec.type && !t.get(r, "type").text.empty()) ok = false;
+    if (!read_range(t, r, p.spec, &p.default_value)) ok = false;
+    if (!read_scale_unit(t, r, p.spec)) ok = false;
+    if (!read_enum(t, r, p.spec)) ok = false;
+    if (!read_flag(t, r, "comm", "1", p.comm)) ok = false;
+    p.description = std::string(t.get(r, "description").text);
+    if (!require(t, r, "source", "source (provenance)")) ok = false;
+    p.prov = prov_of(t, r);
+    if (!ok) continue;
+    if (auto [it, ins] = seen.emplace(p.id, r.line); !ins) {
+      t.error(r, t.get(r, "id"), "duplicate DeviceNet parameter \"" + p.id + "\" (first at " + t.name() + ":" +
+                                     std::to_string(it->second) + ")");
+      continue;
+    }
+    m.dn_params.push_back(std::move(p));
+  }
+}
+
+// Seed 000 §5.2 Table 5-1: command IDs 0x00..0x7F.
+void load_devicenet_commands(const Table& t, Model& m) {
+  if (!check_devicenet_profile(t, m)) return;
+  std::map<int, int> seen;
+  for (const auto& r : t.rows()) {
+    bool ok = true;
+    DevicenetCommand c;
+    const Field& idf = t.get(r, "id");
+    auto id = idf.text.size() == 4 && idf.text.substr(0, 2) == "0x" ? parse_hex_digits(idf.text.substr(2), 2, 2)
+                                                                     : std::nullopt;
+    if (!id || *id > 0x7F || idf.text[2] > '7' || std::islower(static_cast<unsigned char>(idf.text[3]))) {
+      t.error(r, idf, "bad command ID \"" + std::string(idf.text) + "\" (expected 0x00..0x7F as Table 5-1 writes it, e.g. 0x1A)");
+      ok = false;
+    } else {
+      c.id = static_cast<std::uint8_t>(*id);
+      c.id_text = std::string(idf.text);
+    }
+    const Field& df = t.get(r, "direction");
+    c.direction = std::string(df.text);
+    if (!c.direction.empty() && c.direction != "get" && c.direction != "set") {
+      t.error(r, df, "bad direction \"" + c.direction + "\" (expected get, set or empty)");
+      ok = false;
+    }
+    if (!require(t, r, "name", "command name")) ok = false;
+    c.name = std::string(t.get(r, "name").text);
+    c.table_name = std::string(t.get(r, "table_name").text);
+    c.range_text = std::string(t.get(r, "range").text);
+    c.unit_text = std::string(t.get(r, "unit_text").text);
+    if (!read_range(t, r, c.spec, nullptr)) ok = false;
+    if (!read_scale_unit(t, r, c.spec)) ok = false;
+    if (!read_enum(t, r, c.spec)) ok = false;
+    if (!read_flag(t, r, "addressed", "x", c.addressed)) ok = false;
+    if (!read_flag(t, r, "direct", "x", c.direct)) ok = false;
+    c.description = std::string(t.get(r, "description").text);
+    if (!require(t, r, "source", "source (provenance)")) ok = false;
+    c.prov = prov_of(t, r);
+    if (!ok) continue;
+    if (auto [it, ins] = seen.emplace(c.id, r.line); !ins) {
+      t.error(r, idf, "duplicate command ID " + c.id_text + " (first at " + t.name() + ":" + std::to_string(it->second) + ")");
+      continue;
+    }
+    m.dn_commands.push_back(std::move(c));
+  }
+  std::sort(m.dn_commands.begin(), m.dn_commands.end(),
+            [](const DevicenetCommand& a, const DevicenetCommand& b) { return a.id < b.id; });
+}
+
 const std::map<std::string, std::vector<std::string>>& columns_of() {
   static const std::map<std::string, std::vector<std::string>> k = {
       {"profiles.tsv", {"profile", "family", "software", "version", "description", "source"}},
@@ -604,6 +712,11 @@ const std::map<std::string, std::vector<std::string>>& columns_of() {
       {"errors.tsv", {"domain", "code", "text", "description", "action", "source"}},
       {"motion_commands.tsv", {"master", "sub", "name", "products", "description", "source"}},
       {"motion_command_params.tsv", {"master", "sub", "index", "offset", "name", "type", "unit", "scale", "source"}},
+      {"devicenet_parameters.tsv",
+       {"id", "name", "path", "type", "min", "max", "default", "unit", "scale", "enum", "comm", "description", "source"}},
+      {"devicenet_commands.tsv",
+       {"id", "direction", "name", "table_name", "range", "min", "max", "unit", "scale", "unit_text", "addressed",
+        "direct", "enum", "description", "source"}},
   };
   return k;
 }
@@ -705,7 +818,11 @@ std::string write_db(const Model& m, const std::string& path, const std::string&
   sqlite3_stmt* err = prep("INSERT INTO errors VALUES(?,?,?,?,?,?,?,?,?)");
   sqlite3_stmt* cmd = prep("INSERT INTO motion_commands VALUES(?,?,?,?,?,?,?,?,?)");
   sqlite3_stmt* cpar = prep("INSERT INTO motion_command_params VALUES(?,?,?,?,?,?,?,?,?,?,?,?)");
-  if (!meta || !prof || !par || !lab || !err || !cmd || !cpar) return fail("prepare");
+  sqlite3_stmt* dnp = prep("INSERT INTO devicenet_parameters VALUES(?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)");
+  sqlite3_stmt* dnpl = prep("INSERT INTO devicenet_parameter_labels VALUES(?,?,?,?,?,?)");
+  sqlite3_stmt* dnc = prep("INSERT INTO devicenet_commands VALUES(?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)");
+  sqlite3_stmt* dncl = prep("INSERT INTO devicenet_command_labels VALUES(?,?,?,?,?,?)");
+  if (!meta || !prof || !par || !lab || !err || !cmd || !cpar || !dnp || !dnpl || !dnc || !dncl) return fail("prepare");
   auto add_meta = [&](const std::string& k, const std::string& v) { return Binder{meta}.text(k).text(v).step(); };
   if (!add_meta("schema_version", std::to_string(kSchemaVersion)) || !add_meta("content_hash", hash) ||
       !add_meta("built_from", built_from) || !add_meta("generator", "upiddb-compile"))
@@ -754,6 +871,58 @@ std::string write_db(const Model& m, const std::string& path, const std::string&
                .real(p.spec.scale).prov(p.prov).step())
         return fail("motion_command_params");
     }
+  }
+  const std::string dn_profile(kDevicenetProfile);
+  auto type_code_of = [](const ValueSpec& s) -> std::optional<std::int64_t> {
+    if (!s.type) return std::nullopt;
+    return static_cast<std::int64_t>(*s.type);
+  };
+  auto type_text_of = [](const ValueSpec& s) { return s.type ? std::string(type_name(*s.type)) : std::string(); };
+  std::int64_t seq = 0;
+  for (const auto& p : m.dn_params) {
+    if (!Binder{dnp}
+             .integer(++seq)
+             .text(p.id)
+             .text(dn_profile)
+             .text(p.name)
+             .text(p.path)
+             .integer(type_code_of(p.spec))
+             .text(type_text_of(p.spec))
+             .integer(p.spec.min)
+             .integer(p.spec.max)
+             .integer(p.default_value)
+             .text(p.spec.unit)
+             .real(p.spec.scale)
+             .integer(p.comm ? 1 : 0)
+             .text(p.description)
+             .prov(p.prov)
+             .step())
+      return fail("devicenet_parameters");
+    for (const auto& l : p.spec.labels)
+      if (!Binder{dnpl}.text(p.id).integer(l.raw).text(l.label).prov(p.prov).step()) return fail("devicenet_parameter_labels");
+  }
+  for (const auto& c : m.dn_commands) {
+    if (!Binder{dnc}
+             .integer(c.id)
+             .text(c.id_text)
+             .text(dn_profile)
+             .text(c.direction)
+             .text(c.name)
+             .text(c.table_name)
+             .text(c.range_text)
+             .integer(c.spec.min)
+             .integer(c.spec.max)
+             .text(c.spec.unit)
+             .real(c.spec.scale)
+             .text(c.unit_text)
+             .integer(c.addressed ? 1 : 0)
+             .integer(c.direct ? 1 : 0)
+             .text(c.description)
+             .prov(c.prov)
+             .step())
+      return fail("devicenet_commands");
+    for (const auto& l : c.spec.labels)
+      if (!Binder{dncl}.integer(c.id).integer(l.raw).text(l.label).prov(c.prov).step()) return fail("devicenet_command_labels");
   }
   for (auto* s : stmts) sqlite3_finalize(s);
   stmts.clear();
@@ -807,7 +976,9 @@ CompileReport compile_upid_db(const std::string& source_dir, const std::string& 
     else if (name == "parameters.tsv") load_parameters(t, m);
     else if (name == "errors.tsv") load_errors(t, m);
     else if (name == "motion_commands.tsv") load_commands(t, m);
-    else load_command_params(t, m);
+    else if (name == "motion_command_params.tsv") load_command_params(t, m);
+    else if (name == "devicenet_parameters.tsv") load_devicenet_parameters(t, m);
+    else load_devicenet_commands(t, m);
   }
   char hb[40];
   std::snprintf(hb, sizeof hb, "fnv1a64:%016llx", static_cast<unsigned long long>(h));
@@ -817,7 +988,8 @@ CompileReport compile_upid_db(const std::string& source_dir, const std::string& 
   for (const auto& cmd : m.commands) ncparams += cmd.params.size();
   rep.counts = {{"profiles", m.profiles.size()},          {"parameters", m.params.size()},
                 {"enum_labels", nlabels},                 {"errors", m.errors.size()},
-                {"motion_commands", m.commands.size()},   {"motion_command_params", ncparams}};
+                {"motion_commands", m.commands.size()},   {"motion_command_params", ncparams},
+                {"devicenet_parameters", m.dn_params.size()}, {"devicenet_commands", m.dn_commands.size()}};
   if (!rep.ok() || out_path.empty()) return rep;
 
   std::sort(m.params.begin(), m.params.end(), [](const Parameter& a, const Parameter& b) { return a.upid < b.upid; });

@@ -225,6 +225,69 @@ Result<Database> Database::open(const std::string& path) {
     }
   }
 
+  {
+    Query q(raw,
+            "SELECT id, name, path, type_code, min, max, default_value, unit, scale, comm, description, source, src_file, "
+            "src_line FROM devicenet_parameters ORDER BY seq");
+    if (!q.ok()) return bad("devicenet_parameters");
+    while (q.next()) {
+      DevicenetParameter p;
+      p.id = q.text(0);
+      p.name = q.text(1);
+      p.path = q.text(2);
+      p.spec.type = opt_type(q, 3);
+      p.spec.min = q.opt_i64(4);
+      p.spec.max = q.opt_i64(5);
+      p.default_value = q.opt_i64(6);
+      p.spec.unit = q.text(7);
+      p.spec.scale = q.opt_real(8);
+      p.comm = q.i64(9) != 0;
+      p.description = q.text(10);
+      p.prov = q.prov(11);
+      d.dn_params_.push_back(std::move(p));
+    }
+  }
+  {
+    Query q(raw, "SELECT parameter_id, raw, label FROM devicenet_parameter_labels ORDER BY parameter_id, raw");
+    if (!q.ok()) return bad("devicenet_parameter_labels");
+    while (q.next()) {
+      for (auto& p : d.dn_params_)
+        if (p.id == q.text(0)) p.spec.labels.push_back({q.i64(1), q.text(2)});
+    }
+  }
+  {
+    Query q(raw,
+            "SELECT id, id_text, direction, name, table_name, range_text, min, max, unit, scale, unit_text, addressed, "
+            "direct, description, source, src_file, src_line FROM devicenet_commands ORDER BY id");
+    if (!q.ok()) return bad("devicenet_commands");
+    while (q.next()) {
+      DevicenetCommand c;
+      c.id = static_cast<std::uint8_t>(q.i64(0));
+      c.id_text = q.text(1);
+      c.direction = q.text(2);
+      c.name = q.text(3);
+      c.table_name = q.text(4);
+      c.range_text = q.text(5);
+      c.spec.min = q.opt_i64(6);
+      c.spec.max = q.opt_i64(7);
+      c.spec.unit = q.text(8);
+      c.spec.scale = q.opt_real(9);
+      c.unit_text = q.text(10);
+      c.addressed = q.i64(11) != 0;
+      c.direct = q.i64(12) != 0;
+      c.description = q.text(13);
+      c.prov = q.prov(14);
+      d.dn_commands_.push_back(std::move(c));
+    }
+  }
+  {
+    Query q(raw, "SELECT command_id, raw, label FROM devicenet_command_labels ORDER BY command_id, raw");
+    if (!q.ok()) return bad("devicenet_command_labels");
+    while (q.next()) {
+      for (auto& c : d.dn_commands_)
+        if (c.id == q.i64(0)) c.spec.labels.push_back({q.i64(1), q.text(2)});
+    }
+  }
   for (std::uint32_t i = 0; i < d.params_.size(); ++i) {
     d.by_upid_[d.params_[i].upid].push_back(i);
     d.search_keys_.push_back(lower(d.params_[i].name) + "\n" + lower(d.params_[i].path));
@@ -236,7 +299,8 @@ Result<Database> Database::open(const std::string& path) {
   for (const auto& c : d.commands_) ncparams += c.params.size();
   d.info_.counts = {{"profiles", d.profiles_.size()},        {"parameters", d.params_.size()},
                     {"enum_labels", nlabels},                {"errors", d.errors_.size()},
-                    {"motion_commands", d.commands_.size()}, {"motion_command_params", ncparams}};
+                    {"motion_commands", d.commands_.size()}, {"motion_command_params", ncparams},
+                    {"devicenet_parameters", d.dn_params_.size()}, {"devicenet_commands", d.dn_commands_.size()}};
   return d;
 }
 
@@ -292,6 +356,12 @@ const Profile* Database::profile(std::string_view id) const {
   for (const auto& p : profiles_)
     if (p.id == id) return &p;
   return nullptr;
+}
+
+const DevicenetCommand* Database::devicenet_command(std::uint8_t id) const {
+  auto it = std::lower_bound(dn_commands_.begin(), dn_commands_.end(), id,
+                             [](const DevicenetCommand& c, std::uint8_t v) { return c.id < v; });
+  return it != dn_commands_.end() && it->id == id ? &*it : nullptr;
 }
 
 }  // namespace lmcfg::db

@@ -16,7 +16,7 @@
 namespace lmcfg::db {
 
 // Version of the SQLite schema written by the compiler and required by open().
-inline constexpr int kSchemaVersion = 1;
+inline constexpr int kSchemaVersion = 2;
 // File name looked for next to the running executable.
 inline constexpr std::string_view kDefaultDbFileName = "lmcfg-upid.sqlite";
 // Environment variable that overrides the default location.
@@ -100,6 +100,35 @@ struct MotionCommand {
   std::uint16_t header() const noexcept { return motion_header(master, sub); }
 };
 
+// Seed 000, the older controllers with DeviceNet (profile e100-devicenet). Their
+// parameters have no UPID: the seed addresses them by LinTalk tree path only.
+// Fields the seed does not state stay empty (spec.type, default_value...).
+inline constexpr std::string_view kDevicenetProfile = "e100-devicenet";
+
+struct DevicenetParameter {
+  std::string id;  // the path as printed ("DeviceNet\\Baudrate"), or the name where none is printed
+  std::string name, path;
+  ValueSpec spec;
+  std::optional<std::int64_t> default_value;
+  bool comm = false;
+  std::string description;
+  Provenance prov;
+};
+
+// A general-purpose command of the Addressed/Direct In/Out modules (seed 000
+// §5.2 Table 5-1): a 7-bit command ID, its own address space, not a UPID.
+struct DevicenetCommand {
+  std::uint8_t id = 0;
+  std::string id_text;    // "0x11", as Table 5-1 writes it
+  std::string direction;  // "get", "set", or "" for neither (actions)
+  std::string name;       // detail heading
+  std::string table_name, range_text, unit_text;  // Table 5-1, verbatim
+  ValueSpec spec;         // min, max, unit, scale, labels where stated
+  bool addressed = false, direct = false;  // usable in the Addressed / Direct module
+  std::string description;
+  Provenance prov;
+};
+
 struct DbInfo {
   std::string path;
   int schema_version = 0;
@@ -131,6 +160,11 @@ class Database {
   const MotionCommand* motion_command(std::uint16_t header) const;
   const std::vector<MotionCommand>& motion_commands() const { return commands_; }
 
+  // Seed 000 (DeviceNet): parameters in seed order; commands by ID.
+  const std::vector<DevicenetParameter>& devicenet_parameters() const { return dn_params_; }
+  const std::vector<DevicenetCommand>& devicenet_commands() const { return dn_commands_; }
+  const DevicenetCommand* devicenet_command(std::uint8_t id) const;
+
   const std::vector<Profile>& profiles() const { return profiles_; }
   const Profile* profile(std::string_view id) const;
   const std::vector<Parameter>& parameters() const { return params_; }
@@ -143,6 +177,8 @@ class Database {
   std::vector<Parameter> params_;  // sorted by UPID
   std::vector<ErrorEntry> errors_;  // sorted by domain, code
   std::vector<MotionCommand> commands_;  // sorted by header
+  std::vector<DevicenetParameter> dn_params_;
+  std::vector<DevicenetCommand> dn_commands_;  // sorted by id
   std::unordered_map<std::uint16_t, std::vector<std::uint32_t>> by_upid_;
   std::map<std::pair<std::string, std::uint32_t>, std::uint32_t, std::less<>> by_error_;
   std::unordered_map<std::uint16_t, std::uint32_t> by_header_;

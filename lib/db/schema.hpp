@@ -51,6 +51,29 @@ CREATE TABLE motion_command_params(
   source TEXT NOT NULL, src_file TEXT NOT NULL, src_line INTEGER NOT NULL,
   PRIMARY KEY(master, sub, idx),
   FOREIGN KEY(master, sub) REFERENCES motion_commands(master, sub));
+CREATE TABLE devicenet_parameters(
+  seq INTEGER PRIMARY KEY,
+  id TEXT NOT NULL UNIQUE, profile TEXT NOT NULL REFERENCES profiles(profile),
+  name TEXT, path TEXT, type_code INTEGER, type TEXT,
+  min INTEGER, max INTEGER, default_value INTEGER, unit TEXT, scale REAL,
+  comm INTEGER NOT NULL, description TEXT,
+  source TEXT NOT NULL, src_file TEXT NOT NULL, src_line INTEGER NOT NULL);
+CREATE TABLE devicenet_parameter_labels(
+  parameter_id TEXT NOT NULL REFERENCES devicenet_parameters(id),
+  raw INTEGER NOT NULL, label TEXT NOT NULL,
+  source TEXT NOT NULL, src_file TEXT NOT NULL, src_line INTEGER NOT NULL,
+  PRIMARY KEY(parameter_id, raw));
+CREATE TABLE devicenet_commands(
+  id INTEGER PRIMARY KEY, id_text TEXT NOT NULL, profile TEXT NOT NULL REFERENCES profiles(profile),
+  direction TEXT, name TEXT NOT NULL, table_name TEXT, range_text TEXT,
+  min INTEGER, max INTEGER, unit TEXT, scale REAL, unit_text TEXT,
+  addressed INTEGER NOT NULL, direct INTEGER NOT NULL, description TEXT,
+  source TEXT NOT NULL, src_file TEXT NOT NULL, src_line INTEGER NOT NULL);
+CREATE TABLE devicenet_command_labels(
+  command_id INTEGER NOT NULL REFERENCES devicenet_commands(id),
+  raw INTEGER NOT NULL, label TEXT NOT NULL,
+  source TEXT NOT NULL, src_file TEXT NOT NULL, src_line INTEGER NOT NULL,
+  PRIMARY KEY(command_id, raw));
 )SQL";
 
 }  // namespace lmcfg::db

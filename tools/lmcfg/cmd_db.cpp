@@ -29,6 +29,7 @@ struct DbOptions {
   std::string profile;
   std::string needle;
   std::string domain;
+  bool devicenet_params = false;
 };
 
 std::string hex(unsigned v, int digits) {
@@ -243,6 +244,91 @@ int run_commands(const DbOptions& o) {
   return kOk;
 }
 
+json spec_json(const db::ValueSpec& s) {
+  json labels = json::array();
+  for (const auto& l : s.labels) labels.push_back({{"raw", l.raw}, {"label", l.label}});
+  auto opt = [](const auto& v) { return v ? json(*v) : json(nullptr); };
+  return {{"type", s.type ? json(std::string(db::type_name(*s.type))) : json(nullptr)},
+          {"min", opt(s.min)},
+          {"max", opt(s.max)},
+          {"unit", s.unit},
+          {"scale", opt(s.scale)},
+          {"labels", labels}};
+}
+
+std::string range_text(const db::ValueSpec& s) {
+  if (!s.min && !s.max) return "";
+  return (s.min ? std::to_string(*s.min) : std::string("?")) + ".." + (s.max ? std::to_string(*s.max) : std::string("?"));
+}
+
+json devicenet_command_json(const db::DevicenetCommand& c) {
+  return {{"id", c.id_text},          {"direction", c.direction},   {"name", c.name},
+          {"table_name", c.table_name}, {"range", c.range_text},     {"unit_text", c.unit_text},
+          {"value", spec_json(c.spec)}, {"addressed", c.addressed},  {"direct", c.direct},
+          {"description", c.description}, {"provenance", prov_json(c.prov)}};
+}
+
+// Seed 000: the general-purpose command set (7-bit IDs) or the DeviceNet parameter tree.
+int run_devicenet(const DbOptions& o) {
+  int rc = kOk;
+  auto d = open_db(o, rc);
+  if (!d) return rc;
+  if (o.devicenet_params) {
+    if (o.json) {
+      json arr = json::array();
+      for (const auto& p : d->devicenet_parameters())
+        arr.push_back({{"id", p.id}, {"name", p.name}, {"path", p.path}, {"value", spec_json(p.spec)},
+                       {"default", p.default_value ? json(*p.default_value) : json(nullptr)}, {"comm", p.comm},
+                       {"description", p.description}, {"provenance", prov_json(p.prov)}});
+      std::cout << arr.dump(2) << "\n";
+      return kOk;
+    }
+    std::printf("%-55s %-8s %s\n", "PATH (OR NAME)", "RANGE", "NOTES");
+    for (const auto& p : d->devicenet_parameters())
+      std::printf("%-55s %-8s %s\n", p.id.c_str(), range_text(p.spec).c_str(), p.comm ? "communication" : "");
+    return kOk;
+  }
+  if (!o.needle.empty()) {
+    auto id = parse_number(o.needle, true);
+    if (!id || *id > 0x7F) {
+      std::fprintf(stderr, "lmcfg db devicenet: '%s' is not a command ID 00..7F (hex: 11, 0x11, 11h)\n", o.needle.c_str());
+      return kInvalidInput;
+    }
+    const auto* c = d->devicenet_command(static_cast<std::uint8_t>(*id));
+    if (!c) {
+      std::printf("DeviceNet command %02Xh: not in the database (seed 000 §5.2 Table 5-1 does not define it)\n",
+                  static_cast<unsigned>(*id));
+      return kOk;
+    }
+    if (o.json) {
+      std::cout << devicenet_command_json(*c).dump(2) << "\n";
+      return kOk;
+    }
+    std::printf("%s %s\n", c->id_text.c_str(), c->name.c_str());
+    std::printf("  Table 5-1:   %s\n", c->table_name.c_str());
+    std::printf("  direction:   %s\n", c->direction.empty() ? "action (neither get nor set)" : c->direction.c_str());
+    std::printf("  value:       %s%s%s\n", c->range_text.c_str(),
+                range_text(c->spec).empty() ? "" : (" (raw " + range_text(c->spec) + ")").c_str(),
+                c->spec.unit.empty() ? "" : ("; " + c->spec.unit + (c->spec.scale ? " x " + db::format_scaled(1, *c->spec.scale) : "")).c_str());
+    std::printf("  unit text:   %s\n", c->unit_text.c_str());
+    for (const auto& l : c->spec.labels) std::printf("  label:       %lld = %s\n", static_cast<long long>(l.raw), l.label.c_str());
+    std::printf("  modules:     %s%s\n", c->addressed ? "Addressed In/Out " : "", c->direct ? "Direct In/Out" : "");
+    std::printf("  %s\n  source:      %s\n", c->description.c_str(), prov_text(c->prov).c_str());
+    return kOk;
+  }
+  if (o.json) {
+    json arr = json::array();
+    for (const auto& c : d->devicenet_commands()) arr.push_back(devicenet_command_json(c));
+    std::cout << arr.dump(2) << "\n";
+    return kOk;
+  }
+  std::printf("%-5s %-4s %-45s %-22s %s\n", "ID", "DIR", "NAME", "RANGE", "UNIT");
+  for (const auto& c : d->devicenet_commands())
+    std::printf("%-5s %-4s %-45s %-22s %s\n", c.id_text.c_str(), c.direction.c_str(), c.name.c_str(), c.range_text.c_str(),
+                c.spec.unit.c_str());
+  return kOk;
+}
+
 int run_info(const DbOptions& o) {
   int rc = kOk;
   auto d = open_db(o, rc);
@@ -406,9 +492,15 @@ void setup(CLI::App& app, int& exit_code) {
   auto* commands = db->add_subcommand("commands", "List motion commands and their parameters");
   commands->callback([o, &exit_code] { exit_code = run_commands(*o); });
 
+  auto* devicenet = db->add_subcommand(
+      "devicenet", "Older DeviceNet controllers (seed 000): the general-purpose command set, or --params the parameter tree");
+  devicenet->add_option("id", o->needle, "One command ID in hex (11, 0x11, 11h): show it in full");
+  devicenet->add_flag("--params", o->devicenet_params, "List the DeviceNet parameter tree instead of the commands");
+  devicenet->callback([o, &exit_code] { exit_code = run_devicenet(*o); });
+
   auto* info = db->add_subcommand("info", "Schema version, content hash and row counts");
   info->callback([o, &exit_code] { exit_code = run_info(*o); });
-  for (auto* s : {show, find, errors, commands, info}) common(s);
+  for (auto* s : {show, find, errors, commands, devicenet, info}) common(s);
 
   auto so = std::make_shared<ScanCli>();
   auto* scan = db->add_subcommand("scan", "Learn a new firmware profile from a drive: UPID list, min/max/default");
