@@ -19,12 +19,14 @@ const char* kProfiles =
     "profile\tfamily\tsoftware\tversion\tdescription\tsource\n"
     "e1100\tE1100\t\t\t\tentered by hand: test\n";
 const char* kParamHeader =
-    "upid\tprofiles\tlayer\tname\tpath\ttype\taddress_usage\tmin\tmax\tdefault\tunit\tscale\tenum\tcomm\tdescription\tsource\n";
+    "upid\tprofiles\tlayer\tname\tpath\ttype\taddress_"
+    "usage\tmin\tmax\tdefault\tunit\tscale\tenum\tcomm\tdescription\tsource\n";
 
 // A parameters.tsv row with the given key fields; the others empty.
 std::string prow(const std::string& upid, const std::string& profiles, const std::string& layer,
                  const std::string& type, const std::string& source) {
-  return upid + "\t" + profiles + "\t" + layer + "\tN\t\t" + type + "\t\t\t\t\t\t\t\t\t\t" + source + "\n";
+  return upid + "\t" + profiles + "\t" + layer + "\tN\t\t" + type + "\t\t\t\t\t\t\t\t\t\t" +
+         source + "\n";
 }
 
 std::vector<std::string> messages(const CompileReport& rep) {
@@ -39,16 +41,16 @@ TEST_CASE("compiler reports malformed parameter rows with file:line:column", "[d
   auto dir = scratch_dir("bad-params");
   write_file(dir / "profiles.tsv", kProfiles);
   write_file(dir / "parameters.tsv",
-             std::string("# comment line\n") + kParamHeader +          // lines 1-2
-                 prow("13A2", "*", "MC", "UINT16", "seed003 §9.1") +   // 3 ok
-                 "13A3\t*\tMC\tB\n" +                                  // 4 column count
-                 prow("13G2", "*", "MC", "UINT16", "s") +              // 5 bad hex
-                 prow("13A4", "*", "MC", "UINT64", "s") +              // 6 unknown type
-                 prow("2008", "*", "MC", "UINT16", "s") +              // 7 layer mismatch
-                 prow("13A5", "*", "MC", "UINT16", "") +               // 8 missing source
-                 prow("13A2", "e1100", "MC", "UINT16", "s") +          // 9 duplicate
-                 prow("0F00", "*", "OS", "UINT16", "s") +              // 10 outside ranges
-                 prow("13A6", "e2200", "MC", "UINT16", "s"));          // 11 unknown profile
+             std::string("# comment line\n") + kParamHeader +         // lines 1-2
+                 prow("13A2", "*", "MC", "UINT16", "seed003 §9.1") +  // 3 ok
+                 "13A3\t*\tMC\tB\n" +                                 // 4 column count
+                 prow("13G2", "*", "MC", "UINT16", "s") +             // 5 bad hex
+                 prow("13A4", "*", "MC", "UINT64", "s") +             // 6 unknown type
+                 prow("2008", "*", "MC", "UINT16", "s") +             // 7 layer mismatch
+                 prow("13A5", "*", "MC", "UINT16", "") +              // 8 missing source
+                 prow("13A2", "e1100", "MC", "UINT16", "s") +         // 9 duplicate
+                 prow("0F00", "*", "OS", "UINT16", "s") +             // 10 outside ranges
+                 prow("13A6", "e2200", "MC", "UINT16", "s"));         // 11 unknown profile
   auto out = (dir / "out.sqlite").string();
   write_file(out, "previous");
   auto rep = compile_upid_db(dir.string(), out);
@@ -58,12 +60,15 @@ TEST_CASE("compiler reports malformed parameter rows with file:line:column", "[d
   std::vector<std::string> expected = {
       f + ":4:12: error: expected 16 fields (as in the header, line 2), found 4",
       f + ":5:1: error: bad hex \"13G2\" in column 'upid' (expected 4 hex digits, e.g. 13A2)",
-      f + ":6:14: error: unknown type name \"UINT64\" (expected one of: BOOL UINT8 SINT8 UINT16 SINT16 UINT32 SINT32 "
-          "LIN_FLOAT STRING CAP_DIR RADIO_DIR_BIT RADIO_DIR16 ENUM_DIR8 ENUM_DIR16 STRINGLET CAP_DIRLET)",
+      f + ":6:14: error: unknown type name \"UINT64\" (expected one of: BOOL UINT8 SINT8 UINT16 "
+          "SINT16 UINT32 SINT32 "
+          "LIN_FLOAT STRING CAP_DIR RADIO_DIR_BIT RADIO_DIR16 ENUM_DIR8 ENUM_DIR16 STRINGLET "
+          "CAP_DIRLET)",
       f + ":7:8: error: layer \"MC\" does not match UPID 2008 (in the Intf range 2000-2EFF)",
       f + ":8:30: error: missing source (provenance) in column 'source'",
       f + ":9:1: error: duplicate UPID 13A2 for profile e1100 (first at parameters.tsv:3)",
-      f + ":10:1: error: UPID 0F00 is outside every layer range (OS 0000-0EFF, MC 1000-1EFF, Intf 2000-2EFF, Appl "
+      f + ":10:1: error: UPID 0F00 is outside every layer range (OS 0000-0EFF, MC 1000-1EFF, Intf "
+          "2000-2EFF, Appl "
           "3000-3EFF)",
       f + ":11:6: error: unknown profile \"e2200\" in column 'profiles' (not in profiles.tsv)",
   };
@@ -98,16 +103,23 @@ TEST_CASE("compiler reports header, hex and reference errors in the other tables
   auto p = [&](const char* n) { return (dir / n).string(); };
   std::vector<std::string> expected = {
       p("notes.tsv") + ":1:1: warning: not a table the compiler knows; ignored",
-      p("profiles.tsv") + ":1:33: error: unknown column \"descriptoin\" in the header (expected: profile family "
-                          "software version description source)",
+      p("profiles.tsv") +
+          ":1:33: error: unknown column \"descriptoin\" in the header (expected: profile family "
+          "software version description source)",
       p("profiles.tsv") + ":1:51: error: header lacks column \"description\"",
-      p("errors.tsv") + ":3:4: error: bad hex \"00XC\" in column 'code' (expected 1 to 8 hex digits, e.g. 000C)",
-      p("errors.tsv") + ":4:4: error: duplicate error code 000c in domain mc (first at errors.tsv:2)",
-      p("motion_commands.tsv") + ":3:1: error: bad hex \"1\" in column 'master' (expected 2 hex digits, e.g. 01)",
-      p("motion_command_params.tsv") + ":3:1: error: motion command 02/0 is not in motion_commands.tsv",
-      p("motion_command_params.tsv") + ":4:8: error: bad offset \"32\" (expected the byte offset from the header, 2 or "
-                                       "more, with the value ending by byte 34)",
-      p("motion_command_params.tsv") + ":5:23: error: bad scale \"fast\" (expected a positive decimal number, e.g. 0.0001)",
+      p("errors.tsv") +
+          ":3:4: error: bad hex \"00XC\" in column 'code' (expected 1 to 8 hex digits, e.g. 000C)",
+      p("errors.tsv") +
+          ":4:4: error: duplicate error code 000c in domain mc (first at errors.tsv:2)",
+      p("motion_commands.tsv") +
+          ":3:1: error: bad hex \"1\" in column 'master' (expected 2 hex digits, e.g. 01)",
+      p("motion_command_params.tsv") +
+          ":3:1: error: motion command 02/0 is not in motion_commands.tsv",
+      p("motion_command_params.tsv") +
+          ":4:8: error: bad offset \"32\" (expected the byte offset from the header, 2 or "
+          "more, with the value ending by byte 34)",
+      p("motion_command_params.tsv") +
+          ":5:23: error: bad scale \"fast\" (expected a positive decimal number, e.g. 0.0001)",
   };
   CHECK(messages(rep) == expected);
 }
@@ -138,13 +150,19 @@ TEST_CASE("compiler writes a versioned database with provenance atomically", "[d
     sqlite3_finalize(s);
     return v;
   };
-  CHECK(scalar("SELECT value FROM meta WHERE key='schema_version'") == std::to_string(kSchemaVersion));
+  CHECK(scalar("SELECT value FROM meta WHERE key='schema_version'") ==
+        std::to_string(kSchemaVersion));
   CHECK(scalar("SELECT value FROM meta WHERE key='content_hash'") == rep.content_hash);
   // Decoded address usage bits (2136h: 1001h = RAM read + not used for hash).
-  CHECK(scalar("SELECT ram_read||ram_write||rom_read||rom_write||no_hash FROM parameters WHERE upid=0x2136") == "10001");
-  CHECK(scalar("SELECT ram_read||ram_write||rom_read||rom_write||no_hash FROM parameters WHERE upid=0x2008") == "10110");
-  CHECK(scalar("SELECT count(*) FROM sqlite_master WHERE type='index' AND name='parameters_upid'") == "1");
-  CHECK(scalar("SELECT src_file||':'||src_line FROM enum_labels WHERE label='By Parameter'") == "parameters.tsv:7");
+  CHECK(scalar("SELECT ram_read||ram_write||rom_read||rom_write||no_hash FROM parameters WHERE "
+               "upid=0x2136") == "10001");
+  CHECK(scalar("SELECT ram_read||ram_write||rom_read||rom_write||no_hash FROM parameters WHERE "
+               "upid=0x2008") == "10110");
+  CHECK(
+      scalar("SELECT count(*) FROM sqlite_master WHERE type='index' AND name='parameters_upid'") ==
+      "1");
+  CHECK(scalar("SELECT src_file||':'||src_line FROM enum_labels WHERE label='By Parameter'") ==
+        "parameters.tsv:7");
   sqlite3_close(db);
 }
 
@@ -157,32 +175,39 @@ TEST_CASE("fnv1a64 matches the reference values", "[db]") {
 
 TEST_CASE("compiler reports malformed seed 000 DeviceNet rows with file:line:column", "[db]") {
   auto dir = scratch_dir("bad-devicenet");
-  write_file(dir / "profiles.tsv", std::string(kProfiles) + "e100-devicenet\t\tDeviceNet\t\t\tentered by hand: test\n");
+  write_file(dir / "profiles.tsv",
+             std::string(kProfiles) + "e100-devicenet\t\tDeviceNet\t\t\tentered by hand: test\n");
   const std::string cmd_header =
-      "id\tdirection\tname\ttable_name\trange\tmin\tmax\tunit\tscale\tunit_text\taddressed\tdirect\tenum\tdescription\tsource\n";
-  auto crow = [](const std::string& id, const std::string& direction, const std::string& min, const std::string& max,
-                 const std::string& addressed, const std::string& source) {
-    return id + "\t" + direction + "\tN\tN\t-\t" + min + "\t" + max + "\t\t\t-\t" + addressed + "\t\t\t\t" + source + "\n";
+      "id\tdirection\tname\ttable_name\trange\tmin\tmax\tunit\tscale\tunit_"
+      "text\taddressed\tdirect\tenum\tdescription\tsource\n";
+  auto crow = [](const std::string& id, const std::string& direction, const std::string& min,
+                 const std::string& max, const std::string& addressed, const std::string& source) {
+    return id + "\t" + direction + "\tN\tN\t-\t" + min + "\t" + max + "\t\t\t-\t" + addressed +
+           "\t\t\t\t" + source + "\n";
   };
-  write_file(dir / "devicenet_commands.tsv", cmd_header +                         // line 1
-                                                 crow("0x11", "set", "", "", "x", "seed000 §5.2") +  // 2 ok
-                                                 crow("0x80", "get", "", "", "x", "s") +            // 3 ID > 7F
-                                                 crow("0x12", "put", "", "", "x", "s") +            // 4 direction
-                                                 crow("0x13", "", "5", "1", "x", "s") +             // 5 max < min
-                                                 crow("0x14", "", "", "", "yes", "s") +             // 6 flag
-                                                 crow("0x11", "set", "", "", "", "s") +             // 7 duplicate
-                                                 crow("0x15", "", "", "", "", ""));                 // 8 source
-  write_file(dir / "devicenet_parameters.tsv",
-             "id\tname\tpath\ttype\tmin\tmax\tdefault\tunit\tscale\tenum\tcomm\tdescription\tsource\n"
-             "DeviceNet\\MACID\tMACID\tDeviceNet\\MACID\t\t\t\t\t\t\t\t1\t\tseed000 §3.1\n"
-             "DeviceNet\\MACID\tMACID\tDeviceNet\\MACID\t\t\t\t\t\t\t\t\t\ts\n");
+  write_file(dir / "devicenet_commands.tsv",
+             cmd_header +                                            // line 1
+                 crow("0x11", "set", "", "", "x", "seed000 §5.2") +  // 2 ok
+                 crow("0x80", "get", "", "", "x", "s") +             // 3 ID > 7F
+                 crow("0x12", "put", "", "", "x", "s") +             // 4 direction
+                 crow("0x13", "", "5", "1", "x", "s") +              // 5 max < min
+                 crow("0x14", "", "", "", "yes", "s") +              // 6 flag
+                 crow("0x11", "set", "", "", "", "s") +              // 7 duplicate
+                 crow("0x15", "", "", "", "", ""));                  // 8 source
+  write_file(
+      dir / "devicenet_parameters.tsv",
+      "id\tname\tpath\ttype\tmin\tmax\tdefault\tunit\tscale\tenum\tcomm\tdescription\tsource\n"
+      "DeviceNet\\MACID\tMACID\tDeviceNet\\MACID\t\t\t\t\t\t\t\t1\t\tseed000 §3.1\n"
+      "DeviceNet\\MACID\tMACID\tDeviceNet\\MACID\t\t\t\t\t\t\t\t\t\ts\n");
   auto rep = compile_upid_db(dir.string(), (dir / "out.sqlite").string());
   CHECK_FALSE(rep.ok());
   const std::string c = (dir / "devicenet_commands.tsv").string();
   const std::string p = (dir / "devicenet_parameters.tsv").string();
   std::vector<std::string> expected = {
-      p + ":3:1: error: duplicate DeviceNet parameter \"DeviceNet\\MACID\" (first at devicenet_parameters.tsv:2)",
-      c + ":3:1: error: bad command ID \"0x80\" (expected 0x00..0x7F as Table 5-1 writes it, e.g. 0x1A)",
+      p + ":3:1: error: duplicate DeviceNet parameter \"DeviceNet\\MACID\" (first at "
+          "devicenet_parameters.tsv:2)",
+      c + ":3:1: error: bad command ID \"0x80\" (expected 0x00..0x7F as Table 5-1 writes it, e.g. "
+          "0x1A)",
       c + ":4:6: error: bad direction \"put\" (expected get, set or empty)",
       c + ":5:15: error: max 1 is below min 5",
       c + ":6:19: error: bad value \"yes\" in column 'addressed' (expected x or empty)",

@@ -140,7 +140,9 @@ TEST_CASE("decode the seed 003 §12.1 command table entry", "[db]") {
   CHECK(e.params[0].text == "100 mm");
   CHECK(e.params[1].text == "0.5 m/s");
   CHECK(e.raw == entry);
-  CHECK(e.summary() == "VAI Go To Pos, target 100 mm, max velocity 0.5 m/s, acceleration 2 m/s2, deceleration 2 m/s2");
+  CHECK(e.summary() ==
+        "VAI Go To Pos, target 100 mm, max velocity 0.5 m/s, acceleration 2 m/s2, deceleration 2 "
+        "m/s2");
 
   // Unknown command: not an error, no parameters.
   Bytes unknown = entry;
@@ -166,10 +168,12 @@ TEST_CASE("the real built database: every row has provenance", "[db]") {
   sqlite3* db = nullptr;
   REQUIRE(sqlite3_open_v2(LMCFG_DB_PATH, &db, SQLITE_OPEN_READONLY, nullptr) == SQLITE_OK);
   for (const char* table :
-       {"profiles", "parameters", "enum_labels", "errors", "motion_commands", "motion_command_params",
-        "devicenet_parameters", "devicenet_parameter_labels", "devicenet_commands", "devicenet_command_labels"}) {
-    std::string sql = std::string("SELECT count(*) FROM ") + table +
-                      " WHERE source IS NULL OR trim(source) = '' OR src_file IS NULL OR src_line IS NULL";
+       {"profiles", "parameters", "enum_labels", "errors", "motion_commands",
+        "motion_command_params", "devicenet_parameters", "devicenet_parameter_labels",
+        "devicenet_commands", "devicenet_command_labels"}) {
+    std::string sql =
+        std::string("SELECT count(*) FROM ") + table +
+        " WHERE source IS NULL OR trim(source) = '' OR src_file IS NULL OR src_line IS NULL";
     sqlite3_stmt* s = nullptr;
     REQUIRE(sqlite3_prepare_v2(db, sql.c_str(), -1, &s, nullptr) == SQLITE_OK);
     REQUIRE(sqlite3_step(s) == SQLITE_ROW);
@@ -190,7 +194,9 @@ TEST_CASE("the real built database: every row has provenance", "[db]") {
   CHECK(r->params[0].text == "100 mm");
   CHECK(r->params[1].text == "0.5 m/s");
   // Issue 3 acceptance, through the real catalogue extracted from seed 001 §4.3.
-  CHECK(r->summary() == "VAI Go To Pos, target 100 mm, max velocity 0.5 m/s, acceleration 2 m/s2, deceleration 2 m/s2");
+  CHECK(r->summary() ==
+        "VAI Go To Pos, target 100 mm, max velocity 0.5 m/s, acceleration 2 m/s2, deceleration 2 "
+        "m/s2");
 }
 
 TEST_CASE("open errors say what and where", "[db]") {

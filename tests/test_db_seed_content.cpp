@@ -21,7 +21,7 @@ TEST_CASE("upid-db: row counts of the extraction from seeds 001 and 003", "[db][
   const auto& counts = real_db().info().counts;
   CHECK(counts.at("profiles") == 3);
   CHECK(counts.at("parameters") == 92);  // 82 from seed 001, 10 from seed 003
-  CHECK(counts.at("errors") == 113);     // 85 MC codes 0000-008A, 8 LinRS states, 20 DeviceNet codes
+  CHECK(counts.at("errors") == 113);  // 85 MC codes 0000-008A, 8 LinRS states, 20 DeviceNet codes
   CHECK(counts.at("motion_commands") == 215);
   CHECK(counts.at("motion_command_params") == 469);
 }
@@ -39,8 +39,10 @@ TEST_CASE("upid-db: seed 003 §10.1 13A2h is UINT16, min 0, max 65535, default 1
   CHECK(p->prov.source.find("seed003") != std::string::npos);
 }
 
-TEST_CASE("upid-db: seed 003 §10.2/§15 LinRS parameters are communication parameters", "[db][seed]") {
-  for (std::uint16_t upid : {std::uint16_t{0x200E}, std::uint16_t{0x2012}, std::uint16_t{0x206C}, std::uint16_t{0x2076}}) {
+TEST_CASE("upid-db: seed 003 §10.2/§15 LinRS parameters are communication parameters",
+          "[db][seed]") {
+  for (std::uint16_t upid : {std::uint16_t{0x200E}, std::uint16_t{0x2012}, std::uint16_t{0x206C},
+                             std::uint16_t{0x2076}}) {
     const Parameter* p = real_db().find(upid);
     REQUIRE(p != nullptr);
     CHECK(p->comm);
@@ -70,11 +72,12 @@ TEST_CASE("upid-db: the motion command catalogue decodes seed 003 §12.1 entry 2
 }
 
 // Seed 000, the DeviceNet supplement: counts as in upid-db/DEVICENET.md.
-TEST_CASE("upid-db: seed 000 DeviceNet parameter tree, command set and error codes are all in", "[db][seed]") {
+TEST_CASE("upid-db: seed 000 DeviceNet parameter tree, command set and error codes are all in",
+          "[db][seed]") {
   const auto& db = real_db();
   CHECK(db.info().counts.at("devicenet_parameters") == 13);  // §3.1
   CHECK(db.info().counts.at("devicenet_commands") == 102);   // every row of §5.2 Table 5-1
-  CHECK(db.errors("devicenet").size() == 20);                 // §5.2 Get Error State (0Ah), 8100..8148
+  CHECK(db.errors("devicenet").size() == 20);  // §5.2 Get Error State (0Ah), 8100..8148
   REQUIRE(db.profile(kDevicenetProfile) != nullptr);
   CHECK(db.profile(kDevicenetProfile)->prov.source.rfind("seed000", 0) == 0);
   for (const auto& p : db.devicenet_parameters()) {
@@ -98,7 +101,10 @@ TEST_CASE("upid-db: seed 000 DeviceNet parameter tree, command set and error cod
   CHECK(set == 44);
 }
 
-TEST_CASE("upid-db: seed 000 spot values (§3.1 MACID Value, §5.2 Table 5-1 0x11 / 0x18 / 0x70, 0Ah codes)", "[db][seed]") {
+TEST_CASE(
+    "upid-db: seed 000 spot values (§3.1 MACID Value, §5.2 Table 5-1 0x11 / 0x18 / 0x70, 0Ah "
+    "codes)",
+    "[db][seed]") {
   const auto& db = real_db();
   // §3.1 "MACID Value": DeviceNet\MACID\MACID Value, 0 to 63.
   const DevicenetParameter* macid = nullptr;

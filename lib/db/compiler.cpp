@@ -22,12 +22,13 @@ namespace lmcfg::db {
 namespace fs = std::filesystem;
 
 std::string Diagnostic::str() const {
-  return file + ":" + std::to_string(line) + ":" + std::to_string(column) + (warning ? ": warning: " : ": error: ") +
-         message;
+  return file + ":" + std::to_string(line) + ":" + std::to_string(column) +
+         (warning ? ": warning: " : ": error: ") + message;
 }
 
 bool CompileReport::ok() const {
-  return std::none_of(diagnostics.begin(), diagnostics.end(), [](const Diagnostic& d) { return !d.warning; });
+  return std::none_of(diagnostics.begin(), diagnostics.end(),
+                      [](const Diagnostic& d) { return !d.warning; });
 }
 
 std::uint64_t fnv1a64(std::string_view data, std::uint64_t h) noexcept {
@@ -39,9 +40,12 @@ std::uint64_t fnv1a64(std::string_view data, std::uint64_t h) noexcept {
 }
 
 const std::vector<std::string>& upid_db_source_files() {
-  static const std::vector<std::string> k = {"profiles.tsv",          "parameters.tsv",
-                                             "errors.tsv",            "motion_commands.tsv",
-                                             "motion_command_params.tsv", "devicenet_parameters.tsv",
+  static const std::vector<std::string> k = {"profiles.tsv",
+                                             "parameters.tsv",
+                                             "errors.tsv",
+                                             "motion_commands.tsv",
+                                             "motion_command_params.tsv",
+                                             "devicenet_parameters.tsv",
                                              "devicenet_commands.tsv"};
   return k;
 }
@@ -85,7 +89,8 @@ class Compiler {
 // One TSV file: header, rows, and column lookup by name.
 class Table {
  public:
-  Table(Compiler& c, std::string path, std::string name, std::string content, const std::vector<std::string>& columns)
+  Table(Compiler& c, std::string path, std::string name, std::string content,
+        const std::vector<std::string>& columns)
       : c_(c), path_(std::move(path)), name_(std::move(name)), content_(std::move(content)) {
     parse(columns);
   }
@@ -101,7 +106,9 @@ class Table {
     static const Field kEmpty{};
     return kEmpty;
   }
-  void error(const Row& r, const Field& f, std::string msg) const { c_.error(path_, r.line, f.column, std::move(msg)); }
+  void error(const Row& r, const Field& f, std::string msg) const {
+    c_.error(path_, r.line, f.column, std::move(msg));
+  }
   void file_error(std::string msg) const { c_.error(path_, 1, 1, std::move(msg)); }
 
  private:
@@ -119,7 +126,8 @@ class Table {
       if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
       if (line.empty() || line[0] == '#') continue;
       std::string_view rest = line;
-      if (std::all_of(line.begin(), line.end(), [](char ch) { return ch == ' ' || ch == '\t'; })) continue;
+      if (std::all_of(line.begin(), line.end(), [](char ch) { return ch == ' ' || ch == '\t'; }))
+        continue;
       Row r;
       r.line = line_no;
       std::size_t off = 0;
@@ -157,7 +165,8 @@ class Table {
       if (std::find(columns.begin(), columns.end(), h) == columns.end()) {
         std::string expected;
         for (const auto& c : columns) expected += (expected.empty() ? "" : " ") + c;
-        c_.error(path_, r.line, f.column, "unknown column \"" + h + "\" in the header (expected: " + expected + ")");
+        c_.error(path_, r.line, f.column,
+                 "unknown column \"" + h + "\" in the header (expected: " + expected + ")");
         header_ok_ = false;
       } else if (!seen.insert(h).second) {
         c_.error(path_, r.line, f.column, "column \"" + h + "\" appears twice in the header");
@@ -182,15 +191,20 @@ class Table {
 
 // ---------------------------------------------------------------- field parsers
 
-std::optional<std::uint64_t> parse_hex_digits(std::string_view s, std::size_t min_digits, std::size_t max_digits) {
+std::optional<std::uint64_t> parse_hex_digits(std::string_view s, std::size_t min_digits,
+                                              std::size_t max_digits) {
   if (s.size() < min_digits || s.size() > max_digits) return std::nullopt;
   std::uint64_t v = 0;
   for (char ch : s) {
     int d;
-    if (ch >= '0' && ch <= '9') d = ch - '0';
-    else if (ch >= 'A' && ch <= 'F') d = ch - 'A' + 10;
-    else if (ch >= 'a' && ch <= 'f') d = ch - 'a' + 10;
-    else return std::nullopt;
+    if (ch >= '0' && ch <= '9')
+      d = ch - '0';
+    else if (ch >= 'A' && ch <= 'F')
+      d = ch - 'A' + 10;
+    else if (ch >= 'a' && ch <= 'f')
+      d = ch - 'a' + 10;
+    else
+      return std::nullopt;
     v = v * 16 + static_cast<unsigned>(d);
   }
   return v;
@@ -215,13 +229,15 @@ std::optional<double> parse_scale(std::string_view s) {
   std::string str(s);
   char* end = nullptr;
   double v = std::strtod(str.c_str(), &end);
-  if (str.empty() || end != str.c_str() + str.size() || !std::isfinite(v) || v <= 0) return std::nullopt;
+  if (str.empty() || end != str.c_str() + str.size() || !std::isfinite(v) || v <= 0)
+    return std::nullopt;
   return v;
 }
 
 std::string type_list() {
   std::string s;
-  for (unsigned i = 0; i < 16; ++i) s += (i ? " " : "") + std::string(type_name(static_cast<TypeCode>(i)));
+  for (unsigned i = 0; i < 16; ++i)
+    s += (i ? " " : "") + std::string(type_name(static_cast<TypeCode>(i)));
   return s;
 }
 
@@ -260,7 +276,10 @@ std::optional<TypeCode> read_type(const Table& t, const Row& r, bool required) {
     return std::nullopt;
   }
   auto ty = type_from_name(f.text);
-  if (!ty) t.error(r, f, "unknown type name \"" + std::string(f.text) + "\" (expected one of: " + type_list() + ")");
+  if (!ty)
+    t.error(
+        r, f,
+        "unknown type name \"" + std::string(f.text) + "\" (expected one of: " + type_list() + ")");
   return ty;
 }
 
@@ -270,7 +289,9 @@ bool read_scale_unit(const Table& t, const Row& r, ValueSpec& spec) {
   if (sf.text.empty()) return true;
   auto sc = parse_scale(sf.text);
   if (!sc) {
-    t.error(r, sf, "bad scale \"" + std::string(sf.text) + "\" (expected a positive decimal number, e.g. 0.0001)");
+    t.error(r, sf,
+            "bad scale \"" + std::string(sf.text) +
+                "\" (expected a positive decimal number, e.g. 0.0001)");
     return false;
   }
   spec.scale = sc;
@@ -287,26 +308,32 @@ bool read_range(const Table& t, const Row& r, ValueSpec& spec, std::optional<std
     if (f.text.empty()) continue;
     auto v = parse_dec(f.text);
     if (!v || *v < -2147483648ll || *v > 0xFFFFFFFFll) {
-      t.error(r, f, "bad integer \"" + std::string(f.text) + "\" in column '" + col +
-                        "' (expected a raw decimal value, -2147483648..4294967295)");
+      t.error(r, f,
+              "bad integer \"" + std::string(f.text) + "\" in column '" + col +
+                  "' (expected a raw decimal value, -2147483648..4294967295)");
       ok = false;
       continue;
     }
     if (spec.type) {
       if (auto range = type_range(*spec.type); range && (*v < range->min || *v > range->max)) {
-        t.error(r, f, std::string(col) + " " + std::to_string(*v) + " is outside the " +
-                          std::string(type_name(*spec.type)) + " range " + std::to_string(range->min) + ".." +
-                          std::to_string(range->max));
+        t.error(r, f,
+                std::string(col) + " " + std::to_string(*v) + " is outside the " +
+                    std::string(type_name(*spec.type)) + " range " + std::to_string(range->min) +
+                    ".." + std::to_string(range->max));
         ok = false;
         continue;
       }
     }
-    if (col[1] == 'i') spec.min = v;
-    else if (col[1] == 'a') spec.max = v;
-    else *def = v;
+    if (col[1] == 'i')
+      spec.min = v;
+    else if (col[1] == 'a')
+      spec.max = v;
+    else
+      *def = v;
   }
   if (spec.min && spec.max && *spec.min > *spec.max) {
-    t.error(r, t.get(r, "max"), "max " + std::to_string(*spec.max) + " is below min " + std::to_string(*spec.min));
+    t.error(r, t.get(r, "max"),
+            "max " + std::to_string(*spec.max) + " is below min " + std::to_string(*spec.min));
     ok = false;
   }
   return ok;
@@ -323,9 +350,12 @@ bool read_enum(const Table& t, const Row& r, ValueSpec& spec) {
     std::size_t bar = rest.find('|');
     std::string_view item = rest.substr(0, bar);
     std::size_t eq = item.find('=');
-    std::optional<std::int64_t> raw = eq == std::string_view::npos ? std::nullopt : parse_dec(item.substr(0, eq));
+    std::optional<std::int64_t> raw =
+        eq == std::string_view::npos ? std::nullopt : parse_dec(item.substr(0, eq));
     if (!raw || eq + 1 >= item.size()) {
-      t.error(r, ef, "bad enum item \"" + std::string(item) + "\" in column 'enum' (expected raw=Label, e.g. 1=By Parameter)");
+      t.error(r, ef,
+              "bad enum item \"" + std::string(item) +
+                  "\" in column 'enum' (expected raw=Label, e.g. 1=By Parameter)");
       ok = false;
     } else if (!raws.insert(*raw).second) {
       t.error(r, ef, "enum value " + std::to_string(*raw) + " appears twice in column 'enum'");
@@ -340,12 +370,14 @@ bool read_enum(const Table& t, const Row& r, ValueSpec& spec) {
 }
 
 // A flag column: empty or exactly `mark`.
-bool read_flag(const Table& t, const Row& r, std::string_view col, std::string_view mark, bool& out) {
+bool read_flag(const Table& t, const Row& r, std::string_view col, std::string_view mark,
+               bool& out) {
   const Field& f = t.get(r, col);
   out = f.text == mark;
   if (f.text.empty() || out) return true;
-  t.error(r, f, "bad value \"" + std::string(f.text) + "\" in column '" + std::string(col) + "' (expected " +
-                    std::string(mark) + " or empty)");
+  t.error(r, f,
+          "bad value \"" + std::string(f.text) + "\" in column '" + std::string(col) +
+              "' (expected " + std::string(mark) + " or empty)");
   return false;
 }
 
@@ -359,7 +391,8 @@ void load_profiles(const Table& t, Model& m) {
     p.id = std::string(t.get(r, "profile").text);
     if (auto [it, inserted] = seen.emplace(p.id, r.line); !inserted) {
       t.error(r, t.get(r, "profile"),
-              "duplicate profile \"" + p.id + "\" (first at " + t.name() + ":" + std::to_string(it->second) + ")");
+              "duplicate profile \"" + p.id + "\" (first at " + t.name() + ":" +
+                  std::to_string(it->second) + ")");
       continue;
     }
     p.family = std::string(t.get(r, "family").text);
@@ -382,7 +415,9 @@ void load_parameters(const Table& t, Model& m) {
     const Field& uf = t.get(r, "upid");
     auto upid = parse_hex_digits(uf.text, 4, 4);
     if (!upid) {
-      t.error(r, uf, "bad hex \"" + std::string(uf.text) + "\" in column 'upid' (expected 4 hex digits, e.g. 13A2)");
+      t.error(r, uf,
+              "bad hex \"" + std::string(uf.text) +
+                  "\" in column 'upid' (expected 4 hex digits, e.g. 13A2)");
       ok = false;
     } else {
       p.upid = static_cast<std::uint16_t>(*upid);
@@ -390,7 +425,8 @@ void load_parameters(const Table& t, Model& m) {
     // profiles
     const Field& pf = t.get(r, "profiles");
     if (pf.text.empty()) {
-      t.error(r, pf, "missing profile list in column 'profiles' (a comma list of profile ids, or *)");
+      t.error(r, pf,
+              "missing profile list in column 'profiles' (a comma list of profile ids, or *)");
       ok = false;
     } else if (pf.text != "*") {
       std::string_view rest = pf.text;
@@ -400,7 +436,8 @@ void load_parameters(const Table& t, Model& m) {
         while (!id.empty() && id.front() == ' ') id.erase(id.begin());
         while (!id.empty() && id.back() == ' ') id.pop_back();
         if (!known.count(id)) {
-          t.error(r, pf, "unknown profile \"" + id + "\" in column 'profiles' (not in profiles.tsv)");
+          t.error(r, pf,
+                  "unknown profile \"" + id + "\" in column 'profiles' (not in profiles.tsv)");
           ok = false;
         } else {
           p.profiles.push_back(id);
@@ -413,17 +450,23 @@ void load_parameters(const Table& t, Model& m) {
     const Field& lf = t.get(r, "layer");
     auto layer = layer_from_name(lf.text);
     if (!layer) {
-      t.error(r, lf, "unknown layer \"" + std::string(lf.text) + "\" (expected OS, MC, Intf or Appl)");
+      t.error(r, lf,
+              "unknown layer \"" + std::string(lf.text) + "\" (expected OS, MC, Intf or Appl)");
       ok = false;
     } else if (upid) {
       auto actual = layer_of_upid(p.upid);
       if (!actual) {
-        t.error(r, uf, "UPID " + hex4(p.upid) + " is outside every layer range (OS 0000-0EFF, MC 1000-1EFF, Intf 2000-2EFF, Appl 3000-3EFF)");
+        t.error(r, uf,
+                "UPID " + hex4(p.upid) +
+                    " is outside every layer range (OS 0000-0EFF, MC 1000-1EFF, Intf 2000-2EFF, "
+                    "Appl 3000-3EFF)");
         ok = false;
       } else if (*actual != *layer) {
         unsigned base = layer_base_upid(*actual);
-        t.error(r, lf, "layer \"" + std::string(lf.text) + "\" does not match UPID " + hex4(p.upid) + " (in the " +
-                           std::string(layer_name(*actual)) + " range " + hex4(base) + "-" + hex4(base + 0x0EFF) + ")");
+        t.error(r, lf,
+                "layer \"" + std::string(lf.text) + "\" does not match UPID " + hex4(p.upid) +
+                    " (in the " + std::string(layer_name(*actual)) + " range " + hex4(base) + "-" +
+                    hex4(base + 0x0EFF) + ")");
         ok = false;
       } else {
         p.layer = *layer;
@@ -440,7 +483,9 @@ void load_parameters(const Table& t, Model& m) {
     if (!af.text.empty()) {
       auto au = parse_hex_digits(af.text, 4, 4);
       if (!au) {
-        t.error(r, af, "bad hex \"" + std::string(af.text) + "\" in column 'address_usage' (expected 4 hex digits, e.g. 000D)");
+        t.error(r, af,
+                "bad hex \"" + std::string(af.text) +
+                    "\" in column 'address_usage' (expected 4 hex digits, e.g. 000D)");
         ok = false;
       } else {
         p.address_usage = AddressUsage{static_cast<std::uint16_t>(*au)};
@@ -462,8 +507,10 @@ void load_parameters(const Table& t, Model& m) {
       for (const auto& id : mine) {
         if (id == other || id == "*" || other == "*") {
           std::string which = id == "*" ? other : id;
-          t.error(r, uf, "duplicate UPID " + hex4(p.upid) + (which == "*" ? std::string(" for every profile") : " for profile " + which) +
-                             " (first at " + t.name() + ":" + std::to_string(line) + ")");
+          t.error(r, uf,
+                  "duplicate UPID " + hex4(p.upid) +
+                      (which == "*" ? std::string(" for every profile") : " for profile " + which) +
+                      " (first at " + t.name() + ":" + std::to_string(line) + ")");
           dup = true;
           break;
         }
@@ -486,13 +533,16 @@ void load_errors(const Table& t, Model& m) {
     if (e.domain.empty() || !std::all_of(e.domain.begin(), e.domain.end(), [](char ch) {
           return (ch >= 'a' && ch <= 'z') || (ch >= '0' && ch <= '9') || ch == '_' || ch == '-';
         })) {
-      t.error(r, df, "bad domain \"" + e.domain + "\" (expected a lower-case id: mc, linrs, devicenet)");
+      t.error(r, df,
+              "bad domain \"" + e.domain + "\" (expected a lower-case id: mc, linrs, devicenet)");
       ok = false;
     }
     const Field& cf = t.get(r, "code");
     auto code = parse_hex_digits(cf.text, 1, 8);
     if (!code) {
-      t.error(r, cf, "bad hex \"" + std::string(cf.text) + "\" in column 'code' (expected 1 to 8 hex digits, e.g. 000C)");
+      t.error(r, cf,
+              "bad hex \"" + std::string(cf.text) +
+                  "\" in column 'code' (expected 1 to 8 hex digits, e.g. 000C)");
       ok = false;
     } else {
       e.code = static_cast<std::uint32_t>(*code);
@@ -505,8 +555,9 @@ void load_errors(const Table& t, Model& m) {
     e.prov = prov_of(t, r);
     if (!ok) continue;
     if (auto [it, ins] = seen.emplace(std::make_pair(e.domain, e.code), r.line); !ins) {
-      t.error(r, cf, "duplicate error code " + e.code_text + " in domain " + e.domain + " (first at " + t.name() + ":" +
-                         std::to_string(it->second) + ")");
+      t.error(r, cf,
+              "duplicate error code " + e.code_text + " in domain " + e.domain + " (first at " +
+                  t.name() + ":" + std::to_string(it->second) + ")");
       continue;
     }
     m.errors.push_back(std::move(e));
@@ -523,7 +574,9 @@ CmdKey read_cmd_key(const Table& t, const Row& r) {
   const Field& mf = t.get(r, "master");
   auto master = parse_hex_digits(mf.text, 2, 2);
   if (!master) {
-    t.error(r, mf, "bad hex \"" + std::string(mf.text) + "\" in column 'master' (expected 2 hex digits, e.g. 01)");
+    t.error(r, mf,
+            "bad hex \"" + std::string(mf.text) +
+                "\" in column 'master' (expected 2 hex digits, e.g. 01)");
     k.ok = false;
   } else {
     k.master = static_cast<std::uint8_t>(*master);
@@ -531,7 +584,9 @@ CmdKey read_cmd_key(const Table& t, const Row& r) {
   const Field& sf = t.get(r, "sub");
   auto sub = parse_hex_digits(sf.text, 1, 1);
   if (!sub) {
-    t.error(r, sf, "bad hex \"" + std::string(sf.text) + "\" in column 'sub' (expected 1 hex digit, e.g. 0)");
+    t.error(
+        r, sf,
+        "bad hex \"" + std::string(sf.text) + "\" in column 'sub' (expected 1 hex digit, e.g. 0)");
     k.ok = false;
   } else {
     k.sub = static_cast<std::uint8_t>(*sub);
@@ -561,8 +616,9 @@ void load_commands(const Table& t, Model& m) {
     c.description = std::string(t.get(r, "description").text);
     c.prov = prov_of(t, r);
     if (auto [it, ins] = seen.emplace(c.header(), r.line); !ins) {
-      t.error(r, t.get(r, "master"), "duplicate motion command " + cmd_text(k) + " (first at " + t.name() + ":" +
-                                         std::to_string(it->second) + ")");
+      t.error(r, t.get(r, "master"),
+              "duplicate motion command " + cmd_text(k) + " (first at " + t.name() + ":" +
+                  std::to_string(it->second) + ")");
       continue;
     }
     m.commands.push_back(std::move(c));
@@ -579,7 +635,8 @@ void load_command_params(const Table& t, Model& m) {
       for (auto& c : m.commands)
         if (c.master == k.master && c.sub == k.sub) cmd = &c;
       if (!cmd) {
-        t.error(r, t.get(r, "master"), "motion command " + cmd_text(k) + " is not in motion_commands.tsv");
+        t.error(r, t.get(r, "master"),
+                "motion command " + cmd_text(k) + " is not in motion_commands.tsv");
         ok = false;
       }
     }
@@ -598,8 +655,10 @@ void load_command_params(const Table& t, Model& m) {
     const Field& of = t.get(r, "offset");
     auto off = parse_dec(of.text);
     if (!off || *off < 2 || *off + (type ? type_size(*type) : 1u) > 34) {
-      t.error(r, of, "bad offset \"" + std::string(of.text) +
-                         "\" (expected the byte offset from the header, 2 or more, with the value ending by byte 34)");
+      t.error(r, of,
+              "bad offset \"" + std::string(of.text) +
+                  "\" (expected the byte offset from the header, 2 or more, with the value ending "
+                  "by byte 34)");
       ok = false;
     } else {
       p.offset = static_cast<int>(*off);
@@ -610,20 +669,23 @@ void load_command_params(const Table& t, Model& m) {
     p.prov = prov_of(t, r);
     if (!ok) continue;
     if (auto [it, ins] = seen.emplace(std::make_pair(cmd->header(), p.index), r.line); !ins) {
-      t.error(r, inf, "duplicate parameter index " + std::to_string(p.index) + " for motion command " + cmd_text(k) +
-                          " (first at " + t.name() + ":" + std::to_string(it->second) + ")");
+      t.error(r, inf,
+              "duplicate parameter index " + std::to_string(p.index) + " for motion command " +
+                  cmd_text(k) + " (first at " + t.name() + ":" + std::to_string(it->second) + ")");
       continue;
     }
     cmd->params.push_back(std::move(p));
   }
   for (auto& c : m.commands)
-    std::sort(c.params.begin(), c.params.end(), [](const MotionParam& a, const MotionParam& b) { return a.index < b.index; });
+    std::sort(c.params.begin(), c.params.end(),
+              [](const MotionParam& a, const MotionParam& b) { return a.index < b.index; });
 }
 
 bool check_devicenet_profile(const Table& t, const Model& m) {
   for (const auto& p : m.profiles)
     if (p.id == kDevicenetProfile) return true;
-  t.file_error("profile \"" + std::string(kDevicenetProfile) + "\" is not in profiles.tsv; the seed 000 tables belong to it");
+  t.file_error("profile \"" + std::string(kDevicenetProfile) +
+               "\" is not in profiles.tsv; the seed 000 tables belong to it");
   return false;
 }
 
@@ -648,8 +710,9 @@ void load_devicenet_parameters(const Table& t, Model& m) {
     p.prov = prov_of(t, r);
     if (!ok) continue;
     if (auto [it, ins] = seen.emplace(p.id, r.line); !ins) {
-      t.error(r, t.get(r, "id"), "duplicate DeviceNet parameter \"" + p.id + "\" (first at " + t.name() + ":" +
-                                     std::to_string(it->second) + ")");
+      t.error(r, t.get(r, "id"),
+              "duplicate DeviceNet parameter \"" + p.id + "\" (first at " + t.name() + ":" +
+                  std::to_string(it->second) + ")");
       continue;
     }
     m.dn_params.push_back(std::move(p));
@@ -664,10 +727,14 @@ void load_devicenet_commands(const Table& t, Model& m) {
     bool ok = true;
     DevicenetCommand c;
     const Field& idf = t.get(r, "id");
-    auto id = idf.text.size() == 4 && idf.text.substr(0, 2) == "0x" ? parse_hex_digits(idf.text.substr(2), 2, 2)
-                                                                     : std::nullopt;
-    if (!id || *id > 0x7F || idf.text[2] > '7' || std::islower(static_cast<unsigned char>(idf.text[3]))) {
-      t.error(r, idf, "bad command ID \"" + std::string(idf.text) + "\" (expected 0x00..0x7F as Table 5-1 writes it, e.g. 0x1A)");
+    auto id = idf.text.size() == 4 && idf.text.substr(0, 2) == "0x"
+                  ? parse_hex_digits(idf.text.substr(2), 2, 2)
+                  : std::nullopt;
+    if (!id || *id > 0x7F || idf.text[2] > '7' ||
+        std::islower(static_cast<unsigned char>(idf.text[3]))) {
+      t.error(r, idf,
+              "bad command ID \"" + std::string(idf.text) +
+                  "\" (expected 0x00..0x7F as Table 5-1 writes it, e.g. 0x1A)");
       ok = false;
     } else {
       c.id = static_cast<std::uint8_t>(*id);
@@ -694,7 +761,9 @@ void load_devicenet_commands(const Table& t, Model& m) {
     c.prov = prov_of(t, r);
     if (!ok) continue;
     if (auto [it, ins] = seen.emplace(c.id, r.line); !ins) {
-      t.error(r, idf, "duplicate command ID " + c.id_text + " (first at " + t.name() + ":" + std::to_string(it->second) + ")");
+      t.error(r, idf,
+              "duplicate command ID " + c.id_text + " (first at " + t.name() + ":" +
+                  std::to_string(it->second) + ")");
       continue;
     }
     m.dn_commands.push_back(std::move(c));
@@ -707,16 +776,18 @@ const std::map<std::string, std::vector<std::string>>& columns_of() {
   static const std::map<std::string, std::vector<std::string>> k = {
       {"profiles.tsv", {"profile", "family", "software", "version", "description", "source"}},
       {"parameters.tsv",
-       {"upid", "profiles", "layer", "name", "path", "type", "address_usage", "min", "max", "default", "unit", "scale",
-        "enum", "comm", "description", "source"}},
+       {"upid", "profiles", "layer", "name", "path", "type", "address_usage", "min", "max",
+        "default", "unit", "scale", "enum", "comm", "description", "source"}},
       {"errors.tsv", {"domain", "code", "text", "description", "action", "source"}},
       {"motion_commands.tsv", {"master", "sub", "name", "products", "description", "source"}},
-      {"motion_command_params.tsv", {"master", "sub", "index", "offset", "name", "type", "unit", "scale", "source"}},
+      {"motion_command_params.tsv",
+       {"master", "sub", "index", "offset", "name", "type", "unit", "scale", "source"}},
       {"devicenet_parameters.tsv",
-       {"id", "name", "path", "type", "min", "max", "default", "unit", "scale", "enum", "comm", "description", "source"}},
+       {"id", "name", "path", "type", "min", "max", "default", "unit", "scale", "enum", "comm",
+        "description", "source"}},
       {"devicenet_commands.tsv",
-       {"id", "direction", "name", "table_name", "range", "min", "max", "unit", "scale", "unit_text", "addressed",
-        "direct", "enum", "description", "source"}},
+       {"id", "direction", "name", "table_name", "range", "min", "max", "unit", "scale",
+        "unit_text", "addressed", "direct", "enum", "description", "source"}},
   };
   return k;
 }
@@ -756,20 +827,26 @@ struct Binder {
   int i = 0;
   Binder& text(const std::string& v) {
     ++i;
-    if (v.empty()) sqlite3_bind_null(s, i);
-    else sqlite3_bind_text(s, i, v.c_str(), static_cast<int>(v.size()), SQLITE_TRANSIENT);
+    if (v.empty())
+      sqlite3_bind_null(s, i);
+    else
+      sqlite3_bind_text(s, i, v.c_str(), static_cast<int>(v.size()), SQLITE_TRANSIENT);
     return *this;
   }
   Binder& integer(std::optional<std::int64_t> v) {
     ++i;
-    if (v) sqlite3_bind_int64(s, i, *v);
-    else sqlite3_bind_null(s, i);
+    if (v)
+      sqlite3_bind_int64(s, i, *v);
+    else
+      sqlite3_bind_null(s, i);
     return *this;
   }
   Binder& real(std::optional<double> v) {
     ++i;
-    if (v) sqlite3_bind_double(s, i, *v);
-    else sqlite3_bind_null(s, i);
+    if (v)
+      sqlite3_bind_double(s, i, *v);
+    else
+      sqlite3_bind_null(s, i);
     return *this;
   }
   Binder& prov(const Provenance& p) { return text(p.source).text(p.file).integer(p.line); }
@@ -787,9 +864,11 @@ std::optional<std::int64_t> opt_bit(const std::optional<AddressUsage>& au, unsig
   return (au->raw >> bit) & 1u;
 }
 
-std::string write_db(const Model& m, const std::string& path, const std::string& hash, const std::string& built_from) {
+std::string write_db(const Model& m, const std::string& path, const std::string& hash,
+                     const std::string& built_from) {
   sqlite3* db = nullptr;
-  if (sqlite3_open_v2(path.c_str(), &db, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE, nullptr) != SQLITE_OK) {
+  if (sqlite3_open_v2(path.c_str(), &db, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE, nullptr) !=
+      SQLITE_OK) {
     std::string e = db ? sqlite3_errmsg(db) : "out of memory";
     sqlite3_close(db);
     return "cannot create " + path + ": " + e;
@@ -801,7 +880,8 @@ std::string write_db(const Model& m, const std::string& path, const std::string&
     sqlite3_close(db);
     return "writing " + path + ": " + what + ": " + w.error();
   };
-  if (!w.exec("PRAGMA journal_mode=OFF; PRAGMA synchronous=OFF;") || !w.exec(kSchemaSql) || !w.exec("BEGIN"))
+  if (!w.exec("PRAGMA journal_mode=OFF; PRAGMA synchronous=OFF;") || !w.exec(kSchemaSql) ||
+      !w.exec("BEGIN"))
     return fail("schema");
   auto prep = [&](const char* sql) {
     sqlite3_stmt* s = w.prepare(sql);
@@ -811,24 +891,39 @@ std::string write_db(const Model& m, const std::string& path, const std::string&
   sqlite3_stmt* meta = prep("INSERT INTO meta(key, value) VALUES(?, ?)");
   sqlite3_stmt* prof = prep("INSERT INTO profiles VALUES(?,?,?,?,?,?,?,?)");
   sqlite3_stmt* par = prep(
-      "INSERT INTO parameters(id, upid, upid_hex, profiles, layer, name, path, type_code, type, address_usage, "
-      "ram_read, ram_write, rom_read, rom_write, no_hash, min, max, default_value, unit, scale, comm, description, "
+      "INSERT INTO parameters(id, upid, upid_hex, profiles, layer, name, path, type_code, type, "
+      "address_usage, "
+      "ram_read, ram_write, rom_read, rom_write, no_hash, min, max, default_value, unit, scale, "
+      "comm, description, "
       "source, src_file, src_line) VALUES(?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)");
   sqlite3_stmt* lab = prep("INSERT INTO enum_labels VALUES(?,?,?,?,?,?)");
   sqlite3_stmt* err = prep("INSERT INTO errors VALUES(?,?,?,?,?,?,?,?,?)");
   sqlite3_stmt* cmd = prep("INSERT INTO motion_commands VALUES(?,?,?,?,?,?,?,?,?)");
   sqlite3_stmt* cpar = prep("INSERT INTO motion_command_params VALUES(?,?,?,?,?,?,?,?,?,?,?,?)");
-  sqlite3_stmt* dnp = prep("INSERT INTO devicenet_parameters VALUES(?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)");
+  sqlite3_stmt* dnp =
+      prep("INSERT INTO devicenet_parameters VALUES(?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)");
   sqlite3_stmt* dnpl = prep("INSERT INTO devicenet_parameter_labels VALUES(?,?,?,?,?,?)");
-  sqlite3_stmt* dnc = prep("INSERT INTO devicenet_commands VALUES(?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)");
+  sqlite3_stmt* dnc =
+      prep("INSERT INTO devicenet_commands VALUES(?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)");
   sqlite3_stmt* dncl = prep("INSERT INTO devicenet_command_labels VALUES(?,?,?,?,?,?)");
-  if (!meta || !prof || !par || !lab || !err || !cmd || !cpar || !dnp || !dnpl || !dnc || !dncl) return fail("prepare");
-  auto add_meta = [&](const std::string& k, const std::string& v) { return Binder{meta}.text(k).text(v).step(); };
-  if (!add_meta("schema_version", std::to_string(kSchemaVersion)) || !add_meta("content_hash", hash) ||
-      !add_meta("built_from", built_from) || !add_meta("generator", "upiddb-compile"))
+  if (!meta || !prof || !par || !lab || !err || !cmd || !cpar || !dnp || !dnpl || !dnc || !dncl)
+    return fail("prepare");
+  auto add_meta = [&](const std::string& k, const std::string& v) {
+    return Binder{meta}.text(k).text(v).step();
+  };
+  if (!add_meta("schema_version", std::to_string(kSchemaVersion)) ||
+      !add_meta("content_hash", hash) || !add_meta("built_from", built_from) ||
+      !add_meta("generator", "upiddb-compile"))
     return fail("meta");
   for (const auto& p : m.profiles)
-    if (!Binder{prof}.text(p.id).text(p.family).text(p.software).text(p.version).text(p.description).prov(p.prov).step())
+    if (!Binder{prof}
+             .text(p.id)
+             .text(p.family)
+             .text(p.software)
+             .text(p.version)
+             .text(p.description)
+             .prov(p.prov)
+             .step())
       return fail("profiles");
   std::int64_t id = 0;
   for (const auto& p : m.params) {
@@ -845,30 +940,71 @@ std::string write_db(const Model& m, const std::string& path, const std::string&
     std::optional<std::int64_t> au;
     if (p.address_usage) au = p.address_usage->raw;
     Binder b{par};
-    b.integer(id).integer(p.upid).text(hex4(p.upid)).text(profiles).text(std::string(layer_name(p.layer))).text(p.name)
-        .text(p.path).integer(tc).text(tn).integer(au);
-    b.integer(opt_bit(p.address_usage, 0)).integer(opt_bit(p.address_usage, 1)).integer(opt_bit(p.address_usage, 2))
-        .integer(opt_bit(p.address_usage, 3)).integer(opt_bit(p.address_usage, 12));
-    b.integer(p.spec.min).integer(p.spec.max).integer(p.default_value).text(p.spec.unit).real(p.spec.scale)
-        .integer(p.comm ? 1 : 0).text(p.description).prov(p.prov);
+    b.integer(id)
+        .integer(p.upid)
+        .text(hex4(p.upid))
+        .text(profiles)
+        .text(std::string(layer_name(p.layer)))
+        .text(p.name)
+        .text(p.path)
+        .integer(tc)
+        .text(tn)
+        .integer(au);
+    b.integer(opt_bit(p.address_usage, 0))
+        .integer(opt_bit(p.address_usage, 1))
+        .integer(opt_bit(p.address_usage, 2))
+        .integer(opt_bit(p.address_usage, 3))
+        .integer(opt_bit(p.address_usage, 12));
+    b.integer(p.spec.min)
+        .integer(p.spec.max)
+        .integer(p.default_value)
+        .text(p.spec.unit)
+        .real(p.spec.scale)
+        .integer(p.comm ? 1 : 0)
+        .text(p.description)
+        .prov(p.prov);
     if (!b.step()) return fail("parameters");
     for (const auto& l : p.spec.labels)
-      if (!Binder{lab}.integer(id).integer(l.raw).text(l.label).prov(p.prov).step()) return fail("enum_labels");
+      if (!Binder{lab}.integer(id).integer(l.raw).text(l.label).prov(p.prov).step())
+        return fail("enum_labels");
   }
   for (const auto& e : m.errors)
-    if (!Binder{err}.text(e.domain).integer(e.code).text(e.code_text).text(e.text).text(e.description).text(e.action)
-             .prov(e.prov).step())
+    if (!Binder{err}
+             .text(e.domain)
+             .integer(e.code)
+             .text(e.code_text)
+             .text(e.text)
+             .text(e.description)
+             .text(e.action)
+             .prov(e.prov)
+             .step())
       return fail("errors");
   for (const auto& c : m.commands) {
-    if (!Binder{cmd}.integer(c.master).integer(c.sub).integer(c.header()).text(c.name).text(c.products)
-             .text(c.description).prov(c.prov).step())
+    if (!Binder{cmd}
+             .integer(c.master)
+             .integer(c.sub)
+             .integer(c.header())
+             .text(c.name)
+             .text(c.products)
+             .text(c.description)
+             .prov(c.prov)
+             .step())
       return fail("motion_commands");
     for (const auto& p : c.params) {
       std::optional<std::int64_t> tc;
       if (p.spec.type) tc = static_cast<std::int64_t>(*p.spec.type);
-      if (!Binder{cpar}.integer(c.master).integer(c.sub).integer(p.index).integer(p.offset).text(p.name).integer(tc)
-               .text(p.spec.type ? std::string(type_name(*p.spec.type)) : std::string()).text(p.spec.unit)
-               .real(p.spec.scale).prov(p.prov).step())
+      if (!Binder{cpar}
+               .integer(c.master)
+               .integer(c.sub)
+               .integer(p.index)
+               .integer(p.offset)
+               .text(p.name)
+               .integer(tc)
+               .text(p.spec.type ? std::string(type_name(*p.spec.type)) : std::string())
+               .text(p.spec.unit)
+               .real(p.spec.scale)
+               .prov(p.prov)
+               .step())
         return fail("motion_command_params");
     }
   }
@@ -877,7 +1013,9 @@ std::string write_db(const Model& m, const std::string& path, const std::string&
     if (!s.type) return std::nullopt;
     return static_cast<std::int64_t>(*s.type);
   };
-  auto type_text_of = [](const ValueSpec& s) { return s.type ? std::string(type_name(*s.type)) : std::string(); };
+  auto type_text_of = [](const ValueSpec& s) {
+    return s.type ? std::string(type_name(*s.type)) : std::string();
+  };
   std::int64_t seq = 0;
   for (const auto& p : m.dn_params) {
     if (!Binder{dnp}
@@ -899,7 +1037,8 @@ std::string write_db(const Model& m, const std::string& path, const std::string&
              .step())
       return fail("devicenet_parameters");
     for (const auto& l : p.spec.labels)
-      if (!Binder{dnpl}.text(p.id).integer(l.raw).text(l.label).prov(p.prov).step()) return fail("devicenet_parameter_labels");
+      if (!Binder{dnpl}.text(p.id).integer(l.raw).text(l.label).prov(p.prov).step())
+        return fail("devicenet_parameter_labels");
   }
   for (const auto& c : m.dn_commands) {
     if (!Binder{dnc}
@@ -922,7 +1061,8 @@ std::string write_db(const Model& m, const std::string& path, const std::string&
              .step())
       return fail("devicenet_commands");
     for (const auto& l : c.spec.labels)
-      if (!Binder{dncl}.integer(c.id).integer(l.raw).text(l.label).prov(c.prov).step()) return fail("devicenet_command_labels");
+      if (!Binder{dncl}.integer(c.id).integer(l.raw).text(l.label).prov(c.prov).step())
+        return fail("devicenet_command_labels");
   }
   for (auto* s : stmts) sqlite3_finalize(s);
   stmts.clear();
@@ -972,13 +1112,20 @@ CompileReport compile_upid_db(const std::string& source_dir, const std::string& 
     built_from += (built_from.empty() ? "" : " ") + name;
     Table t(c, path, name, std::move(content), columns_of().at(name));
     if (!t.header_ok()) continue;
-    if (name == "profiles.tsv") load_profiles(t, m);
-    else if (name == "parameters.tsv") load_parameters(t, m);
-    else if (name == "errors.tsv") load_errors(t, m);
-    else if (name == "motion_commands.tsv") load_commands(t, m);
-    else if (name == "motion_command_params.tsv") load_command_params(t, m);
-    else if (name == "devicenet_parameters.tsv") load_devicenet_parameters(t, m);
-    else load_devicenet_commands(t, m);
+    if (name == "profiles.tsv")
+      load_profiles(t, m);
+    else if (name == "parameters.tsv")
+      load_parameters(t, m);
+    else if (name == "errors.tsv")
+      load_errors(t, m);
+    else if (name == "motion_commands.tsv")
+      load_commands(t, m);
+    else if (name == "motion_command_params.tsv")
+      load_command_params(t, m);
+    else if (name == "devicenet_parameters.tsv")
+      load_devicenet_parameters(t, m);
+    else
+      load_devicenet_commands(t, m);
   }
   char hb[40];
   std::snprintf(hb, sizeof hb, "fnv1a64:%016llx", static_cast<unsigned long long>(h));
@@ -986,13 +1133,18 @@ CompileReport compile_upid_db(const std::string& source_dir, const std::string& 
   std::size_t nlabels = 0, ncparams = 0;
   for (const auto& p : m.params) nlabels += p.spec.labels.size();
   for (const auto& cmd : m.commands) ncparams += cmd.params.size();
-  rep.counts = {{"profiles", m.profiles.size()},          {"parameters", m.params.size()},
-                {"enum_labels", nlabels},                 {"errors", m.errors.size()},
-                {"motion_commands", m.commands.size()},   {"motion_command_params", ncparams},
-                {"devicenet_parameters", m.dn_params.size()}, {"devicenet_commands", m.dn_commands.size()}};
+  rep.counts = {{"profiles", m.profiles.size()},
+                {"parameters", m.params.size()},
+                {"enum_labels", nlabels},
+                {"errors", m.errors.size()},
+                {"motion_commands", m.commands.size()},
+                {"motion_command_params", ncparams},
+                {"devicenet_parameters", m.dn_params.size()},
+                {"devicenet_commands", m.dn_commands.size()}};
   if (!rep.ok() || out_path.empty()) return rep;
 
-  std::sort(m.params.begin(), m.params.end(), [](const Parameter& a, const Parameter& b) { return a.upid < b.upid; });
+  std::sort(m.params.begin(), m.params.end(),
+            [](const Parameter& a, const Parameter& b) { return a.upid < b.upid; });
   std::string tmp = out_path + ".tmp." + std::to_string(::getpid());
   fs::remove(tmp, ec);
   std::string werr = write_db(m, tmp, rep.content_hash, built_from);

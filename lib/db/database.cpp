@@ -1,7 +1,5 @@
 #include "db/database.hpp"
 
-#include "common/layers.hpp"
-
 #include <sqlite3.h>
 #include <unistd.h>
 
@@ -9,6 +7,8 @@
 #include <cctype>
 #include <cstdlib>
 #include <filesystem>
+
+#include "common/layers.hpp"
 
 namespace lmcfg::db {
 
@@ -23,7 +23,9 @@ std::string lower(std::string_view s) {
 // Minimal read-only statement wrapper.
 class Query {
  public:
-  Query(sqlite3* db, const char* sql) { ok_ = sqlite3_prepare_v2(db, sql, -1, &s_, nullptr) == SQLITE_OK; }
+  Query(sqlite3* db, const char* sql) {
+    ok_ = sqlite3_prepare_v2(db, sql, -1, &s_, nullptr) == SQLITE_OK;
+  }
   ~Query() { sqlite3_finalize(s_); }
   Query(const Query&) = delete;
   Query& operator=(const Query&) = delete;
@@ -31,7 +33,8 @@ class Query {
   bool next() { return sqlite3_step(s_) == SQLITE_ROW; }
   std::string text(int i) const {
     auto* p = sqlite3_column_text(s_, i);
-    return p ? std::string(reinterpret_cast<const char*>(p), static_cast<std::size_t>(sqlite3_column_bytes(s_, i)))
+    return p ? std::string(reinterpret_cast<const char*>(p),
+                           static_cast<std::size_t>(sqlite3_column_bytes(s_, i)))
              : std::string();
   }
   bool null(int i) const { return sqlite3_column_type(s_, i) == SQLITE_NULL; }
@@ -76,7 +79,9 @@ std::optional<Layer> layer_of_upid(std::uint16_t upid) noexcept {
   return static_cast<Layer>(n - 1);
 }
 
-std::uint16_t layer_base_upid(Layer l) noexcept { return layers::base_upid(static_cast<int>(l) + 1); }
+std::uint16_t layer_base_upid(Layer l) noexcept {
+  return layers::base_upid(static_cast<int>(l) + 1);
+}
 
 bool Parameter::applies_to(std::string_view profile) const {
   if (profiles.empty() || profile.empty()) return true;
@@ -84,12 +89,14 @@ bool Parameter::applies_to(std::string_view profile) const {
 }
 
 Result<std::string> Database::default_path() {
-  if (const char* env = std::getenv(std::string(kDbPathEnv).c_str()); env && *env) return std::string(env);
+  if (const char* env = std::getenv(std::string(kDbPathEnv).c_str()); env && *env)
+    return std::string(env);
   std::error_code ec;
   auto exe = std::filesystem::read_symlink("/proc/self/exe", ec);
   if (ec)
-    return Error(Errc::file_error, "cannot locate the running executable via /proc/self/exe (" + ec.message() +
-                                       "); set " + std::string(kDbPathEnv) + " or pass --db");
+    return Error(Errc::file_error, "cannot locate the running executable via /proc/self/exe (" +
+                                       ec.message() + "); set " + std::string(kDbPathEnv) +
+                                       " or pass --db");
   return (exe.parent_path() / std::string(kDefaultDbFileName)).string();
 }
 
@@ -101,7 +108,8 @@ Result<Database> Database::open_default() {
 Result<Database> Database::open(const std::string& path) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec))
-    return Error(Errc::file_error, "UPID database " + path + " not found (expected the file built from upid-db/; set " +
+    return Error(Errc::file_error, "UPID database " + path +
+                                       " not found (expected the file built from upid-db/; set " +
                                        std::string(kDbPathEnv) + " or pass --db)");
   sqlite3* raw = nullptr;
   int rc = sqlite3_open_v2(path.c_str(), &raw, SQLITE_OPEN_READONLY, nullptr);
@@ -110,9 +118,11 @@ Result<Database> Database::open(const std::string& path) {
     ~Closer() { sqlite3_close(d); }
   } closer{raw};
   if (rc != SQLITE_OK)
-    return Error(Errc::file_error, "cannot open UPID database " + path + ": " + (raw ? sqlite3_errmsg(raw) : "out of memory"));
+    return Error(Errc::file_error, "cannot open UPID database " + path + ": " +
+                                       (raw ? sqlite3_errmsg(raw) : "out of memory"));
   auto bad = [&](const std::string& what) {
-    return Error(Errc::parse_error, "UPID database " + path + ": " + what + ": " + sqlite3_errmsg(raw));
+    return Error(Errc::parse_error,
+                 "UPID database " + path + ": " + what + ": " + sqlite3_errmsg(raw));
   };
 
   Database d;
@@ -122,26 +132,35 @@ Result<Database> Database::open(const std::string& path) {
     if (!q.ok()) return bad("not a UPID database (no meta table)");
     while (q.next()) {
       std::string k = q.text(0);
-      if (k == "schema_version") d.info_.schema_version = std::atoi(q.text(1).c_str());
-      else if (k == "content_hash") d.info_.content_hash = q.text(1);
-      else if (k == "built_from") d.info_.built_from = q.text(1);
+      if (k == "schema_version")
+        d.info_.schema_version = std::atoi(q.text(1).c_str());
+      else if (k == "content_hash")
+        d.info_.content_hash = q.text(1);
+      else if (k == "built_from")
+        d.info_.built_from = q.text(1);
     }
   }
   if (d.info_.schema_version != kSchemaVersion)
-    return Error(Errc::unsupported_version, "UPID database " + path + " has schema version " +
-                                                std::to_string(d.info_.schema_version) + ", this program reads version " +
-                                                std::to_string(kSchemaVersion) + " (rebuild the database)");
+    return Error(Errc::unsupported_version,
+                 "UPID database " + path + " has schema version " +
+                     std::to_string(d.info_.schema_version) + ", this program reads version " +
+                     std::to_string(kSchemaVersion) + " (rebuild the database)");
   {
-    Query q(raw, "SELECT profile, family, software, version, description, source, src_file, src_line FROM profiles ORDER BY profile");
+    Query q(raw,
+            "SELECT profile, family, software, version, description, source, src_file, src_line "
+            "FROM profiles ORDER BY profile");
     if (!q.ok()) return bad("profiles");
     while (q.next())
-      d.profiles_.push_back(Profile{q.text(0), q.text(1), q.text(2), q.text(3), q.text(4), q.prov(5)});
+      d.profiles_.push_back(
+          Profile{q.text(0), q.text(1), q.text(2), q.text(3), q.text(4), q.prov(5)});
   }
   std::unordered_map<std::int64_t, std::uint32_t> by_id;
   {
-    Query q(raw,
-            "SELECT id, upid, profiles, layer, name, path, type_code, address_usage, min, max, default_value, unit, "
-            "scale, comm, description, source, src_file, src_line FROM parameters ORDER BY upid, id");
+    Query q(
+        raw,
+        "SELECT id, upid, profiles, layer, name, path, type_code, address_usage, min, max, "
+        "default_value, unit, "
+        "scale, comm, description, source, src_file, src_line FROM parameters ORDER BY upid, id");
     if (!q.ok()) return bad("parameters");
     while (q.next()) {
       Parameter p;
@@ -182,15 +201,19 @@ Result<Database> Database::open(const std::string& path) {
     }
   }
   {
-    Query q(raw, "SELECT domain, code, code_text, text, description, action, source, src_file, src_line FROM errors ORDER BY domain, code");
+    Query q(raw,
+            "SELECT domain, code, code_text, text, description, action, source, src_file, src_line "
+            "FROM errors ORDER BY domain, code");
     if (!q.ok()) return bad("errors");
     while (q.next()) {
-      d.errors_.push_back(ErrorEntry{q.text(0), static_cast<std::uint32_t>(q.i64(1)), q.text(2), q.text(3), q.text(4),
-                                     q.text(5), q.prov(6)});
+      d.errors_.push_back(ErrorEntry{q.text(0), static_cast<std::uint32_t>(q.i64(1)), q.text(2),
+                                     q.text(3), q.text(4), q.text(5), q.prov(6)});
     }
   }
   {
-    Query q(raw, "SELECT master, sub, name, products, description, source, src_file, src_line FROM motion_commands ORDER BY header");
+    Query q(raw,
+            "SELECT master, sub, name, products, description, source, src_file, src_line FROM "
+            "motion_commands ORDER BY header");
     if (!q.ok()) return bad("motion_commands");
     while (q.next()) {
       MotionCommand c;
@@ -205,12 +228,14 @@ Result<Database> Database::open(const std::string& path) {
   }
   for (std::uint32_t i = 0; i < d.commands_.size(); ++i) d.by_header_[d.commands_[i].header()] = i;
   {
-    Query q(raw,
-            "SELECT master, sub, idx, offset, name, type_code, unit, scale, source, src_file, src_line "
-            "FROM motion_command_params ORDER BY master, sub, idx");
+    Query q(
+        raw,
+        "SELECT master, sub, idx, offset, name, type_code, unit, scale, source, src_file, src_line "
+        "FROM motion_command_params ORDER BY master, sub, idx");
     if (!q.ok()) return bad("motion_command_params");
     while (q.next()) {
-      auto h = motion_header(static_cast<std::uint8_t>(q.i64(0)), static_cast<std::uint8_t>(q.i64(1)));
+      auto h =
+          motion_header(static_cast<std::uint8_t>(q.i64(0)), static_cast<std::uint8_t>(q.i64(1)));
       auto it = d.by_header_.find(h);
       if (it == d.by_header_.end()) continue;
       MotionParam p;
@@ -227,7 +252,8 @@ Result<Database> Database::open(const std::string& path) {
 
   {
     Query q(raw,
-            "SELECT id, name, path, type_code, min, max, default_value, unit, scale, comm, description, source, src_file, "
+            "SELECT id, name, path, type_code, min, max, default_value, unit, scale, comm, "
+            "description, source, src_file, "
             "src_line FROM devicenet_parameters ORDER BY seq");
     if (!q.ok()) return bad("devicenet_parameters");
     while (q.next()) {
@@ -248,7 +274,9 @@ Result<Database> Database::open(const std::string& path) {
     }
   }
   {
-    Query q(raw, "SELECT parameter_id, raw, label FROM devicenet_parameter_labels ORDER BY parameter_id, raw");
+    Query q(raw,
+            "SELECT parameter_id, raw, label FROM devicenet_parameter_labels ORDER BY "
+            "parameter_id, raw");
     if (!q.ok()) return bad("devicenet_parameter_labels");
     while (q.next()) {
       for (auto& p : d.dn_params_)
@@ -257,7 +285,8 @@ Result<Database> Database::open(const std::string& path) {
   }
   {
     Query q(raw,
-            "SELECT id, id_text, direction, name, table_name, range_text, min, max, unit, scale, unit_text, addressed, "
+            "SELECT id, id_text, direction, name, table_name, range_text, min, max, unit, scale, "
+            "unit_text, addressed, "
             "direct, description, source, src_file, src_line FROM devicenet_commands ORDER BY id");
     if (!q.ok()) return bad("devicenet_commands");
     while (q.next()) {
@@ -281,7 +310,8 @@ Result<Database> Database::open(const std::string& path) {
     }
   }
   {
-    Query q(raw, "SELECT command_id, raw, label FROM devicenet_command_labels ORDER BY command_id, raw");
+    Query q(raw,
+            "SELECT command_id, raw, label FROM devicenet_command_labels ORDER BY command_id, raw");
     if (!q.ok()) return bad("devicenet_command_labels");
     while (q.next()) {
       for (auto& c : d.dn_commands_)
@@ -292,15 +322,20 @@ Result<Database> Database::open(const std::string& path) {
     d.by_upid_[d.params_[i].upid].push_back(i);
     d.search_keys_.push_back(lower(d.params_[i].name) + "\n" + lower(d.params_[i].path));
   }
-  for (std::uint32_t i = 0; i < d.errors_.size(); ++i) d.by_error_[{d.errors_[i].domain, d.errors_[i].code}] = i;
+  for (std::uint32_t i = 0; i < d.errors_.size(); ++i)
+    d.by_error_[{d.errors_[i].domain, d.errors_[i].code}] = i;
 
   std::size_t nlabels = 0, ncparams = 0;
   for (const auto& p : d.params_) nlabels += p.spec.labels.size();
   for (const auto& c : d.commands_) ncparams += c.params.size();
-  d.info_.counts = {{"profiles", d.profiles_.size()},        {"parameters", d.params_.size()},
-                    {"enum_labels", nlabels},                {"errors", d.errors_.size()},
-                    {"motion_commands", d.commands_.size()}, {"motion_command_params", ncparams},
-                    {"devicenet_parameters", d.dn_params_.size()}, {"devicenet_commands", d.dn_commands_.size()}};
+  d.info_.counts = {{"profiles", d.profiles_.size()},
+                    {"parameters", d.params_.size()},
+                    {"enum_labels", nlabels},
+                    {"errors", d.errors_.size()},
+                    {"motion_commands", d.commands_.size()},
+                    {"motion_command_params", ncparams},
+                    {"devicenet_parameters", d.dn_params_.size()},
+                    {"devicenet_commands", d.dn_commands_.size()}};
   return d;
 }
 
@@ -323,7 +358,8 @@ std::vector<const Parameter*> Database::search(std::string_view needle) const {
   std::string n = lower(needle);
   std::vector<const Parameter*> out;
   for (std::size_t i = 0; i < params_.size(); ++i)
-    if (search_keys_[i].find(n) != std::string::npos && (n.find('\n') == std::string::npos)) out.push_back(&params_[i]);
+    if (search_keys_[i].find(n) != std::string::npos && (n.find('\n') == std::string::npos))
+      out.push_back(&params_[i]);
   return out;
 }
 

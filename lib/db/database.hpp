@@ -24,9 +24,9 @@ inline constexpr std::string_view kDbPathEnv = "LMCFG_UPID_DB";
 
 // Firmware layers and their UPID ranges (seed 003 §10.2).
 enum class Layer { OS, MC, Intf, Appl };
-std::string_view layer_name(Layer l) noexcept;  // "OS", "MC", "Intf", "Appl"
+std::string_view layer_name(Layer l) noexcept;                         // "OS", "MC", "Intf", "Appl"
 std::optional<Layer> layer_from_name(std::string_view name) noexcept;  // case-insensitive
-std::optional<Layer> layer_of_upid(std::uint16_t upid) noexcept;      // nullopt between ranges
+std::optional<Layer> layer_of_upid(std::uint16_t upid) noexcept;       // nullopt between ranges
 std::uint16_t layer_base_upid(Layer l) noexcept;                       // 0000, 1000, 2000, 3000
 
 // Address usage word (seed 003 §10; resolved bits only, see linrs-facts.md).
@@ -70,7 +70,7 @@ struct Parameter {
 };
 
 struct ErrorEntry {
-  std::string domain;     // "mc", "linrs", "devicenet"
+  std::string domain;  // "mc", "linrs", "devicenet"
   std::uint32_t code = 0;
   std::string code_text;  // as written in the TSV ("000C", "C1")
   std::string text, description, action;
@@ -87,7 +87,8 @@ struct MotionParam {
 
 // Header layout (seed 001 §4.1.1): master ID bits 15..8, sub ID bits 7..4,
 // command count bits 3..0.
-constexpr std::uint16_t motion_header(std::uint8_t master, std::uint8_t sub, std::uint8_t count = 0) noexcept {
+constexpr std::uint16_t motion_header(std::uint8_t master, std::uint8_t sub,
+                                      std::uint8_t count = 0) noexcept {
   return static_cast<std::uint16_t>((master << 8) | ((sub & 0x0F) << 4) | (count & 0x0F));
 }
 
@@ -119,12 +120,12 @@ struct DevicenetParameter {
 // §5.2 Table 5-1): a 7-bit command ID, its own address space, not a UPID.
 struct DevicenetCommand {
   std::uint8_t id = 0;
-  std::string id_text;    // "0x11", as Table 5-1 writes it
-  std::string direction;  // "get", "set", or "" for neither (actions)
-  std::string name;       // detail heading
+  std::string id_text;                            // "0x11", as Table 5-1 writes it
+  std::string direction;                          // "get", "set", or "" for neither (actions)
+  std::string name;                               // detail heading
   std::string table_name, range_text, unit_text;  // Table 5-1, verbatim
-  ValueSpec spec;         // min, max, unit, scale, labels where stated
-  bool addressed = false, direct = false;  // usable in the Addressed / Direct module
+  ValueSpec spec;                                 // min, max, unit, scale, labels where stated
+  bool addressed = false, direct = false;         // usable in the Addressed / Direct module
   std::string description;
   Provenance prov;
 };
@@ -132,8 +133,8 @@ struct DevicenetCommand {
 struct DbInfo {
   std::string path;
   int schema_version = 0;
-  std::string content_hash;  // "fnv1a64:0123456789abcdef"
-  std::string built_from;    // source file list
+  std::string content_hash;                   // "fnv1a64:0123456789abcdef"
+  std::string built_from;                     // source file list
   std::map<std::string, std::size_t> counts;  // rows per table
 };
 
@@ -174,8 +175,8 @@ class Database {
  private:
   Database() = default;
   std::vector<Profile> profiles_;
-  std::vector<Parameter> params_;  // sorted by UPID
-  std::vector<ErrorEntry> errors_;  // sorted by domain, code
+  std::vector<Parameter> params_;        // sorted by UPID
+  std::vector<ErrorEntry> errors_;       // sorted by domain, code
   std::vector<MotionCommand> commands_;  // sorted by header
   std::vector<DevicenetParameter> dn_params_;
   std::vector<DevicenetCommand> dn_commands_;  // sorted by id

@@ -51,7 +51,9 @@ std::optional<Database> open_db(const DbOptions& o, int& exit_code) {
 json prov_json(const db::Provenance& p) {
   return {{"source", p.source}, {"file", p.file}, {"line", p.line}};
 }
-std::string prov_text(const db::Provenance& p) { return p.source + " (" + p.file + ":" + std::to_string(p.line) + ")"; }
+std::string prov_text(const db::Provenance& p) {
+  return p.source + " (" + p.file + ":" + std::to_string(p.line) + ")";
+}
 
 std::string profiles_text(const db::Parameter& p) {
   if (p.profiles.empty()) return "*";
@@ -76,7 +78,8 @@ std::string usage_text(const db::AddressUsage& a) {
 // Limits/default shown raw and, when they differ, formatted.
 std::string raw_and_text(const db::Parameter& p, std::int64_t raw) {
   std::string r = std::to_string(raw);
-  std::string t = p.format(static_cast<std::uint32_t>(static_cast<std::uint64_t>(raw) & 0xFFFFFFFFull));
+  std::string t =
+      p.format(static_cast<std::uint32_t>(static_cast<std::uint64_t>(raw) & 0xFFFFFFFFull));
   return t == r ? r : r + " = " + t;
 }
 
@@ -97,8 +100,9 @@ json param_json(const db::Parameter& p) {
             {"provenance", prov_json(p.prov)}};
   if (p.address_usage) {
     const auto& a = *p.address_usage;
-    j["address_usage"] = {{"raw", hex(a.raw, 4)},       {"ram_read", a.ram_read()}, {"ram_write", a.ram_write()},
-                          {"rom_read", a.rom_read()},   {"rom_write", a.rom_write()}, {"no_hash", a.no_hash()}};
+    j["address_usage"] = {{"raw", hex(a.raw, 4)},       {"ram_read", a.ram_read()},
+                          {"ram_write", a.ram_write()}, {"rom_read", a.rom_read()},
+                          {"rom_write", a.rom_write()}, {"no_hash", a.no_hash()}};
   } else {
     j["address_usage"] = nullptr;
   }
@@ -112,19 +116,24 @@ void print_param(const db::Parameter& p) {
   auto row = [](const char* k, const std::string& v) {
     if (!v.empty()) std::printf("  %-13s %s\n", k, v.c_str());
   };
-  std::printf("%s  %s\n", hex(p.upid, 4).c_str(), p.name.empty() ? "(name not given in the seeds)" : p.name.c_str());
+  std::printf("%s  %s\n", hex(p.upid, 4).c_str(),
+              p.name.empty() ? "(name not given in the seeds)" : p.name.c_str());
   row("layer", std::string(db::layer_name(p.layer)));
   row("path", p.path);
   row("profiles", profiles_text(p));
   row("type", p.spec.type ? std::string(db::type_name(*p.spec.type)) : "(unknown)");
-  if (p.address_usage) row("address usage", hex(p.address_usage->raw, 4) + " (" + usage_text(*p.address_usage) + ")");
+  if (p.address_usage)
+    row("address usage", hex(p.address_usage->raw, 4) + " (" + usage_text(*p.address_usage) + ")");
   if (p.spec.min) row("min", raw_and_text(p, *p.spec.min));
   if (p.spec.max) row("max", raw_and_text(p, *p.spec.max));
   if (p.default_value) row("default", raw_and_text(p, *p.default_value));
-  if (p.spec.scale) row("scale", db::format_scaled(1, *p.spec.scale) + " " + p.spec.unit + " per raw step");
-  else row("unit", p.spec.unit);
+  if (p.spec.scale)
+    row("scale", db::format_scaled(1, *p.spec.scale) + " " + p.spec.unit + " per raw step");
+  else
+    row("unit", p.spec.unit);
   std::string labels;
-  for (const auto& l : p.spec.labels) labels += (labels.empty() ? "" : ", ") + std::to_string(l.raw) + "=" + l.label;
+  for (const auto& l : p.spec.labels)
+    labels += (labels.empty() ? "" : ", ") + std::to_string(l.raw) + "=" + l.label;
   row("values", labels);
   if (p.comm) row("comm", "yes: changing it changes how the drive talks on the line");
   row("description", p.description);
@@ -134,9 +143,10 @@ void print_param(const db::Parameter& p) {
 void print_param_list(const std::vector<const db::Parameter*>& v) {
   std::printf("%-5s %-4s %-13s %-40s %s\n", "UPID", "LAYR", "TYPE", "NAME", "PATH");
   for (const auto* p : v)
-    std::printf("%-5s %-4s %-13s %-40s %s\n", hex(p->upid, 4).c_str(), std::string(db::layer_name(p->layer)).c_str(),
-                p->spec.type ? std::string(db::type_name(*p->spec.type)).c_str() : "-", p->name.c_str(),
-                p->path.c_str());
+    std::printf("%-5s %-4s %-13s %-40s %s\n", hex(p->upid, 4).c_str(),
+                std::string(db::layer_name(p->layer)).c_str(),
+                p->spec.type ? std::string(db::type_name(*p->spec.type)).c_str() : "-",
+                p->name.c_str(), p->path.c_str());
 }
 
 int run_show(const DbOptions& o) {
@@ -144,7 +154,9 @@ int run_show(const DbOptions& o) {
   if (t.size() > 2 && t[0] == '0' && (t[1] == 'x' || t[1] == 'X')) t = t.substr(2);
   auto v = parse_number(t, true);
   if (!v || *v > 0xFFFF || t.empty() || t.size() > 4) {
-    std::fprintf(stderr, "lmcfg db show: \"%s\" is not a UPID (expected up to 4 hex digits, e.g. 13A2)\n", o.upid.c_str());
+    std::fprintf(stderr,
+                 "lmcfg db show: \"%s\" is not a UPID (expected up to 4 hex digits, e.g. 13A2)\n",
+                 o.upid.c_str());
     return kInvalidInput;
   }
   int rc = kOk;
@@ -163,8 +175,9 @@ int run_show(const DbOptions& o) {
     return kOk;
   }
   if (found.empty()) {
-    std::printf("UPID %s is unknown to the database%s; the drive can be asked for its type and limits.\n",
-                hex(upid, 4).c_str(), o.profile.empty() ? "" : (" for profile " + o.profile).c_str());
+    std::printf(
+        "UPID %s is unknown to the database%s; the drive can be asked for its type and limits.\n",
+        hex(upid, 4).c_str(), o.profile.empty() ? "" : (" for profile " + o.profile).c_str());
     return kOk;
   }
   for (std::size_t i = 0; i < found.size(); ++i) {
@@ -201,13 +214,18 @@ int run_errors(const DbOptions& o) {
   if (o.json) {
     json arr = json::array();
     for (const auto* e : v)
-      arr.push_back({{"domain", e->domain}, {"code", e->code_text}, {"text", e->text}, {"description", e->description},
-                     {"action", e->action}, {"provenance", prov_json(e->prov)}});
+      arr.push_back({{"domain", e->domain},
+                     {"code", e->code_text},
+                     {"text", e->text},
+                     {"description", e->description},
+                     {"action", e->action},
+                     {"provenance", prov_json(e->prov)}});
     std::cout << arr.dump(2) << "\n";
     return kOk;
   }
   std::printf("%-9s %-8s %s\n", "DOMAIN", "CODE", "TEXT");
-  for (const auto* e : v) std::printf("%-9s %-8s %s\n", e->domain.c_str(), e->code_text.c_str(), e->text.c_str());
+  for (const auto* e : v)
+    std::printf("%-9s %-8s %s\n", e->domain.c_str(), e->code_text.c_str(), e->text.c_str());
   return kOk;
 }
 
@@ -221,15 +239,20 @@ int run_commands(const DbOptions& o) {
     for (const auto& c : v) {
       json params = json::array();
       for (const auto& p : c.params)
-        params.push_back({{"index", p.index},
-                          {"offset", p.offset},
-                          {"name", p.name},
-                          {"type", p.spec.type ? json(std::string(db::type_name(*p.spec.type))) : json(nullptr)},
-                          {"unit", p.spec.unit},
-                          {"scale", p.spec.scale ? json(*p.spec.scale) : json(nullptr)},
-                          {"provenance", prov_json(p.prov)}});
-      arr.push_back({{"header", hex(c.header() >> 4, 3) + "x"}, {"master", hex(c.master, 2)}, {"sub", hex(c.sub, 1)},
-                     {"name", c.name}, {"products", c.products}, {"parameters", params},
+        params.push_back(
+            {{"index", p.index},
+             {"offset", p.offset},
+             {"name", p.name},
+             {"type", p.spec.type ? json(std::string(db::type_name(*p.spec.type))) : json(nullptr)},
+             {"unit", p.spec.unit},
+             {"scale", p.spec.scale ? json(*p.spec.scale) : json(nullptr)},
+             {"provenance", prov_json(p.prov)}});
+      arr.push_back({{"header", hex(c.header() >> 4, 3) + "x"},
+                     {"master", hex(c.master, 2)},
+                     {"sub", hex(c.sub, 1)},
+                     {"name", c.name},
+                     {"products", c.products},
+                     {"parameters", params},
                      {"provenance", prov_json(c.prov)}});
     }
     std::cout << arr.dump(2) << "\n";
@@ -238,8 +261,11 @@ int run_commands(const DbOptions& o) {
   std::printf("%-6s %-45s %s\n", "HEADER", "NAME", "PARAMETERS");
   for (const auto& c : v) {
     std::string ps;
-    for (const auto& p : c.params) ps += (ps.empty() ? "" : ", ") + p.name + (p.spec.unit.empty() ? "" : " [" + p.spec.unit + "]");
-    std::printf("%-6s %-45s %s\n", (hex(c.header() >> 4, 3) + "x").c_str(), c.name.c_str(), ps.c_str());
+    for (const auto& p : c.params)
+      ps +=
+          (ps.empty() ? "" : ", ") + p.name + (p.spec.unit.empty() ? "" : " [" + p.spec.unit + "]");
+    std::printf("%-6s %-45s %s\n", (hex(c.header() >> 4, 3) + "x").c_str(), c.name.c_str(),
+                ps.c_str());
   }
   return kOk;
 }
@@ -258,14 +284,22 @@ json spec_json(const db::ValueSpec& s) {
 
 std::string range_text(const db::ValueSpec& s) {
   if (!s.min && !s.max) return "";
-  return (s.min ? std::to_string(*s.min) : std::string("?")) + ".." + (s.max ? std::to_string(*s.max) : std::string("?"));
+  return (s.min ? std::to_string(*s.min) : std::string("?")) + ".." +
+         (s.max ? std::to_string(*s.max) : std::string("?"));
 }
 
 json devicenet_command_json(const db::DevicenetCommand& c) {
-  return {{"id", c.id_text},          {"direction", c.direction},   {"name", c.name},
-          {"table_name", c.table_name}, {"range", c.range_text},     {"unit_text", c.unit_text},
-          {"value", spec_json(c.spec)}, {"addressed", c.addressed},  {"direct", c.direct},
-          {"description", c.description}, {"provenance", prov_json(c.prov)}};
+  return {{"id", c.id_text},
+          {"direction", c.direction},
+          {"name", c.name},
+          {"table_name", c.table_name},
+          {"range", c.range_text},
+          {"unit_text", c.unit_text},
+          {"value", spec_json(c.spec)},
+          {"addressed", c.addressed},
+          {"direct", c.direct},
+          {"description", c.description},
+          {"provenance", prov_json(c.prov)}};
 }
 
 // Seed 000: the general-purpose command set (7-bit IDs) or the DeviceNet parameter tree.
@@ -277,27 +311,37 @@ int run_devicenet(const DbOptions& o) {
     if (o.json) {
       json arr = json::array();
       for (const auto& p : d->devicenet_parameters())
-        arr.push_back({{"id", p.id}, {"name", p.name}, {"path", p.path}, {"value", spec_json(p.spec)},
-                       {"default", p.default_value ? json(*p.default_value) : json(nullptr)}, {"comm", p.comm},
-                       {"description", p.description}, {"provenance", prov_json(p.prov)}});
+        arr.push_back({{"id", p.id},
+                       {"name", p.name},
+                       {"path", p.path},
+                       {"value", spec_json(p.spec)},
+                       {"default", p.default_value ? json(*p.default_value) : json(nullptr)},
+                       {"comm", p.comm},
+                       {"description", p.description},
+                       {"provenance", prov_json(p.prov)}});
       std::cout << arr.dump(2) << "\n";
       return kOk;
     }
     std::printf("%-55s %-8s %s\n", "PATH (OR NAME)", "RANGE", "NOTES");
     for (const auto& p : d->devicenet_parameters())
-      std::printf("%-55s %-8s %s\n", p.id.c_str(), range_text(p.spec).c_str(), p.comm ? "communication" : "");
+      std::printf("%-55s %-8s %s\n", p.id.c_str(), range_text(p.spec).c_str(),
+                  p.comm ? "communication" : "");
     return kOk;
   }
   if (!o.needle.empty()) {
     auto id = parse_number(o.needle, true);
     if (!id || *id > 0x7F) {
-      std::fprintf(stderr, "lmcfg db devicenet: '%s' is not a command ID 00..7F (hex: 11, 0x11, 11h)\n", o.needle.c_str());
+      std::fprintf(stderr,
+                   "lmcfg db devicenet: '%s' is not a command ID 00..7F (hex: 11, 0x11, 11h)\n",
+                   o.needle.c_str());
       return kInvalidInput;
     }
     const auto* c = d->devicenet_command(static_cast<std::uint8_t>(*id));
     if (!c) {
-      std::printf("DeviceNet command %02Xh: not in the database (seed 000 §5.2 Table 5-1 does not define it)\n",
-                  static_cast<unsigned>(*id));
+      std::printf(
+          "DeviceNet command %02Xh: not in the database (seed 000 §5.2 Table 5-1 does not define "
+          "it)\n",
+          static_cast<unsigned>(*id));
       return kOk;
     }
     if (o.json) {
@@ -306,13 +350,20 @@ int run_devicenet(const DbOptions& o) {
     }
     std::printf("%s %s\n", c->id_text.c_str(), c->name.c_str());
     std::printf("  Table 5-1:   %s\n", c->table_name.c_str());
-    std::printf("  direction:   %s\n", c->direction.empty() ? "action (neither get nor set)" : c->direction.c_str());
+    std::printf("  direction:   %s\n",
+                c->direction.empty() ? "action (neither get nor set)" : c->direction.c_str());
     std::printf("  value:       %s%s%s\n", c->range_text.c_str(),
                 range_text(c->spec).empty() ? "" : (" (raw " + range_text(c->spec) + ")").c_str(),
-                c->spec.unit.empty() ? "" : ("; " + c->spec.unit + (c->spec.scale ? " x " + db::format_scaled(1, *c->spec.scale) : "")).c_str());
+                c->spec.unit.empty()
+                    ? ""
+                    : ("; " + c->spec.unit +
+                       (c->spec.scale ? " x " + db::format_scaled(1, *c->spec.scale) : ""))
+                          .c_str());
     std::printf("  unit text:   %s\n", c->unit_text.c_str());
-    for (const auto& l : c->spec.labels) std::printf("  label:       %lld = %s\n", static_cast<long long>(l.raw), l.label.c_str());
-    std::printf("  modules:     %s%s\n", c->addressed ? "Addressed In/Out " : "", c->direct ? "Direct In/Out" : "");
+    for (const auto& l : c->spec.labels)
+      std::printf("  label:       %lld = %s\n", static_cast<long long>(l.raw), l.label.c_str());
+    std::printf("  modules:     %s%s\n", c->addressed ? "Addressed In/Out " : "",
+                c->direct ? "Direct In/Out" : "");
     std::printf("  %s\n  source:      %s\n", c->description.c_str(), prov_text(c->prov).c_str());
     return kOk;
   }
@@ -324,8 +375,8 @@ int run_devicenet(const DbOptions& o) {
   }
   std::printf("%-5s %-4s %-45s %-22s %s\n", "ID", "DIR", "NAME", "RANGE", "UNIT");
   for (const auto& c : d->devicenet_commands())
-    std::printf("%-5s %-4s %-45s %-22s %s\n", c.id_text.c_str(), c.direction.c_str(), c.name.c_str(), c.range_text.c_str(),
-                c.spec.unit.c_str());
+    std::printf("%-5s %-4s %-45s %-22s %s\n", c.id_text.c_str(), c.direction.c_str(),
+                c.name.c_str(), c.range_text.c_str(), c.spec.unit.c_str());
   return kOk;
 }
 
@@ -337,14 +388,18 @@ int run_info(const DbOptions& o) {
   if (o.json) {
     json counts = json::object();
     for (const auto& [k, n] : i.counts) counts[k] = n;
-    std::cout << json{{"path", i.path}, {"schema_version", i.schema_version}, {"content_hash", i.content_hash},
-                      {"built_from", i.built_from}, {"counts", counts}}
+    std::cout << json{{"path", i.path},
+                      {"schema_version", i.schema_version},
+                      {"content_hash", i.content_hash},
+                      {"built_from", i.built_from},
+                      {"counts", counts}}
                      .dump(2)
               << "\n";
     return kOk;
   }
-  std::printf("database        %s\nschema version  %d\ncontent hash    %s\nbuilt from      %s\n", i.path.c_str(),
-              i.schema_version, i.content_hash.c_str(), i.built_from.empty() ? "(no source files)" : i.built_from.c_str());
+  std::printf("database        %s\nschema version  %d\ncontent hash    %s\nbuilt from      %s\n",
+              i.path.c_str(), i.schema_version, i.content_hash.c_str(),
+              i.built_from.empty() ? "(no source files)" : i.built_from.c_str());
   for (const auto& [k, n] : i.counts) std::printf("  %-22s %zu\n", k.c_str(), n);
   return kOk;
 }
@@ -365,9 +420,12 @@ struct ScanCli {
 
 void print_merge(const CommonOptions& c, const ops::MergeReport& m, const std::string& dir) {
   if (c.quiet || c.json) return;
-  std::fprintf(stderr, "merged profile %s into %s: %zu parameter row(s)%s%s\n", m.profile.c_str(), dir.c_str(),
-               m.parameters_added,
-               m.parameters_replaced ? (" (replacing " + std::to_string(m.parameters_replaced) + " of an earlier scan)").c_str() : "",
+  std::fprintf(stderr, "merged profile %s into %s: %zu parameter row(s)%s%s\n", m.profile.c_str(),
+               dir.c_str(), m.parameters_added,
+               m.parameters_replaced ? (" (replacing " + std::to_string(m.parameters_replaced) +
+                                        " of an earlier scan)")
+                                           .c_str()
+                                     : "",
                m.profile_replaced ? ", profile row replaced" : "");
 }
 
@@ -376,20 +434,24 @@ int run_scan(ScanCli& o) {
   if (!layers.ok()) return fail("db scan", layers.error());
   std::error_code ec;
   if (std::filesystem::is_directory(o.output, ec)) {
-    return fail("db scan", Error(Errc::invalid_argument, "output '" + o.output + "' is a directory; name a .tsv file"));
+    return fail("db scan", Error(Errc::invalid_argument,
+                                 "output '" + o.output + "' is a directory; name a .tsv file"));
   }
   if (!o.merge_into.empty() && !std::filesystem::is_directory(o.merge_into, ec)) {
-    return fail("db scan", Error(Errc::invalid_argument, "--merge-into '" + o.merge_into + "' is not a directory"));
+    return fail("db scan", Error(Errc::invalid_argument,
+                                 "--merge-into '" + o.merge_into + "' is not a directory"));
   }
   std::optional<db::Database> holder;
   const db::Database* d = load_database(o.common, holder);
-  if (auto ok = ops::check_scan_profile_id(o.profile, d); !ok.ok()) return fail("db scan", ok.error());
+  if (auto ok = ops::check_scan_profile_id(o.profile, d); !ok.ok())
+    return fail("db scan", ok.error());
   const std::string partial = o.output + ".partial";
   if (o.restart) std::filesystem::remove(partial, ec);
   auto store = ops::PartialFileStore::open(partial, o.profile);
   if (!store.ok()) return fail("db scan", store.error());
   if ((*store)->loaded() > 0 && !o.common.quiet && !o.common.json) {
-    std::fprintf(stderr, "db scan: resuming: %zu UPID(s) already read (%s)\n", (*store)->loaded(), partial.c_str());
+    std::fprintf(stderr, "db scan: resuming: %zu UPID(s) already read (%s)\n", (*store)->loaded(),
+                 partial.c_str());
   }
   auto session = open_link(o.common);
   if (!session.ok()) return fail("db scan", session.error());
@@ -405,13 +467,15 @@ int run_scan(ScanCli& o) {
   auto closed = (*session)->close();
   if (!r.ok()) {
     if ((*store)->size() > 0)
-      std::fprintf(stderr, "lmcfg db scan: %zu UPID(s) kept in %s; rerun the same command to continue\n",
+      std::fprintf(stderr,
+                   "lmcfg db scan: %zu UPID(s) kept in %s; rerun the same command to continue\n",
                    (*store)->size(), partial.c_str());
     return fail("db scan", r.error());
   }
   if (!closed.ok()) return fail("db scan", closed.error());
   const std::string text = ops::scan_fragment_tsv(*r);
-  if (auto w = config::write_file_atomic(o.output, text); !w.ok()) return fail("db scan", w.error());
+  if (auto w = config::write_file_atomic(o.output, text); !w.ok())
+    return fail("db scan", w.error());
   if (auto rm = (*store)->remove(); !rm.ok() && !o.common.quiet)
     std::fprintf(stderr, "lmcfg db scan: warning: %s\n", rm.error().message.c_str());
   std::optional<ops::MergeReport> merged;
@@ -422,20 +486,36 @@ int run_scan(ScanCli& o) {
   }
   const auto& st = (*session)->client().stats();
   if (o.common.json) {
-    json j = {{"file", o.output},          {"profile", r->profile.id}, {"source", r->source},
-              {"upids", r->rows.size()},   {"named", r->named},        {"asked", r->asked},
-              {"resumed", r->resumed},     {"refused", r->refused},    {"telegrams", st.requests},
-              {"layers", {{"OS", r->per_layer[0]}, {"MC", r->per_layer[1]}, {"Intf", r->per_layer[2]}, {"Appl", r->per_layer[3]}}}};
+    json j = {{"file", o.output},
+              {"profile", r->profile.id},
+              {"source", r->source},
+              {"upids", r->rows.size()},
+              {"named", r->named},
+              {"asked", r->asked},
+              {"resumed", r->resumed},
+              {"refused", r->refused},
+              {"telegrams", st.requests},
+              {"layers",
+               {{"OS", r->per_layer[0]},
+                {"MC", r->per_layer[1]},
+                {"Intf", r->per_layer[2]},
+                {"Appl", r->per_layer[3]}}}};
     if (merged) j["merged_into"] = o.merge_into;
     std::cout << j.dump(2) << "\n";
   } else if (!o.common.quiet) {
     std::fprintf(stderr,
-                 "db scan: %zu UPID(s) (OS %zu, MC %zu, Intf %zu, Appl %zu), %zu named from the database, %zu resumed, "
+                 "db scan: %zu UPID(s) (OS %zu, MC %zu, Intf %zu, Appl %zu), %zu named from the "
+                 "database, %zu resumed, "
                  "%zu limit(s) refused -> %s (%llu telegrams)\n",
-                 r->rows.size(), r->per_layer[0], r->per_layer[1], r->per_layer[2], r->per_layer[3], r->named,
-                 r->resumed, r->refused, o.output.c_str(), static_cast<unsigned long long>(st.requests));
-    if (merged) print_merge(o.common, *merged, o.merge_into);
-    else std::fprintf(stderr, "db scan: add it to the database with: lmcfg db merge %s --into upid-db\n", o.output.c_str());
+                 r->rows.size(), r->per_layer[0], r->per_layer[1], r->per_layer[2], r->per_layer[3],
+                 r->named, r->resumed, r->refused, o.output.c_str(),
+                 static_cast<unsigned long long>(st.requests));
+    if (merged)
+      print_merge(o.common, *merged, o.merge_into);
+    else
+      std::fprintf(stderr,
+                   "db scan: add it to the database with: lmcfg db merge %s --into upid-db\n",
+                   o.output.c_str());
   }
   return kOk;
 }
@@ -452,8 +532,11 @@ int run_merge(MergeCli& o) {
   auto m = ops::merge_scan_fragment(o.into, *text);
   if (!m.ok()) return fail("db merge", m.error());
   if (o.common.json) {
-    std::cout << json{{"profile", m->profile}, {"into", o.into}, {"parameters_added", m->parameters_added},
-                      {"parameters_replaced", m->parameters_replaced}, {"profile_replaced", m->profile_replaced}}
+    std::cout << json{{"profile", m->profile},
+                      {"into", o.into},
+                      {"parameters_added", m->parameters_added},
+                      {"parameters_replaced", m->parameters_replaced},
+                      {"profile_replaced", m->profile_replaced}}
                      .dump(2)
               << "\n";
   }
@@ -463,25 +546,32 @@ int run_merge(MergeCli& o) {
 
 void setup(CLI::App& app, int& exit_code) {
   auto o = std::make_shared<DbOptions>();
-  auto* db = app.add_subcommand("db", "Query the UPID database (parameters, errors, motion commands); no drive needed");
+  auto* db = app.add_subcommand(
+      "db", "Query the UPID database (parameters, errors, motion commands); no drive needed");
   db->require_subcommand(1);
   db->footer(
-      "Exit codes: 0 = answered (also when a UPID or text is not in the database: that is a note, not an error;\n"
-      "the drive itself can be asked); 2 = malformed input (a UPID that is not hex) or the database file is missing\n"
-      "or unreadable. The database is lmcfg-upid.sqlite next to the lmcfg binary, or $LMCFG_UPID_DB, or --db PATH.");
+      "Exit codes: 0 = answered (also when a UPID or text is not in the database: that is a note, "
+      "not an error;\n"
+      "the drive itself can be asked); 2 = malformed input (a UPID that is not hex) or the "
+      "database file is missing\n"
+      "or unreadable. The database is lmcfg-upid.sqlite next to the lmcfg binary, or "
+      "$LMCFG_UPID_DB, or --db PATH.");
   auto common = [&](CLI::App* sub) {
     sub->fallthrough();
-    sub->add_option("--db", o->db_path, "UPID database file (default: next to lmcfg, or $LMCFG_UPID_DB)");
+    sub->add_option("--db", o->db_path,
+                    "UPID database file (default: next to lmcfg, or $LMCFG_UPID_DB)");
     sub->add_flag("--json", o->json, "Machine-readable JSON on stdout");
   };
   common(db);
 
   auto* show = db->add_subcommand("show", "Show everything the database knows about one UPID");
   show->add_option("upid", o->upid, "UPID in hex: 13A2, 0x13A2")->required();
-  show->add_option("--profile", o->profile, "Only the definition for this profile id (see upid-db/profiles.tsv)");
+  show->add_option("--profile", o->profile,
+                   "Only the definition for this profile id (see upid-db/profiles.tsv)");
   show->callback([o, &exit_code] { exit_code = run_show(*o); });
 
-  auto* find = db->add_subcommand("find", "Find parameters whose name or tree path contains TEXT (case-insensitive)");
+  auto* find = db->add_subcommand(
+      "find", "Find parameters whose name or tree path contains TEXT (case-insensitive)");
   find->add_option("text", o->needle, "Substring to look for")->required();
   find->callback([o, &exit_code] { exit_code = run_find(*o); });
 
@@ -492,10 +582,13 @@ void setup(CLI::App& app, int& exit_code) {
   auto* commands = db->add_subcommand("commands", "List motion commands and their parameters");
   commands->callback([o, &exit_code] { exit_code = run_commands(*o); });
 
-  auto* devicenet = db->add_subcommand(
-      "devicenet", "Older DeviceNet controllers (seed 000): the general-purpose command set, or --params the parameter tree");
+  auto* devicenet =
+      db->add_subcommand("devicenet",
+                         "Older DeviceNet controllers (seed 000): the general-purpose command set, "
+                         "or --params the parameter tree");
   devicenet->add_option("id", o->needle, "One command ID in hex (11, 0x11, 11h): show it in full");
-  devicenet->add_flag("--params", o->devicenet_params, "List the DeviceNet parameter tree instead of the commands");
+  devicenet->add_flag("--params", o->devicenet_params,
+                      "List the DeviceNet parameter tree instead of the commands");
   devicenet->callback([o, &exit_code] { exit_code = run_devicenet(*o); });
 
   auto* info = db->add_subcommand("info", "Schema version, content hash and row counts");
@@ -503,33 +596,48 @@ void setup(CLI::App& app, int& exit_code) {
   for (auto* s : {show, find, errors, commands, devicenet, info}) common(s);
 
   auto so = std::make_shared<ScanCli>();
-  auto* scan = db->add_subcommand("scan", "Learn a new firmware profile from a drive: UPID list, min/max/default");
+  auto* scan = db->add_subcommand(
+      "scan", "Learn a new firmware profile from a drive: UPID list, min/max/default");
   scan->footer(
       "Examples:\n"
-      "  lmcfg db scan --port /dev/ttyUSB0 --profile e1100-fw-x --names-from e1100-mc-linrs -o scan-e1100-fw-x.tsv\n"
-      "  lmcfg db scan --port sim:drive.json --profile e1100-fw-x -o scan.tsv --merge-into upid-db\n"
-      "Walks the UPID list of each layer (address usage, type) and asks min, max and default of every UPID;\n"
-      "names, paths, units, scales, enum labels and the comm flag come from the database row of the same UPID.\n"
-      "Writes a upid-db fragment (upid-db/FORMAT.md; docs/upid-db.md \"Scanning a drive\") atomically. Progress is\n"
-      "kept in OUTPUT.partial: an interrupted scan continues when the same command is run again (--restart: start\n"
-      "over). Sends read telegrams only. Exit codes as for backup: 2 bad input, 4 link failure, 5 drive refused.");
+      "  lmcfg db scan --port /dev/ttyUSB0 --profile e1100-fw-x --names-from e1100-mc-linrs -o "
+      "scan-e1100-fw-x.tsv\n"
+      "  lmcfg db scan --port sim:drive.json --profile e1100-fw-x -o scan.tsv --merge-into "
+      "upid-db\n"
+      "Walks the UPID list of each layer (address usage, type) and asks min, max and default of "
+      "every UPID;\n"
+      "names, paths, units, scales, enum labels and the comm flag come from the database row of "
+      "the same UPID.\n"
+      "Writes a upid-db fragment (upid-db/FORMAT.md; docs/upid-db.md \"Scanning a drive\") "
+      "atomically. Progress is\n"
+      "kept in OUTPUT.partial: an interrupted scan continues when the same command is run again "
+      "(--restart: start\n"
+      "over). Sends read telegrams only. Exit codes as for backup: 2 bad input, 4 link failure, 5 "
+      "drive refused.");
   add_link_options(scan, so->common);
   add_output_options(scan, so->common);
   scan->add_option("--profile", so->profile, "id of the new profile, e.g. e1100-fw-x")->required();
   scan->add_option("-o,--output", so->output, "fragment file to write (.tsv)")->required();
   scan->add_option("--family", so->family, "profile family (default: that of --names-from)");
-  scan->add_option("--software", so->software, "firmware / interface software (default: that of --names-from)");
+  scan->add_option("--software", so->software,
+                   "firmware / interface software (default: that of --names-from)");
   scan->add_option("--version", so->version, "firmware version text");
-  scan->add_option("--description", so->description, "profile description (default: a summary of the scan)");
-  scan->add_option("--names-from", so->names_from, "known profile whose rows give names (default: any row of the UPID)");
-  scan->add_option("--layers", so->layers, "layers to scan: os,mc,intf,appl")->capture_default_str();
+  scan->add_option("--description", so->description,
+                   "profile description (default: a summary of the scan)");
+  scan->add_option("--names-from", so->names_from,
+                   "known profile whose rows give names (default: any row of the UPID)");
+  scan->add_option("--layers", so->layers, "layers to scan: os,mc,intf,appl")
+      ->capture_default_str();
   scan->add_option("--date", so->date, "date in the provenance (default: today, UTC)");
-  scan->add_option("--merge-into", so->merge_into, "also merge the fragment into this upid-db source directory");
+  scan->add_option("--merge-into", so->merge_into,
+                   "also merge the fragment into this upid-db source directory");
   scan->add_flag("--restart", so->restart, "ignore OUTPUT.partial and scan from the start");
   scan->callback([so, &exit_code] { exit_code = run_scan(*so); });
 
   auto mo = std::make_shared<MergeCli>();
-  auto* merge = db->add_subcommand("merge", "Merge a `db scan` fragment into the upid-db sources (profiles.tsv, parameters.tsv)");
+  auto* merge = db->add_subcommand(
+      "merge",
+      "Merge a `db scan` fragment into the upid-db sources (profiles.tsv, parameters.tsv)");
   merge->add_option("fragment", mo->fragment, "fragment written by lmcfg db scan")->required();
   merge->add_option("--into", mo->into, "upid-db source directory")->capture_default_str();
   merge->add_flag("--quiet,-q", mo->common.quiet, "no summary");
