@@ -53,8 +53,8 @@ struct Run {
 
 // Runs `lmcfg ARGS` in `dir`; stdout and stderr to files.
 Run tool(const fs::path& dir, const std::string& args) {
-  const std::string cmd = "cd '" + dir.string() + "' && '" + std::string(LMCFG_TOOL_PATH) + "' " + args +
-                          " >stdout.txt 2>stderr.txt </dev/null";
+  const std::string cmd = "cd '" + dir.string() + "' && '" + std::string(LMCFG_TOOL_PATH) + "' " +
+                          args + " >stdout.txt 2>stderr.txt </dev/null";
   const int rc = std::system(cmd.c_str());
   Run r;
   r.exit_code = WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
@@ -89,11 +89,14 @@ struct TempDir {
   fs::path path;
   TempDir() {
     static int n = 0;
-    path = fs::temp_directory_path() / ("lmcfg-rel-" + std::to_string(::getpid()) + "-" + std::to_string(++n));
+    path = fs::temp_directory_path() /
+           ("lmcfg-rel-" + std::to_string(::getpid()) + "-" + std::to_string(++n));
     fs::remove_all(path);
     fs::create_directories(path / "bad");
-    fs::copy_file(fs::path(LMCFG_SOURCE_DIR) / "tests/fixtures/sim/used-spare.json", path / "spare.json");
-    fs::copy_file(fs::path(LMCFG_SOURCE_DIR) / "tests/fixtures/sim/commissioned-axis.json", path / "axis.json");
+    fs::copy_file(fs::path(LMCFG_SOURCE_DIR) / "tests/fixtures/sim/used-spare.json",
+                  path / "spare.json");
+    fs::copy_file(fs::path(LMCFG_SOURCE_DIR) / "tests/fixtures/sim/commissioned-axis.json",
+                  path / "axis.json");
   }
   ~TempDir() {
     std::error_code ec;
@@ -121,7 +124,8 @@ std::string good_backup(TempDir& d) {
 
 }  // namespace
 
-TEST_CASE("cli: every bad configuration file is refused before the link opens", "[reliability][cli]") {
+TEST_CASE("cli: every bad configuration file is refused before the link opens",
+          "[reliability][cli]") {
   TempDir d;
   const auto spare_before = state_of(d.path / "spare.json");
   std::size_t n = 0;
@@ -131,10 +135,12 @@ TEST_CASE("cli: every bad configuration file is refused before the link opens", 
       fs::copy_file(src, d.path / "bad" / b.file, fs::copy_options::overwrite_existing);
       const std::string before = slurp(d.path / "bad" / b.file);
       fs::remove(d.path / "t.trace");
-      auto r = tool(d.path, std::string("restore bad/") + b.file + " --port sim:spare.json --trace t.trace");
+      auto r = tool(
+          d.path, std::string("restore bad/") + b.file + " --port sim:spare.json --trace t.trace");
       INFO(r.err);
       CHECK(r.exit_code == 2);
-      CHECK(r.err == std::string("lmcfg restore: ") + b.message + "\n");  // one clear line: what and where
+      CHECK(r.err ==
+            std::string("lmcfg restore: ") + b.message + "\n");  // one clear line: what and where
       CHECK(traced_writes(d.path / "t.trace") == 0);
       CHECK(slurp(d.path / "bad" / b.file) == before);
       CHECK(same_config(state_of(d.path / "spare.json"), spare_before));
@@ -148,7 +154,8 @@ TEST_CASE("cli: every bad configuration file is refused before the link opens", 
   CHECK(n <= std::size(kBadFiles));
 }
 
-TEST_CASE("cli: files the drive cannot take are refused by the plan, nothing written", "[reliability][cli]") {
+TEST_CASE("cli: files the drive cannot take are refused by the plan, nothing written",
+          "[reliability][cli]") {
   TempDir d;
   const std::string good = good_backup(d);
   struct Case {
@@ -163,15 +170,25 @@ TEST_CASE("cli: files the drive cannot take are refused by the plan, nothing wri
     throw std::runtime_error("no MC layer in the backup");
   };
   const std::vector<Case> cases{
-      {"unknown UPID", [&](auto& j) { mc(j).push_back({{"upid", "1EEE"}, {"value", 1}}); }, 3,
-       "MC 1EEEh: UPID does not exist on the target (type query answered C8h unknown UPID)"},
-      {"value out of range for its type", [&](auto& j) {
-         for (auto& p : mc(j)) if (p["upid"] == "13A2") p["value"] = 0x10000; }, 3,
-       "value 10000h does not fit type UINT16"},
-      {"wrong type", [&](auto& j) { mc(j)[0]["type"] = 6; }, 3, "type differs: the file has SINT32"},
-      {"command table entry of the wrong size", [&](auto& j) {
+      {"unknown UPID",
+       [&](auto& j) {
+         mc(j).push_back({{"upid", "1EEE"}, {"value", 1}});
+       },
+       3, "MC 1EEEh: UPID does not exist on the target (type query answered C8h unknown UPID)"},
+      {"value out of range for its type",
+       [&](auto& j) {
+         for (auto& p : mc(j))
+           if (p["upid"] == "13A2") p["value"] = 0x10000;
+       },
+       3, "value 10000h does not fit type UINT16"},
+      {"wrong type", [&](auto& j) { mc(j)[0]["type"] = 6; }, 3,
+       "type differs: the file has SINT32"},
+      {"command table entry of the wrong size",
+       [&](auto& j) {
          auto& raw = j["command_table"][0]["raw"];
-         raw.erase(raw.size() - 1); }, 3, "bytes, expected 64"},
+         raw.erase(raw.size() - 1);
+       },
+       3, "bytes, expected 64"},
   };
   for (const auto& c : cases) {
     DYNAMIC_SECTION(c.name) {
@@ -192,11 +209,13 @@ TEST_CASE("cli: files the drive cannot take are refused by the plan, nothing wri
   }
 }
 
-TEST_CASE("cli: absurd option values are refused with exit 2 and nothing on the wire", "[reliability][cli]") {
+TEST_CASE("cli: absurd option values are refused with exit 2 and nothing on the wire",
+          "[reliability][cli]") {
   TempDir d;
   const std::string good = good_backup(d);
   spit(d.path / "existing.json", good);
-  fs::create_directories(d.path / "adir"); fs::create_directories(d.path / "adir.json");
+  fs::create_directories(d.path / "adir");
+  fs::create_directories(d.path / "adir.json");
   struct Case {
     const char* args;
     const char* expected;
@@ -205,18 +224,30 @@ TEST_CASE("cli: absurd option values are refused with exit 2 and nothing on the 
       // (--baud is checked for serial ports; the simulated drive takes its line
       // settings from its state file and ignores --baud.)
       {"backup --port /dev/lmcfg-no-such-tty --baud 0 -o out.json", "baud"},
-      {"backup --port sim:spare.json --id 300 -o out.json", "--id '300' is not a MACID 0..255 (0x00..0xFF)"},
+      {"backup --port sim:spare.json --id 300 -o out.json",
+       "--id '300' is not a MACID 0..255 (0x00..0xFF)"},
       {"backup --port sim:spare.json --id 0x1FF -o out.json", "--id '0x1FF' is not a MACID"},
-      {"backup --port sim:spare.json -o adir.json", "output 'adir.json' is a directory; name a file"},
+      {"backup --port sim:spare.json -o adir.json",
+       "output 'adir.json' is a directory; name a file"},
       {"backup --port sim:spare.json -o out.txt", "out.txt"},
-      {"backup --port sim:spare.json --timeout-ms 0 -o out.json", "--timeout-ms 0 is outside 1..60000"},
+      {"backup --port sim:spare.json --timeout-ms 0 -o out.json",
+       "--timeout-ms 0 is outside 1..60000"},
       {"backup --port sim:spare.json --retries 99 -o out.json", "--retries 99 is outside 0..10"},
-      {"backup --port sim:spare.json --checksum sha1 -o out.json", "checksum 'sha1' is not one of none, add, crc, crc-ffff, crc-0000"},
-      {"backup --port sim:spare.json --parity maybe -o out.json", "parity 'maybe' is not one of none, even, odd"},
-      {"backup --port sim:spare.json --layers os,xyz -o out.json", "--layers: 'xyz' is not one of os, mc, intf, appl"},
+      {"backup --port sim:spare.json --checksum sha1 -o out.json",
+       "checksum 'sha1' is not one of none, add, crc, crc-ffff, crc-0000"},
+      {"backup --port sim:spare.json --parity maybe -o out.json",
+       "parity 'maybe' is not one of none, even, odd"},
+      {"backup --port sim:spare.json --layers os,xyz -o out.json",
+       "--layers: 'xyz' is not one of os, mc, intf, appl"},
       {"restore existing.json --port /dev/lmcfg-no-such-tty --baud 0", "baud"},
       {"restore existing.json --port sim:spare.json --id 300", "--id '300' is not a MACID"},
       {"restore missing.json --port sim:spare.json", "missing.json"},
+      {"restore existing.json --port sim:spare.json --include-comm --reconnect-baud 12345",
+       "--reconnect-baud: unsupported baud rate 12345"},
+      {"restore existing.json --port sim:spare.json --include-comm --reconnect-id 0x100",
+       "--reconnect-id '0x100' is not a MACID 0..255 (0x00..0xFF)"},
+      {"restore existing.json --port sim:spare.json --include-comm --reconnect-checksum md5",
+       "--reconnect-checksum: checksum 'md5' is not one of none, add, crc, crc-ffff, crc-0000"},
       {"restore adir --port sim:spare.json", "adir"},
       {"diff existing.json drive --port sim:spare.json --id 300", "--id '300' is not a MACID"},
   };
@@ -239,7 +270,8 @@ TEST_CASE("cli: absurd option values are refused with exit 2 and nothing on the 
   }
 }
 
-TEST_CASE("cli: a backup that fails midway leaves the existing file byte-identical", "[reliability][cli]") {
+TEST_CASE("cli: a backup that fails midway leaves the existing file byte-identical",
+          "[reliability][cli]") {
   TempDir d;
   const std::string old = good_backup(d);
   // A drive that refuses the curve probe of a missing curve (C8): the backup
@@ -255,7 +287,8 @@ TEST_CASE("cli: a backup that fails midway leaves the existing file byte-identic
   CHECK(traced_writes(d.path / "t.trace") == 0);
   // No temporary file left behind next to it.
   std::size_t files = 0;
-  for (const auto& e : fs::directory_iterator(d.path)) files += e.path().filename().string().find("good.json") != std::string::npos;
+  for (const auto& e : fs::directory_iterator(d.path))
+    files += e.path().filename().string().find("good.json") != std::string::npos;
   CHECK(files == 1);
   // A drive that does not answer at all (wrong MACID): communication failure, file kept.
   auto t = tool(d.path, "backup --port sim:axis.json --id 0x22 --timeout-ms 5 -o good.json");
@@ -280,7 +313,29 @@ TEST_CASE("cli: restore never modifies its input file", "[reliability][cli]") {
   CHECK(slurp(d.path / "good.json") == before);
   CHECK(fs::last_write_time(d.path / "good.json") == mtime);
   // And the restored spare now backs up to the same configuration.
-  auto again = tool(d.path, "diff good.json drive --port sim:spare.json --ignore-metadata --ignore-unit");
+  auto again =
+      tool(d.path, "diff good.json drive --port sim:spare.json --ignore-metadata --ignore-unit");
   INFO(again.out << again.err);
   CHECK(again.exit_code == 0);
+}
+
+TEST_CASE("cli: db devicenet shows seed 000 commands; a bad ID is exit 2, an undefined one a note",
+          "[reliability][cli][db]") {
+  TempDir d;
+  auto one = tool(d.path, "db devicenet 0x11 --json");
+  REQUIRE(one.exit_code == 0);
+  auto j = nlohmann::json::parse(one.out);
+  CHECK(j["name"] == "Set Position Setpoint");
+  CHECK(j["value"]["unit"] == "mm");
+  auto bad = tool(d.path, "db devicenet zz");
+  CHECK(bad.exit_code == 2);
+  CHECK(bad.err == "lmcfg db devicenet: 'zz' is not a command ID 00..7F (hex: 11, 0x11, 11h)\n");
+  auto undefined = tool(d.path, "db devicenet 7F");
+  CHECK(undefined.exit_code == 0);
+  CHECK(
+      undefined.out ==
+      "DeviceNet command 7Fh: not in the database (seed 000 §5.2 Table 5-1 does not define it)\n");
+  auto all = tool(d.path, "db devicenet --params --json");
+  REQUIRE(all.exit_code == 0);
+  CHECK(nlohmann::json::parse(all.out).size() == 13);
 }
