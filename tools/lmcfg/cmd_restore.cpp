@@ -85,7 +85,11 @@ int run(RestoreCli& o) {
     return finish(fail("restore", r.error()));
   }
   std::optional<ops::RelinkReport> relink;
-  if (plan->link_may_change) {
+  // Without the reset the restored link settings act at the next start-up only.
+  if (plan->link_may_change && o.no_reset && !o.common.quiet && !o.common.json)
+    std::fprintf(stderr,
+                 "restore: the restored communication parameters act after the next restart\n");
+  if (plan->link_may_change && !o.no_reset) {
     auto r = ops::reconnect(**session, ops::expected_link(*plan, db), *overrides);
     if (!r.ok()) {
       return finish(fail(
