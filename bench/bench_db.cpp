@@ -63,7 +63,8 @@ BENCHMARK(BM_Error);
 
 void BM_DecodeCtEntry(benchmark::State& state) {
   const auto& d = db();
-  lmcfg::Bytes e = *lmcfg::from_hex("01 A7 FF FF 00 01 40 42 0F 00 20 A1 07 00 40 0D 03 00 40 0D 03 00");
+  lmcfg::Bytes e =
+      *lmcfg::from_hex("01 A7 FF FF 00 01 40 42 0F 00 20 A1 07 00 40 0D 03 00 40 0D 03 00");
   e.resize(64, 0);
   for (auto _ : state) {
     auto r = lmcfg::db::decode_ct_entry(d, e);

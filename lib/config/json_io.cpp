@@ -106,9 +106,12 @@ std::size_t locate(std::string_view t, const std::vector<std::string>& ptr) {
 std::string escape_token(const std::string& tok) {
   std::string s;
   for (char c : tok) {
-    if (c == '~') s += "~0";
-    else if (c == '/') s += "~1";
-    else s += c;
+    if (c == '~')
+      s += "~0";
+    else if (c == '/')
+      s += "~1";
+    else
+      s += c;
   }
   return s;
 }
@@ -153,11 +156,13 @@ class Reader {
   }
   std::string loc(const Ptr& p) const {
     const auto pos = text_position(text_, locate(text_, p.tokens));
-    return name_ + ":" + std::to_string(pos.line) + ":" + std::to_string(pos.column) + ": " + p.str();
+    return name_ + ":" + std::to_string(pos.line) + ":" + std::to_string(pos.column) + ": " +
+           p.str();
   }
   const std::string& name() const { return name_; }
 
-  Result<void> keys(const json& obj, const Ptr& p, std::initializer_list<std::string_view> allowed) const {
+  Result<void> keys(const json& obj, const Ptr& p,
+                    std::initializer_list<std::string_view> allowed) const {
     for (auto it = obj.begin(); it != obj.end(); ++it) {
       bool ok = false;
       for (auto a : allowed) ok = ok || it.key() == a;
@@ -169,17 +174,18 @@ class Reader {
     }
     return {};
   }
-  Result<const json*> member(const json& obj, const Ptr& p, std::string_view key, bool required) const {
+  Result<const json*> member(const json& obj, const Ptr& p, std::string_view key,
+                             bool required) const {
     auto it = obj.find(key);
     if (it == obj.end()) {
-      if (required)
-        return err(Errc::parse_error, p, "missing member \"" + std::string(key) + "\"");
+      if (required) return err(Errc::parse_error, p, "missing member \"" + std::string(key) + "\"");
       return static_cast<const json*>(nullptr);
     }
     return &*it;
   }
   Result<const json*> object(const json& j, const Ptr& p) const {
-    if (!j.is_object()) return err(Errc::parse_error, p, "expected an object, found " + describe(j));
+    if (!j.is_object())
+      return err(Errc::parse_error, p, "expected an object, found " + describe(j));
     return &j;
   }
   Result<const json*> array(const json& j, const Ptr& p) const {
@@ -191,19 +197,24 @@ class Reader {
     return j.get<std::string>();
   }
   Result<bool> boolean(const json& j, const Ptr& p) const {
-    if (!j.is_boolean()) return err(Errc::parse_error, p, "expected true or false, found " + describe(j));
+    if (!j.is_boolean())
+      return err(Errc::parse_error, p, "expected true or false, found " + describe(j));
     return j.get<bool>();
   }
-  Result<std::uint64_t> unsigned_int(const json& j, const Ptr& p, std::uint64_t max, std::string_view what) const {
-    const std::string expected = "expected " + std::string(what) + " (0.." + std::to_string(max) + ")";
-    if (!j.is_number_integer() || (j.is_number_integer() && !j.is_number_unsigned() && j.get<std::int64_t>() < 0))
+  Result<std::uint64_t> unsigned_int(const json& j, const Ptr& p, std::uint64_t max,
+                                     std::string_view what) const {
+    const std::string expected =
+        "expected " + std::string(what) + " (0.." + std::to_string(max) + ")";
+    if (!j.is_number_integer() ||
+        (j.is_number_integer() && !j.is_number_unsigned() && j.get<std::int64_t>() < 0))
       return err(Errc::parse_error, p, expected + ", found " + describe(j));
     const auto v = j.get<std::uint64_t>();
     if (v > max) return err(Errc::parse_error, p, expected + ", found " + describe(j));
     return v;
   }
   Result<std::int64_t> signed_int(const json& j, const Ptr& p, std::string_view what) const {
-    if (!j.is_number_integer() || (j.is_number_unsigned() && j.get<std::uint64_t>() > 0x7FFFFFFFFFFFFFFFull))
+    if (!j.is_number_integer() ||
+        (j.is_number_unsigned() && j.get<std::uint64_t>() > 0x7FFFFFFFFFFFFFFFull))
       return err(Errc::parse_error, p, "expected " + std::string(what) + ", found " + describe(j));
     return j.get<std::int64_t>();
   }
@@ -222,7 +233,8 @@ class Reader {
     return out;
   }
   // Optional string member into `out`.
-  Result<void> opt_string(const json& obj, const Ptr& p, std::string_view key, std::string& out) const {
+  Result<void> opt_string(const json& obj, const Ptr& p, std::string_view key,
+                          std::string& out) const {
     LMCFG_ASSIGN_OR_RETURN(const json* m, member(obj, p, key, false));
     if (m) {
       LMCFG_ASSIGN_OR_RETURN(out, string(*m, p / key));
@@ -247,7 +259,8 @@ Result<DriveConfig> Reader::read_document(const json& doc) {
   LMCFG_ASSIGN_OR_RETURN(auto fmt_s, string(*fmt, root / "format"));
   LMCFG_TRY(detail::check_format_id(fmt_s, loc(root / "format")));
   LMCFG_ASSIGN_OR_RETURN(const json* ver, member(doc, root, "format_version", true));
-  LMCFG_ASSIGN_OR_RETURN(auto version, signed_int(*ver, root / "format_version", "an integer format version"));
+  LMCFG_ASSIGN_OR_RETURN(auto version,
+                         signed_int(*ver, root / "format_version", "an integer format version"));
   LMCFG_TRY(detail::check_format_version(version, name_, loc(root / "format_version")));
   if (version == 1) {
     LMCFG_ASSIGN_OR_RETURN(auto v1, read_v1(doc));
@@ -258,8 +271,9 @@ Result<DriveConfig> Reader::read_document(const json& doc) {
 
 Result<DriveConfig> Reader::read_v2(const json& doc) {
   const Ptr root;
-  LMCFG_TRY(keys(doc, root,
-                 {"format", "format_version", "identity", "scope", "parameters", "curves", "command_table"}));
+  LMCFG_TRY(keys(
+      doc, root,
+      {"format", "format_version", "identity", "scope", "parameters", "curves", "command_table"}));
   DriveConfig cfg;
 
   // identity (optional; every member optional)
@@ -268,8 +282,8 @@ Result<DriveConfig> Reader::read_v2(const json& doc) {
     const Ptr p = root / "identity";
     LMCFG_TRY(object(*idj, p));
     LMCFG_TRY(keys(*idj, p,
-                   {"macid", "link", "product", "firmware", "upid_fingerprint", "tool_version", "upid_db",
-                    "captured_at", "labels"}));
+                   {"macid", "link", "product", "firmware", "upid_fingerprint", "tool_version",
+                    "upid_db", "captured_at", "labels"}));
     auto& id = cfg.identity;
     LMCFG_TRY(opt_string(*idj, p, "macid", id.macid));
     LMCFG_TRY(opt_string(*idj, p, "product", id.product));
@@ -320,7 +334,8 @@ Result<DriveConfig> Reader::read_v2(const json& doc) {
       const Ptr ip = p / "layers" / i;
       if (!(*lj)[i].is_number_unsigned() || (*lj)[i].get<std::uint64_t>() < 1 ||
           (*lj)[i].get<std::uint64_t>() > 4)
-        return err(Errc::parse_error, ip, "expected a layer number 1..4, found " + describe((*lj)[i]));
+        return err(Errc::parse_error, ip,
+                   "expected a layer number 1..4, found " + describe((*lj)[i]));
       const auto l = (*lj)[i].get<std::size_t>();
       if (cfg.scope.layers[l - 1])
         return err(Errc::validation_failed, ip, "layer " + std::to_string(l) + " listed twice");
@@ -353,9 +368,11 @@ Result<DriveConfig> Reader::read_v2(const json& doc) {
       LMCFG_TRY(keys(lj, lp, {"layer", "name", "params"}));
       LMCFG_ASSIGN_OR_RETURN(const json* nj, member(lj, lp, "layer", true));
       LMCFG_ASSIGN_OR_RETURN(auto l, unsigned_int(*nj, lp / "layer", 4, "a layer number"));
-      if (l < 1) return err(Errc::parse_error, lp / "layer", "expected a layer number (1..4), found 0");
+      if (l < 1)
+        return err(Errc::parse_error, lp / "layer", "expected a layer number (1..4), found 0");
       if (seen[l - 1])
-        return err(Errc::validation_failed, lp / "layer", "layer " + std::to_string(l) + " appears twice");
+        return err(Errc::validation_failed, lp / "layer",
+                   "layer " + std::to_string(l) + " appears twice");
       seen[l - 1] = true;
       layer_index[l - 1] = li;
       std::string ignored_name;
@@ -378,7 +395,8 @@ Result<DriveConfig> Reader::read_v2(const json& doc) {
                      "expected a UPID as 4 hex digits (\"13A2\"), found " + describe(*uj));
         prm.upid = *upid;
         LMCFG_ASSIGN_OR_RETURN(const json* vj, member(q, pp, "value", true));
-        LMCFG_ASSIGN_OR_RETURN(auto v, unsigned_int(*vj, pp / "value", 0xFFFFFFFFu, "an unsigned 32-bit value"));
+        LMCFG_ASSIGN_OR_RETURN(
+            auto v, unsigned_int(*vj, pp / "value", 0xFFFFFFFFu, "an unsigned 32-bit value"));
         prm.value = static_cast<std::uint32_t>(v);
         LMCFG_ASSIGN_OR_RETURN(const json* tj, member(q, pp, "type", false));
         if (tj) {
@@ -451,21 +469,28 @@ Result<DriveConfig> Reader::read_v2(const json& doc) {
         if (is->field.rfind("labels.", 0) == 0) {
           p = p / "labels" / std::string_view(is->field).substr(7);
         } else if (auto dot = is->field.find('.'); dot != std::string::npos) {
-          p = p / std::string_view(is->field).substr(0, dot) / std::string_view(is->field).substr(dot + 1);
+          p = p / std::string_view(is->field).substr(0, dot) /
+              std::string_view(is->field).substr(dot + 1);
         } else {
           p = p / is->field;
         }
         break;
-      case Issue::Where::scope: p = p / "scope" / is->field; break;
+      case Issue::Where::scope:
+        p = p / "scope" / is->field;
+        break;
       case Issue::Where::layer:
         p = p / "parameters" / layer_index[static_cast<std::size_t>(is->layer - 1)];
         break;
       case Issue::Where::param:
-        p = p / "parameters" / layer_index[static_cast<std::size_t>(is->layer - 1)] / "params" / is->index /
-            is->field;
+        p = p / "parameters" / layer_index[static_cast<std::size_t>(is->layer - 1)] / "params" /
+            is->index / is->field;
         break;
-      case Issue::Where::curve: p = p / "curves" / is->index / is->field; break;
-      case Issue::Where::ct_entry: p = p / "command_table" / is->index / is->field; break;
+      case Issue::Where::curve:
+        p = p / "curves" / is->index / is->field;
+        break;
+      case Issue::Where::ct_entry:
+        p = p / "command_table" / is->index / is->field;
+        break;
     }
     return err(Errc::validation_failed, p, is->message);
   }
@@ -475,7 +500,8 @@ Result<DriveConfig> Reader::read_v2(const json& doc) {
 
 Result<ConfigV1> Reader::read_v1(const json& doc) {
   const Ptr root;
-  LMCFG_TRY(keys(doc, root, {"format", "format_version", "drive", "parameters", "curves", "command_table"}));
+  LMCFG_TRY(keys(doc, root,
+                 {"format", "format_version", "drive", "parameters", "curves", "command_table"}));
   ConfigV1 v1;
   v1.field_sep = "/";
   LMCFG_ASSIGN_OR_RETURN(const json* dj, member(doc, root, "drive", false));
@@ -483,7 +509,8 @@ Result<ConfigV1> Reader::read_v1(const json& doc) {
     const Ptr p = root / "drive";
     LMCFG_TRY(object(*dj, p));
     LMCFG_TRY(keys(*dj, p,
-                   {"macid", "port", "baud", "parity", "stop_bits", "checksum", "tool_version", "captured_at"}));
+                   {"macid", "port", "baud", "parity", "stop_bits", "checksum", "tool_version",
+                    "captured_at"}));
     LMCFG_TRY(opt_string(*dj, p, "macid", v1.macid));
     LMCFG_TRY(opt_string(*dj, p, "port", v1.port));
     LMCFG_TRY(opt_string(*dj, p, "parity", v1.parity));
@@ -512,7 +539,8 @@ Result<ConfigV1> Reader::read_v1(const json& doc) {
     prm.where = loc(pp);
     v1.params.push_back(std::move(prm));
   }
-  auto blocks = [&](std::string_view key, bool curve, std::vector<ConfigV1::Block>& out) -> Result<void> {
+  auto blocks = [&](std::string_view key, bool curve,
+                    std::vector<ConfigV1::Block>& out) -> Result<void> {
     LMCFG_ASSIGN_OR_RETURN(const json* aj, member(doc, root, key, false));
     if (!aj) return {};
     const Ptr p = root / key;
@@ -534,7 +562,8 @@ Result<ConfigV1> Reader::read_v1(const json& doc) {
         LMCFG_ASSIGN_OR_RETURN(const json* hj, member(b, bp, field, true));
         LMCFG_ASSIGN_OR_RETURN(auto hs, string(*hj, bp / field));
         auto bytes = from_hex(hs);
-        if (!bytes) return err(Errc::parse_error, bp / field, "expected hex bytes (\"46 00 03 00\")");
+        if (!bytes)
+          return err(Errc::parse_error, bp / field, "expected hex bytes (\"46 00 03 00\")");
         (field == "info" ? blk.info : blk.data) = std::move(*bytes);
       }
       blk.where = loc(bp);
@@ -564,7 +593,8 @@ Result<DriveConfig> read_json(std::string_view text, std::string_view name) {
     std::string what = e.what();
     // "[json.exception.parse_error.101] parse error at line 1, column 5: syntax error ..."
     if (auto col = what.find("column "); col != std::string::npos) {
-      if (auto colon = what.find(": ", col); colon != std::string::npos) what = what.substr(colon + 2);
+      if (auto colon = what.find(": ", col); colon != std::string::npos)
+        what = what.substr(colon + 2);
     }
     const std::size_t off = e.byte == 0 ? 0 : e.byte - 1;
     const auto pos = text_position(text, off);
@@ -576,7 +606,8 @@ Result<DriveConfig> read_json(std::string_view text, std::string_view name) {
     std::string what = e.what();
     std::string token;
     if (auto q = what.find('\''); q != std::string::npos) {
-      if (auto q2 = what.find('\'', q + 1); q2 != std::string::npos) token = what.substr(q + 1, q2 - q - 1);
+      if (auto q2 = what.find('\'', q + 1); q2 != std::string::npos)
+        token = what.substr(q + 1, q2 - q - 1);
     }
     const auto at = token.empty() ? std::string_view::npos : text.find(token);
     const auto pos = text_position(text, at == std::string_view::npos ? 0 : at);
@@ -718,7 +749,8 @@ Result<std::string> write_json(const DriveConfig& in, const WriteOptions& opts) 
   }
 }
 
-Result<void> write_json_file(const DriveConfig& cfg, const std::filesystem::path& path, const WriteOptions& opts) {
+Result<void> write_json_file(const DriveConfig& cfg, const std::filesystem::path& path,
+                             const WriteOptions& opts) {
   LMCFG_ASSIGN_OR_RETURN(auto text, write_json(cfg, opts));
   return write_file_atomic(path, text);
 }

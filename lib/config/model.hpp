@@ -22,15 +22,15 @@
 namespace lmcfg::config {
 
 inline constexpr std::string_view kFormatId = "lmcfg-drive-config";
-inline constexpr int kFormatVersion = 2;     // what the writers produce
+inline constexpr int kFormatVersion = 2;        // what the writers produce
 inline constexpr int kOldestFormatVersion = 1;  // oldest the readers migrate
 
 // ---------------------------------------------------------------------------
 // Firmware layers (seed 003 §10.2). Layer numbers are 1..4.
 inline constexpr int kLayerCount = 4;
 struct LayerInfo {
-  int number;              // 1..4
-  std::string_view name;   // "OS", "MC", "Intf", "Appl"
+  int number;             // 1..4
+  std::string_view name;  // "OS", "MC", "Intf", "Appl"
   std::uint16_t first_upid;
   std::uint16_t last_upid;
 };
@@ -47,7 +47,7 @@ std::string_view layer_name(int layer) noexcept;
 
 // ---------------------------------------------------------------------------
 // Identity and provenance.
-struct LinkSettings {  // as text, exactly as the capture used them
+struct LinkSettings {     // as text, exactly as the capture used them
   std::string port;       // "/dev/ttyUSB0"
   std::string baud;       // "57600"
   std::string parity;     // "none"
@@ -57,15 +57,15 @@ struct LinkSettings {  // as text, exactly as the capture used them
 };
 
 struct Identity {
-  std::string macid;             // drive MAC ID / node id as text
+  std::string macid;  // drive MAC ID / node id as text
   LinkSettings link;
-  std::string product;           // product profile if known ("" = unknown)
-  std::string firmware;          // firmware profile if known ("" = unknown)
-  std::string upid_fingerprint;  // fingerprint of the drive's UPID set
-  std::string tool_version;      // lmcfg version that captured it
-  std::string upid_db_version;   // UPID database version
-  std::string upid_db_hash;      // UPID database content hash
-  std::string captured_at;       // ISO 8601 UTC, "2024-05-01T12:00:00Z"
+  std::string product;                        // product profile if known ("" = unknown)
+  std::string firmware;                       // firmware profile if known ("" = unknown)
+  std::string upid_fingerprint;               // fingerprint of the drive's UPID set
+  std::string tool_version;                   // lmcfg version that captured it
+  std::string upid_db_version;                // UPID database version
+  std::string upid_db_hash;                   // UPID database content hash
+  std::string captured_at;                    // ISO 8601 UTC, "2024-05-01T12:00:00Z"
   std::map<std::string, std::string> labels;  // free form: machine, axis, ...
   bool operator==(const Identity&) const = default;
 };
@@ -91,8 +91,8 @@ struct Scope {
 // Parameters.
 struct Parameter {
   std::uint16_t upid = 0;
-  std::uint32_t value = 0;            // raw 4-byte value field (§9)
-  std::optional<std::uint8_t> type;   // type code 00..0F (§10) if known
+  std::uint32_t value = 0;           // raw 4-byte value field (§9)
+  std::optional<std::uint8_t> type;  // type code 00..0F (§10) if known
   // Display only, filled by the caller (UPID database); empty = unknown.
   std::string name;
   std::string unit;
@@ -109,8 +109,8 @@ struct Curve {
   bool operator==(const Curve&) const = default;
 };
 
-inline constexpr std::size_t kCurveHeaderMin = 8;   // sizes: off 0, 4, 6
-inline constexpr std::size_t kCurveInfoFull = 70;   // everything decode_curve reads
+inline constexpr std::size_t kCurveHeaderMin = 8;  // sizes: off 0, 4, 6
+inline constexpr std::size_t kCurveInfoFull = 70;  // everything decode_curve reads
 
 struct CurveView {
   std::uint16_t info_size = 0;           // off 0
@@ -126,7 +126,7 @@ struct CurveView {
   std::uint16_t y_dimension = 0;         // off 38 (5 = 0.1 um)
   std::uint16_t wizard = 0;              // off 40
   std::array<std::uint32_t, 7> wizard_params{};  // off 42
-  std::vector<std::int32_t> setpoints;   // data block as SInt32 (when bytes/setpoint % 4 == 0)
+  std::vector<std::int32_t> setpoints;  // data block as SInt32 (when bytes/setpoint % 4 == 0)
 
   // length in ms as exact decimal text ("1000", "12.34").
   std::string length_ms_text() const;
@@ -180,7 +180,9 @@ struct DriveConfig {
   std::vector<Curve> curves;
   std::vector<CtEntry> ct_entries;
 
-  std::vector<Parameter>& layer(int number) { return layers.at(static_cast<std::size_t>(number - 1)); }
+  std::vector<Parameter>& layer(int number) {
+    return layers.at(static_cast<std::size_t>(number - 1));
+  }
   const std::vector<Parameter>& layer(int number) const {
     return layers.at(static_cast<std::size_t>(number - 1));
   }
@@ -201,11 +203,11 @@ void canonicalize(DriveConfig& cfg);
 struct Issue {
   enum class Where { identity, scope, layer, param, curve, ct_entry };
   Where where = Where::scope;
-  int layer = 0;           // 1..4 for layer/param
-  std::size_t index = 0;   // position within the layer / curves / ct_entries vector
-  std::string field;       // "upid", "value", "id", "info", "data", "raw", "" (identity: "macid",
-                           // "link.port", "labels.<key>", ...)
-  std::string message;     // what was expected
+  int layer = 0;          // 1..4 for layer/param
+  std::size_t index = 0;  // position within the layer / curves / ct_entries vector
+  std::string field;      // "upid", "value", "id", "info", "data", "raw", "" (identity: "macid",
+                          // "link.port", "labels.<key>", ...)
+  std::string message;    // what was expected
 };
 // Text fields (identity, labels, display fields) must be valid UTF-8 without
 // control characters, so that both formats carry them losslessly.

@@ -19,8 +19,8 @@ constexpr unsigned kParseFlags =
     pugi::parse_cdata | pugi::parse_escapes | pugi::parse_eol | pugi::parse_ws_pcdata_single;
 
 bool is_repeated(std::string_view name) {
-  return name == "layer" || name == "param" || name == "curve" || name == "entry" || name == "row" ||
-         name == "label" || name == "setpoint";
+  return name == "layer" || name == "param" || name == "curve" || name == "entry" ||
+         name == "row" || name == "label" || name == "setpoint";
 }
 
 std::string node_path(xml_node n) {
@@ -64,13 +64,15 @@ class Reader {
       if (!ok) {
         std::string list;
         for (auto x : attrs) list += (list.empty() ? "" : ", ") + std::string(x);
-        return err_attr(Errc::parse_error, n, a.name(),
-                        "unexpected attribute; expected " + (list.empty() ? "none" : "one of: " + list));
+        return err_attr(
+            Errc::parse_error, n, a.name(),
+            "unexpected attribute; expected " + (list.empty() ? "none" : "one of: " + list));
       }
     }
     for (auto c : n.children()) {
       if (c.type() == pugi::node_pcdata || c.type() == pugi::node_cdata) {
-        if (!blank(c.value())) return err(Errc::parse_error, n, "unexpected text; expected elements only");
+        if (!blank(c.value()))
+          return err(Errc::parse_error, n, "unexpected text; expected elements only");
         continue;
       }
       if (c.type() != pugi::node_element) continue;
@@ -99,12 +101,14 @@ class Reader {
   Result<std::string> attr(xml_node n, const char* name, bool required) const {
     auto a = n.attribute(name);
     if (!a) {
-      if (required) return err(Errc::parse_error, n, "missing attribute \"" + std::string(name) + "\"");
+      if (required)
+        return err(Errc::parse_error, n, "missing attribute \"" + std::string(name) + "\"");
       return std::string();
     }
     return std::string(a.value());
   }
-  Result<std::uint64_t> uint_attr(xml_node n, const char* name, std::uint64_t max, std::string_view what) const {
+  Result<std::uint64_t> uint_attr(xml_node n, const char* name, std::uint64_t max,
+                                  std::string_view what) const {
     LMCFG_ASSIGN_OR_RETURN(auto s, attr(n, name, true));
     auto v = detail::parse_decimal(s);
     if (!v || *v > max)
@@ -116,7 +120,9 @@ class Reader {
   Result<std::int64_t> int_attr(xml_node n, const char* name, std::string_view what) const {
     LMCFG_ASSIGN_OR_RETURN(auto s, attr(n, name, true));
     auto v = detail::parse_signed_decimal(s);
-    if (!v) return err_attr(Errc::parse_error, n, name, "expected " + std::string(what) + ", found \"" + s + "\"");
+    if (!v)
+      return err_attr(Errc::parse_error, n, name,
+                      "expected " + std::string(what) + ", found \"" + s + "\"");
     return *v;
   }
   Result<bool> bool_attr(xml_node n, const char* name) const {
@@ -156,9 +162,10 @@ class Reader {
       LMCFG_ASSIGN_OR_RETURN(auto s, text(r));
       auto b = detail::parse_row(s);
       if (!b)
-        return err(Errc::parse_error, r,
-                   "expected 1..16 hex bytes separated by single spaces (\"46 00 03 00\"), found \"" +
-                       s.substr(0, 60) + "\"");
+        return err(
+            Errc::parse_error, r,
+            "expected 1..16 hex bytes separated by single spaces (\"46 00 03 00\"), found \"" +
+                s.substr(0, 60) + "\"");
       out.insert(out.end(), b->begin(), b->end());
     }
     return out;
@@ -179,7 +186,8 @@ Result<DriveConfig> Reader::read_document(const pugi::xml_document& doc) {
                                         ": expected the root element <lmcfg>");
   LMCFG_ASSIGN_OR_RETURN(auto fmt, attr(root, "format", true));
   LMCFG_TRY(detail::check_format_id(fmt, where(root) + "/@format"));
-  LMCFG_ASSIGN_OR_RETURN(auto version, int_attr(root, "format_version", "an integer format version"));
+  LMCFG_ASSIGN_OR_RETURN(auto version,
+                         int_attr(root, "format_version", "an integer format version"));
   LMCFG_TRY(detail::check_format_version(version, name_, where(root) + "/@format_version"));
   if (version == 1) {
     LMCFG_ASSIGN_OR_RETURN(auto v1, read_v1(root));
@@ -198,8 +206,8 @@ Result<DriveConfig> Reader::read_v2(xml_node root) {
   xml_node labels_node;
   if (idn) {
     LMCFG_TRY(shape(idn, {},
-                    {"macid", "link", "product", "firmware", "upid_fingerprint", "tool_version", "upid_db",
-                     "captured_at", "labels"}));
+                    {"macid", "link", "product", "firmware", "upid_fingerprint", "tool_version",
+                     "upid_db", "captured_at", "labels"}));
     LMCFG_TRY(opt_text(idn, "macid", id.macid));
     LMCFG_TRY(opt_text(idn, "product", id.product));
     LMCFG_TRY(opt_text(idn, "firmware", id.firmware));
@@ -242,10 +250,12 @@ Result<DriveConfig> Reader::read_v2(xml_node root) {
     std::string tok;
     while (ls >> tok) {
       if (tok.size() != 1 || tok[0] < '1' || tok[0] > '4')
-        return err_attr(Errc::parse_error, scope, "layers",
-                        "expected layer numbers 1..4 separated by spaces, found \"" + layers + "\"");
+        return err_attr(
+            Errc::parse_error, scope, "layers",
+            "expected layer numbers 1..4 separated by spaces, found \"" + layers + "\"");
       auto& flag = cfg.scope.layers[static_cast<std::size_t>(tok[0] - '1')];
-      if (flag) return err_attr(Errc::validation_failed, scope, "layers", "layer " + tok + " listed twice");
+      if (flag)
+        return err_attr(Errc::validation_failed, scope, "layers", "layer " + tok + " listed twice");
       flag = true;
     }
     LMCFG_ASSIGN_OR_RETURN(auto ps, attr(scope, "parameters", true));
@@ -265,10 +275,13 @@ Result<DriveConfig> Reader::read_v2(xml_node root) {
   for (xml_node ln : params.children("layer")) {
     LMCFG_TRY(shape(ln, {"number", "name"}, {"param"}));
     LMCFG_ASSIGN_OR_RETURN(auto l, uint_attr(ln, "number", 4, "a layer number"));
-    if (l < 1) return err_attr(Errc::parse_error, ln, "number", "expected a layer number (1..4), found \"0\"");
+    if (l < 1)
+      return err_attr(Errc::parse_error, ln, "number",
+                      "expected a layer number (1..4), found \"0\"");
     const auto li = static_cast<std::size_t>(l - 1);
     if (layer_nodes[li])
-      return err_attr(Errc::validation_failed, ln, "number", "layer " + std::to_string(l) + " appears twice");
+      return err_attr(Errc::validation_failed, ln, "number",
+                      "layer " + std::to_string(l) + " appears twice");
     layer_nodes[li] = ln;
     auto& out = cfg.layer(static_cast<int>(l));
     for (xml_node pn : ln.children("param")) {
@@ -280,7 +293,8 @@ Result<DriveConfig> Reader::read_v2(xml_node root) {
         return err_attr(Errc::parse_error, pn, "upid",
                         "expected a UPID as 4 hex digits (\"13A2\"), found \"" + us + "\"");
       prm.upid = *upid;
-      LMCFG_ASSIGN_OR_RETURN(auto v, uint_attr(pn, "value", 0xFFFFFFFFu, "an unsigned 32-bit value"));
+      LMCFG_ASSIGN_OR_RETURN(auto v,
+                             uint_attr(pn, "value", 0xFFFFFFFFu, "an unsigned 32-bit value"));
       prm.value = static_cast<std::uint32_t>(v);
       if (pn.attribute("type")) {
         LMCFG_ASSIGN_OR_RETURN(auto t, uint_attr(pn, "type", 15, "a type code"));
@@ -347,14 +361,17 @@ Result<DriveConfig> Reader::read_v2(xml_node root) {
         }
         break;
       }
-      case Issue::Where::scope: path = node_path(scope) + "/@" + is->field; break;
+      case Issue::Where::scope:
+        path = node_path(scope) + "/@" + is->field;
+        break;
       case Issue::Where::layer: {
         xml_node ln = layer_nodes[static_cast<std::size_t>(is->layer - 1)];
         path = ln ? node_path(ln) : node_path(params);
         break;
       }
       case Issue::Where::param:
-        path = node_path(param_nodes[static_cast<std::size_t>(is->layer - 1)].at(is->index)) + "/@" + is->field;
+        path = node_path(param_nodes[static_cast<std::size_t>(is->layer - 1)].at(is->index)) +
+               "/@" + is->field;
         break;
       case Issue::Where::curve: {
         xml_node cn = curve_nodes.at(is->index);
@@ -374,14 +391,16 @@ Result<DriveConfig> Reader::read_v2(xml_node root) {
 }
 
 Result<ConfigV1> Reader::read_v1(xml_node root) {
-  LMCFG_TRY(shape(root, {"format", "format_version"}, {"drive", "parameters", "curves", "command_table"}));
+  LMCFG_TRY(shape(root, {"format", "format_version"},
+                  {"drive", "parameters", "curves", "command_table"}));
   ConfigV1 v1;
   v1.field_sep = "/@";
   LMCFG_ASSIGN_OR_RETURN(xml_node drive, single(root, "drive", false));
   if (drive) {
-    LMCFG_TRY(shape(drive,
-                    {"macid", "port", "baud", "parity", "stop_bits", "checksum", "tool_version", "captured_at"},
-                    {}));
+    LMCFG_TRY(shape(
+        drive,
+        {"macid", "port", "baud", "parity", "stop_bits", "checksum", "tool_version", "captured_at"},
+        {}));
     LMCFG_ASSIGN_OR_RETURN(v1.macid, attr(drive, "macid", false));
     LMCFG_ASSIGN_OR_RETURN(v1.port, attr(drive, "port", false));
     LMCFG_ASSIGN_OR_RETURN(v1.parity, attr(drive, "parity", false));
@@ -421,7 +440,8 @@ Result<ConfigV1> Reader::read_v1(xml_node root) {
         if (!curve && std::string_view(field) == "info") continue;
         LMCFG_ASSIGN_OR_RETURN(auto hs, attr(n, field, true));
         auto bytes = from_hex(hs);
-        if (!bytes) return err_attr(Errc::parse_error, n, field, "expected hex bytes (\"46 00 03 00\")");
+        if (!bytes)
+          return err_attr(Errc::parse_error, n, field, "expected hex bytes (\"46 00 03 00\")");
         (std::string_view(field) == "info" ? b.info : b.data) = std::move(*bytes);
       }
       b.where = where(n);
@@ -460,8 +480,8 @@ Result<DriveConfig> read_xml(std::string_view text, std::string_view name) {
     const auto off = res.offset < 0 ? std::size_t{0} : static_cast<std::size_t>(res.offset);
     const auto pos = text_position(text, off);
     return Error(Errc::parse_error, std::string(name) + ":" + std::to_string(pos.line) + ":" +
-                                        std::to_string(pos.column) + ": XML syntax error: " +
-                                        res.description());
+                                        std::to_string(pos.column) +
+                                        ": XML syntax error: " + res.description());
   }
   Reader r(name);
   return r.read_document(doc);
@@ -563,7 +583,8 @@ Result<std::string> write_xml(const DriveConfig& in, const WriteOptions& opts) {
       std::string wp;
       for (auto w : v->wizard_params) wp += (wp.empty() ? "" : " ") + std::to_string(w);
       d.append_attribute("wizard_params") = wp.c_str();
-      for (auto sp : v->setpoints) d.append_child("setpoint").text().set(std::to_string(sp).c_str());
+      for (auto sp : v->setpoints)
+        d.append_child("setpoint").text().set(std::to_string(sp).c_str());
     }
   }
   {
@@ -590,7 +611,8 @@ Result<std::string> write_xml(const DriveConfig& in, const WriteOptions& opts) {
   return std::move(w.out);
 }
 
-Result<void> write_xml_file(const DriveConfig& cfg, const std::filesystem::path& path, const WriteOptions& opts) {
+Result<void> write_xml_file(const DriveConfig& cfg, const std::filesystem::path& path,
+                            const WriteOptions& opts) {
   LMCFG_ASSIGN_OR_RETURN(auto text, write_xml(cfg, opts));
   return write_file_atomic(path, text);
 }

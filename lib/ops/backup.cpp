@@ -20,8 +20,9 @@ std::string utc_now() {
 std::string display_value(const db::Database* db, std::uint16_t upid, std::uint32_t value) {
   const db::Parameter* d = db ? db->find(upid) : nullptr;
   if (d) {
-    const bool labelled = std::any_of(d->spec.labels.begin(), d->spec.labels.end(),
-                                      [&](const db::EnumLabel& l) { return l.raw == static_cast<std::int64_t>(value); });
+    const bool labelled = std::any_of(
+        d->spec.labels.begin(), d->spec.labels.end(),
+        [&](const db::EnumLabel& l) { return l.raw == static_cast<std::int64_t>(value); });
     if (d->spec.type || labelled) return d->format(value);
   }
   char buf[32];
@@ -70,7 +71,8 @@ void report(const Progress& p, const std::string& phase, std::size_t done, std::
 
 }  // namespace
 
-Result<config::DriveConfig> backup(client::Client& c, const BackupOptions& opt, const db::Database* db) {
+Result<config::DriveConfig> backup(client::Client& c, const BackupOptions& opt,
+                                   const db::Database* db) {
   config::DriveConfig cfg;
   char macid[8];
   std::snprintf(macid, sizeof macid, "0x%02X", c.options().id);
@@ -91,18 +93,23 @@ Result<config::DriveConfig> backup(client::Client& c, const BackupOptions& opt, 
     auto& out = cfg.layer(layer);
     if (!opt.full) {
       LMCFG_ASSIGN_OR_RETURN(auto mods, c.modified_list(layer));
-      for (const auto& m : mods) out.push_back(config::Parameter{m.upid, m.value, std::nullopt, {}, {}, {}});
+      for (const auto& m : mods)
+        out.push_back(config::Parameter{m.upid, m.value, std::nullopt, {}, {}, {}});
       report(opt.progress, phase, mods.size(), mods.size());
       continue;
     }
-    LMCFG_ASSIGN_OR_RETURN(auto list, c.upid_list(layer, [&](std::size_t n) { report(opt.progress, phase + " list", n, 0); }));
+    LMCFG_ASSIGN_OR_RETURN(auto list, c.upid_list(layer, [&](std::size_t n) {
+      report(opt.progress, phase + " list", n, 0);
+    }));
     all_upids.insert(all_upids.end(), list.begin(), list.end());
     std::size_t rom_writable = 0;
     for (const auto& u : list) rom_writable += (u.address_usage & 0x0008) ? 1 : 0;
     for (const auto& u : list) {
-      if ((u.address_usage & 0x0008) == 0) continue;  // bit 3 ROM write (§10.3: only those form a configuration)
+      if ((u.address_usage & 0x0008) == 0)
+        continue;  // bit 3 ROM write (§10.3: only those form a configuration)
       LMCFG_ASSIGN_OR_RETURN(auto v, c.read_rom(u.upid));
-      out.push_back(config::Parameter{u.upid, v, static_cast<std::uint8_t>(u.type & 0xFF), {}, {}, {}});
+      out.push_back(
+          config::Parameter{u.upid, v, static_cast<std::uint8_t>(u.type & 0xFF), {}, {}, {}});
       report(opt.progress, phase, out.size(), rom_writable);
     }
   }
@@ -113,7 +120,8 @@ Result<config::DriveConfig> backup(client::Client& c, const BackupOptions& opt, 
       report(opt.progress, "curves", id, opt.max_curve_id);
       auto read = c.read_curve(id);
       if (!read.ok()) return std::move(read).error();
-      if (read.value()) cfg.curves.push_back(config::Curve{id, read.value()->info, read.value()->data});
+      if (read.value())
+        cfg.curves.push_back(config::Curve{id, read.value()->info, read.value()->data});
     }
   }
   if (opt.command_table) {
@@ -143,8 +151,9 @@ std::optional<config::CtEntryView> DatabaseCtDecoder::decode(std::uint32_t, Byte
   v.summary = e->summary();
   for (const auto& p : e->params) {
     const auto space = p.text.find(' ');
-    v.params.push_back(config::CtParam{p.name, p.text.substr(0, space),
-                                       space == std::string::npos ? std::string() : p.text.substr(space + 1)});
+    v.params.push_back(
+        config::CtParam{p.name, p.text.substr(0, space),
+                        space == std::string::npos ? std::string() : p.text.substr(space + 1)});
   }
   return v;
 }

@@ -33,7 +33,8 @@ struct BackupOptions {
 };
 
 // Reads the drive behind `c`. db (optional) fills display names and types.
-Result<config::DriveConfig> backup(client::Client& c, const BackupOptions& opt, const db::Database* db);
+Result<config::DriveConfig> backup(client::Client& c, const BackupOptions& opt,
+                                   const db::Database* db);
 
 // Fills display fields (name, unit, scaled text, type) of every parameter from
 // the database; leaves unknown UPIDs untouched.

@@ -1,13 +1,12 @@
 #include "ops/diff.hpp"
 
-#include "ops/backup.hpp"
-
 #include <map>
 #include <nlohmann/json.hpp>
 #include <set>
 
 #include "db/ct_entry.hpp"
 #include "db/database.hpp"
+#include "ops/backup.hpp"
 
 namespace lmcfg::ops {
 
@@ -33,24 +32,31 @@ Effective effective(const config::DriveConfig& c, int layer, std::uint16_t upid)
   return {Effective::State::not_writable, 0};
 }
 
-std::string show(const Effective& e, const db::Database* db, std::uint16_t upid, std::optional<std::uint32_t> def) {
+std::string show(const Effective& e, const db::Database* db, std::uint16_t upid,
+                 std::optional<std::uint32_t> def) {
   auto fmt = [&](std::uint32_t v) { return display_value(db, upid, v); };
   switch (e.state) {
-    case Effective::State::value: return fmt(e.value);
-    case Effective::State::at_default: return def ? "default " + fmt(*def) : "default";
-    case Effective::State::not_writable: return "absent";
-    case Effective::State::unknown: return "not captured";
+    case Effective::State::value:
+      return fmt(e.value);
+    case Effective::State::at_default:
+      return def ? "default " + fmt(*def) : "default";
+    case Effective::State::not_writable:
+      return "absent";
+    case Effective::State::unknown:
+      return "not captured";
   }
   return "";
 }
 
-void diff_parameters(const config::DriveConfig& a, const config::DriveConfig& b, const db::Database* db,
-                     const DefaultLookup& defaults, const DiffOptions& opt, DiffResult& r) {
+void diff_parameters(const config::DriveConfig& a, const config::DriveConfig& b,
+                     const db::Database* db, const DefaultLookup& defaults, const DiffOptions& opt,
+                     DiffResult& r) {
   for (int layer = 1; layer <= 4; ++layer) {
     const bool in_a = a.scope.layers[static_cast<std::size_t>(layer - 1)];
     const bool in_b = b.scope.layers[static_cast<std::size_t>(layer - 1)];
     if (in_a != in_b) {
-      r.notes.push_back(std::string("layer ") + std::string(config::layer_name(layer)) + " was captured on only one side; not compared");
+      r.notes.push_back(std::string("layer ") + std::string(config::layer_name(layer)) +
+                        " was captured on only one side; not compared");
       continue;
     }
     if (!in_a) continue;
@@ -69,7 +75,8 @@ void diff_parameters(const config::DriveConfig& a, const config::DriveConfig& b,
       Effective ra = ea, rb = eb;
       resolve(ra);
       resolve(rb);
-      if (ra.state == rb.state && (ra.state != Effective::State::value || ra.value == rb.value)) continue;
+      if (ra.state == rb.state && (ra.state != Effective::State::value || ra.value == rb.value))
+        continue;
       DiffItem it;
       it.kind = DiffItem::Kind::parameter;
       it.layer = layer;
@@ -96,7 +103,8 @@ std::string curve_label(const config::Curve& c) {
 
 std::string curve_summary(const config::Curve& c) {
   auto v = config::decode_curve(c);
-  if (!v.ok()) return std::to_string(c.info.size()) + " B info, " + std::to_string(c.data.size()) + " B data";
+  if (!v.ok())
+    return std::to_string(c.info.size()) + " B info, " + std::to_string(c.data.size()) + " B data";
   return std::to_string(v->setpoint_count) + " setpoints, " + v->length_ms_text() + " ms";
 }
 
@@ -107,8 +115,10 @@ std::string curve_changes(const config::Curve& a, const config::Curve& b) {
   std::vector<std::string> parts;
   if (va->name != vb->name) parts.push_back("name '" + va->name + "' -> '" + vb->name + "'");
   if (va->setpoint_count != vb->setpoint_count)
-    parts.push_back("setpoints " + std::to_string(va->setpoint_count) + " -> " + std::to_string(vb->setpoint_count));
-  if (va->length != vb->length) parts.push_back("length " + va->length_ms_text() + " ms -> " + vb->length_ms_text() + " ms");
+    parts.push_back("setpoints " + std::to_string(va->setpoint_count) + " -> " +
+                    std::to_string(vb->setpoint_count));
+  if (va->length != vb->length)
+    parts.push_back("length " + va->length_ms_text() + " ms -> " + vb->length_ms_text() + " ms");
   if (va->setpoints.size() == vb->setpoints.size()) {
     std::size_t n = 0, first = 0;
     for (std::size_t i = 0; i < va->setpoints.size(); ++i) {
@@ -116,7 +126,9 @@ std::string curve_changes(const config::Curve& a, const config::Curve& b) {
         if (n++ == 0) first = i;
       }
     }
-    if (n) parts.push_back(std::to_string(n) + " setpoint(s) differ, first #" + std::to_string(first + 1));
+    if (n)
+      parts.push_back(std::to_string(n) + " setpoint(s) differ, first #" +
+                      std::to_string(first + 1));
   }
   if (parts.empty()) parts.push_back("info block bytes differ");
   std::string s;
@@ -159,7 +171,8 @@ std::string ct_changes(const db::Database* db, const config::CtEntry& a, const c
   } else {
     for (std::size_t i = 0; i < da->params.size() && i < dbb->params.size(); ++i) {
       if (da->params[i].raw != dbb->params[i].raw) {
-        parts.push_back(db::summary_label(da->params[i].name) + " " + da->params[i].text + " -> " + dbb->params[i].text);
+        parts.push_back(db::summary_label(da->params[i].name) + " " + da->params[i].text + " -> " +
+                        dbb->params[i].text);
       }
     }
   }
@@ -179,7 +192,8 @@ std::string ct_summary(const db::Database* db, const config::CtEntry& e) {
   return std::to_string(e.raw.size()) + " bytes";
 }
 
-void diff_ct(const config::DriveConfig& a, const config::DriveConfig& b, const db::Database* db, DiffResult& r) {
+void diff_ct(const config::DriveConfig& a, const config::DriveConfig& b, const db::Database* db,
+             DiffResult& r) {
   if (a.scope.command_table != b.scope.command_table) {
     r.notes.push_back("the command table was captured on only one side; not compared");
     return;
@@ -203,7 +217,8 @@ void diff_ct(const config::DriveConfig& a, const config::DriveConfig& b, const d
   }
 }
 
-void diff_metadata(const config::Identity& a, const config::Identity& b, const DiffOptions& opt, DiffResult& r) {
+void diff_metadata(const config::Identity& a, const config::Identity& b, const DiffOptions& opt,
+                   DiffResult& r) {
   auto cmp = [&](const char* field, const std::string& x, const std::string& y) {
     if (x != y) r.items.push_back(DiffItem{DiffItem::Kind::metadata, 0, 0, field, x, y, {}});
   };
@@ -217,16 +232,21 @@ void diff_metadata(const config::Identity& a, const config::Identity& b, const D
   for (auto& k : keys) {
     auto ia = a.labels.find(k);
     auto ib = b.labels.find(k);
-    cmp(("label " + k).c_str(), ia == a.labels.end() ? "" : ia->second, ib == b.labels.end() ? "" : ib->second);
+    cmp(("label " + k).c_str(), ia == a.labels.end() ? "" : ia->second,
+        ib == b.labels.end() ? "" : ib->second);
   }
 }
 
 const char* kind_name(DiffItem::Kind k) {
   switch (k) {
-    case DiffItem::Kind::metadata: return "metadata";
-    case DiffItem::Kind::parameter: return "parameter";
-    case DiffItem::Kind::curve: return "curve";
-    case DiffItem::Kind::ct_entry: return "ct_entry";
+    case DiffItem::Kind::metadata:
+      return "metadata";
+    case DiffItem::Kind::parameter:
+      return "parameter";
+    case DiffItem::Kind::curve:
+      return "curve";
+    case DiffItem::Kind::ct_entry:
+      return "ct_entry";
   }
   return "";
 }
@@ -262,25 +282,29 @@ std::string render_text(const DiffResult& r, const std::string& an, const std::s
     switch (it.kind) {
       case DiffItem::Kind::metadata:
         head("identity");
-        out += "  " + it.name + ": " + (it.a.empty() ? "(none)" : it.a) + " -> " + (it.b.empty() ? "(none)" : it.b) + "\n";
+        out += "  " + it.name + ": " + (it.a.empty() ? "(none)" : it.a) + " -> " +
+               (it.b.empty() ? "(none)" : it.b) + "\n";
         break;
       case DiffItem::Kind::parameter:
         head(std::string("layer ") + std::string(config::layer_name(it.layer)));
-        out += "  " + hex4(it.key) + " " + (it.name.empty() ? "(name unknown)" : it.name) + ": " + it.a + " -> " + it.b + "\n";
+        out += "  " + hex4(it.key) + " " + (it.name.empty() ? "(name unknown)" : it.name) + ": " +
+               it.a + " -> " + it.b + "\n";
         break;
       case DiffItem::Kind::curve:
         head("curves");
-        out += "  " + it.name + ": " + it.a + " -> " + it.b + (it.detail.empty() ? "" : " (" + it.detail + ")") + "\n";
+        out += "  " + it.name + ": " + it.a + " -> " + it.b +
+               (it.detail.empty() ? "" : " (" + it.detail + ")") + "\n";
         break;
       case DiffItem::Kind::ct_entry:
         head("command table");
-        out += "  entry " + std::to_string(it.key) + (it.name.empty() ? "" : " '" + it.name + "'") + ": " +
-               (it.detail.empty() ? it.a + " -> " + it.b : it.detail) + "\n";
+        out += "  entry " + std::to_string(it.key) + (it.name.empty() ? "" : " '" + it.name + "'") +
+               ": " + (it.detail.empty() ? it.a + " -> " + it.b : it.detail) + "\n";
         break;
     }
   }
   for (const auto& n : r.notes) out += "note: " + n + "\n";
-  out += r.identical() ? "\nidentical\n" : "\n" + std::to_string(r.items.size()) + " difference(s)\n";
+  out +=
+      r.identical() ? "\nidentical\n" : "\n" + std::to_string(r.items.size()) + " difference(s)\n";
   return out;
 }
 

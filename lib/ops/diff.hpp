@@ -35,7 +35,7 @@ struct DiffItem {
   std::string name;       // parameter name, curve name, entry name, or metadata field
   std::string a;          // value on side A as text ("16", "default 15", "absent")
   std::string b;
-  std::string detail;     // decoded summary ("target 100 mm -> 50 mm")
+  std::string detail;  // decoded summary ("target 100 mm -> 50 mm")
 };
 
 struct DiffResult {

@@ -51,7 +51,8 @@ int run(DiffCli& o) {
   std::optional<Error> link_error;
   ops::DefaultLookup defaults = [&](std::uint16_t upid) -> std::optional<std::uint32_t> {
     if (db) {
-      if (const auto* d = db->find(upid); d && d->default_value) return static_cast<std::uint32_t>(*d->default_value);
+      if (const auto* d = db->find(upid); d && d->default_value)
+        return static_cast<std::uint32_t>(*d->default_value);
     }
     if (!session) return std::nullopt;
     auto it = asked.find(upid);
@@ -61,22 +62,28 @@ int run(DiffCli& o) {
     return asked[upid] = r.ok() ? std::optional<std::uint32_t>(*r) : std::nullopt;
   };
   ops::DiffOptions opt;
-  opt.ignore_metadata = o.ignore_metadata || o.a == "defaults" || o.b == "defaults" || o.a == "drive" || o.b == "drive";
+  opt.ignore_metadata = o.ignore_metadata || o.a == "defaults" || o.b == "defaults" ||
+                        o.a == "drive" || o.b == "drive";
   opt.ignore_unit = o.ignore_unit;
   auto result = ops::diff(*a, *b, db, defaults, opt);
   if (session) {
     if (auto c = session->close(); !c.ok()) return fail("diff", c.error());
   }
   if (link_error) return fail("diff", *link_error);
-  std::fputs((o.common.json ? ops::render_json(result, o.a, o.b) : ops::render_text(result, o.a, o.b)).c_str(), stdout);
+  std::fputs(
+      (o.common.json ? ops::render_json(result, o.a, o.b) : ops::render_text(result, o.a, o.b))
+          .c_str(),
+      stdout);
   return result.identical() ? kOk : kDifferent;
 }
 
 const Register reg(20, [](CLI::App& app, int& exit_code) {
   auto o = std::make_shared<DiffCli>();
-  auto* sub = app.add_subcommand("diff", "Compare two configurations (files, factory defaults or a live drive)");
+  auto* sub = app.add_subcommand(
+      "diff", "Compare two configurations (files, factory defaults or a live drive)");
   sub->footer(
-      "A and B are each a file (.json/.xml), 'defaults' (factory defaults) or 'drive' (read live).\n"
+      "A and B are each a file (.json/.xml), 'defaults' (factory defaults) or 'drive' (read "
+      "live).\n"
       "Examples:\n"
       "  lmcfg diff axis1.json axis2.json\n"
       "  lmcfg diff defaults axis1.json\n"
@@ -87,8 +94,10 @@ const Register reg(20, [](CLI::App& app, int& exit_code) {
   add_link_options(sub, o->common);
   sub->get_option("--port")->required(false);
   add_output_options(sub, o->common);
-  sub->add_flag("--ignore-metadata", o->ignore_metadata, "do not compare identity fields (MACID, firmware, labels)");
-  sub->add_flag("--ignore-unit", o->ignore_unit, "do not compare per-unit data (communication parameters, MACID)");
+  sub->add_flag("--ignore-metadata", o->ignore_metadata,
+                "do not compare identity fields (MACID, firmware, labels)");
+  sub->add_flag("--ignore-unit", o->ignore_unit,
+                "do not compare per-unit data (communication parameters, MACID)");
   sub->add_flag("--full", o->full, "when reading a drive, read every ROM-writable UPID");
   sub->callback([o, &exit_code] { exit_code = run(*o); });
 });
