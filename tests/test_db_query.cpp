@@ -1,8 +1,14 @@
 #include <sqlite3.h>
 
+#include <atomic>
 #include <catch2/catch.hpp>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <map>
+#include <thread>
+#include <vector>
 
 #include "common/bytes.hpp"
 #include "db/ct_entry.hpp"
@@ -26,6 +32,69 @@ Bytes seed_ct_entry() {
   return b;
 }
 
+// Every field of two parameter rows.
+bool same_parameter(const Parameter& a, const Parameter& b) {
+  auto same_labels = [](const std::vector<EnumLabel>& x, const std::vector<EnumLabel>& y) {
+    if (x.size() != y.size()) return false;
+    for (std::size_t i = 0; i < x.size(); ++i)
+      if (x[i].raw != y[i].raw || x[i].label != y[i].label) return false;
+    return true;
+  };
+  auto au = [](const Parameter& p) { return p.address_usage ? int(p.address_usage->raw) : -1; };
+  return a.upid == b.upid && a.profiles == b.profiles && a.layer == b.layer && a.name == b.name &&
+         a.path == b.path && a.spec.type == b.spec.type && a.spec.scale == b.spec.scale &&
+         a.spec.unit == b.spec.unit && same_labels(a.spec.labels, b.spec.labels) &&
+         a.spec.min == b.spec.min && a.spec.max == b.spec.max &&
+         a.default_value == b.default_value && au(a) == au(b) && a.comm == b.comm &&
+         a.description == b.description && a.prov.source == b.prov.source &&
+         a.prov.file == b.prov.file && a.prov.line == b.prov.line;
+}
+
+// A synthetic catalogue compiled with the project's compiler: `per_layer` UPIDs
+// in each of the four layer ranges, the first `doubled` of each layer with two
+// profile rows (t-a, t-b), every seventh row an enum. Row n is named "Row n".
+std::string synthetic_db(const std::string& name, int per_layer, int doubled) {
+  auto dir = lmcfg::db::test::scratch_dir(name);
+  lmcfg::db::test::write_file(dir / "profiles.tsv",
+                              "profile\tfamily\tsoftware\tversion\tdescription\tsource\n"
+                              "t-a\tE1100\tMC SW\t\tA\tentered by hand: test\n"
+                              "t-b\tB1100\tMC SW\t\tB\tentered by hand: test\n");
+  std::string t =
+      "upid\tprofiles\tlayer\tname\tpath\ttype\taddress_usage\tmin\tmax\tdefault\tunit\tscale\t"
+      "enum\tcomm\tdescription\tsource\n";
+  const char* layers[] = {"OS", "MC", "Intf", "Appl"};
+  int row = 0;
+  for (int l = 0; l < 4; ++l)
+    for (int i = 0; i < per_layer; ++i) {
+      char upid[8];
+      std::snprintf(upid, sizeof upid, "%04X", unsigned(l * 0x1000 + i * 3));
+      const bool two = i < doubled;
+      for (int k = 0; k < (two ? 2 : 1); ++k, ++row) {
+        t += std::string(upid) + "\t" + (two ? (k == 0 ? "t-a" : "t-b") : "*") + "\t" + layers[l] +
+             "\tRow " + std::to_string(row) + "\t" + layers[l] + "\\Group\\Row " +
+             std::to_string(row) + "\t";
+        if (row % 7 == 0)
+          t += "ENUM_DIR16\t000F\t0\t2\t1\t\t\t0=Off|1=On|2=Auto Row " + std::to_string(row);
+        else
+          t += "SINT32\t000F\t-" + std::to_string(row) + "\t" + std::to_string(row + 100) + "\t" +
+               std::to_string(row % 50) + "\tmm\t0.0001\t";
+        t += "\t\tsynthetic\tentered by hand: test\n";
+      }
+    }
+  lmcfg::db::test::write_file(dir / "parameters.tsv", t);
+  auto out = (dir / "synthetic.sqlite").string();
+  auto rep = compile_upid_db(dir.string(), out);
+  if (!rep.ok()) FAIL(rep.diagnostics.front().str());
+  return out;
+}
+
+// The fixture catalogue compiled into a file of its own (which a test may delete).
+std::string fixture_copy(const std::string& name) {
+  auto out = (lmcfg::db::test::scratch_dir(name) / "fixture.sqlite").string();
+  auto rep = compile_upid_db(LMCFG_SOURCE_DIR "/tests/fixtures/upid-db", out);
+  if (!rep.ok()) FAIL(rep.diagnostics.front().str());
+  return out;
+}
 }  // namespace
 
 TEST_CASE("database lookups by UPID, profile, name, layer", "[db]") {
@@ -216,4 +285,319 @@ TEST_CASE("open errors say what and where", "[db]") {
   auto def = Database::default_path();
   REQUIRE(def);
   CHECK(std::filesystem::path(*def).filename() == "lmcfg-upid.sqlite");
+}
+
+TEST_CASE("lazy lookups: find returns the rows the whole table has", "[db]") {
+  if (!std::filesystem::exists(LMCFG_DB_PATH)) {
+    WARN("the built database is not there yet: skipped");
+    return;
+  }
+  auto opened = Database::open(LMCFG_DB_PATH);
+  REQUIRE(opened);
+  const Database& db = *opened;
+
+  // Looked up before any table is loaded.
+  const Parameter* gain = db.find(0x13A2);
+  REQUIRE(gain);
+  CHECK(gain->upid == 0x13A2);
+  CHECK(gain->name == "P Gain Position Controller Set A");
+  CHECK(gain->layer == Layer::MC);
+  CHECK(gain->spec.type == TypeCode::UInt16);
+  CHECK(gain->spec.min == 0);
+  CHECK(gain->spec.max == 65535);
+  CHECK(gain->default_value == 15);
+  CHECK(gain->profiles == std::vector<std::string>{"e1100-mc-linrs"});
+  CHECK(db.find(0x13A2, "e1100-mc-linrs") == gain);
+  CHECK(db.find(0x13A2, "b1100-mc") == nullptr);  // no row of that profile
+
+  const Parameter* behavior = db.find(0x121B);  // an enum: 0=No Error|1=Power Off|2=Quick Stop
+  REQUIRE(behavior);
+  REQUIRE(behavior->spec.labels.size() == 3);
+  CHECK(behavior->spec.labels[0].raw == 0);
+  CHECK(behavior->spec.labels[0].label == "No Error");
+  CHECK(behavior->spec.labels[2].raw == 2);
+  CHECK(behavior->spec.labels[2].label == "Quick Stop");
+  CHECK(behavior->format(1) == "Power Off (1)");
+
+  // Every row of the whole table, against the per-UPID lookup.
+  const auto& all = db.parameters();
+  REQUIRE(all.size() == db.info().counts.at("parameters"));
+  std::map<std::uint16_t, std::vector<const Parameter*>> rows;
+  for (const auto& p : all) rows[p.upid].push_back(&p);
+  for (const auto& [upid, want] : rows) {
+    INFO("UPID " << upid);
+    auto got = db.find_all(upid);
+    REQUIRE(got.size() == want.size());
+    for (std::size_t i = 0; i < got.size(); ++i) CHECK(same_parameter(*got[i], *want[i]));
+    CHECK(db.find(upid) == got[0]);
+    CHECK(db.find_all(upid) == got);  // the same objects every time
+  }
+  CHECK(db.find(0x13A2) == gain);  // loading the whole table changed nothing
+  CHECK_FALSE(db.last_error());
+}
+
+TEST_CASE("lazy lookups: two profile rows of one UPID", "[db]") {
+  auto opened = Database::open(fixture_copy("two-profiles"));
+  REQUIRE(opened);
+  const Database& db = *opened;
+  auto both = db.find_all(0x1450);
+  REQUIRE(both.size() == 2);
+  CHECK(both[0]->profiles == std::vector<std::string>{"e1100-mc-linrs"});
+  CHECK(both[0]->spec.max == 10000000);
+  CHECK(both[1]->profiles == std::vector<std::string>{"b1100-mc"});
+  CHECK(both[1]->spec.max == 5000000);
+  CHECK(db.find(0x1450) == both[0]);
+  CHECK(db.find(0x1450, "b1100-mc") == both[1]);
+  CHECK(db.find(0x1450, "e1100-mc-linrs") == both[0]);
+  CHECK(db.find(0x1450, "no-such-profile") == nullptr);
+  const Parameter* macid = db.find(0x2008);
+  REQUIRE(macid);
+  REQUIRE(macid->spec.labels.size() == 3);
+  CHECK(macid->spec.labels[1].label == "By Hex Switch S1 + Offset");
+  CHECK(macid->format(2) == "By Parameter (2)");
+}
+
+TEST_CASE("lazy lookups: absent UPIDs stay absent", "[db]") {
+  auto opened = Database::open(fixture_copy("absent"));
+  REQUIRE(opened);
+  const Database& db = *opened;
+  for (int round = 0; round < 3; ++round) {
+    CHECK(db.find(0x9999) == nullptr);
+    CHECK(db.find(0x0F00) == nullptr);
+    CHECK(db.find(0x13A3, "b1100-mc") == nullptr);
+    CHECK(db.find_all(0x9999).empty());
+    CHECK(db.find(0x13A2) != nullptr);
+  }
+  CHECK(db.parameters().size() == 8);
+  CHECK(db.find(0x9999) == nullptr);
+  CHECK_FALSE(db.last_error());
+}
+
+TEST_CASE("lazy lookups: pointers stay valid after the Database is moved", "[db]") {
+  auto opened = Database::open(fixture_copy("move"));
+  REQUIRE(opened);
+  Database db = std::move(opened).value();
+  const Parameter* gain = db.find(0x13A2);
+  const Parameter* absent = db.find(0x9999);
+  REQUIRE(gain);
+  CHECK(absent == nullptr);
+  const std::vector<Parameter>* table = &db.parameters();
+  const ErrorEntry* c8 = db.error("linrs", 0xC8);
+  const MotionCommand* go = db.motion_command(0x0100);
+  const Profile* b1100 = db.profile("b1100-mc");
+  const DbInfo* info = &db.info();
+  auto found = db.search("gain");
+  REQUIRE(c8);
+  REQUIRE(go);
+  REQUIRE(b1100);
+  REQUIRE(found.size() == 2);
+
+  Database moved(std::move(db));
+  CHECK(moved.find(0x13A2) == gain);
+  CHECK(gain->name == "P Gain Position Controller Set A");
+  CHECK(moved.find(0x9999) == nullptr);
+  CHECK(&moved.parameters() == table);
+  CHECK(moved.error("linrs", 0xC8) == c8);
+  CHECK(c8->text == "Unknown UPID");
+  CHECK(moved.motion_command(0x0100) == go);
+  CHECK(go->params.size() == 4);
+  CHECK(moved.profile("b1100-mc") == b1100);
+  CHECK(&moved.info() == info);
+  CHECK(info->counts.at("parameters") == 8);
+  CHECK(moved.search("gain") == found);
+  CHECK(found[0]->upid == 0x13A2);
+
+  // A moved-from Database behaves as an empty one.
+  CHECK(db.find(0x13A2) == nullptr);  // NOLINT(bugprone-use-after-move)
+  CHECK(db.parameters().empty());
+  CHECK(db.errors().empty());
+  CHECK(db.info().counts.empty());
+
+  // Move assignment keeps them too; the assigned-over Database's own are gone.
+  auto other = Database::open(fixture_copy("move-assign"));
+  REQUIRE(other);
+  Database target = std::move(other).value();
+  CHECK(target.find(0x13A2) != gain);
+  target = std::move(moved);
+  CHECK(target.find(0x13A2) == gain);
+  CHECK(target.error("linrs", 0xC8) == c8);
+  CHECK(gain->default_value == 16);
+}
+
+TEST_CASE("lazy lookups: concurrent use of one const Database", "[db]") {
+  constexpr int kPerLayer = 150, kDoubled = 20, kThreads = 8;
+  const std::string path = synthetic_db("concurrent", kPerLayer, kDoubled);
+  std::vector<std::uint16_t> upids;
+  for (int l = 0; l < 4; ++l)
+    for (int i = 0; i < kPerLayer; ++i) upids.push_back(std::uint16_t(l * 0x1000 + i * 3));
+  for (std::uint16_t u = 0x0F00; u < 0x0F40; ++u) upids.push_back(u);  // absent
+
+  for (int attempt = 0; attempt < 3; ++attempt) {  // several fresh, cold databases
+    auto opened = Database::open(path);
+    REQUIRE(opened);
+    const Database& db = *opened;
+    std::atomic<bool> go{false};
+    // Per thread: per UPID, find(), find(.., "t-b"), find_all().
+    struct Seen {
+      const Parameter* any = nullptr;
+      const Parameter* b = nullptr;
+      std::vector<const Parameter*> all;
+    };
+    std::vector<std::vector<Seen>> seen(kThreads, std::vector<Seen>(upids.size()));
+    std::vector<std::size_t> table_sizes(kThreads), errors_sizes(kThreads), counts(kThreads);
+    std::vector<const void*> tables(kThreads);
+    std::vector<std::thread> threads;
+    for (int t = 0; t < kThreads; ++t)
+      threads.emplace_back([&, t] {
+        while (!go.load()) std::this_thread::yield();
+        const std::size_t n = upids.size();
+        for (int round = 0; round < 3; ++round)
+          for (std::size_t k = 0; k < n; ++k) {
+            // Each thread walks the UPIDs in its own order.
+            const std::size_t i = (t % 2 ? n - 1 - k : k) * 7919 % n;
+            Seen s{db.find(upids[i]), db.find(upids[i], "t-b"), db.find_all(upids[i])};
+            if (round == 0)
+              seen[t][i] = s;
+            else if (s.any != seen[t][i].any || s.b != seen[t][i].b || s.all != seen[t][i].all)
+              seen[t][i].any = reinterpret_cast<const Parameter*>(1);  // flags a change
+            if (k == n / 2 && round == 0) {
+              tables[t] = &db.parameters();
+              table_sizes[t] = db.search("row").size();
+              errors_sizes[t] = db.errors().size() + db.motion_commands().size();
+              counts[t] = db.info().counts.at("parameters");
+            }
+          }
+      });
+    go = true;
+    for (auto& th : threads) th.join();
+
+    const std::size_t rows = 4 * (kPerLayer + kDoubled);
+    REQUIRE(db.parameters().size() == rows);
+    for (int t = 0; t < kThreads; ++t) {
+      CHECK(tables[t] == &db.parameters());
+      CHECK(table_sizes[t] == rows);
+      CHECK(errors_sizes[t] == 0);
+      CHECK(counts[t] == rows);
+    }
+    std::map<std::uint16_t, std::vector<const Parameter*>> want;
+    for (const auto& p : db.parameters()) want[p.upid].push_back(&p);
+    int mismatches = 0;
+    for (std::size_t i = 0; i < upids.size(); ++i) {
+      const Seen& first = seen[0][i];
+      auto it = want.find(upids[i]);
+      if (it == want.end()) {
+        mismatches += first.any != nullptr || !first.all.empty();
+      } else {
+        mismatches += first.all.size() != it->second.size() || first.any != first.all.at(0);
+        for (std::size_t k = 0; k < first.all.size() && k < it->second.size(); ++k)
+          mismatches += !same_parameter(*first.all[k], *it->second[k]);
+        const Parameter* b = nullptr;  // the "*" row or the t-b row
+        for (const auto* p : first.all)
+          if (!b && p->applies_to("t-b")) b = p;
+        mismatches += b == nullptr || first.b != b;
+      }
+      for (int t = 1; t < kThreads; ++t)
+        mismatches +=
+            seen[t][i].any != first.any || seen[t][i].b != first.b || seen[t][i].all != first.all;
+    }
+    CHECK(mismatches == 0);
+    CHECK_FALSE(db.last_error());
+  }
+}
+
+TEST_CASE("lazy lookups: the file deleted after open", "[db]") {
+  // The open connection keeps reading the file it opened: not a failure.
+  const std::string path = fixture_copy("deleted");
+  auto opened = Database::open(path);
+  REQUIRE(opened);
+  const Database& db = *opened;
+  const Parameter* gain = db.find(0x13A2);
+  REQUIRE(gain);
+  REQUIRE(std::filesystem::remove(path));
+  CHECK(db.find(0x13A2) == gain);
+  REQUIRE(db.find(0x2008));
+  CHECK(db.find(0x2008)->name == "MACID Source");
+  CHECK(db.find(0x9999) == nullptr);
+  CHECK(db.parameters().size() == 8);
+  REQUIRE(db.error("linrs", 0xC8));
+  CHECK(db.motion_command(0x0100)->name == "VAI Go To Pos");
+  CHECK(db.info().counts.at("errors") == 3);
+  CHECK_FALSE(db.last_error());
+  // A new open sees that it is gone.
+  auto again = Database::open(path);
+  REQUIRE_FALSE(again);
+  CHECK(again.error().code == Errc::file_error);
+}
+
+TEST_CASE("lazy lookups: the file overwritten in place after open", "[db]") {
+  // Nothing in lmcfg writes the file in place (the compiler replaces it by
+  // rename); if something does, loads fail without crashing and say so, and
+  // what was loaded before is still served.
+  const std::string path = fixture_copy("corrupted");
+  std::string original;
+  {
+    std::ifstream in(path, std::ios::binary);
+    original.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  REQUIRE(original.size() > 4096);
+  auto overwrite = [&](const std::string& bytes) {
+    std::fstream f(path,
+                   std::ios::binary | std::ios::in | std::ios::out);  // same inode, no truncation
+    f.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  };
+
+  auto opened = Database::open(path);
+  REQUIRE(opened);
+  const Database& db = *opened;
+  const Parameter* gain = db.find(0x13A2);
+  REQUIRE(gain);
+  CHECK_FALSE(db.last_error());
+
+  overwrite(std::string(original.size(), '\xA5'));
+  CHECK(db.find(0x13A2) == gain);  // cached: still served
+  CHECK(gain->name == "P Gain Position Controller Set A");
+  // Tables not read yet fail: nullptr / empty, the error kept.
+  CHECK(db.error("linrs", 0xC8) == nullptr);
+  CHECK(db.errors().empty());
+  CHECK(db.motion_command(0x0100) == nullptr);
+  CHECK(db.devicenet_commands().empty());
+  CHECK(db.info().schema_version == kSchemaVersion);  // read at open
+  CHECK(db.info().counts.empty());
+  auto err = db.last_error();
+  REQUIRE(err);
+  CHECK(err->code == Errc::parse_error);
+  CHECK(err->message.find(path) != std::string::npos);
+  CAPTURE(err->message);
+
+  // Failures are not cached: once the file is whole again, the loads succeed.
+  overwrite(original);
+  const ErrorEntry* c8 = db.error("linrs", 0xC8);
+  REQUIRE(c8);
+  CHECK(c8->text == "Unknown UPID");
+  CHECK(db.motion_command(0x0100) != nullptr);
+  CHECK(db.info().counts.at("parameters") == 8);
+  CHECK(db.find(0x13A2) == gain);
+}
+
+TEST_CASE("open: a path with URI characters, a relative path", "[db]") {
+  // open() hands SQLite a file: URI; the path must arrive unchanged.
+  const std::string src = fixture_copy("uri-chars");
+  auto dir = std::filesystem::path(src).parent_path() / "odd %41 ?x=1 #frag";
+  std::filesystem::create_directories(dir);
+  const auto odd = dir / "fixture.sqlite";
+  std::filesystem::copy_file(src, odd);
+  std::filesystem::remove(src);  // a wrong decoding would find nothing
+  auto r = Database::open(odd.string());
+  REQUIRE(r);
+  CHECK(r->info().path == odd.string());
+  REQUIRE(r->find(0x13A2));
+  CHECK(r->find(0x13A2)->name == "P Gain Position Controller Set A");
+
+  std::error_code ec;
+  auto rel = std::filesystem::relative(odd, ec);
+  if (ec || rel.empty() || rel.is_absolute()) return;
+  auto rr = Database::open(rel.string());
+  REQUIRE(rr);
+  CHECK(rr->info().path == rel.string());
+  CHECK(rr->find(0x2008) != nullptr);
 }
