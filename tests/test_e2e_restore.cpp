@@ -74,10 +74,12 @@ TEST_CASE("e2e: backup, restore onto a used spare, spare equals source", "[e2e]"
 TEST_CASE("e2e: diff against defaults lists exactly the modified UPIDs", "[e2e]") {
   test::SimRig source("commissioned-axis.json");
   const auto file = backup_of(source, nullptr);
-  auto r = ops::diff(ops::factory_defaults_config(), file, nullptr, {}, ops::DiffOptions{true, false});
+  auto r =
+      ops::diff(ops::factory_defaults_config(), file, nullptr, {}, ops::DiffOptions{true, false});
   std::set<std::uint16_t> listed;
   for (const auto& it : r.items)
-    if (it.kind == ops::DiffItem::Kind::parameter) listed.insert(static_cast<std::uint16_t>(it.key));
+    if (it.kind == ops::DiffItem::Kind::parameter)
+      listed.insert(static_cast<std::uint16_t>(it.key));
   std::set<std::uint16_t> modified;
   for (const auto& [upid, p] : source.drive->state().params)
     if (p.modified()) modified.insert(upid);
@@ -114,16 +116,25 @@ TEST_CASE("e2e: bad inputs refuse the restore with zero write telegrams on the w
     const char* expected;  // a problem line must contain this
   };
   const std::vector<Case> cases{
-      {"unknown UPID on the target", [](auto& c) { c.layer(2).push_back({0x1EEE, 1, std::nullopt, {}, {}, {}}); },
+      {"unknown UPID on the target",
+       [](auto& c) {
+         c.layer(2).push_back({0x1EEE, 1, std::nullopt, {}, {}, {}});
+       },
        "MC 1EEEh: UPID does not exist on the target (type query answered C8h unknown UPID)"},
-      {"wrong type", [](auto& c) { c.layer(2).front().type = 0x06; }, "type differs: the file has SINT32, the target has"},
-      {"out-of-range value", [](auto& c) { for (auto& p : c.layer(2)) if (p.upid == 0x13A2) p.value = 0x10000; },
+      {"wrong type", [](auto& c) { c.layer(2).front().type = 0x06; },
+       "type differs: the file has SINT32, the target has"},
+      {"out-of-range value",
+       [](auto& c) {
+         for (auto& p : c.layer(2))
+           if (p.upid == 0x13A2) p.value = 0x10000;
+       },
        "MC 13A2h: value 10000h does not fit type UINT16"},
       {"oversize curve", [](auto& c) { c.curves.front().data.resize(70000); },
        "curve 1: a block exceeds the 16-bit size field of §11 (65535 bytes)"},
-      {"command table entry of the wrong size", [](auto& c) { c.ct_entries.front().raw.resize(60); },
-       "bytes, expected 64"},
-      {"curve ID outside 1..100", [](auto& c) { c.curves.front().id = 101; }, "curve 101: ID outside 1..100"},
+      {"command table entry of the wrong size",
+       [](auto& c) { c.ct_entries.front().raw.resize(60); }, "bytes, expected 64"},
+      {"curve ID outside 1..100", [](auto& c) { c.curves.front().id = 101; },
+       "curve 101: ID outside 1..100"},
   };
   for (const auto& k : cases) {
     SECTION(k.name) {

@@ -23,7 +23,8 @@ struct BackupCli {
 int run(BackupCli& o) {
   std::error_code ec;
   if (std::filesystem::is_directory(o.output, ec)) {
-    return fail("backup", Error(Errc::invalid_argument, "output '" + o.output + "' is a directory; name a file"));
+    return fail("backup", Error(Errc::invalid_argument,
+                                "output '" + o.output + "' is a directory; name a file"));
   }
   std::optional<config::FileFormat> format;
   if (!o.format.empty()) {
@@ -69,26 +70,34 @@ int run(BackupCli& o) {
   for (const auto& l : cfg->layers) params += l.size();
   const auto& st = (*session)->client().stats();
   if (o.common.json) {
-    std::printf("{\"file\": \"%s\", \"parameters\": %zu, \"curves\": %zu, \"ct_entries\": %zu, \"telegrams\": %llu}\n",
-                o.output.c_str(), params, cfg->curves.size(), cfg->ct_entries.size(),
-                static_cast<unsigned long long>(st.requests));
+    std::printf(
+        "{\"file\": \"%s\", \"parameters\": %zu, \"curves\": %zu, \"ct_entries\": %zu, "
+        "\"telegrams\": %llu}\n",
+        o.output.c_str(), params, cfg->curves.size(), cfg->ct_entries.size(),
+        static_cast<unsigned long long>(st.requests));
   } else if (!o.common.quiet) {
-    std::fprintf(stderr, "backup: %zu parameter(s), %zu curve(s), %zu command table entr%s -> %s (%llu telegrams)\n",
-                 params, cfg->curves.size(), cfg->ct_entries.size(), cfg->ct_entries.size() == 1 ? "y" : "ies",
-                 o.output.c_str(), static_cast<unsigned long long>(st.requests));
+    std::fprintf(
+        stderr,
+        "backup: %zu parameter(s), %zu curve(s), %zu command table entr%s -> %s (%llu telegrams)\n",
+        params, cfg->curves.size(), cfg->ct_entries.size(),
+        cfg->ct_entries.size() == 1 ? "y" : "ies", o.output.c_str(),
+        static_cast<unsigned long long>(st.requests));
   }
   return kOk;
 }
 
 const Register reg(10, [](CLI::App& app, int& exit_code) {
   auto o = std::make_shared<BackupCli>();
-  auto* sub = app.add_subcommand("backup", "Read a drive's configuration and write it to a JSON or XML file");
+  auto* sub = app.add_subcommand("backup",
+                                 "Read a drive's configuration and write it to a JSON or XML file");
   sub->footer(
       "Examples:\n"
       "  lmcfg backup --port /dev/ttyUSB0 --id 0x11 -o axis1.json\n"
       "  lmcfg backup --port tcp://10.0.0.5:4001 --full --label machine=press3 -o axis1.xml\n"
-      "Reads the modified-parameter list of each layer, every curve and every defined command table entry.\n"
-      "Sends read telegrams only; the file is written atomically and only when the whole backup succeeded.");
+      "Reads the modified-parameter list of each layer, every curve and every defined command "
+      "table entry.\n"
+      "Sends read telegrams only; the file is written atomically and only when the whole backup "
+      "succeeded.");
   add_link_options(sub, o->common);
   add_output_options(sub, o->common);
   sub->add_option("-o,--output", o->output, "output file (.json or .xml)")->required();
