@@ -144,8 +144,8 @@ TEST_CASE("client: an error communication state becomes a typed refusal", "[clie
   REQUIRE_FALSE(r.ok());
   CHECK(r.error().code == make_comm_state_error(0xC8));
   CHECK(r.error().message ==
-        "drive 11h refused ID 11h parameter configuration (main 05h sub 00h), 2 data byte(s): C8h "
-        "parameter unknown UPID");
+        "drive 11h refused ID 11h parameter configuration (main 05h sub 00h), 2 data byte(s) for "
+        "UPID 1234h: C8h parameter unknown UPID");
 }
 
 TEST_CASE("client: reads retry on silence, writes do not", "[client]") {

@@ -88,6 +88,25 @@ std::optional<std::uint16_t> request_key(const Telegram& r) {
   return static_cast<std::uint16_t>(r.data[0] | r.data[1] << 8);
 }
 
+namespace {
+
+// What a refused request was about, for the message: " for UPID 5555h" etc.
+std::string refused_subject(const Telegram& r) {
+  if (r.data.size() < 2) return {};
+  const unsigned key = r.data[0] | r.data[1] << 8;
+  char buf[32] = "";
+  if (static_cast<Main>(r.main) == Main::parameter ||
+      (static_cast<Main>(r.main) == Main::param_config && request_key(r)))
+    std::snprintf(buf, sizeof buf, " for UPID %04Xh", key);
+  else if (static_cast<Main>(r.main) == Main::curve && request_key(r))
+    std::snprintf(buf, sizeof buf, " for curve %u", key);
+  else if (static_cast<Main>(r.main) == Main::command_table && r.sub != 0x07 && request_key(r))
+    std::snprintf(buf, sizeof buf, " for entry %u", key);
+  return buf;
+}
+
+}  // namespace
+
 Result<void> Client::settle_line() {
   ++stats_.settles;
   // Bounded: a line that never goes quiet is a link problem, not an answer.
@@ -187,7 +206,8 @@ Result<Telegram> Client::transact(const Telegram& req_in, Millis timeout, bool i
       if (has_state && state::is_error(answer->data[0])) {
         const std::uint8_t s = answer->data[0];
         return Error(make_comm_state_error(s), "drive " + hexid("%02Xh", opt_.id) + " refused " +
-                                                   describe(req) + ": " + state::describe(s));
+                                                   describe(req) + refused_subject(req) + ": " +
+                                                   state::describe(s));
       }
       return std::move(*answer);
     }
