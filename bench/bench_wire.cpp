@@ -111,6 +111,7 @@ RestoreRun run_restore(Rig& rig, const config::DriveConfig& file, const db::Data
 config::DriveConfig naive_backup(Rig& rig, const std::string& what) {
   ops::BackupOptions bo;
   bo.full = true;
+  bo.ask_drive = false;  // a script records values only
   return must(ops::backup(*rig.client, bo, nullptr), what + ": naive backup");
 }
 // ... and restore by defaulting every layer and writing every value back, then
@@ -316,7 +317,7 @@ int main(int argc, char** argv) {
     const std::string name = is_demo ? "(a) demo axis" : "(b) heavy axis";
     Rig rig(st);
     config::DriveConfig file;
-    Row r{name, "backup", benchwire::min_backup(st), {}, -1, -1, {}};
+    Row r{name, "backup", benchwire::min_backup(st, {}, d), {}, -1, -1, {}};
     r.tool = measure(*rig.link,
                      [&] { file = must(ops::backup(*rig.client, ops::BackupOptions{}, d), name); });
     Rig naive(st);
@@ -418,7 +419,7 @@ int main(int argc, char** argv) {
       }
       return c;
     };
-    const Cost single_b = benchwire::min_backup(demo);
+    const Cost single_b = benchwire::min_backup(demo, {}, db);
     const Cost single_r = benchwire::min_restore(spare, demo_file, db).total();
     const Cost min_b{single_b.telegrams * n, single_b.ns, single_b.request_ns};
     const Cost min_r{single_r.telegrams * n, single_r.ns, single_r.request_ns};
@@ -463,7 +464,7 @@ int main(int argc, char** argv) {
         Rig rig(link, states[static_cast<std::size_t>(i)].macid);
         const std::string what = "(e) drive " + std::to_string(i);
         if (backup) {
-          min += benchwire::min_backup(states[static_cast<std::size_t>(i)]);
+          min += benchwire::min_backup(states[static_cast<std::size_t>(i)], {}, db);
           tool += measure(*link,
                           [&] { must(ops::backup(*rig.client, ops::BackupOptions{}, db), what); });
         } else {

@@ -243,6 +243,13 @@ class WireModel {
       c += cfg(codec::CfgOp::next_modified);
     return c;
   }
+  // start + one get-next per UPID + the get-next answered C6, which repeats
+  // the last UPID (§10.3) or, for an empty layer, ends the list at once.
+  Cost upid_list(std::size_t n) const {
+    Cost c = cfg(codec::CfgOp::start_upid_list);
+    for (std::size_t i = 0; i < n + 1; ++i) c += cfg(codec::CfgOp::next_upid);
+    return c;
+  }
   // 100 "read sizes" probes (no message lists curve IDs, §11) + info and data
   // chunk reads of each existing curve (4 bytes per telegram).
   Cost read_curves(const std::vector<std::pair<std::size_t, std::size_t>>& sizes,
@@ -280,12 +287,24 @@ inline std::map<std::uint16_t, std::uint32_t> modified_of(const sim::DriveState&
   return m;
 }
 
-// Backup (modified parameters, all layers, curves, CT) of drive `d`.
-inline Cost min_backup(const sim::DriveState& d, const ops::BackupOptions& opt = {}) {
+// Backup (modified parameters, all layers, curves, CT) of drive `d`: per
+// modified UPID a type and a default query when the database (db) does not
+// know them and the backup records them (opt.ask_drive).
+inline Cost min_backup(const sim::DriveState& d, const ops::BackupOptions& opt = {},
+                       const db::Database* db = nullptr) {
   WireModel w(d);
   Cost c;
-  for (int l = 1; l <= 4; ++l)
-    if (opt.layers[static_cast<std::size_t>(l - 1)]) c += w.modified_list(modified_of(d, l).size());
+  for (int l = 1; l <= 4; ++l) {
+    if (!opt.layers[static_cast<std::size_t>(l - 1)]) continue;
+    const auto mods = modified_of(d, l);
+    c += w.modified_list(mods.size());
+    if (!opt.ask_drive) continue;
+    for (const auto& [upid, value] : mods) {
+      const db::Parameter* p = db ? db->find(upid) : nullptr;
+      if (!(p && p->spec.type)) c += w.cfg(codec::CfgOp::get_type, upid);
+      if (!(p && p->default_value)) c += w.cfg(codec::CfgOp::get_default, upid);
+    }
+  }
   if (opt.curves) {
     std::vector<std::pair<std::size_t, std::size_t>> sizes;
     for (const auto& [id, cv] : d.curves_ram)
@@ -308,9 +327,12 @@ struct RestoreCost {
 
 // Restore of `file` onto the drive `t` (its state before the restore).
 //  plan:    per restored layer the target's modified list (needed to keep the
-//           target's communication values and to find leftovers); per restored
-//           file parameter one type query (05h 04h) and, when the database does
-//           not know its range, min and max (05h 05h/06h); per leftover whose
+//           target's communication values and to find leftovers); when the
+//           database does not know the address usage of a restored parameter of
+//           the layer, the target's UPID list of the layer (§10.3: address usage
+//           and type of each UPID), else per restored parameter one type query
+//           (05h 04h); per parameter whose range the database does not know,
+//           min and max (05h 05h/06h); per leftover whose
 //           default the database does not know, one default query (05h 07h) if
 //           leftovers are written back rather than defaulted.
 //  execute: stop MC; per layer the cheaper of (a) writing back the leftovers to
@@ -347,9 +369,25 @@ inline RestoreCost min_restore(const sim::DriveState& t, const config::DriveConf
     const auto target = modified_of(t, l);
     rc.plan += w.modified_list(target.size());
     std::map<std::uint16_t, std::uint32_t> writes;  // what the layer must hold afterwards
-    for (const auto& p : file.layer(l)) {
-      if (is_comm(p.upid) && !opt.include_comm) continue;
-      rc.plan += w.cfg(codec::CfgOp::get_type, p.upid);
+    std::vector<const config::Parameter*> restored;
+    for (const auto& p : file.layer(l))
+      if (!is_comm(p.upid) || opt.include_comm) restored.push_back(&p);
+    // Address usage the database does not know: one walk of the target's UPID
+    // list gives it with every type; otherwise one type query per parameter.
+    const bool walk_list =
+        std::any_of(restored.begin(), restored.end(), [&](const config::Parameter* p) {
+          const db::Parameter* d = db ? db->find(p->upid) : nullptr;
+          return !(d && d->address_usage);
+        });
+    if (walk_list) {
+      std::size_t listed = 0;
+      for (const auto& [upid, p] : t.params)
+        listed += static_cast<int>(sim::layer_of(upid)) == l ? 1 : 0;
+      rc.plan += w.upid_list(listed);
+    }
+    for (const auto* pp : restored) {
+      const auto& p = *pp;
+      if (!walk_list) rc.plan += w.cfg(codec::CfgOp::get_type, p.upid);
       const db::Parameter* d = db ? db->find(p.upid) : nullptr;
       const auto tp = t.params.count(p.upid) ? t.params.at(p.upid).type : sim::type::uint16;
       const auto code = db::type_from_code(tp);

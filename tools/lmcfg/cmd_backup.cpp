@@ -17,6 +17,7 @@ struct BackupCli {
   bool no_curves = false;
   bool no_ct = false;
   bool full = false;
+  bool no_describe = false;
   std::vector<std::string> labels;
 };
 
@@ -53,6 +54,7 @@ int run(BackupCli& o) {
   bo.curves = !o.no_curves;
   bo.command_table = !o.no_ct;
   bo.full = o.full;
+  bo.ask_drive = !o.no_describe;
   bo.progress = make_progress(o.common);
   auto cfg = ops::backup((*session)->client(), bo, db);
   end_progress(o.common);
@@ -95,7 +97,10 @@ const Register reg(10, [](CLI::App& app, int& exit_code) {
       "  lmcfg backup --port /dev/ttyUSB0 --id 0x11 -o axis1.json\n"
       "  lmcfg backup --port tcp://10.0.0.5:4001 --full --label machine=press3 -o axis1.xml\n"
       "Reads the modified-parameter list of each layer, every curve and every defined command "
-      "table entry.\n"
+      "table entry,\n"
+      "and records each parameter's type and factory default (asking the drive for what the UPID "
+      "database\n"
+      "does not know, unless --no-describe).\n"
       "Sends read telegrams only; the file is written atomically and only when the whole backup "
       "succeeded.");
   add_link_options(sub, o->common);
@@ -106,6 +111,9 @@ const Register reg(10, [](CLI::App& app, int& exit_code) {
   sub->add_flag("--no-curves", o->no_curves, "do not read curves");
   sub->add_flag("--no-ct", o->no_ct, "do not read the command table");
   sub->add_flag("--full", o->full, "read every ROM-writable UPID (audit-grade snapshot)");
+  sub->add_flag(
+      "--no-describe", o->no_describe,
+      "do not ask the drive for types and defaults the UPID database lacks (fewer telegrams)");
   sub->add_option("--label", o->labels, "KEY=VALUE stored in the file (machine, axis, ...)");
   sub->callback([o, &exit_code] { exit_code = run(*o); });
 });
