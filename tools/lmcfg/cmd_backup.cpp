@@ -1,6 +1,7 @@
 // lmcfg backup -o FILE: read a drive's configuration and write it to a file.
 #include <cstdio>
 #include <filesystem>
+#include <nlohmann/json.hpp>
 
 #include "command.hpp"
 #include "config/config_io.hpp"
@@ -72,11 +73,12 @@ int run(BackupCli& o) {
   for (const auto& l : cfg->layers) params += l.size();
   const auto& st = (*session)->client().stats();
   if (o.common.json) {
-    std::printf(
-        "{\"file\": \"%s\", \"parameters\": %zu, \"curves\": %zu, \"ct_entries\": %zu, "
-        "\"telegrams\": %llu}\n",
-        o.output.c_str(), params, cfg->curves.size(), cfg->ct_entries.size(),
-        static_cast<unsigned long long>(st.requests));
+    const nlohmann::ordered_json j{{"file", o.output},
+                                   {"parameters", params},
+                                   {"curves", cfg->curves.size()},
+                                   {"ct_entries", cfg->ct_entries.size()},
+                                   {"telegrams", st.requests}};
+    std::printf("%s\n", j.dump().c_str());
   } else if (!o.common.quiet) {
     std::fprintf(
         stderr,
