@@ -37,6 +37,21 @@ std::map<std::uint16_t, std::uint32_t> modified_rom(const sim::Drive& d) {
   return m;
 }
 
+// The UPIDs a diff lists as differing parameters.
+std::set<std::uint16_t> listed_upids(const ops::DiffResult& r) {
+  std::set<std::uint16_t> listed;
+  for (const auto& it : r.items)
+    if (it.kind == ops::DiffItem::Kind::parameter)
+      listed.insert(static_cast<std::uint16_t>(it.key));
+  return listed;
+}
+
+std::set<std::uint16_t> modified_upids(const sim::Drive& d) {
+  std::set<std::uint16_t> m;
+  for (const auto& [upid, value] : modified_rom(d)) m.insert(upid);
+  return m;
+}
+
 }  // namespace
 
 TEST_CASE("e2e: backup, restore onto a used spare, spare equals source", "[e2e]") {
@@ -81,14 +96,7 @@ TEST_CASE("e2e: diff against defaults lists exactly the modified UPIDs", "[e2e]"
   const auto file = backup_of(source, nullptr);
   auto r =
       ops::diff(ops::factory_defaults_config(), file, nullptr, {}, ops::DiffOptions{true, false});
-  std::set<std::uint16_t> listed;
-  for (const auto& it : r.items)
-    if (it.kind == ops::DiffItem::Kind::parameter)
-      listed.insert(static_cast<std::uint16_t>(it.key));
-  std::set<std::uint16_t> modified;
-  for (const auto& [upid, p] : source.drive->state().params)
-    if (p.modified()) modified.insert(upid);
-  CHECK(listed == modified);
+  CHECK(listed_upids(r) == modified_upids(*source.drive));
   // Curves and command table entries are listed too, each once.
   std::size_t curves = 0, entries = 0;
   for (const auto& it : r.items) {
@@ -211,14 +219,7 @@ TEST_CASE("e2e: offline diff against defaults uses the defaults a capture record
   REQUIRE(full.ok());
   auto r =
       ops::diff(ops::factory_defaults_config(), *full, nullptr, {}, ops::DiffOptions{true, false});
-  std::set<std::uint16_t> listed;
-  for (const auto& it : r.items)
-    if (it.kind == ops::DiffItem::Kind::parameter)
-      listed.insert(static_cast<std::uint16_t>(it.key));
-  std::set<std::uint16_t> modified;
-  for (const auto& [upid, p] : source.drive->state().params)
-    if (p.modified()) modified.insert(upid);
-  CHECK(listed == modified);
+  CHECK(listed_upids(r) == modified_upids(*source.drive));
   // Values are shown by their recorded type: 11F2h is SINT16 on the drive.
   bool shown = false;
   for (const auto& it : r.items) {
