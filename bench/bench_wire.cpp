@@ -86,10 +86,16 @@ struct RestoreRun {
   Cost total() const { return plan + execute + verify; }
 };
 
-RestoreRun run_restore(Rig& rig, const config::DriveConfig& file, const db::Database* db,
-                       const std::string& what) {
+// A restore onto a drive alone on its line restores everything: the fixtures'
+// LinRS parameters select the same line. Drives sharing a line keep their own.
+ops::RestoreOptions alone_on_line() {
   ops::RestoreOptions ro;
-  ro.include_comm = true;  // the fixtures' LinRS parameters select the same line
+  ro.include_comm = true;
+  return ro;
+}
+
+RestoreRun run_restore(Rig& rig, const config::DriveConfig& file, const db::Database* db,
+                       const std::string& what, const ops::RestoreOptions& ro) {
   RestoreRun r;
   ops::Plan plan;
   r.plan = measure(*rig.link, [&] {
@@ -111,6 +117,7 @@ RestoreRun run_restore(Rig& rig, const config::DriveConfig& file, const db::Data
 config::DriveConfig naive_backup(Rig& rig, const std::string& what) {
   ops::BackupOptions bo;
   bo.full = true;
+  bo.ask_drive = false;  // a script records values only
   return must(ops::backup(*rig.client, bo, nullptr), what + ": naive backup");
 }
 // ... and restore by defaulting every layer and writing every value back, then
@@ -316,7 +323,7 @@ int main(int argc, char** argv) {
     const std::string name = is_demo ? "(a) demo axis" : "(b) heavy axis";
     Rig rig(st);
     config::DriveConfig file;
-    Row r{name, "backup", benchwire::min_backup(st), {}, -1, -1, {}};
+    Row r{name, "backup", benchwire::min_backup(st, {}, d), {}, -1, -1, {}};
     r.tool = measure(*rig.link,
                      [&] { file = must(ops::backup(*rig.client, ops::BackupOptions{}, d), name); });
     Rig naive(st);
@@ -349,9 +356,9 @@ int main(int argc, char** argv) {
   for (const auto& t : targets) {
     const db::Database* d = t.demo ? db : nullptr;
     const auto& file = t.demo ? demo_file : heavy_file;
-    const auto m = benchwire::min_restore(t.state, file, d);
+    const auto m = benchwire::min_restore(t.state, file, d, alone_on_line());
     Rig rig(t.state);
-    const auto run = run_restore(rig, file, d, t.name);
+    const auto run = run_restore(rig, file, d, t.name, alone_on_line());
     Rig naive(t.state);
     const double naive_s = measure(*naive.link, [&] {
                              naive_restore(*naive.client, t.demo ? demo_full : heavy_full, t.name);
@@ -394,8 +401,7 @@ int main(int argc, char** argv) {
           if (!ops::backup(*b.client, ops::BackupOptions{}, db).ok()) ++bad;
         });
         Rig r(spare);
-        ops::RestoreOptions ro;
-        ro.include_comm = true;  // the fixtures' LinRS parameters select the same line
+        const ops::RestoreOptions ro = alone_on_line();
         restores[i] = measure(*r.link, [&] {
           auto plan = ops::plan_restore(*r.client, demo_file, db, ro);
           if (!plan.ok() || !plan->ok() || !ops::execute_plan(*r.client, *plan, ro).ok()) {
@@ -418,8 +424,8 @@ int main(int argc, char** argv) {
       }
       return c;
     };
-    const Cost single_b = benchwire::min_backup(demo);
-    const Cost single_r = benchwire::min_restore(spare, demo_file, db).total();
+    const Cost single_b = benchwire::min_backup(demo, {}, db);
+    const Cost single_r = benchwire::min_restore(spare, demo_file, db, alone_on_line()).total();
     const Cost min_b{single_b.telegrams * n, single_b.ns, single_b.request_ns};
     const Cost min_r{single_r.telegrams * n, single_r.ns, single_r.request_ns};
     const Cost tb = total(backups), tr = total(restores);
@@ -463,12 +469,14 @@ int main(int argc, char** argv) {
         Rig rig(link, states[static_cast<std::size_t>(i)].macid);
         const std::string what = "(e) drive " + std::to_string(i);
         if (backup) {
-          min += benchwire::min_backup(states[static_cast<std::size_t>(i)]);
+          min += benchwire::min_backup(states[static_cast<std::size_t>(i)], {}, db);
           tool += measure(*link,
                           [&] { must(ops::backup(*rig.client, ops::BackupOptions{}, db), what); });
         } else {
-          min += benchwire::min_restore(states[static_cast<std::size_t>(i)], demo_file, db).total();
-          tool += run_restore(rig, demo_file, db, what).total();
+          // Eight drives on one line keep their own MACIDs: no --include-comm.
+          min += benchwire::min_restore(states[static_cast<std::size_t>(i)], demo_file, db, {})
+                     .total();
+          tool += run_restore(rig, demo_file, db, what, {}).total();
         }
       }
       add(Row{"(e) 8 drives, one RS485 line",

@@ -34,8 +34,8 @@ namespace lmcfg::benchwire {
 // ---------------------------------------------------------------- workloads
 
 struct HeavySpec {
-  std::size_t upids = 2500;     // all four layers
-  std::size_t modified = 300;   // ROM values that differ from their defaults
+  std::size_t upids = 2500;    // all four layers
+  std::size_t modified = 300;  // ROM values that differ from their defaults
   std::size_t curves = 20;
   std::size_t setpoints = 500;  // per curve, 4 bytes each
   std::size_t ct_entries = 64;  // 64 bytes each
@@ -52,9 +52,11 @@ inline Bytes curve_info(std::uint16_t id, std::size_t setpoints, const std::stri
   put16(2, 0x0003);  // curve, X time, Y position
   put16(4, static_cast<std::uint32_t>(setpoints));
   put16(6, 4);
-  for (std::size_t i = 0; i < name.size() && i < 21; ++i) b[8 + i] = static_cast<std::uint8_t>(name[i]);
+  for (std::size_t i = 0; i < name.size() && i < 21; ++i)
+    b[8 + i] = static_cast<std::uint8_t>(name[i]);
   put16(30, id);
-  const std::uint32_t length = static_cast<std::uint32_t>(setpoints) * 100;  // 1 ms per setpoint, 10 us units
+  const std::uint32_t length =
+      static_cast<std::uint32_t>(setpoints) * 100;  // 1 ms per setpoint, 10 us units
   put16(32, length & 0xFFFF);
   put16(34, length >> 16);
   put16(36, 0x1A);
@@ -78,7 +80,8 @@ inline Bytes ct_entry(std::uint16_t id, std::uint32_t salt) {
   e[1] = static_cast<std::uint8_t>(id);
   for (std::size_t i = 2; i < 38; ++i) e[i] = static_cast<std::uint8_t>(i * 13 + id + salt);
   char name[17];
-  std::snprintf(name, sizeof name, "Entry %03u/%u", static_cast<unsigned>(id), static_cast<unsigned>(salt % 10));
+  std::snprintf(name, sizeof name, "Entry %03u/%u", static_cast<unsigned>(id),
+                static_cast<unsigned>(salt % 10));
   for (std::size_t i = 0; i < 16 && name[i]; ++i) e[38 + i] = static_cast<std::uint8_t>(name[i]);
   return e;
 }
@@ -88,8 +91,9 @@ inline Bytes ct_entry(std::uint16_t id, std::uint32_t salt) {
 // their defaults (spread evenly), curves 1..n and CT entries 0..n-1 in RAM and flash.
 inline sim::DriveState heavy_state(const HeavySpec& spec) {
   sim::DriveState s;
-  const std::size_t per_layer[4] = {spec.upids * 2 / 10, spec.upids * 36 / 100, spec.upids * 28 / 100,
-                                    spec.upids - spec.upids * 2 / 10 - spec.upids * 36 / 100 - spec.upids * 28 / 100};
+  const std::size_t per_layer[4] = {
+      spec.upids * 2 / 10, spec.upids * 36 / 100, spec.upids * 28 / 100,
+      spec.upids - spec.upids * 2 / 10 - spec.upids * 36 / 100 - spec.upids * 28 / 100};
   std::vector<std::uint16_t> rom_writable;
   for (int l = 0; l < 4; ++l) {
     for (std::size_t i = 0; i < per_layer[l]; ++i) {
@@ -97,12 +101,23 @@ inline sim::DriveState heavy_state(const HeavySpec& spec) {
       p.upid = static_cast<std::uint16_t>(l * 0x1000 + 0x100 + i);
       p.name = "synthetic";
       switch (i % 4) {
-        case 0: p.type = sim::type::uint16, p.min = 0, p.max = 65535, p.def = 100; break;
-        case 1: p.type = sim::type::sint32, p.min = static_cast<std::uint32_t>(-1'000'000), p.max = 1'000'000, p.def = 0; break;
-        case 2: p.type = sim::type::uint32, p.min = 0, p.max = 0xFFFFFFFF, p.def = 5000; break;
-        default: p.type = sim::type::uint8, p.min = 0, p.max = 255, p.def = 1; break;
+        case 0:
+          p.type = sim::type::uint16, p.min = 0, p.max = 65535, p.def = 100;
+          break;
+        case 1:
+          p.type = sim::type::sint32, p.min = static_cast<std::uint32_t>(-1'000'000),
+          p.max = 1'000'000, p.def = 0;
+          break;
+        case 2:
+          p.type = sim::type::uint32, p.min = 0, p.max = 0xFFFFFFFF, p.def = 5000;
+          break;
+        default:
+          p.type = sim::type::uint8, p.min = 0, p.max = 255, p.def = 1;
+          break;
       }
-      p.address_usage = (i % 5 == 4) ? static_cast<std::uint16_t>(sim::au::ram_read | sim::au::not_for_hash) : sim::au::parameter;
+      p.address_usage = (i % 5 == 4)
+                            ? static_cast<std::uint16_t>(sim::au::ram_read | sim::au::not_for_hash)
+                            : sim::au::parameter;
       p.rom = p.ram = p.def;
       if (p.has_rom()) rom_writable.push_back(p.upid);
       s.params[p.upid] = p;
@@ -115,7 +130,8 @@ inline sim::DriveState heavy_state(const HeavySpec& spec) {
   }
   for (std::size_t c = 1; c <= spec.curves; ++c) {
     const auto id = static_cast<std::uint16_t>(c);
-    sim::Curve cv{curve_info(id, spec.setpoints, "Heavy " + std::to_string(c)), curve_data(spec.setpoints, spec.salt + id)};
+    sim::Curve cv{curve_info(id, spec.setpoints, "Heavy " + std::to_string(c)),
+                  curve_data(spec.setpoints, spec.salt + id)};
     s.curves_flash[id] = cv;
     s.curves_ram[id] = cv;
   }
@@ -129,7 +145,8 @@ inline sim::DriveState heavy_state(const HeavySpec& spec) {
 // A used spare of the same type: same UPID set, `leftover` other ROM values
 // modified (spread with another stride, so some fall on UPIDs the source also
 // modifies, with other values), a few other curves and CT entries.
-inline sim::DriveState heavy_spare(const HeavySpec& spec, std::size_t modified, std::size_t curves, std::size_t entries) {
+inline sim::DriveState heavy_spare(const HeavySpec& spec, std::size_t modified, std::size_t curves,
+                                   std::size_t entries) {
   HeavySpec sp = spec;
   sp.modified = 0;
   sp.curves = 0;
@@ -190,22 +207,31 @@ class WireModel {
   explicit WireModel(const sim::DriveState& d) : d_(d) {}
 
   // One exchange: request, turnaround + duration, answer.
-  Cost exchange(const codec::Telegram& req, const codec::Telegram& answer, std::int64_t duration_us = 0) const {
+  Cost exchange(const codec::Telegram& req, const codec::Telegram& answer,
+                std::int64_t duration_us = 0) const {
     const auto rq = codec::encode(req, d_.checksum).value().size();
     const auto an = codec::encode(answer, d_.checksum).value().size();
     const auto tx = sim::wire_time_ns(rq, d_.link);
-    return Cost{1, tx + (d_.timing.turnaround_us + duration_us) * 1000 + sim::wire_time_ns(an, d_.link), tx};
+    return Cost{
+        1, tx + (d_.timing.turnaround_us + duration_us) * 1000 + sim::wire_time_ns(an, d_.link),
+        tx};
   }
   // Request of main 04/05/08 answered with the 7-byte "state, id, value" body.
   Cost id_value(const codec::Telegram& req, std::int64_t duration_us = 0) const {
     return exchange(req, codec::make_id_value(d_.macid, 0x50, 0, 0, 0), duration_us);
   }
-  Cost cfg(codec::CfgOp op, std::uint16_t upid = 0) const { return id_value(codec::make_cfg(d_.macid, op, upid)); }
-  Cost cfg_write(std::uint16_t upid) const { return id_value(codec::make_cfg_write(d_.macid, upid, 0)); }
+  Cost cfg(codec::CfgOp op, std::uint16_t upid = 0) const {
+    return id_value(codec::make_cfg(d_.macid, op, upid));
+  }
+  Cost cfg_write(std::uint16_t upid) const {
+    return id_value(codec::make_cfg_write(d_.macid, upid, 0));
+  }
   Cost curve(codec::CurveOp op, std::uint16_t id, std::int64_t duration_us = 0) const {
     return id_value(codec::make_curve(d_.macid, op, id), duration_us);
   }
-  Cost ct(codec::CtOp op, std::uint16_t id) const { return id_value(codec::make_ct(d_.macid, op, id)); }
+  Cost ct(codec::CtOp op, std::uint16_t id) const {
+    return id_value(codec::make_ct(d_.macid, op, id));
+  }
   std::uint8_t id() const { return d_.macid; }
   const sim::DriveState& drive() const { return d_; }
 
@@ -213,12 +239,21 @@ class WireModel {
   // empty list still costs one get-next (answered C6).
   Cost modified_list(std::size_t n) const {
     Cost c = cfg(codec::CfgOp::start_modified);
-    for (std::size_t i = 0; i < std::max<std::size_t>(n, 1); ++i) c += cfg(codec::CfgOp::next_modified);
+    for (std::size_t i = 0; i < std::max<std::size_t>(n, 1); ++i)
+      c += cfg(codec::CfgOp::next_modified);
+    return c;
+  }
+  // start + one get-next per UPID + the get-next answered C6, which repeats
+  // the last UPID (§10.3) or, for an empty layer, ends the list at once.
+  Cost upid_list(std::size_t n) const {
+    Cost c = cfg(codec::CfgOp::start_upid_list);
+    for (std::size_t i = 0; i < n + 1; ++i) c += cfg(codec::CfgOp::next_upid);
     return c;
   }
   // 100 "read sizes" probes (no message lists curve IDs, §11) + info and data
   // chunk reads of each existing curve (4 bytes per telegram).
-  Cost read_curves(const std::vector<std::pair<std::size_t, std::size_t>>& sizes, std::uint16_t max_id) const {
+  Cost read_curves(const std::vector<std::pair<std::size_t, std::size_t>>& sizes,
+                   std::uint16_t max_id) const {
     Cost c;
     for (std::uint16_t i = 1; i <= max_id; ++i) c += curve(codec::CurveOp::read_sizes, i);
     for (auto [info, data] : sizes) {
@@ -231,7 +266,8 @@ class WireModel {
   // entry a setup read and its 4-byte chunks.
   Cost read_ct(const std::vector<std::size_t>& entry_sizes) const {
     Cost c;
-    for (std::uint16_t b = 0; b < 8; ++b) c += id_value(codec::make_ct_defined_list(d_.macid, b, false));
+    for (std::uint16_t b = 0; b < 8; ++b)
+      c += id_value(codec::make_ct_defined_list(d_.macid, b, false));
     for (auto n : entry_sizes) {
       c += ct(codec::CtOp::setup_read, 0);
       for (std::size_t k = 0; k < chunks(n); ++k) c += ct(codec::CtOp::read_data, 0);
@@ -251,12 +287,24 @@ inline std::map<std::uint16_t, std::uint32_t> modified_of(const sim::DriveState&
   return m;
 }
 
-// Backup (modified parameters, all layers, curves, CT) of drive `d`.
-inline Cost min_backup(const sim::DriveState& d, const ops::BackupOptions& opt = {}) {
+// Backup (modified parameters, all layers, curves, CT) of drive `d`: per
+// modified UPID a type and a default query when the database (db) does not
+// know them and the backup records them (opt.ask_drive).
+inline Cost min_backup(const sim::DriveState& d, const ops::BackupOptions& opt = {},
+                       const db::Database* db = nullptr) {
   WireModel w(d);
   Cost c;
-  for (int l = 1; l <= 4; ++l)
-    if (opt.layers[static_cast<std::size_t>(l - 1)]) c += w.modified_list(modified_of(d, l).size());
+  for (int l = 1; l <= 4; ++l) {
+    if (!opt.layers[static_cast<std::size_t>(l - 1)]) continue;
+    const auto mods = modified_of(d, l);
+    c += w.modified_list(mods.size());
+    if (!opt.ask_drive) continue;
+    for (const auto& [upid, value] : mods) {
+      const db::Parameter* p = db ? db->find(upid) : nullptr;
+      if (!(p && p->spec.type)) c += w.cfg(codec::CfgOp::get_type, upid);
+      if (!(p && p->default_value)) c += w.cfg(codec::CfgOp::get_default, upid);
+    }
+  }
   if (opt.curves) {
     std::vector<std::pair<std::size_t, std::size_t>> sizes;
     for (const auto& [id, cv] : d.curves_ram)
@@ -279,9 +327,12 @@ struct RestoreCost {
 
 // Restore of `file` onto the drive `t` (its state before the restore).
 //  plan:    per restored layer the target's modified list (needed to keep the
-//           target's communication values and to find leftovers); per restored
-//           file parameter one type query (05h 04h) and, when the database does
-//           not know its range, min and max (05h 05h/06h); per leftover whose
+//           target's communication values and to find leftovers); when the
+//           database does not know the address usage of a restored parameter of
+//           the layer, the target's UPID list of the layer (§10.3: address usage
+//           and type of each UPID), else per restored parameter one type query
+//           (05h 04h); per parameter whose range the database does not know,
+//           min and max (05h 05h/06h); per leftover whose
 //           default the database does not know, one default query (05h 07h) if
 //           leftovers are written back rather than defaulted.
 //  execute: stop MC; per layer the cheaper of (a) writing back the leftovers to
@@ -295,8 +346,8 @@ struct RestoreCost {
 //           modified list (+ a ROM read per restored value that is at its
 //           default and so not listed), the CT list and every entry, the 100
 //           curve probes and every curve's blocks.
-inline RestoreCost min_restore(const sim::DriveState& t, const config::DriveConfig& file, const db::Database* db,
-                               const ops::RestoreOptions& opt = {}) {
+inline RestoreCost min_restore(const sim::DriveState& t, const config::DriveConfig& file,
+                               const db::Database* db, const ops::RestoreOptions& opt = {}) {
   WireModel w(t);
   RestoreCost rc;
   auto is_comm = [&](std::uint16_t upid) {
@@ -310,16 +361,33 @@ inline RestoreCost min_restore(const sim::DriveState& t, const config::DriveConf
   bool rom_changed = false;
   std::size_t verify_rom_reads = 0;
   std::vector<std::size_t> modified_after;
-  rc.execute += w.exchange(codec::make_program(w.id(), codec::ProgramOp::stop_mc),
-                           codec::make_default_response(w.id(), codec::DefaultResponse{}, t.layout));
+  rc.execute +=
+      w.exchange(codec::make_program(w.id(), codec::ProgramOp::stop_mc),
+                 codec::make_default_response(w.id(), codec::DefaultResponse{}, t.layout));
   for (int l = 1; l <= 4; ++l) {
     if (!file.scope.layers[static_cast<std::size_t>(l - 1)]) continue;
     const auto target = modified_of(t, l);
     rc.plan += w.modified_list(target.size());
     std::map<std::uint16_t, std::uint32_t> writes;  // what the layer must hold afterwards
-    for (const auto& p : file.layer(l)) {
-      if (is_comm(p.upid) && !opt.include_comm) continue;
-      rc.plan += w.cfg(codec::CfgOp::get_type, p.upid);
+    std::vector<const config::Parameter*> restored;
+    for (const auto& p : file.layer(l))
+      if (!is_comm(p.upid) || opt.include_comm) restored.push_back(&p);
+    // Address usage the database does not know: one walk of the target's UPID
+    // list gives it with every type; otherwise one type query per parameter.
+    const bool walk_list =
+        std::any_of(restored.begin(), restored.end(), [&](const config::Parameter* p) {
+          const db::Parameter* d = db ? db->find(p->upid) : nullptr;
+          return !(d && d->address_usage);
+        });
+    if (walk_list) {
+      std::size_t listed = 0;
+      for (const auto& [upid, p] : t.params)
+        listed += static_cast<int>(sim::layer_of(upid)) == l ? 1 : 0;
+      rc.plan += w.upid_list(listed);
+    }
+    for (const auto* pp : restored) {
+      const auto& p = *pp;
+      if (!walk_list) rc.plan += w.cfg(codec::CfgOp::get_type, p.upid);
       const db::Parameter* d = db ? db->find(p.upid) : nullptr;
       const auto tp = t.params.count(p.upid) ? t.params.at(p.upid).type : sim::type::uint16;
       const auto code = db::type_from_code(tp);
@@ -371,22 +439,28 @@ inline RestoreCost min_restore(const sim::DriveState& t, const config::DriveConf
   if (file.scope.command_table) {
     rc.execute += w.id_value(codec::make_ct(w.id(), codec::CtOp::delete_all));
     for (const auto& e : file.ct_entries) {
-      rc.execute += w.id_value(codec::make_ct_setup_write(w.id(), static_cast<std::uint16_t>(e.id), 64));
+      rc.execute +=
+          w.id_value(codec::make_ct_setup_write(w.id(), static_cast<std::uint16_t>(e.id), 64));
       for (std::size_t k = 0; k < WireModel::chunks(e.raw.size()); ++k)
         rc.execute += w.id_value(codec::make_ct_write(w.id(), 0, {0, 0, 0, 0}));
     }
-    rc.execute += w.id_value(codec::make_ct(w.id(), codec::CtOp::save_to_flash), t.timing.flash_save_us);
+    rc.execute +=
+        w.id_value(codec::make_ct(w.id(), codec::CtOp::save_to_flash), t.timing.flash_save_us);
   }
   if (file.scope.curves) {
     rc.execute += w.id_value(codec::make_curve(w.id(), codec::CurveOp::delete_all));
     for (const auto& cv : file.curves) {
-      rc.execute += w.id_value(codec::make_curve_add(w.id(), static_cast<std::uint16_t>(cv.id), 0, 0));
+      rc.execute +=
+          w.id_value(codec::make_curve_add(w.id(), static_cast<std::uint16_t>(cv.id), 0, 0));
       for (std::size_t k = 0; k < WireModel::chunks(cv.info.size()); ++k)
-        rc.execute += w.id_value(codec::make_curve_write(w.id(), codec::CurveOp::write_info, 0, {0, 0, 0, 0}));
+        rc.execute += w.id_value(
+            codec::make_curve_write(w.id(), codec::CurveOp::write_info, 0, {0, 0, 0, 0}));
       for (std::size_t k = 0; k < WireModel::chunks(cv.data.size()); ++k)
-        rc.execute += w.id_value(codec::make_curve_write(w.id(), codec::CurveOp::write_data, 0, {0, 0, 0, 0}));
+        rc.execute += w.id_value(
+            codec::make_curve_write(w.id(), codec::CurveOp::write_data, 0, {0, 0, 0, 0}));
     }
-    rc.execute += w.id_value(codec::make_curve(w.id(), codec::CurveOp::save_to_flash), t.timing.flash_save_us);
+    rc.execute += w.id_value(codec::make_curve(w.id(), codec::CurveOp::save_to_flash),
+                             t.timing.flash_save_us);
   }
   if (opt.reset_after && rom_changed) {
     rc.execute += w.exchange(codec::make_program(w.id(), codec::ProgramOp::reset_after_completion),

@@ -42,20 +42,24 @@ TEST_CASE("seed003 §10.1 ROM read/write, type, min, max, default of 13A2h", "[c
   f.done();
 }
 
-TEST_CASE("seed003 §10.2 modified list of the Intf layer ends with C6 carrying 20C7h", "[client][golden]") {
+TEST_CASE("seed003 §10.2 modified list of the Intf layer ends with C6 carrying 20C7h",
+          "[client][golden]") {
   Fixture f(991, 1002);
   auto list = f.client.modified_list(kLayerIntf);
   REQUIRE(list.ok());
-  std::vector<ModifiedParam> want{{0x200E, 2}, {0x2012, 8}, {0x206C, 3}, {0x2076, 0x11}, {0x20C7, 1}};
+  std::vector<ModifiedParam> want{
+      {0x200E, 2}, {0x2012, 8}, {0x206C, 3}, {0x2076, 0x11}, {0x20C7, 1}};
   CHECK(*list == want);
   f.done();
 }
 
-TEST_CASE("seed003 §10.3 UPID list: the C6 answer repeats 2137h and counts once", "[client][golden]") {
+TEST_CASE("seed003 §10.3 UPID list: the C6 answer repeats 2137h and counts once",
+          "[client][golden]") {
   Fixture f(1057, 1067);
   auto list = f.client.upid_list(kLayerIntf);
   REQUIRE(list.ok());
-  std::vector<UpidInfo> want{{0x2008, 0x000D, 0x0A}, {0x2136, 0x1001, 0x03}, {0x2137, 0x1001, 0x03}};
+  std::vector<UpidInfo> want{
+      {0x2008, 0x000D, 0x0A}, {0x2136, 0x1001, 0x03}, {0x2137, 0x1001, 0x03}};
   CHECK(*list == want);
   f.done();
 }
@@ -95,7 +99,8 @@ TEST_CASE("seed003 §12.1 read command table entry 2", "[client][golden]") {
   auto e = f.client.read_ct_entry(2);
   REQUIRE(e.ok());
   CHECK(to_hex(*e) ==
-        "01 A7 FF FF 00 01 40 42 0F 00 20 A1 07 00 40 0D 03 00 40 0D 03 00 00 00 00 00 00 00 00 00 00 00 00 00 00 "
+        "01 A7 FF FF 00 01 40 42 0F 00 20 A1 07 00 40 0D 03 00 40 0D 03 00 00 00 00 00 00 00 00 00 "
+        "00 00 00 00 00 "
         "00 00 00 55 6E 6E 61 6D 65 64 00 00 00 00 00 00 00 00 00 FF FF FF FF FF FF FF FF FF FF");
   f.done();
 }
@@ -123,7 +128,8 @@ TEST_CASE("seed003 §14.3 error counters and §14.4 error log entry", "[client][
   auto e = g.client.error_log_entry(0);
   REQUIRE(e.ok());
   CHECK(e->code == 0x0C);
-  CHECK(e->millis == 921918);  // 000E113Eh; the manual prints "921218ms" beside it (typo: 15 min 21.918 s)
+  CHECK(e->millis ==
+        921918);  // 000E113Eh; the manual prints "921218ms" beside it (typo: 15 min 21.918 s)
   CHECK(e->hours == 623);
   g.done();
 }
@@ -131,20 +137,23 @@ TEST_CASE("seed003 §14.3 error counters and §14.4 error log entry", "[client][
 TEST_CASE("client: an error communication state becomes a typed refusal", "[client]") {
   test::ScriptedTransport link;
   // A C8 answer (unknown UPID) in the configuration group's response form.
-  link.steps.push_back({*from_hex("01 11 05 02 00 05 34 12 04"), *from_hex("01 11 0A 02 50 00 C8 34 12 00 00 00 00 04")});
+  link.steps.push_back({*from_hex("01 11 05 02 00 05 34 12 04"),
+                        *from_hex("01 11 0A 02 50 00 C8 34 12 00 00 00 00 04")});
   Client client(link, ClientOptions{});
   auto r = client.read_rom(0x1234);
   REQUIRE_FALSE(r.ok());
   CHECK(r.error().code == make_comm_state_error(0xC8));
   CHECK(r.error().message ==
-        "drive 11h refused ID 11h parameter configuration (main 05h sub 00h), 2 data byte(s): C8h parameter unknown UPID");
+        "drive 11h refused ID 11h parameter configuration (main 05h sub 00h), 2 data byte(s) for "
+        "UPID 1234h: C8h parameter unknown UPID");
 }
 
 TEST_CASE("client: reads retry on silence, writes do not", "[client]") {
   test::ScriptedTransport link;
   const Bytes req = *from_hex("01 11 05 02 00 05 A2 13 04");
-  link.steps.push_back({req, {}});                                                   // lost answer
-  link.steps.push_back({req, *from_hex("01 11 0A 02 50 00 00 A2 13 09 00 00 00 04")});  // retry succeeds
+  link.steps.push_back({req, {}});  // lost answer
+  link.steps.push_back(
+      {req, *from_hex("01 11 0A 02 50 00 00 A2 13 09 00 00 00 04")});  // retry succeeds
   ClientOptions o;
   o.timeout = Millis(5);
   Client client(link, o);
@@ -160,6 +169,7 @@ TEST_CASE("client: reads retry on silence, writes do not", "[client]") {
   REQUIRE_FALSE(w.ok());
   CHECK(w.error().code == Errc::timeout);
   CHECK(w.error().message ==
-        "no answer from drive 11h within 5 ms to ID 11h parameter configuration (main 05h sub 01h), 6 data byte(s)");
+        "no answer from drive 11h within 5 ms to ID 11h parameter configuration (main 05h sub "
+        "01h), 6 data byte(s)");
   CHECK(writer.stats().requests == 1);
 }

@@ -3,12 +3,17 @@
 // table equal the source's and the leftovers are gone; diff against defaults
 // lists exactly the modified UPIDs; every bad input is refused with a precise
 // message and zero write telegrams on the wire.
+#include <unistd.h>
+
 #include <catch2/catch.hpp>
+#include <filesystem>
+#include <fstream>
 #include <functional>
 #include <map>
 #include <set>
 
 #include "config/config_io.hpp"
+#include "db/compiler.hpp"
 #include "e2e_support.hpp"
 #include "ops/backup.hpp"
 #include "ops/diff.hpp"
@@ -29,6 +34,21 @@ std::map<std::uint16_t, std::uint32_t> modified_rom(const sim::Drive& d) {
   std::map<std::uint16_t, std::uint32_t> m;
   for (const auto& [upid, p] : d.state().params)
     if (p.modified()) m[upid] = p.rom;
+  return m;
+}
+
+// The UPIDs a diff lists as differing parameters.
+std::set<std::uint16_t> listed_upids(const ops::DiffResult& r) {
+  std::set<std::uint16_t> listed;
+  for (const auto& it : r.items)
+    if (it.kind == ops::DiffItem::Kind::parameter)
+      listed.insert(static_cast<std::uint16_t>(it.key));
+  return listed;
+}
+
+std::set<std::uint16_t> modified_upids(const sim::Drive& d) {
+  std::set<std::uint16_t> m;
+  for (const auto& [upid, value] : modified_rom(d)) m.insert(upid);
   return m;
 }
 
@@ -74,14 +94,9 @@ TEST_CASE("e2e: backup, restore onto a used spare, spare equals source", "[e2e]"
 TEST_CASE("e2e: diff against defaults lists exactly the modified UPIDs", "[e2e]") {
   test::SimRig source("commissioned-axis.json");
   const auto file = backup_of(source, nullptr);
-  auto r = ops::diff(ops::factory_defaults_config(), file, nullptr, {}, ops::DiffOptions{true, false});
-  std::set<std::uint16_t> listed;
-  for (const auto& it : r.items)
-    if (it.kind == ops::DiffItem::Kind::parameter) listed.insert(static_cast<std::uint16_t>(it.key));
-  std::set<std::uint16_t> modified;
-  for (const auto& [upid, p] : source.drive->state().params)
-    if (p.modified()) modified.insert(upid);
-  CHECK(listed == modified);
+  auto r =
+      ops::diff(ops::factory_defaults_config(), file, nullptr, {}, ops::DiffOptions{true, false});
+  CHECK(listed_upids(r) == modified_upids(*source.drive));
   // Curves and command table entries are listed too, each once.
   std::size_t curves = 0, entries = 0;
   for (const auto& it : r.items) {
@@ -114,16 +129,30 @@ TEST_CASE("e2e: bad inputs refuse the restore with zero write telegrams on the w
     const char* expected;  // a problem line must contain this
   };
   const std::vector<Case> cases{
-      {"unknown UPID on the target", [](auto& c) { c.layer(2).push_back({0x1EEE, 1, std::nullopt, {}, {}, {}}); },
-       "MC 1EEEh: UPID does not exist on the target (type query answered C8h unknown UPID)"},
-      {"wrong type", [](auto& c) { c.layer(2).front().type = 0x06; }, "type differs: the file has SINT32, the target has"},
-      {"out-of-range value", [](auto& c) { for (auto& p : c.layer(2)) if (p.upid == 0x13A2) p.value = 0x10000; },
+      {"unknown UPID on the target",
+       [](auto& c) {
+         c.layer(2).push_back({0x1EEE, 1, std::nullopt, std::nullopt, {}, {}, {}});
+       },
+       "MC 1EEEh: UPID does not exist on the target (not in its MC UPID list, §10.3)"},
+      {"read-only UPID (address usage from the target's UPID list)",
+       [](auto& c) {
+         c.layer(1).push_back({0x0E00, 1, std::nullopt, std::nullopt, {}, {}, {}});
+       },
+       "OS 0E00h: read-only on the target (the target's address usage 1001h has no ROM write bit)"},
+      {"wrong type", [](auto& c) { c.layer(2).front().type = 0x06; },
+       "type differs: the file has SINT32, the target has"},
+      {"out-of-range value",
+       [](auto& c) {
+         for (auto& p : c.layer(2))
+           if (p.upid == 0x13A2) p.value = 0x10000;
+       },
        "MC 13A2h: value 10000h does not fit type UINT16"},
       {"oversize curve", [](auto& c) { c.curves.front().data.resize(70000); },
        "curve 1: a block exceeds the 16-bit size field of §11 (65535 bytes)"},
-      {"command table entry of the wrong size", [](auto& c) { c.ct_entries.front().raw.resize(60); },
-       "bytes, expected 64"},
-      {"curve ID outside 1..100", [](auto& c) { c.curves.front().id = 101; }, "curve 101: ID outside 1..100"},
+      {"command table entry of the wrong size",
+       [](auto& c) { c.ct_entries.front().raw.resize(60); }, "bytes, expected 64"},
+      {"curve ID outside 1..100", [](auto& c) { c.curves.front().id = 101; },
+       "curve 101: ID outside 1..100"},
   };
   for (const auto& k : cases) {
     SECTION(k.name) {
@@ -145,4 +174,103 @@ TEST_CASE("e2e: bad inputs refuse the restore with zero write telegrams on the w
       CHECK(spare.drive->state().params == before.params);
     }
   }
+}
+
+TEST_CASE("e2e: a backup records each parameter's type and default, asked from the drive",
+          "[e2e]") {
+  test::SimRig source("commissioned-axis.json");
+  const auto file = backup_of(source, nullptr);
+  std::size_t n = 0;
+  for (int layer = 1; layer <= 4; ++layer) {
+    for (const auto& p : file.layer(layer)) {
+      const auto& truth = source.drive->state().params.at(p.upid);
+      INFO("UPID " << p.upid);
+      CHECK(p.type == std::optional<std::uint8_t>(static_cast<std::uint8_t>(truth.type)));
+      CHECK(p.default_value == std::optional<std::uint32_t>(truth.def));
+      ++n;
+    }
+  }
+  CHECK(n == modified_rom(*source.drive).size());
+  // The records survive the file formats.
+  for (auto fmt : {config::FileFormat::json, config::FileFormat::xml}) {
+    auto text = config::write_config_text(file, fmt);
+    REQUIRE(text.ok());
+    auto back = config::read_config_text(*text, "mem", fmt);
+    REQUIRE(back.ok());
+    CHECK(back->layers == file.layers);
+  }
+  // --no-describe: nothing is asked; only what a database knows is recorded.
+  test::SimRig again("commissioned-axis.json");
+  ops::BackupOptions bo;
+  bo.ask_drive = false;
+  auto bare = ops::backup(*again.client, bo, nullptr);
+  REQUIRE(bare.ok());
+  for (const auto& l : bare->layers)
+    for (const auto& p : l) CHECK_FALSE((p.type || p.default_value));
+}
+
+TEST_CASE("e2e: offline diff against defaults uses the defaults a capture recorded", "[e2e]") {
+  test::SimRig source("commissioned-axis.json");
+  // A full capture lists every ROM-writable UPID, most of them at their
+  // default: without the recorded defaults each would look like a difference.
+  ops::BackupOptions bo;
+  bo.full = true;
+  auto full = ops::backup(*source.client, bo, nullptr);
+  REQUIRE(full.ok());
+  auto r =
+      ops::diff(ops::factory_defaults_config(), *full, nullptr, {}, ops::DiffOptions{true, false});
+  CHECK(listed_upids(r) == modified_upids(*source.drive));
+  // Values are shown by their recorded type: 11F2h is SINT16 on the drive.
+  bool shown = false;
+  for (const auto& it : r.items) {
+    if (it.key != 0x11F2) continue;
+    CHECK(it.a == "default 0");
+    CHECK(it.b ==
+          std::to_string(static_cast<std::int16_t>(source.drive->state().params.at(0x11F2).rom)));
+    shown = true;
+  }
+  CHECK(shown);
+  REQUIRE_FALSE(r.notes.empty());
+  CHECK(r.notes.back().find(
+            "default value(s) the UPID database does not know were taken from the capture") !=
+        std::string::npos);
+}
+
+TEST_CASE(
+    "e2e: with address usage from the database the plan asks types; an unknown UPID answers C8h",
+    "[e2e]") {
+  // A database that knows the address usage of every MC UPID of the file.
+  auto dir =
+      std::filesystem::temp_directory_path() / ("lmcfg-e2e-au-" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / "profiles.tsv") << "profile\tfamily\tsoftware\tversion\tdescription\tsource\n"
+                                         "p\tE1100\tMC\t\t\ttest\n";
+  std::ofstream(dir / "parameters.tsv")
+      << "upid\tprofiles\tlayer\tname\tpath\ttype\taddress_"
+         "usage\tmin\tmax\tdefault\tunit\tscale\tenum\tcomm\t"
+         "description\tsource\n"
+         "13A2\tp\tMC\tP Gain\t\tUINT16\t000F\t\t\t\t\t\t\t\t\ttest\n"
+         "1EEE\tp\tMC\tNot On This Drive\t\tUINT16\t000F\t\t\t\t\t\t\t\t\ttest\n";
+  const auto out = (dir / "au.sqlite").string();
+  auto rep = db::compile_upid_db(dir.string(), out);
+  REQUIRE(rep.ok());
+  auto database = db::Database::open(out);
+  REQUIRE(database.ok());
+
+  test::SimRig spare("used-spare.json");
+  config::DriveConfig file;
+  file.scope.layers = {false, true, false, false};
+  file.scope.curves = file.scope.command_table = false;
+  file.layer(2) = {{0x13A2, 40, std::nullopt, std::nullopt, {}, {}, {}},
+                   {0x1EEE, 1, std::nullopt, std::nullopt, {}, {}, {}}};
+  auto plan = ops::plan_restore(*spare.client, file, &*database, ops::RestoreOptions{});
+  REQUIRE(plan.ok());
+  REQUIRE(plan->problems.size() == 1);
+  CHECK(plan->problems[0] ==
+        "MC 1EEEh Not On This Drive: UPID does not exist on the target (type query answered C8h "
+        "unknown UPID)");
+  // No UPID list was walked: the only list read is the modified list.
+  for (const auto& n : plan->notes) CHECK(n.find("UPID list") == std::string::npos);
+  CHECK(spare.wire->write_telegrams() == 0);
+  std::filesystem::remove_all(dir);
 }

@@ -115,8 +115,8 @@ TEST_CASE("perf: backup of the demo axis sends exactly the protocol minimum", "[
   std::uint64_t n = 0;
   backup_counted(demo, n);
   CHECK(n == benchwire::min_backup(demo).telegrams);
-  CHECK(n == 275);  // 4 modified lists (start + n), 100 curve probes + 2 curves, 8 CT list + 5
-                    // entries x 17
+  CHECK(n == 307);  // 4 modified lists (start + n), a type and a default query per modified
+                    // UPID (no database), 100 curve probes + 2 curves, 8 CT list + 5 entries x 17
 }
 
 TEST_CASE("perf: restore of the demo axis onto a used spare and a factory-fresh unit", "[perf]") {
@@ -128,7 +128,8 @@ TEST_CASE("perf: restore of the demo axis onto a used spare and a factory-fresh 
   sim::DriveState after;
   const auto onto_spare = restore_counted(spare, file, &after);
   check_against_model(onto_spare, benchwire::min_restore(spare, file, nullptr), spare);
-  CHECK(onto_spare.plan == 69);
+  CHECK(onto_spare.plan == 108);  // 4 modified lists, 4 UPID lists (no database: address
+                                   // usage unknown), min + max per parameter
   CHECK(onto_spare.execute == 178);
   CHECK(onto_spare.verify == 275);
   // Same end state as a restore that defaults every layer first (no database:
@@ -142,7 +143,7 @@ TEST_CASE("perf: restore of the demo axis onto a used spare and a factory-fresh 
   sim::DriveState fresh_after;
   const auto onto_fresh = restore_counted(fresh, file, &fresh_after);
   check_against_model(onto_fresh, benchwire::min_restore(fresh, file, nullptr), fresh);
-  CHECK(onto_fresh.plan == 64);  // 56 + 4 empty lists confirmed
+  CHECK(onto_fresh.plan == 103);  // 95 + 4 empty lists confirmed
   CHECK(onto_fresh.execute == 171);
   CHECK(onto_fresh.verify == 275);
   CHECK(modified(fresh_after) == modified(demo));
@@ -156,13 +157,13 @@ TEST_CASE("perf: backup and restore of a small generated workload", "[perf]") {
   std::uint64_t b = 0;
   const auto file = backup_counted(source, b);
   CHECK(b == benchwire::min_backup(source).telegrams);
-  CHECK(b == 227);
+  CHECK(b == 243);
 
   sim::DriveState after;
   const auto fresh = benchwire::factory_fresh(source);
   const auto onto_fresh = restore_counted(fresh, file, &after);
   check_against_model(onto_fresh, benchwire::min_restore(fresh, file, nullptr), fresh);
-  CHECK(onto_fresh.plan == 40);  // 32 + 4 empty lists confirmed
+  CHECK(onto_fresh.plan == 80);  // 72 + 4 empty lists confirmed
   CHECK(onto_fresh.execute == 123);
   CHECK(onto_fresh.verify == 227);
   CHECK(modified(after) == modified(source));
@@ -170,7 +171,7 @@ TEST_CASE("perf: backup and restore of a small generated workload", "[perf]") {
   const auto spare = benchwire::heavy_spare(spec, 6, 1, 2);
   const auto onto_spare = restore_counted(spare, file, &after);
   check_against_model(onto_spare, benchwire::min_restore(spare, file, nullptr), spare);
-  CHECK(onto_spare.plan == 38);
+  CHECK(onto_spare.plan == 78);
   CHECK(onto_spare.execute == 127);
   CHECK(onto_spare.verify == 227);
   CHECK(modified(after) == modified(source));

@@ -174,7 +174,22 @@ TEST_CASE("cli: files the drive cannot take are refused by the plan, nothing wri
        [&](auto& j) {
          mc(j).push_back({{"upid", "1EEE"}, {"value", 1}});
        },
-       3, "MC 1EEEh: UPID does not exist on the target (type query answered C8h unknown UPID)"},
+       3, "MC 1EEEh: UPID does not exist on the target (not in its MC UPID list, §10.3)"},
+      {"read-only UPID (address usage from the UPID database)",
+       [&](auto& j) {
+         for (auto& l : j["parameters"])
+           if (l["layer"] == 3) l["params"].push_back({{"upid", "2136"}, {"value", 1}});
+       },
+       3,
+       "Intf 2136h: read-only on the target (the UPID database's address usage 1001h has no ROM "
+       "write bit)"},
+      {"read-only UPID (address usage from the target's UPID list)",
+       [&](auto& j) {
+         for (auto& l : j["parameters"])
+           if (l["layer"] == 1) l["params"].push_back({{"upid", "0E00"}, {"value", 1}});
+       },
+       3,
+       "OS 0E00h: read-only on the target (the target's address usage 1001h has no ROM write bit)"},
       {"value out of range for its type",
        [&](auto& j) {
          for (auto& p : mc(j))
@@ -338,4 +353,33 @@ TEST_CASE("cli: db devicenet shows seed 000 commands; a bad ID is exit 2, an und
   auto all = tool(d.path, "db devicenet --params --json");
   REQUIRE(all.exit_code == 0);
   CHECK(nlohmann::json::parse(all.out).size() == 13);
+}
+
+TEST_CASE("cli: get and set ask the drive what the database does not know, and say so",
+          "[reliability][cli]") {
+  TempDir d;
+  // 0020h is not in the database; the drive reports UINT32.
+  auto get = tool(d.path, "get 0020 --port sim:axis.json --rom");
+  CHECK(get.exit_code == 0);
+  CHECK(get.out == "0020 (not in database) [ROM] = 1000\n");
+  CHECK(get.err == "lmcfg get: 0020 is not in the database; asked the drive: type UINT32\n");
+  // 11F2h is named by the database but not typed: SINT16 from the drive, shown signed.
+  auto neg = tool(d.path, "set 11F2 -20 --port sim:axis.json");
+  CHECK(neg.exit_code == 0);
+  CHECK(neg.out == "11F2 Phase Angle [RAM] = -20\n");
+  CHECK(neg.err ==
+        "lmcfg set: 11F2 is only partly described by the database; asked the drive: type SINT16, "
+        "min, max\n");
+  // The drive's own limits are applied before anything is written.
+  auto out_of_range = tool(d.path, "set 11F2 -40000 --port sim:axis.json -q --trace t.trace");
+  CHECK(out_of_range.exit_code == 2);
+  CHECK(out_of_range.err == "lmcfg set: value -40000 is outside the SINT16 range -32768..32767\n");
+  CHECK(traced_writes(d.path / "t.trace") == 0);
+  // A UPID the drive does not know either: the refusal names the request.
+  auto unknown = tool(d.path, "get 5555 --port sim:axis.json");
+  CHECK(unknown.exit_code == 5);
+  CHECK(unknown.err ==
+        "lmcfg get: drive 11h refused ID 11h parameter (main 03h sub 00h), 2 data byte(s) for UPID "
+        "5555h: C8h "
+        "parameter unknown UPID\n");
 }

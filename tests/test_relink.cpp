@@ -52,8 +52,8 @@ config::DriveConfig moved_axis_file(const db::Database* db) {
         p.value = v;
         return;
       }
-    cfg->layer(3).push_back(
-        config::Parameter{upid, v, std::nullopt, {}, {}, {}});  // at its default on the axis
+    cfg->layer(3).push_back(config::Parameter{
+        upid, v, std::nullopt, std::nullopt, {}, {}, {}});  // at its default on the axis
     config::canonicalize(*cfg);
   };
   set(ops::kBaudRateSource, ops::kBaudRateByParameter);
@@ -130,10 +130,10 @@ TEST_CASE("relink: what the restored LinRS parameters select, and why", "[relink
   ops::Plan plan;
   plan.expected.scope.layers = {false, false, true, false};
   auto& intf = plan.expected.layer(3);
-  intf = {config::Parameter{0x200E, 2, std::nullopt, {}, {}, {}},
-          config::Parameter{0x2012, 8, std::nullopt, {}, {}, {}},
-          config::Parameter{0x206C, 3, std::nullopt, {}, {}, {}},
-          config::Parameter{0x2076, 0x22, std::nullopt, {}, {}, {}}};
+  intf = {config::Parameter{0x200E, 2, std::nullopt, std::nullopt, {}, {}, {}},
+          config::Parameter{0x2012, 8, std::nullopt, std::nullopt, {}, {}, {}},
+          config::Parameter{0x206C, 3, std::nullopt, std::nullopt, {}, {}, {}},
+          config::Parameter{0x2076, 0x22, std::nullopt, std::nullopt, {}, {}, {}}};
   auto e = ops::expected_link(plan, &*db);
   CHECK(e.baud == 38400u);
   CHECK(e.macid == std::uint8_t{0x22});
@@ -142,9 +142,9 @@ TEST_CASE("relink: what the restored LinRS parameters select, and why", "[relink
   CHECK(e.reasons[1] == "baud rate 38400: 200Eh = By Parameter, 2012h Baud Rate Parameter Def = 8");
 
   // 2076h absent: its database default 11h. 2012h = 16: a code the seeds do not give.
-  intf = {config::Parameter{0x200E, 2, std::nullopt, {}, {}, {}},
-          config::Parameter{0x2012, 16, std::nullopt, {}, {}, {}},
-          config::Parameter{0x206C, 3, std::nullopt, {}, {}, {}}};
+  intf = {config::Parameter{0x200E, 2, std::nullopt, std::nullopt, {}, {}, {}},
+          config::Parameter{0x2012, 16, std::nullopt, std::nullopt, {}, {}, {}},
+          config::Parameter{0x206C, 3, std::nullopt, std::nullopt, {}, {}, {}}};
   e = ops::expected_link(plan, &*db);
   CHECK(e.macid == std::uint8_t{0x11});
   CHECK(e.reasons[0] ==

@@ -17,26 +17,38 @@ const char* layer_name(int layer) { return layers::name(layer).data(); }
 
 std::uint8_t expected_answer_sub(const Telegram& r) {
   switch (static_cast<Main>(r.main)) {
-    case Main::curve: return 0x40;
-    case Main::param_config: return static_cast<std::uint8_t>(0x50 + r.sub);
+    case Main::curve:
+      return 0x40;
+    case Main::param_config:
+      return static_cast<std::uint8_t>(0x50 + r.sub);
     case Main::program:
       return (r.sub == 0x01 || r.sub == 0x04) ? 0x60 : 0x00;
-    case Main::error_info: return static_cast<std::uint8_t>(0x70 + r.sub);
-    case Main::command_table: return static_cast<std::uint8_t>(0x80 + r.sub);
-    default: return 0x00;
+    case Main::error_info:
+      return static_cast<std::uint8_t>(0x70 + r.sub);
+    case Main::command_table:
+      return static_cast<std::uint8_t>(0x80 + r.sub);
+    default:
+      return 0x00;
   }
 }
 
 bool is_write_request(const Telegram& r) {
   switch (static_cast<Main>(r.main)) {
     case Main::control_word:
-    case Main::motion_command: return true;
-    case Main::parameter: return r.sub == 0x01 || r.sub == 0x03 || r.sub == 0x04 || (r.sub >= 0x11 && r.sub <= 0x14);
-    case Main::param_config: return r.sub == 0x01 || (r.sub >= 0x0C && r.sub <= 0x0F);
-    case Main::curve: return r.sub <= 0x06;
-    case Main::program: return true;
-    case Main::command_table: return r.sub <= 0x04;
-    default: return false;
+    case Main::motion_command:
+      return true;
+    case Main::parameter:
+      return r.sub == 0x01 || r.sub == 0x03 || r.sub == 0x04 || (r.sub >= 0x11 && r.sub <= 0x14);
+    case Main::param_config:
+      return r.sub == 0x01 || (r.sub >= 0x0C && r.sub <= 0x0F);
+    case Main::curve:
+      return r.sub <= 0x06;
+    case Main::program:
+      return true;
+    case Main::command_table:
+      return r.sub <= 0x04;
+    default:
+      return false;
   }
 }
 
@@ -47,8 +59,9 @@ std::string hexid(const char* fmt, unsigned v) {
   return buf;
 }
 bool is_link_error(const Error& e) {
-  return e.code == Errc::timeout || e.code == Errc::frame_short || e.code == Errc::frame_malformed ||
-         e.code == Errc::frame_overlong || e.code == Errc::checksum_mismatch || e.code == Errc::unexpected_response;
+  return e.code == Errc::timeout || e.code == Errc::frame_short ||
+         e.code == Errc::frame_malformed || e.code == Errc::frame_overlong ||
+         e.code == Errc::checksum_mismatch || e.code == Errc::unexpected_response;
 }
 }  // namespace
 
@@ -59,14 +72,40 @@ std::optional<std::uint16_t> request_key(const Telegram& r) {
   if (r.data.size() < 2) return std::nullopt;
   bool keyed = false;
   switch (static_cast<Main>(r.main)) {
-    case Main::param_config: keyed = r.sub <= 0x01 || (r.sub >= 0x04 && r.sub <= 0x07); break;
-    case Main::curve: keyed = r.sub == 0x02 || (r.sub >= 0x04 && r.sub <= 0x06) || (r.sub >= 0x08 && r.sub <= 0x0A); break;
-    case Main::command_table: keyed = r.sub >= 0x02 && r.sub <= 0x07; break;
-    default: break;
+    case Main::param_config:
+      keyed = r.sub <= 0x01 || (r.sub >= 0x04 && r.sub <= 0x07);
+      break;
+    case Main::curve:
+      keyed = r.sub == 0x02 || (r.sub >= 0x04 && r.sub <= 0x06) || (r.sub >= 0x08 && r.sub <= 0x0A);
+      break;
+    case Main::command_table:
+      keyed = r.sub >= 0x02 && r.sub <= 0x07;
+      break;
+    default:
+      break;
   }
   if (!keyed) return std::nullopt;
   return static_cast<std::uint16_t>(r.data[0] | r.data[1] << 8);
 }
+
+namespace {
+
+// What a refused request was about, for the message: " for UPID 5555h" etc.
+std::string refused_subject(const Telegram& r) {
+  if (r.data.size() < 2) return {};
+  const unsigned key = r.data[0] | r.data[1] << 8;
+  char buf[32] = "";
+  if (static_cast<Main>(r.main) == Main::parameter ||
+      (static_cast<Main>(r.main) == Main::param_config && request_key(r)))
+    std::snprintf(buf, sizeof buf, " for UPID %04Xh", key);
+  else if (static_cast<Main>(r.main) == Main::curve && request_key(r))
+    std::snprintf(buf, sizeof buf, " for curve %u", key);
+  else if (static_cast<Main>(r.main) == Main::command_table && r.sub != 0x07 && request_key(r))
+    std::snprintf(buf, sizeof buf, " for entry %u", key);
+  return buf;
+}
+
+}  // namespace
 
 Result<void> Client::settle_line() {
   ++stats_.settles;
@@ -81,8 +120,9 @@ Result<void> Client::settle_line() {
     stats_.bytes_rx += chunk->size();
     stats_.settle_bytes += chunk->size();
   }
-  return Error(Errc::io_error, "the line to drive " + hexid("%02Xh", opt_.id) + " does not go quiet (" +
-                                   std::to_string(opt_.settle.count()) + " ms without bytes never seen in 256 reads)");
+  return Error(Errc::io_error, "the line to drive " + hexid("%02Xh", opt_.id) +
+                                   " does not go quiet (" + std::to_string(opt_.settle.count()) +
+                                   " ms without bytes never seen in 256 reads)");
 }
 
 Result<Telegram> Client::transact(const Telegram& req_in, Millis timeout, bool idempotent) {
@@ -132,21 +172,22 @@ Result<Telegram> Client::transact(const Telegram& req_in, Millis timeout, bool i
         // belongs to another request (a late answer): not ours, keep waiting.
         // Error states in the default response form (sub 00h) carry no key and
         // are accepted as the answer to this request.
-        const bool default_form_error =
-            t.sub == 0x00 && !t.data.empty() && opt_.layout.comm_state && state::is_error(t.data[0]);
+        const bool default_form_error = t.sub == 0x00 && !t.data.empty() &&
+                                        opt_.layout.comm_state && state::is_error(t.data[0]);
         if (t.sub != want_sub && !default_form_error) {
           ++stats_.stale_answers;
           garbled = Error(Errc::unexpected_response, "answer to " + describe(req) + " has sub " +
-                                                         hexid("%02Xh", t.sub) + ", expected " + hexid("%02Xh", want_sub));
+                                                         hexid("%02Xh", t.sub) + ", expected " +
+                                                         hexid("%02Xh", want_sub));
           continue;
         }
         if (want_key && t.sub == want_sub && t.data.size() >= 3) {
           const auto key = static_cast<std::uint16_t>(t.data[1] | t.data[2] << 8);
           if (key != *want_key) {
             ++stats_.stale_answers;
-            garbled = Error(Errc::unexpected_response, "answer to " + describe(req) + " names key " +
-                                                           hexid("%04Xh", key) + ", expected " +
-                                                           hexid("%04Xh", *want_key));
+            garbled = Error(Errc::unexpected_response,
+                            "answer to " + describe(req) + " names key " + hexid("%04Xh", key) +
+                                ", expected " + hexid("%04Xh", *want_key));
             continue;
           }
         }
@@ -158,12 +199,15 @@ Result<Telegram> Client::transact(const Telegram& req_in, Millis timeout, bool i
       unsettled_ = false;
       // Bytes after the answer (noise, a duplicate) must not reach the next exchange.
       decoder_.reset();
-      // Every group answer starts with the comm state; the default response only when configured so.
-      const bool has_state = !answer->data.empty() && (answer->sub != 0x00 || opt_.layout.comm_state);
+      // Every group answer starts with the comm state; the default response only when configured
+      // so.
+      const bool has_state =
+          !answer->data.empty() && (answer->sub != 0x00 || opt_.layout.comm_state);
       if (has_state && state::is_error(answer->data[0])) {
         const std::uint8_t s = answer->data[0];
-        return Error(make_comm_state_error(s),
-                     "drive " + hexid("%02Xh", opt_.id) + " refused " + describe(req) + ": " + state::describe(s));
+        return Error(make_comm_state_error(s), "drive " + hexid("%02Xh", opt_.id) + " refused " +
+                                                   describe(req) + refused_subject(req) + ": " +
+                                                   state::describe(s));
       }
       return std::move(*answer);
     }
@@ -172,8 +216,8 @@ Result<Telegram> Client::transact(const Telegram& req_in, Millis timeout, bool i
       garbled = std::move(*partial);
     }
     if (garbled) {
-      last = Error(garbled->code, "no valid answer from drive " + hexid("%02Xh", opt_.id) + " to " + describe(req) +
-                                      ": " + garbled->message);
+      last = Error(garbled->code, "no valid answer from drive " + hexid("%02Xh", opt_.id) + " to " +
+                                      describe(req) + ": " + garbled->message);
     } else {
       ++stats_.timeouts;
       last = Error(Errc::timeout, "no answer from drive " + hexid("%02Xh", opt_.id) + " within " +
@@ -185,47 +229,56 @@ Result<Telegram> Client::transact(const Telegram& req_in, Millis timeout, bool i
 }
 
 Result<DefaultResponse> Client::default_response(ResponseRequest kind) {
-  LMCFG_ASSIGN_OR_RETURN(auto t, transact(make_response_request(opt_.id, kind), opt_.timeout, true));
+  LMCFG_ASSIGN_OR_RETURN(auto t,
+                         transact(make_response_request(opt_.id, kind), opt_.timeout, true));
   return decode_default_response(t, opt_.layout);
 }
 
 Result<DefaultResponse> Client::write_control_word(std::uint16_t cw) {
-  LMCFG_ASSIGN_OR_RETURN(auto t, transact(make_write_control_word(opt_.id, cw), opt_.timeout, false));
+  LMCFG_ASSIGN_OR_RETURN(auto t,
+                         transact(make_write_control_word(opt_.id, cw), opt_.timeout, false));
   return decode_default_response(t, opt_.layout);
 }
 
 Result<std::uint32_t> Client::read_ram(std::uint16_t upid) {
-  LMCFG_ASSIGN_OR_RETURN(auto t, transact(make_param_read(opt_.id, ParamOp::read_ram, upid), opt_.timeout, true));
+  LMCFG_ASSIGN_OR_RETURN(
+      auto t, transact(make_param_read(opt_.id, ParamOp::read_ram, upid), opt_.timeout, true));
   LMCFG_ASSIGN_OR_RETURN(auto r, decode_default_response(t, opt_.layout));
-  if (!r.value) return Error(Errc::unexpected_response, "RAM read of UPID " + hexid("%04Xh", upid) + " answered without a value");
+  if (!r.value)
+    return Error(Errc::unexpected_response,
+                 "RAM read of UPID " + hexid("%04Xh", upid) + " answered without a value");
   return *r.value;
 }
 
 Result<void> Client::write_ram(std::uint16_t upid, std::uint32_t value) {
-  LMCFG_TRY(transact(make_param_write(opt_.id, ParamOp::write_ram, upid, value), opt_.timeout, false));
+  LMCFG_TRY(
+      transact(make_param_write(opt_.id, ParamOp::write_ram, upid, value), opt_.timeout, false));
   return {};
 }
 
 Result<void> Client::write_ram_rom(std::uint16_t upid, std::uint32_t value) {
-  LMCFG_TRY(transact(make_param_write(opt_.id, ParamOp::write_ram_rom, upid, value), opt_.timeout, false));
+  LMCFG_TRY(transact(make_param_write(opt_.id, ParamOp::write_ram_rom, upid, value), opt_.timeout,
+                     false));
   return {};
 }
 
-Result<IdValueResponse> Client::id_value(const Telegram& req, std::uint8_t expected_sub, bool idempotent,
-                                         Millis timeout) {
+Result<IdValueResponse> Client::id_value(const Telegram& req, std::uint8_t expected_sub,
+                                         bool idempotent, Millis timeout) {
   LMCFG_ASSIGN_OR_RETURN(auto t, transact(req, timeout, idempotent));
   return decode_id_value(t, expected_sub);
 }
 
 Result<IdValueResponse> Client::cfg(CfgOp op, std::uint16_t upid, bool idempotent, Millis timeout) {
   const auto sub = static_cast<std::uint8_t>(op);
-  LMCFG_ASSIGN_OR_RETURN(auto r, id_value(make_cfg(opt_.id, op, upid), static_cast<std::uint8_t>(0x50 + sub),
-                                          idempotent, timeout));
+  LMCFG_ASSIGN_OR_RETURN(
+      auto r, id_value(make_cfg(opt_.id, op, upid), static_cast<std::uint8_t>(0x50 + sub),
+                       idempotent, timeout));
   return r;
 }
 
 namespace {
-Result<std::uint32_t> checked_value(const Result<IdValueResponse>& r, std::uint16_t upid, const char* what) {
+Result<std::uint32_t> checked_value(const Result<IdValueResponse>& r, std::uint16_t upid,
+                                    const char* what) {
   if (!r.ok()) return r.error();
   if (r->key != upid) {
     return Error(Errc::unexpected_response, std::string(what) + " of UPID " + hexid("%04Xh", upid) +
@@ -265,7 +318,8 @@ Result<void> Client::write_rom_confirmed(std::uint16_t upid, std::uint32_t value
   return e;
 }
 Result<std::uint16_t> Client::get_type(std::uint16_t upid) {
-  LMCFG_ASSIGN_OR_RETURN(auto v, checked_value(cfg(CfgOp::get_type, upid, true, opt_.timeout), upid, "type query"));
+  LMCFG_ASSIGN_OR_RETURN(
+      auto v, checked_value(cfg(CfgOp::get_type, upid, true, opt_.timeout), upid, "type query"));
   return static_cast<std::uint16_t>(v & 0xFFFF);
 }
 Result<std::uint32_t> Client::get_min(std::uint16_t upid) {
@@ -282,7 +336,8 @@ Result<std::vector<ModifiedParam>> Client::modified_list(int layer) {
   const std::uint16_t base = layer_base(layer);
   // Restarting the list is the only safe retry: "get next" advances the drive's cursor.
   Error last(Errc::timeout, "");
-  std::optional<std::vector<ModifiedParam>> unconfirmed;  // a list that ended oddly, to compare with a rerun
+  std::optional<std::vector<ModifiedParam>>
+      unconfirmed;  // a list that ended oddly, to compare with a rerun
   for (int attempt = 0; attempt <= opt_.read_retries; ++attempt) {
     if (attempt > 0) ++stats_.retries;
     auto start = cfg(CfgOp::start_modified, base, true, opt_.timeout);
@@ -301,9 +356,10 @@ Result<std::vector<ModifiedParam>> Client::modified_list(int layer) {
       const bool seen = !out.empty() && out.back().upid == next->key;
       if (!last_one || (in_layer && !seen)) {
         if (!in_layer) {
-          return Error(Errc::unexpected_response, "modified list of layer " + std::string(layer_name(layer)) +
-                                                      " returned UPID " + hexid("%04Xh", next->key) +
-                                                      " outside the layer's range");
+          return Error(Errc::unexpected_response,
+                       "modified list of layer " + std::string(layer_name(layer)) +
+                           " returned UPID " + hexid("%04Xh", next->key) +
+                           " outside the layer's range");
         }
         out.push_back({next->key, next->value});
       }
@@ -313,15 +369,17 @@ Result<std::vector<ModifiedParam>> Client::modified_list(int layer) {
         // Accept it only when a rerun of the list ends the same way.
         if (unconfirmed && *unconfirmed == out) return out;
         unconfirmed = out;
-        failed = Error(Errc::unexpected_response, "modified list of layer " + std::string(layer_name(layer)) +
-                                                      " ended with C6 for UPID " + hexid("%04Xh", next->key) +
-                                                      " outside the layer (drive lost the list cursor?)");
+        failed = Error(Errc::unexpected_response,
+                       "modified list of layer " + std::string(layer_name(layer)) +
+                           " ended with C6 for UPID " + hexid("%04Xh", next->key) +
+                           " outside the layer (drive lost the list cursor?)");
         break;
       }
       if (last_one) return out;
     }
     if (!failed) {
-      return Error(Errc::unexpected_response, "modified list of layer " + std::string(layer_name(layer)) +
+      return Error(Errc::unexpected_response, "modified list of layer " +
+                                                  std::string(layer_name(layer)) +
                                                   " did not end (no C6 after 3840 entries)");
     }
     if (!is_link_error(*failed)) return std::move(*failed);
@@ -330,7 +388,8 @@ Result<std::vector<ModifiedParam>> Client::modified_list(int layer) {
   return last;
 }
 
-Result<std::vector<UpidInfo>> Client::upid_list(int layer, const std::function<void(std::size_t)>& progress) {
+Result<std::vector<UpidInfo>> Client::upid_list(int layer,
+                                                const std::function<void(std::size_t)>& progress) {
   const std::uint16_t base = layer_base(layer);
   Error last(Errc::timeout, "");
   for (int attempt = 0; attempt <= opt_.read_retries; ++attempt) {
@@ -354,7 +413,8 @@ Result<std::vector<UpidInfo>> Client::upid_list(int layer, const std::function<v
       if (progress) progress(out.size());
       if (last_one) return out;
     }
-    if (!failed) return Error(Errc::unexpected_response, "UPID list did not end (no C6 after 3840 entries)");
+    if (!failed)
+      return Error(Errc::unexpected_response, "UPID list did not end (no C6 after 3840 entries)");
     if (!is_link_error(*failed)) return std::move(*failed);
     last = std::move(*failed);
   }
@@ -362,9 +422,10 @@ Result<std::vector<UpidInfo>> Client::upid_list(int layer, const std::function<v
 }
 
 Result<void> Client::default_layer(int layer) {
-  if (layer < 1 || layer > 4) return Error(Errc::invalid_argument, "layer " + std::to_string(layer) + " is not 1..4");
-  auto r = id_value(make_cfg_default_layer(opt_.id, layer), static_cast<std::uint8_t>(0x5B + layer), false,
-                    opt_.defaulting_timeout);
+  if (layer < 1 || layer > 4)
+    return Error(Errc::invalid_argument, "layer " + std::to_string(layer) + " is not 1..4");
+  auto r = id_value(make_cfg_default_layer(opt_.id, layer), static_cast<std::uint8_t>(0x5B + layer),
+                    false, opt_.defaulting_timeout);
   if (!r.ok()) return std::move(r).error();
   return {};
 }
@@ -372,18 +433,21 @@ Result<void> Client::default_layer(int layer) {
 // ---- curves (§11) ----
 
 Result<std::optional<CurveSizes>> Client::curve_sizes(std::uint16_t curve) {
-  LMCFG_ASSIGN_OR_RETURN(auto r, id_value(make_curve(opt_.id, CurveOp::read_sizes, curve), 0x40, true, opt_.timeout));
+  LMCFG_ASSIGN_OR_RETURN(
+      auto r, id_value(make_curve(opt_.id, CurveOp::read_sizes, curve), 0x40, true, opt_.timeout));
   if (r.key != curve) {
-    return Error(Errc::unexpected_response,
-                 "curve size query for ID " + std::to_string(curve) + " answered for ID " + std::to_string(r.key));
+    return Error(Errc::unexpected_response, "curve size query for ID " + std::to_string(curve) +
+                                                " answered for ID " + std::to_string(r.key));
   }
-  CurveSizes s{static_cast<std::uint16_t>(r.value & 0xFFFF), static_cast<std::uint16_t>(r.value >> 16)};
+  CurveSizes s{static_cast<std::uint16_t>(r.value & 0xFFFF),
+               static_cast<std::uint16_t>(r.value >> 16)};
   if (s.info == 0 && s.data == 0) return std::optional<CurveSizes>();
   return std::optional<CurveSizes>(s);
 }
 
-Result<Bytes> Client::read_block(const Telegram& setup, std::uint8_t setup_sub, const Telegram& chunk_req,
-                                 std::uint8_t chunk_sub, std::size_t size, const char* what) {
+Result<Bytes> Client::read_block(const Telegram& setup, std::uint8_t setup_sub,
+                                 const Telegram& chunk_req, std::uint8_t chunk_sub,
+                                 std::size_t size, const char* what) {
   const std::size_t chunks = (size + 3) / 4;
   Error last(Errc::timeout, "");
   for (int attempt = 0; attempt <= opt_.read_retries; ++attempt) {
@@ -408,8 +472,9 @@ Result<Bytes> Client::read_block(const Telegram& setup, std::uint8_t setup_sub, 
         // The drive's block cursor is not where ours is (it reset, or a chunk
         // answer was lost): restart the block from its setup telegram.
         failed = Error(Errc::unexpected_response,
-                       std::string(what) + ": chunk " + std::to_string(i + 1) + " of " + std::to_string(chunks) +
-                           " has state " + hexid("%02Xh", r->state) + ", expected " + hexid("%02Xh", want));
+                       std::string(what) + ": chunk " + std::to_string(i + 1) + " of " +
+                           std::to_string(chunks) + " has state " + hexid("%02Xh", r->state) +
+                           ", expected " + hexid("%02Xh", want));
         break;
       }
       auto raw = r->raw();
@@ -427,12 +492,14 @@ Result<Bytes> Client::read_block(const Telegram& setup, std::uint8_t setup_sub, 
 }
 
 Result<Bytes> Client::read_curve_info(std::uint16_t curve, std::uint16_t size) {
-  return read_block(make_curve(opt_.id, CurveOp::read_sizes, curve), 0x40, make_curve(opt_.id, CurveOp::read_info, curve),
-                    0x40, size, ("curve " + std::to_string(curve) + " info block").c_str());
+  return read_block(make_curve(opt_.id, CurveOp::read_sizes, curve), 0x40,
+                    make_curve(opt_.id, CurveOp::read_info, curve), 0x40, size,
+                    ("curve " + std::to_string(curve) + " info block").c_str());
 }
 Result<Bytes> Client::read_curve_data(std::uint16_t curve, std::uint16_t size) {
-  return read_block(make_curve(opt_.id, CurveOp::read_sizes, curve), 0x40, make_curve(opt_.id, CurveOp::read_data, curve),
-                    0x40, size, ("curve " + std::to_string(curve) + " data block").c_str());
+  return read_block(make_curve(opt_.id, CurveOp::read_sizes, curve), 0x40,
+                    make_curve(opt_.id, CurveOp::read_data, curve), 0x40, size,
+                    ("curve " + std::to_string(curve) + " data block").c_str());
 }
 
 Result<std::optional<Client::CurveBlocks>> Client::read_curve(std::uint16_t curve) {
@@ -451,8 +518,9 @@ namespace {
 Result<IdValueResponse> check_chunk_state(const IdValueResponse& r, bool last_chunk) {
   const std::uint8_t want = last_chunk ? state::ok : state::more_data;
   if (r.state == want) return r;
-  return Error(Errc::unexpected_response, "the drive answered state " + hexid("%02Xh", r.state) + ", expected " +
-                                              hexid("%02Xh", want) + " (block transfer lost on the drive?)");
+  return Error(Errc::unexpected_response, "the drive answered state " + hexid("%02Xh", r.state) +
+                                              ", expected " + hexid("%02Xh", want) +
+                                              " (block transfer lost on the drive?)");
 }
 
 std::array<std::uint8_t, 4> chunk_at(ByteView b, std::size_t i) {
@@ -464,20 +532,24 @@ std::array<std::uint8_t, 4> chunk_at(ByteView b, std::size_t i) {
 
 Result<void> Client::write_curve(std::uint16_t curve, ByteView info, ByteView data) {
   if (info.size() > 0xFFFF || data.size() > 0xFFFF) {
-    return Error(Errc::invalid_argument, "curve " + std::to_string(curve) + " blocks exceed 65535 bytes");
+    return Error(Errc::invalid_argument,
+                 "curve " + std::to_string(curve) + " blocks exceed 65535 bytes");
   }
   LMCFG_TRY(id_value(make_curve_add(opt_.id, curve, static_cast<std::uint16_t>(info.size()),
                                     static_cast<std::uint16_t>(data.size())),
                      0x40, false, opt_.timeout));
-  for (auto [op, block] : {std::pair{CurveOp::write_info, info}, std::pair{CurveOp::write_data, data}}) {
+  for (auto [op, block] :
+       {std::pair{CurveOp::write_info, info}, std::pair{CurveOp::write_data, data}}) {
     const std::size_t chunks = (block.size() + 3) / 4;
     for (std::size_t i = 0; i < chunks; ++i) {
-      auto r = id_value(make_curve_write(opt_.id, op, curve, chunk_at(block, i)), 0x40, false, opt_.timeout);
+      auto r = id_value(make_curve_write(opt_.id, op, curve, chunk_at(block, i)), 0x40, false,
+                        opt_.timeout);
       if (r.ok()) r = check_chunk_state(*r, i + 1 == chunks);
       if (!r.ok()) {
         Error e = std::move(r).error();
-        e.message = "curve " + std::to_string(curve) + (op == CurveOp::write_info ? " info" : " data") +
-                    " block, chunk " + std::to_string(i + 1) + " of " + std::to_string(chunks) + ": " + e.message;
+        e.message = "curve " + std::to_string(curve) +
+                    (op == CurveOp::write_info ? " info" : " data") + " block, chunk " +
+                    std::to_string(i + 1) + " of " + std::to_string(chunks) + ": " + e.message;
         return e;
       }
     }
@@ -503,14 +575,16 @@ Result<void> Client::save_curves() {
 Result<std::vector<std::uint16_t>> Client::ct_defined_entries() {
   std::vector<std::uint16_t> out;
   for (std::uint16_t block = 0; block < 8; ++block) {
-    LMCFG_ASSIGN_OR_RETURN(auto r, id_value(make_ct_defined_list(opt_.id, block, opt_.pad_ct_list), 0x87, true,
-                                            opt_.timeout));
+    LMCFG_ASSIGN_OR_RETURN(auto r, id_value(make_ct_defined_list(opt_.id, block, opt_.pad_ct_list),
+                                            0x87, true, opt_.timeout));
     if (r.key != block) {
-      return Error(Errc::unexpected_response, "CT defined-entry list block " + std::to_string(block) +
-                                                  " answered for block " + std::to_string(r.key));
+      return Error(Errc::unexpected_response, "CT defined-entry list block " +
+                                                  std::to_string(block) + " answered for block " +
+                                                  std::to_string(r.key));
     }
     for (unsigned bit = 0; bit < 32; ++bit) {
-      if ((r.value & (1u << bit)) == 0) out.push_back(static_cast<std::uint16_t>(block * 32 + bit));  // 0 = exists
+      if ((r.value & (1u << bit)) == 0)
+        out.push_back(static_cast<std::uint16_t>(block * 32 + bit));  // 0 = exists
     }
   }
   return out;
@@ -520,28 +594,28 @@ Result<Bytes> Client::read_ct_entry(std::uint16_t entry) {
   auto setup = make_ct(opt_.id, CtOp::setup_read, entry);
   LMCFG_ASSIGN_OR_RETURN(auto s, id_value(setup, 0x85, true, opt_.timeout));
   if (s.key != entry) {
-    return Error(Errc::unexpected_response,
-                 "CT setup read of entry " + std::to_string(entry) + " answered for entry " + std::to_string(s.key));
+    return Error(Errc::unexpected_response, "CT setup read of entry " + std::to_string(entry) +
+                                                " answered for entry " + std::to_string(s.key));
   }
   if (s.value == 0 || s.value > 0xFFFF) {
-    return Error(Errc::unexpected_response,
-                 "CT entry " + std::to_string(entry) + " has size " + std::to_string(s.value) + " (not defined?)");
+    return Error(Errc::unexpected_response, "CT entry " + std::to_string(entry) + " has size " +
+                                                std::to_string(s.value) + " (not defined?)");
   }
   return read_block(setup, 0x85, make_ct(opt_.id, CtOp::read_data, entry), 0x86, s.value,
                     ("command table entry " + std::to_string(entry)).c_str());
 }
 
 Result<void> Client::write_ct_entry(std::uint16_t entry, ByteView bytes) {
-  LMCFG_TRY(id_value(make_ct_setup_write(opt_.id, entry, static_cast<std::uint32_t>(bytes.size())), 0x83, false,
-                     opt_.timeout));
+  LMCFG_TRY(id_value(make_ct_setup_write(opt_.id, entry, static_cast<std::uint32_t>(bytes.size())),
+                     0x83, false, opt_.timeout));
   const std::size_t chunks = (bytes.size() + 3) / 4;
   for (std::size_t i = 0; i < chunks; ++i) {
     auto r = id_value(make_ct_write(opt_.id, entry, chunk_at(bytes, i)), 0x84, false, opt_.timeout);
     if (r.ok()) r = check_chunk_state(*r, i + 1 == chunks);
     if (!r.ok()) {
       Error e = std::move(r).error();
-      e.message = "command table entry " + std::to_string(entry) + ", chunk " + std::to_string(i + 1) + " of " +
-                  std::to_string(chunks) + ": " + e.message;
+      e.message = "command table entry " + std::to_string(entry) + ", chunk " +
+                  std::to_string(i + 1) + " of " + std::to_string(chunks) + ": " + e.message;
       return e;
     }
   }
@@ -568,12 +642,14 @@ Result<void> Client::stop_mc() {
   return {};
 }
 Result<void> Client::start_mc() {
-  LMCFG_ASSIGN_OR_RETURN(auto t, transact(make_program(opt_.id, ProgramOp::start_after_completion), opt_.reset_timeout, false));
+  LMCFG_ASSIGN_OR_RETURN(auto t, transact(make_program(opt_.id, ProgramOp::start_after_completion),
+                                          opt_.reset_timeout, false));
   LMCFG_TRY(decode_program_response(t));
   return {};
 }
 Result<void> Client::reset() {
-  LMCFG_ASSIGN_OR_RETURN(auto t, transact(make_program(opt_.id, ProgramOp::reset_after_completion), opt_.reset_timeout, false));
+  LMCFG_ASSIGN_OR_RETURN(auto t, transact(make_program(opt_.id, ProgramOp::reset_after_completion),
+                                          opt_.reset_timeout, false));
   LMCFG_TRY(decode_program_response(t));
   return {};
 }
@@ -595,7 +671,8 @@ Result<ErrorCounters> Client::error_counters() {
   return decode_error_counters(t);
 }
 Result<ErrorLogEntry> Client::error_log_entry(std::uint16_t index) {
-  LMCFG_ASSIGN_OR_RETURN(auto t, transact(make_error_log_entry(opt_.id, index), opt_.timeout, true));
+  LMCFG_ASSIGN_OR_RETURN(auto t,
+                         transact(make_error_log_entry(opt_.id, index), opt_.timeout, true));
   return decode_error_log_entry(t);
 }
 

@@ -385,7 +385,7 @@ Result<DriveConfig> Reader::read_v2(const json& doc) {
         const Ptr pp = lp / "params" / i;
         const json& q = (*arr)[i];
         LMCFG_TRY(object(q, pp));
-        LMCFG_TRY(keys(q, pp, {"upid", "value", "type", "name", "unit", "scaled"}));
+        LMCFG_TRY(keys(q, pp, {"upid", "value", "type", "default", "name", "unit", "scaled"}));
         Parameter prm;
         LMCFG_ASSIGN_OR_RETURN(const json* uj, member(q, pp, "upid", true));
         LMCFG_ASSIGN_OR_RETURN(auto us, string(*uj, pp / "upid"));
@@ -402,6 +402,12 @@ Result<DriveConfig> Reader::read_v2(const json& doc) {
         if (tj) {
           LMCFG_ASSIGN_OR_RETURN(auto t, unsigned_int(*tj, pp / "type", 15, "a type code"));
           prm.type = static_cast<std::uint8_t>(t);
+        }
+        LMCFG_ASSIGN_OR_RETURN(const json* dj, member(q, pp, "default", false));
+        if (dj) {
+          LMCFG_ASSIGN_OR_RETURN(
+              auto d, unsigned_int(*dj, pp / "default", 0xFFFFFFFFu, "an unsigned 32-bit value"));
+          prm.default_value = static_cast<std::uint32_t>(d);
         }
         LMCFG_TRY(opt_string(q, pp, "name", prm.name));
         LMCFG_TRY(opt_string(q, pp, "unit", prm.unit));
@@ -675,6 +681,7 @@ Result<std::string> write_json(const DriveConfig& in, const WriteOptions& opts) 
         q["upid"] = detail::upid_hex(p.upid);
         q["value"] = p.value;
         if (p.type) q["type"] = *p.type;
+        if (p.default_value) q["default"] = *p.default_value;
         if (!p.name.empty()) q["name"] = p.name;
         if (!p.scaled.empty()) q["scaled"] = p.scaled;
         if (!p.unit.empty()) q["unit"] = p.unit;

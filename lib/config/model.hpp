@@ -93,6 +93,9 @@ struct Parameter {
   std::uint16_t upid = 0;
   std::uint32_t value = 0;           // raw 4-byte value field (§9)
   std::optional<std::uint8_t> type;  // type code 00..0F (§10) if known
+  // The factory default on the source drive (§10 05h 07h, or the UPID
+  // database), if known: lets a file be compared with defaults offline.
+  std::optional<std::uint32_t> default_value;
   // Display only, filled by the caller (UPID database); empty = unknown.
   std::string name;
   std::string unit;

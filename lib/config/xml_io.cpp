@@ -285,7 +285,7 @@ Result<DriveConfig> Reader::read_v2(xml_node root) {
     layer_nodes[li] = ln;
     auto& out = cfg.layer(static_cast<int>(l));
     for (xml_node pn : ln.children("param")) {
-      LMCFG_TRY(shape(pn, {"upid", "value", "type", "name", "unit", "scaled"}, {}));
+      LMCFG_TRY(shape(pn, {"upid", "value", "type", "default", "name", "unit", "scaled"}, {}));
       Parameter prm;
       LMCFG_ASSIGN_OR_RETURN(auto us, attr(pn, "upid", true));
       auto upid = detail::parse_upid_hex(us);
@@ -299,6 +299,11 @@ Result<DriveConfig> Reader::read_v2(xml_node root) {
       if (pn.attribute("type")) {
         LMCFG_ASSIGN_OR_RETURN(auto t, uint_attr(pn, "type", 15, "a type code"));
         prm.type = static_cast<std::uint8_t>(t);
+      }
+      if (pn.attribute("default")) {
+        LMCFG_ASSIGN_OR_RETURN(auto d,
+                               uint_attr(pn, "default", 0xFFFFFFFFu, "an unsigned 32-bit value"));
+        prm.default_value = static_cast<std::uint32_t>(d);
       }
       LMCFG_ASSIGN_OR_RETURN(prm.name, attr(pn, "name", false));
       LMCFG_ASSIGN_OR_RETURN(prm.unit, attr(pn, "unit", false));
@@ -551,6 +556,7 @@ Result<std::string> write_xml(const DriveConfig& in, const WriteOptions& opts) {
         pn.append_attribute("upid") = detail::upid_hex(p.upid).c_str();
         pn.append_attribute("value") = p.value;
         if (p.type) pn.append_attribute("type") = static_cast<unsigned>(*p.type);
+        if (p.default_value) pn.append_attribute("default") = *p.default_value;
         if (!p.name.empty()) pn.append_attribute("name") = p.name.c_str();
         if (!p.scaled.empty()) pn.append_attribute("scaled") = p.scaled.c_str();
         if (!p.unit.empty()) pn.append_attribute("unit") = p.unit.c_str();

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <ctime>
+#include <set>
 
 #include "common/version.hpp"
 #include "db/database.hpp"
@@ -17,14 +18,15 @@ std::string utc_now() {
   return buf;
 }
 
-std::string display_value(const db::Database* db, std::uint16_t upid, std::uint32_t value) {
+std::string display_value(const db::Database* db, std::uint16_t upid, std::uint32_t value,
+                          std::optional<std::uint8_t> type) {
   const db::Parameter* d = db ? db->find(upid) : nullptr;
-  if (d) {
-    const bool labelled = std::any_of(
-        d->spec.labels.begin(), d->spec.labels.end(),
-        [&](const db::EnumLabel& l) { return l.raw == static_cast<std::int64_t>(value); });
-    if (d->spec.type || labelled) return d->format(value);
-  }
+  db::ValueSpec spec = d ? d->spec : db::ValueSpec{};
+  if (!spec.type && type) spec.type = db::type_from_code(*type);
+  const bool labelled = std::any_of(
+      spec.labels.begin(), spec.labels.end(),
+      [&](const db::EnumLabel& l) { return l.raw == static_cast<std::int64_t>(value); });
+  if (spec.type || labelled) return db::format_value(spec, value);
   char buf[32];
   std::snprintf(buf, sizeof buf, "%u (%04Xh)", value, value);
   return buf;
@@ -34,11 +36,16 @@ void annotate(config::DriveConfig& cfg, const db::Database& db) {
   for (auto& layer : cfg.layers) {
     for (auto& p : layer) {
       const db::Parameter* d = db.find(p.upid);
-      if (!d) continue;
+      if (!d) {
+        if (p.type) p.scaled = display_value(&db, p.upid, p.value, p.type);
+        continue;
+      }
       p.name = d->name;
       p.unit = d->spec.unit;
       if (!p.type && d->spec.type) p.type = static_cast<std::uint8_t>(*d->spec.type);
-      p.scaled = d->format(p.value);
+      if (!p.default_value && d->default_value)
+        p.default_value = static_cast<std::uint32_t>(*d->default_value);
+      p.scaled = display_value(&db, p.upid, p.value, p.type);
     }
   }
 }
@@ -69,6 +76,46 @@ void report(const Progress& p, const std::string& phase, std::size_t done, std::
   if (p) p(phase, done, total);
 }
 
+std::optional<std::uint8_t> file_type_code(std::uint16_t drive_type) {
+  if (!db::type_from_code(drive_type)) return std::nullopt;  // not a §10 type code: stays unknown
+  return static_cast<std::uint8_t>(drive_type);
+}
+
+// Asks one field; a refusal (C1..C9) leaves it unknown, a link failure propagates.
+template <typename T>
+Result<std::optional<T>> ask_optional(Result<T> r) {
+  if (r.ok()) return std::optional<T>(*r);
+  if (r.error().code.category() == comm_state_category()) return std::optional<T>();
+  return std::move(r).error();
+}
+
+// Types and defaults of the captured parameters that the database does not
+// know, from the drive (§10 05h 04h / 07h). In a full capture the type came
+// with the UPID list and a UPID outside the modified list holds its default.
+Result<void> describe_from_drive(client::Client& c, const db::Database* db, int layer,
+                                 std::vector<config::Parameter>& params,
+                                 const std::set<std::uint16_t>* modified,
+                                 const Progress& progress) {
+  const std::string phase = std::string("types and defaults ") + client::layer_name(layer);
+  std::size_t n = 0;
+  for (auto& p : params) {
+    report(progress, phase, ++n, params.size());
+    const db::Parameter* d = db ? db->find(p.upid) : nullptr;
+    if (!p.type && !(d && d->spec.type)) {
+      LMCFG_ASSIGN_OR_RETURN(auto t, ask_optional(c.get_type(p.upid)));
+      if (t) p.type = file_type_code(*t);
+    }
+    if (!p.default_value && !(d && d->default_value)) {
+      if (modified && !modified->count(p.upid)) {
+        p.default_value = p.value;
+      } else {
+        LMCFG_ASSIGN_OR_RETURN(p.default_value, ask_optional(c.get_default(p.upid)));
+      }
+    }
+  }
+  return {};
+}
+
 }  // namespace
 
 Result<config::DriveConfig> backup(client::Client& c, const BackupOptions& opt,
@@ -94,8 +141,9 @@ Result<config::DriveConfig> backup(client::Client& c, const BackupOptions& opt,
     if (!opt.full) {
       LMCFG_ASSIGN_OR_RETURN(auto mods, c.modified_list(layer));
       for (const auto& m : mods)
-        out.push_back(config::Parameter{m.upid, m.value, std::nullopt, {}, {}, {}});
+        out.push_back(config::Parameter{m.upid, m.value, std::nullopt, std::nullopt, {}, {}, {}});
       report(opt.progress, phase, mods.size(), mods.size());
+      if (opt.ask_drive) LMCFG_TRY(describe_from_drive(c, db, layer, out, nullptr, opt.progress));
       continue;
     }
     LMCFG_ASSIGN_OR_RETURN(auto list, c.upid_list(layer, [&](std::size_t n) {
@@ -108,9 +156,14 @@ Result<config::DriveConfig> backup(client::Client& c, const BackupOptions& opt,
       if ((u.address_usage & 0x0008) == 0)
         continue;  // bit 3 ROM write (§10.3: only those form a configuration)
       LMCFG_ASSIGN_OR_RETURN(auto v, c.read_rom(u.upid));
-      out.push_back(
-          config::Parameter{u.upid, v, static_cast<std::uint8_t>(u.type & 0xFF), {}, {}, {}});
+      out.push_back(config::Parameter{u.upid, v, file_type_code(u.type), std::nullopt, {}, {}, {}});
       report(opt.progress, phase, out.size(), rom_writable);
+    }
+    if (opt.ask_drive) {
+      LMCFG_ASSIGN_OR_RETURN(auto mods, c.modified_list(layer));
+      std::set<std::uint16_t> modified;
+      for (const auto& m : mods) modified.insert(m.upid);
+      LMCFG_TRY(describe_from_drive(c, db, layer, out, &modified, opt.progress));
     }
   }
   if (opt.full) cfg.identity.upid_fingerprint = fingerprint(all_upids);

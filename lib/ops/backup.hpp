@@ -28,11 +28,18 @@ struct BackupOptions {
   bool curves = true;
   bool command_table = true;
   bool full = false;
+  // Record each parameter's type and factory default in the file. What the
+  // database does not know is asked from the drive (§10 05h 04h / 07h; a full
+  // capture takes types from the UPID list and the default of an unmodified
+  // UPID from its value). false: only what the database knows, fewer telegrams.
+  bool ask_drive = true;
   std::uint16_t max_curve_id = 100;  // storage limit of 100 curves (facts note)
   Progress progress;
 };
 
-// Reads the drive behind `c`. db (optional) fills display names and types.
+// Reads the drive behind `c`. db (optional) fills display names, types and
+// defaults. A type or default query the drive refuses (C1..C9) leaves that
+// field unknown; a link failure fails the backup.
 Result<config::DriveConfig> backup(client::Client& c, const BackupOptions& opt,
                                    const db::Database* db);
 
@@ -41,8 +48,10 @@ Result<config::DriveConfig> backup(client::Client& c, const BackupOptions& opt,
 void annotate(config::DriveConfig& cfg, const db::Database& db);
 
 // A parameter value for people: the database's formatting (scale, unit, enum
-// label) when it knows the type or a label for this value, else decimal and hex.
-std::string display_value(const db::Database* db, std::uint16_t upid, std::uint32_t value);
+// label) when it knows the type or a label for this value, else formatted by
+// `type` (a type code recorded in a file) when given, else decimal and hex.
+std::string display_value(const db::Database* db, std::uint16_t upid, std::uint32_t value,
+                          std::optional<std::uint8_t> type = std::nullopt);
 
 // ISO 8601 UTC of now ("2026-11-22T04:05:06Z").
 std::string utc_now();

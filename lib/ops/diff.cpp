@@ -33,8 +33,8 @@ Effective effective(const config::DriveConfig& c, int layer, std::uint16_t upid)
 }
 
 std::string show(const Effective& e, const db::Database* db, std::uint16_t upid,
-                 std::optional<std::uint32_t> def) {
-  auto fmt = [&](std::uint32_t v) { return display_value(db, upid, v); };
+                 std::optional<std::uint32_t> def, std::optional<std::uint8_t> type) {
+  auto fmt = [&](std::uint32_t v) { return display_value(db, upid, v, type); };
   switch (e.state) {
     case Effective::State::value:
       return fmt(e.value);
@@ -48,9 +48,31 @@ std::string show(const Effective& e, const db::Database* db, std::uint16_t upid,
   return "";
 }
 
+// What the two captures record about one parameter (type, default, name).
+struct Recorded {
+  std::optional<std::uint8_t> type;
+  std::optional<std::uint32_t> default_value;
+  std::string name;
+};
+
+Recorded recorded(const config::DriveConfig& a, const config::DriveConfig& b, int layer,
+                  std::uint16_t upid) {
+  Recorded r;
+  for (const auto* side : {&a, &b}) {
+    for (const auto& p : side->layer(layer)) {
+      if (p.upid != upid) continue;
+      if (!r.type) r.type = p.type;
+      if (!r.default_value) r.default_value = p.default_value;
+      if (r.name.empty()) r.name = p.name;
+    }
+  }
+  return r;
+}
+
 void diff_parameters(const config::DriveConfig& a, const config::DriveConfig& b,
                      const db::Database* db, const DefaultLookup& defaults, const DiffOptions& opt,
                      DiffResult& r) {
+  std::size_t from_files = 0, from_lookup = 0;
   for (int layer = 1; layer <= 4; ++layer) {
     const bool in_a = a.scope.layers[static_cast<std::size_t>(layer - 1)];
     const bool in_b = b.scope.layers[static_cast<std::size_t>(layer - 1)];
@@ -67,8 +89,21 @@ void diff_parameters(const config::DriveConfig& a, const config::DriveConfig& b,
       const db::Parameter* d = db ? db->find(upid) : nullptr;
       if (opt.ignore_unit && d && d->comm) continue;
       Effective ea = effective(a, layer, upid), eb = effective(b, layer, upid);
+      const Recorded rec = recorded(a, b, layer, upid);
+      // Factory default: the database's, else the drive's own as a capture
+      // recorded it, else asked (the tools ask a connected drive, 05h 07h).
       std::optional<std::uint32_t> def;
-      if (ea.state != eb.state) def = defaults ? defaults(upid) : std::nullopt;
+      if (ea.state != eb.state) {
+        if (d && d->default_value) {
+          def = static_cast<std::uint32_t>(*d->default_value);
+        } else if (rec.default_value) {
+          def = rec.default_value;
+          ++from_files;
+        } else if (defaults) {
+          def = defaults(upid);
+          from_lookup += def ? 1 : 0;
+        }
+      }
       auto resolve = [&](Effective& e) {
         if (e.state == Effective::State::at_default && def) e = {Effective::State::value, *def};
       };
@@ -81,17 +116,21 @@ void diff_parameters(const config::DriveConfig& a, const config::DriveConfig& b,
       it.kind = DiffItem::Kind::parameter;
       it.layer = layer;
       it.key = upid;
-      it.name = d ? d->name : "";
-      if (it.name.empty()) {
-        for (const auto* side : {&a, &b})
-          for (const auto& p : side->layer(layer))
-            if (p.upid == upid && !p.name.empty()) it.name = p.name;
-      }
-      it.a = show(ea, db, upid, def);
-      it.b = show(eb, db, upid, def);
+      it.name = d && !d->name.empty() ? d->name : rec.name;
+      it.a = show(ea, db, upid, def, rec.type);
+      it.b = show(eb, db, upid, def, rec.type);
       r.items.push_back(std::move(it));
     }
   }
+  if (from_files)
+    r.notes.push_back(std::to_string(from_files) +
+                      " default value(s) the UPID database does not know were taken from the "
+                      "capture (the drive's own, "
+                      "recorded at backup)");
+  if (from_lookup)
+    r.notes.push_back(
+        std::to_string(from_lookup) +
+        " default value(s) the UPID database does not know were asked from the drive (05h 07h)");
 }
 
 std::string curve_label(const config::Curve& c) {

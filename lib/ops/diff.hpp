@@ -24,7 +24,8 @@ struct DiffOptions {
 };
 
 // Default value of a UPID when the configuration does not list it; nullopt if
-// unknown. The tools chain the database and, with a link, the drive (05h 07h).
+// unknown. diff() asks it only when neither the database nor a capture's
+// recorded default knows the value; the tools ask a connected drive (05h 07h).
 using DefaultLookup = std::function<std::optional<std::uint32_t>(std::uint16_t upid)>;
 
 struct DiffItem {

@@ -61,40 +61,62 @@ std::optional<std::int64_t> as_integer(db::TypeCode t, std::uint32_t raw) {
 
 bool is_comm(const db::Database* db, std::uint16_t upid) { return is_comm_parameter(db, upid); }
 
-// Checks one parameter against the target; appends problems. Link errors propagate.
+// Checks one parameter against the target; appends problems. Link errors
+// propagate. `listed`: the target's UPID list of the layer (§10.3), read when
+// the database does not know every address usage; else the type is asked.
 Result<void> check_parameter(client::Client& c, const db::Database* db, int layer,
-                             const config::Parameter& p, Plan& plan) {
+                             const config::Parameter& p,
+                             const std::map<std::uint16_t, client::UpidInfo>* listed, Plan& plan) {
   const db::Parameter* d = db ? db->find(p.upid) : nullptr;
   const std::string label = param_label(layer, p.upid, d, &p);
-  auto type = c.get_type(p.upid);
-  if (!type.ok()) {
-    if (type.error().code == make_comm_state_error(0xC8)) {
-      plan.problems.push_back(
-          label + ": UPID does not exist on the target (type query answered C8h unknown UPID)");
+  std::uint16_t type = 0;
+  std::optional<std::uint16_t> address_usage;
+  const char* au_source = "the UPID database's";
+  if (d && d->address_usage) address_usage = d->address_usage->raw;
+  if (listed) {
+    auto it = listed->find(p.upid);
+    if (it == listed->end()) {
+      plan.problems.push_back(label + ": UPID does not exist on the target (not in its " +
+                              std::string(config::layer_name(layer)) + " UPID list, §10.3)");
       return {};
     }
-    if (type.error().code.category() == comm_state_category()) {
-      plan.problems.push_back(label +
-                              ": the target refused the type query: " + type.error().message);
-      return {};
+    type = it->second.type;
+    if (!address_usage) {
+      address_usage = it->second.address_usage;
+      au_source = "the target's";
     }
-    return std::move(type).error();
+  } else {
+    auto asked = c.get_type(p.upid);
+    if (!asked.ok()) {
+      if (asked.error().code == make_comm_state_error(0xC8)) {
+        plan.problems.push_back(
+            label + ": UPID does not exist on the target (type query answered C8h unknown UPID)");
+        return {};
+      }
+      if (asked.error().code.category() == comm_state_category()) {
+        plan.problems.push_back(label +
+                                ": the target refused the type query: " + asked.error().message);
+        return {};
+      }
+      return std::move(asked).error();
+    }
+    type = *asked;
   }
-  auto code = db::type_from_code(*type);
+  auto code = db::type_from_code(type);
   if (!code) {
-    plan.problems.push_back(label + ": the target reports type code " + hex4(*type) +
+    plan.problems.push_back(label + ": the target reports type code " + hex4(type) +
                             ", which seed 003 §10 does not define");
     return {};
   }
-  if (p.type && *p.type != *type) {
+  if (p.type && *p.type != type) {
     plan.problems.push_back(label + ": type differs: the file has " +
                             std::string(db::type_name(static_cast<db::TypeCode>(*p.type))) +
                             ", the target has " + std::string(db::type_name(*code)));
     return {};
   }
-  if (d && d->address_usage && !d->address_usage->rom_write()) {
-    plan.problems.push_back(label + ": read-only on the target (address usage " +
-                            hex4(d->address_usage->raw) + " has no ROM write bit)");
+  if (address_usage && !(*address_usage & 0x0008)) {
+    plan.problems.push_back(label + ": read-only on the target (" + au_source + " address usage " +
+                            hex4(*address_usage) + " has no ROM write bit)");
     return {};
   }
   auto value = as_integer(*code, p.value);
@@ -227,16 +249,42 @@ Result<Plan> plan_restore(client::Client& c, const config::DriveConfig& file,
     if (!file.scope.layers[static_cast<std::size_t>(layer - 1)]) continue;
     LayerWork w{layer, {}, {}};
     LMCFG_ASSIGN_OR_RETURN(w.target, c.modified_list(layer));
+    std::vector<const config::Parameter*> to_check;
     for (const auto& p : file.layer(layer)) {
-      if (opt.progress) opt.progress("plan: checking parameters", ++checked, total);
       if (is_comm(db, p.upid) && !opt.include_comm) {
         plan.skipped.push_back(
             param_label(layer, p.upid, db ? db->find(p.upid) : nullptr, &p) +
             ": communication parameter, the target keeps its own value (use --include-comm)");
         continue;
       }
-      LMCFG_TRY(check_parameter(c, db, layer, p, plan));
-      w.writes.push_back(p);
+      to_check.push_back(&p);
+    }
+    // ROM write access must be known before a write (§10 address usage bit 3).
+    // Where the database does not know it, the target's UPID list tells, with
+    // the type of every UPID, in one walk of the layer.
+    const std::size_t au_unknown =
+        std::count_if(to_check.begin(), to_check.end(), [&](const config::Parameter* p) {
+          const db::Parameter* d = db ? db->find(p->upid) : nullptr;
+          return !(d && d->address_usage);
+        });
+    std::optional<std::map<std::uint16_t, client::UpidInfo>> listed;
+    if (au_unknown) {
+      const std::string phase = "plan: " + std::string(config::layer_name(layer)) + " UPID list";
+      LMCFG_ASSIGN_OR_RETURN(auto list, c.upid_list(layer, [&](std::size_t n) {
+        if (opt.progress) opt.progress(phase, n, 0);
+      }));
+      listed.emplace();
+      for (const auto& u : list) (*listed)[u.upid] = u;
+      plan.notes.push_back(
+          std::string(config::layer_name(layer)) +
+          ": the UPID database does not know the address usage of " + std::to_string(au_unknown) +
+          " parameter(s); read the target's UPID list (" + std::to_string(list.size()) +
+          " UPIDs, §10.3) to check ROM write access");
+    }
+    for (const auto* p : to_check) {
+      if (opt.progress) opt.progress("plan: checking parameters", ++checked, total);
+      LMCFG_TRY(check_parameter(c, db, layer, *p, listed ? &*listed : nullptr, plan));
+      w.writes.push_back(*p);
     }
     // The target's communication parameters survive the restore unless --include-comm.
     for (const auto& m : w.target) {
@@ -246,7 +294,8 @@ Result<Plan> plan_restore(client::Client& c, const config::DriveConfig& file,
                       [&](const config::Parameter& p) { return p.upid == m.upid; });
       if (!opt.include_comm || !file_has) {
         if (opt.include_comm) continue;  // the file's (default) value wins
-        w.writes.push_back(config::Parameter{m.upid, m.value, std::nullopt, {}, {}, {}});
+        w.writes.push_back(
+            config::Parameter{m.upid, m.value, std::nullopt, std::nullopt, {}, {}, {}});
         plan.notes.push_back(param_label(layer, m.upid, db ? db->find(m.upid) : nullptr, nullptr) +
                              ": target's communication value " + hex4(m.value) + " kept");
       }
@@ -315,7 +364,7 @@ Result<Plan> plan_restore(client::Client& c, const config::DriveConfig& file,
       for (const auto& p : w.writes) {
         add_step(plan, Action::write_rom, w.layer, p.upid, p.value,
                  "write ROM " + param_label(w.layer, p.upid, db ? db->find(p.upid) : nullptr, &p) +
-                     " = " + display_value(db, p.upid, p.value),
+                     " = " + display_value(db, p.upid, p.value, p.type),
                  1);
       }
     } else {
@@ -324,7 +373,7 @@ Result<Plan> plan_restore(client::Client& c, const config::DriveConfig& file,
         if (it != on_target.end() && it->second == p.value) continue;  // already there
         add_step(plan, Action::write_rom, w.layer, p.upid, p.value,
                  "write ROM " + param_label(w.layer, p.upid, db ? db->find(p.upid) : nullptr, &p) +
-                     " = " + display_value(db, p.upid, p.value),
+                     " = " + display_value(db, p.upid, p.value, p.type),
                  1);
         rom_changed = true;
       }

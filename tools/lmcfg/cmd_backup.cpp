@@ -1,6 +1,7 @@
 // lmcfg backup -o FILE: read a drive's configuration and write it to a file.
 #include <cstdio>
 #include <filesystem>
+#include <nlohmann/json.hpp>
 
 #include "command.hpp"
 #include "config/config_io.hpp"
@@ -17,13 +18,15 @@ struct BackupCli {
   bool no_curves = false;
   bool no_ct = false;
   bool full = false;
+  bool no_describe = false;
   std::vector<std::string> labels;
 };
 
 int run(BackupCli& o) {
   std::error_code ec;
   if (std::filesystem::is_directory(o.output, ec)) {
-    return fail("backup", Error(Errc::invalid_argument, "output '" + o.output + "' is a directory; name a file"));
+    return fail("backup", Error(Errc::invalid_argument,
+                                "output '" + o.output + "' is a directory; name a file"));
   }
   std::optional<config::FileFormat> format;
   if (!o.format.empty()) {
@@ -52,6 +55,7 @@ int run(BackupCli& o) {
   bo.curves = !o.no_curves;
   bo.command_table = !o.no_ct;
   bo.full = o.full;
+  bo.ask_drive = !o.no_describe;
   bo.progress = make_progress(o.common);
   auto cfg = ops::backup((*session)->client(), bo, db);
   end_progress(o.common);
@@ -69,26 +73,38 @@ int run(BackupCli& o) {
   for (const auto& l : cfg->layers) params += l.size();
   const auto& st = (*session)->client().stats();
   if (o.common.json) {
-    std::printf("{\"file\": \"%s\", \"parameters\": %zu, \"curves\": %zu, \"ct_entries\": %zu, \"telegrams\": %llu}\n",
-                o.output.c_str(), params, cfg->curves.size(), cfg->ct_entries.size(),
-                static_cast<unsigned long long>(st.requests));
+    const nlohmann::ordered_json j{{"file", o.output},
+                                   {"parameters", params},
+                                   {"curves", cfg->curves.size()},
+                                   {"ct_entries", cfg->ct_entries.size()},
+                                   {"telegrams", st.requests}};
+    std::printf("%s\n", j.dump().c_str());
   } else if (!o.common.quiet) {
-    std::fprintf(stderr, "backup: %zu parameter(s), %zu curve(s), %zu command table entr%s -> %s (%llu telegrams)\n",
-                 params, cfg->curves.size(), cfg->ct_entries.size(), cfg->ct_entries.size() == 1 ? "y" : "ies",
-                 o.output.c_str(), static_cast<unsigned long long>(st.requests));
+    std::fprintf(
+        stderr,
+        "backup: %zu parameter(s), %zu curve(s), %zu command table entr%s -> %s (%llu telegrams)\n",
+        params, cfg->curves.size(), cfg->ct_entries.size(),
+        cfg->ct_entries.size() == 1 ? "y" : "ies", o.output.c_str(),
+        static_cast<unsigned long long>(st.requests));
   }
   return kOk;
 }
 
 const Register reg(10, [](CLI::App& app, int& exit_code) {
   auto o = std::make_shared<BackupCli>();
-  auto* sub = app.add_subcommand("backup", "Read a drive's configuration and write it to a JSON or XML file");
+  auto* sub = app.add_subcommand("backup",
+                                 "Read a drive's configuration and write it to a JSON or XML file");
   sub->footer(
       "Examples:\n"
       "  lmcfg backup --port /dev/ttyUSB0 --id 0x11 -o axis1.json\n"
       "  lmcfg backup --port tcp://10.0.0.5:4001 --full --label machine=press3 -o axis1.xml\n"
-      "Reads the modified-parameter list of each layer, every curve and every defined command table entry.\n"
-      "Sends read telegrams only; the file is written atomically and only when the whole backup succeeded.");
+      "Reads the modified-parameter list of each layer, every curve and every defined command "
+      "table entry,\n"
+      "and records each parameter's type and factory default (asking the drive for what the UPID "
+      "database\n"
+      "does not know, unless --no-describe).\n"
+      "Sends read telegrams only; the file is written atomically and only when the whole backup "
+      "succeeded.");
   add_link_options(sub, o->common);
   add_output_options(sub, o->common);
   sub->add_option("-o,--output", o->output, "output file (.json or .xml)")->required();
@@ -97,6 +113,9 @@ const Register reg(10, [](CLI::App& app, int& exit_code) {
   sub->add_flag("--no-curves", o->no_curves, "do not read curves");
   sub->add_flag("--no-ct", o->no_ct, "do not read the command table");
   sub->add_flag("--full", o->full, "read every ROM-writable UPID (audit-grade snapshot)");
+  sub->add_flag(
+      "--no-describe", o->no_describe,
+      "do not ask the drive for types and defaults the UPID database lacks (fewer telegrams)");
   sub->add_option("--label", o->labels, "KEY=VALUE stored in the file (machine, axis, ...)");
   sub->callback([o, &exit_code] { exit_code = run(*o); });
 });

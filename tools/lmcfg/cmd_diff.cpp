@@ -50,10 +50,6 @@ int run(DiffCli& o) {
   std::map<std::uint16_t, std::optional<std::uint32_t>> asked;
   std::optional<Error> link_error;
   ops::DefaultLookup defaults = [&](std::uint16_t upid) -> std::optional<std::uint32_t> {
-    if (db) {
-      if (const auto* d = db->find(upid); d && d->default_value)
-        return static_cast<std::uint32_t>(*d->default_value);
-    }
     if (!session) return std::nullopt;
     auto it = asked.find(upid);
     if (it != asked.end()) return it->second;
