@@ -3,6 +3,7 @@
 // says what went wrong, where, and what was expected. Exceptions are used only
 // at the edges (tools).
 #include <cassert>
+#include <optional>
 #include <string>
 #include <system_error>
 #include <utility>
@@ -116,6 +117,16 @@ class [[nodiscard]] Result<void> {
   Error err_;
   bool failed_ = false;
 };
+
+// A drive's refusal (C1..C9, comm_state_category) as an unknown, anything else
+// (link failures) as the error: for optional questions such as a parameter's
+// type or default, which a drive may not answer for every UPID.
+template <class T>
+Result<std::optional<T>> unless_refused(Result<T> r) {
+  if (r.ok()) return std::optional<T>(std::move(r).value());
+  if (r.error().code.category() == comm_state_category()) return std::optional<T>();
+  return std::move(r).error();
+}
 
 }  // namespace lmcfg
 

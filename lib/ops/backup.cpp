@@ -81,14 +81,6 @@ std::optional<std::uint8_t> file_type_code(std::uint16_t drive_type) {
   return static_cast<std::uint8_t>(drive_type);
 }
 
-// Asks one field; a refusal (C1..C9) leaves it unknown, a link failure propagates.
-template <typename T>
-Result<std::optional<T>> ask_optional(Result<T> r) {
-  if (r.ok()) return std::optional<T>(*r);
-  if (r.error().code.category() == comm_state_category()) return std::optional<T>();
-  return std::move(r).error();
-}
-
 // Types and defaults of the captured parameters that the database does not
 // know, from the drive (§10 05h 04h / 07h). In a full capture the type came
 // with the UPID list and a UPID outside the modified list holds its default.
@@ -102,14 +94,14 @@ Result<void> describe_from_drive(client::Client& c, const db::Database* db, int 
     report(progress, phase, ++n, params.size());
     const db::Parameter* d = db ? db->find(p.upid) : nullptr;
     if (!p.type && !(d && d->spec.type)) {
-      LMCFG_ASSIGN_OR_RETURN(auto t, ask_optional(c.get_type(p.upid)));
+      LMCFG_ASSIGN_OR_RETURN(auto t, unless_refused(c.get_type(p.upid)));
       if (t) p.type = file_type_code(*t);
     }
     if (!p.default_value && !(d && d->default_value)) {
       if (modified && !modified->count(p.upid)) {
         p.default_value = p.value;
       } else {
-        LMCFG_ASSIGN_OR_RETURN(p.default_value, ask_optional(c.get_default(p.upid)));
+        LMCFG_ASSIGN_OR_RETURN(p.default_value, unless_refused(c.get_default(p.upid)));
       }
     }
   }

@@ -4,14 +4,6 @@ namespace lmcfg::ops {
 
 namespace {
 
-// A refusal (C1..C9) is an unknown, not a failure.
-template <typename T>
-Result<std::optional<T>> unless_refused(Result<T> r) {
-  if (r.ok()) return std::optional<T>(*r);
-  if (r.error().code.category() == comm_state_category()) return std::optional<T>();
-  return std::move(r).error();
-}
-
 void add(std::string& asked, const std::string& what) {
   asked += (asked.empty() ? "" : ", ") + what;
 }

@@ -53,9 +53,10 @@ int run(DiffCli& o) {
     if (!session) return std::nullopt;
     auto it = asked.find(upid);
     if (it != asked.end()) return it->second;
-    auto r = session->client().get_default(upid);  // the drive's own default value (05h 07h)
-    if (!r.ok() && r.error().code.category() != comm_state_category()) link_error = r.error();
-    return asked[upid] = r.ok() ? std::optional<std::uint32_t>(*r) : std::nullopt;
+    // The drive's own default value (05h 07h); a refusal leaves it unknown.
+    auto r = unless_refused(session->client().get_default(upid));
+    if (!r.ok()) link_error = r.error();
+    return asked[upid] = r.ok() ? *r : std::nullopt;
   };
   ops::DiffOptions opt;
   opt.ignore_metadata = o.ignore_metadata || o.a == "defaults" || o.b == "defaults" ||
