@@ -23,11 +23,24 @@ struct Effective {
   std::uint32_t value = 0;
 };
 
-Effective effective(const config::DriveConfig& c, int layer, std::uint16_t upid) {
+// One capture's parameters of one layer, by UPID.
+using ByUpid = std::map<std::uint16_t, const config::Parameter*>;
+
+ByUpid by_upid(const config::DriveConfig& c, int layer) {
+  ByUpid m;
+  for (const auto& p : c.layer(layer)) m.emplace(p.upid, &p);
+  return m;
+}
+
+const config::Parameter* find_in(const ByUpid& m, std::uint16_t upid) {
+  auto it = m.find(upid);
+  return it == m.end() ? nullptr : it->second;
+}
+
+Effective effective(const config::DriveConfig& c, int layer, const ByUpid& params,
+                    std::uint16_t upid) {
   if (!c.scope.layers[static_cast<std::size_t>(layer - 1)]) return {};
-  for (const auto& p : c.layer(layer)) {
-    if (p.upid == upid) return {Effective::State::value, p.value};
-  }
+  if (const auto* p = find_in(params, upid)) return {Effective::State::value, p->value};
   if (c.scope.parameters == config::ParamSet::modified) return {Effective::State::at_default, 0};
   return {Effective::State::not_writable, 0};
 }
@@ -55,16 +68,13 @@ struct Recorded {
   std::string name;
 };
 
-Recorded recorded(const config::DriveConfig& a, const config::DriveConfig& b, int layer,
-                  std::uint16_t upid) {
+Recorded recorded(const ByUpid& a, const ByUpid& b, std::uint16_t upid) {
   Recorded r;
-  for (const auto* side : {&a, &b}) {
-    for (const auto& p : side->layer(layer)) {
-      if (p.upid != upid) continue;
-      if (!r.type) r.type = p.type;
-      if (!r.default_value) r.default_value = p.default_value;
-      if (r.name.empty()) r.name = p.name;
-    }
+  for (const auto* p : {find_in(a, upid), find_in(b, upid)}) {
+    if (!p) continue;
+    if (!r.type) r.type = p->type;
+    if (!r.default_value) r.default_value = p->default_value;
+    if (r.name.empty()) r.name = p->name;
   }
   return r;
 }
@@ -82,14 +92,15 @@ void diff_parameters(const config::DriveConfig& a, const config::DriveConfig& b,
       continue;
     }
     if (!in_a) continue;
+    const ByUpid pa = by_upid(a, layer), pb = by_upid(b, layer);
     std::set<std::uint16_t> upids;
-    for (const auto& p : a.layer(layer)) upids.insert(p.upid);
-    for (const auto& p : b.layer(layer)) upids.insert(p.upid);
+    for (const auto& [upid, p] : pa) upids.insert(upid);
+    for (const auto& [upid, p] : pb) upids.insert(upid);
     for (auto upid : upids) {
       const db::Parameter* d = db ? db->find(upid) : nullptr;
       if (opt.ignore_unit && d && d->comm) continue;
-      Effective ea = effective(a, layer, upid), eb = effective(b, layer, upid);
-      const Recorded rec = recorded(a, b, layer, upid);
+      Effective ea = effective(a, layer, pa, upid), eb = effective(b, layer, pb, upid);
+      const Recorded rec = recorded(pa, pb, upid);
       // Factory default: the database's, else the drive's own as a capture
       // recorded it, else asked (the tools ask a connected drive, 05h 07h).
       std::optional<std::uint32_t> def;
