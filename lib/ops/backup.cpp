@@ -142,11 +142,13 @@ Result<config::DriveConfig> backup(client::Client& c, const BackupOptions& opt,
       report(opt.progress, phase + " list", n, 0);
     }));
     all_upids.insert(all_upids.end(), list.begin(), list.end());
-    std::size_t rom_writable = 0;
-    for (const auto& u : list) rom_writable += (u.address_usage & 0x0008) ? 1 : 0;
+    auto rom_write = [](const client::UpidInfo& u) {
+      return db::AddressUsage{u.address_usage}.rom_write();
+    };
+    const auto rom_writable =
+        static_cast<std::size_t>(std::count_if(list.begin(), list.end(), rom_write));
     for (const auto& u : list) {
-      if ((u.address_usage & 0x0008) == 0)
-        continue;  // bit 3 ROM write (§10.3: only those form a configuration)
+      if (!rom_write(u)) continue;  // bit 3 ROM write (§10.3: only those form a configuration)
       LMCFG_ASSIGN_OR_RETURN(auto v, c.read_rom(u.upid));
       out.push_back(config::Parameter{u.upid, v, file_type_code(u.type), std::nullopt, {}, {}, {}});
       report(opt.progress, phase, out.size(), rom_writable);

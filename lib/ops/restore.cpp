@@ -70,9 +70,9 @@ Result<void> check_parameter(client::Client& c, const db::Database* db, int laye
   const db::Parameter* d = db ? db->find(p.upid) : nullptr;
   const std::string label = param_label(layer, p.upid, d, &p);
   std::uint16_t type = 0;
-  std::optional<std::uint16_t> address_usage;
+  std::optional<db::AddressUsage> address_usage;
   const char* au_source = "the UPID database's";
-  if (d && d->address_usage) address_usage = d->address_usage->raw;
+  if (d) address_usage = d->address_usage;
   if (listed) {
     auto it = listed->find(p.upid);
     if (it == listed->end()) {
@@ -82,7 +82,7 @@ Result<void> check_parameter(client::Client& c, const db::Database* db, int laye
     }
     type = it->second.type;
     if (!address_usage) {
-      address_usage = it->second.address_usage;
+      address_usage = db::AddressUsage{it->second.address_usage};
       au_source = "the target's";
     }
   } else {
@@ -114,9 +114,9 @@ Result<void> check_parameter(client::Client& c, const db::Database* db, int laye
                             ", the target has " + std::string(db::type_name(*code)));
     return {};
   }
-  if (address_usage && !(*address_usage & 0x0008)) {
+  if (address_usage && !address_usage->rom_write()) {
     plan.problems.push_back(label + ": read-only on the target (" + au_source + " address usage " +
-                            hex4(*address_usage) + " has no ROM write bit)");
+                            hex4(address_usage->raw) + " has no ROM write bit)");
     return {};
   }
   auto value = as_integer(*code, p.value);
