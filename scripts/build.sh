@@ -3,5 +3,6 @@
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${LMCFG_BUILD_DIR:-$root/build}"
-cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE="${LMCFG_BUILD_TYPE:-RelWithDebInfo}" "$@" >/dev/null
+# The project's own builds treat warnings as errors (LMCFG_WERROR; off by default for users).
+cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE="${LMCFG_BUILD_TYPE:-RelWithDebInfo}" -DLMCFG_WERROR=ON "$@" >/dev/null
 cmake --build "$build" -j"$(nproc)"

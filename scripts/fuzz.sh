@@ -14,7 +14,7 @@ if [[ ${#targets[@]} -eq 0 ]]; then targets=(decoder json_config xml_config clie
 build="${LMCFG_FUZZ_BUILD:-$root/build-fuzz}"
 jobs="${LMCFG_JOBS:-2}"
 
-CC=clang CXX=clang++ cmake -S "$root" -B "$build" -DLMCFG_FUZZ=ON -DLMCFG_BUILD_TESTS=OFF \
+CC=clang CXX=clang++ cmake -S "$root" -B "$build" -DLMCFG_FUZZ=ON -DLMCFG_WERROR=ON -DLMCFG_BUILD_TESTS=OFF \
   -DLMCFG_BUILD_BENCH=OFF -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null
 cmake --build "$build" -j"$jobs" --target $(printf 'fuzz_%s ' "${targets[@]}")
 

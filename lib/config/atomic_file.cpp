@@ -42,12 +42,19 @@ Result<void> write_file_atomic(const fs::path& path, std::string_view content) {
     if (S_ISDIR(st.st_mode))
       return Error(Errc::file_error, path.string() + ": is a directory; expected a file path");
     if (!S_ISREG(st.st_mode))
-      return Error(Errc::file_error, path.string() + ": is not a regular file; expected a file path");
+      return Error(Errc::file_error,
+                   path.string() + ": is not a regular file; expected a file path");
     mode = st.st_mode & 07777;
   }
   fs::path dir = path.parent_path();
   if (dir.empty()) dir = ".";
-  std::string tmpl = (dir / ("." + path.filename().string() + ".tmp-XXXXXX")).string();
+  // Built by appending rather than `"." + name + ".tmp-XXXXXX"`: at -O2/-O3 GCC 12
+  // reports a -Wrestrict false positive inside std::string's operator+(const
+  // char*, string&&) (GCC bug 105651; fixed in later GCC releases), an error under -Werror.
+  std::string tmp_name = ".";
+  tmp_name += path.filename().string();
+  tmp_name += ".tmp-XXXXXX";
+  std::string tmpl = (dir / tmp_name).string();
   std::vector<char> name(tmpl.begin(), tmpl.end());
   name.push_back('\0');
   int fd = ::mkstemp(name.data());
