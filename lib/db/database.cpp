@@ -597,16 +597,37 @@ bool Parameter::applies_to(std::string_view profile) const {
   return std::find(profiles.begin(), profiles.end(), profile) != profiles.end();
 }
 
+Result<std::string> Database::find_default_path(const char* env_value,
+                                                const std::filesystem::path& exe_dir) {
+  const std::string env_name(kDbPathEnv);
+  if (env_value && *env_value) return std::string(env_value);
+  const std::string file(kDefaultDbFileName);
+  const std::pair<std::filesystem::path, const char*> places[] = {
+      {exe_dir / file, "next to the program"},
+      {(exe_dir / ".." / "share" / "lmcfg" / file).lexically_normal(),
+       "../share/lmcfg/ relative to the program"},
+  };
+  std::string looked = "$" + env_name + " (not set)";
+  for (const auto& [path, what] : places) {
+    std::error_code ec;
+    if (std::filesystem::is_regular_file(path, ec)) return path.string();
+    looked += ", " + path.string() + " (" + what + ")";
+  }
+  return Error(Errc::file_error, "UPID database not found; looked in: " + looked + "; expected " +
+                                     file + " in one of them (pass --db PATH or set " + env_name +
+                                     ")");
+}
+
 Result<std::string> Database::default_path() {
-  if (const char* env = std::getenv(std::string(kDbPathEnv).c_str()); env && *env)
-    return std::string(env);
+  const char* env = std::getenv(std::string(kDbPathEnv).c_str());
+  if (env && *env) return find_default_path(env, {});
   std::error_code ec;
   auto exe = std::filesystem::read_symlink("/proc/self/exe", ec);
   if (ec)
     return Error(Errc::file_error, "cannot locate the running executable via /proc/self/exe (" +
                                        ec.message() + "); set " + std::string(kDbPathEnv) +
                                        " or pass --db");
-  return (exe.parent_path() / std::string(kDefaultDbFileName)).string();
+  return find_default_path(nullptr, exe.parent_path());
 }
 
 Result<Database> Database::open_default() {

@@ -4,6 +4,7 @@
 // meta table only and keeps the SQLite connection; everything else is loaded
 // on first use and cached (see the contract above class Database).
 #include <cstdint>
+#include <filesystem>
 #include <map>
 #include <memory>
 #include <optional>
@@ -181,9 +182,18 @@ struct DbInfo {
 class Database {
  public:
   static Result<Database> open(const std::string& path);
-  // $LMCFG_UPID_DB if set, else lmcfg-upid.sqlite next to /proc/self/exe.
+  // Opens default_path().
   static Result<Database> open_default();
+  // The database a program uses when not given a path (docs/install.md):
+  // $LMCFG_UPID_DB when set (taken as given: open() reports it if missing), else
+  // the first existing lmcfg-upid.sqlite next to the running executable (build
+  // tree), then in ../share/lmcfg/ relative to it (installed). None there:
+  // file_error naming every place looked.
   static Result<std::string> default_path();
+  // default_path() with the environment value (nullptr = unset) and the
+  // executable's folder given.
+  static Result<std::string> find_default_path(const char* env_value,
+                                               const std::filesystem::path& exe_dir);
 
   Database(Database&&) noexcept;
   Database& operator=(Database&&) noexcept;

@@ -554,12 +554,13 @@ void setup(CLI::App& app, int& exit_code) {
       "not an error;\n"
       "the drive itself can be asked); 2 = malformed input (a UPID that is not hex) or the "
       "database file is missing\n"
-      "or unreadable. The database is lmcfg-upid.sqlite next to the lmcfg binary, or "
-      "$LMCFG_UPID_DB, or --db PATH.");
+      "or unreadable. The database is --db PATH, else $LMCFG_UPID_DB, else lmcfg-upid.sqlite "
+      "next to the lmcfg binary, else in ../share/lmcfg/ relative to it.");
   auto common = [&](CLI::App* sub) {
     sub->fallthrough();
-    sub->add_option("--db", o->db_path,
-                    "UPID database file (default: next to lmcfg, or $LMCFG_UPID_DB)");
+    sub->add_option(
+        "--db", o->db_path,
+        "UPID database file (default: $LMCFG_UPID_DB, else next to lmcfg, else ../share/lmcfg/)");
     sub->add_flag("--json", o->json, "Machine-readable JSON on stdout");
   };
   common(db);

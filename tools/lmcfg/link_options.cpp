@@ -33,8 +33,10 @@ void add_link_options(CLI::App* sub, CommonOptions& o) {
 void add_output_options(CLI::App* sub, CommonOptions& o) {
   sub->add_flag("--quiet,-q", o.quiet, "no progress output");
   sub->add_flag("--json", o.json, "machine-readable report on stdout");
-  sub->add_option("--db", o.db_path,
-                  "UPID database (default: lmcfg-upid.sqlite next to lmcfg, or $LMCFG_UPID_DB)");
+  sub->add_option(
+      "--db", o.db_path,
+      "UPID database (default: $LMCFG_UPID_DB, else lmcfg-upid.sqlite next to lmcfg, else "
+      "../share/lmcfg/)");
 }
 
 Result<ops::LinkOptions> link_options(const CommonOptions& o) {

@@ -4,7 +4,7 @@
 #include <vector>
 
 #include "command.hpp"
-#include "common/version.hpp"
+#include "version_info.hpp"
 
 namespace lmcfg::cli {
 namespace {
@@ -19,7 +19,9 @@ Register::Register(int order, Setup setup) { registry().emplace_back(order, std:
 int main(int argc, char** argv) {
   using namespace lmcfg::cli;
   CLI::App app{"lmcfg: back up, diff, default and restore LinMot drive configurations over LinRS"};
-  app.set_version_flag("--version", std::string("lmcfg ") + lmcfg::kToolVersion);
+  app.set_version_flag("--version", version_text,
+                       "Print the program version, the git revision it was built from and the "
+                       "UPID database it uses (path, fingerprint, profiles), then exit");
   app.require_subcommand(1);
   int exit_code = kOk;
   auto& reg = registry();
