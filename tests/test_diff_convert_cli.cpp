@@ -274,7 +274,7 @@ TEST_CASE("one UPID syntax: 13A2, 13a2h, 0x13A2", "[db][cli]") {
   CHECK(a.out.find("13A2") != std::string::npos);
 }
 
-TEST_CASE("--json reports of diff and convert validate against their documented shapes",
+TEST_CASE("reports: diff and convert --json validate against their documented shapes",
           "[diff][convert][schema]") {
   if (!ajv_ready()) FAIL("ajv unavailable: run scripts/install-node-deps.sh");
   Dir d;
