@@ -298,3 +298,13 @@ TEST_CASE("reports: diff and convert --json validate against their documented sh
   CHECK(c.out.find("\"format\":\"xml\"") != std::string::npos);
   CHECK(valid_report(d, "report-convert.schema.json", c.out));
 }
+
+TEST_CASE(
+    "seed001 §4.3.110 db find searches descriptions: \"Maximal Current\" finds 13A6h and 13BAh",
+    "[db][cli]") {
+  Dir d;
+  auto r = tool(d, "db find 'Maximal Current'");
+  CHECK(r.rc == 0);
+  CHECK(r.out.find("\n13A6 ") != std::string::npos);
+  CHECK(r.out.find("\n13BA ") != std::string::npos);
+}
