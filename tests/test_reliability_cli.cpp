@@ -381,5 +381,8 @@ TEST_CASE("cli: get and set ask the drive what the database does not know, and s
   CHECK(unknown.err ==
         "lmcfg get: drive 11h refused ID 11h parameter (main 03h sub 00h), 2 data byte(s) for UPID "
         "5555h: C8h "
-        "parameter unknown UPID\n");
+        "parameter unknown UPID\n"
+        // seed 003 §15: after a refusal, the drive's error state with its text.
+        "lmcfg get: after the refusal: drive state: 8 Operation Enabled (state var 08C2h), status "
+        "word 4C37h; actual error: No Error\n");
 }

@@ -6,8 +6,6 @@
 
 #include <cerrno>
 #include <cstring>
-#include <fstream>
-#include <sstream>
 #include <vector>
 
 namespace lmcfg::config {
@@ -86,19 +84,73 @@ Result<void> write_file_atomic(const fs::path& path, std::string_view content) {
   return {};
 }
 
-Result<std::string> read_text_file(const fs::path& path) {
-  std::error_code ec;
-  if (fs::is_directory(path, ec))
-    return Error(Errc::file_error, path.string() + ": is a directory; expected a file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    if (!fs::exists(path, ec)) return Error(Errc::not_found, path.string() + ": no such file");
-    return Error(Errc::file_error, path.string() + ": cannot open: " + std::strerror(errno));
+std::string input_name(const fs::path& path) {
+  return path == "-" ? std::string("(stdin)") : path.string();
+}
+
+namespace {
+std::string mib(std::size_t n) {
+  return n % (1u << 20) == 0 ? std::to_string(n >> 20) + " MiB" : std::to_string(n) + " bytes";
+}
+
+bool has_non_blank(std::string_view s) {
+  for (char c : s)
+    if (c != ' ' && c != '\t' && c != '\n' && c != '\r') return true;
+  return false;
+}
+}  // namespace
+
+Result<std::string> read_text_file(const fs::path& path, std::size_t max_bytes,
+                                   HeadCheck check_head) {
+  const std::string name = input_name(path);
+  const bool is_stdin = path == "-";
+  int fd = 0;
+  if (!is_stdin) {
+    std::error_code ec;
+    if (fs::is_directory(path, ec))
+      return Error(Errc::file_error, name + ": is a directory; expected a file");
+    fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd < 0) {
+      const int err = errno;
+      if (err == ENOENT) return Error(Errc::not_found, name + ": no such file");
+      return Error(Errc::file_error, name + ": cannot open: " + std::strerror(err));
+    }
   }
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  if (in.bad()) return Error(Errc::file_error, path.string() + ": read failed");
-  return ss.str();
+  struct Closer {
+    int fd;
+    bool own;
+    ~Closer() {
+      if (own) ::close(fd);
+    }
+  } closer{fd, !is_stdin};
+  struct stat st {};
+  if (::fstat(fd, &st) == 0 && S_ISREG(st.st_mode) &&
+      static_cast<std::uint64_t>(st.st_size) > max_bytes)
+    return Error(Errc::file_error, name + ": " + std::to_string(st.st_size) +
+                                       " bytes, larger than any configuration (at most " +
+                                       mib(max_bytes) + ")");
+  std::string text;
+  if (S_ISREG(st.st_mode) && st.st_size > 0) text.reserve(static_cast<std::size_t>(st.st_size));
+  bool head_checked = check_head == nullptr;
+  char buf[65536];
+  for (;;) {
+    const ssize_t n = ::read(fd, buf, sizeof buf);
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      return Error(Errc::file_error, name + ": read failed: " + std::strerror(errno));
+    }
+    if (n == 0) break;
+    if (text.size() + static_cast<std::size_t>(n) > max_bytes)
+      return Error(Errc::file_error, name + ": more than " + mib(max_bytes) +
+                                         " (an endless stream?); a configuration is far smaller");
+    text.append(buf, static_cast<std::size_t>(n));
+    if (!head_checked && has_non_blank(std::string_view(buf, static_cast<std::size_t>(n)))) {
+      head_checked = true;
+      LMCFG_TRY(check_head(text, name));
+    }
+  }
+  if (!head_checked) LMCFG_TRY(check_head(text, name));
+  return text;
 }
 
 }  // namespace lmcfg::config

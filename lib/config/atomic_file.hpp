@@ -14,7 +14,23 @@ namespace lmcfg::config {
 // "out.json: is a directory; expected a file path".
 Result<void> write_file_atomic(const std::filesystem::path& path, std::string_view content);
 
+// Inputs larger than any real configuration (a full capture with 100 curves
+// is a few MB) are refused: 256 MiB.
+inline constexpr std::size_t kMaxInputBytes = std::size_t{256} << 20;
+
 // Whole file as text; Errc::file_error / not_found with the path in the message.
-Result<std::string> read_text_file(const std::filesystem::path& path);
+// A regular file larger than `max_bytes` is refused before reading
+// (Errc::file_error); a stream (pipe, device) is read until it ends or exceeds
+// `max_bytes`. "-" reads standard input, named "(stdin)" in messages.
+// `check_head`, when given, sees the text read so far once it holds a
+// non-blank character (or at the end, if it never does) and may refuse it, so
+// an endless stream that cannot be the expected content is refused after its
+// first block (`lmcfg diff defaults /dev/zero`).
+using HeadCheck = Result<void> (*)(std::string_view head, const std::string& name);
+Result<std::string> read_text_file(const std::filesystem::path& path,
+                                   std::size_t max_bytes = kMaxInputBytes,
+                                   HeadCheck check_head = nullptr);
+// "(stdin)" for "-", else the path.
+std::string input_name(const std::filesystem::path& path);
 
 }  // namespace lmcfg::config

@@ -36,8 +36,12 @@ struct WriteOptions {
 
 // Text in, model out. `name` is used in messages only. Version 1 files are
 // migrated (see config/migrate.hpp). The result is canonicalized.
-Result<DriveConfig> read_config_text(std::string_view text, std::string_view name, FileFormat format);
-// Format from `format`, else from the extension, else sniffed from the content.
+Result<DriveConfig> read_config_text(std::string_view text, std::string_view name,
+                                     FileFormat format);
+// Format from `format`, else from the extension, else sniffed from the content
+// ("-" = standard input, always sniffed). Inputs over kMaxInputBytes are
+// refused (atomic_file.hpp); content that starts with neither '{' nor '<' is
+// refused after its first block when the format comes from the content.
 Result<DriveConfig> read_config_file(const std::filesystem::path& path,
                                      std::optional<FileFormat> format = std::nullopt);
 

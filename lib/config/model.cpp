@@ -1,9 +1,9 @@
 #include "config/model.hpp"
 
-#include "common/layers.hpp"
-
 #include <algorithm>
 #include <set>
+
+#include "common/layers.hpp"
 
 namespace lmcfg::config {
 
@@ -36,21 +36,31 @@ std::string CurveView::length_ms_text() const {
 
 std::string_view CurveView::x_name(int code) noexcept {
   switch (code) {
-    case 0: return "time";
-    case 1: return "encoder position";
-    case 2: return "position";
-    default: return "unknown";
+    case 0:
+      return "time";
+    case 1:
+      return "encoder position";
+    case 2:
+      return "position";
+    default:
+      return "unknown";
   }
 }
 
 std::string_view CurveView::y_name(int code) noexcept {
   switch (code) {
-    case 0: return "position";
-    case 1: return "velocity";
-    case 2: return "current";
-    case 3: return "encoder position";
-    case 4: return "encoder speed";
-    default: return "unknown";
+    case 0:
+      return "position";
+    case 1:
+      return "velocity";
+    case 2:
+      return "current";
+    case 3:
+      return "encoder position";
+    case 4:
+      return "encoder speed";
+    default:
+      return "unknown";
   }
 }
 
@@ -68,17 +78,17 @@ Result<void> check_curve_blocks(const Curve& c) {
   const std::uint32_t bps = get_u16le(c.info, 6);
   if (count * bps != c.data.size())
     return Error(Errc::validation_failed,
-                 "data block has " + std::to_string(c.data.size()) + " bytes but the info block says " +
-                     std::to_string(count) + " setpoints x " + std::to_string(bps) + " bytes = " +
-                     std::to_string(count * bps));
+                 "data block has " + std::to_string(c.data.size()) +
+                     " bytes but the info block says " + std::to_string(count) + " setpoints x " +
+                     std::to_string(bps) + " bytes = " + std::to_string(count * bps));
   return {};
 }
 
 Result<CurveView> decode_curve(const Curve& c) {
   LMCFG_TRY(check_curve_blocks(c));
   if (c.info.size() < kCurveInfoFull)
-    return Error(Errc::validation_failed, "info block has " + std::to_string(c.info.size()) +
-                                              " bytes; decoding needs 70");
+    return Error(Errc::validation_failed,
+                 "info block has " + std::to_string(c.info.size()) + " bytes; decoding needs 70");
   const ByteView b = c.info;
   CurveView v;
   v.info_size = get_u16le(b, 0);
@@ -94,7 +104,8 @@ Result<CurveView> decode_curve(const Curve& c) {
   v.x_dimension = get_u16le(b, 36);
   v.y_dimension = get_u16le(b, 38);
   v.wizard = get_u16le(b, 40);
-  for (std::size_t i = 0; i < v.wizard_params.size(); ++i) v.wizard_params[i] = get_u32le(b, 42 + 4 * i);
+  for (std::size_t i = 0; i < v.wizard_params.size(); ++i)
+    v.wizard_params[i] = get_u32le(b, 42 + 4 * i);
   if (v.bytes_per_setpoint != 0 && v.bytes_per_setpoint % 4 == 0) {
     v.setpoints.reserve(c.data.size() / 4);
     for (std::size_t off = 0; off + 4 <= c.data.size(); off += 4)
@@ -105,8 +116,17 @@ Result<CurveView> decode_curve(const Curve& c) {
 
 std::string ct_entry_name(ByteView raw) {
   std::string s;
-  for (std::size_t i = 38; i < 54 && i < raw.size() && raw[i] != 0; ++i)
-    s.push_back(static_cast<char>(raw[i]));
+  for (std::size_t i = 38; i < 54 && i < raw.size() && raw[i] != 0; ++i) {
+    const auto c = raw[i];
+    if (c >= 0x20 && c < 0x7F && c != '\\') {
+      s.push_back(static_cast<char>(c));
+    } else {
+      static const char* kHex = "0123456789ABCDEF";
+      s += "\\x";
+      s.push_back(kHex[c >> 4]);
+      s.push_back(kHex[c & 15]);
+    }
+  }
   return s;
 }
 
@@ -131,7 +151,8 @@ const CtEntry* DriveConfig::find_ct_entry(std::uint32_t id) const {
 
 void canonicalize(DriveConfig& cfg) {
   for (auto& l : cfg.layers)
-    std::stable_sort(l.begin(), l.end(), [](const auto& a, const auto& b) { return a.upid < b.upid; });
+    std::stable_sort(l.begin(), l.end(),
+                     [](const auto& a, const auto& b) { return a.upid < b.upid; });
   std::stable_sort(cfg.curves.begin(), cfg.curves.end(),
                    [](const auto& a, const auto& b) { return a.id < b.id; });
   std::stable_sort(cfg.ct_entries.begin(), cfg.ct_entries.end(),
@@ -161,10 +182,17 @@ bool is_clean_text(std::string_view s) noexcept {
     }
     std::size_t n = 0;
     std::uint32_t cp = 0;
-    if ((c & 0xE0) == 0xC0) { n = 1; cp = c & 0x1Fu; }
-    else if ((c & 0xF0) == 0xE0) { n = 2; cp = c & 0x0Fu; }
-    else if ((c & 0xF8) == 0xF0) { n = 3; cp = c & 0x07u; }
-    else return false;
+    if ((c & 0xE0) == 0xC0) {
+      n = 1;
+      cp = c & 0x1Fu;
+    } else if ((c & 0xF0) == 0xE0) {
+      n = 2;
+      cp = c & 0x0Fu;
+    } else if ((c & 0xF8) == 0xF0) {
+      n = 3;
+      cp = c & 0x07u;
+    } else
+      return false;
     if (i + n >= s.size()) return false;
     for (std::size_t k = 1; k <= n; ++k) {
       const auto cc = static_cast<unsigned char>(s[i + k]);
@@ -232,7 +260,8 @@ std::optional<Issue> find_issue(const DriveConfig& cfg) {
                      "duplicate UPID " + hex4(p.upid) + "h in layer " + std::to_string(l) + " (" +
                          std::string(info.name) + ")"};
       for (const auto& [field, value] :
-           {std::pair<const char*, const std::string*>{"name", &p.name}, {"unit", &p.unit},
+           {std::pair<const char*, const std::string*>{"name", &p.name},
+            {"unit", &p.unit},
             {"scaled", &p.scaled}})
         if (!is_clean_text(*value))
           return Issue{Issue::Where::param, l, i, field,
@@ -254,7 +283,8 @@ std::optional<Issue> find_issue(const DriveConfig& cfg) {
     if (!curve_ids.insert(c.id).second)
       return Issue{Issue::Where::curve, 0, i, "id", "duplicate curve ID " + std::to_string(c.id)};
     if (auto r = check_curve_blocks(c); !r.ok()) {
-      const bool info_problem = c.info.size() < kCurveHeaderMin || get_u16le(c.info, 0) != c.info.size();
+      const bool info_problem =
+          c.info.size() < kCurveHeaderMin || get_u16le(c.info, 0) != c.info.size();
       return Issue{Issue::Where::curve, 0, i, info_problem ? "info" : "data",
                    "curve " + std::to_string(c.id) + ": " + r.error().message};
     }
@@ -284,14 +314,24 @@ Result<void> validate(const DriveConfig& cfg) {
   if (!is) return {};
   std::string where;
   switch (is->where) {
-    case Issue::Where::identity: where = "identity " + is->field; break;
-    case Issue::Where::scope: where = "scope"; break;
-    case Issue::Where::layer: where = "layer " + std::to_string(is->layer); break;
+    case Issue::Where::identity:
+      where = "identity " + is->field;
+      break;
+    case Issue::Where::scope:
+      where = "scope";
+      break;
+    case Issue::Where::layer:
+      where = "layer " + std::to_string(is->layer);
+      break;
     case Issue::Where::param:
       where = "layer " + std::to_string(is->layer) + " parameter #" + std::to_string(is->index + 1);
       break;
-    case Issue::Where::curve: where = "curve #" + std::to_string(is->index + 1); break;
-    case Issue::Where::ct_entry: where = "command table entry #" + std::to_string(is->index + 1); break;
+    case Issue::Where::curve:
+      where = "curve #" + std::to_string(is->index + 1);
+      break;
+    case Issue::Where::ct_entry:
+      where = "command table entry #" + std::to_string(is->index + 1);
+      break;
   }
   return Error(Errc::validation_failed, "invalid configuration: " + where + ": " + is->message);
 }

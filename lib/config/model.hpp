@@ -153,7 +153,10 @@ struct CtEntry {
   bool operator==(const CtEntry&) const = default;
 };
 
-// Name at off 38 (15 chars + NUL, seed 001 §4.3.143); "" when the entry is shorter.
+// Name at off 38..53 (15 chars + NUL; seed 003 §12.1 "Unnamed" at off 38,
+// seed 001 §4.3.143 for the offsets); "" when the entry is shorter. Bytes
+// outside printable ASCII (and the backslash) are shown as "\xNN", so the
+// name is clean text in both file formats.
 std::string ct_entry_name(ByteView raw);
 
 struct CtParam {

@@ -599,10 +599,11 @@ Result<std::string> write_xml(const DriveConfig& in, const WriteOptions& opts) {
       xml_node en = ts.append_child("entry");
       en.append_attribute("id") = e.id;
       add_rows(en, "raw", e.raw);
-      if (!opts.include_decoded || !opts.ct_decoder) continue;
-      auto v = opts.ct_decoder->decode(e.id, e.raw);
-      if (!v) continue;
+      if (!opts.include_decoded) continue;
       xml_node d = en.append_child("decoded");
+      d.append_attribute("name") = ct_entry_name(e.raw).c_str();
+      auto v = opts.ct_decoder ? opts.ct_decoder->decode(e.id, e.raw) : std::nullopt;
+      if (!v) continue;
       d.append_attribute("summary") = v->summary.c_str();
       for (const auto& p : v->params) {
         xml_node pn = d.append_child("param");

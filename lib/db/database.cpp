@@ -152,7 +152,7 @@ const UpidRows kAbsent{};
 
 struct ParamTable {
   std::vector<Parameter> rows;             // sorted by UPID, row id
-  std::vector<std::string> search_keys;    // lower-case "name\npath" per row
+  std::vector<std::string> search_keys;    // lower-case "name\npath\ndescription" per row
   std::array<std::size_t, 4> per_layer{};  // rows per layer
 };
 struct ErrorTable {
@@ -397,7 +397,7 @@ Result<ParamTable> Database::Impl::load_params() {
   }
   t.search_keys.reserve(t.rows.size());
   for (const auto& p : t.rows) {
-    t.search_keys.push_back(lower(p.name) + "\n" + lower(p.path));
+    t.search_keys.push_back(lower(p.name) + "\n" + lower(p.path) + "\n" + lower(p.description));
     ++t.per_layer[static_cast<std::size_t>(p.layer)];
   }
   return t;

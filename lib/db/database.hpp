@@ -205,7 +205,7 @@ class Database {
   const Parameter* find(std::uint16_t upid, std::string_view profile = {}) const;
   // Every definition of the UPID (one per profile group), in row order.
   std::vector<const Parameter*> find_all(std::uint16_t upid) const;
-  // Case-insensitive substring of name or tree path, in UPID order.
+  // Case-insensitive substring of name, tree path or description, in UPID order.
   std::vector<const Parameter*> search(std::string_view needle) const;
   std::vector<const Parameter*> in_layer(Layer layer) const;
 

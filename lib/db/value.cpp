@@ -1,11 +1,11 @@
 #include "db/value.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cctype>
-#include <algorithm>
-#include <cstdlib>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 
 #include "common/bytes.hpp"
 
@@ -14,14 +14,15 @@ namespace lmcfg::db {
 namespace {
 
 constexpr std::array<std::string_view, 16> kTypeNames = {
-    "BOOL",     "UINT8",   "SINT8",         "UINT16",      "SINT16",    "UINT32",
-    "SINT32",   "LIN_FLOAT", "STRING",      "CAP_DIR",     "RADIO_DIR_BIT", "RADIO_DIR16",
+    "BOOL",      "UINT8",      "SINT8",     "UINT16",    "SINT16",        "UINT32",
+    "SINT32",    "LIN_FLOAT",  "STRING",    "CAP_DIR",   "RADIO_DIR_BIT", "RADIO_DIR16",
     "ENUM_DIR8", "ENUM_DIR16", "STRINGLET", "CAP_DIRLET"};
 
 bool iequals(std::string_view a, std::string_view b) {
   if (a.size() != b.size()) return false;
   for (std::size_t i = 0; i < a.size(); ++i) {
-    if (std::tolower(static_cast<unsigned char>(a[i])) != std::tolower(static_cast<unsigned char>(b[i])))
+    if (std::tolower(static_cast<unsigned char>(a[i])) !=
+        std::tolower(static_cast<unsigned char>(b[i])))
       return false;
   }
   return true;
@@ -68,7 +69,8 @@ std::optional<std::int64_t> parse_raw_integer(std::string_view t) {
     t.remove_prefix(1);
   }
   if (t.empty()) return std::nullopt;
-  bool hex = (t.size() > 2 && t[0] == '0' && (t[1] == 'x' || t[1] == 'X')) || t.back() == 'h' || t.back() == 'H';
+  bool hex = (t.size() > 2 && t[0] == '0' && (t[1] == 'x' || t[1] == 'X')) || t.back() == 'h' ||
+             t.back() == 'H';
   if (hex && neg) return std::nullopt;
   auto v = parse_number(t, false);
   if (!v) return std::nullopt;
@@ -77,7 +79,9 @@ std::optional<std::int64_t> parse_raw_integer(std::string_view t) {
 
 }  // namespace
 
-std::string_view type_name(TypeCode t) noexcept { return kTypeNames[static_cast<unsigned>(t) & 0x0F]; }
+std::string_view type_name(TypeCode t) noexcept {
+  return kTypeNames[static_cast<unsigned>(t) & 0x0F];
+}
 
 std::optional<TypeCode> type_from_name(std::string_view name) noexcept {
   for (unsigned i = 0; i < kTypeNames.size(); ++i)
@@ -109,7 +113,8 @@ unsigned type_size(TypeCode t) noexcept {
 }
 
 bool is_text_type(TypeCode t) noexcept {
-  return t == TypeCode::String || t == TypeCode::CapDir || t == TypeCode::Stringlet || t == TypeCode::CapDirlet;
+  return t == TypeCode::String || t == TypeCode::CapDir || t == TypeCode::Stringlet ||
+         t == TypeCode::CapDirlet;
 }
 
 bool is_signed_type(TypeCode t) noexcept {
@@ -223,7 +228,8 @@ std::string format_value(const ValueSpec& spec, std::uint32_t raw) {
   if (!spec.type || *spec.type == TypeCode::LinFloat) {
     // A label the seed states for this exact field value needs no type.
     for (const auto& l : spec.labels)
-      if (l.raw == static_cast<std::int64_t>(raw)) return l.label + " (" + std::to_string(raw) + ")";
+      if (l.raw == static_cast<std::int64_t>(raw))
+        return l.label + " (" + std::to_string(raw) + ")";
     std::snprintf(buf, sizeof buf, "0x%08X", raw);
     return buf;
   }
@@ -240,23 +246,28 @@ Result<void> check_range(const ValueSpec& spec, std::int64_t raw_value) {
   if (spec.type) {
     if (auto r = type_range(*spec.type)) {
       if (raw_value < r->min || raw_value > r->max)
-        return Error(Errc::validation_failed, "value " + std::to_string(raw_value) + " is outside the " +
-                                                  std::string(type_name(*spec.type)) + " range " +
-                                                  std::to_string(r->min) + ".." + std::to_string(r->max));
+        return Error(Errc::validation_failed,
+                     "value " + std::to_string(raw_value) + " is outside the " +
+                         std::string(type_name(*spec.type)) + " range " + std::to_string(r->min) +
+                         ".." + std::to_string(r->max));
     }
   }
   if (spec.min && raw_value < *spec.min)
-    return Error(Errc::validation_failed,
-                 "value " + range_text(spec, raw_value) + " is below the minimum " + range_text(spec, *spec.min));
+    return Error(Errc::validation_failed, "value " + range_text(spec, raw_value) +
+                                              " is below the minimum " +
+                                              range_text(spec, *spec.min));
   if (spec.max && raw_value > *spec.max)
-    return Error(Errc::validation_failed,
-                 "value " + range_text(spec, raw_value) + " is above the maximum " + range_text(spec, *spec.max));
+    return Error(Errc::validation_failed, "value " + range_text(spec, raw_value) +
+                                              " is above the maximum " +
+                                              range_text(spec, *spec.max));
   return {};
 }
 
 Result<std::uint32_t> parse_value(const ValueSpec& spec, std::string_view input) {
   std::string_view t = trim(input);
-  if (t.empty()) return Error(Errc::invalid_argument, "empty value: expected a number, a value with unit or a label");
+  if (t.empty())
+    return Error(Errc::invalid_argument,
+                 "empty value: expected a number, a value with unit or a label");
 
   if (spec.type && is_text_type(*spec.type)) {
     std::string_view s = t;
@@ -266,7 +277,8 @@ Result<std::uint32_t> parse_value(const ValueSpec& spec, std::string_view input)
       if (auto n = parse_number(s, true)) return *n;
     }
     if (s.size() > 4)
-      return Error(Errc::validation_failed, "text \"" + std::string(s) + "\" is longer than the 4 characters of a " +
+      return Error(Errc::validation_failed, "text \"" + std::string(s) +
+                                                "\" is longer than the 4 characters of a " +
                                                 std::string(type_name(*spec.type)) + " value");
     return encode_text(s);
   }
@@ -292,26 +304,33 @@ Result<std::uint32_t> parse_value(const ValueSpec& spec, std::string_view input)
     char* end = nullptr;
     double x = numstr.empty() ? 0.0 : std::strtod(numstr.c_str(), &end);
     if (numstr.empty() || end != numstr.c_str() + numstr.size()) {
-      std::string msg = "cannot read \"" + std::string(t) + "\": expected a raw number, a value with unit";
+      std::string msg =
+          "cannot read \"" + std::string(t) + "\": expected a raw number, a value with unit";
       if (!spec.labels.empty()) {
         msg += " or one of the labels";
-        for (std::size_t k = 0; k < spec.labels.size(); ++k) msg += (k ? ", \"" : " \"") + spec.labels[k].label + "\"";
+        for (std::size_t k = 0; k < spec.labels.size(); ++k)
+          msg += (k ? ", \"" : " \"") + spec.labels[k].label + "\"";
       }
       return Error(Errc::invalid_argument, msg);
     }
     if (unit.empty())
-      return Error(Errc::invalid_argument,
-                   "\"" + std::string(t) + "\" has decimals but no unit: a bare number is a raw value" +
-                       (spec.unit.empty() ? std::string() : "; write it as \"" + std::string(t) + " " + spec.unit + "\""));
+      return Error(
+          Errc::invalid_argument,
+          "\"" + std::string(t) + "\" has decimals but no unit: a bare number is a raw value" +
+              (spec.unit.empty() ? std::string()
+                                 : "; write it as \"" + std::string(t) + " " + spec.unit + "\""));
     if (spec.unit.empty() || unit_key(unit) != unit_key(spec.unit))
-      return Error(Errc::invalid_argument, "unit \"" + std::string(unit) + "\" in \"" + std::string(t) + "\" does not match " +
-                                               (spec.unit.empty() ? std::string("this value, which has no unit")
-                                                                  : "the value's unit \"" + spec.unit + "\""));
+      return Error(Errc::invalid_argument,
+                   "unit \"" + std::string(unit) + "\" in \"" + std::string(t) +
+                       "\" does not match " +
+                       (spec.unit.empty() ? std::string("this value, which has no unit")
+                                          : "the value's unit \"" + spec.unit + "\""));
     double scale = spec.scale.value_or(1.0);
     double steps = x / scale;
     double rounded = std::round(steps);
     if (std::fabs(steps - rounded) > std::max(1e-6, 1e-12 * std::fabs(steps)))
-      return Error(Errc::validation_failed, "\"" + std::string(t) + "\" is not a multiple of the resolution " +
+      return Error(Errc::validation_failed, "\"" + std::string(t) +
+                                                "\" is not a multiple of the resolution " +
                                                 format_scaled(1, scale) + " " + spec.unit);
     if (std::fabs(rounded) > 9.0e15)
       return Error(Errc::validation_failed, "\"" + std::string(t) + "\" is far out of range");
@@ -320,10 +339,57 @@ Result<std::uint32_t> parse_value(const ValueSpec& spec, std::string_view input)
   LMCFG_TRY(check_range(spec, raw));
   if (!spec.type) {
     if (raw < -2147483648ll || raw > 0xFFFFFFFFll)
-      return Error(Errc::validation_failed, "value " + std::to_string(raw) + " does not fit the 4-byte value field");
+      return Error(Errc::validation_failed,
+                   "value " + std::to_string(raw) + " does not fit the 4-byte value field");
     return static_cast<std::uint32_t>(static_cast<std::uint64_t>(raw) & 0xFFFFFFFFull);
   }
   return encode_integer(*spec.type, raw);
+}
+
+std::optional<std::int64_t> field_integer(TypeCode t, std::uint32_t raw) noexcept {
+  const unsigned bits = 8 * type_size(t);
+  if (is_text_type(t) || t == TypeCode::LinFloat) return static_cast<std::int64_t>(raw);
+  if (t == TypeCode::Bool || t == TypeCode::RadioDirBit)
+    return raw <= 1 ? std::optional<std::int64_t>(raw) : std::nullopt;
+  if (bits >= 32) {
+    return is_signed_type(t) ? static_cast<std::int64_t>(static_cast<std::int32_t>(raw))
+                             : static_cast<std::int64_t>(raw);
+  }
+  const std::uint32_t mask = (1u << bits) - 1;
+  const std::uint32_t upper = raw & ~mask;
+  const std::uint32_t sign = 1u << (bits - 1);
+  if (upper == 0) {
+    if (!is_signed_type(t)) return static_cast<std::int64_t>(raw);
+    return (raw & sign) ? static_cast<std::int64_t>(raw) - (static_cast<std::int64_t>(1) << bits)
+                        : static_cast<std::int64_t>(raw);
+  }
+  if (is_signed_type(t) && upper == ~mask && (raw & sign))
+    return static_cast<std::int64_t>(static_cast<std::int32_t>(raw));
+  return std::nullopt;
+}
+
+Result<std::uint16_t> parse_upid(std::string_view text) {
+  std::string_view t = text;
+  if (t.size() > 2 && t[0] == '0' && (t[1] == 'x' || t[1] == 'X')) {
+    t.remove_prefix(2);
+  } else if (!t.empty() && (t.back() == 'h' || t.back() == 'H')) {
+    t.remove_suffix(1);
+  }
+  std::uint32_t v = 0;
+  bool ok = !t.empty() && t.size() <= 4;
+  for (char c : t) {
+    int d = -1;
+    if (c >= '0' && c <= '9') d = c - '0';
+    if (c >= 'a' && c <= 'f') d = c - 'a' + 10;
+    if (c >= 'A' && c <= 'F') d = c - 'A' + 10;
+    if (d < 0) ok = false;
+    v = v * 16 + static_cast<std::uint32_t>(d < 0 ? 0 : d);
+  }
+  if (!ok)
+    return Error(Errc::invalid_argument, "\"" + std::string(text) +
+                                             "\" is not a UPID (expected up to 4 hex digits: "
+                                             "13A2, 13a2h or 0x13A2)");
+  return static_cast<std::uint16_t>(v);
 }
 
 }  // namespace lmcfg::db

@@ -45,6 +45,11 @@ unsigned type_size(TypeCode t) noexcept;
 bool is_text_type(TypeCode t) noexcept;
 bool is_signed_type(TypeCode t) noexcept;
 
+// One UPID syntax for every command and file-free input: 1..4 hex digits,
+// optionally with a "0x" prefix or an "h" suffix, any case: "13A2", "13a2h",
+// "0x13A2". Errc::invalid_argument naming the text otherwise.
+Result<std::uint16_t> parse_upid(std::string_view text);
+
 struct IntRange {
   std::int64_t min;
   std::int64_t max;
@@ -63,6 +68,11 @@ struct Value {
 // for SINT8/SINT16; 32-bit: whole field (SINT32 sign-extended); text types: the
 // four bytes as characters, lowest byte first; LIN_FLOAT: Kind::Raw.
 Value decode_value(TypeCode t, std::uint32_t raw) noexcept;
+// The 4-byte field as an integer of its type, or nullopt when it does not fit:
+// the upper bytes must be zero, or the sign extension for signed types (a
+// drive may send either for SINT8/SINT16); BOOL/RADIO_DIR_BIT only 0 or 1.
+// Text types and LIN_FLOAT: the field as is. Never truncates.
+std::optional<std::int64_t> field_integer(TypeCode t, std::uint32_t raw) noexcept;
 // Inverse for integers: the value masked to the type's width (upper bytes 0).
 std::uint32_t encode_integer(TypeCode t, std::int64_t v) noexcept;
 // Up to 4 characters, first character in the lowest byte, NUL-padded.

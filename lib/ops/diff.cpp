@@ -7,6 +7,7 @@
 #include "db/ct_entry.hpp"
 #include "db/database.hpp"
 #include "ops/backup.hpp"
+#include "ops/restore.hpp"
 
 namespace lmcfg::ops {
 
@@ -16,6 +17,17 @@ std::string hex4(std::uint32_t v) {
   char buf[12];
   std::snprintf(buf, sizeof buf, "%04Xh", v);
   return buf;
+}
+
+DiffItem make_item(DiffItem::Kind kind, std::string name, std::string a, std::string b,
+                   std::string detail) {
+  DiffItem it;
+  it.kind = kind;
+  it.name = std::move(name);
+  it.a = std::move(a);
+  it.b = std::move(b);
+  it.detail = std::move(detail);
+  return it;
 }
 
 struct Effective {
@@ -45,12 +57,42 @@ Effective effective(const config::DriveConfig& c, int layer, const ByUpid& param
   return {Effective::State::not_writable, 0};
 }
 
+// Why a value cannot be what its side says it is ("" = valid): it does not fit
+// its type (shown raw, never truncated to the type's width), or it lies
+// outside the database's min/max for that type.
+std::string invalid_reason(const db::Parameter* d, std::optional<std::uint8_t> type,
+                           std::uint32_t v) {
+  std::optional<db::TypeCode> t;
+  if (type) t = db::type_from_code(*type);
+  if (!t && d) t = d->spec.type;
+  if (!t)
+    return type ? "type code " + std::to_string(*type) + " is not defined by seed 003 §10" : "";
+  const auto i = db::field_integer(*t, v);
+  if (!i) return "does not fit type " + std::string(db::type_name(*t));
+  if (db::is_text_type(*t) || *t == db::TypeCode::LinFloat) return "";
+  db::ValueSpec spec = d ? d->spec : db::ValueSpec{};
+  if (spec.type && *spec.type != *t) spec.min = spec.max = std::nullopt;  // another type's range
+  spec.type = *t;
+  if (auto r = db::check_range(spec, *i); !r.ok()) return r.error().message;
+  return "";
+}
+
+std::string raw_text(std::uint32_t v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%u (%08Xh)", v, v);
+  return buf;
+}
+
 std::string show(const Effective& e, const db::Database* db, std::uint16_t upid,
-                 std::optional<std::uint32_t> def, std::optional<std::uint8_t> type) {
+                 std::optional<std::uint32_t> def, std::optional<std::uint8_t> type,
+                 const std::string& invalid) {
   auto fmt = [&](std::uint32_t v) { return display_value(db, upid, v, type); };
   switch (e.state) {
     case Effective::State::value:
-      return fmt(e.value);
+      if (invalid.empty()) return fmt(e.value);
+      if (invalid.rfind("does not fit", 0) == 0 || invalid.rfind("type code", 0) == 0)
+        return raw_text(e.value) + " INVALID: " + invalid;
+      return fmt(e.value) + " INVALID: " + invalid;
     case Effective::State::at_default:
       return def ? "default " + fmt(*def) : "default";
     case Effective::State::not_writable:
@@ -61,22 +103,39 @@ std::string show(const Effective& e, const db::Database* db, std::uint16_t upid,
   return "";
 }
 
+std::string type_text(std::optional<std::uint8_t> t) {
+  if (!t) return "";
+  if (auto c = db::type_from_code(*t)) return std::string(db::type_name(*c));
+  return "type code " + std::to_string(*t);
+}
+
 // What the two captures record about one parameter (type, default, name).
 struct Recorded {
-  std::optional<std::uint8_t> type;
+  std::optional<std::uint8_t> type_a, type_b;
   std::optional<std::uint32_t> default_value;
   std::string name;
 };
 
 Recorded recorded(const ByUpid& a, const ByUpid& b, std::uint16_t upid) {
   Recorded r;
-  for (const auto* p : {find_in(a, upid), find_in(b, upid)}) {
+  const auto* pa = find_in(a, upid);
+  const auto* pb = find_in(b, upid);
+  if (pa) r.type_a = pa->type;
+  if (pb) r.type_b = pb->type;
+  for (const auto* p : {pa, pb}) {
     if (!p) continue;
-    if (!r.type) r.type = p->type;
     if (!r.default_value) r.default_value = p->default_value;
     if (r.name.empty()) r.name = p->name;
   }
   return r;
+}
+
+std::string layer_list(const std::array<bool, config::kLayerCount>& layers) {
+  std::string s;
+  for (int l = 1; l <= config::kLayerCount; ++l)
+    if (layers[static_cast<std::size_t>(l - 1)])
+      s += (s.empty() ? "" : ", ") + std::string(config::layer_name(l));
+  return s.empty() ? "no layer" : s;
 }
 
 void diff_parameters(const config::DriveConfig& a, const config::DriveConfig& b,
@@ -87,8 +146,16 @@ void diff_parameters(const config::DriveConfig& a, const config::DriveConfig& b,
     const bool in_a = a.scope.layers[static_cast<std::size_t>(layer - 1)];
     const bool in_b = b.scope.layers[static_cast<std::size_t>(layer - 1)];
     if (in_a != in_b) {
-      r.notes.push_back(std::string("layer ") + std::string(config::layer_name(layer)) +
-                        " was captured on only one side; not compared");
+      const auto& holder = in_a ? a : b;
+      DiffItem it;
+      it.kind = DiffItem::Kind::scope;
+      it.layer = layer;
+      it.name = "layer " + std::string(config::layer_name(layer));
+      it.a = in_a ? "captured" : "not captured";
+      it.b = in_b ? "captured" : "not captured";
+      it.detail = std::to_string(holder.layer(layer).size()) + " parameter(s) on the " +
+                  (in_a ? "A" : "B") + " side not compared";
+      r.items.push_back(std::move(it));
       continue;
     }
     if (!in_a) continue;
@@ -98,7 +165,7 @@ void diff_parameters(const config::DriveConfig& a, const config::DriveConfig& b,
     for (const auto& [upid, p] : pb) upids.insert(upid);
     for (auto upid : upids) {
       const db::Parameter* d = db ? db->find(upid) : nullptr;
-      if (opt.ignore_unit && d && d->comm) continue;
+      if (opt.ignore_unit && is_comm_parameter(db, upid)) continue;
       Effective ea = effective(a, layer, pa, upid), eb = effective(b, layer, pb, upid);
       const Recorded rec = recorded(pa, pb, upid);
       // Factory default: the database's, else the drive's own as a capture
@@ -121,15 +188,39 @@ void diff_parameters(const config::DriveConfig& a, const config::DriveConfig& b,
       Effective ra = ea, rb = eb;
       resolve(ra);
       resolve(rb);
-      if (ra.state == rb.state && (ra.state != Effective::State::value || ra.value == rb.value))
+      // Each side's value is shown and checked by its own recorded type
+      // (else the other side's, else the database's).
+      const auto ta = rec.type_a ? rec.type_a : rec.type_b;
+      const auto tb = rec.type_b ? rec.type_b : rec.type_a;
+      const std::string bad_a =
+          ea.state == Effective::State::value ? invalid_reason(d, ta, ea.value) : "";
+      const std::string bad_b =
+          eb.state == Effective::State::value ? invalid_reason(d, tb, eb.value) : "";
+      const bool type_differs = rec.type_a && rec.type_b && *rec.type_a != *rec.type_b;
+      const bool same =
+          ra.state == rb.state && (ra.state != Effective::State::value || ra.value == rb.value);
+      const std::string name = d && !d->name.empty() ? d->name : rec.name;
+      if (same && !type_differs) {
+        if (!bad_a.empty())
+          r.notes.push_back(std::string(config::layer_name(layer)) + " " + hex4(upid) +
+                            (name.empty() ? "" : " " + name) +
+                            ": both sides hold the invalid value " +
+                            show(ea, db, upid, def, ta, bad_a));
         continue;
+      }
       DiffItem it;
       it.kind = DiffItem::Kind::parameter;
       it.layer = layer;
       it.key = upid;
-      it.name = d && !d->name.empty() ? d->name : rec.name;
-      it.a = show(ea, db, upid, def, rec.type);
-      it.b = show(eb, db, upid, def, rec.type);
+      it.name = name;
+      it.a = show(ea, db, upid, def, ta, bad_a);
+      it.b = show(eb, db, upid, def, tb, bad_b);
+      it.a_invalid = bad_a;
+      it.b_invalid = bad_b;
+      it.a_type = type_text(ta);
+      it.b_type = type_text(tb);
+      if (type_differs)
+        it.detail = "type " + type_text(rec.type_a) + " -> " + type_text(rec.type_b);
       r.items.push_back(std::move(it));
     }
   }
@@ -188,7 +279,12 @@ std::string curve_changes(const config::Curve& a, const config::Curve& b) {
 
 void diff_curves(const config::DriveConfig& a, const config::DriveConfig& b, DiffResult& r) {
   if (a.scope.curves != b.scope.curves) {
-    r.notes.push_back("curves were captured on only one side; not compared");
+    const auto& holder = a.scope.curves ? a : b;
+    r.items.push_back(make_item(DiffItem::Kind::scope, "curves",
+                                a.scope.curves ? "captured" : "not captured",
+                                b.scope.curves ? "captured" : "not captured",
+                                std::to_string(holder.curves.size()) + " curve(s) on the " +
+                                    (a.scope.curves ? "A" : "B") + " side not compared"));
     return;
   }
   if (!a.scope.curves) return;
@@ -245,7 +341,12 @@ std::string ct_summary(const db::Database* db, const config::CtEntry& e) {
 void diff_ct(const config::DriveConfig& a, const config::DriveConfig& b, const db::Database* db,
              DiffResult& r) {
   if (a.scope.command_table != b.scope.command_table) {
-    r.notes.push_back("the command table was captured on only one side; not compared");
+    const auto& holder = a.scope.command_table ? a : b;
+    r.items.push_back(make_item(DiffItem::Kind::scope, "command table",
+                                a.scope.command_table ? "captured" : "not captured",
+                                b.scope.command_table ? "captured" : "not captured",
+                                std::to_string(holder.ct_entries.size()) + " entr(y/ies) on the " +
+                                    (a.scope.command_table ? "A" : "B") + " side not compared"));
     return;
   }
   if (!a.scope.command_table) return;
@@ -270,7 +371,7 @@ void diff_ct(const config::DriveConfig& a, const config::DriveConfig& b, const d
 void diff_metadata(const config::Identity& a, const config::Identity& b, const DiffOptions& opt,
                    DiffResult& r) {
   auto cmp = [&](const char* field, const std::string& x, const std::string& y) {
-    if (x != y) r.items.push_back(DiffItem{DiffItem::Kind::metadata, 0, 0, field, x, y, {}});
+    if (x != y) r.items.push_back(make_item(DiffItem::Kind::metadata, field, x, y, {}));
   };
   if (!opt.ignore_unit) cmp("macid", a.macid, b.macid);
   cmp("product", a.product, b.product);
@@ -297,6 +398,8 @@ const char* kind_name(DiffItem::Kind k) {
       return "curve";
     case DiffItem::Kind::ct_entry:
       return "ct_entry";
+    case DiffItem::Kind::scope:
+      return "scope";
   }
   return "";
 }
@@ -309,9 +412,34 @@ config::DriveConfig factory_defaults_config() {
   return c;
 }
 
+config::DriveConfig factory_defaults_config(const config::Scope& scope) {
+  config::DriveConfig c = factory_defaults_config();
+  c.scope = scope;
+  c.scope.parameters = config::ParamSet::modified;
+  return c;
+}
+
+std::string describe_scope(const config::Scope& s) {
+  std::string out =
+      std::string(config::to_string(s.parameters)) + " parameters of " + layer_list(s.layers);
+  out += s.curves ? "; curves" : "; no curves";
+  out += s.command_table ? "; command table" : "; no command table";
+  return out;
+}
+
 DiffResult diff(const config::DriveConfig& a, const config::DriveConfig& b, const db::Database* db,
                 const DefaultLookup& defaults, const DiffOptions& opt) {
   DiffResult r;
+  r.scope_a = a.scope;
+  r.scope_b = b.scope;
+  for (std::size_t l = 0; l < r.compared.layers.size(); ++l)
+    r.compared.layers[l] = a.scope.layers[l] && b.scope.layers[l];
+  r.compared.parameters =
+      a.scope.parameters == config::ParamSet::full && b.scope.parameters == config::ParamSet::full
+          ? config::ParamSet::full
+          : config::ParamSet::modified;
+  r.compared.curves = a.scope.curves && b.scope.curves;
+  r.compared.command_table = a.scope.command_table && b.scope.command_table;
   if (!opt.ignore_metadata) diff_metadata(a.identity, b.identity, opt, r);
   diff_parameters(a, b, db, defaults, opt, r);
   diff_curves(a, b, r);
@@ -320,7 +448,9 @@ DiffResult diff(const config::DriveConfig& a, const config::DriveConfig& b, cons
 }
 
 std::string render_text(const DiffResult& r, const std::string& an, const std::string& bn) {
-  std::string out = "--- " + an + "\n+++ " + bn + "\n";
+  std::string out = "--- " + an + " (" + describe_scope(r.scope_a) + ")\n+++ " + bn + " (" +
+                    describe_scope(r.scope_b) + ")\n";
+  if (!(r.scope_a == r.scope_b)) out += "compared: " + describe_scope(r.compared) + "\n";
   std::string section;
   auto head = [&](const std::string& s) {
     if (s != section) {
@@ -335,10 +465,14 @@ std::string render_text(const DiffResult& r, const std::string& an, const std::s
         out += "  " + it.name + ": " + (it.a.empty() ? "(none)" : it.a) + " -> " +
                (it.b.empty() ? "(none)" : it.b) + "\n";
         break;
+      case DiffItem::Kind::scope:
+        head("scope");
+        out += "  " + it.name + ": " + it.a + " -> " + it.b + " (" + it.detail + ")\n";
+        break;
       case DiffItem::Kind::parameter:
         head(std::string("layer ") + std::string(config::layer_name(it.layer)));
         out += "  " + hex4(it.key) + " " + (it.name.empty() ? "(name unknown)" : it.name) + ": " +
-               it.a + " -> " + it.b + "\n";
+               it.a + " -> " + it.b + (it.detail.empty() ? "" : " (" + it.detail + ")") + "\n";
         break;
       case DiffItem::Kind::curve:
         head("curves");
@@ -358,11 +492,27 @@ std::string render_text(const DiffResult& r, const std::string& an, const std::s
   return out;
 }
 
+namespace {
+nlohmann::ordered_json scope_json(const config::Scope& s) {
+  nlohmann::ordered_json j;
+  j["layers"] = nlohmann::ordered_json::array();
+  for (int l = 1; l <= config::kLayerCount; ++l)
+    if (s.layers[static_cast<std::size_t>(l - 1)]) j["layers"].push_back(config::layer_name(l));
+  j["parameters"] = config::to_string(s.parameters);
+  j["curves"] = s.curves;
+  j["command_table"] = s.command_table;
+  return j;
+}
+}  // namespace
+
 std::string render_json(const DiffResult& r, const std::string& an, const std::string& bn) {
   nlohmann::ordered_json j;
   j["a"] = an;
   j["b"] = bn;
   j["identical"] = r.identical();
+  j["scope"] = {{"a", scope_json(r.scope_a)},
+                {"b", scope_json(r.scope_b)},
+                {"compared", scope_json(r.compared)}};
   j["differences"] = nlohmann::ordered_json::array();
   for (const auto& it : r.items) {
     nlohmann::ordered_json d;
@@ -370,12 +520,18 @@ std::string render_json(const DiffResult& r, const std::string& an, const std::s
     if (it.kind == DiffItem::Kind::parameter) {
       d["layer"] = std::string(config::layer_name(it.layer));
       d["upid"] = hex4(it.key).substr(0, 4);
-    } else if (it.kind != DiffItem::Kind::metadata) {
+    } else if (it.kind == DiffItem::Kind::curve || it.kind == DiffItem::Kind::ct_entry) {
       d["id"] = it.key;
     }
     d["name"] = it.name;
     d["a"] = it.a;
     d["b"] = it.b;
+    if (it.kind == DiffItem::Kind::parameter) {
+      if (!it.a_type.empty()) d["a_type"] = it.a_type;
+      if (!it.b_type.empty()) d["b_type"] = it.b_type;
+      if (!it.a_invalid.empty()) d["a_invalid"] = it.a_invalid;
+      if (!it.b_invalid.empty()) d["b_invalid"] = it.b_invalid;
+    }
     if (!it.detail.empty()) d["detail"] = it.detail;
     j["differences"].push_back(std::move(d));
   }

@@ -1,10 +1,15 @@
 #pragma once
-// Diff of two drive configurations (issue 5 §2). Parameters are compared by
-// effective value: a UPID absent from a modified-only capture (§10.2) is at its
-// default; absent from a full capture (§10.3) it is not ROM-writable; absent
-// from a layer that was not captured it is unknown and not compared. Curves and
-// command table entries are compared by raw content, with a decoded summary of
-// what changed.
+// Diff of two drive configurations (issue 5 §2, issue 12 §5). Parameters are
+// compared by effective value: a UPID absent from a modified-only capture
+// (§10.2) is at its default; absent from a full capture (§10.3) it is not
+// ROM-writable. A recorded type that differs between the sides is a
+// difference even when the values are equal; a value that does not fit its
+// type (never truncated) or lies outside the database's range is flagged
+// INVALID on the side that holds it. A layer, the curves or the command table
+// captured on one side only is a difference of kind `scope` (the other side
+// cannot say what it holds), and the header states each side's scope and what
+// was compared. Curves and command table entries are compared by raw
+// content, with a decoded summary of what changed.
 #include <functional>
 #include <optional>
 #include <string>
@@ -29,17 +34,23 @@ struct DiffOptions {
 using DefaultLookup = std::function<std::optional<std::uint32_t>(std::uint16_t upid)>;
 
 struct DiffItem {
-  enum class Kind { metadata, parameter, curve, ct_entry };
+  enum class Kind { metadata, parameter, curve, ct_entry, scope };
   Kind kind = Kind::parameter;
   int layer = 0;          // parameters: 1..4
   std::uint32_t key = 0;  // UPID, curve ID or CT entry ID
   std::string name;       // parameter name, curve name, entry name, or metadata field
   std::string a;          // value on side A as text ("16", "default 15", "absent")
   std::string b;
-  std::string detail;  // decoded summary ("target 100 mm -> 50 mm")
+  std::string detail;  // decoded summary ("target 100 mm -> 50 mm"), "type UINT16 -> SINT16"
+  // Parameters: why the side's value is invalid ("" = valid), and the type
+  // each side was shown by ("" = unknown).
+  std::string a_invalid, b_invalid;
+  std::string a_type, b_type;
 };
 
 struct DiffResult {
+  config::Scope scope_a, scope_b;
+  config::Scope compared;  // what both sides captured (parameters: "full" only if both are)
   std::vector<DiffItem> items;
   std::vector<std::string> notes;  // what could not be compared, and why
   bool identical() const { return items.empty(); }
@@ -51,6 +62,12 @@ DiffResult diff(const config::DriveConfig& a, const config::DriveConfig& b, cons
 // Factory state as a configuration: every layer captured, nothing modified, no
 // curves, no command table entries.
 config::DriveConfig factory_defaults_config();
+// The same within `scope` (the other side's), so `diff defaults FILE` compares
+// what FILE captured and reports no scope difference.
+config::DriveConfig factory_defaults_config(const config::Scope& scope);
+
+// "modified parameters of OS, MC, Intf, Appl; curves; command table"
+std::string describe_scope(const config::Scope& s);
 
 std::string render_text(const DiffResult& r, const std::string& a_name, const std::string& b_name);
 std::string render_json(const DiffResult& r, const std::string& a_name, const std::string& b_name);

@@ -34,8 +34,26 @@ struct DriveInfo {
   std::vector<ErrorLogLine> log;
 };
 
+// The drive's error state, read after a refused request: a refusal can put
+// MC into its error state (seed 003 §15 Error Detection Mask). State var
+// (seed 001 §3: main state 4 = Error State), status word bits 3 Error and 12
+// Fatal Error (§3.23), the actual error text (seed 003 §14.1). Reads only.
+struct ErrorState {
+  std::optional<std::uint16_t> state_var;
+  std::optional<std::uint16_t> status_word;
+  std::string actual_error;  // "" when the drive reports none
+  bool in_error() const;
+};
+Result<ErrorState> read_error_state(client::Client& c);
+// "drive state: 4 Error State (state var 0401h), status word 0008h (Error); actual error: Motor
+// Hot"
+std::string render_error_state(const ErrorState& s);
+
 // Reads at most `max_log` newest error log entries.
-Result<DriveInfo> read_drive_info(client::Client& c, const db::Database* db, std::size_t max_log = 8);
+Result<DriveInfo> read_drive_info(client::Client& c, const db::Database* db,
+                                  std::size_t max_log = 8);
 std::string render_info(const DriveInfo& i);
+// The same as one JSON object (docs/json-reports.md "info").
+std::string render_info_json(const DriveInfo& i);
 
 }  // namespace lmcfg::ops

@@ -150,13 +150,9 @@ void print_param_list(const std::vector<const db::Parameter*>& v) {
 }
 
 int run_show(const DbOptions& o) {
-  std::string t = o.upid;
-  if (t.size() > 2 && t[0] == '0' && (t[1] == 'x' || t[1] == 'X')) t = t.substr(2);
-  auto v = parse_number(t, true);
-  if (!v || *v > 0xFFFF || t.empty() || t.size() > 4) {
-    std::fprintf(stderr,
-                 "lmcfg db show: \"%s\" is not a UPID (expected up to 4 hex digits, e.g. 13A2)\n",
-                 o.upid.c_str());
+  auto v = db::parse_upid(o.upid);
+  if (!v.ok()) {
+    std::fprintf(stderr, "lmcfg db show: %s\n", v.error().message.c_str());
     return kInvalidInput;
   }
   int rc = kOk;
@@ -566,7 +562,7 @@ void setup(CLI::App& app, int& exit_code) {
   common(db);
 
   auto* show = db->add_subcommand("show", "Show everything the database knows about one UPID");
-  show->add_option("upid", o->upid, "UPID in hex: 13A2, 0x13A2")->required();
+  show->add_option("upid", o->upid, "UPID in hex: 13A2, 13a2h, 0x13A2")->required();
   show->add_option("--profile", o->profile,
                    "Only the definition for this profile id (see upid-db/profiles.tsv)");
   show->callback([o, &exit_code] { exit_code = run_show(*o); });

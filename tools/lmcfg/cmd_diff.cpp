@@ -30,6 +30,9 @@ int run(DiffCli& o) {
     if (!s.ok()) return fail("diff", s.error());
     session = std::move(*s);
   }
+  if (o.a == "-" && o.b == "-")
+    return fail("diff", Error(Errc::invalid_argument,
+                              "A and B are both standard input ('-'); at most one side can be"));
   auto load = [&](const std::string& what) -> Result<config::DriveConfig> {
     if (what == "defaults") return ops::factory_defaults_config();
     if (what == "drive") {
@@ -46,6 +49,10 @@ int run(DiffCli& o) {
   if (!a.ok()) return fail("diff", a.error());
   auto b = load(o.b);
   if (!b.ok()) return fail("diff", b.error());
+  // Factory defaults are known for everything: compared within the other
+  // side's scope, so a partial capture is not reported as lacking the rest.
+  if (o.a == "defaults" && o.b != "defaults") a = ops::factory_defaults_config(b->scope);
+  if (o.b == "defaults" && o.a != "defaults") b = ops::factory_defaults_config(a->scope);
 
   std::map<std::uint16_t, std::optional<std::uint32_t>> asked;
   std::optional<Error> link_error;
@@ -67,9 +74,9 @@ int run(DiffCli& o) {
     if (auto c = session->close(); !c.ok()) return fail("diff", c.error());
   }
   if (link_error) return fail("diff", *link_error);
+  const std::string an = o.a == "-" ? "(stdin)" : o.a, bn = o.b == "-" ? "(stdin)" : o.b;
   std::fputs(
-      (o.common.json ? ops::render_json(result, o.a, o.b) : ops::render_text(result, o.a, o.b))
-          .c_str(),
+      (o.common.json ? ops::render_json(result, an, bn) : ops::render_text(result, an, bn)).c_str(),
       stdout);
   return result.identical() ? kOk : kDifferent;
 }
@@ -79,15 +86,20 @@ const Register reg(20, [](CLI::App& app, int& exit_code) {
   auto* sub = app.add_subcommand(
       "diff", "Compare two configurations (files, factory defaults or a live drive)");
   sub->footer(
-      "A and B are each a file (.json/.xml), 'defaults' (factory defaults) or 'drive' (read "
+      "A and B are each a file (.json/.xml; '-' reads standard input, format from the "
+      "content), 'defaults' (factory defaults, within the other side's scope) or 'drive' (read "
       "live).\n"
+      "A side that captured a layer, the curves or the command table the other did not is a "
+      "difference\n"
+      "(scope); values that do not fit their type or range are flagged INVALID on their side.\n"
       "Examples:\n"
       "  lmcfg diff axis1.json axis2.json\n"
       "  lmcfg diff defaults axis1.json\n"
       "  lmcfg diff axis1.json drive --port /dev/ttyUSB0 --id 0x11\n"
+      "  ssh host cat axis1.xml | lmcfg diff - axis1.json\n"
       "Exit status: 0 identical, 1 different, 2 or more on error.");
-  sub->add_option("A", o->a, "file, defaults or drive")->required();
-  sub->add_option("B", o->b, "file, defaults or drive")->required();
+  sub->add_option("A", o->a, "file, -, defaults or drive")->required();
+  sub->add_option("B", o->b, "file, -, defaults or drive")->required();
   add_link_options(sub, o->common);
   sub->get_option("--port")->required(false);
   add_output_options(sub, o->common);

@@ -17,13 +17,14 @@ int run(CommonOptions& o) {
   auto closed = (*session)->close();
   if (!info.ok()) return fail("info", info.error());
   if (!closed.ok()) return fail("info", closed.error());
-  std::fputs(ops::render_info(*info).c_str(), stdout);
+  std::fputs((o.json ? ops::render_info_json(*info) : ops::render_info(*info)).c_str(), stdout);
   return kOk;
 }
 
 const Register reg(60, [](CLI::App& app, int& exit_code) {
   auto o = std::make_shared<CommonOptions>();
-  auto* sub = app.add_subcommand("info", "Show a drive's state, status and warn words, actual error and error log");
+  auto* sub = app.add_subcommand(
+      "info", "Show a drive's state, status and warn words, actual error and error log");
   sub->footer("Example: lmcfg info --port /dev/ttyUSB0 --id 0x11");
   add_link_options(sub, *o);
   add_output_options(sub, *o);

@@ -1,10 +1,15 @@
 // lmcfg get UPID / lmcfg set UPID VALUE [--ram|--rom]: one parameter, with names and units.
+#include <unistd.h>
+
 #include <cstdio>
+#include <iostream>
 #include <nlohmann/json.hpp>
 
 #include "command.hpp"
 #include "link_options.hpp"
+#include "ops/drive_info.hpp"
 #include "ops/param_info.hpp"
+#include "ops/restore.hpp"
 
 namespace lmcfg::cli {
 namespace {
@@ -15,14 +20,11 @@ struct ParamCli {
   std::string value_text;
   bool ram = false;
   bool rom = false;
+  bool stop_mc = false;
+  bool include_comm = false;
 };
 
-Result<std::uint16_t> parse_upid(const std::string& t) {
-  auto v = parse_number(t, true);
-  if (!v || *v > 0xFFFF)
-    return Error(Errc::invalid_argument, "UPID '" + t + "' is not 16-bit hex (e.g. 13A2)");
-  return static_cast<std::uint16_t>(*v);
-}
+Result<std::uint16_t> parse_upid(const std::string& t) { return db::parse_upid(t); }
 
 // The database's description, completed from the drive; says so unless --quiet.
 Result<db::ValueSpec> describe(client::Client& c, const ParamCli& o, const char* cmd,
@@ -42,13 +44,22 @@ void print_value(const ParamCli& o, std::uint16_t upid, const db::Parameter* d,
   const std::string text = known ? db::format_value(spec, v) : std::to_string(v);
   if (o.common.json) {
     nlohmann::ordered_json j;
-    char hex[8];
+    char hex[12];
     std::snprintf(hex, sizeof hex, "%04X", upid);
     j["upid"] = hex;
     j["name"] = d ? d->name : "";
     j["type"] = spec.type ? std::string(db::type_name(*spec.type)) : "";
     j["memory"] = where;
     j["raw"] = v;
+    std::snprintf(hex, sizeof hex, "%08X", v);
+    j["raw_hex"] = hex;
+    // The field as a number of its type (signed types sign-extended); null
+    // when the type is unknown, a text type, or the field does not fit it.
+    std::optional<std::int64_t> integer;
+    if (spec.type && !db::is_text_type(*spec.type) && *spec.type != db::TypeCode::LinFloat)
+      integer = db::field_integer(*spec.type, v);
+    j["integer"] = integer ? nlohmann::ordered_json(*integer) : nlohmann::ordered_json(nullptr);
+    j["unit"] = spec.unit;
     j["value"] = text;
     std::printf("%s\n", j.dump().c_str());
   } else {
@@ -57,6 +68,25 @@ void print_value(const ParamCli& o, std::uint16_t upid, const db::Parameter* d,
                                          : d->name.c_str();
     std::printf("%04X %s [%s] = %s%s\n", upid, name, where, text.c_str(), known ? "" : " (raw)");
   }
+}
+
+// After the drive refused a request: its error state, with the error text
+// (a refusal can put MC into its error state, seed 003 §15), as a line for
+// stderr; "" for other errors.
+std::string refusal_state(client::Client& c, const char* cmd, const Error& e) {
+  if (e.code.category() != comm_state_category()) return "";
+  auto st = ops::read_error_state(c);
+  return "lmcfg " + std::string(cmd) + ": after the refusal: " +
+         (st.ok() ? ops::render_error_state(*st)
+                  : "the drive's error state could not be read: " + st.error().message) +
+         "\n";
+}
+
+// fail(), then the drive's state after a refusal.
+int fail_with_state(const char* cmd, const Error& e, const std::string& state) {
+  const int rc = fail(cmd, e);
+  std::fputs(state.c_str(), stderr);
+  return rc;
 }
 
 int run_get(ParamCli& o) {
@@ -69,14 +99,39 @@ int run_get(ParamCli& o) {
   if (!session.ok()) return fail("get", session.error());
   auto& c = (*session)->client();
   auto v = o.rom ? c.read_rom(*upid) : c.read_ram(*upid);
+  const std::string state = v.ok() ? "" : refusal_state(c, "get", v.error());
   auto spec =
       v.ok() ? describe(c, o, "get", *upid, d, false) : Result<db::ValueSpec>(db::ValueSpec{});
   auto closed = (*session)->close();
-  if (!v.ok()) return fail("get", v.error());
+  if (!v.ok()) return fail_with_state("get", v.error(), state);
   if (!spec.ok()) return fail("get", spec.error());
   if (!closed.ok()) return fail("get", closed.error());
   print_value(o, *upid, d, *spec, o.rom ? "ROM" : "RAM", *v);
   return kOk;
+}
+
+// The manual requires the MC software stopped for configuration (seed 003
+// §10; ROM values act after its restart, §9.2), and LinRS has no message that
+// tells whether it runs: `set --rom` stops it (--stop-mc, or asked on a
+// terminal), writes, and starts it again; otherwise it refuses with that advice.
+Result<bool> confirm_stop_mc(const ParamCli& o, std::uint16_t upid) {
+  if (!o.rom || o.stop_mc) return o.rom;
+  if (!::isatty(STDIN_FILENO))
+    return Error(Errc::invalid_argument,
+                 "writing ROM needs the MC software stopped (seed 003 §10); add --stop-mc to stop "
+                 "it, write and start it again (the axis stops meanwhile), or write RAM only "
+                 "without --rom; nothing written");
+  char hex[8];
+  std::snprintf(hex, sizeof hex, "%04X", upid);
+  std::fprintf(stderr,
+               "Writing ROM needs the MC software stopped (seed 003 §10). Stop MC of drive %s on "
+               "%s, write %s and start MC again? [y/N] ",
+               o.common.id.c_str(), o.common.port.c_str(), hex);
+  std::string answer;
+  std::getline(std::cin, answer);
+  if (answer != "y" && answer != "Y" && answer != "yes")
+    return Error(Errc::cancelled, "cancelled; nothing written");
+  return true;
 }
 
 int run_set(ParamCli& o) {
@@ -85,6 +140,22 @@ int run_set(ParamCli& o) {
   std::optional<db::Database> holder;
   const db::Database* db = load_database(o.common, holder);
   const db::Parameter* d = db ? db->find(*upid) : nullptr;
+  const bool comm = ops::is_comm_parameter(db, *upid);
+  if (comm && !o.include_comm) {
+    char hex[8];
+    std::snprintf(hex, sizeof hex, "%04X", *upid);
+    return fail("set", Error(Errc::invalid_argument,
+                             std::string(hex) + (d && !d->name.empty() ? " " + d->name : "") +
+                                 " is a communication parameter (baud rate, MACID, checksum or "
+                                 "parity): writing it changes the link the drive answers on; "
+                                 "add --include-comm to write it anyway; nothing written"));
+  }
+  auto stop = confirm_stop_mc(o, *upid);
+  if (!stop.ok() && stop.error().code == make_error_code(Errc::cancelled)) {
+    std::fprintf(stderr, "%s\n", stop.error().message.c_str());  // as `default` does
+    return kOk;
+  }
+  if (!stop.ok()) return fail("set", stop.error());
   auto session = open_link(o.common);
   if (!session.ok()) return fail("set", session.error());
   auto& c = (*session)->client();
@@ -92,12 +163,27 @@ int run_set(ParamCli& o) {
   if (!spec.ok()) return fail("set", spec.error());
   auto value = db::parse_value(*spec, o.value_text);
   if (!value.ok()) return fail("set", value.error());
+  if (*stop) {
+    if (auto r = c.stop_mc(); !r.ok())
+      return fail_with_state("set", r.error(), refusal_state(c, "set", r.error()));
+  }
   Result<void> w = o.rom && o.ram ? c.write_ram_rom(*upid, *value)
                    : o.rom        ? c.write_rom(*upid, *value)
                                   : c.write_ram(*upid, *value);
+  const std::string state = w.ok() ? "" : refusal_state(c, "set", w.error());
+  Result<void> started{};
+  if (*stop) started = c.start_mc();  // also after a failed write: leave MC as found
   auto closed = (*session)->close();
-  if (!w.ok()) return fail("set", w.error());
+  if (!w.ok()) return fail_with_state("set", w.error(), state);
+  if (!started.ok()) return fail("set", started.error());
   if (!closed.ok()) return fail("set", closed.error());
+  if (comm && !o.common.quiet)
+    std::fprintf(stderr,
+                 "lmcfg set: warning: %04X is a communication parameter: the link changes when "
+                 "the value takes effect; reach the drive with the new settings\n",
+                 *upid);
+  if (*stop && !o.common.quiet)
+    std::fprintf(stderr, "lmcfg set: MC was stopped for the ROM write and started again\n");
   print_value(o, *upid, d, *spec, o.rom && o.ram ? "RAM+ROM" : o.rom ? "ROM" : "RAM", *value);
   return kOk;
 }
@@ -121,13 +207,21 @@ const Register reg_set(51, [](CLI::App& app, int& exit_code) {
   sub->footer(
       "VALUE: raw number (16, 0x10), scaled value with unit (100 mm) or enum label (By "
       "Parameter).\n"
-      "Example: lmcfg set 13A2 16 --port /dev/ttyUSB0 --rom");
-  sub->add_option("UPID", o->upid_text, "UPID in hex")->required();
+      "Examples:\n"
+      "  lmcfg set 13A2 16 --port /dev/ttyUSB0\n"
+      "  lmcfg set 13A2 16 --port /dev/ttyUSB0 --rom --stop-mc");
+  sub->add_option("UPID", o->upid_text, "UPID in hex (13A2, 0x13A2, 13a2h)")->required();
   sub->add_option("VALUE", o->value_text, "value")->required();
   add_link_options(sub, o->common);
   add_output_options(sub, o->common);
   sub->add_flag("--ram", o->ram, "write RAM (live value)");
-  sub->add_flag("--rom", o->rom, "write ROM (acts after a restart, §9.2)");
+  sub->add_flag("--rom", o->rom,
+                "write ROM (acts after a restart, §9.2); needs MC stopped (§10): asks on a "
+                "terminal, else needs --stop-mc");
+  sub->add_flag("--stop-mc", o->stop_mc,
+                "with --rom: stop MC before the write and start it again after (§13.3, §13.4)");
+  sub->add_flag("--include-comm", o->include_comm,
+                "allow writing a communication parameter (baud rate, MACID, checksum, parity)");
   sub->callback([o, &exit_code] { exit_code = run_set(*o); });
 });
 

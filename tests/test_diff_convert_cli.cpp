@@ -1,0 +1,310 @@
+// diff flags invalid values, type and scope differences; convert is lossless
+// for every fixture; stdin and oversized inputs; one UPID syntax; the --json
+// reports validate against schemas/report-*.schema.json (real ajv).
+#include <unistd.h>
+
+#include <catch2/catch.hpp>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "config/atomic_file.hpp"
+#include "config/config_io.hpp"
+#include "config/json_io.hpp"
+#include "config/xml_io.hpp"
+#include "db/value.hpp"
+#include "ops/diff.hpp"
+#include "test_config_support.hpp"
+
+using namespace lmcfg;
+using namespace lmcfg::config;
+using namespace lmcfg::config::testing;
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Dir {
+  fs::path path;
+  Dir() {
+    static int n = 0;
+    path = fs::temp_directory_path() /
+           ("lmcfg-diffcli-" + std::to_string(::getpid()) + "-" + std::to_string(n++));
+    fs::remove_all(path);
+    fs::create_directories(path);
+  }
+  ~Dir() {
+    std::error_code ec;
+    fs::remove_all(path, ec);
+  }
+};
+
+struct Out {
+  int rc = -1;
+  std::string out, err;
+};
+
+// Runs `lmcfg ARGS` through the shell, stdout and stderr captured.
+Out tool(const Dir& d, const std::string& args) {
+  const auto o = d.path / "stdout.txt", e = d.path / "stderr.txt";
+  const std::string cmd =
+      std::string(LMCFG_TOOL_PATH) + " " + args + " >'" + o.string() + "' 2>'" + e.string() + "'";
+  const int rc = std::system(cmd.c_str());
+  Out r;
+  r.rc = WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+  r.out = slurp(o);
+  r.err = slurp(e);
+  return r;
+}
+
+std::string must(Result<std::string> r) {
+  REQUIRE(r.ok());
+  return *r;
+}
+
+std::string q(const fs::path& p) { return "'" + p.string() + "'"; }
+
+Parameter typed(std::uint16_t upid, std::uint32_t value, std::uint8_t type) {
+  Parameter p = param(upid, value);
+  p.type = type;
+  return p;
+}
+
+const ops::DiffItem* item(const ops::DiffResult& r, ops::DiffItem::Kind k) {
+  for (const auto& it : r.items)
+    if (it.kind == k) return &it;
+  return nullptr;
+}
+
+bool ajv_ready() {
+  static const int ok = [] {
+    return run("'" + (fs::path(LMCFG_SOURCE_DIR) / "scripts" / "install-node-deps.sh").string() +
+               "'") == 0
+               ? 1
+               : 0;
+  }();
+  return ok == 1;
+}
+
+// Validates `json` against schemas/NAME with ajv; the validator's verdict.
+bool valid_report(const Dir& d, const char* schema, const std::string& json) {
+  const auto f = d.path / "report.json";
+  spit(f, json);
+  const auto ajv = fs::path(LMCFG_SOURCE_DIR) / "tools" / "node" / "node_modules" / ".bin" / "ajv";
+  const auto s = fs::path(LMCFG_SOURCE_DIR) / "schemas" / schema;
+  return run(q(ajv) + " validate --spec=draft2020 --strict=true -s " + q(s) + " -d " + q(f)) == 0;
+}
+
+}  // namespace
+
+TEST_CASE(
+    "seed003 §9 §10 diff: a value that does not fit its type is flagged on its side, never "
+    "truncated",
+    "[diff]") {
+  DriveConfig a, b;
+  a.layer(2).push_back(typed(0x13A2, 70000, 3));  // UINT16 (§10 type 03h)
+  b.layer(2).push_back(typed(0x13A2, 15, 3));
+  auto r = ops::diff(a, b, nullptr, {}, {});
+  REQUIRE_FALSE(r.identical());
+  const auto* it = item(r, ops::DiffItem::Kind::parameter);
+  REQUIRE(it != nullptr);
+  CHECK(it->a == "70000 (00011170h) INVALID: does not fit type UINT16");
+  CHECK(it->a_invalid == "does not fit type UINT16");
+  CHECK(it->b == "15");
+  CHECK(it->b_invalid.empty());
+  CHECK(ops::render_text(r, "a.json", "b.json")
+            .find("  13A2h (name unknown): 70000 (00011170h) INVALID: does not fit type UINT16 -> "
+                  "15\n") != std::string::npos);
+  // The same invalid value on both sides: no difference, but said.
+  auto same = ops::diff(a, a, nullptr, {}, {});
+  CHECK(same.identical());
+  REQUIRE(same.notes.size() == 1);
+  CHECK(same.notes[0] ==
+        "MC 13A2h: both sides hold the invalid value 70000 (00011170h) INVALID: does not fit "
+        "type UINT16");
+  // SINT16 -5 may travel sign-extended: valid.
+  DriveConfig s;
+  s.layer(2).push_back(typed(0x13A2, 0xFFFFFFFB, 4));
+  auto sr = ops::diff(s, b, nullptr, {}, {});
+  REQUIRE(item(sr, ops::DiffItem::Kind::parameter) != nullptr);
+  CHECK(item(sr, ops::DiffItem::Kind::parameter)->a_invalid.empty());
+}
+
+TEST_CASE("seed003 §10 diff: a recorded type that differs is a difference", "[diff]") {
+  DriveConfig a, b;
+  a.layer(2).push_back(typed(0x13A2, 16, 3));  // UINT16
+  b.layer(2).push_back(typed(0x13A2, 16, 4));  // SINT16
+  auto r = ops::diff(a, b, nullptr, {}, {});
+  REQUIRE_FALSE(r.identical());
+  const auto* it = item(r, ops::DiffItem::Kind::parameter);
+  REQUIRE(it != nullptr);
+  CHECK(it->detail == "type UINT16 -> SINT16");
+  CHECK(it->a_type == "UINT16");
+  CHECK(it->b_type == "SINT16");
+  CHECK(ops::render_text(r, "a", "b")
+            .find("13A2h (name unknown): 16 -> 16 (type UINT16 -> SINT16)") != std::string::npos);
+}
+
+TEST_CASE("seed003 §10.2 §11 §12 diff: a scope one side lacks is stated and is a difference",
+          "[diff]") {
+  DriveConfig full, partial;
+  full.layer(1).push_back(param(0x0010, 1));
+  full.curves.push_back(Curve{1, sinrise_info(), sinrise_data()});
+  partial.scope.layers = {false, true, false, false};
+  partial.scope.curves = false;
+  auto r = ops::diff(full, partial, nullptr, {}, {});
+  CHECK_FALSE(r.identical());
+  std::size_t scope_items = 0;
+  for (const auto& it : r.items) scope_items += it.kind == ops::DiffItem::Kind::scope ? 1 : 0;
+  CHECK(scope_items == 4);  // OS, Intf, Appl, curves
+  const auto text = ops::render_text(r, "full.json", "partial.json");
+  CHECK(text.rfind("--- full.json (modified parameters of OS, MC, Intf, Appl; curves; command "
+                   "table)\n+++ partial.json (modified parameters of MC; no curves; command "
+                   "table)\ncompared: modified parameters of MC; no curves; command table\n",
+                   0) == 0);
+  CHECK(text.find("  layer OS: captured -> not captured (1 parameter(s) on the A side not "
+                  "compared)\n") != std::string::npos);
+  CHECK(text.find("  curves: captured -> not captured (1 curve(s) on the A side not compared)\n") !=
+        std::string::npos);
+  CHECK(text.find("\nidentical\n") == std::string::npos);
+  // Factory defaults take the other side's scope: nothing lacking.
+  auto d = ops::diff(ops::factory_defaults_config(partial.scope), partial, nullptr, {},
+                     ops::DiffOptions{true, false});
+  CHECK(d.identical());
+}
+
+TEST_CASE("seed003 §12.1 command table entry name (off 38, \"Unnamed\") in the decoded view",
+          "[config][convert]") {
+  const auto j = must(write_json(golden_sinrise()));
+  CHECK(j.find("\"decoded\": {\n        \"name\": \"Unnamed\"") != std::string::npos);
+  const auto x = must(write_xml(golden_sinrise()));
+  CHECK(x.find("<decoded name=\"Unnamed\"") != std::string::npos);
+  Bytes odd = ct_entry2();
+  odd[40] = 0x01;
+  odd[41] = '\\';
+  CHECK(ct_entry_name(odd) == "Un\\x01\\x5Cmed");
+}
+
+TEST_CASE(
+    "convert: JSON -> XML -> JSON and XML -> JSON -> XML are byte-identical for every "
+    "fixture",
+    "[config][convert]") {
+  Dir d;
+  int n = 0;
+  for (const auto& ent : fs::directory_iterator(fixture_dir())) {
+    const auto ext = ent.path().extension();
+    if (ext != ".json" && ext != ".xml") continue;
+    DYNAMIC_SECTION(ent.path().filename().string()) {
+      const auto j1 = d.path / "j1.json", x1 = d.path / "x1.xml", j2 = d.path / "j2.json",
+                 x2 = d.path / "x2.xml";
+      REQUIRE(tool(d, "convert --quiet " + q(ent.path()) + " " + q(j1)).rc == 0);
+      REQUIRE(tool(d, "convert --quiet " + q(j1) + " " + q(x1)).rc == 0);
+      REQUIRE(tool(d, "convert --quiet " + q(x1) + " " + q(j2)).rc == 0);
+      REQUIRE(tool(d, "convert --quiet " + q(j2) + " " + q(x2)).rc == 0);
+      CHECK(slurp(j2) == slurp(j1));
+      CHECK(slurp(x2) == slurp(x1));
+      // The command table's decoded views survive (name, and the command
+      // through the UPID database).
+      if (slurp(j1).find("\"raw\"") != std::string::npos) {
+        CHECK(slurp(j2).find("\"summary\"") != std::string::npos);
+        CHECK(slurp(x2).find("summary=") != std::string::npos);
+      }
+    }
+    ++n;
+  }
+  CHECK(n == 6);
+}
+
+TEST_CASE("convert and diff read standard input ('-'), format from the content",
+          "[convert][diff]") {
+  Dir d;
+  const auto golden = fixture_dir() / "golden-sinrise.xml";
+  const auto out = d.path / "from-stdin.json";
+  auto c = tool(d, "convert --quiet - " + q(out) + " < " + q(golden));
+  REQUIRE(c.rc == 0);
+  CHECK(slurp(out).find("\"format_version\": 2") != std::string::npos);
+  auto same =
+      tool(d, "diff --quiet - " + q(fixture_dir() / "golden-sinrise.json") + " < " + q(golden));
+  CHECK(same.rc == 0);
+  CHECK(same.out.find("--- (stdin) (") == 0);
+  auto both = tool(d, "diff --quiet - - < " + q(golden));
+  CHECK(both.rc == 2);
+  CHECK(both.err == "lmcfg diff: A and B are both standard input ('-'); at most one side can be\n");
+  auto to_stdout = tool(d, "convert --quiet " + q(golden) + " - --to json");
+  CHECK(to_stdout.rc == 0);
+  CHECK(to_stdout.out == slurp(out));
+}
+
+TEST_CASE("inputs: endless streams and oversized files are refused up front", "[convert][diff]") {
+  Dir d;
+  auto z = tool(d, "diff --quiet defaults /dev/zero");
+  CHECK(z.rc == 2);
+  CHECK(z.err ==
+        "lmcfg diff: /dev/zero: neither JSON nor XML (it starts with byte 00h); expected a "
+        "configuration file (.json or .xml)\n");
+  // A sparse file just over the limit: refused from its size, not read.
+  const auto big = d.path / "big.json";
+  { std::ofstream(big) << "{"; }
+  fs::resize_file(big, kMaxInputBytes + 1);
+  auto b = tool(d, "convert --quiet " + q(big) + " " + q(d.path / "o.xml"));
+  CHECK(b.rc == 2);
+  CHECK(b.err == "lmcfg convert: " + big.string() + ": " + std::to_string(kMaxInputBytes + 1) +
+                     " bytes, larger than any configuration (at most 256 MiB)\n");
+  // A stream over the limit (small limit here): refused when it passes it.
+  auto s = read_text_file("/dev/zero", 1000);
+  REQUIRE_FALSE(s.ok());
+  CHECK(s.error().message ==
+        "/dev/zero: more than 1000 bytes (an endless stream?); a configuration is far smaller");
+}
+
+TEST_CASE("one UPID syntax: 13A2, 13a2h, 0x13A2", "[db][cli]") {
+  CHECK(*db::parse_upid("13A2") == 0x13A2);
+  CHECK(*db::parse_upid("13a2h") == 0x13A2);
+  CHECK(*db::parse_upid("0x13A2") == 0x13A2);
+  CHECK(*db::parse_upid("F") == 0x000F);
+  CHECK(db::parse_upid("13A2F").error().message ==
+        "\"13A2F\" is not a UPID (expected up to 4 hex digits: 13A2, 13a2h or 0x13A2)");
+  CHECK_FALSE(db::parse_upid("h").ok());
+  CHECK_FALSE(db::parse_upid("0x").ok());
+  Dir d;
+  auto a = tool(d, "db show 13a2h");
+  auto b = tool(d, "db show 0x13A2");
+  CHECK(a.rc == 0);
+  CHECK(a.out == b.out);
+  CHECK(a.out.find("13A2") != std::string::npos);
+}
+
+TEST_CASE("reports: diff and convert --json validate against their documented shapes",
+          "[diff][convert][schema]") {
+  if (!ajv_ready()) FAIL("ajv unavailable: run scripts/install-node-deps.sh");
+  Dir d;
+  DriveConfig a, b;
+  a.layer(2).push_back(typed(0x13A2, 70000, 3));
+  b.layer(2).push_back(typed(0x13A2, 16, 4));
+  b.scope.curves = false;
+  const auto fa = d.path / "a.json", fb = d.path / "b.xml";
+  REQUIRE(write_config_file(a, fa).ok());
+  REQUIRE(write_config_file(b, fb).ok());
+  auto r = tool(d, "diff --quiet --json " + q(fa) + " " + q(fb));
+  CHECK(r.rc == 1);
+  CHECK(r.out.find("\"a_invalid\":\"does not fit type UINT16\"") == std::string::npos);  // pretty
+  CHECK(r.out.find("\"a_invalid\": \"does not fit type UINT16\"") != std::string::npos);
+  CHECK(r.out.find("\"kind\": \"scope\"") != std::string::npos);
+  CHECK(valid_report(d, "report-diff.schema.json", r.out));
+  CHECK_FALSE(valid_report(d, "report-diff.schema.json", "{\"a\": 1}"));  // the schema bites
+  auto c = tool(d, "convert --quiet --json " + q(fixture_dir() / "everything.json") + " " +
+                       q(d.path / "e.xml"));
+  CHECK(c.rc == 0);
+  CHECK(c.out.find("\"format\":\"xml\"") != std::string::npos);
+  CHECK(valid_report(d, "report-convert.schema.json", c.out));
+}
+
+TEST_CASE(
+    "seed001 §4.3.110 db find searches descriptions: \"Maximal Current\" finds 13A6h and 13BAh",
+    "[db][cli]") {
+  Dir d;
+  auto r = tool(d, "db find 'Maximal Current'");
+  CHECK(r.rc == 0);
+  CHECK(r.out.find("\n13A6 ") != std::string::npos);
+  CHECK(r.out.find("\n13BA ") != std::string::npos);
+}
