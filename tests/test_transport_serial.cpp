@@ -5,13 +5,14 @@
 #include <unistd.h>
 
 #include <catch2/catch.hpp>
-
-#include "transport_test_support.hpp"
 #include <chrono>
+#include <filesystem>
+#include <fstream>
 #include <thread>
 
 #include "transport/pty.hpp"
 #include "transport/transport.hpp"
+#include "transport_test_support.hpp"
 
 using namespace lmcfg;
 using namespace lmcfg::transport;
@@ -21,12 +22,18 @@ namespace {
 
 speed_t expected_speed(unsigned baud) {
   switch (baud) {
-    case 4800: return B4800;
-    case 9600: return B9600;
-    case 19200: return B19200;
-    case 38400: return B38400;
-    case 57600: return B57600;
-    default: return B115200;
+    case 4800:
+      return B4800;
+    case 9600:
+      return B9600;
+    case 19200:
+      return B19200;
+    case 38400:
+      return B38400;
+    case 57600:
+      return B57600;
+    default:
+      return B115200;
   }
 }
 
@@ -111,13 +118,17 @@ TEST_CASE("serial port is opened for exclusive use", "[transport]") {
   auto first = open_serial({pty.slave_path, 57600, Parity::none, 1});
   REQUIRE(first.ok());
   if (::geteuid() == 0) {
-    WARN("running as root: TIOCEXCL does not refuse a second open (checked with TIOCGEXCL instead)");
+    WARN(
+        "running as root: TIOCEXCL does not refuse a second open (checked with TIOCGEXCL instead)");
     return;
   }
   auto second = open_serial({pty.slave_path, 57600, Parity::none, 1});
   REQUIRE_FALSE(second.ok());
   CHECK(second.error().code == Errc::io_error);
-  CHECK(second.error().message == "cannot open serial port " + pty.slave_path + ": Device or resource busy");
+  CHECK(second.error().message == "cannot open serial port " + pty.slave_path +
+                                      ": Device or resource busy; another program has it open "
+                                      "(find it with fuser " +
+                                      pty.slave_path + ")");
 }
 
 TEST_CASE("serial moves bytes both ways through a pty", "[transport]") {
@@ -251,7 +262,9 @@ TEST_CASE("serial open errors name the device", "[transport]") {
   auto missing = open_serial({"/dev/lmcfg-no-such-tty", 57600, Parity::none, 1});
   REQUIRE_FALSE(missing.ok());
   CHECK(missing.error().code == Errc::not_found);
-  CHECK(missing.error().message == "cannot open serial port /dev/lmcfg-no-such-tty: No such file or directory");
+  CHECK(missing.error().message ==
+        "cannot open serial port /dev/lmcfg-no-such-tty: No such file or directory; check --port "
+        "and that the adapter is plugged in (ls /dev/ttyUSB* /dev/ttyACM* /dev/serial/by-id/)");
 
   auto not_tty = open_serial({"/dev/null", 57600, Parity::none, 1});
   REQUIRE_FALSE(not_tty.ok());
@@ -286,4 +299,44 @@ TEST_CASE("FdTransport write times out when nobody reads", "[transport]") {
   }
   CHECK(timed_out);
   CHECK(Clock::now() - t0 < 5s);
+}
+
+TEST_CASE("low latency: a pty has no TIOCSSERIAL; the open degrades gracefully",
+          "[transport][latency]") {
+  auto pty = make_pty();
+  LowLatencyReport rep;
+  auto serial = open_serial({pty.slave_path, 115200, Parity::none, 1}, &rep);
+  REQUIRE(serial.ok());
+  CHECK_FALSE(rep.ioctl_supported);
+  CHECK_FALSE(rep.low_latency_set);
+  CHECK(rep.ioctl_error == "TIOCGSERIAL: Inappropriate ioctl for device");
+  CHECK_FALSE(rep.latency_timer_ms.has_value());
+  CHECK(rep.advice.empty());
+  CHECK((*serial)->receive_latency_ms() == 0.0);
+}
+
+TEST_CASE("low latency: the adapter's latency_timer is read from sysfs and a slow one is reported",
+          "[transport][latency]") {
+  namespace fs = std::filesystem;
+  auto pty = make_pty();
+  const fs::path root = fs::temp_directory_path() / ("lmcfg-sysfs-" + std::to_string(::getpid()));
+  const std::string name = fs::path(pty.slave_path).filename().string();
+  fs::create_directories(root / "class/tty" / name / "device");
+  const std::string timer = (root / "class/tty" / name / "device/latency_timer").string();
+  CHECK(latency_timer_path(pty.slave_path, root.string()) == timer);
+  std::ofstream(timer) << "16\n";
+  auto slow = request_low_latency(pty.slave.get(), pty.slave_path, root.string());
+  REQUIRE(slow.latency_timer_ms == 16);
+  CHECK(slow.sysfs_path == timer);
+  CHECK(slow.advice ==
+        pty.slave_path + ": the USB serial adapter holds received bytes for 16 ms (" + timer +
+            "), so every exchange takes that much longer; set it to 1 ms with the udev rule in "
+            "docs/transport.md (ACTION==\"add\", SUBSYSTEM==\"usb-serial\", DRIVER==\"ftdi_sio\", "
+            "ATTR{latency_timer}=\"1\") or, as root: echo 1 > " +
+            timer);
+  std::ofstream(timer, std::ios::trunc) << "1\n";
+  auto fast = request_low_latency(pty.slave.get(), pty.slave_path, root.string());
+  CHECK(fast.latency_timer_ms == 1);
+  CHECK(fast.advice.empty());
+  fs::remove_all(root);
 }

@@ -228,22 +228,36 @@ Result<Telegram> Client::transact(const Telegram& req_in, Millis timeout, bool i
   return last;
 }
 
+Result<DefaultResponse> Client::decode_default(const Telegram& t, bool value_expected) {
+  auto r = decode_default_response(t, opt_.layout);
+  if (r.ok() || !opt_.adapt_layout || t.main != 0x00 || t.sub != 0x00) return r;
+  std::size_t n = t.data.size();
+  if (value_expected && !opt_.layout.mc_response) {
+    if (n < 4) return r;
+    n -= 4;
+  }
+  auto layout = layout_for_length(n, opt_.layout);
+  if (!layout) return r;
+  opt_.layout = *layout;
+  return decode_default_response(t, opt_.layout);
+}
+
 Result<DefaultResponse> Client::default_response(ResponseRequest kind) {
   LMCFG_ASSIGN_OR_RETURN(auto t,
                          transact(make_response_request(opt_.id, kind), opt_.timeout, true));
-  return decode_default_response(t, opt_.layout);
+  return decode_default(t, kind != ResponseRequest::default_response);
 }
 
 Result<DefaultResponse> Client::write_control_word(std::uint16_t cw) {
   LMCFG_ASSIGN_OR_RETURN(auto t,
                          transact(make_write_control_word(opt_.id, cw), opt_.timeout, false));
-  return decode_default_response(t, opt_.layout);
+  return decode_default(t, false);
 }
 
 Result<std::uint32_t> Client::read_ram(std::uint16_t upid) {
   LMCFG_ASSIGN_OR_RETURN(
       auto t, transact(make_param_read(opt_.id, ParamOp::read_ram, upid), opt_.timeout, true));
-  LMCFG_ASSIGN_OR_RETURN(auto r, decode_default_response(t, opt_.layout));
+  LMCFG_ASSIGN_OR_RETURN(auto r, decode_default(t, true));
   if (!r.value)
     return Error(Errc::unexpected_response,
                  "RAM read of UPID " + hexid("%04Xh", upid) + " answered without a value");

@@ -38,20 +38,25 @@ struct ClientOptions {
   std::uint8_t id = 0x11;  // seed 003 §15 factory MACID parameter value
   codec::ChecksumConfig checksum;
   codec::DefaultResponseLayout layout;
-  Millis timeout{200};            // ordinary request (drive answers in 0.5-1.5 ms, §6.1.1.1)
+  Millis timeout{200};              // ordinary request (drive answers in 0.5-1.5 ms, §6.1.1.1)
   Millis defaulting_timeout{5000};  // §10.4: "could be more than 1 s"
-  Millis flash_timeout{12000};    // §11/§12: saving to flash, "timeout 10s"
-  Millis reset_timeout{6000};     // §13.1: "ca. 3 s"
+  Millis flash_timeout{12000};      // §11/§12: saving to flash, "timeout 10s"
+  Millis reset_timeout{6000};       // §13.1: "ca. 3 s"
   int read_retries = 2;
-  Millis settle{500};             // quiet time required after a lost/garbled answer
+  Millis settle{500};  // quiet time required after a lost/garbled answer
   // A modified list that ends at once with C6 for a UPID outside the layer is
   // an empty list, or a drive that reset between "start" and "get next" (it
   // forgot the list). true: read such a list twice (2 more telegrams per empty
   // layer) and accept it only if both agree. Lists with entries are always
   // confirmed this way when their C6 carries a UPID outside the layer.
   bool confirm_empty_lists = true;
-  bool pad_ct_list = true;        // §12 example pads the defined-list request (erratum 3)
-  bool skip_echo = true;          // 2-wire RS485 adapters may echo our own request
+  bool pad_ct_list = true;  // §12 example pads the defined-list request (erratum 3)
+  bool skip_echo = true;    // 2-wire RS485 adapters may echo our own request
+  // A default response whose length does not fit `layout` (the content is
+  // configurable on the drive, §6.1.1.1, §15): true = take the layout of that
+  // length closest to `layout` (codec::layout_for_length) from then on;
+  // false = refuse it (the layout was given explicitly).
+  bool adapt_layout = true;
 };
 
 struct Stats {
@@ -62,10 +67,10 @@ struct Stats {
   std::uint64_t retries = 0;
   std::uint64_t timeouts = 0;
   std::uint64_t bad_frames = 0;
-  std::uint64_t write_requests = 0;  // telegrams that change drive state
-  std::uint64_t stale_answers = 0;   // answers ignored: other sub ID or key than the request's
-  std::uint64_t settles = 0;         // waits for a quiet line after a lost/garbled answer
-  std::uint64_t settle_bytes = 0;    // bytes dropped while settling (late answers, noise)
+  std::uint64_t write_requests = 0;    // telegrams that change drive state
+  std::uint64_t stale_answers = 0;     // answers ignored: other sub ID or key than the request's
+  std::uint64_t settles = 0;           // waits for a quiet line after a lost/garbled answer
+  std::uint64_t settle_bytes = 0;      // bytes dropped while settling (late answers, noise)
   std::uint64_t writes_confirmed = 0;  // write answers lost, effect confirmed by reading back
 };
 
@@ -89,9 +94,9 @@ struct CurveSizes {
 
 // Layers of seed 003 §10.2.
 inline constexpr int kLayerOs = 1, kLayerMc = 2, kLayerIntf = 3, kLayerAppl = 4;
-std::uint16_t layer_base(int layer);               // 0000, 1000, 2000, 3000
-std::optional<int> layer_of(std::uint16_t upid);   // nullopt outside the four ranges
-const char* layer_name(int layer);                 // "OS", "MC", "Intf", "Appl"
+std::uint16_t layer_base(int layer);              // 0000, 1000, 2000, 3000
+std::optional<int> layer_of(std::uint16_t upid);  // nullopt outside the four ranges
+const char* layer_name(int layer);                // "OS", "MC", "Intf", "Appl"
 
 class Client {
  public:
@@ -107,7 +112,8 @@ class Client {
   Result<codec::Telegram> transact(const codec::Telegram& req, Millis timeout, bool idempotent);
 
   // §6
-  Result<codec::DefaultResponse> default_response(codec::ResponseRequest kind = codec::ResponseRequest::default_response);
+  Result<codec::DefaultResponse> default_response(
+      codec::ResponseRequest kind = codec::ResponseRequest::default_response);
   // §7, §8
   Result<codec::DefaultResponse> write_control_word(std::uint16_t cw);
 
@@ -131,7 +137,8 @@ class Client {
   // (facts note erratum 5).
   Result<std::vector<ModifiedParam>> modified_list(int layer);
   // UPID list of a layer with address usage and type (§10.3), same C6 rule.
-  Result<std::vector<UpidInfo>> upid_list(int layer, const std::function<void(std::size_t)>& progress = {});
+  Result<std::vector<UpidInfo>> upid_list(int layer,
+                                          const std::function<void(std::size_t)>& progress = {});
   // ROM of a layer to defaults (§10.4); answer after completion (> 1 s).
   Result<void> default_layer(int layer);
 
@@ -160,8 +167,8 @@ class Client {
 
   // §13
   Result<void> stop_mc();
-  Result<void> start_mc();   // answer after completion
-  Result<void> reset();      // answer after completion (~3 s)
+  Result<void> start_mc();  // answer after completion
+  Result<void> reset();     // answer after completion (~3 s)
 
   // §14
   Result<std::string> actual_error_text();
@@ -170,11 +177,17 @@ class Client {
   Result<codec::ErrorLogEntry> error_log_entry(std::uint16_t index);
 
  private:
-  Result<codec::IdValueResponse> cfg(codec::CfgOp op, std::uint16_t upid, bool idempotent, Millis timeout);
-  Result<codec::IdValueResponse> id_value(const codec::Telegram& req, std::uint8_t expected_sub, bool idempotent,
-                                          Millis timeout);
-  Result<Bytes> read_block(const codec::Telegram& setup, std::uint8_t setup_sub, const codec::Telegram& chunk_req,
-                           std::uint8_t chunk_sub, std::size_t size, const char* what);
+  Result<codec::IdValueResponse> cfg(codec::CfgOp op, std::uint16_t upid, bool idempotent,
+                                     Millis timeout);
+  Result<codec::IdValueResponse> id_value(const codec::Telegram& req, std::uint8_t expected_sub,
+                                          bool idempotent, Millis timeout);
+  Result<Bytes> read_block(const codec::Telegram& setup, std::uint8_t setup_sub,
+                           const codec::Telegram& chunk_req, std::uint8_t chunk_sub,
+                           std::size_t size, const char* what);
+
+  // decode_default_response with opt_.layout, adapting it (adapt_layout) to the
+  // answer's length; value_expected: a read or response request 02-04.
+  Result<codec::DefaultResponse> decode_default(const codec::Telegram& t, bool value_expected);
 
   // Reads and drops input until the line has been quiet for opt_.settle.
   Result<void> settle_line();

@@ -22,14 +22,29 @@ std::uint16_t checksum_crc_ccitt(ByteView bytes, std::uint16_t init) {
   return crc;
 }
 
+std::uint16_t checksum_crc_kermit(ByteView bytes) {
+  std::uint16_t crc = 0x0000;
+  for (auto b : bytes) {
+    crc = static_cast<std::uint16_t>(crc ^ b);
+    for (int i = 0; i < 8; ++i) {
+      crc = (crc & 0x0001) ? static_cast<std::uint16_t>((crc >> 1) ^ 0x8408)
+                           : static_cast<std::uint16_t>(crc >> 1);
+    }
+  }
+  return crc;
+}
+
 namespace {
 
 // Range of a frame (starting at the 01) that the checksum covers.
 ByteView covered(const ChecksumConfig& cfg, ByteView frame_without_checksum) {
   switch (cfg.coverage) {
-    case ChecksumCoverage::start_through_data: return frame_without_checksum;
-    case ChecksumCoverage::id_through_data: return frame_without_checksum.subspan(1);
-    case ChecksumCoverage::data_only: return frame_without_checksum.subspan(3);
+    case ChecksumCoverage::start_through_data:
+      return frame_without_checksum;
+    case ChecksumCoverage::id_through_data:
+      return frame_without_checksum.subspan(1);
+    case ChecksumCoverage::data_only:
+      return frame_without_checksum.subspan(3);
   }
   return frame_without_checksum.subspan(1);
 }
@@ -45,9 +60,14 @@ std::string fmt(const char* f, unsigned a, unsigned b = 0, unsigned c = 0) {
 std::uint16_t compute_checksum(const ChecksumConfig& cfg, ByteView frame_without_checksum) {
   auto range = covered(cfg, frame_without_checksum);
   switch (cfg.mode) {
-    case ChecksumMode::none: return 0;
-    case ChecksumMode::add: return checksum_add(range);
-    case ChecksumMode::crc_ccitt: return checksum_crc_ccitt(range, cfg.crc_init);
+    case ChecksumMode::none:
+      return 0;
+    case ChecksumMode::add:
+      return checksum_add(range);
+    case ChecksumMode::crc_ccitt:
+      return checksum_crc_ccitt(range, cfg.crc_init);
+    case ChecksumMode::crc_kermit:
+      return checksum_crc_kermit(range);
   }
   return 0;
 }
@@ -76,7 +96,8 @@ Result<Bytes> encode(const Telegram& t, const ChecksumConfig& cfg) {
 Result<Telegram> decode(ByteView f, const ChecksumConfig& cfg) {
   const std::size_t chk = cfg.size();
   if (f.size() < 3) {
-    return Error(Errc::frame_short, fmt("telegram of %u bytes is too short to hold a header", unsigned(f.size())));
+    return Error(Errc::frame_short,
+                 fmt("telegram of %u bytes is too short to hold a header", unsigned(f.size())));
   }
   if (f[0] != kStartHeader) {
     return Error(Errc::frame_malformed, fmt("byte 0 is %02Xh, expected start header 01h", f[0]));
@@ -87,27 +108,26 @@ Result<Telegram> decode(ByteView f, const ChecksumConfig& cfg) {
   }
   const std::size_t expected = 3 + len + chk + 1;
   if (f.size() < expected) {
-    return Error(Errc::frame_short,
-                 fmt("telegram has %u bytes, LEN %02Xh requires %u", unsigned(f.size()), unsigned(len),
-                     unsigned(expected)));
+    return Error(Errc::frame_short, fmt("telegram has %u bytes, LEN %02Xh requires %u",
+                                        unsigned(f.size()), unsigned(len), unsigned(expected)));
   }
   if (f.size() > expected) {
-    return Error(Errc::frame_overlong,
-                 fmt("telegram has %u bytes, LEN %02Xh requires %u", unsigned(f.size()), unsigned(len),
-                     unsigned(expected)));
+    return Error(Errc::frame_overlong, fmt("telegram has %u bytes, LEN %02Xh requires %u",
+                                           unsigned(f.size()), unsigned(len), unsigned(expected)));
   }
   if (f[3] != kStartData) {
     return Error(Errc::frame_malformed, fmt("byte 3 is %02Xh, expected start data 02h", f[3]));
   }
   if (f[expected - 1] != kEndTelegram) {
-    return Error(Errc::frame_malformed,
-                 fmt("byte %u is %02Xh, expected end of telegram 04h", unsigned(expected - 1), f[expected - 1]));
+    return Error(Errc::frame_malformed, fmt("byte %u is %02Xh, expected end of telegram 04h",
+                                            unsigned(expected - 1), f[expected - 1]));
   }
   if (chk != 0) {
     const std::uint16_t want = compute_checksum(cfg, f.first(3 + len));
     const std::uint16_t got = get_u16le(f, 3 + len);
     if (want != got) {
-      return Error(Errc::checksum_mismatch, fmt("checksum %04Xh received, %04Xh computed", got, want));
+      return Error(Errc::checksum_mismatch,
+                   fmt("checksum %04Xh received, %04Xh computed", got, want));
     }
   }
   Telegram t;
@@ -146,8 +166,9 @@ std::optional<Result<Telegram>> StreamDecoder::next() {
     while (skip < view.size() && view[skip] != kStartHeader) ++skip;
     pos_ += skip;
     garbage_ += skip;
-    return Result<Telegram>(Error(Errc::frame_malformed,
-                                  fmt("skipped %u byte(s) of garbage before a start header 01h", unsigned(skip))));
+    return Result<Telegram>(
+        Error(Errc::frame_malformed,
+              fmt("skipped %u byte(s) of garbage before a start header 01h", unsigned(skip))));
   }
   if (view.size() < 4) return std::nullopt;
   const std::size_t len = view[2];
@@ -159,19 +180,22 @@ std::optional<Result<Telegram>> StreamDecoder::next() {
     return std::optional<Result<Telegram>>(Error(code, std::move(why)));
   };
   if (len < kMinLen || len > kMaxLen) {
-    return drop_start(Errc::frame_malformed, fmt("LEN byte %02Xh is outside 03h..3Fh; resynchronising", unsigned(len)));
+    return drop_start(Errc::frame_malformed,
+                      fmt("LEN byte %02Xh is outside 03h..3Fh; resynchronising", unsigned(len)));
   }
   if (view[3] != kStartData) {
-    return drop_start(Errc::frame_malformed, fmt("byte 3 is %02Xh, expected start data 02h; resynchronising", view[3]));
+    return drop_start(Errc::frame_malformed,
+                      fmt("byte 3 is %02Xh, expected start data 02h; resynchronising", view[3]));
   }
   const std::size_t total = 3 + len + cfg_.size() + 1;
   if (view.size() < total) return std::nullopt;
   if (view[total - 1] != kEndTelegram) {
     // Either bytes were lost (the drive frames by LEN, so a short telegram
     // swallows the next bytes) or a byte was inserted.
-    return drop_start(Errc::frame_short,
-                      fmt("no end of telegram 04h where LEN %02Xh puts it (found %02Xh); resynchronising",
-                          unsigned(len), view[total - 1]));
+    return drop_start(
+        Errc::frame_short,
+        fmt("no end of telegram 04h where LEN %02Xh puts it (found %02Xh); resynchronising",
+            unsigned(len), view[total - 1]));
   }
   auto r = decode(view.first(total), cfg_);
   if (!r.ok()) {
@@ -194,8 +218,8 @@ std::optional<Error> StreamDecoder::flush_idle() {
   std::string msg;
   if (view[0] == kStartHeader && view.size() >= 3) {
     const std::size_t total = 3 + view[2] + cfg_.size() + 1;
-    msg = fmt("line went idle after %u byte(s) of a telegram whose LEN %02Xh requires %u", unsigned(avail),
-              view[2], unsigned(total));
+    msg = fmt("line went idle after %u byte(s) of a telegram whose LEN %02Xh requires %u",
+              unsigned(avail), view[2], unsigned(total));
   } else {
     msg = fmt("line went idle after %u byte(s) of an incomplete telegram", unsigned(avail));
   }

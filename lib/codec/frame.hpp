@@ -13,10 +13,15 @@ namespace lmcfg::codec {
 inline constexpr std::uint8_t kStartHeader = 0x01;
 inline constexpr std::uint8_t kStartData = 0x02;
 inline constexpr std::uint8_t kEndTelegram = 0x04;
-inline constexpr std::size_t kMinLen = 3;   // 02 SUB MAIN: the table allows 2, but no message is shorter than 3
+inline constexpr std::size_t kMinLen =
+    3;  // 02 SUB MAIN: the table allows 2, but no message is shorter than 3
 inline constexpr std::size_t kMaxLen = 63;  // seed 003 §4 table
 
-enum class ChecksumMode : std::uint8_t { none, add, crc_ccitt };
+// crc_ccitt: CRC-16, polynomial 0x1021, MSB first, initial value crc_init
+// (0xFFFF "CCITT-FALSE" or 0x0000 "XMODEM"). crc_kermit: the same polynomial
+// reflected (LSB first, 0x8408), initial value 0, "CRC-16/KERMIT". Seed 003
+// §4.4/§15 say only "CRC CCITT polynomial 16 bit": all three readings are options.
+enum class ChecksumMode : std::uint8_t { none, add, crc_ccitt, crc_kermit };
 
 // Which bytes the checksum covers. Seed 003 §4 places "Checksum Calculation"
 // under ID..last data byte; that is the default. The other readings stay
@@ -25,7 +30,7 @@ enum class ChecksumCoverage : std::uint8_t { id_through_data, start_through_data
 
 struct ChecksumConfig {
   ChecksumMode mode = ChecksumMode::none;
-  std::uint16_t crc_init = 0xFFFF;  // CCITT-FALSE; 0x0000 is the XMODEM reading
+  std::uint16_t crc_init = 0xFFFF;  // crc_ccitt only: CCITT-FALSE; 0x0000 is the XMODEM reading
   ChecksumCoverage coverage = ChecksumCoverage::id_through_data;
 
   std::size_t size() const { return mode == ChecksumMode::none ? 0 : 2; }
@@ -35,6 +40,8 @@ struct ChecksumConfig {
 std::uint16_t checksum_add(ByteView bytes);
 // CRC-16 with the CCITT polynomial 0x1021, MSB first, no reflection, no final xor.
 std::uint16_t checksum_crc_ccitt(ByteView bytes, std::uint16_t init);
+// CRC-16/KERMIT: polynomial 0x1021 reflected (0x8408), LSB first, init 0, no final xor.
+std::uint16_t checksum_crc_kermit(ByteView bytes);
 std::uint16_t compute_checksum(const ChecksumConfig& cfg, ByteView frame_without_checksum);
 
 // One telegram. data[] holds the message data after SUB and MAIN; LEN = data.size() + 3.

@@ -41,7 +41,12 @@ std::string describe(std::uint8_t s);
 // ---- Requests -------------------------------------------------------------
 
 // §6: 01 default response, 02 + status word, 03 + warn word, 04 + state var.
-enum class ResponseRequest : std::uint8_t { default_response = 1, status_word = 2, warn_word = 3, state_var = 4 };
+enum class ResponseRequest : std::uint8_t {
+  default_response = 1,
+  status_word = 2,
+  warn_word = 3,
+  state_var = 4
+};
 Telegram make_response_request(std::uint8_t id, ResponseRequest kind);
 // §7
 Telegram make_write_control_word(std::uint8_t id, std::uint16_t control_word);
@@ -50,8 +55,14 @@ Telegram make_motion_command(std::uint8_t id, std::uint16_t header, ByteView par
 
 // §9 parameter group (main 03), answered with the default response (+4 value bytes on reads).
 enum class ParamOp : std::uint8_t {
-  read_ram = 0x00, write_ram = 0x01, read_rom = 0x02, write_rom = 0x03, write_ram_rom = 0x04,
-  get_min = 0x05, get_max = 0x06, get_default = 0x07,
+  read_ram = 0x00,
+  write_ram = 0x01,
+  read_rom = 0x02,
+  write_rom = 0x03,
+  write_ram_rom = 0x04,
+  get_min = 0x05,
+  get_max = 0x06,
+  get_default = 0x07,
 };
 Telegram make_param_read(std::uint8_t id, ParamOp op, std::uint16_t upid);
 Telegram make_param_write(std::uint8_t id, ParamOp op, std::uint16_t upid, std::uint32_t value);
@@ -60,9 +71,20 @@ Telegram make_param_default_layer(std::uint8_t id, int layer);
 
 // §10 parameter configuration group (main 05), answered with sub 50h + request sub.
 enum class CfgOp : std::uint8_t {
-  read_rom = 0x00, write_rom = 0x01, get_type = 0x04, get_min = 0x05, get_max = 0x06,
-  get_default = 0x07, start_modified = 0x08, next_modified = 0x09, start_upid_list = 0x0A,
-  next_upid = 0x0B, default_os = 0x0C, default_mc = 0x0D, default_intf = 0x0E, default_appl = 0x0F,
+  read_rom = 0x00,
+  write_rom = 0x01,
+  get_type = 0x04,
+  get_min = 0x05,
+  get_max = 0x06,
+  get_default = 0x07,
+  start_modified = 0x08,
+  next_modified = 0x09,
+  start_upid_list = 0x0A,
+  next_upid = 0x0B,
+  default_os = 0x0C,
+  default_mc = 0x0D,
+  default_intf = 0x0E,
+  default_appl = 0x0F,
 };
 Telegram make_cfg(std::uint8_t id, CfgOp op, std::uint16_t upid);
 Telegram make_cfg_write(std::uint8_t id, std::uint16_t upid, std::uint32_t value);
@@ -71,11 +93,18 @@ Telegram make_cfg_default_layer(std::uint8_t id, int layer);
 
 // §11 curves (main 04), answered with sub 40h.
 enum class CurveOp : std::uint8_t {
-  save_to_flash = 0x00, delete_all = 0x01, delete_one = 0x02, add = 0x04, write_info = 0x05,
-  write_data = 0x06, read_sizes = 0x08, read_info = 0x09, read_data = 0x0A,
+  save_to_flash = 0x00,
+  delete_all = 0x01,
+  delete_one = 0x02,
+  add = 0x04,
+  write_info = 0x05,
+  write_data = 0x06,
+  read_sizes = 0x08,
+  read_info = 0x09,
+  read_data = 0x0A,
 };
-Telegram make_curve(std::uint8_t id, CurveOp op);                        // 00, 01
-Telegram make_curve(std::uint8_t id, CurveOp op, std::uint16_t curve);   // 02, 08, 09, 0A
+Telegram make_curve(std::uint8_t id, CurveOp op);                       // 00, 01
+Telegram make_curve(std::uint8_t id, CurveOp op, std::uint16_t curve);  // 02, 08, 09, 0A
 Telegram make_curve_add(std::uint8_t id, std::uint16_t curve, std::uint16_t info_size,
                         std::uint16_t data_size);
 // 05/06: four bytes of block data per telegram (the last one padded with 00).
@@ -84,11 +113,17 @@ Telegram make_curve_write(std::uint8_t id, CurveOp op, std::uint16_t curve,
 
 // §12 command table (main 08), answered with sub 80h + request sub.
 enum class CtOp : std::uint8_t {
-  save_to_flash = 0x00, delete_all = 0x01, delete_one = 0x02, setup_write = 0x03,
-  write_data = 0x04, setup_read = 0x05, read_data = 0x06, defined_list = 0x07,
+  save_to_flash = 0x00,
+  delete_all = 0x01,
+  delete_one = 0x02,
+  setup_write = 0x03,
+  write_data = 0x04,
+  setup_read = 0x05,
+  read_data = 0x06,
+  defined_list = 0x07,
 };
-Telegram make_ct(std::uint8_t id, CtOp op);                                    // 00, 01
-Telegram make_ct(std::uint8_t id, CtOp op, std::uint16_t entry);               // 02, 05, 06
+Telegram make_ct(std::uint8_t id, CtOp op);                       // 00, 01
+Telegram make_ct(std::uint8_t id, CtOp op, std::uint16_t entry);  // 02, 05, 06
 Telegram make_ct_setup_write(std::uint8_t id, std::uint16_t entry, std::uint32_t size);
 Telegram make_ct_write(std::uint8_t id, std::uint16_t entry, std::array<std::uint8_t, 4> chunk);
 // 07: block 0..7 (32 entries each). The §12 example pads with 4 dummy bytes (LEN 09);
@@ -97,8 +132,11 @@ Telegram make_ct_defined_list(std::uint8_t id, std::uint16_t block, bool pad = t
 
 // §13 program handling (main 06).
 enum class ProgramOp : std::uint8_t {
-  reset_after_completion = 0x01, reset_immediate = 0x02, stop_mc = 0x03,
-  start_after_completion = 0x04, start_immediate = 0x05,
+  reset_after_completion = 0x01,
+  reset_immediate = 0x02,
+  stop_mc = 0x03,
+  start_after_completion = 0x04,
+  start_immediate = 0x05,
 };
 Telegram make_program(std::uint8_t id, ProgramOp op);
 
@@ -128,6 +166,17 @@ struct DefaultResponseLayout {
   friend bool operator==(const DefaultResponseLayout&, const DefaultResponseLayout&) = default;
 };
 
+// The layout of `data_len` bytes (after SUB MAIN) closest to `configured`:
+// fewest items switched on or off, ties broken towards keeping the earlier
+// items of the §6.1.1.1 order; mc_response stays as configured. The manual makes the content
+// configurable; the length of an answer is all a master sees of it. nullopt above 27 bytes.
+std::optional<DefaultResponseLayout> layout_for_length(std::size_t data_len,
+                                                       const DefaultResponseLayout& configured);
+// "comm_state,status_word,state_var,monitoring_1" (the §6.1.1.1 item names,
+// in that order) and back; "factory" parses to the factory layout.
+std::string layout_items(const DefaultResponseLayout& l);
+std::optional<DefaultResponseLayout> parse_layout_items(std::string_view text);
+
 struct DefaultResponse {
   std::uint8_t id = 0;
   std::optional<std::uint8_t> comm_state;
@@ -142,13 +191,15 @@ struct DefaultResponse {
   // "MC Response" placeholder when configured, else appended after the layout.
   std::optional<std::uint32_t> value;
 };
-Result<DefaultResponse> decode_default_response(const Telegram& t, const DefaultResponseLayout& layout = {});
-Telegram make_default_response(std::uint8_t id, const DefaultResponse& r, const DefaultResponseLayout& layout = {});
+Result<DefaultResponse> decode_default_response(const Telegram& t,
+                                                const DefaultResponseLayout& layout = {});
+Telegram make_default_response(std::uint8_t id, const DefaultResponse& r,
+                               const DefaultResponseLayout& layout = {});
 
 // Responses of main 04, 05, 07, 08 share "sub, state, 2-byte id, 4 bytes".
 struct IdValueResponse {
   std::uint8_t id = 0;
-  std::uint8_t sub = 0;     // e.g. 50h+op, 40h, 80h+op
+  std::uint8_t sub = 0;  // e.g. 50h+op, 40h, 80h+op
   std::uint8_t state = 0;
   std::uint16_t key = 0;    // UPID, curve ID or CT entry
   std::uint32_t value = 0;  // value / 4 data bytes, little-endian
@@ -180,7 +231,8 @@ struct ErrorTextResponse {
   std::string text;
 };
 Result<ErrorTextResponse> decode_error_text(const Telegram& t);
-Telegram make_error_text_response(std::uint8_t id, std::optional<std::uint16_t> code, std::string_view text);
+Telegram make_error_text_response(std::uint8_t id, std::optional<std::uint16_t> code,
+                                  std::string_view text);
 
 // 72h (§14.3).
 struct ErrorCounters {

@@ -24,11 +24,38 @@ Result<codec::ChecksumConfig> parse_checksum(std::string_view t) {
     c.crc_init = 0x0000;
     return c;
   }
-  return Error(Errc::invalid_argument, "checksum '" + std::string(t) +
-                                           "' is not one of none, add, crc, crc-ffff, crc-0000");
+  if (t == "crc-kermit") {
+    c.mode = codec::ChecksumMode::crc_kermit;
+    c.crc_init = 0x0000;
+    return c;
+  }
+  return Error(Errc::invalid_argument,
+               "checksum '" + std::string(t) +
+                   "' is not one of none, add, crc, crc-ffff, crc-0000, crc-kermit");
 }
 
-std::string checksum_name(const codec::ChecksumConfig& c) {
+Result<codec::ChecksumCoverage> parse_checksum_coverage(std::string_view t) {
+  if (t == "id") return codec::ChecksumCoverage::id_through_data;
+  if (t == "start") return codec::ChecksumCoverage::start_through_data;
+  if (t == "data") return codec::ChecksumCoverage::data_only;
+  return Error(Errc::invalid_argument,
+               "checksum coverage '" + std::string(t) + "' is not one of id, start, data");
+}
+
+std::string_view coverage_name(codec::ChecksumCoverage c) {
+  switch (c) {
+    case codec::ChecksumCoverage::id_through_data:
+      return "id";
+    case codec::ChecksumCoverage::start_through_data:
+      return "start";
+    case codec::ChecksumCoverage::data_only:
+      return "data";
+  }
+  return "id";
+}
+
+namespace {
+std::string mode_option(const codec::ChecksumConfig& c) {
   switch (c.mode) {
     case codec::ChecksumMode::none:
       return "none";
@@ -36,8 +63,27 @@ std::string checksum_name(const codec::ChecksumConfig& c) {
       return "add";
     case codec::ChecksumMode::crc_ccitt:
       return c.crc_init == 0 ? "crc-0000" : "crc-ffff";
+    case codec::ChecksumMode::crc_kermit:
+      return "crc-kermit";
   }
   return "none";
+}
+bool default_coverage(const codec::ChecksumConfig& c) {
+  return c.mode == codec::ChecksumMode::none ||
+         c.coverage == codec::ChecksumCoverage::id_through_data;
+}
+}  // namespace
+
+std::string checksum_name(const codec::ChecksumConfig& c) {
+  std::string s = mode_option(c);
+  if (!default_coverage(c)) s += " coverage=" + std::string(coverage_name(c.coverage));
+  return s;
+}
+
+std::string checksum_options(const codec::ChecksumConfig& c) {
+  std::string s = "--checksum " + mode_option(c);
+  if (!default_coverage(c)) s += " --checksum-coverage " + std::string(coverage_name(c.coverage));
+  return s;
 }
 
 Result<transport::Parity> parse_parity(std::string_view t) {

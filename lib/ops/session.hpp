@@ -27,9 +27,19 @@ struct LinkOptions {
   bool real_time_sim = false;        // sim: sleep for the modelled wire time
 };
 
-// "none", "add", "crc" (0xFFFF init), "crc-ffff", "crc-0000".
+// "none", "add", "crc" (0xFFFF init), "crc-ffff", "crc-0000", "crc-kermit"
+// (reflected, init 0). The coverage stays the default (ID through last data byte).
 Result<codec::ChecksumConfig> parse_checksum(std::string_view text);
+// "id" (ID through last data byte, default), "start" (01 through last data
+// byte), "data" (02 through last data byte): codec::ChecksumCoverage.
+Result<codec::ChecksumCoverage> parse_checksum_coverage(std::string_view text);
+std::string_view coverage_name(codec::ChecksumCoverage c);
+// The mode's option name ("crc-ffff"); with a coverage other than the default
+// " coverage=start" is appended (the form a backup's link settings record).
 std::string checksum_name(const codec::ChecksumConfig& c);
+// The command-line options that select `c`: "--checksum crc-ffff", plus
+// " --checksum-coverage start" when the coverage is not the default.
+std::string checksum_options(const codec::ChecksumConfig& c);
 Result<transport::Parity> parse_parity(std::string_view text);
 
 class Session {

@@ -83,6 +83,8 @@ const char* mode_name(codec::ChecksumMode m) {
       return "add";
     case codec::ChecksumMode::crc_ccitt:
       return "crc_ccitt";
+    case codec::ChecksumMode::crc_kermit:
+      return "crc_kermit";
   }
   return "none";
 }
@@ -264,7 +266,8 @@ Result<DriveState> from_json(const json& j) {
       s.checksum.mode = enum_of(
           *it, "mode", codec::ChecksumMode::none,
           {std::pair{"none", codec::ChecksumMode::none}, std::pair{"add", codec::ChecksumMode::add},
-           std::pair{"crc_ccitt", codec::ChecksumMode::crc_ccitt}});
+           std::pair{"crc_ccitt", codec::ChecksumMode::crc_ccitt},
+           std::pair{"crc_kermit", codec::ChecksumMode::crc_kermit}});
       s.checksum.crc_init = u16_or(*it, "crc_init", 0xFFFF);
       s.checksum.coverage =
           enum_of(*it, "coverage", codec::ChecksumCoverage::id_through_data,

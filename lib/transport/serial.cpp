@@ -1,6 +1,7 @@
 // Serial ports through POSIX termios: raw, 8 data bits, no flow control.
 #include <errno.h>
 #include <fcntl.h>
+#include <linux/serial.h>
 #include <sys/ioctl.h>
 #include <sys/stat.h>
 #include <sys/sysmacros.h>
@@ -9,6 +10,8 @@
 
 #include <algorithm>
 #include <cstring>
+#include <filesystem>
+#include <fstream>
 
 #include "transport/pty.hpp"
 
@@ -129,6 +132,47 @@ Result<void> Transport::reconfigure(const SerialSettings&) {
                describe() + ": the line settings of this link cannot be changed from here");
 }
 
+std::string latency_timer_path(const std::string& device, const std::string& sysfs_root) {
+  std::error_code ec;
+  auto real = std::filesystem::canonical(device, ec);  // /dev/serial/by-id/... -> /dev/ttyUSB0
+  const std::string name = (ec ? std::filesystem::path(device) : real).filename().string();
+  return sysfs_root + "/class/tty/" + name + "/device/latency_timer";
+}
+
+LowLatencyReport request_low_latency(int fd, const std::string& device,
+                                     const std::string& sysfs_root) {
+  LowLatencyReport r;
+  serial_struct ss{};
+  if (::ioctl(fd, TIOCGSERIAL, &ss) != 0) {
+    r.ioctl_error = std::string("TIOCGSERIAL: ") + std::strerror(errno);
+  } else {
+    r.ioctl_supported = true;
+    if ((ss.flags & ASYNC_LOW_LATENCY) == 0) {
+      ss.flags |= ASYNC_LOW_LATENCY;
+      if (::ioctl(fd, TIOCSSERIAL, &ss) != 0)
+        r.ioctl_error = std::string("TIOCSSERIAL: ") + std::strerror(errno);
+    }
+    serial_struct got{};
+    r.low_latency_set = ::ioctl(fd, TIOCGSERIAL, &got) == 0 && (got.flags & ASYNC_LOW_LATENCY) != 0;
+  }
+  const std::string path = latency_timer_path(device, sysfs_root);
+  std::ifstream in(path);
+  int ms = 0;
+  if (in && (in >> ms)) {
+    r.sysfs_path = path;
+    r.latency_timer_ms = ms;
+    if (ms > 2) {
+      r.advice = device + ": the USB serial adapter holds received bytes for " +
+                 std::to_string(ms) + " ms (" + path +
+                 "), so every exchange takes that much longer; set it to 1 ms with the udev "
+                 "rule in docs/transport.md (ACTION==\"add\", SUBSYSTEM==\"usb-serial\", "
+                 "DRIVER==\"ftdi_sio\", ATTR{latency_timer}=\"1\") or, as root: echo 1 > " +
+                 path;
+    }
+  }
+  return r;
+}
+
 namespace {
 
 std::string serial_description(const SerialSettings& s) {
@@ -166,6 +210,8 @@ class SerialTransport final : public FdTransport {
       : FdTransport(std::move(fd), serial_description(s),
                     1e6 * bits_per_byte(s) / static_cast<double>(s.baud)),
         settings_(std::move(s)) {}
+  void set_receive_latency_ms(double ms) { latency_ms_ = ms; }
+  double receive_latency_ms() const override { return latency_ms_; }
   ~SerialTransport() override {
     if (fd() >= 0) ::ioctl(fd(), TIOCNXCL);
   }
@@ -183,19 +229,35 @@ class SerialTransport final : public FdTransport {
 
  private:
   SerialSettings settings_;
+  double latency_ms_ = 0.0;
 };
 
 }  // namespace
 
-Result<std::unique_ptr<Transport>> open_serial(const SerialSettings& s) {
+Result<std::unique_ptr<Transport>> open_serial(const SerialSettings& s, LowLatencyReport* report) {
   if (s.device.empty()) return Error(Errc::invalid_argument, "serial device path is empty");
   LMCFG_TRY(validate(s));
   // O_NONBLOCK so the open does not wait for carrier; it stays set (reads poll).
   UniqueFd fd(::open(s.device.c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK | O_CLOEXEC));
   if (!fd) {
     const int err = errno;
-    return Error(err == ENOENT ? Errc::not_found : Errc::io_error,
-                 "cannot open serial port " + s.device + ": " + std::strerror(err));
+    if (err == ENOENT || err == ENODEV || err == ENXIO)
+      return Error(Errc::not_found,
+                   "cannot open serial port " + s.device + ": " + std::strerror(err) +
+                       "; check --port and that the adapter is plugged in (ls /dev/ttyUSB* "
+                       "/dev/ttyACM* /dev/serial/by-id/)");
+    if (err == EACCES || err == EPERM)
+      return Error(Errc::io_error,
+                   "cannot open serial port " + s.device + ": " + std::strerror(err) +
+                       "; your user may not use serial ports: add it to the group that owns " +
+                       s.device +
+                       " (usually dialout: sudo usermod -aG dialout $USER, then log "
+                       "in again)");
+    if (err == EBUSY)
+      return Error(Errc::io_error,
+                   "cannot open serial port " + s.device + ": " + std::strerror(err) +
+                       "; another program has it open (find it with fuser " + s.device + ")");
+    return Error(Errc::io_error, "cannot open serial port " + s.device + ": " + std::strerror(err));
   }
   if (::isatty(fd.get()) != 1)
     return Error(Errc::invalid_argument,
@@ -207,6 +269,9 @@ Result<std::unique_ptr<Transport>> open_serial(const SerialSettings& s) {
   // From here on the fd is owned by the transport, whose destructor clears TIOCEXCL.
   auto t = std::make_unique<SerialTransport>(std::move(fd), s);
   LMCFG_TRY(apply_line_settings(t->fd(), s, serial_description(s)));
+  LowLatencyReport lat = request_low_latency(t->fd(), s.device);
+  if (lat.latency_timer_ms) t->set_receive_latency_ms(*lat.latency_timer_ms);
+  if (report) *report = std::move(lat);
   return std::unique_ptr<Transport>(std::move(t));
 }
 

@@ -43,7 +43,37 @@ class Transport {
   // active at its reset. Errc::not_supported where the transport has no line of
   // its own (a TCP gateway's serial side is configured in the gateway).
   virtual Result<void> reconfigure(const SerialSettings& s);
+  // How long the link may hold received bytes before handing them over (a USB
+  // serial adapter's latency timer), in milliseconds; 0 when there is no such
+  // buffering or it is unknown (pty, TCP, simulated link).
+  virtual double receive_latency_ms() const { return 0.0; }
 };
+
+// What opening a serial port found about receive latency (USB serial adapters
+// hold received bytes for their latency timer, 16 ms by default with ftdi_sio).
+struct LowLatencyReport {
+  // TIOCGSERIAL/TIOCSSERIAL exist for this device (real UARTs and USB serial
+  // drivers; not pseudo-terminals, sockets or pipes).
+  bool ioctl_supported = false;
+  bool low_latency_set = false;  // ASYNC_LOW_LATENCY is on after the open
+  std::string ioctl_error;       // why the ioctl was not available ("" when it was)
+  // The adapter's latency_timer from sysfs (ftdi_sio and relatives), ms.
+  std::optional<int> latency_timer_ms;
+  std::string sysfs_path;  // where it was read ("" when there is none)
+  // One line for the user when the timer stays above 2 ms after the request,
+  // naming the udev rule of docs/transport.md; "" otherwise.
+  std::string advice;
+};
+// Asks for low latency on an open terminal (TIOCSSERIAL with ASYNC_LOW_LATENCY;
+// the Linux ftdi_sio driver maps it to a 1 ms latency timer) and reads the
+// adapter's latency_timer from `sysfs_root`/class/tty/NAME/device/latency_timer
+// (`sysfs_root` is "/sys" outside tests). Never fails: where the ioctl does not
+// exist (pty, socket) the report says so and nothing changes.
+LowLatencyReport request_low_latency(int fd, const std::string& device,
+                                     const std::string& sysfs_root = "/sys");
+// The sysfs latency_timer file of a tty device ("/dev/ttyUSB0" ->
+// "<root>/class/tty/ttyUSB0/device/latency_timer"), whether or not it exists.
+std::string latency_timer_path(const std::string& device, const std::string& sysfs_root);
 
 enum class Parity : std::uint8_t { none, even, odd };
 
@@ -69,7 +99,10 @@ inline constexpr std::array<unsigned, 6> kSerialBaudRates{4800, 9600, 19200, 384
 std::string format_settings(const SerialSettings& s);
 
 // POSIX termios, raw mode, 8 data bits. Works on ttys and pseudo-terminals.
-Result<std::unique_ptr<Transport>> open_serial(const SerialSettings& s);
+// Asks for low latency (request_low_latency); `report`, when given, receives
+// what that found, and receive_latency_ms() of the link is the adapter's timer.
+Result<std::unique_ptr<Transport>> open_serial(const SerialSettings& s,
+                                               LowLatencyReport* report = nullptr);
 
 // TCP client for serial-to-Ethernet gateways ("host:port").
 Result<std::unique_ptr<Transport>> open_tcp(const std::string& host, std::uint16_t port,

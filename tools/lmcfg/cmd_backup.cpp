@@ -23,16 +23,20 @@ struct BackupCli {
 };
 
 int run(BackupCli& o) {
-  std::error_code ec;
-  if (std::filesystem::is_directory(o.output, ec)) {
+  // The output is checked before the drive is talked to.
+  if (auto ok = check_output_path(o.output, "-o"); !ok.ok()) return fail("backup", ok.error());
+  const bool to_stdout = o.output == "-";
+  if (to_stdout && o.common.json) {
     return fail("backup", Error(Errc::invalid_argument,
-                                "output '" + o.output + "' is a directory; name a file"));
+                                "-o - and --json both write to stdout; use one of them"));
   }
   std::optional<config::FileFormat> format;
   if (!o.format.empty()) {
     auto f = config::format_from_name(o.format);
     if (!f.ok()) return fail("backup", f.error());
     format = *f;
+  } else if (to_stdout) {
+    format = config::FileFormat::json;  // -o - without --format: JSON
   } else if (auto f = config::format_from_path(o.output); !f.ok()) {
     return fail("backup", f.error());
   }
@@ -67,8 +71,16 @@ int run(BackupCli& o) {
   config::WriteOptions wo;
   std::optional<ops::DatabaseCtDecoder> ct_decoder;
   if (db) wo.ct_decoder = &ct_decoder.emplace(*db);
-  auto w = config::write_config_file(*cfg, o.output, format, wo);
-  if (!w.ok()) return fail("backup", w.error());
+  if (to_stdout) {
+    auto text = config::write_config_text(*cfg, *format, wo);
+    if (!text.ok()) return fail("backup", text.error());
+    if (std::fwrite(text->data(), 1, text->size(), stdout) != text->size() ||
+        std::fflush(stdout) != 0)
+      return fail("backup", Error(Errc::file_error, "-o -: cannot write to stdout"));
+  } else {
+    auto w = config::write_config_file(*cfg, o.output, format, wo);
+    if (!w.ok()) return fail("backup", w.error());
+  }
   std::size_t params = 0;
   for (const auto& l : cfg->layers) params += l.size();
   const auto& st = (*session)->client().stats();
@@ -107,7 +119,9 @@ const Register reg(10, [](CLI::App& app, int& exit_code) {
       "succeeded.");
   add_link_options(sub, o->common);
   add_output_options(sub, o->common);
-  sub->add_option("-o,--output", o->output, "output file (.json or .xml)")->required();
+  sub->add_option("-o,--output", o->output,
+                  "output file (.json or .xml); - = stdout (JSON unless --format)")
+      ->required();
   sub->add_option("--format", o->format, "json or xml (default: from the extension)");
   sub->add_option("--layers", o->layers, "layers to read: os,mc,intf,appl")->capture_default_str();
   sub->add_flag("--no-curves", o->no_curves, "do not read curves");

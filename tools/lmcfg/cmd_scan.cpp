@@ -1,8 +1,10 @@
-// lmcfg scan: find drives on an RS485 line or gateway by trying MACIDs.
+// lmcfg scan: find drives whose link settings are unknown (ops::scan).
 #include <cstdio>
+#include <nlohmann/json.hpp>
 
 #include "command.hpp"
 #include "link_options.hpp"
+#include "ops/scan.hpp"
 
 namespace lmcfg::cli {
 namespace {
@@ -11,57 +13,97 @@ struct ScanCli {
   CommonOptions common;
   std::string from = "0";
   std::string to = "0xFF";
+  bool baud_given = false, timeout_given = false;
 };
 
 int run(ScanCli& o) {
   auto first = parse_number(o.from, false);
   auto last = parse_number(o.to, false);
   if (!first || !last || *first > 0xFF || *last > 0xFF || *first > *last) {
-    return fail("scan", Error(Errc::invalid_argument, "--from/--to must be MACIDs 0..255 with from <= to"));
+    return fail("scan",
+                Error(Errc::invalid_argument, "--from/--to must be MACIDs 0..255 with from <= to"));
   }
-  // A silent ID costs a whole timeout: keep it short and do not retry.
-  if (o.common.timeout_ms == 200) o.common.timeout_ms = 30;
-  o.common.retries = 0;
-  auto session = open_link(o.common);
+  auto lo = link_options(o.common);
+  if (!lo.ok()) return fail("scan", lo.error());
+  ops::ScanOptions so;
+  so.first_id = static_cast<unsigned>(*first);
+  so.last_id = static_cast<unsigned>(*last);
+  so.checksum = lo->client.checksum;
+  if (o.baud_given) so.bauds = {o.common.baud};
+  if (o.timeout_given) so.deadline = transport::Millis(o.common.timeout_ms);
+  so.progress = make_progress(o.common);
+  lo->client.read_retries = 0;
+  auto session = ops::open_session(*lo);
   if (!session.ok()) return fail("scan", session.error());
-  auto& c = (*session)->client();
-  auto progress = make_progress(o.common);
-  std::vector<unsigned> found;
-  for (unsigned id = *first; id <= *last; ++id) {
-    auto opt = c.options();
-    opt.id = static_cast<std::uint8_t>(id);
-    c.set_options(opt);
-    if (progress) progress("scanning IDs", id - *first + 1, *last - *first + 1);
-    auto r = c.default_response();
-    if (r.ok()) {
-      found.push_back(id);
-    } else if (r.error().code == Errc::link_closed || r.error().code == Errc::io_error) {
-      end_progress(o.common);
-      return fail("scan", r.error());
+  auto report = ops::scan(**session, so);
+  end_progress(o.common);
+  if (!report.ok()) return fail("scan", report.error());
+  if (auto closed = (*session)->close(); !closed.ok()) return fail("scan", closed.error());
+  const auto& r = *report;
+  if (o.common.json) {
+    nlohmann::json j;
+    j["found"] = nlohmann::json::array();
+    for (const auto& d : r.found) {
+      j["found"].push_back({{"id", d.id},
+                            {"baud", d.line.baud},
+                            {"parity", std::string(transport::parity_name(d.line.parity))},
+                            {"stop_bits", d.line.stop_bits},
+                            {"checksum", ops::checksum_name(d.checksum)},
+                            {"response_bytes", d.response_bytes},
+                            {"options", ops::link_options_of(d)},
+                            {"how", d.how}});
+    }
+    j["passes"] = nlohmann::json::array();
+    for (const auto& p : r.passes) {
+      j["passes"].push_back({{"line", transport::format_settings(p.line)},
+                             {"checksum", ops::checksum_name(p.checksum)},
+                             {"ids", p.ids},
+                             {"deadline_ms", p.deadline_ms},
+                             {"seconds", p.seconds}});
+    }
+    j["notes"] = r.notes;
+    j["seconds"] = r.seconds;
+    j["telegrams"] = r.telegrams;
+    std::printf("%s\n", j.dump(2).c_str());
+  } else {
+    for (const auto& d : r.found) {
+      std::printf("drive at MACID 0x%02X (%u), %s, checksum %s: %s\n", d.id, d.id,
+                  transport::format_settings(d.line).c_str(),
+                  ops::checksum_name(d.checksum).c_str(), ops::link_options_of(d).c_str());
+    }
+    for (const auto& n : r.notes) std::printf("note: %s\n", n.c_str());
+    if (r.found.empty()) {
+      std::printf("no drive answered (%zu setting(s), MACIDs 0x%02X..0x%02X, %.1f s)\n",
+                  r.passes.size(), so.first_id, so.last_id, r.seconds);
     }
   }
-  end_progress(o.common);
-  if (auto closed = (*session)->close(); !closed.ok()) return fail("scan", closed.error());
-  if (o.common.json) {
-    std::printf("{\"found\": [");
-    for (std::size_t i = 0; i < found.size(); ++i) std::printf("%s%u", i ? ", " : "", found[i]);
-    std::printf("]}\n");
-  } else {
-    for (auto id : found) std::printf("drive at MACID 0x%02X (%u)\n", id, id);
-    if (found.empty()) std::printf("no drive answered\n");
+  if (!o.common.quiet && !o.common.json) {
+    std::fprintf(stderr, "lmcfg scan: %zu pass(es), %llu telegrams, %.2f s\n", r.passes.size(),
+                 static_cast<unsigned long long>(r.telegrams), r.seconds);
   }
-  return kOk;
+  return r.found.empty() ? kDifferent : kOk;  // 1: no drive answered
 }
 
 const Register reg(70, [](CLI::App& app, int& exit_code) {
   auto o = std::make_shared<ScanCli>();
-  auto* sub = app.add_subcommand("scan", "Find drives on a line by trying MACIDs with a default response request");
-  sub->footer("Example: lmcfg scan --port /dev/ttyUSB0 --from 1 --to 0x20");
+  auto* sub = app.add_subcommand("scan",
+                                 "Find drives: tries MACIDs at every LinRS baud rate (or --baud), "
+                                 "detects checksum and parity");
+  sub->footer(
+      "Without --baud every rate of seed 003 §3.2.1 is tried, factory 57600 first; answers "
+      "framed with another checksum are detected and confirmed. Prints the link options of "
+      "each drive found; exit 1 when none answered.\n"
+      "Examples:\n  lmcfg scan --port /dev/ttyUSB0\n"
+      "  lmcfg scan --port /dev/ttyUSB0 --baud 115200 --from 1 --to 0x20 --json");
   add_link_options(sub, o->common);
   add_output_options(sub, o->common);
   sub->add_option("--from", o->from, "first MACID")->capture_default_str();
   sub->add_option("--to", o->to, "last MACID")->capture_default_str();
-  sub->callback([o, &exit_code] { exit_code = run(*o); });
+  sub->callback([o, sub, &exit_code] {
+    o->baud_given = sub->get_option("--baud")->count() > 0;
+    o->timeout_given = sub->get_option("--timeout-ms")->count() > 0;
+    exit_code = run(*o);
+  });
 });
 
 }  // namespace

@@ -6,10 +6,12 @@
 
 #include <cstdio>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <string>
 
 #include "command.hpp"
 #include "common/bytes.hpp"
+#include "ops/session.hpp"
 #include "sim/drive.hpp"
 #include "sim/server.hpp"
 #include "sim/state_file.hpp"
@@ -42,11 +44,37 @@ bool stdin_at_eof() {
   return ::read(STDIN_FILENO, buf, sizeof buf) == 0;
 }
 
+// The README demo axis (tests/fixtures/sim/commissioned-axis.json), embedded.
+constexpr const char kDemoAxis[] =
+#include "demo_axis.inc"
+    ;
+
+Result<sim::DriveState> demo_axis() {
+  auto j = nlohmann::json::parse(kDemoAxis, nullptr, false);
+  if (j.is_discarded()) return Error(Errc::parse_error, "embedded demo axis is not JSON");
+  return sim::from_json(j);
+}
+
+// "--port /dev/pts/3 --baud 57600 --id 0x11 --checksum none": what to give the tools.
+std::string link_options_for(const std::string& port, const sim::DriveState& s) {
+  char id[8];
+  std::snprintf(id, sizeof id, "0x%02X", s.macid);
+  std::string o = "--port " + port + " --baud " + std::to_string(s.link.baud);
+  if (s.link.parity != transport::Parity::none)
+    o += " --parity " + std::string(transport::parity_name(s.link.parity));
+  if (s.link.stop_bits != 1) o += " --stop-bits " + std::to_string(s.link.stop_bits);
+  return o + " --id " + id + " " + ops::checksum_options(s.checksum);
+}
+
 int run(const SimArgs& a) {
-  auto st = sim::load_state(a.state);
+  if (a.state.empty() && a.save_on_exit) {
+    std::fprintf(stderr, "lmcfg sim: --save-on-exit needs --state FILE to save to\n");
+    return kInvalidInput;
+  }
+  auto st = a.state.empty() ? demo_axis() : sim::load_state(a.state);
   if (!st.ok()) {
     std::fprintf(stderr, "lmcfg sim: %s\n", st.error().message.c_str());
-    return st.error().code == make_error_code(Errc::file_error) ? kInvalidInput : kInvalidInput;
+    return kInvalidInput;
   }
   sim::Drive drive(std::move(st).value());
 
@@ -103,8 +131,17 @@ int run(const SimArgs& a) {
       std::fprintf(stderr, "lmcfg sim: %s\n", p.error().message.c_str());
       return kCommFailure;
     }
+    // Line 1: the path (scripts read it); line 2: the link options to use.
     std::printf("%s\n", p->slave_path.c_str());
+    std::printf("link options: %s\n", link_options_for(p->slave_path, drive.state()).c_str());
     std::fflush(stdout);
+    if (a.state.empty()) {
+      std::fprintf(stderr,
+                   "lmcfg sim: serving the README demo axis on %s (Ctrl-C stops); try:\n"
+                   "  lmcfg info %s\n  lmcfg backup %s -o axis.json\n",
+                   p->slave_path.c_str(), link_options_for(p->slave_path, drive.state()).c_str(),
+                   link_options_for(p->slave_path, drive.state()).c_str());
+    }
     transport::FdTransport t(std::move(p->master), "pty " + p->slave_path);
     // The drive hears only a master at its own baud rate; say so once per change.
     opt.master_baud = [&t, &drive, told = 0u]() mutable -> std::optional<unsigned> {
@@ -137,8 +174,8 @@ const Register reg(90, [](CLI::App& app, int& exit_code) {
   auto args = std::make_shared<SimArgs>();
   auto* cmd = app.add_subcommand(
       "sim", "Serve a simulated LinMot drive (LinRS) on a pseudo-terminal or TCP port");
-  cmd->add_option("--state", args->state, "Sim state file (JSON, see docs/simulator.md)")
-      ->required();
+  cmd->add_option("--state", args->state,
+                  "Sim state file (JSON, see docs/simulator.md); default: the README demo axis");
   auto* pty = cmd->add_flag("--pty", args->pty,
                             "Serve on a new pseudo-terminal; prints its slave path (default)");
   cmd->add_option("--tcp", args->tcp,

@@ -2,8 +2,11 @@
 
 #include <unistd.h>
 
+#include <cerrno>
 #include <chrono>
 #include <cstdio>
+#include <cstring>
+#include <filesystem>
 
 #include "command.hpp"
 #include "common/layers.hpp"
@@ -21,7 +24,16 @@ void add_link_options(CLI::App* sub, CommonOptions& o) {
   sub->add_option("--stop-bits", o.stop_bits, "1 or 2")->capture_default_str();
   sub->add_option("--id", o.id, "drive MACID, hex (0x11, 11h) or decimal (17)")
       ->capture_default_str();
-  sub->add_option("--checksum", o.checksum, "none, add, crc (= crc-ffff) or crc-0000")
+  sub->add_option("--checksum", o.checksum,
+                  "none, add, crc (= crc-ffff), crc-0000 or crc-kermit (reflected)")
+      ->capture_default_str();
+  sub->add_option("--checksum-coverage", o.checksum_coverage,
+                  "bytes the checksum covers: id (ID..last data byte), start (01..last data "
+                  "byte) or data (02..last data byte)")
+      ->capture_default_str();
+  sub->add_option("--response-layout", o.response_layout,
+                  "items of the drive's default response (§6.1.1.1): auto (from the answer's "
+                  "length), factory, or a list like comm_state,status_word,warn_word,monitoring_1")
       ->capture_default_str();
   sub->add_option("--timeout-ms", o.timeout_ms, "answer deadline of an ordinary request")
       ->capture_default_str();
@@ -58,6 +70,19 @@ Result<ops::LinkOptions> link_options(const CommonOptions& o) {
   }
   l.client.id = static_cast<std::uint8_t>(*id);
   LMCFG_ASSIGN_OR_RETURN(l.client.checksum, ops::parse_checksum(o.checksum));
+  LMCFG_ASSIGN_OR_RETURN(l.client.checksum.coverage,
+                         ops::parse_checksum_coverage(o.checksum_coverage));
+  if (o.response_layout != "auto") {
+    auto layout = codec::parse_layout_items(o.response_layout);
+    if (!layout)
+      return Error(Errc::invalid_argument,
+                   "--response-layout '" + o.response_layout +
+                       "' is not auto, factory or a comma list of comm_state, status_word, "
+                       "state_var, error_code, warn_word, echo_header, monitoring_1, "
+                       "monitoring_2, mc_response");
+    l.client.layout = *layout;
+    l.client.adapt_layout = false;
+  }
   if (o.timeout_ms < 1 || o.timeout_ms > 60000) {
     return Error(Errc::invalid_argument,
                  "--timeout-ms " + std::to_string(o.timeout_ms) + " is outside 1..60000");
@@ -186,6 +211,26 @@ Result<std::array<bool, 4>> parse_layers(const std::string& text) {
     pos = comma + 1;
   }
   return on;
+}
+
+Result<void> check_output_path(const std::string& path, const std::string& option) {
+  namespace fs = std::filesystem;
+  if (path == "-") return {};
+  std::error_code ec;
+  if (fs::is_directory(path, ec))
+    return Error(Errc::invalid_argument, "output '" + path + "' is a directory; name a file");
+  const fs::path parent = fs::path(path).parent_path();
+  const std::string dir = parent.empty() ? "." : parent.string();
+  if (!fs::exists(dir, ec))
+    return Error(Errc::invalid_argument, option + " '" + path + "': directory '" + dir +
+                                             "' does not exist; create it or name another path");
+  if (!fs::is_directory(dir, ec))
+    return Error(Errc::invalid_argument,
+                 option + " '" + path + "': '" + dir + "' is not a directory");
+  if (::access(dir.c_str(), W_OK | X_OK) != 0)
+    return Error(Errc::invalid_argument, option + " '" + path + "': directory '" + dir +
+                                             "' is not writable (" + std::strerror(errno) + ")");
+  return {};
 }
 
 int exit_code_for(const Error& e) {

@@ -20,6 +20,8 @@ struct CommonOptions {
   unsigned stop_bits = 1;
   std::string id = "0x11";
   std::string checksum = "none";
+  std::string checksum_coverage = "id";
+  std::string response_layout = "auto";
   int timeout_ms = 200;
   int retries = 2;
   std::string trace;
@@ -28,7 +30,8 @@ struct CommonOptions {
   std::string db_path;
 };
 
-// --port, --baud, --parity, --stop-bits, --id, --checksum, --timeout-ms, --retries, --trace.
+// --port, --baud, --parity, --stop-bits, --id, --checksum, --checksum-coverage,
+// --timeout-ms, --retries, --trace.
 void add_link_options(CLI::App* sub, CommonOptions& o);
 // --quiet, --json, --db.
 void add_output_options(CLI::App* sub, CommonOptions& o);
@@ -55,6 +58,11 @@ Result<ops::RelinkOverrides> relink_overrides(const ReconnectOptions& o);
 
 // "os,mc,intf,appl" (any subset, case-insensitive) -> layer switches.
 Result<std::array<bool, 4>> parse_layers(const std::string& text);
+
+// Checks an output path before any drive is talked to: "-" (stdout) passes;
+// otherwise not a directory, and its directory exists and is writable.
+// `option` names the option in the message ("-o").
+Result<void> check_output_path(const std::string& path, const std::string& option);
 
 // "lmcfg backup: <message>" on stderr; returns the exit code for the error.
 int fail(const char* command, const Error& e);

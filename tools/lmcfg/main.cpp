@@ -14,6 +14,27 @@ std::vector<std::pair<int, Setup>>& registry() {
 }
 }  // namespace
 Register::Register(int order, Setup setup) { registry().emplace_back(order, std::move(setup)); }
+
+namespace {
+// The first word that is not an option must name a subcommand: "lmcfg fleet
+// backup" is an error naming 'fleet', never a backup. nullptr when it does.
+const char* unknown_subcommand(const CLI::App& app, int argc, char** argv) {
+  for (int i = 1; i < argc; ++i) {
+    const std::string word = argv[i];
+    if (word.empty() || word[0] == '-') continue;  // --help, --version
+    for (const auto* sub : app.get_subcommands({}))
+      if (sub->check_name(word)) return nullptr;
+    return argv[i];
+  }
+  return nullptr;
+}
+std::string subcommand_names(const CLI::App& app) {
+  std::string names;
+  for (const auto* sub : app.get_subcommands({}))
+    names += (names.empty() ? "" : ", ") + sub->get_name();
+  return names;
+}
+}  // namespace
 }  // namespace lmcfg::cli
 
 int main(int argc, char** argv) {
@@ -27,8 +48,22 @@ int main(int argc, char** argv) {
   auto& reg = registry();
   std::stable_sort(reg.begin(), reg.end(), [](auto& a, auto& b) { return a.first < b.first; });
   for (auto& [order, setup] : reg) setup(app, exit_code);
+  if (const char* word = unknown_subcommand(app, argc, argv)) {
+    std::fprintf(stderr, "lmcfg: unknown subcommand '%s' (one of: %s; see lmcfg --help)\n", word,
+                 subcommand_names(app).c_str());
+    return kInvalidInput;
+  }
   try {
     app.parse(argc, argv);
+  } catch (const CLI::ExtrasError& e) {
+    // A stray word after the subcommand is an error naming it, never ignored.
+    std::string words;
+    for (const auto* sub : app.get_subcommands())
+      for (const auto& w : sub->remaining()) words += (words.empty() ? "'" : ", '") + w + "'";
+    for (const auto& w : app.remaining()) words += (words.empty() ? "'" : ", '") + w + "'";
+    std::fprintf(stderr, "lmcfg: unexpected argument %s (see lmcfg SUBCOMMAND --help)\n",
+                 words.empty() ? e.what() : words.c_str());
+    return kInvalidInput;
   } catch (const CLI::ParseError& e) {
     int rc = app.exit(e);
     return rc == 0 ? kOk : kInvalidInput;

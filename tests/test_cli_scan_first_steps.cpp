@@ -1,0 +1,245 @@
+// lmcfg scan against the simulated drive served on a real pseudo-terminal
+// (`lmcfg sim`, which hears only a master at the drive's own baud rate), and
+// the first steps: `lmcfg sim` alone, unknown subcommands and stray words,
+// output paths checked before the drive is talked to, `backup -o -`.
+#include <sys/wait.h>
+
+#include <catch2/catch.hpp>
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "sim/state_file.hpp"
+#include "subprocess.hpp"
+
+using namespace lmcfg;
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Run {
+  int exit_code = -1;
+  std::string out, err;
+  double seconds = 0;
+};
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+struct TempDir {
+  fs::path path;
+  TempDir() {
+    path = fs::temp_directory_path() /
+           ("lmcfg-scan-" + std::to_string(::getpid()) + "-" +
+            std::to_string(std::chrono::steady_clock::now().time_since_epoch().count()));
+    fs::create_directories(path);
+  }
+  ~TempDir() {
+    std::error_code ec;
+    fs::remove_all(path, ec);
+  }
+};
+
+Run tool(const fs::path& dir, const std::string& args) {
+  const std::string cmd = "cd '" + dir.string() + "' && '" + std::string(LMCFG_TOOL_PATH) + "' " +
+                          args + " >stdout.txt 2>stderr.txt </dev/null";
+  const auto t0 = std::chrono::steady_clock::now();
+  const int rc = std::system(cmd.c_str());
+  Run r;
+  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  r.exit_code = WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+  r.out = slurp(dir / "stdout.txt");
+  r.err = slurp(dir / "stderr.txt");
+  return r;
+}
+
+// The demo axis at MACID 2Ah, 115200 Bd, with `checksum` (state-file names).
+fs::path axis_2a(const fs::path& dir, const std::string& mode = "none",
+                 const std::string& coverage = "id_through_data") {
+  auto st =
+      sim::load_state(std::string(LMCFG_SOURCE_DIR) + "/tests/fixtures/sim/commissioned-axis.json");
+  REQUIRE(st.ok());
+  auto j = sim::to_json(*st);
+  j["macid"] = "2A";
+  j["link"]["baud"] = 115200;
+  j["checksum"]["mode"] = mode;
+  j["checksum"]["coverage"] = coverage;
+  if (mode == "crc_kermit") j["checksum"]["crc_init"] = "0000";
+  const fs::path p = dir / ("axis-" + mode + "-" + coverage + ".sim.json");
+  std::ofstream(p) << j.dump(2);
+  return p;
+}
+
+}  // namespace
+
+TEST_CASE(
+    "seed003 §3.2.1 §6.1.2 scan: drive at 115200 MACID 2Ah on a pty, found with and "
+    "without --baud",
+    "[cli][scan][pty]") {
+  TempDir d;
+  const auto state = axis_2a(d.path);
+  test::Child sim({LMCFG_TOOL_PATH, "sim", "--state", state.string()});
+  const std::string pty = sim.read_line();
+  REQUIRE(pty.rfind("/dev/", 0) == 0);
+  CHECK(sim.read_line() ==
+        "link options: --port " + pty + " --baud 115200 --id 0x2A --checksum none");
+
+  auto one = tool(d.path, "scan --port " + pty + " --baud 115200 --quiet");
+  INFO(one.err);
+  CHECK(one.exit_code == 0);
+  CHECK(one.out ==
+        "drive at MACID 0x2A (42), 115200 8N1, checksum none: --baud 115200 --id 0x2A "
+        "--checksum none\n");
+  WARN("scan of 256 MACIDs at 115200 over a pty: " << one.seconds << " s");
+
+  auto all = tool(d.path, "scan --port " + pty + " --json");
+  CHECK(all.exit_code == 0);
+  auto j = nlohmann::json::parse(all.out);
+  REQUIRE(j["found"].size() == 1);
+  CHECK(j["found"][0]["id"] == 42);
+  CHECK(j["found"][0]["options"] == "--baud 115200 --id 0x2A --checksum none");
+  // Every §3.2.1 rate, factory 57600 first.
+  REQUIRE(j["passes"].size() == 6);
+  CHECK(j["passes"][0]["line"] == "57600 8N1");
+  CHECK(j["passes"][1]["line"] == "115200 8N1");
+  WARN("scan of every rate over a pty: " << all.seconds << " s");
+}
+
+TEST_CASE("seed003 §4.4 §15 scan detects the drive's checksum variant from its answers",
+          "[cli][scan][pty]") {
+  TempDir d;
+  const auto state = axis_2a(d.path, "crc_kermit", "start_through_data");
+  test::Child sim({LMCFG_TOOL_PATH, "sim", "--state", state.string()});
+  const std::string pty = sim.read_line();
+  REQUIRE(pty.rfind("/dev/", 0) == 0);
+  auto r = tool(d.path, "scan --port " + pty + " --baud 115200 --quiet");
+  INFO(r.err);
+  CHECK(r.exit_code == 0);
+  CHECK(r.out ==
+        "drive at MACID 0x2A (42), 115200 8N1, checksum crc-kermit coverage=start: --baud "
+        "115200 --id 0x2A --checksum crc-kermit --checksum-coverage start\n");
+}
+
+TEST_CASE("scan exits 1 when no drive answered", "[cli][scan]") {
+  TempDir d;
+  const auto state = axis_2a(d.path);
+  fs::copy_file(state, d.path / "drive.json");
+  auto r = tool(d.path, "scan --port sim:drive.json --baud 115200 --from 0x30 --to 0x3F --quiet");
+  CHECK(r.exit_code == 1);
+  CHECK(r.out.rfind("no drive answered (1 setting(s), MACIDs 0x30..0x3F", 0) == 0);
+}
+
+TEST_CASE("seed003 §4.4 every checksum variant and coverage works with the matching options",
+          "[cli][checksum]") {
+  TempDir d;
+  const std::pair<const char*, const char*> modes[] = {
+      {"add", "add"}, {"crc_ccitt", "crc-ffff"}, {"crc_kermit", "crc-kermit"}};
+  const std::pair<const char*, const char*> coverages[] = {
+      {"id_through_data", "id"}, {"start_through_data", "start"}, {"data_only", "data"}};
+  for (const auto& [mode, option] : modes) {
+    for (const auto& [coverage, cov_option] : coverages) {
+      const auto state = axis_2a(d.path, mode, coverage);
+      const std::string link = "--port sim:" + state.filename().string() +
+                               " --id 0x2A --checksum " + option + " --checksum-coverage " +
+                               cov_option;
+      DYNAMIC_SECTION(link) {
+        auto info = tool(d.path, "info " + link);
+        INFO(info.err);
+        CHECK(info.exit_code == 0);
+        auto b = tool(d.path, "backup " + link + " -o out.json --quiet");
+        INFO(b.err);
+        CHECK(b.exit_code == 0);
+        auto wrong = tool(d.path, "info --port sim:" + state.filename().string() +
+                                      " --id 0x2A --timeout-ms 20 --retries 0");
+        CHECK(wrong.exit_code == 4);
+      }
+    }
+  }
+}
+
+TEST_CASE("seed003 §6.1.1.1 a non-factory default response layout: get, info, scan work",
+          "[cli][layout]") {
+  TempDir d;
+  const auto state = axis_2a(d.path);
+  auto j = nlohmann::json::parse(slurp(state));
+  j["default_response"]["state_var"] = false;
+  j["default_response"]["warn_word"] = true;
+  j["default_response"]["monitoring_2"] = true;
+  std::ofstream(d.path / "layout.json") << j.dump(2);
+  const std::string link = "--port sim:layout.json --id 0x2A";
+  auto info = tool(d.path, "info " + link);
+  INFO(info.err);
+  CHECK(info.exit_code == 0);
+  auto get = tool(d.path, "get 0x13A2 " + link);
+  INFO(get.err);
+  CHECK(get.exit_code == 0);
+  auto explicit_layout =
+      tool(d.path, "get 0x13A2 " + link +
+                       " --response-layout comm_state,status_word,warn_word,monitoring_1,"
+                       "monitoring_2");
+  CHECK(explicit_layout.exit_code == 0);
+  CHECK(explicit_layout.out == get.out);
+  auto factory = tool(d.path, "get 0x13A2 " + link + " --response-layout factory");
+  CHECK(factory.exit_code == 4);
+  auto scan = tool(d.path, "scan --port sim:layout.json --baud 115200 --quiet");
+  CHECK(scan.exit_code == 0);
+  CHECK(scan.out.find("--id 0x2A") != std::string::npos);
+}
+
+TEST_CASE("first steps: lmcfg sim alone serves the demo axis on a pty", "[cli][sim][pty]") {
+  TempDir d;
+  test::Child sim({LMCFG_TOOL_PATH, "sim"});
+  const std::string pty = sim.read_line();
+  REQUIRE(pty.rfind("/dev/", 0) == 0);
+  const std::string options = sim.read_line();
+  CHECK(options == "link options: --port " + pty + " --baud 57600 --id 0x11 --checksum none");
+  auto r = tool(d.path, "info " + options.substr(std::string("link options: ").size()));
+  INFO(r.err);
+  CHECK(r.exit_code == 0);
+}
+
+TEST_CASE("first steps: unknown subcommands and stray words are errors naming them",
+          "[cli][first-steps]") {
+  TempDir d;
+  auto fleet = tool(d.path, "fleet backup x");
+  CHECK(fleet.exit_code == 2);
+  CHECK(fleet.err ==
+        "lmcfg: unknown subcommand 'fleet' (one of: backup, diff, restore, default, get, set, db, "
+        "info, convert, scan, sim; see lmcfg --help)\n");
+  auto stray = tool(d.path, "info stray --port sim:none.json");
+  CHECK(stray.exit_code == 2);
+  CHECK(stray.err == "lmcfg: unexpected argument 'stray' (see lmcfg SUBCOMMAND --help)\n");
+}
+
+TEST_CASE("first steps: backup checks its output path first and writes -o - to stdout",
+          "[cli][first-steps]") {
+  TempDir d;
+  fs::copy_file(std::string(LMCFG_SOURCE_DIR) + "/tests/fixtures/sim/used-spare.json",
+                d.path / "spare.json");
+  auto missing = tool(d.path, "backup --port sim:spare.json -o no/such/dir/x.json --trace t.trace");
+  CHECK(missing.exit_code == 2);
+  CHECK(missing.err ==
+        "lmcfg backup: -o 'no/such/dir/x.json': directory 'no/such/dir' does not exist; create "
+        "it or name another path\n");
+  CHECK_FALSE(fs::exists(d.path / "t.trace"));  // the link was never opened
+  if (::geteuid() != 0) {
+    fs::create_directories(d.path / "ro");
+    fs::permissions(d.path / "ro", fs::perms::owner_read | fs::perms::owner_exec);
+    auto ro = tool(d.path, "backup --port sim:spare.json -o ro/x.json");
+    CHECK(ro.exit_code == 2);
+    CHECK(ro.err ==
+          "lmcfg backup: -o 'ro/x.json': directory 'ro' is not writable (Permission denied)\n");
+  }
+  auto out = tool(d.path, "backup --port sim:spare.json -o - --quiet");
+  INFO(out.err);
+  CHECK(out.exit_code == 0);
+  CHECK_FALSE(fs::exists(d.path / "-"));
+  auto j = nlohmann::json::parse(out.out);
+  CHECK(j["format"] == "lmcfg-drive-config");
+}
