@@ -289,10 +289,15 @@ TEST_CASE("cli: a backup that fails midway leaves the existing file byte-identic
           "[reliability][cli]") {
   TempDir d;
   const std::string old = good_backup(d);
-  // A drive that refuses the curve probe of a missing curve (C8): the backup
-  // has read parameters and the first curves, then fails.
+  // A drive whose Appl layer holds no modified parameter and that refuses
+  // the empty list (C4): the backup has read three layers, then fails.
   auto j = nlohmann::json::parse(slurp(d.path / "axis.json"));
-  j["options"]["missing_curve_zero_sizes"] = false;
+  j["options"]["empty_list_state"] = "C4";
+  for (auto& p : j["parameters"]) {
+    if (p["upid"].get<std::string>().rfind('3', 0) != 0 || !p.contains("default")) continue;
+    p["rom"] = p["default"];
+    p["ram"] = p["default"];
+  }
   spit(d.path / "refusing.json", j.dump(2));
   auto r = tool(d.path, "backup --port sim:refusing.json -o good.json --trace t.trace");
   INFO(r.err);

@@ -67,7 +67,8 @@ std::vector<FaultCase> all_faults() {
       {"late answer after the deadline", sim::Fault::delay(400), std::nullopt},
       {"answer from the wrong ID", sim::Fault::wrong_id(), std::nullopt},
       {"garbage burst", sim::Fault::garbage_burst(), std::nullopt},
-      {"garbage burst with start bytes", sim::Fault::garbage_burst({0x01, 0x11, 0x3F, 0x01, 0x04, 0x02}), std::nullopt},
+      {"garbage burst with start bytes",
+       sim::Fault::garbage_burst({0x01, 0x11, 0x3F, 0x01, 0x04, 0x02}), std::nullopt},
       {"drive reset (instant reboot)", sim::Fault::reset_drive(true), std::nullopt},
       {"drive reset (3 s reboot)", sim::Fault::reset_drive(false), std::nullopt},
       {"flash save takes 10 s", sim::Fault::slow_flash(), std::nullopt},
@@ -82,7 +83,8 @@ bool slow_reboot(const FaultCase& f) {
 
 }  // namespace
 
-TEST_CASE("faults in backup: reads retried and resynchronised; the backup equals a clean one", "[reliability]") {
+TEST_CASE("faults in backup: reads retried and resynchronised; the backup equals a clean one",
+          "[reliability]") {
   const auto& fx = fixtures();
   // Aimed at the 2nd chunk of the first curve's info block: an idempotent read
   // inside a block transfer, the hardest place for a read to fail.
@@ -109,7 +111,8 @@ TEST_CASE("faults in backup: reads retried and resynchronised; the backup equals
       CHECK(*b == fx.source_backup);
       CHECK(test::backup_vs_drive(*b, *rig.drive).empty());
       const auto& st = rig.client->stats();
-      if (f.fault && (f.fault->kind == sim::Fault::Kind::drop_answer || f.fault->kind == sim::Fault::Kind::corrupt_answer ||
+      if (f.fault && (f.fault->kind == sim::Fault::Kind::drop_answer ||
+                      f.fault->kind == sim::Fault::Kind::corrupt_answer ||
                       f.fault->kind == sim::Fault::Kind::wrong_id)) {
         CHECK(st.retries >= 1);
       }
@@ -122,14 +125,16 @@ TEST_CASE("faults in backup: reads retried and resynchronised; the backup equals
   }
 }
 
-TEST_CASE("faults in diff: a modified list restarted after a fault gives an identical diff", "[reliability]") {
+TEST_CASE("faults in diff: a modified list restarted after a fault gives an identical diff",
+          "[reliability]") {
   const auto& fx = fixtures();
   // "get next" of the modified list is not idempotent (it advances the drive's
   // cursor): the list is restarted from "start", never resumed.
   for (const auto& f : all_faults()) {
     DYNAMIC_SECTION(f.name) {
       client::ClientOptions co;
-      co.confirm_empty_lists = true;  // a reset between "start" and the first "get next" looks like an empty list
+      co.confirm_empty_lists =
+          true;  // a reset between "start" and the first "get next" looks like an empty list
       FaultRig rig(std::make_shared<sim::Drive>(fx.source), co);
       auto hit = test::aim(rig, request(0x05, 0x09), 3, f.fault, f.drop_byte);
       auto b = ops::backup(*rig.client, ops::BackupOptions{}, nullptr);
@@ -156,7 +161,7 @@ namespace {
 struct RestoreOutcome {
   test::RestoreRun first;
   std::vector<std::string> after_first;  // drive vs file after the first run
-  bool converged = false;                // after a rerun on a fresh link (only when the first failed)
+  bool converged = false;  // after a rerun on a fresh link (only when the first failed)
   client::Stats stats;
 };
 
@@ -188,8 +193,9 @@ RestoreOutcome restore_with(const FaultCase& f, test::TelegramMatch where, int n
 
 }  // namespace
 
-TEST_CASE("faults in restore: a lost ROM write answer is settled by reading back, never by resending",
-          "[reliability]") {
+TEST_CASE(
+    "faults in restore: a lost ROM write answer is settled by reading back, never by resending",
+    "[reliability]") {
   // Aimed at the 2nd "write ROM value" (05h 01h).
   for (const auto& f : all_faults()) {
     DYNAMIC_SECTION(f.name) {
@@ -208,25 +214,30 @@ TEST_CASE("faults in restore: a lost ROM write answer is settled by reading back
         CHECK(o.after_first.empty());
       }
       CHECK(o.converged);
-      const bool answer_lost = f.drop_byte || (f.fault && (f.fault->kind == sim::Fault::Kind::drop_answer ||
-                                                           f.fault->kind == sim::Fault::Kind::corrupt_answer ||
-                                                           f.fault->kind == sim::Fault::Kind::wrong_id ||
-                                                           (f.fault->kind == sim::Fault::Kind::delay_answer &&
-                                                            f.fault->delay_ms > 200)));
+      const bool answer_lost =
+          f.drop_byte ||
+          (f.fault &&
+           (f.fault->kind == sim::Fault::Kind::drop_answer ||
+            f.fault->kind == sim::Fault::Kind::corrupt_answer ||
+            f.fault->kind == sim::Fault::Kind::wrong_id ||
+            (f.fault->kind == sim::Fault::Kind::delay_answer && f.fault->delay_ms > 200)));
       if (answer_lost) CHECK(o.stats.writes_confirmed == 1);
     }
   }
 }
 
-TEST_CASE("faults in restore: a fault inside a command table block write fails the restore; a rerun converges",
-          "[reliability]") {
+TEST_CASE(
+    "faults in restore: a fault inside a command table block write fails the restore; a rerun "
+    "converges",
+    "[reliability]") {
   // Aimed at the 2nd data chunk of the first command table entry (08h 04h).
   for (const auto& f : all_faults()) {
     DYNAMIC_SECTION(f.name) {
       auto o = restore_with(f, request(0x08, 0x04), 2);
       INFO((o.first.ok() ? std::string() : o.first.outcome.error().message));
       const bool harmless =
-          f.fault && (f.fault->kind == sim::Fault::Kind::garbage_burst || f.fault->kind == sim::Fault::Kind::slow_flash ||
+          f.fault && (f.fault->kind == sim::Fault::Kind::garbage_burst ||
+                      f.fault->kind == sim::Fault::Kind::slow_flash ||
                       (f.fault->kind == sim::Fault::Kind::delay_answer && f.fault->delay_ms < 200));
       if (harmless) {
         CHECK(o.first.ok());
@@ -235,7 +246,8 @@ TEST_CASE("faults in restore: a fault inside a command table block write fails t
         // not write it again. Reported as a communication failure.
         REQUIRE_FALSE(o.first.ok());
         // A reset drive may also refuse the next chunk (C8: the entry is gone).
-        if (!(f.fault && f.fault->kind == sim::Fault::Kind::reset_drive)) CHECK(test::is_comm_failure(o.first.outcome.error()));
+        if (!(f.fault && f.fault->kind == sim::Fault::Kind::reset_drive))
+          CHECK(test::is_comm_failure(o.first.outcome.error()));
         CHECK(o.first.outcome.error().message.find("partially configured") != std::string::npos);
       }
       CHECK(o.converged);
@@ -243,17 +255,16 @@ TEST_CASE("faults in restore: a fault inside a command table block write fails t
   }
 }
 
-TEST_CASE("faults in restore: a curve block write, the flash saves, stop and start", "[reliability]") {
+TEST_CASE("faults in restore: a curve block write, the flash saves, stop and start",
+          "[reliability]") {
   struct Where {
     const char* name;
     test::TelegramMatch match;
     int nth;
   };
   const std::vector<Where> places{
-      {"curve data chunk", request(0x04, 0x06), 3},
-      {"save command table", request(0x08, 0x00), 1},
-      {"save curves", request(0x04, 0x00), 1},
-      {"stop MC", request(0x06, 0x03), 1},
+      {"curve data chunk", request(0x04, 0x06), 3}, {"save command table", request(0x08, 0x00), 1},
+      {"save curves", request(0x04, 0x00), 1},      {"stop MC", request(0x06, 0x03), 1},
       {"reset at the end", request(0x06, 0x01), 1},
   };
   for (const auto& w : places) {
@@ -269,7 +280,8 @@ TEST_CASE("faults in restore: a curve block write, the flash saves, stop and sta
           CHECK(o.first.outcome.error().message.size() > 0);
         }
         CHECK(o.converged);
-        if (f.fault && f.fault->kind == sim::Fault::Kind::slow_flash && std::string(w.name).rfind("save", 0) == 0) {
+        if (f.fault && f.fault->kind == sim::Fault::Kind::slow_flash &&
+            std::string(w.name).rfind("save", 0) == 0) {
           CHECK(o.first.ok());  // 10 s is within the 12 s flash deadline
         }
       }
@@ -300,11 +312,11 @@ TEST_CASE("a late answer to one request is never taken for the next one", "[reli
   client::ClientOptions o;
   o.settle = transport::Millis(1);
   FaultRig quick(std::make_shared<sim::Drive>(fx.source), o);
-  quick.sim->faults().schedule(0, sim::Fault::delay(650));  // arrives while the read of b waits
-  quick.sim->faults().schedule(1, sim::Fault::drop_answer());
-  quick.sim->faults().schedule(2, sim::Fault::drop_answer());
-  quick.sim->faults().schedule(3, sim::Fault::drop_request());
-  auto lost = quick.client->read_rom(a);  // 3 attempts, all lost
+  quick.sim->faults().schedule(0, sim::Fault::delay(1300));  // arrives while the read of b waits
+  for (std::size_t x = 1; x <= 5; ++x)
+    quick.sim->faults().schedule(x,
+                                 x == 3 ? sim::Fault::drop_request() : sim::Fault::drop_answer());
+  auto lost = quick.client->read_rom(a);  // 2 reads of 3 attempts each, all lost
   REQUIRE_FALSE(lost.ok());
   auto next = quick.client->read_rom(b);
   REQUIRE(next.ok());
@@ -315,11 +327,15 @@ TEST_CASE("a late answer to one request is never taken for the next one", "[reli
 TEST_CASE("a lost answer to a write is not resent: exactly one write telegram", "[reliability]") {
   const auto& fx = fixtures();
   FaultRig rig(std::make_shared<sim::Drive>(fx.spare));
+  // Block write: the setup's answer is lost; the chunks follow once each, the
+  // entry is read back and holds the bytes: confirmed, nothing sent twice.
   rig.sim->faults().schedule(0, sim::Fault::drop_answer());
   auto w = rig.client->write_ct_entry(7, Bytes(64, 0x5A));
-  REQUIRE_FALSE(w.ok());
-  CHECK(w.error().code == Errc::timeout);
-  CHECK(rig.client->stats().write_requests == 1);
+  INFO((w.ok() ? std::string() : w.error().message));
+  REQUIRE(w.ok());
+  CHECK(rig.client->stats().write_requests == 1 + 16);
+  CHECK(rig.client->stats().writes_confirmed == 1);
+  CHECK(rig.drive->state().ct_ram.at(7) == Bytes(64, 0x5A));
   // write_rom: answer lost, the read-back shows it landed: one write, success.
   FaultRig rom(std::make_shared<sim::Drive>(fx.spare));
   const std::uint16_t upid = rom.drive->state().params.rbegin()->first;

@@ -38,10 +38,12 @@ struct ClientOptions {
   std::uint8_t id = 0x11;  // seed 003 §15 factory MACID parameter value
   codec::ChecksumConfig checksum;
   codec::DefaultResponseLayout layout;
-  Millis timeout{200};              // ordinary request (drive answers in 0.5-1.5 ms, §6.1.1.1)
-  Millis defaulting_timeout{5000};  // §10.4: "could be more than 1 s"
-  Millis flash_timeout{12000};      // §11/§12: saving to flash, "timeout 10s"
-  Millis reset_timeout{6000};       // §13.1: "ca. 3 s"
+  Millis timeout{200};  // ordinary request (drive answers in 0.5-1.5 ms, §6.1.1.1)
+  // §10.4: "could be more than 1 s", no upper bound: generous (a drive that
+  // takes several seconds must never be abandoned with MC stopped).
+  Millis defaulting_timeout{60000};
+  Millis flash_timeout{30000};  // §11/§12: saving to flash, "timeout 10s"; 3x margin
+  Millis reset_timeout{6000};   // §13.1: "ca. 3 s"
   int read_retries = 2;
   Millis settle{500};  // quiet time required after a lost/garbled answer
   // A modified list that ends at once with C6 for a UPID outside the layer is
@@ -57,6 +59,23 @@ struct ClientOptions {
   // length closest to `layout` (codec::layout_for_length) from then on;
   // false = refuse it (the layout was given explicitly).
   bool adapt_layout = true;
+  // ---- issue 18: fault-tolerant transfers and confirmed values ----
+  // Every value that goes into a file is read this many times in agreement
+  // (a further read breaks a tie). 0 = automatic: 2 when the checksum is off
+  // and `link_has_parity` is false (nothing on the link detects a flipped bit),
+  // else 1. The tools' sessions (ops::open_session) use 0; a bare Client
+  // reads once unless told.
+  int agreeing_reads = 1;
+  bool link_has_parity = false;  // set by whoever opens the link (parity even/odd)
+  // A block or list transfer restarts from its setup/start telegram as long as
+  // the restarts make progress: it gives up after `read_retries` + 1 passes in
+  // a row that got no further, or after `transfer_deadline` in all.
+  Millis transfer_deadline{120000};
+  // Long operations (defaulting a layer, flash save, reset, MC start) have no
+  // upper bound in the manual ("could be more than 1 s", §10.4): while one
+  // runs, this is called about once a second with what is waited for and how
+  // long it has taken so far.
+  std::function<void(const std::string& what, Millis waited)> on_long_wait;
 };
 
 struct Stats {
@@ -72,6 +91,21 @@ struct Stats {
   std::uint64_t settles = 0;           // waits for a quiet line after a lost/garbled answer
   std::uint64_t settle_bytes = 0;      // bytes dropped while settling (late answers, noise)
   std::uint64_t writes_confirmed = 0;  // write answers lost, effect confirmed by reading back
+  std::uint64_t extra_reads = 0;       // reads made to confirm a value (agreeing_reads > 1)
+  std::uint64_t disagreements = 0;     // values whose reads disagreed (a tie broken by more reads)
+  std::uint64_t block_passes = 0;      // passes of block reads (1 per block on a clean line)
+  std::uint64_t block_rewrites = 0;    // block writes restarted from their setup telegram
+  std::uint64_t undocumented_states = 0;  // answers with a state the manual does not list
+};
+
+// How this drive answers a probe of an ID that holds nothing (the manual does
+// not say, §11/§12): recorded by the first probe that finds nothing.
+struct ProbeForms {
+  // Curve "read sizes" (04h 08h) of an empty ID: nullopt = not seen yet,
+  // 00h = sizes 0/0, else the error state answered (e.g. C8h).
+  std::optional<std::uint8_t> empty_curve;
+  // CT "setup read" (08h 05h) of an undefined entry: 00h = size 0, else the state.
+  std::optional<std::uint8_t> empty_ct_entry;
 };
 
 struct ModifiedParam {
@@ -105,6 +139,9 @@ class Client {
   const ClientOptions& options() const { return opt_; }
   void set_options(const ClientOptions& o) { opt_ = o; }
   const Stats& stats() const { return stats_; }
+  const ProbeForms& probe_forms() const { return forms_; }
+  // Reads per value actually used (agreeing_reads resolved).
+  int agreeing_reads() const;
   transport::Transport& link() { return link_; }
 
   // Sends `req` and waits for the answer the request's group defines.
@@ -164,6 +201,9 @@ class Client {
   Result<void> delete_ct_entry(std::uint16_t entry);
   Result<void> delete_all_ct();
   Result<void> save_ct();
+  // Entry bytes, or nullopt when the drive says the entry holds nothing (size
+  // 0 or an error state in answer to the setup read): the form is recorded.
+  Result<std::optional<Bytes>> probe_ct_entry(std::uint16_t entry);
 
   // §13
   Result<void> stop_mc();
@@ -191,12 +231,27 @@ class Client {
 
   // Reads and drops input until the line has been quiet for opt_.settle.
   Result<void> settle_line();
+  // Reads until agreeing_reads() answers agree (refusals count as answers).
+  template <class T, class F>
+  Result<T> agreed(F&& read);
+  Result<std::vector<ModifiedParam>> modified_list_once(int layer);
+  Result<std::vector<UpidInfo>> upid_list_once(int layer,
+                                               const std::function<void(std::size_t)>& progress);
+  // One pass of a block read; fills votes; see blocks.cpp.
+  struct BlockVotes;
+  Result<void> block_pass(const codec::Telegram& chunk_req, std::uint8_t chunk_sub,
+                          std::size_t chunks, BlockVotes& votes, const char* what);
+  // Waits for a long operation's answer in slices, reporting progress.
+  Result<codec::Telegram> transact_long(const codec::Telegram& req, Millis timeout,
+                                        const std::string& what);
 
   transport::Transport& link_;
   ClientOptions opt_;
   codec::StreamDecoder decoder_;
   Stats stats_;
   bool unsettled_ = false;  // the last exchange ended without its answer
+  ProbeForms forms_;
+  std::string long_wait_;  // what a long operation in flight waits for (transact_long)
 };
 
 // Expected answer sub ID for a request (seed 003 §6 table): 00 default

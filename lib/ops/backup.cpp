@@ -72,6 +72,13 @@ std::string fingerprint(const std::vector<client::UpidInfo>& all) {
   return buf;
 }
 
+std::string form_name(std::uint8_t state) {
+  if (state == 0) return "state 00h and size 0";
+  char buf[48];
+  std::snprintf(buf, sizeof buf, "error state %02Xh", state);
+  return buf;
+}
+
 void report(const Progress& p, const std::string& phase, std::size_t done, std::size_t total) {
   if (p) p(phase, done, total);
 }
@@ -126,6 +133,7 @@ Result<config::DriveConfig> backup(client::Client& c, const BackupOptions& opt,
   cfg.scope.command_table = opt.command_table;
 
   std::vector<client::UpidInfo> all_upids;
+  std::vector<std::string> notes;
   for (int layer = 1; layer <= 4; ++layer) {
     if (!opt.layers[static_cast<std::size_t>(layer - 1)]) continue;
     const std::string phase = std::string("parameters ") + client::layer_name(layer);
@@ -176,9 +184,32 @@ Result<config::DriveConfig> backup(client::Client& c, const BackupOptions& opt,
     std::size_t n = 0;
     for (auto e : entries) {
       report(opt.progress, "command table", ++n, entries.size());
-      LMCFG_ASSIGN_OR_RETURN(auto raw, c.read_ct_entry(e));
-      cfg.ct_entries.push_back(config::CtEntry{e, std::move(raw)});
+      LMCFG_ASSIGN_OR_RETURN(auto raw, c.probe_ct_entry(e));
+      if (!raw) {
+        // Listed as defined, but the entry query says nothing is there.
+        notes.push_back("command table entry " + std::to_string(e) +
+                        ": listed as defined, but the drive answers its query with " +
+                        form_name(*c.probe_forms().empty_ct_entry) + ": left out");
+        continue;
+      }
+      cfg.ct_entries.push_back(config::CtEntry{e, std::move(*raw)});
     }
+  }
+  if (opt.report) {
+    auto& r = *opt.report;
+    r.reads_per_value = c.agreeing_reads();
+    r.empty_curve_form = c.probe_forms().empty_curve;
+    r.empty_ct_form = c.probe_forms().empty_ct_entry;
+    if (r.reads_per_value > 1) {
+      r.notes.push_back(
+          "no checksum on this link: each value read twice; enable CRC on the drive (§15) to halve "
+          "backup time");
+    }
+    if (r.empty_curve_form && *r.empty_curve_form != 0) {
+      r.notes.push_back("this drive answers a probe of an empty curve ID with " +
+                        form_name(*r.empty_curve_form) + " (taken as: no curve there)");
+    }
+    r.notes.insert(r.notes.end(), notes.begin(), notes.end());
   }
   if (db) annotate(cfg, *db);
   config::canonicalize(cfg);

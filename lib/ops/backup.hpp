@@ -9,7 +9,9 @@
 // Nothing is stopped and nothing is written: backup sends read telegrams only.
 #include <array>
 #include <functional>
+#include <optional>
 #include <string>
+#include <vector>
 
 #include "client/client.hpp"
 #include "config/model.hpp"
@@ -23,6 +25,15 @@ namespace lmcfg::ops {
 // Progress: phase name, items done, items expected (0 = unknown).
 using Progress = std::function<void(const std::string& phase, std::size_t done, std::size_t total)>;
 
+// What a backup found out about the link and the drive, for the report.
+struct BackupReport {
+  int reads_per_value = 1;  // 2: no checksum and no parity, each value confirmed by a second read
+  // How the drive answers a probe of an empty curve ID / undefined CT entry
+  // (00h: zero size; else the error state), when a probe found nothing.
+  std::optional<std::uint8_t> empty_curve_form, empty_ct_form;
+  std::vector<std::string> notes;  // sentences for people, in the order found
+};
+
 struct BackupOptions {
   std::array<bool, 4> layers{true, true, true, true};
   bool curves = true;
@@ -35,6 +46,7 @@ struct BackupOptions {
   bool ask_drive = true;
   std::uint16_t max_curve_id = 100;  // storage limit of 100 curves (facts note)
   Progress progress;
+  BackupReport* report = nullptr;  // filled when given
 };
 
 // Reads the drive behind `c`. db (optional) fills display names, types and

@@ -131,6 +131,7 @@ class LinkSession final : public Session {
     auto co = client_.options();
     co.id = id;
     co.checksum = checksum;
+    co.link_has_parity = opt_.serial.parity != transport::Parity::none;
     client_.set_options(co);
     opt_.client.id = id;
     opt_.client.checksum = checksum;
@@ -209,6 +210,11 @@ Result<std::unique_ptr<Session>> open_session(const LinkOptions& opt_in) {
     if (!sink) return Error(Errc::file_error, "cannot open trace file '" + opt.trace_path + "'");
     link = transport::make_traced(std::move(link), std::move(sink));
   }
+  // With parity the UART detects a flipped bit; without it and without a
+  // checksum each value is read twice (Client::agreeing_reads).
+  opt.client.link_has_parity = opt.serial.parity != transport::Parity::none;
+  opt.client.agreeing_reads =
+      0;  // automatic: two agreeing reads when nothing detects a flipped bit
   return std::unique_ptr<Session>(std::make_unique<LinkSession>(
       std::move(opt), std::move(link), sim, std::move(drive), std::move(sim_path)));
 }

@@ -350,7 +350,9 @@ std::optional<Answer> Drive::on_param_config(const Telegram& t, std::int64_t now
     auto& c = modified_;
     auto empty = [&] {
       c.ended = true;
-      return finish(id_value(sub, o.empty_list_state, o.empty_list_upid, 0), 0, now);
+      const std::uint16_t upid =
+          o.empty_list_echo_upid && t.data.size() >= 2 ? get_u16le(t.data, 0) : o.empty_list_upid;
+      return finish(id_value(sub, o.empty_list_state, upid, 0), 0, now);
     };
     if (!c.active || c.ended) return empty();
     auto it = c.last ? s_.params.upper_bound(*c.last) : s_.params.lower_bound(layer_base(c.layer));
@@ -574,8 +576,9 @@ std::optional<Answer> Drive::on_command_table(const Telegram& t, std::int64_t no
       return finish(id_value(sub, state, key, 0), 0, now);
     }
     case 0x05:
-      if (!exists)
+      if (!exists && o.missing_ct_entry_zero_size)
         return finish(id_value(sub, st::ok, key, 0), 0, now);  // size 0 for a missing entry
+      if (!exists) return finish(id_value(sub, o.missing_object_state, key, 0), 0, now);
       xfer_ = Transfer{XferKind::ct_r, key, 0};
       return finish(id_value(sub, st::ok, key, static_cast<std::uint32_t>(it->second.size())), 0,
                     now);

@@ -134,6 +134,13 @@ struct Options {
   // (powers of two in the order §15 lists the rates). A code not in the table
   // leaves the drive at its S1 switch rate.
   std::map<std::uint32_t, unsigned> baud_codes = default_baud_codes();
+  // ---- issue 18 (drive variance) ----
+  // §12 setup read (08h 05h) of an entry that does not exist: true = state 00
+  // with size 0, false = state `missing_object_state` (C8).
+  bool missing_ct_entry_zero_size = true;
+  // §10.2 empty modified list: the C6 answer carries the get-next request's
+  // UPID field (the layer base the client sends) instead of empty_list_upid.
+  bool empty_list_echo_upid = false;
   friend bool operator==(const Options&, const Options&) = default;
 
   static std::map<std::uint32_t, unsigned> default_baud_codes() {

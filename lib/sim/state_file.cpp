@@ -195,6 +195,8 @@ json to_json(const DriveState& s) {
                   {"respond_on_end_missing", O.respond_on_end_missing},
                   {"reload_tables_on_start", O.reload_tables_on_start},
                   {"ignore_while_busy", O.ignore_while_busy}};
+  j["options"]["missing_ct_entry_zero_size"] = O.missing_ct_entry_zero_size;
+  j["options"]["empty_list_echo_upid"] = O.empty_list_echo_upid;
   if (O.baud_codes != Options::default_baud_codes()) {
     json codes = json::object();
     for (const auto& [code, rate] : O.baud_codes) codes[std::to_string(code)] = rate;
@@ -330,6 +332,9 @@ Result<DriveState> from_json(const json& j) {
       O.respond_on_end_missing = bool_or(*it, "respond_on_end_missing", O.respond_on_end_missing);
       O.reload_tables_on_start = bool_or(*it, "reload_tables_on_start", O.reload_tables_on_start);
       O.ignore_while_busy = bool_or(*it, "ignore_while_busy", O.ignore_while_busy);
+      O.missing_ct_entry_zero_size =
+          bool_or(*it, "missing_ct_entry_zero_size", O.missing_ct_entry_zero_size);
+      O.empty_list_echo_upid = bool_or(*it, "empty_list_echo_upid", O.empty_list_echo_upid);
       if (auto bc = it->find("baud_codes"); bc != it->end()) {
         if (!bc->is_object())
           throw BadField("options.baud_codes: expected an object of code -> baud rate");

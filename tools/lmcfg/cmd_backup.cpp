@@ -61,6 +61,8 @@ int run(BackupCli& o) {
   bo.full = o.full;
   bo.ask_drive = !o.no_describe;
   bo.progress = make_progress(o.common);
+  ops::BackupReport report;
+  bo.report = &report;
   auto cfg = ops::backup((*session)->client(), bo, db);
   end_progress(o.common);
   auto closed = (*session)->close();
@@ -98,6 +100,7 @@ int run(BackupCli& o) {
         params, cfg->curves.size(), cfg->ct_entries.size(),
         cfg->ct_entries.size() == 1 ? "y" : "ies", o.output.c_str(),
         static_cast<unsigned long long>(st.requests));
+    for (const auto& n : report.notes) std::fprintf(stderr, "backup: %s\n", n.c_str());
   }
   return kOk;
 }

@@ -1,0 +1,458 @@
+// Curves (seed 003 §11) and the command table (§12): block transfers.
+//
+// Block reads go in passes, each from the setup telegram ("read sizes" for a
+// curve, "setup read" for a CT entry) to the last chunk. The manual gives no
+// way to ask for a chunk by position, so a lost chunk answer is a hole: the
+// pass goes on assuming the drive's cursor moved on (the answer, not the
+// request, was lost) and the drive's state at the last chunk (00h exactly
+// there) confirms it; if it does not, only the chunks before the first hole
+// count. Each chunk position collects the values read for it; it is decided
+// when agreeing_reads() reads agree (a further read breaks a tie). Passes go on
+// while they decide more positions (RestartBudget), so a long curve survives a
+// line that loses answers without restarting from zero each time.
+//
+// Block writes go in passes too: setup (add / setup write), then every chunk
+// once. A lost chunk answer is not resent; when a pass lost any answer, the
+// block is read back and compared, and a mismatch restarts the object's write
+// from its setup telegram (a curve is deleted and added again).
+#include <cstdio>
+
+#include "client/client.hpp"
+#include "client/internal.hpp"
+
+namespace lmcfg::client {
+
+using namespace codec;
+using detail::hexid;
+using detail::is_link_error;
+using detail::RestartBudget;
+
+struct Client::BlockVotes {
+  struct Count {
+    std::uint32_t value = 0;
+    int n = 0;
+  };
+  std::vector<std::vector<Count>> at;  // per chunk position
+  explicit BlockVotes(std::size_t chunks) : at(chunks) {}
+  void add(std::size_t i, std::uint32_t v) {
+    for (auto& c : at[i]) {
+      if (c.value == v) {
+        ++c.n;
+        return;
+      }
+    }
+    at[i].push_back({v, 1});
+  }
+  // The decided value of position i: `need` reads agree and no other value has as many.
+  std::optional<std::uint32_t> decided(std::size_t i, int need) const {
+    const Count* best = nullptr;
+    int second = 0;
+    for (const auto& c : at[i]) {
+      if (!best || c.n > best->n) {
+        if (best) second = std::max(second, best->n);
+        best = &c;
+      } else {
+        second = std::max(second, c.n);
+      }
+    }
+    if (!best || best->n < need || best->n == second) return std::nullopt;
+    return best->value;
+  }
+  // Votes that count towards deciding (at most `need` per position): grows
+  // with every pass that brought a useful read.
+  std::size_t mass(int need) const {
+    std::size_t m = 0;
+    for (const auto& a : at) {
+      int best = 0;
+      for (const auto& c : a) best = std::max(best, c.n);
+      m += static_cast<std::size_t>(std::min(best, need + 1));
+    }
+    return m;
+  }
+  std::size_t decided_count(int need) const {
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < at.size(); ++i) n += decided(i, need) ? 1 : 0;
+    return n;
+  }
+  bool disagreed() const {
+    for (const auto& a : at)
+      if (a.size() > 1) return true;
+    return false;
+  }
+};
+
+Result<void> Client::block_pass(const Telegram& chunk_req, std::uint8_t chunk_sub,
+                                std::size_t chunks, BlockVotes& votes, const char* what) {
+  std::vector<std::optional<std::uint32_t>> got(chunks);
+  std::size_t first_hole = chunks;
+  std::optional<Error> problem;
+  bool end_confirmed = false;
+  for (std::size_t i = 0; i < chunks; ++i) {
+    auto r = id_value(chunk_req, chunk_sub, false, opt_.timeout);
+    const bool last_chunk = i + 1 == chunks;
+    if (!r.ok()) {
+      if (!is_link_error(r.error())) return std::move(r).error();
+      if (first_hole == chunks) first_hole = i;
+      problem =
+          Error(r.error().code, std::string(what) + ": chunk " + std::to_string(i + 1) + " of " +
+                                    std::to_string(chunks) + ": " + r.error().message);
+      continue;  // the drive's cursor has probably moved on: a hole, checked at the end
+    }
+    const std::uint8_t want = last_chunk ? state::ok : state::more_data;
+    if (r->state != want) {
+      // The drive's cursor is not where ours is (a lost request, a reset, a
+      // flipped state bit): only what came before the first hole counts.
+      problem = Error(Errc::unexpected_response,
+                      std::string(what) + ": chunk " + std::to_string(i + 1) + " of " +
+                          std::to_string(chunks) + " has state " + hexid("%02Xh", r->state) +
+                          ", expected " + hexid("%02Xh", want));
+      first_hole = std::min(first_hole, i);
+      break;
+    }
+    got[i] = r->value;
+    if (last_chunk) end_confirmed = true;
+  }
+  const std::size_t certain = end_confirmed ? chunks : first_hole;
+  for (std::size_t i = 0; i < certain; ++i)
+    if (got[i]) votes.add(i, *got[i]);
+  if (problem) return std::move(*problem);
+  return {};
+}
+
+Result<Bytes> Client::read_block(const Telegram& setup, std::uint8_t setup_sub,
+                                 const Telegram& chunk_req, std::uint8_t chunk_sub,
+                                 std::size_t size, const char* what) {
+  const std::size_t chunks = (size + 3) / 4;
+  const int need = agreeing_reads();
+  BlockVotes votes(chunks);
+  RestartBudget budget(opt_.read_retries + 1, opt_.transfer_deadline);
+  Error last(Errc::timeout, "");
+  for (bool first = true;; first = false) {
+    if (!first) {
+      // Restart the transfer from its setup telegram (resets the drive's block cursor).
+      auto s = id_value(setup, setup_sub, true, opt_.timeout);
+      if (!s.ok()) return std::move(s).error();
+    }
+    ++stats_.block_passes;
+    auto pass = block_pass(chunk_req, chunk_sub, chunks, votes, what);
+    if (!pass.ok() && !is_link_error(pass.error())) return std::move(pass).error();
+    const std::size_t done = votes.decided_count(need);
+    if (done == chunks) {
+      if (votes.disagreed()) ++stats_.disagreements;
+      Bytes out;
+      out.reserve(chunks * 4);
+      for (std::size_t i = 0; i < chunks; ++i) {
+        const std::uint32_t v = *votes.decided(i, need);
+        for (int k = 0; k < 4; ++k) out.push_back(static_cast<std::uint8_t>(v >> (8 * k)));
+      }
+      out.resize(size);  // the last chunk carries padding
+      return out;
+    }
+    if (pass.ok()) {
+      ++stats_.extra_reads;
+      last = Error(Errc::unexpected_response, std::to_string(chunks - done) + " of " +
+                                                  std::to_string(chunks) + " chunks without " +
+                                                  std::to_string(need) + " agreeing reads");
+    } else {
+      last = std::move(pass).error();
+    }
+    if (!budget.another(votes.mass(need))) break;
+    ++stats_.retries;
+  }
+  last.message = last.message + " (after " + std::to_string(budget.passes()) + " passes)";
+  return last;
+}
+
+// ---- curves (§11) ----
+
+namespace {
+// A refusal in answer to a probe means "nothing there", except the states
+// that say the request itself did not arrive intact (C1, C2) or at the wrong
+// baud rate (C5).
+bool probe_refusal(const Error& e) {
+  if (e.code.category() != comm_state_category()) return false;
+  const int s = e.code.value();
+  return s != 0xC1 && s != 0xC2 && s != 0xC5;
+}
+}  // namespace
+
+Result<std::optional<CurveSizes>> Client::curve_sizes(std::uint16_t curve) {
+  auto sizes = agreed<std::uint32_t>([&]() -> Result<std::uint32_t> {
+    LMCFG_ASSIGN_OR_RETURN(auto r, id_value(make_curve(opt_.id, CurveOp::read_sizes, curve), 0x40,
+                                            true, opt_.timeout));
+    if (r.key != curve) {
+      return Error(Errc::unexpected_response, "curve size query for ID " + std::to_string(curve) +
+                                                  " answered for ID " + std::to_string(r.key));
+    }
+    return r.value;
+  });
+  if (!sizes.ok()) {
+    if (!probe_refusal(sizes.error())) return std::move(sizes).error();
+    // An error state for a probe: no curve under this ID (§11 leaves the answer open).
+    if (!forms_.empty_curve)
+      forms_.empty_curve = static_cast<std::uint8_t>(sizes.error().code.value());
+    return std::optional<CurveSizes>();
+  }
+  CurveSizes s{static_cast<std::uint16_t>(*sizes & 0xFFFF),
+               static_cast<std::uint16_t>(*sizes >> 16)};
+  if (s.info == 0 && s.data == 0) {
+    if (!forms_.empty_curve) forms_.empty_curve = state::ok;
+    return std::optional<CurveSizes>();
+  }
+  return std::optional<CurveSizes>(s);
+}
+
+Result<Bytes> Client::read_curve_info(std::uint16_t curve, std::uint16_t size) {
+  return read_block(make_curve(opt_.id, CurveOp::read_sizes, curve), 0x40,
+                    make_curve(opt_.id, CurveOp::read_info, curve), 0x40, size,
+                    ("curve " + std::to_string(curve) + " info block").c_str());
+}
+Result<Bytes> Client::read_curve_data(std::uint16_t curve, std::uint16_t size) {
+  return read_block(make_curve(opt_.id, CurveOp::read_sizes, curve), 0x40,
+                    make_curve(opt_.id, CurveOp::read_data, curve), 0x40, size,
+                    ("curve " + std::to_string(curve) + " data block").c_str());
+}
+
+Result<std::optional<Client::CurveBlocks>> Client::read_curve(std::uint16_t curve) {
+  LMCFG_ASSIGN_OR_RETURN(auto sizes, curve_sizes(curve));
+  if (!sizes) return std::optional<CurveBlocks>();
+  CurveBlocks b;
+  LMCFG_ASSIGN_OR_RETURN(b.info, read_curve_info(curve, sizes->info));
+  LMCFG_ASSIGN_OR_RETURN(b.data, read_curve_data(curve, sizes->data));
+  return std::optional<CurveBlocks>(std::move(b));
+}
+
+namespace {
+std::array<std::uint8_t, 4> chunk_at(ByteView b, std::size_t i) {
+  std::array<std::uint8_t, 4> c{0, 0, 0, 0};
+  for (std::size_t k = 0; k < 4 && i * 4 + k < b.size(); ++k) c[k] = b[i * 4 + k];
+  return c;
+}
+
+// Outcome of one write pass.
+struct WritePass {
+  bool lost_answers = false;    // some answer lost: the result must be read back
+  std::optional<Error> failed;  // the drive showed the transfer broke (state, refusal)
+};
+
+// Sends the chunks of one block once. A block write answers 04h while the
+// drive expects more and 00h after the last chunk; anything else means the
+// drive lost the transfer (a reset, a lost request): the pass failed.
+template <class Send>
+void write_chunks(ByteView block, const std::string& what, WritePass& pass, Send&& send) {
+  const std::size_t chunks = (block.size() + 3) / 4;
+  for (std::size_t i = 0; i < chunks && !pass.failed; ++i) {
+    Result<IdValueResponse> r = send(chunk_at(block, i));
+    const bool last_chunk = i + 1 == chunks;
+    std::string where = what + ", chunk " + std::to_string(i + 1) + " of " + std::to_string(chunks);
+    if (!r.ok()) {
+      if (is_link_error(r.error())) {
+        pass.lost_answers = true;  // not resent: the read-back decides
+        continue;
+      }
+      pass.failed = Error(r.error().code, where + ": " + r.error().message);
+      return;
+    }
+    const std::uint8_t want = last_chunk ? state::ok : state::more_data;
+    if (r->state != want) {
+      pass.failed =
+          Error(Errc::unexpected_response,
+                where + ": the drive answered state " + hexid("%02Xh", r->state) + ", expected " +
+                    hexid("%02Xh", want) + " (block transfer lost on the drive?)");
+    }
+  }
+}
+}  // namespace
+
+Result<void> Client::write_curve(std::uint16_t curve, ByteView info, ByteView data) {
+  if (info.size() > 0xFFFF || data.size() > 0xFFFF) {
+    return Error(Errc::invalid_argument,
+                 "curve " + std::to_string(curve) + " blocks exceed 65535 bytes");
+  }
+  const std::string name = "curve " + std::to_string(curve);
+  RestartBudget budget(opt_.read_retries + 1, opt_.transfer_deadline);
+  for (int pass_no = 0;; ++pass_no) {
+    WritePass pass;
+    if (pass_no > 0) {
+      // Start the curve's write again from its setup telegram: delete, add.
+      ++stats_.block_rewrites;
+      auto del = delete_curve(curve);
+      if (!del.ok() && !is_link_error(del.error())) return std::move(del).error();
+    }
+    auto add = id_value(make_curve_add(opt_.id, curve, static_cast<std::uint16_t>(info.size()),
+                                       static_cast<std::uint16_t>(data.size())),
+                        0x40, false, opt_.timeout);
+    if (!add.ok()) {
+      if (!is_link_error(add.error())) return std::move(add).error();
+      pass.lost_answers = true;
+    }
+    for (auto [op, block] :
+         {std::pair{CurveOp::write_info, info}, std::pair{CurveOp::write_data, data}}) {
+      const std::string what = name + (op == CurveOp::write_info ? " info" : " data") + " block";
+      write_chunks(block, what, pass, [&, op = op](std::array<std::uint8_t, 4> c) {
+        return id_value(make_curve_write(opt_.id, op, curve, c), 0x40, false, opt_.timeout);
+      });
+    }
+    // A refusal after a lost "add" answer: the add did not land; write again.
+    if (pass.failed && !pass.lost_answers && !is_link_error(*pass.failed))
+      return std::move(*pass.failed);
+    std::size_t progress = 0;
+    if (!pass.failed && !pass.lost_answers) return {};
+    if (!pass.failed) {
+      // Some answers were lost: confirm by reading the curve back.
+      auto back = read_curve(curve);
+      if (!back.ok()) return std::move(back).error();
+      if (*back && (*back)->info == Bytes(info.begin(), info.end()) &&
+          (*back)->data == Bytes(data.begin(), data.end())) {
+        ++stats_.writes_confirmed;
+        return {};
+      }
+      pass.failed =
+          Error(Errc::unexpected_response, name + ": read back differs from what was written");
+      if (*back) progress = 1;
+    }
+    if (!budget.another(progress)) {
+      Error e = std::move(*pass.failed);
+      e.message += " (after " + std::to_string(budget.passes()) + " write passes)";
+      return e;
+    }
+  }
+}
+
+Result<void> Client::delete_curve(std::uint16_t curve) {
+  LMCFG_TRY(id_value(make_curve(opt_.id, CurveOp::delete_one, curve), 0x40, false, opt_.timeout));
+  return {};
+}
+Result<void> Client::delete_all_curves() {
+  LMCFG_TRY(id_value(make_curve(opt_.id, CurveOp::delete_all), 0x40, false, opt_.timeout));
+  return {};
+}
+Result<void> Client::save_curves() {
+  LMCFG_ASSIGN_OR_RETURN(auto t, transact_long(make_curve(opt_.id, CurveOp::save_to_flash),
+                                               opt_.flash_timeout, "saving curves to flash"));
+  LMCFG_TRY(decode_id_value(t, 0x40));
+  return {};
+}
+
+// ---- command table (§12) ----
+
+Result<std::vector<std::uint16_t>> Client::ct_defined_entries() {
+  std::vector<std::uint16_t> out;
+  for (std::uint16_t block = 0; block < 8; ++block) {
+    LMCFG_ASSIGN_OR_RETURN(auto bits, agreed<std::uint32_t>([&]() -> Result<std::uint32_t> {
+                             LMCFG_ASSIGN_OR_RETURN(
+                                 auto r,
+                                 id_value(make_ct_defined_list(opt_.id, block, opt_.pad_ct_list),
+                                          0x87, true, opt_.timeout));
+                             if (r.key != block) {
+                               return Error(Errc::unexpected_response,
+                                            "CT defined-entry list block " + std::to_string(block) +
+                                                " answered for block " + std::to_string(r.key));
+                             }
+                             return r.value;
+                           }));
+    for (unsigned bit = 0; bit < 32; ++bit) {
+      if ((bits & (1u << bit)) == 0)
+        out.push_back(static_cast<std::uint16_t>(block * 32 + bit));  // 0 = exists
+    }
+  }
+  return out;
+}
+
+Result<std::optional<Bytes>> Client::probe_ct_entry(std::uint16_t entry) {
+  auto setup = make_ct(opt_.id, CtOp::setup_read, entry);
+  auto size = agreed<std::uint32_t>([&]() -> Result<std::uint32_t> {
+    LMCFG_ASSIGN_OR_RETURN(auto s, id_value(setup, 0x85, true, opt_.timeout));
+    if (s.key != entry) {
+      return Error(Errc::unexpected_response, "CT setup read of entry " + std::to_string(entry) +
+                                                  " answered for entry " + std::to_string(s.key));
+    }
+    return s.value;
+  });
+  if (!size.ok()) {
+    if (!probe_refusal(size.error())) return std::move(size).error();
+    // An error state for the entry query: nothing there (§12 leaves the answer open).
+    if (!forms_.empty_ct_entry)
+      forms_.empty_ct_entry = static_cast<std::uint8_t>(size.error().code.value());
+    return std::optional<Bytes>();
+  }
+  if (*size == 0) {
+    if (!forms_.empty_ct_entry) forms_.empty_ct_entry = state::ok;
+    return std::optional<Bytes>();
+  }
+  if (*size > 0xFFFF) {
+    return Error(Errc::unexpected_response,
+                 "CT entry " + std::to_string(entry) + " has size " + std::to_string(*size));
+  }
+  LMCFG_ASSIGN_OR_RETURN(
+      auto bytes, read_block(setup, 0x85, make_ct(opt_.id, CtOp::read_data, entry), 0x86, *size,
+                             ("command table entry " + std::to_string(entry)).c_str()));
+  return std::optional<Bytes>(std::move(bytes));
+}
+
+Result<Bytes> Client::read_ct_entry(std::uint16_t entry) {
+  LMCFG_ASSIGN_OR_RETURN(auto got, probe_ct_entry(entry));
+  if (!got) {
+    return Error(Errc::unexpected_response,
+                 "CT entry " + std::to_string(entry) + " has size 0 (not defined?)");
+  }
+  return std::move(*got);
+}
+
+Result<void> Client::write_ct_entry(std::uint16_t entry, ByteView bytes) {
+  const std::string name = "command table entry " + std::to_string(entry);
+  RestartBudget budget(opt_.read_retries + 1, opt_.transfer_deadline);
+  for (int pass_no = 0;; ++pass_no) {
+    WritePass pass;
+    if (pass_no > 0) ++stats_.block_rewrites;
+    // The setup telegram (re)creates the entry with its size (§12).
+    auto setup =
+        id_value(make_ct_setup_write(opt_.id, entry, static_cast<std::uint32_t>(bytes.size())),
+                 0x83, false, opt_.timeout);
+    if (!setup.ok()) {
+      if (!is_link_error(setup.error())) return std::move(setup).error();
+      pass.lost_answers = true;
+    }
+    write_chunks(bytes, name, pass, [&](std::array<std::uint8_t, 4> c) {
+      return id_value(make_ct_write(opt_.id, entry, c), 0x84, false, opt_.timeout);
+    });
+    if (pass.failed && !pass.lost_answers && !is_link_error(*pass.failed))
+      return std::move(*pass.failed);
+    if (!pass.failed && !pass.lost_answers) return {};
+    std::size_t progress = 0;
+    if (!pass.failed) {
+      auto back = probe_ct_entry(entry);
+      if (!back.ok()) return std::move(back).error();
+      if (*back && **back == Bytes(bytes.begin(), bytes.end())) {
+        ++stats_.writes_confirmed;
+        return {};
+      }
+      pass.failed =
+          Error(Errc::unexpected_response, name + ": read back differs from what was written");
+      if (*back) progress = 1;
+    }
+    if (!budget.another(progress)) {
+      Error e = std::move(*pass.failed);
+      e.message += " (after " + std::to_string(budget.passes()) + " write passes)";
+      return e;
+    }
+  }
+}
+
+Result<void> Client::delete_ct_entry(std::uint16_t entry) {
+  LMCFG_TRY(id_value(make_ct(opt_.id, CtOp::delete_one, entry), 0x82, false, opt_.timeout));
+  return {};
+}
+Result<void> Client::delete_all_ct() {
+  LMCFG_TRY(id_value(make_ct(opt_.id, CtOp::delete_all), 0x81, false, opt_.timeout));
+  return {};
+}
+Result<void> Client::save_ct() {
+  LMCFG_ASSIGN_OR_RETURN(auto t,
+                         transact_long(make_ct(opt_.id, CtOp::save_to_flash), opt_.flash_timeout,
+                                       "saving the command table to flash"));
+  LMCFG_TRY(decode_id_value(t, 0x80));
+  return {};
+}
+
+}  // namespace lmcfg::client
