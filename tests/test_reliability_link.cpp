@@ -251,8 +251,10 @@ TEST_CASE(
 // corrupted answer) that is expected about once in 150,000 requests, and other
 // seeds (LMCFG_SEED=1, 2, 3) give 1-2 wrong files in 200 backups
 // (docs/reliability.md). The fixed sequence here is a regression check.
-TEST_CASE("seed003 §15 no checksum: two agreeing reads keep bit flips out of 200 backups (fixed fault sequence)",
-          "[reliability][link]") {
+TEST_CASE(
+    "seed003 §15 no checksum: two agreeing reads keep bit flips out of 200 backups (fixed fault "
+    "sequence)",
+    "[reliability][link]") {
   const auto s = axis_state();  // factory setting: no checksum, no parity
   REQUIRE(s.checksum.mode == codec::ChecksumMode::none);
   const auto want = clean_backup(s);
