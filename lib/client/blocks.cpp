@@ -262,6 +262,38 @@ void write_chunks(ByteView block, const std::string& what, WritePass& pass, Send
     }
   }
 }
+
+// After one write pass: nullopt = write again from the setup telegram, else the
+// outcome. A pass with lost answers is settled by reading the object back
+// (`read_back`: whether the drive holds exactly what was written, nullopt when
+// it holds nothing there); a write is never repeated without that evidence.
+template <class ReadBack>
+std::optional<Result<void>> settle_write_pass(WritePass& pass, RestartBudget& budget,
+                                              const std::string& name, ReadBack&& read_back,
+                                              std::uint64_t& confirmed) {
+  // A refusal after a lost "add"/setup answer: the setup did not land; write again.
+  if (pass.failed && !pass.lost_answers && !is_link_error(*pass.failed))
+    return Result<void>(std::move(*pass.failed));
+  if (!pass.failed && !pass.lost_answers) return Result<void>{};
+  std::size_t progress = 0;
+  if (!pass.failed) {
+    Result<std::optional<bool>> back = read_back();
+    if (!back.ok()) return Result<void>(std::move(back).error());
+    if (*back == true) {
+      ++confirmed;
+      return Result<void>{};
+    }
+    pass.failed =
+        Error(Errc::unexpected_response, name + ": read back differs from what was written");
+    if (back->has_value()) progress = 1;
+  }
+  if (!budget.another(progress)) {
+    Error e = std::move(*pass.failed);
+    e.message += " (after " + std::to_string(budget.passes()) + " write passes)";
+    return Result<void>(std::move(e));
+  }
+  return std::nullopt;
+}
 }  // namespace
 
 Result<void> Client::write_curve(std::uint16_t curve, ByteView info, ByteView data) {
@@ -293,29 +325,16 @@ Result<void> Client::write_curve(std::uint16_t curve, ByteView info, ByteView da
         return id_value(make_curve_write(opt_.id, op, curve, c), 0x40, false, opt_.timeout);
       });
     }
-    // A refusal after a lost "add" answer: the add did not land; write again.
-    if (pass.failed && !pass.lost_answers && !is_link_error(*pass.failed))
-      return std::move(*pass.failed);
-    std::size_t progress = 0;
-    if (!pass.failed && !pass.lost_answers) return {};
-    if (!pass.failed) {
-      // Some answers were lost: confirm by reading the curve back.
-      auto back = read_curve(curve);
-      if (!back.ok()) return std::move(back).error();
-      if (*back && (*back)->info == Bytes(info.begin(), info.end()) &&
-          (*back)->data == Bytes(data.begin(), data.end())) {
-        ++stats_.writes_confirmed;
-        return {};
-      }
-      pass.failed =
-          Error(Errc::unexpected_response, name + ": read back differs from what was written");
-      if (*back) progress = 1;
-    }
-    if (!budget.another(progress)) {
-      Error e = std::move(*pass.failed);
-      e.message += " (after " + std::to_string(budget.passes()) + " write passes)";
-      return e;
-    }
+    auto done = settle_write_pass(
+        pass, budget, name,
+        [&]() -> Result<std::optional<bool>> {
+          LMCFG_ASSIGN_OR_RETURN(auto back, read_curve(curve));
+          if (!back) return std::optional<bool>{};
+          return std::optional<bool>{back->info == Bytes(info.begin(), info.end()) &&
+                                     back->data == Bytes(data.begin(), data.end())};
+        },
+        stats_.writes_confirmed);
+    if (done) return std::move(*done);
   }
 }
 
@@ -416,26 +435,15 @@ Result<void> Client::write_ct_entry(std::uint16_t entry, ByteView bytes) {
     write_chunks(bytes, name, pass, [&](std::array<std::uint8_t, 4> c) {
       return id_value(make_ct_write(opt_.id, entry, c), 0x84, false, opt_.timeout);
     });
-    if (pass.failed && !pass.lost_answers && !is_link_error(*pass.failed))
-      return std::move(*pass.failed);
-    if (!pass.failed && !pass.lost_answers) return {};
-    std::size_t progress = 0;
-    if (!pass.failed) {
-      auto back = probe_ct_entry(entry);
-      if (!back.ok()) return std::move(back).error();
-      if (*back && **back == Bytes(bytes.begin(), bytes.end())) {
-        ++stats_.writes_confirmed;
-        return {};
-      }
-      pass.failed =
-          Error(Errc::unexpected_response, name + ": read back differs from what was written");
-      if (*back) progress = 1;
-    }
-    if (!budget.another(progress)) {
-      Error e = std::move(*pass.failed);
-      e.message += " (after " + std::to_string(budget.passes()) + " write passes)";
-      return e;
-    }
+    auto done = settle_write_pass(
+        pass, budget, name,
+        [&]() -> Result<std::optional<bool>> {
+          LMCFG_ASSIGN_OR_RETURN(auto back, probe_ct_entry(entry));
+          if (!back) return std::optional<bool>{};
+          return std::optional<bool>{*back == Bytes(bytes.begin(), bytes.end())};
+        },
+        stats_.writes_confirmed);
+    if (done) return std::move(*done);
   }
 }
 
