@@ -243,3 +243,17 @@ TEST_CASE("first steps: backup checks its output path first and writes -o - to s
   auto j = nlohmann::json::parse(out.out);
   CHECK(j["format"] == "lmcfg-drive-config");
 }
+
+TEST_CASE("first steps: db scan checks its output path before talking to the drive",
+          "[cli][first-steps]") {
+  TempDir d;
+  fs::copy_file(std::string(LMCFG_SOURCE_DIR) + "/tests/fixtures/sim/used-spare.json",
+                d.path / "spare.json");
+  auto missing = tool(
+      d.path, "db scan --profile p1 --port sim:spare.json -o no/such/dir/s.tsv --trace t.trace");
+  CHECK(missing.exit_code == 2);
+  CHECK(missing.err ==
+        "lmcfg db scan: -o 'no/such/dir/s.tsv': directory 'no/such/dir' does not exist; create "
+        "it or name another path\n");
+  CHECK_FALSE(fs::exists(d.path / "t.trace"));  // the link was never opened
+}

@@ -433,6 +433,7 @@ int run_scan(ScanCli& o) {
     return fail("db scan", Error(Errc::invalid_argument,
                                  "output '" + o.output + "' is a directory; name a .tsv file"));
   }
+  if (auto ok = check_output_path(o.output, "-o"); !ok.ok()) return fail("db scan", ok.error());
   if (!o.merge_into.empty() && !std::filesystem::is_directory(o.merge_into, ec)) {
     return fail("db scan", Error(Errc::invalid_argument,
                                  "--merge-into '" + o.merge_into + "' is not a directory"));
