@@ -94,7 +94,6 @@ Result<T> Client::agreed(F&& read) {
     for (const auto& s : seen) count += detail::same_answer(s, r) ? 1 : 0;
     if (count >= need) {
       if (static_cast<int>(seen.size()) + 1 > need) ++stats_.disagreements;
-      if (need <= 1) return r;
       return r;
     }
     seen.push_back(std::move(r));

@@ -277,14 +277,18 @@ std::string curve_changes(const config::Curve& a, const config::Curve& b) {
   return s;
 }
 
+// A part captured on one side only: a difference, never "identical".
+DiffItem scope_item(const char* what, bool in_a, bool in_b, const std::string& held) {
+  return make_item(DiffItem::Kind::scope, what, in_a ? "captured" : "not captured",
+                   in_b ? "captured" : "not captured",
+                   held + " on the " + (in_a ? "A" : "B") + " side not compared");
+}
+
 void diff_curves(const config::DriveConfig& a, const config::DriveConfig& b, DiffResult& r) {
   if (a.scope.curves != b.scope.curves) {
     const auto& holder = a.scope.curves ? a : b;
-    r.items.push_back(make_item(DiffItem::Kind::scope, "curves",
-                                a.scope.curves ? "captured" : "not captured",
-                                b.scope.curves ? "captured" : "not captured",
-                                std::to_string(holder.curves.size()) + " curve(s) on the " +
-                                    (a.scope.curves ? "A" : "B") + " side not compared"));
+    r.items.push_back(scope_item("curves", a.scope.curves, b.scope.curves,
+                                 std::to_string(holder.curves.size()) + " curve(s)"));
     return;
   }
   if (!a.scope.curves) return;
@@ -342,11 +346,8 @@ void diff_ct(const config::DriveConfig& a, const config::DriveConfig& b, const d
              DiffResult& r) {
   if (a.scope.command_table != b.scope.command_table) {
     const auto& holder = a.scope.command_table ? a : b;
-    r.items.push_back(make_item(DiffItem::Kind::scope, "command table",
-                                a.scope.command_table ? "captured" : "not captured",
-                                b.scope.command_table ? "captured" : "not captured",
-                                std::to_string(holder.ct_entries.size()) + " entr(y/ies) on the " +
-                                    (a.scope.command_table ? "A" : "B") + " side not compared"));
+    r.items.push_back(scope_item("command table", a.scope.command_table, b.scope.command_table,
+                                 std::to_string(holder.ct_entries.size()) + " entr(y/ies)"));
     return;
   }
   if (!a.scope.command_table) return;
