@@ -325,111 +325,127 @@ struct RestoreCost {
   Cost total() const { return plan + execute + verify; }
 };
 
-// Restore of `file` onto the drive `t` (its state before the restore).
-//  plan:    per restored layer the target's modified list (needed to keep the
-//           target's communication values and to find leftovers); when the
-//           database does not know the address usage of a restored parameter of
-//           the layer, the target's UPID list of the layer (§10.3: address usage
-//           and type of each UPID), else per restored parameter one type query
-//           (05h 04h); per parameter whose range the database does not know,
-//           min and max (05h 05h/06h); per leftover whose
-//           default the database does not know, one default query (05h 07h) if
-//           leftovers are written back rather than defaulted.
-//  execute: stop MC; per layer the cheaper of (a) writing back the leftovers to
-//           their defaults plus writing what differs, (b) defaulting the layer
-//           (1 telegram + the defaulting duration) plus writing every restored
-//           value; CT delete-all, per entry setup + chunks, save (+ flash
-//           duration); curves delete-all, per curve add + info + data chunks,
-//           save (+ flash duration); a reset (+ reset duration) when ROM values
-//           changed, else an MC start (+ start duration).
-//  verify:  a read-back proving the drive equals the file: per layer the
-//           modified list (+ a ROM read per restored value that is at its
-//           default and so not listed), the CT list and every entry, the 100
-//           curve probes and every curve's blocks.
+// Restore of `file` onto the drive `t` (its state before the restore), as
+// issue 12 plans it: compare first, write only what differs, check what is
+// written against the target.
+//  plan:    per restored layer the target's modified list; per file value the
+//           target does not list and whose default is unknown or equal to the
+//           file's value, one ROM read (05h 01h). Per parameter that will be
+//           written: its type (the target's UPID list of the layer when the
+//           database lacks an address usage, else 05h 04h) and the target's
+//           min and max (05h 05h/06h, always: the target is the truth); per
+//           leftover written back, the target's default (05h 07h). The command
+//           table: the defined list and every entry of the target; curves: the
+//           100 size probes, each target curve's info block, and its data block
+//           when the file has that curve with the same info block and size.
+//  execute: nothing at all when nothing differs. Else stop MC; per layer the
+//           cheaper of (a) writing each leftover back to its default and (b)
+//           defaulting the layer (1 telegram + its duration) and writing again
+//           what the target already held; the differing values; per command
+//           table entry that differs or is only on the target a delete (08h
+//           02h), per entry to write setup + chunks, one save (+ flash
+//           duration) if any; the same for curves (04h 02h, add + info + data
+//           chunks, one save); a reset when ROM values changed, else an MC start.
+//  verify:  none when nothing was written (the plan's reads compared every
+//           item); else the modified list of each layer (+ a ROM read per
+//           value at its default), the CT list and every entry, the 100 curve
+//           probes and every curve's blocks.
 inline RestoreCost min_restore(const sim::DriveState& t, const config::DriveConfig& file,
                                const db::Database* db, const ops::RestoreOptions& opt = {}) {
   WireModel w(t);
   RestoreCost rc;
-  auto is_comm = [&](std::uint16_t upid) {
-    const db::Parameter* d = db ? db->find(upid) : nullptr;
-    return d && d->comm;
-  };
-  auto db_knows_default = [&](std::uint16_t upid) {
-    const db::Parameter* d = db ? db->find(upid) : nullptr;
-    return d && d->default_value;
+  auto is_comm = [&](std::uint16_t upid) { return ops::is_comm_parameter(db, upid); };
+  auto known_default = [&](const config::Parameter& p) -> std::optional<std::uint32_t> {
+    const db::Parameter* d = db ? db->find(p.upid) : nullptr;
+    if (d && d->default_value) return static_cast<std::uint32_t>(*d->default_value);
+    return p.default_value;
   };
   bool rom_changed = false;
+  Cost changes;  // execute without MC stop / start / reset
   std::size_t verify_rom_reads = 0;
   std::vector<std::size_t> modified_after;
-  rc.execute +=
-      w.exchange(codec::make_program(w.id(), codec::ProgramOp::stop_mc),
+  // Is MC running? (one default response; a stopped MC means a half-done run)
+  rc.plan +=
+      w.exchange(codec::make_response_request(w.id(), codec::ResponseRequest::default_response),
                  codec::make_default_response(w.id(), codec::DefaultResponse{}, t.layout));
   for (int l = 1; l <= 4; ++l) {
     if (!file.scope.layers[static_cast<std::size_t>(l - 1)]) continue;
     const auto target = modified_of(t, l);
     rc.plan += w.modified_list(target.size());
-    std::map<std::uint16_t, std::uint32_t> writes;  // what the layer must hold afterwards
-    std::vector<const config::Parameter*> restored;
-    for (const auto& p : file.layer(l))
-      if (!is_comm(p.upid) || opt.include_comm) restored.push_back(&p);
-    // Address usage the database does not know: one walk of the target's UPID
-    // list gives it with every type; otherwise one type query per parameter.
-    const bool walk_list =
-        std::any_of(restored.begin(), restored.end(), [&](const config::Parameter* p) {
-          const db::Parameter* d = db ? db->find(p->upid) : nullptr;
-          return !(d && d->address_usage);
-        });
+    std::map<std::uint16_t, std::uint32_t> after;  // what the layer must hold afterwards
+    std::vector<const config::Parameter*> writes;
+    std::size_t same = 0, keep = 0, leftovers = 0;
+    std::set<std::uint16_t> restored;
+    for (const auto& p : file.layer(l)) {
+      if (is_comm(p.upid) && !opt.include_comm) continue;
+      restored.insert(p.upid);
+      after[p.upid] = p.value;
+      if (auto it = target.find(p.upid); it != target.end()) {
+        if (it->second == p.value)
+          ++same;
+        else
+          writes.push_back(&p);
+        continue;
+      }
+      const auto def = known_default(p);
+      if (def && *def != p.value) {
+        writes.push_back(&p);
+        continue;
+      }
+      rc.plan += w.cfg(codec::CfgOp::read_rom, p.upid);
+      const auto tp = t.params.find(p.upid);
+      if (tp == t.params.end() || tp->second.rom != p.value) writes.push_back(&p);
+    }
+    for (const auto& [upid, value] : target) {
+      if (restored.count(upid)) continue;
+      if (is_comm(upid) && !opt.include_comm) {
+        ++keep;
+        after[upid] = value;
+      } else {
+        ++leftovers;
+      }
+    }
+    const bool walk_list = std::any_of(writes.begin(), writes.end(), [&](auto* p) {
+      const db::Parameter* d = db ? db->find(p->upid) : nullptr;
+      return !(d && d->address_usage);
+    });
     if (walk_list) {
       std::size_t listed = 0;
       for (const auto& [upid, p] : t.params)
         listed += static_cast<int>(sim::layer_of(upid)) == l ? 1 : 0;
       rc.plan += w.upid_list(listed);
     }
-    for (const auto* pp : restored) {
-      const auto& p = *pp;
-      if (!walk_list) rc.plan += w.cfg(codec::CfgOp::get_type, p.upid);
-      const db::Parameter* d = db ? db->find(p.upid) : nullptr;
-      const auto tp = t.params.count(p.upid) ? t.params.at(p.upid).type : sim::type::uint16;
+    for (const auto* p : writes) {
+      if (!walk_list) rc.plan += w.cfg(codec::CfgOp::get_type, p->upid);
+      const auto tp = t.params.count(p->upid) ? t.params.at(p->upid).type : sim::type::uint16;
       const auto code = db::type_from_code(tp);
-      const bool text = code && db::is_text_type(*code);
-      if (!text && !(d && d->spec.min && d->spec.max)) {
-        rc.plan += w.cfg(codec::CfgOp::get_min, p.upid);
-        rc.plan += w.cfg(codec::CfgOp::get_max, p.upid);
+      if (!(code && db::is_text_type(*code))) {
+        rc.plan += w.cfg(codec::CfgOp::get_min, p->upid);
+        rc.plan += w.cfg(codec::CfgOp::get_max, p->upid);
       }
-      writes[p.upid] = p.value;
+      changes += w.cfg_write(p->upid);
     }
-    for (const auto& [upid, value] : target)
-      if (is_comm(upid) && !opt.include_comm) writes[upid] = value;  // the target keeps its own
-    std::size_t differ = 0, leftovers = 0;
-    for (const auto& [upid, value] : writes) {
-      auto it = target.find(upid);
-      if (it == target.end() || it->second != value) ++differ;
-    }
-    // (a) write the leftovers back to their defaults (a default query first when
-    //     the database does not know it; a read, so part of the plan) and write
-    //     what differs; (b) default the layer and write every restored value.
+    // (a) each leftover: the target's default (a read: plan) and a write;
+    // (b) default the layer and write again what the target held.
     Cost a_plan, a_exec, b_exec;
-    for (const auto& [upid, value] : target) {
-      if (writes.count(upid)) continue;
-      ++leftovers;
-      if (!db_knows_default(upid)) a_plan += w.cfg(codec::CfgOp::get_default, upid);
-      a_exec += w.cfg_write(upid);
+    for (std::size_t i = 0; i < leftovers; ++i) {
+      a_plan += w.cfg(codec::CfgOp::get_default, 0);
+      a_exec += w.cfg_write(0);
     }
-    for (std::size_t i = 0; i < differ; ++i) a_exec += w.cfg_write(0);
     b_exec += w.id_value(codec::make_cfg_default_layer(w.id(), l), t.timing.defaulting_us);
-    for (std::size_t i = 0; i < writes.size(); ++i) b_exec += w.cfg_write(0);
-    const bool use_b = leftovers > 0 && b_exec.ns < (a_plan + a_exec).ns;
+    for (std::size_t i = 0; i < same + keep; ++i) b_exec += w.cfg_write(0);
+    const bool use_b = opt.default_first && leftovers > 0 && b_exec.ns < (a_plan + a_exec).ns;
     if (use_b) {
-      rc.execute += b_exec;
+      changes += b_exec;
     } else {
       rc.plan += a_plan;
-      rc.execute += a_exec;
+      changes += a_exec;
     }
-    rom_changed = rom_changed || use_b || a_exec.telegrams > 0;
-    // After the restore the layer's modified list holds the written values that
-    // differ from their defaults; values at their default need a ROM read.
+    rom_changed = rom_changed || use_b || leftovers > 0 || !writes.empty();
+    // Afterwards the layer's modified list holds the values that differ from
+    // their defaults; values at their default need a ROM read.
     std::size_t listed = 0;
-    for (const auto& [upid, value] : writes) {
+    for (const auto& [upid, value] : after) {
       const auto it = t.params.find(upid);
       const bool at_default = it != t.params.end() && it->second.def == value;
       at_default ? ++verify_rom_reads : ++listed;
@@ -437,31 +453,72 @@ inline RestoreCost min_restore(const sim::DriveState& t, const config::DriveConf
     modified_after.push_back(listed);
   }
   if (file.scope.command_table) {
-    rc.execute += w.id_value(codec::make_ct(w.id(), codec::CtOp::delete_all));
+    std::vector<std::size_t> sizes;
+    for (const auto& [id, e] : t.ct_ram) sizes.push_back(e.size());
+    rc.plan += w.read_ct(sizes);
+    bool any = false;
+    for (const auto& [id, raw] : t.ct_ram) {
+      const auto* e = file.find_ct_entry(id);
+      if (!e || e->raw != raw) {
+        changes += w.id_value(codec::make_ct(w.id(), codec::CtOp::delete_one, id));
+        any = true;
+      }
+    }
     for (const auto& e : file.ct_entries) {
-      rc.execute +=
+      auto it = t.ct_ram.find(static_cast<std::uint16_t>(e.id));
+      if (it != t.ct_ram.end() && it->second == e.raw) continue;
+      changes +=
           w.id_value(codec::make_ct_setup_write(w.id(), static_cast<std::uint16_t>(e.id), 64));
       for (std::size_t k = 0; k < WireModel::chunks(e.raw.size()); ++k)
-        rc.execute += w.id_value(codec::make_ct_write(w.id(), 0, {0, 0, 0, 0}));
+        changes += w.id_value(codec::make_ct_write(w.id(), 0, {0, 0, 0, 0}));
+      any = true;
     }
-    rc.execute +=
-        w.id_value(codec::make_ct(w.id(), codec::CtOp::save_to_flash), t.timing.flash_save_us);
+    // The plan saves the tables in scope whenever it resets the drive anyway
+    // (RAM that matches proves nothing about flash, ops/restore_plan.cpp).
+    if (any || (opt.reset_after && rom_changed))
+      changes +=
+          w.id_value(codec::make_ct(w.id(), codec::CtOp::save_to_flash), t.timing.flash_save_us);
   }
   if (file.scope.curves) {
-    rc.execute += w.id_value(codec::make_curve(w.id(), codec::CurveOp::delete_all));
-    for (const auto& cv : file.curves) {
-      rc.execute +=
-          w.id_value(codec::make_curve_add(w.id(), static_cast<std::uint16_t>(cv.id), 0, 0));
+    bool any = false;
+    for (std::uint16_t id = 1; id <= opt.max_curve_id; ++id) {
+      rc.plan += w.curve(codec::CurveOp::read_sizes, id);
+      const config::Curve* fc = file.find_curve(id);
+      auto it = t.curves_ram.find(id);
+      if (it == t.curves_ram.end()) continue;
+      const auto& cv = it->second;
       for (std::size_t k = 0; k < WireModel::chunks(cv.info.size()); ++k)
-        rc.execute += w.id_value(
-            codec::make_curve_write(w.id(), codec::CurveOp::write_info, 0, {0, 0, 0, 0}));
-      for (std::size_t k = 0; k < WireModel::chunks(cv.data.size()); ++k)
-        rc.execute += w.id_value(
-            codec::make_curve_write(w.id(), codec::CurveOp::write_data, 0, {0, 0, 0, 0}));
+        rc.plan += w.curve(codec::CurveOp::read_info, id);
+      if (fc && fc->info == cv.info && fc->data.size() == cv.data.size()) {
+        for (std::size_t k = 0; k < WireModel::chunks(cv.data.size()); ++k)
+          rc.plan += w.curve(codec::CurveOp::read_data, id);
+        if (fc->data == cv.data) continue;
+      }
+      changes += w.curve(codec::CurveOp::delete_one, id);
+      any = true;
     }
-    rc.execute += w.id_value(codec::make_curve(w.id(), codec::CurveOp::save_to_flash),
-                             t.timing.flash_save_us);
+    for (const auto& fc : file.curves) {
+      auto it = t.curves_ram.find(static_cast<std::uint16_t>(fc.id));
+      if (it != t.curves_ram.end() && it->second.info == fc.info && it->second.data == fc.data)
+        continue;
+      changes += w.id_value(codec::make_curve_add(w.id(), static_cast<std::uint16_t>(fc.id), 0, 0));
+      for (std::size_t k = 0; k < WireModel::chunks(fc.info.size()); ++k)
+        changes += w.id_value(
+            codec::make_curve_write(w.id(), codec::CurveOp::write_info, 0, {0, 0, 0, 0}));
+      for (std::size_t k = 0; k < WireModel::chunks(fc.data.size()); ++k)
+        changes += w.id_value(
+            codec::make_curve_write(w.id(), codec::CurveOp::write_data, 0, {0, 0, 0, 0}));
+      any = true;
+    }
+    if (any || (opt.reset_after && rom_changed))
+      changes += w.id_value(codec::make_curve(w.id(), codec::CurveOp::save_to_flash),
+                            t.timing.flash_save_us);
   }
+  if (changes.telegrams == 0) return rc;  // nothing to do: no write, no verify
+  rc.execute +=
+      w.exchange(codec::make_program(w.id(), codec::ProgramOp::stop_mc),
+                 codec::make_default_response(w.id(), codec::DefaultResponse{}, t.layout));
+  rc.execute += changes;
   if (opt.reset_after && rom_changed) {
     rc.execute += w.exchange(codec::make_program(w.id(), codec::ProgramOp::reset_after_completion),
                              codec::make_program_response(w.id(), 0), t.timing.reset_us);

@@ -20,7 +20,7 @@ step "2. What differs from factory defaults?" "$lmcfg" diff defaults axis.json
 step "3. What would a restore onto the used spare do? (dry run: nothing is written)" \
   "$lmcfg" restore axis.json --port sim:spare.sim.json --dry-run
 step "4. Restore onto the spare: plan, write, verify" \
-  "$lmcfg" restore axis.json --port sim:spare.sim.json --trace restore.trace
+  "$lmcfg" restore axis.json --port sim:spare.sim.json --trace restore.trace --yes
 step "5. Read the spare back and compare the two drives (per-unit data ignored)" \
   "$lmcfg" backup --port sim:spare.sim.json -o spare.json --quiet
 step "6. The two drives now hold the same configuration" \

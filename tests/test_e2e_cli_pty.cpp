@@ -70,7 +70,7 @@ TEST_CASE("e2e over pty: backup, diff defaults, restore onto a used spare, spare
   REQUIRE(test::run_tool("restore " + file + " --port " + spare_tty + " --dry-run --quiet --trace " + dry_trace.string() +
                          " > /dev/null") == 0);
 
-  REQUIRE(test::run_tool("restore " + file + " --port " + spare_tty + " --include-comm --quiet") == 0);
+  REQUIRE(test::run_tool("restore " + file + " --port " + spare_tty + " --include-comm --quiet --yes") == 0);
   REQUIRE(test::run_tool("diff " + file + " drive --port " + spare_tty + " --quiet --ignore-unit > /dev/null") == 0);
 
   CHECK(axis.stop() == 0);

@@ -84,11 +84,31 @@ std::uint64_t empty_list_confirmations(const sim::DriveState& target) {
   return n;
 }
 
+// Since the restore compares the target with the file first (only what differs
+// is written), the model of bench/wire_workloads.hpp is within a few telegrams
+// per phase of the restore, not exact: docs/performance.md lists the gap. The
+// exact counts are pinned by the CHECKs after each call.
 void check_against_model(const Counted& n, const benchwire::RestoreCost& m,
                          const sim::DriveState& target) {
-  CHECK(n.plan == m.plan.telegrams + empty_list_confirmations(target));
-  CHECK(n.execute == m.execute.telegrams);
-  CHECK(n.verify == m.verify.telegrams);
+  auto near = [](std::uint64_t actual, std::uint64_t model) {
+    const auto gap = actual > model ? actual - model : model - actual;
+    return gap <= 6;
+  };
+  UNSCOPED_INFO("plan " << n.plan << " (model " << m.plan.telegrams << " + "
+                        << empty_list_confirmations(target) << "), execute " << n.execute
+                        << " (model " << m.execute.telegrams << "), verify " << n.verify
+                        << " (model " << m.verify.telegrams << ")");
+  CHECK(near(n.plan, m.plan.telegrams + empty_list_confirmations(target)));
+  CHECK(near(n.execute, m.execute.telegrams));
+  CHECK(near(n.verify, m.verify.telegrams));
+  std::printf("restore telegrams: plan %llu (model %llu), execute %llu (model %llu), verify %llu "
+              "(model %llu)\n",
+              static_cast<unsigned long long>(n.plan),
+              static_cast<unsigned long long>(m.plan.telegrams + empty_list_confirmations(target)),
+              static_cast<unsigned long long>(n.execute),
+              static_cast<unsigned long long>(m.execute.telegrams),
+              static_cast<unsigned long long>(n.verify),
+              static_cast<unsigned long long>(m.verify.telegrams));
 }
 
 std::map<std::uint16_t, std::uint32_t> modified(const sim::DriveState& s) {
@@ -128,9 +148,12 @@ TEST_CASE("perf: restore of the demo axis onto a used spare and a factory-fresh 
   sim::DriveState after;
   const auto onto_spare = restore_counted(spare, file, &after);
   check_against_model(onto_spare, benchwire::min_restore(spare, file, nullptr), spare);
-  CHECK(onto_spare.plan == 108);  // 4 modified lists, 4 UPID lists (no database: address
-                                   // usage unknown), min + max per parameter
-  CHECK(onto_spare.execute == 178);
+  // The plan compares first: 4 modified lists, a ROM read per file value the
+  // target may hold as its default, 4 UPID lists (no database: address usage
+  // unknown), the target's min + max per value it writes, the target's command
+  // table and curves (docs/performance.md).
+  CHECK(onto_spare.plan == 269);
+  CHECK(onto_spare.execute == 179);
   CHECK(onto_spare.verify == 275);
   // Same end state as a restore that defaults every layer first (no database:
   // every parameter is restored, communication ones too).
@@ -143,8 +166,8 @@ TEST_CASE("perf: restore of the demo axis onto a used spare and a factory-fresh 
   sim::DriveState fresh_after;
   const auto onto_fresh = restore_counted(fresh, file, &fresh_after);
   check_against_model(onto_fresh, benchwire::min_restore(fresh, file, nullptr), fresh);
-  CHECK(onto_fresh.plan == 103);  // 95 + 4 empty lists confirmed
-  CHECK(onto_fresh.execute == 171);
+  CHECK(onto_fresh.plan == 212);
+  CHECK(onto_fresh.execute == 169);
   CHECK(onto_fresh.verify == 275);
   CHECK(modified(fresh_after) == modified(demo));
   CHECK(fresh_after.curves_flash == demo.curves_flash);
@@ -163,16 +186,16 @@ TEST_CASE("perf: backup and restore of a small generated workload", "[perf]") {
   const auto fresh = benchwire::factory_fresh(source);
   const auto onto_fresh = restore_counted(fresh, file, &after);
   check_against_model(onto_fresh, benchwire::min_restore(fresh, file, nullptr), fresh);
-  CHECK(onto_fresh.plan == 80);  // 72 + 4 empty lists confirmed
-  CHECK(onto_fresh.execute == 123);
+  CHECK(onto_fresh.plan == 189);
+  CHECK(onto_fresh.execute == 121);
   CHECK(onto_fresh.verify == 227);
   CHECK(modified(after) == modified(source));
 
   const auto spare = benchwire::heavy_spare(spec, 6, 1, 2);
   const auto onto_spare = restore_counted(spare, file, &after);
   check_against_model(onto_spare, benchwire::min_restore(spare, file, nullptr), spare);
-  CHECK(onto_spare.plan == 78);
-  CHECK(onto_spare.execute == 127);
+  CHECK(onto_spare.plan == 239);
+  CHECK(onto_spare.execute == 128);
   CHECK(onto_spare.verify == 227);
   CHECK(modified(after) == modified(source));
   CHECK(after.curves_flash == source.curves_flash);
@@ -228,14 +251,17 @@ TEST_CASE(
     CHECK(v->ok());
     CHECK(modified(rig.drive->state()) == modified(src));
     const auto m = benchwire::min_restore(spare, big_file, nullptr);
-    CHECK(restore_counted(spare, big_file).execute == m.execute.telegrams);
+    const auto counted = restore_counted(spare, big_file);
+    CHECK(counted.execute >= m.execute.telegrams);
+    CHECK(counted.execute <= m.execute.telegrams + 2);
   }
-  {  // nothing changes: no reset, MC started again
+  {  // nothing differs: nothing to do, not even an MC stop
     PerfRig rig(source);
     auto plan = ops::plan_restore(rig.client, file, nullptr, ops::RestoreOptions{});
     REQUIRE(plan.ok());
-    CHECK(count(*plan, ops::PlanStep::Action::write_rom) == 0);
-    CHECK(count(*plan, ops::PlanStep::Action::reset) == 0);
-    CHECK(count(*plan, ops::PlanStep::Action::start_mc) == 1);
+    CHECK(plan->nothing_to_do());
+    CHECK(plan->steps.empty());
+    CHECK(plan->write_telegrams == 0);
+    CHECK(rig.client.stats().write_requests == 0);
   }
 }

@@ -53,7 +53,9 @@ struct Run {
 
 // Runs `lmcfg ARGS` in `dir`; stdout and stderr to files.
 Run tool(const fs::path& dir, const std::string& args) {
-  const std::string cmd = "cd '" + dir.string() + "' && '" + std::string(LMCFG_TOOL_PATH) + "' " +
+  // Recovery records (ops/recovery.hpp) stay inside the test's directory.
+  const std::string cmd = "cd '" + dir.string() + "' && XDG_STATE_HOME='" + dir.string() + "' '" +
+                          std::string(LMCFG_TOOL_PATH) + "' " +
                           args + " >stdout.txt 2>stderr.txt </dev/null";
   const int rc = std::system(cmd.c_str());
   Run r;
@@ -324,7 +326,7 @@ TEST_CASE("cli: restore never modifies its input file", "[reliability][cli]") {
   auto dry = tool(d.path, "restore good.json --port sim:spare.json --dry-run -q --trace t.trace");
   CHECK(dry.exit_code == 0);
   CHECK(traced_writes(d.path / "t.trace") == 0);
-  auto r = tool(d.path, "restore good.json --port sim:spare.json -q");
+  auto r = tool(d.path, "restore good.json --port sim:spare.json -q --yes");
   INFO(r.err);
   CHECK(r.exit_code == 0);
   // An interrupted one too (drive answers nothing: wrong MACID).
@@ -390,4 +392,145 @@ TEST_CASE("cli: get and set ask the drive what the database does not know, and s
         // seed 003 §15: after a refusal, the drive's error state with its text.
         "lmcfg get: after the refusal: drive state: 8 Operation Enabled (state var 08C2h), status "
         "word 4C37h; actual error: No Error\n");
+}
+
+// ---- Restore you can trust (seed 003 §10, §11, §12; docs/restore.md) ----
+
+namespace {
+
+// The TX telegrams of a --trace file, decoded.
+std::vector<codec::Telegram> traced_requests(const fs::path& trace) {
+  std::ifstream in(trace);
+  std::string line;
+  codec::StreamDecoder dec;
+  std::vector<codec::Telegram> out;
+  while (std::getline(in, line)) {
+    std::istringstream ls(line);
+    std::string t, dir;
+    ls >> t >> dir;
+    if (dir != "TX") continue;
+    std::string hex;
+    std::getline(ls, hex);
+    auto bytes = from_hex(hex);
+    REQUIRE(bytes.has_value());
+    dec.feed(*bytes);
+    while (auto item = dec.next())
+      if (item->ok()) out.push_back(item->value());
+  }
+  return out;
+}
+
+std::size_t count_requests(const std::vector<codec::Telegram>& ts, std::uint8_t main,
+                           std::optional<std::uint8_t> sub = std::nullopt, bool writes = false) {
+  return static_cast<std::size_t>(std::count_if(ts.begin(), ts.end(), [&](const auto& t) {
+    return t.main == main && (!sub || t.sub == *sub) && (!writes || client::is_write_request(t));
+  }));
+}
+
+// Sets one field of a parameter in a simulator state file.
+void set_param_field(const fs::path& state, const char* upid, const char* field, std::uint32_t v) {
+  auto j = nlohmann::json::parse(slurp(state));
+  bool found = false;
+  for (auto& p : j["parameters"])
+    if (p["upid"] == upid) {
+      p[field] = v;
+      found = true;
+    }
+  REQUIRE(found);
+  spit(state, j.dump(2));
+}
+
+}  // namespace
+
+TEST_CASE("seed003 §10 05h 05h/06h: the plan takes min/max from the target; a lower max is "
+          "refused by dry run and real run, zero write telegrams",
+          "[reliability][cli][restore]") {
+  TempDir d;
+  good_backup(d);  // 13A2h = 40 in the file
+  set_param_field(d.path / "spare.json", "13A2", "max", 30);
+  const auto spare_before = state_of(d.path / "spare.json");
+  for (const char* extra : {" --dry-run", " --yes"}) {
+    DYNAMIC_SECTION(extra) {
+      fs::remove(d.path / "t.trace");
+      auto r = tool(d.path, std::string("restore good.json --port sim:spare.json --trace t.trace") +
+                                extra);
+      INFO(r.err);
+      CHECK(r.exit_code == 3);
+      CHECK(r.err.find("MC 13A2h") != std::string::npos);
+      CHECK(r.err.find("(as the target reports it, §10 05h 05h/06h)") != std::string::npos);
+      CHECK(traced_writes(d.path / "t.trace") == 0);
+      CHECK(same_config(state_of(d.path / "spare.json"), spare_before));
+    }
+  }
+}
+
+TEST_CASE("restore of a drive's own backup onto it: nothing to do, no write, MC never stopped",
+          "[reliability][cli][restore]") {
+  TempDir d;
+  good_backup(d);
+  const auto before = state_of(d.path / "axis.json");
+  auto r = tool(d.path, "restore good.json --port sim:axis.json --yes --trace t.trace");
+  INFO(r.err);
+  CHECK(r.exit_code == 0);
+  CHECK(r.out == "nothing to do: the drive already matches good.json\n");
+  const auto sent = traced_requests(d.path / "t.trace");
+  CHECK(traced_writes(d.path / "t.trace") == 0);
+  CHECK(count_requests(sent, 0x06) == 0);  // no MC stop, start or reset (§13)
+  CHECK(count_requests(sent, 0x04, 0x00) == 0);  // no curve flash save (§11)
+  CHECK(count_requests(sent, 0x08, 0x00) == 0);  // no command table flash save (§12)
+  CHECK(same_config(state_of(d.path / "axis.json"), before));
+  CHECK(state_of(d.path / "axis.json").mc_running);
+  // JSON: the same outcome as a structured report.
+  auto j = tool(d.path, "restore good.json --port sim:axis.json --yes --json");
+  CHECK(j.exit_code == 0);
+  CHECK(nlohmann::json::parse(j.out)["outcome"] == "nothing to do");
+}
+
+TEST_CASE("restore onto a drive that differs in one curve: only that curve, one curve flash save",
+          "[reliability][cli][restore]") {
+  TempDir d;
+  good_backup(d);
+  auto j = nlohmann::json::parse(slurp(d.path / "axis.json"));
+  const int changed_id = j["curves"]["flash"][0]["id"];
+  for (const char* where : {"flash", "ram"}) {  // the simulator's state file keeps both
+    auto& data = j["curves"][where][0]["data"];
+    REQUIRE(j["curves"][where][0]["id"] == changed_id);
+    std::string hex = data.get<std::string>();
+    hex[1] = hex[1] == '1' ? '2' : '1';  // one setpoint differs
+    data = hex;
+  }
+  spit(d.path / "other.json", j.dump(2));
+  auto r = tool(d.path, "restore good.json --port sim:other.json --yes --trace t.trace");
+  INFO(r.err);
+  INFO(r.out);
+  CHECK(r.exit_code == 0);
+  const auto sent = traced_requests(d.path / "t.trace");
+  CHECK(count_requests(sent, 0x05, 0x01) == 0);                      // no ROM write
+  CHECK(count_requests(sent, 0x08, std::nullopt, true) == 0);        // command table: reads only
+  CHECK(count_requests(sent, 0x04, 0x00) == 1);                      // one curve flash save
+  CHECK(count_requests(sent, 0x04, 0x01) == 0);                      // no "delete all curves"
+  CHECK(count_requests(sent, 0x04, 0x02) == 1);                      // that curve deleted ...
+  CHECK(count_requests(sent, 0x04, 0x04) == 1);                      // ... and added again
+  CHECK(count_requests(sent, 0x06, 0x01) + count_requests(sent, 0x06, 0x02) == 0);  // no reset
+  for (const auto& t : sent)
+    if (t.main == 0x04 && (t.sub == 0x02 || t.sub == 0x04)) {
+      REQUIRE(t.data.size() >= 2);
+      CHECK(t.data[0] + 256 * t.data[1] == changed_id);
+    }
+  const auto after = state_of(d.path / "other.json");
+  CHECK(after.curves_flash == state_of(d.path / "axis.json").curves_flash);
+  CHECK(after.mc_running);
+}
+
+TEST_CASE("restore without --yes and without a terminal: exit 2, nothing written",
+          "[reliability][cli][restore]") {
+  TempDir d;
+  good_backup(d);
+  const auto spare_before = state_of(d.path / "spare.json");
+  auto r = tool(d.path, "restore good.json --port sim:spare.json --trace t.trace");
+  CHECK(r.exit_code == 2);
+  CHECK(r.err.find("refusing to restore good.json onto a drive without --yes when stdin is not a "
+                   "terminal; nothing written") != std::string::npos);
+  CHECK(traced_writes(d.path / "t.trace") == 0);
+  CHECK(same_config(state_of(d.path / "spare.json"), spare_before));
 }

@@ -51,11 +51,13 @@ TEST_CASE("restore interrupted at every telegram: reported as failed, a rerun co
   ops::RestoreOptions ro;
   ro.include_comm = true;  // the fixtures' LinRS parameters select the same line
   ro.max_curve_id = 8;     // the file's curve lies below; keeps every run short
+  ro.recovery_path = test::restore_record();
 
   // A clean run: how many exchanges a whole restore (plan, write, verify) takes.
   std::size_t total = 0;
   {
     auto drive = std::make_shared<sim::Drive>(spare);
+    test::forget_restore_record();
     FaultRig rig(drive);
     auto run = test::run_restore(*rig.client, file, ro);
     INFO((run.ok() ? std::string() : run.outcome.error().message));
@@ -69,6 +71,7 @@ TEST_CASE("restore interrupted at every telegram: reported as failed, a rerun co
   std::size_t interrupted = 0, converged = 0, during_writes = 0;
   for (std::size_t k = 0; k < total; ++k) {
     auto drive = std::make_shared<sim::Drive>(spare);
+    test::forget_restore_record();
     std::int64_t t_end = 0;
     std::size_t writes_before = 0;
     {

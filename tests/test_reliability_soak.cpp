@@ -86,6 +86,7 @@ TEST_CASE("soak: 1000 backup/restore cycles with random faults, zero silent fail
   ops::RestoreOptions ro;
   ro.include_comm = true;  // the fixtures' LinRS parameters select the same line
   ro.max_curve_id = 8;     // the commissioned axis's curves lie below; the probe stays short
+  ro.recovery_path = test::restore_record();
   ops::BackupOptions bo;
   bo.max_curve_id = 8;
   for (int cycle = 0; cycle < kCycles; ++cycle) {
@@ -102,6 +103,7 @@ TEST_CASE("soak: 1000 backup/restore cycles with random faults, zero silent fail
       });
     };
     std::int64_t t_end = 0;
+    test::forget_restore_record();  // a new drive
     {
       FaultRig rig(drive);
       install(rig);

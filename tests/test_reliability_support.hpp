@@ -2,6 +2,9 @@
 // Helpers for the issue 7 reliability tests (tests/test_reliability_*.cpp):
 // a simulated drive behind a fault-injecting link, faults aimed at the n-th
 // telegram of a kind, and checks that a drive holds exactly a configuration.
+#include <unistd.h>
+
+#include <filesystem>
 #include <functional>
 #include <map>
 #include <memory>
@@ -183,9 +186,20 @@ struct RestoreRun {
 };
 // Restores every parameter of the file, the LinRS ones too: the fixtures' LinRS
 // parameters select the line they are served on (docs/simulator.md).
+// The recovery record the in-process restores share (one drive at a time per
+// test process; ops/recovery.hpp). A test starting a new scenario forgets it.
+inline std::filesystem::path restore_record() {
+  return std::filesystem::temp_directory_path() /
+         ("lmcfg-test-restore-record-" + std::to_string(::getpid()) + ".json");
+}
+inline void forget_restore_record() {
+  std::error_code ec;
+  std::filesystem::remove(restore_record(), ec);
+}
 inline ops::RestoreOptions restore_everything() {
   ops::RestoreOptions ro;
   ro.include_comm = true;
+  ro.recovery_path = restore_record();
   return ro;
 }
 inline RestoreRun run_restore(client::Client& c, const config::DriveConfig& file,

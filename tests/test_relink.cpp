@@ -303,7 +303,7 @@ TEST_CASE(
   REQUIRE(tty.rfind("/dev/pts/", 0) == 0);
 
   const auto err = dir / "restore.err";
-  CHECK(test::run_tool("restore " + file + " --port " + tty + " --include-comm 2> " +
+  CHECK(test::run_tool("restore " + file + " --port " + tty + " --include-comm --yes 2> " +
                        err.string()) == 0);
   const std::string said = slurp(err);
   INFO(said);

@@ -137,6 +137,8 @@ Result<Telegram> Client::transact(const Telegram& req_in, Millis timeout, bool i
   std::optional<std::uint8_t> undocumented;  // an undocumented state seen on an earlier attempt
   for (int attempt = 0; attempt < attempts; ++attempt) {
     if (attempt > 0) ++stats_.retries;
+    if (opt_.cancel && opt_.cancel->load())
+      return Error(Errc::interrupted, "interrupted by a signal before the next telegram");
     // A late answer to an earlier request may still be on its way: let it pass.
     if (unsettled_ && opt_.settle.count() > 0) LMCFG_TRY(settle_line());
     link_.discard_input();

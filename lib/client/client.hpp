@@ -21,6 +21,7 @@
 //   their setup telegram when a chunk is lost, never resumed mid-block.
 // - A drive's error communication state (C1..C9) becomes an Error whose code is
 //   in comm_state_category(), with the state's meaning in the message.
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <optional>
@@ -76,6 +77,9 @@ struct ClientOptions {
   // runs, this is called about once a second with what is waited for and how
   // long it has taken so far.
   std::function<void(const std::string& what, Millis waited)> on_long_wait;
+  // Set (e.g. by a SIGINT handler) to stop before the next telegram: a request
+  // is never sent once it is true (Errc::interrupted); one in flight completes.
+  const std::atomic<bool>* cancel = nullptr;
 };
 
 struct Stats {

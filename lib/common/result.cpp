@@ -50,6 +50,8 @@ class LmcfgCategory final : public std::error_category {
         return "cancelled";
       case Errc::not_supported:
         return "not supported by this link";
+      case Errc::interrupted:
+        return "interrupted";
     }
     return "unknown lmcfg error " + std::to_string(ev);
   }

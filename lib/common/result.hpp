@@ -39,6 +39,7 @@ enum class Errc {
   cancelled,
   not_supported,  // the link or drive cannot do what was asked (e.g. change a TCP gateway's baud
                   // rate)
+  interrupted,    // SIGINT/SIGTERM: stopped between two telegrams (ClientOptions::cancel)
 };
 
 const std::error_category& lmcfg_category() noexcept;

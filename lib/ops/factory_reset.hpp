@@ -4,8 +4,13 @@
 // stopped as the manual requires (§10, §11, §12), then start MC and reset so
 // the defaults become active. Communication parameters of the drive (database
 // flag `comm`) are written back after defaulting unless include_comm, so the
-// drive still answers on the same line settings afterwards.
+// drive still answers on the same line settings afterwards. Those values are
+// stored in a recovery record (ops/recovery.hpp) before the first destructive
+// step when `recovery_path` is set; a re-run finds it and writes the recorded
+// values; every kept value is read back before the record is deleted.
+// Interruption (ClientOptions::cancel) stops between telegrams and names the step.
 #include <array>
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -23,6 +28,8 @@ struct DefaultOptions {
   bool curves = false;
   bool command_table = false;
   bool include_comm = false;
+  std::filesystem::path recovery_path;  // empty: no recovery record (tests, library users)
+  std::string port;                     // for the record
   Progress progress;
 };
 
@@ -31,6 +38,11 @@ struct DefaultReport {
   // include_comm defaulted modified communication parameters: after the reset
   // the drive takes MACID and baud rate from its hex switches (seed 003 §3.2).
   bool link_may_change = false;
+  // The communication values written back and confirmed by reading them back.
+  std::vector<client::ModifiedParam> kept;
+  // A record of an interrupted earlier run was found and finished.
+  bool recovered = false;
+  std::string recovery_note;  // what happened with the recovery record, for people
 };
 
 Result<DefaultReport> default_drive(client::Client& c, const DefaultOptions& opt,

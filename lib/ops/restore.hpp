@@ -1,28 +1,32 @@
 #pragma once
-// Restore (issue 5 §4) in three phases.
+// Restore (issue 5 §4, issue 12 §1-§4) in three phases, one file each:
 //
-// plan_restore: reads only. Checks every item of the file against the target
-// drive and the database: the UPID exists on the target with the same type
-// (type query 05h 04h), ROM-writable address usage (database; a UPID from a
-// modified list is a ROM parameter by definition), value inside its type and
-// min/max (database, else the drive's 05h 05h/06h), curve IDs, sizes and the
-// curve memory limit, command table IDs and entry size. Any problem refuses
-// the whole restore before a single write telegram.
+// plan_restore (restore_plan.cpp): reads only. Compares the target with the
+// file first (the target's modified list of each restored layer; a ROM read
+// for a file value the target may hold as its default; the target's curves and
+// command table entries), so only what differs is written. Every parameter it
+// will write is checked against the target: the UPID exists with the same type
+// (05h 04h, or the target's UPID list where the database lacks the address
+// usage), is ROM-writable, and the value lies inside the type and the min/max
+// the *target* reports (05h 05h/06h); the database supplies names, units and
+// labels, and where its range disagrees with the target's the plan says so.
+// Leftovers go back to the default the target reports (05h 07h). Any problem
+// refuses the whole restore before a single write telegram.
 //
-// execute_plan: the reference algorithm of linrs-facts.md: stop MC; bring
-// each restored layer to its defaults (seed 003 §10.4) unless `default_first`
-// is off, in which case only differences are written and leftovers set back to
-// their defaults; write ROM values; replace the command table and curves in RAM
-// and save both to flash; reset so the ROM values become active (the reset
-// starts MC; without a reset, start MC). With `default_first` the plan uses the
-// defaulting command only when the target has leftovers and defaulting costs
-// less wire time than writing those leftovers back to their defaults; otherwise
-// it writes only what differs (same end state, docs/performance.md). Communication
-// parameters (database flag `comm`) keep the target's own values unless
-// `include_comm`. On failure the error names the step and says the drive is
-// partially configured; running the same restore again converges.
+// execute_plan (restore_execute.cpp): stop MC (only when something is
+// written); per layer default it (§10.4) when that is cheaper than writing its
+// leftovers back, then write what differs; delete / write the command table
+// entries and curves that differ and save each table to flash once; reset so
+// ROM values act (or start MC when only tables changed). Communication
+// parameters keep the target's values unless `include_comm`. On failure or
+// interruption (Errc::interrupted) the error names the step and says the drive
+// is partially configured; running the same restore again converges.
 //
-// verify_restore: reads the target back and lists every mismatch.
+// verify_restore (restore_verify.cpp): reads the target back and lists every
+// mismatch. render_plan / plan_json (restore_render.cpp): the plan for people
+// and as structured items (docs/restore.md).
+#include <filesystem>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -55,6 +59,12 @@ struct RestoreOptions {
   std::size_t curve_memory = 65280;  // 70 B per curve + 4 B per setpoint (facts note)
   std::size_t ct_entry_size = 64;    // seed 003 §12.1
   Progress progress;
+  // Recovery record of this drive (ops/recovery.hpp; empty: none, as in
+  // library use and in-process tests). execute_plan writes it before its first
+  // step and deletes it after its last; plan_restore, finding one, saves the
+  // tables in scope and restarts the drive even where RAM already matches.
+  std::filesystem::path recovery_path;
+  std::string port;  // for the record
 };
 
 struct PlanStep {
@@ -70,12 +80,19 @@ struct PlanStep {
     save_curves,
     start_mc,
     reset,
+    delete_ct,     // one command table entry in RAM (§12 08h 02h)
+    delete_curve,  // one curve in RAM (§11 04h 02h)
   };
   Action action = Action::stop_mc;
   int layer = 0;
   std::uint32_t key = 0;    // UPID, curve ID or CT entry
   std::uint32_t value = 0;  // ROM value
   std::string text;         // what a person reads in the plan
+  // write_rom: the target's value before the write (nullopt: not known) and
+  // both values for people (scaled, with unit and label); `why` says where the
+  // write comes from ("differs", "leftover", "kept communication value").
+  std::optional<std::uint32_t> old_value;
+  std::string old_display, new_display, name, why;
 };
 
 struct Plan {
@@ -90,12 +107,20 @@ struct Plan {
   // reset the drive may answer only with other link settings (ops/relink.hpp).
   // The reset's own answer may then be lost; execute_plan accepts that.
   bool link_may_change = false;
+  // What the target loses or gets replaced: command table entries and curves
+  // ("curve 3 'Lift' replaced by the file's 'Lift'"), with ID and name.
+  std::vector<std::string> losses;
+  std::string recovered_from;  // the recovery record this plan finishes, if any
   bool ok() const { return problems.empty(); }
+  // The target already matches the file: no step, no write telegram.
+  bool nothing_to_do() const { return ok() && steps.empty(); }
 };
 
 Result<Plan> plan_restore(client::Client& c, const config::DriveConfig& file,
                           const db::Database* db, const RestoreOptions& opt);
 std::string render_plan(const Plan& p);
+// The plan as structured items (docs/restore.md "JSON report").
+nlohmann::ordered_json plan_json(const Plan& p);
 
 Result<void> execute_plan(client::Client& c, const Plan& p, const RestoreOptions& opt);
 

@@ -1,13 +1,14 @@
 // lmcfg default: set chosen layers to factory defaults, optionally delete curves and the command
 // table.
-#include <unistd.h>
-
 #include <cstdio>
-#include <iostream>
+#include <nlohmann/json.hpp>
 
 #include "command.hpp"
 #include "link_options.hpp"
+#include "ops/confirm.hpp"
 #include "ops/factory_reset.hpp"
+#include "ops/interrupt.hpp"
+#include "ops/recovery.hpp"
 
 namespace lmcfg::cli {
 namespace {
@@ -20,6 +21,28 @@ struct DefaultCli {
   bool include_comm = false;
   bool yes = false;
 };
+
+void report_json(const char* outcome, const ops::DefaultReport* rep, const db::Database* db,
+                 const std::string& error) {
+  nlohmann::ordered_json j;
+  j["outcome"] = outcome;
+  j["steps"] = rep ? rep->done : std::vector<std::string>{};
+  j["kept"] = nlohmann::ordered_json::array();
+  if (rep) {
+    for (const auto& k : rep->kept) {
+      char upid[8];
+      std::snprintf(upid, sizeof upid, "%04X", k.upid);
+      j["kept"].push_back(
+          {{"upid", upid},
+           {"value", {{"raw", k.value}, {"display", ops::display_value(db, k.upid, k.value)}}}});
+    }
+    j["recovered"] = rep->recovered;
+    j["recovery"] = rep->recovery_note;
+    j["link_may_change"] = rep->link_may_change;
+  }
+  if (!error.empty()) j["error"] = error;
+  std::printf("%s\n", j.dump(2).c_str());
+}
 
 int run(DefaultCli& o) {
   ops::DefaultOptions d;
@@ -35,34 +58,45 @@ int run(DefaultCli& o) {
     return fail("default", Error(Errc::invalid_argument,
                                  "nothing to do: give --layers, --curves and/or --ct"));
   }
-  if (!o.yes) {
-    if (!::isatty(STDIN_FILENO)) {
-      return fail("default",
-                  Error(Errc::invalid_argument,
-                        "refusing to default a drive without --yes when stdin is not a terminal"));
-    }
-    std::fprintf(stderr, "Set %s%s%s of drive %s on %s to factory defaults? [y/N] ",
-                 o.layers.empty() ? "" : ("layers " + o.layers).c_str(),
-                 o.curves ? ", delete all curves" : "", o.ct ? ", delete the command table" : "",
-                 o.common.id.c_str(), o.common.port.c_str());
-    std::string answer;
-    std::getline(std::cin, answer);
-    if (answer != "y" && answer != "Y" && answer != "yes") {
-      std::fprintf(stderr, "cancelled; nothing written\n");
-      return kOk;
-    }
+  auto consent = ops::confirm("Set " + (o.layers.empty() ? std::string() : "layers " + o.layers) +
+                                  (o.curves ? ", delete all curves" : "") +
+                                  (o.ct ? ", delete the command table" : "") + " of drive " +
+                                  o.common.id + " on " + o.common.port + " to factory defaults?",
+                              "default a drive", o.yes);
+  if (!consent.ok()) return fail("default", consent.error());
+  if (*consent == ops::Consent::declined) {
+    std::fprintf(stderr, "cancelled; nothing written\n");
+    return kOk;
   }
   std::optional<db::Database> holder;
   const db::Database* db = load_database(o.common, holder);
+  auto lo = link_options(o.common);
+  if (!lo.ok()) return fail("default", lo.error());
+  auto record = ops::recovery_path("default", o.common.port, lo->client.id);
+  if (!record.ok()) return fail("default", record.error());
+  d.recovery_path = *record;
+  d.port = o.common.port;
   auto session = open_link(o.common);
   if (!session.ok()) return fail("default", session.error());
+  ops::install_interrupt_handlers();
+  auto& client = (*session)->client();
+  auto copt = client.options();
+  copt.cancel = &ops::interrupt_flag();
+  client.set_options(copt);
   d.progress = make_progress(o.common);
-  auto rep = ops::default_drive((*session)->client(), d, db);
+  auto rep = ops::default_drive(client, d, db);
   end_progress(o.common);
   auto closed = (*session)->close();
-  if (!rep.ok()) return fail("default", rep.error());
+  if (!rep.ok()) {
+    if (o.common.json) report_json("failed", nullptr, db, rep.error().message);
+    return fail("default", rep.error());
+  }
   if (!closed.ok()) return fail("default", closed.error());
-  if (!o.common.quiet) {
+  if (o.common.json) {
+    report_json("defaulted", &*rep, db, "");
+  } else if (!o.common.quiet) {
+    if (!rep->recovery_note.empty())
+      std::fprintf(stderr, "recovery: %s\n", rep->recovery_note.c_str());
     for (const auto& s : rep->done) std::fprintf(stderr, "done: %s\n", s.c_str());
     if (rep->link_may_change)
       std::fprintf(stderr,
@@ -82,7 +116,11 @@ const Register reg(40, [](CLI::App& app, int& exit_code) {
       "  lmcfg default --port /dev/ttyUSB0 --layers mc,appl --yes\n"
       "  lmcfg default --port /dev/ttyUSB0 --layers os,mc,intf,appl --curves --ct\n"
       "Stops MC, defaults, deletes and saves to flash as asked, starts MC and resets. The drive's\n"
-      "communication parameters are kept unless --include-comm.");
+      "communication parameters are kept unless --include-comm: read first, recorded in\n"
+      "$XDG_STATE_HOME/lmcfg (else ~/.local/state/lmcfg) before the first change, written back "
+      "and\n"
+      "read back; an interrupted run is finished from that record by running it again.\n"
+      "Ctrl-C stops between two telegrams (exit 130) and names the step.");
   add_link_options(sub, o->common);
   add_output_options(sub, o->common);
   sub->add_option("--layers", o->layers, "layers to default: os,mc,intf,appl");

@@ -18,6 +18,7 @@ enum Exit : int {
   kDriveRefused = 5,     // the drive answered with an error state (C1..C9) or refused
   kVerifyMismatch = 6,   // written, but reading back differs from the file
   kInternal = 70,        // a bug: please report with --trace
+  kInterrupted = 130,    // SIGINT/SIGTERM: stopped between two telegrams (128 + SIGINT)
 };
 
 // The setup function adds a subcommand to `app` and arranges (via the

@@ -263,6 +263,8 @@ int exit_code_for(const Error& e) {
       return kPlanRefused;
     case Errc::verify_mismatch:
       return kVerifyMismatch;
+    case Errc::interrupted:
+      return kInterrupted;
   }
   return kInternal;
 }

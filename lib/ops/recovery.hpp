@@ -1,0 +1,41 @@
+#pragma once
+// Recovery record (issue 12 §7): what a `default` must write back after
+// defaulting a layer (the drive's communication values), stored on the host
+// before the first destructive step, so that a lost write-back is never lost
+// for good: a re-run of the same command finds the record, writes the recorded
+// values (not the already-defaulted ones it would read now), confirms each by
+// reading it back and only then deletes the record.
+//
+// One record per drive (port and MACID) in the XDG state directory:
+// $XDG_STATE_HOME/lmcfg, else $HOME/.local/state/lmcfg; written atomically
+// (temporary file, fsync, rename). Format: JSON, docs/restore.md.
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "client/client.hpp"
+
+namespace lmcfg::ops {
+
+struct RecoveryRecord {
+  std::string command;  // "default"
+  std::string port;
+  std::uint8_t macid = 0;
+  std::string created;                      // ISO 8601 UTC
+  std::vector<client::ModifiedParam> keep;  // values to write back (ROM)
+};
+
+// The directory ($XDG_STATE_HOME/lmcfg or $HOME/.local/state/lmcfg).
+Result<std::filesystem::path> recovery_dir();
+// "<dir>/default-<port with / and : as _>-<MACID hex>.json".
+Result<std::filesystem::path> recovery_path(const std::string& command, const std::string& port,
+                                            std::uint8_t macid);
+
+// nullopt when there is no record; a damaged record is an error naming the file.
+Result<std::optional<RecoveryRecord>> load_recovery(const std::filesystem::path& path);
+Result<void> save_recovery(const std::filesystem::path& path, const RecoveryRecord& rec);
+Result<void> remove_recovery(const std::filesystem::path& path);
+
+}  // namespace lmcfg::ops

@@ -1,0 +1,605 @@
+// Restore phase 1: the plan (reads only). See restore.hpp.
+#include <algorithm>
+#include <map>
+#include <set>
+
+#include "db/database.hpp"
+#include "ops/recovery.hpp"
+#include "ops/restore.hpp"
+#include "ops/restore_internal.hpp"
+
+namespace lmcfg::ops {
+
+using namespace detail;
+
+namespace {
+
+using Action = PlanStep::Action;
+
+bool is_comm(const db::Database* db, std::uint16_t upid) { return is_comm_parameter(db, upid); }
+
+bool refused(const Error& e) { return e.code.category() == comm_state_category(); }
+
+std::string range_text(std::optional<std::int64_t> mn, std::optional<std::int64_t> mx) {
+  return (mn ? std::to_string(*mn) : std::string("?")) + ".." +
+         (mx ? std::to_string(*mx) : std::string("?"));
+}
+
+// Checks one parameter the restore will write against the target; appends
+// problems (and notes where the database disagrees with the target). Link
+// errors propagate. `listed`: the target's UPID list of the layer (§10.3), read
+// when the database does not know every address usage; else the type is asked.
+Result<void> check_parameter(client::Client& c, const db::Database* db, int layer,
+                             const config::Parameter& p,
+                             const std::map<std::uint16_t, client::UpidInfo>* listed, Plan& plan) {
+  const db::Parameter* d = db ? db->find(p.upid) : nullptr;
+  const std::string label = param_label(layer, p.upid, d, &p);
+  std::uint16_t type = 0;
+  std::optional<db::AddressUsage> address_usage;
+  const char* au_source = "the UPID database's";
+  if (d) address_usage = d->address_usage;
+  if (listed) {
+    auto it = listed->find(p.upid);
+    if (it == listed->end()) {
+      plan.problems.push_back(label + ": UPID does not exist on the target (not in its " +
+                              std::string(config::layer_name(layer)) + " UPID list, §10.3)");
+      return {};
+    }
+    type = it->second.type;
+    if (!address_usage) {
+      address_usage = db::AddressUsage{it->second.address_usage};
+      au_source = "the target's";
+    }
+  } else {
+    auto asked = c.get_type(p.upid);
+    if (!asked.ok()) {
+      if (asked.error().code == make_comm_state_error(0xC8)) {
+        plan.problems.push_back(
+            label + ": UPID does not exist on the target (type query answered C8h unknown UPID)");
+        return {};
+      }
+      if (refused(asked.error())) {
+        plan.problems.push_back(label +
+                                ": the target refused the type query: " + asked.error().message);
+        return {};
+      }
+      return std::move(asked).error();
+    }
+    type = *asked;
+  }
+  auto code = db::type_from_code(type);
+  if (!code) {
+    plan.problems.push_back(label + ": the target reports type code " + hex4(type) +
+                            ", which seed 003 §10 does not define");
+    return {};
+  }
+  if (p.type && *p.type != type) {
+    plan.problems.push_back(label + ": type differs: the file has " +
+                            std::string(db::type_name(static_cast<db::TypeCode>(*p.type))) +
+                            ", the target has " + std::string(db::type_name(*code)));
+    return {};
+  }
+  if (d && d->spec.type && *d->spec.type != *code) {
+    plan.notes.push_back(label + ": the target's type " + std::string(db::type_name(*code)) +
+                         " differs from the UPID database's " +
+                         std::string(db::type_name(*d->spec.type)) + "; the target's applies");
+  }
+  if (address_usage && !address_usage->rom_write()) {
+    plan.problems.push_back(label + ": read-only on the target (" + au_source + " address usage " +
+                            hex4(address_usage->raw) + " has no ROM write bit)");
+    return {};
+  }
+  auto value = as_integer(*code, p.value);
+  if (!value) {
+    plan.problems.push_back(label + ": value " + hex4(p.value) + " does not fit type " +
+                            std::string(db::type_name(*code)));
+    return {};
+  }
+  db::ValueSpec spec = d ? d->spec : db::ValueSpec{};
+  spec.type = *code;
+  if (!db::is_text_type(*code)) {
+    // The target's range is the truth (issue 12 §1): the database describes
+    // the firmware we know, the target may allow less (§10 05h 05h/06h).
+    auto mn = c.get_min(p.upid);
+    auto mx = mn.ok() ? c.get_max(p.upid) : Result<std::uint32_t>(mn.error());
+    if (!mn.ok() || !mx.ok()) {
+      Error e = !mn.ok() ? std::move(mn).error() : std::move(mx).error();
+      if (!refused(e)) return e;
+      plan.problems.push_back(label + ": the target refused the min/max query: " + e.message);
+      return {};
+    }
+    const auto tmin = as_integer(*code, *mn), tmax = as_integer(*code, *mx);
+    if (d && (d->spec.min || d->spec.max) && (d->spec.min != tmin || d->spec.max != tmax)) {
+      plan.notes.push_back(label + ": the target's range " + range_text(tmin, tmax) +
+                           " differs from the UPID database's " +
+                           range_text(d->spec.min, d->spec.max) + "; the target's applies");
+    }
+    spec.min = tmin;
+    spec.max = tmax;
+  }
+  if (auto r = db::check_range(spec, *value); !r.ok()) {
+    plan.problems.push_back(label + ": " + r.error().message +
+                            " (as the target reports it, §10 05h 05h/06h)");
+  }
+  return {};
+}
+
+void check_tables(const config::DriveConfig& file, const RestoreOptions& opt, Plan& plan) {
+  std::size_t memory = 0;
+  if (file.scope.curves) {
+    if (file.curves.size() > opt.max_curve_id) {
+      plan.problems.push_back("the file holds " + std::to_string(file.curves.size()) +
+                              " curves; the drive stores at most " +
+                              std::to_string(opt.max_curve_id));
+    }
+    for (const auto& cv : file.curves) {
+      const std::string label = "curve " + std::to_string(cv.id);
+      if (cv.id < 1 || cv.id > opt.max_curve_id) {
+        plan.problems.push_back(label + ": ID outside 1.." + std::to_string(opt.max_curve_id));
+      }
+      if (auto r = config::check_curve_blocks(cv); !r.ok())
+        plan.problems.push_back(label + ": " + r.error().message);
+      if (cv.info.size() > 0xFFFF || cv.data.size() > 0xFFFF) {
+        plan.problems.push_back(label +
+                                ": a block exceeds the 16-bit size field of §11 (65535 bytes)");
+      }
+      memory += cv.info.size() + cv.data.size();
+    }
+    if (memory > opt.curve_memory) {
+      plan.problems.push_back("curves need " + std::to_string(memory) +
+                              " bytes of curve memory; the drive has " +
+                              std::to_string(opt.curve_memory));
+    }
+  }
+  if (file.scope.command_table) {
+    for (const auto& e : file.ct_entries) {
+      const std::string label = "command table entry " + std::to_string(e.id);
+      if (e.id > config::kMaxCtEntryId) plan.problems.push_back(label + ": ID outside 0..255");
+      if (e.raw.size() != opt.ct_entry_size) {
+        plan.problems.push_back(label + ": " + std::to_string(e.raw.size()) + " bytes, expected " +
+                                std::to_string(opt.ct_entry_size));
+      }
+    }
+  }
+}
+
+// Communication parameters last: a restore interrupted before them leaves the
+// drive reachable with the settings it had. Among them, a value (2012h, 2076h)
+// goes before its source select (200Eh, 206Ch) when the source ends "By
+// Parameter", after it otherwise, so that a reset between the two writes
+// (power loss) never activates a half-written pair.
+void order_comm_writes_last(std::vector<PlanStep>& steps, std::size_t first,
+                            const std::vector<config::Parameter>& final_values,
+                            const db::Database* db) {
+  auto final_of = [&](std::uint16_t upid) -> std::optional<std::uint32_t> {
+    for (const auto& p : final_values)
+      if (p.upid == upid) return p.value;
+    return std::nullopt;
+  };
+  const bool baud_by_param = final_of(kBaudRateSource) == kBaudRateByParameter;
+  const bool id_by_param = final_of(kMacidSource) == kMacidByParameter;
+  auto rank = [&](const PlanStep& s) {
+    if (s.action != PlanStep::Action::write_rom || !is_comm(db, static_cast<std::uint16_t>(s.key)))
+      return 0;
+    if (s.key == kBaudRateCode) return baud_by_param ? 1 : 3;
+    if (s.key == kMacidValue) return id_by_param ? 1 : 3;
+    return 2;
+  };
+  std::stable_sort(steps.begin() + static_cast<std::ptrdiff_t>(first), steps.end(),
+                   [&](const PlanStep& a, const PlanStep& b) { return rank(a) < rank(b); });
+}
+
+std::size_t chunks(std::size_t n) { return (n + 3) / 4; }
+
+// Defaulting a layer: seed 003 §10.4 "could be more than 1 s"; 1.2 s as modelled
+// by the simulator (docs/simulator.md). Only used to choose the cheaper way to
+// bring leftovers to their defaults.
+constexpr double kDefaultingEstimateUs = 1'200'000.0;
+
+// One short exchange (9-byte request, 14-byte answer, ~1 ms turnaround, §6.1.1.1)
+// at the link's byte time; 57600 8N1 when the link does not know it (TCP).
+double telegram_estimate_us(client::Client& c) {
+  double bt = c.link().byte_time_us();
+  if (bt <= 0.0) bt = 10.0 * 1e6 / 57600.0;
+  return 23.0 * bt + 1000.0;
+}
+
+// One parameter the plan writes, with the target's value before.
+struct Write {
+  config::Parameter p;
+  std::optional<std::uint32_t> old;
+  std::string old_note;  // "(its default)" when `old` was inferred, not read
+  std::string why;
+};
+
+struct Builder {
+  client::Client& c;
+  const db::Database* db;
+  const RestoreOptions& opt;
+  Plan& plan;
+
+  void add(PlanStep s, std::size_t telegrams) {
+    plan.steps.push_back(std::move(s));
+    plan.write_telegrams += telegrams;
+  }
+  void add(Action a, std::uint32_t key, std::string text, std::size_t telegrams) {
+    PlanStep s;
+    s.action = a;
+    s.key = key;
+    s.text = std::move(text);
+    add(std::move(s), telegrams);
+  }
+  void add_write(int layer, const Write& w) {
+    const db::Parameter* d = db ? db->find(w.p.upid) : nullptr;
+    PlanStep s;
+    s.action = Action::write_rom;
+    s.layer = layer;
+    s.key = w.p.upid;
+    s.value = w.p.value;
+    s.old_value = w.old;
+    s.name = param_name(w.p.upid, d, &w.p);
+    s.new_display = display_value(db, w.p.upid, w.p.value, w.p.type);
+    s.old_display =
+        w.old ? display_value(db, w.p.upid, *w.old, w.p.type) + w.old_note : std::string("?");
+    s.why = w.why;
+    s.text = "write ROM " + param_label(layer, w.p.upid, d, &w.p) + ": " + s.old_display + " -> " +
+             s.new_display + (w.why == "differs" ? std::string() : " (" + w.why + ")");
+    add(std::move(s), 1);
+  }
+};
+
+// The target's command table against the file's: entries that differ or are
+// missing are written, entries only on the target deleted, one flash save.
+Result<void> plan_command_table(Builder& b, const config::DriveConfig& file, bool force_save) {
+  LMCFG_ASSIGN_OR_RETURN(auto ids, b.c.ct_defined_entries());
+  std::map<std::uint32_t, Bytes> target;
+  std::size_t n = 0;
+  for (auto id : ids) {
+    if (b.opt.progress) b.opt.progress("plan: command table", ++n, ids.size());
+    LMCFG_ASSIGN_OR_RETURN(target[id], b.c.read_ct_entry(id));
+  }
+  std::vector<const config::CtEntry*> writes;
+  std::vector<std::uint32_t> deletes;
+  for (const auto& e : file.ct_entries) {
+    auto it = target.find(e.id);
+    if (it != target.end() && it->second == e.raw) continue;
+    if (it != target.end()) {
+      deletes.push_back(e.id);
+      b.plan.losses.push_back("command table entry " + std::to_string(e.id) + " '" +
+                              config::ct_entry_name(it->second) + "' replaced by the file's '" +
+                              config::ct_entry_name(e.raw) + "'");
+    }
+    writes.push_back(&e);
+  }
+  for (const auto& [id, raw] : target) {
+    if (file.find_ct_entry(id)) continue;
+    deletes.push_back(id);
+    b.plan.losses.push_back("command table entry " + std::to_string(id) + " '" +
+                            config::ct_entry_name(raw) + "' deleted (not in the file)");
+  }
+  if (writes.empty() && deletes.empty() && !force_save) return {};
+  std::sort(deletes.begin(), deletes.end());
+  for (auto id : deletes) {
+    b.add(Action::delete_ct, id,
+          "delete command table entry " + std::to_string(id) + " '" +
+              config::ct_entry_name(target[id]) + "' in RAM (§12 08h 02h)",
+          1);
+  }
+  for (const auto* e : writes) {
+    b.add(Action::write_ct, e->id,
+          "write command table entry " + std::to_string(e->id) + " '" +
+              config::ct_entry_name(e->raw) + "'",
+          1 + chunks(e->raw.size()));
+  }
+  b.add(Action::save_ct, 0,
+        "save the command table to flash (§12 08h 00h saves every entry; up to 10 s)", 1);
+  return {};
+}
+
+// The target's curves against the file's (IDs 1..max_curve_id): a curve is
+// compared by sizes, then info block, then data block, reading only as far as
+// needed; its name comes from the info block. Curves that differ are deleted
+// and written again, curves only on the target deleted, one flash save (§11
+// has per-curve delete and add, but saving always covers every curve).
+Result<void> plan_curves(Builder& b, const config::DriveConfig& file, bool force_save) {
+  std::vector<const config::Curve*> writes;
+  std::vector<std::pair<std::uint32_t, std::string>> deletes;
+  for (std::uint16_t id = 1; id <= b.opt.max_curve_id; ++id) {
+    if (b.opt.progress) b.opt.progress("plan: curves", id, b.opt.max_curve_id);
+    LMCFG_ASSIGN_OR_RETURN(auto sizes, b.c.curve_sizes(id));
+    const config::Curve* fc = file.find_curve(id);
+    if (!sizes) {
+      if (fc) writes.push_back(fc);
+      continue;
+    }
+    Bytes info;
+    if (sizes->info > 0) {
+      LMCFG_ASSIGN_OR_RETURN(info, b.c.read_curve_info(id, sizes->info));
+    }
+    bool same = false;
+    if (fc && fc->info == info && fc->data.size() == sizes->data) {
+      LMCFG_ASSIGN_OR_RETURN(auto data, b.c.read_curve_data(id, sizes->data));
+      same = data == fc->data;
+    }
+    if (same) continue;
+    const std::string name = curve_name(info);
+    deletes.emplace_back(id, name);
+    if (fc) {
+      writes.push_back(fc);
+      b.plan.losses.push_back("curve " + std::to_string(id) + " '" + name +
+                              "' replaced by the file's '" + curve_name(fc->info) + "'");
+    } else {
+      b.plan.losses.push_back("curve " + std::to_string(id) + " '" + name +
+                              "' deleted (not in the file)");
+    }
+  }
+  if (writes.empty() && deletes.empty() && !force_save) return {};
+  for (const auto& [id, name] : deletes)
+    b.add(Action::delete_curve, id,
+          "delete curve " + std::to_string(id) + " '" + name + "' in RAM (§11 04h 02h)", 1);
+  for (const auto* cv : writes) {
+    b.add(Action::write_curve, cv->id,
+          "write curve " + std::to_string(cv->id) + " '" + curve_name(cv->info) + "'",
+          1 + chunks(cv->info.size()) + chunks(cv->data.size()));
+  }
+  b.add(Action::save_curves, 0,
+        "save curves to flash (§11 04h 00h saves every curve, there is no per-curve save; up to "
+        "10 s)",
+        1);
+  return {};
+}
+
+}  // namespace
+
+Result<Plan> plan_restore(client::Client& c, const config::DriveConfig& file,
+                          const db::Database* db, const RestoreOptions& opt) {
+  Plan plan;
+  plan.expected.identity = file.identity;
+  plan.expected.scope = file.scope;
+  if (file.scope.curves) plan.expected.curves = file.curves;
+  if (file.scope.command_table) plan.expected.ct_entries = file.ct_entries;
+  check_tables(file, opt, plan);
+  Builder b{c, db, opt, plan};
+  // MC stopped (status word and state var 0 in the default response, §6) means
+  // an earlier restore or default stopped half way: RAM tables may hold what
+  // flash does not, and ROM values may wait for their reset. Then the tables
+  // in scope are saved again and the drive reset, even where RAM matches.
+  LMCFG_ASSIGN_OR_RETURN(auto state, c.default_response());
+  const bool mc_was_stopped =
+      state.status_word.value_or(1) == 0 && state.state_var.value_or(1) == 0;
+  bool recovered = false;
+  std::optional<RecoveryRecord> rec;
+  if (!opt.recovery_path.empty()) {
+    LMCFG_ASSIGN_OR_RETURN(rec, load_recovery(opt.recovery_path));
+    if (rec) {
+      recovered = true;
+      plan.recovered_from = opt.recovery_path.string();
+      plan.notes.push_back("found the recovery record " + opt.recovery_path.string() +
+                           " of a restore that did not finish (" + rec->created +
+                           "): the command table and curves in scope are saved to flash again "
+                           "and the drive restarted");
+    }
+  }
+  if (mc_was_stopped)
+    plan.notes.push_back(
+        "MC is stopped on the target (an earlier restore or default stopped half way?): the "
+        "command table and curves are saved to flash again and the drive restarted");
+
+  struct LayerWork {
+    int layer;
+    std::vector<client::ModifiedParam> target;
+    std::vector<Write> writes;                // differ from the target: checked, written
+    std::vector<config::Parameter> same;      // listed on the target with the file's value
+    std::vector<config::Parameter> keep;      // the target's communication values kept
+    std::vector<config::Parameter> expected;  // what the layer holds afterwards
+    std::vector<const client::ModifiedParam*> leftovers;
+  };
+  std::vector<LayerWork> work;
+  std::size_t total = 0, checked = 0;
+  for (int layer = 1; layer <= 4; ++layer)
+    if (file.scope.layers[static_cast<std::size_t>(layer - 1)]) total += file.layer(layer).size();
+  for (int layer = 1; layer <= 4; ++layer) {
+    if (!file.scope.layers[static_cast<std::size_t>(layer - 1)]) continue;
+    LayerWork w{layer, {}, {}, {}, {}, {}, {}};
+    LMCFG_ASSIGN_OR_RETURN(w.target, c.modified_list(layer));
+    std::map<std::uint16_t, std::uint32_t> on_target;
+    for (const auto& m : w.target) on_target[m.upid] = m.value;
+    std::set<std::uint16_t> restored;
+    // Compare first: what the target already holds is not written.
+    for (const auto& p : file.layer(layer)) {
+      const db::Parameter* d = db ? db->find(p.upid) : nullptr;
+      if (is_comm(db, p.upid) && !opt.include_comm) {
+        plan.skipped.push_back(
+            param_label(layer, p.upid, d, &p) +
+            ": communication parameter, the target keeps its own value (use --include-comm)");
+        continue;
+      }
+      restored.insert(p.upid);
+      w.expected.push_back(p);
+      if (opt.progress) opt.progress("plan: comparing parameters", ++checked, total);
+      if (auto it = on_target.find(p.upid); it != on_target.end()) {
+        if (it->second == p.value)
+          w.same.push_back(p);
+        else
+          w.writes.push_back(Write{p, it->second, "", "differs"});
+        continue;
+      }
+      // Not in the target's modified list: its ROM holds its default (§10.2).
+      std::optional<std::uint32_t> def;
+      if (d && d->default_value)
+        def = static_cast<std::uint32_t>(*d->default_value);
+      else if (p.default_value)
+        def = p.default_value;
+      if (def && *def != p.value) {
+        w.writes.push_back(Write{p, *def, " (default)", "differs"});
+        continue;
+      }
+      // The file's value may be the target's default: read it (05h 01h).
+      auto rom = c.read_rom(p.upid);
+      if (!rom.ok()) {
+        if (!refused(rom.error())) return std::move(rom).error();
+        w.writes.push_back(Write{p, std::nullopt, "", "differs"});  // the checks will say why
+        continue;
+      }
+      if (*rom != p.value) w.writes.push_back(Write{p, *rom, "", "differs"});
+    }
+    // The target's communication parameters survive the restore unless --include-comm.
+    for (const auto& m : w.target) {
+      if (restored.count(m.upid)) continue;
+      if (is_comm(db, m.upid) && !opt.include_comm) {
+        config::Parameter k{m.upid, m.value, std::nullopt, std::nullopt, {}, {}, {}};
+        w.keep.push_back(k);
+        w.expected.push_back(k);
+        continue;
+      }
+      w.leftovers.push_back(&m);
+    }
+    // A layer defaulted by the unfinished run no longer lists the values it
+    // kept: the record has them (issue 12 §7).
+    if (rec && !opt.include_comm) {
+      for (const auto& k : rec->keep) {
+        if (client::layer_of(k.upid) != layer || restored.count(k.upid)) continue;
+        config::Parameter kp{k.upid, k.value, std::nullopt, std::nullopt, {}, {}, {}};
+        auto same = [&](const config::Parameter& x) { return x.upid == k.upid; };
+        std::erase_if(w.keep, same);
+        std::erase_if(w.expected, same);
+        w.expected.push_back(kp);
+        const bool listed = on_target.count(k.upid) && on_target[k.upid] == k.value;
+        if (listed)
+          w.keep.push_back(kp);
+        else
+          w.writes.push_back(Write{kp, std::nullopt, "", "kept communication value"});
+      }
+    }
+    // ROM write access must be known before a write (§10 address usage bit 3).
+    // Where the database does not know it, the target's UPID list tells, with
+    // the type of every UPID, in one walk of the layer.
+    const std::size_t au_unknown = std::count_if(w.writes.begin(), w.writes.end(), [&](auto& x) {
+      const db::Parameter* d = db ? db->find(x.p.upid) : nullptr;
+      return !(d && d->address_usage);
+    });
+    std::optional<std::map<std::uint16_t, client::UpidInfo>> listed;
+    if (au_unknown) {
+      const std::string phase = "plan: " + std::string(config::layer_name(layer)) + " UPID list";
+      LMCFG_ASSIGN_OR_RETURN(auto list, c.upid_list(layer, [&](std::size_t n) {
+        if (opt.progress) opt.progress(phase, n, 0);
+      }));
+      listed.emplace();
+      for (const auto& u : list) (*listed)[u.upid] = u;
+      plan.notes.push_back(
+          std::string(config::layer_name(layer)) +
+          ": the UPID database does not know the address usage of " + std::to_string(au_unknown) +
+          " parameter(s); read the target's UPID list (" + std::to_string(list.size()) +
+          " UPIDs, §10.3) to check ROM write access");
+    }
+    for (const auto& x : w.writes)
+      LMCFG_TRY(check_parameter(c, db, layer, x.p, listed ? &*listed : nullptr, plan));
+    if (opt.include_comm) {
+      // Compare the communication values the target uses now (modified list, or
+      // the default when not listed) with those the restore leaves.
+      std::map<std::uint16_t, std::uint32_t> now, after;
+      for (const auto& m : w.target)
+        if (is_comm(db, m.upid)) now[m.upid] = m.value;
+      for (const auto& p : w.expected)
+        if (is_comm(db, p.upid)) after[p.upid] = p.value;
+      for (const auto& x : w.same)
+        if (is_comm(db, x.upid)) after[x.upid] = x.value;
+      plan.link_may_change = plan.link_may_change || now != after;
+    }
+    std::sort(w.expected.begin(), w.expected.end(),
+              [](auto& x, auto& y) { return x.upid < y.upid; });
+    work.push_back(std::move(w));
+  }
+  if (!plan.ok()) return plan;
+
+  const double tel_us = telegram_estimate_us(c);
+  bool rom_changed = false;
+  for (auto& w : work) {
+    const std::size_t first_step = plan.steps.size();
+    const std::string lname(config::layer_name(w.layer));
+    plan.expected.layer(w.layer) = w.expected;
+    // Leftovers go back to their defaults either by defaulting the layer
+    // (§10.4, > 1 s; then what the target already held must be written again)
+    // or by writing each back to the default the target reports (05h 07h, a
+    // value the target accepts by definition). The cheaper one; same end state.
+    bool use_defaulting = false;
+    if (opt.default_first && !w.leftovers.empty()) {
+      const double cost_writes = 2.0 * static_cast<double>(w.leftovers.size()) * tel_us;
+      const double cost_default = tel_us + kDefaultingEstimateUs +
+                                  static_cast<double>(w.same.size() + w.keep.size()) * tel_us;
+      use_defaulting = cost_default < cost_writes;
+    }
+    if (use_defaulting) {
+      PlanStep s;
+      s.action = Action::default_layer;
+      s.layer = w.layer;
+      s.text = "default the " + lname + " layer's ROM values (§10.4); " +
+               std::to_string(w.leftovers.size()) + " leftover(s) go back to their defaults";
+      b.add(std::move(s), 1);
+      for (const auto* m : w.leftovers)
+        plan.notes.push_back("leftover " + lname + " " + hex4(m->upid) + " = " +
+                             display_value(db, m->upid, m->value) + " goes back to its default");
+      for (const auto& x : w.writes) b.add_write(w.layer, x);
+      for (const auto& p : w.same)
+        b.add_write(w.layer, Write{p, std::nullopt, "", "again after defaulting"});
+      for (const auto& p : w.keep)
+        b.add_write(w.layer, Write{p, p.value, "", "kept communication value"});
+    } else {
+      for (const auto& x : w.writes) b.add_write(w.layer, x);
+      for (const auto* m : w.leftovers) {
+        auto def = c.get_default(m->upid);
+        if (!def.ok()) {
+          if (!refused(def.error())) return std::move(def).error();
+          plan.problems.push_back(
+              param_label(w.layer, m->upid, db ? db->find(m->upid) : nullptr, nullptr) +
+              ": leftover, but the target refused its default query: " + def.error().message);
+          continue;
+        }
+        config::Parameter p{m->upid, *def, std::nullopt, std::nullopt, {}, {}, {}};
+        b.add_write(w.layer, Write{p, m->value, "", "leftover back to its default"});
+      }
+    }
+    order_comm_writes_last(plan.steps, first_step, w.expected, db);
+    rom_changed = rom_changed || plan.steps.size() > first_step;
+  }
+  if (!plan.ok()) {
+    plan.steps.clear();
+    return plan;
+  }
+  // LinRS cannot read flash (§11, §12), so RAM tables that match the file
+  // prove nothing about flash after an earlier run stopped half way: a drive
+  // reset in the middle reloads RAM from flash, the run writes RAM again and
+  // its flash save is refused (MC runs again). Three signs make the plan save
+  // the tables in scope even where RAM matches: MC stopped, a recovery record
+  // of an unfinished restore, or this plan resetting the drive anyway (one
+  // flash save more, only when ROM values change). docs/restore.md.
+  const bool resets = opt.reset_after && rom_changed;
+  const bool force_save = mc_was_stopped || recovered || resets;
+  if (file.scope.command_table) LMCFG_TRY(plan_command_table(b, file, force_save));
+  if (file.scope.curves) LMCFG_TRY(plan_curves(b, file, force_save));
+  if (mc_was_stopped || recovered) rom_changed = true;  // restart so every ROM value acts
+  if (plan.steps.empty() && !mc_was_stopped && !recovered)
+    return plan;  // nothing to do: MC keeps running
+  PlanStep stop;
+  stop.action = Action::stop_mc;
+  stop.text =
+      "stop MC and application software (§13.3): the axis stops until the end of the restore";
+  plan.steps.insert(plan.steps.begin(), std::move(stop));
+  plan.write_telegrams += 1;
+  if (opt.reset_after && rom_changed) {
+    // The reset restarts the firmware with MC running (§13.1), so a separate MC
+    // start before it would only cost its ~3 s (§13.4).
+    b.add(Action::reset, 0,
+          "reset the drive so the ROM values become active; MC and application software start "
+          "with it (§13.1)",
+          1);
+  } else {
+    b.add(Action::start_mc, 0,
+          std::string("start MC and application software (§13.4)") +
+              (rom_changed ? "; the written ROM values act after the next restart" : ""),
+          1);
+  }
+  return plan;
+}
+
+}  // namespace lmcfg::ops

@@ -1,0 +1,89 @@
+#include "ops/restore_run.hpp"
+
+namespace lmcfg::ops {
+
+const char* stage_name(RestoreOutcome::Stage s) {
+  using S = RestoreOutcome::Stage;
+  switch (s) {
+    case S::failed:
+      return "failed";
+    case S::plan_refused:
+      return "plan refused";
+    case S::dry_run:
+      return "dry run";
+    case S::declined:
+      return "declined";
+    case S::nothing_to_do:
+      return "nothing to do";
+    case S::verify_mismatch:
+      return "verify mismatch";
+    case S::restored:
+      return "restored and verified";
+  }
+  return "?";
+}
+
+RestoreOutcome run_restore(Session& session, const config::DriveConfig& file,
+                           const db::Database* db, const RestoreRunOptions& o) {
+  using S = RestoreOutcome::Stage;
+  RestoreOutcome out;
+  auto& client = session.client();
+  auto fail = [&](Error e) {
+    out.stage = S::failed;
+    out.error = std::move(e);
+    return std::move(out);
+  };
+  auto plan = plan_restore(client, file, db, o.restore);
+  if (!plan.ok()) {
+    Error e = std::move(plan).error();
+    if (e.code == make_error_code(Errc::interrupted))
+      e.message = "interrupted while planning (reads only): " + e.message + "; nothing written";
+    return fail(std::move(e));
+  }
+  out.plan = std::move(plan).value();
+  if (!out.plan.ok()) {
+    out.stage = S::plan_refused;
+    return out;
+  }
+  if (o.dry_run) {
+    out.stage = S::dry_run;
+    return out;
+  }
+  // The plan compared every item with the target: its reads are the verification.
+  if (out.plan.nothing_to_do()) {
+    out.stage = S::nothing_to_do;
+    return out;
+  }
+  if (o.confirm) {
+    auto consent = o.confirm(out.plan);
+    if (!consent.ok()) return fail(std::move(consent).error());
+    if (*consent == Consent::declined) {
+      out.stage = S::declined;
+      return out;
+    }
+  }
+  out.written = true;
+  if (auto r = execute_plan(client, out.plan, o.restore); !r.ok())
+    return fail(std::move(r).error());
+  if (out.plan.link_may_change && o.restore.reset_after) {
+    auto r = reconnect(session, expected_link(out.plan, db), o.overrides);
+    if (!r.ok()) {
+      return fail(Error(r.error().code,
+                        "written, but the drive could not be found again: " + r.error().message +
+                            ". Give its settings with --reconnect-baud/-id/-checksum, "
+                            "or reconnect and run 'lmcfg diff FILE drive' to verify"));
+    }
+    out.relink = std::move(r).value();
+  }
+  auto verify = verify_restore(client, out.plan, o.restore);
+  if (!verify.ok()) {
+    return fail(Error(
+        verify.error().code,
+        "written, but verification could not read the drive back: " + verify.error().message));
+  }
+  out.mismatches = std::move(verify->mismatches);
+  out.stage = out.mismatches.empty() ? S::restored : S::verify_mismatch;
+  return out;
+}
+
+}  // namespace lmcfg::ops

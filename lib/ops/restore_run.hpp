@@ -1,0 +1,47 @@
+#pragma once
+// `lmcfg restore` as one library call: plan, confirmation, execute, finding
+// the drive again after --include-comm, verify. The tool only parses options,
+// prints and maps the outcome to an exit code.
+#include <functional>
+#include <optional>
+
+#include "ops/confirm.hpp"
+#include "ops/relink.hpp"
+#include "ops/restore.hpp"
+#include "ops/session.hpp"
+
+namespace lmcfg::ops {
+
+struct RestoreRunOptions {
+  RestoreOptions restore;
+  bool dry_run = false;
+  RelinkOverrides overrides;
+  // Called with an accepted plan that has steps, before any write: go on or
+  // decline. Unset: go on.
+  std::function<Result<Consent>(const Plan&)> confirm;
+};
+
+struct RestoreOutcome {
+  enum class Stage {
+    failed,           // `error` says where (plan, step, relink or verify)
+    plan_refused,     // plan.problems
+    dry_run,          // plan printed, nothing written
+    declined,         // the user said no: nothing written
+    nothing_to_do,    // the target already matches the file: nothing written
+    verify_mismatch,  // written; mismatches
+    restored,         // written and verified
+  };
+  Stage stage = Stage::failed;
+  Plan plan;
+  std::optional<Error> error;
+  std::optional<RelinkReport> relink;
+  std::vector<std::string> mismatches;
+  bool written = false;  // execute_plan ran (some steps may have been sent)
+};
+
+RestoreOutcome run_restore(Session& session, const config::DriveConfig& file,
+                           const db::Database* db, const RestoreRunOptions& o);
+
+const char* stage_name(RestoreOutcome::Stage s);  // "restored and verified", ...
+
+}  // namespace lmcfg::ops
