@@ -61,6 +61,7 @@ inline config::DriveConfig large_config() {
       p.value = 1000u + i;
       p.type = 0x05;
       p.default_value = i % 3 ? p.value + 1 : p.value;
+      p.name = "Synthetic parameter " + std::to_string(p.upid);  // as a real name's length
       c.layer(l).push_back(p);
     }
   for (std::uint32_t id = 1; id <= 100; ++id) {

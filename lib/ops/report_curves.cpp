@@ -44,6 +44,7 @@ Axis nice_axis(double lo, double hi, std::string label) {
     lo -= pad;
     hi += pad;
   }
+  if (!(hi > lo) || !std::isfinite(hi - lo)) lo = 0, hi = 1;  // nothing to show
   const double raw = (hi - lo) / 5;
   const double mag = std::pow(10.0, std::floor(std::log10(raw)));
   double step = mag;
@@ -320,7 +321,7 @@ void curve_figure_diff(std::string& out, const config::Curve* a, const config::C
   const bool pa = sa && sa->error.empty(), pb = sb && sb->error.empty();
   const bool overlay = item && pa && pb;
   if (pa || pb) {
-    const bool delta = overlay && sa->y.size() == sb->y.size();
+    const bool delta = overlay && sa->y.size() == sb->y.size() && !sa->y.empty();
     out += "<div>";
     // Unchanged: one plot (side A); changed: both sides overlaid.
     plot(out, pa ? &*sa : nullptr, pb && (overlay || !pa) ? &*sb : nullptr, delta);
