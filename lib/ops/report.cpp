@@ -131,10 +131,12 @@ p.meta{color:#555;margin:.2em 0 1em}
 nav{position:sticky;top:0;background:#fff;border-bottom:1px solid #ccc;padding:.4em 0;z-index:1}
 nav a{margin-right:1em}
 table{border-collapse:collapse;margin:.4em 0}
-table.params{table-layout:fixed;width:100%}
-table.params th:nth-child(1){width:5.5em}table.params th:nth-child(2){width:28%}
-table.params th:nth-child(5),table.params th:nth-child(6){width:9em}
-table.params.d th:nth-child(4){width:1.5em}table.params.d th:nth-child(5){width:auto}
+table.params{table-layout:fixed;width:100%;margin:0}
+table.params tr>:nth-child(1){width:5.5em}table.params tr>:nth-child(2){width:28%}
+table.params tr>:nth-child(5),table.params tr>:nth-child(6){width:9em}
+table.params.d tr>:nth-child(4){width:1.5em}table.params.d tr>:nth-child(5){width:auto}
+table.params.chunk{margin:-1px 0 0;content-visibility:auto;contain-intrinsic-size:auto 2500px}
+table.ct{content-visibility:auto;contain-intrinsic-size:auto 4000px}
 table.params td{overflow-wrap:anywhere}
 details,figure.curve{content-visibility:auto;contain-intrinsic-size:auto 600px}
 th,td{border:1px solid #cfcfcf;padding:2px 6px;text-align:left;vertical-align:top}
@@ -267,6 +269,20 @@ std::string value_or_none(const std::string& v) {
   return v.empty() ? "<span class=\"absent\">(none)</span>" : html_escape(v);
 }
 
+// Long parameter tables are cut into tables of kChunk rows (the same fixed
+// column widths, so they read as one): each is laid out only when it comes
+// into view (content-visibility), not again for every block the parser adds.
+constexpr std::size_t kChunk = 100;
+
+// Called before each row; `n` counts the rows so far.
+void chunk_break(std::string& rows, std::size_t& n, const char* cls) {
+  if (n++ % kChunk == 0 && n > 1) {
+    rows += "</tbody></table><table class=\"";
+    rows += cls;
+    rows += " chunk\"><tbody>\n";
+  }
+}
+
 // ------------------------------------------------------------ one configuration
 
 void params_single(std::string& out, const config::DriveConfig& cfg, const db::Database* db) {
@@ -278,7 +294,9 @@ void params_single(std::string& out, const config::DriveConfig& cfg, const db::D
     }
     std::size_t off_default = 0;
     std::string rows;
+    std::size_t n = 0;
     for (const auto& p : ps) {
+      chunk_break(rows, n, "params");
       const ParamInfo i = param_info(p, db);
       std::string mark = "<td class=\"same\">default unknown</td>";
       if (i.def) {
@@ -341,7 +359,7 @@ void params_diff(std::string& out, const config::DriveConfig& a, const config::D
     std::set<std::uint16_t> upids;
     for (const auto& [u, p] : la) upids.insert(u);
     for (const auto& [u, p] : lb) upids.insert(u);
-    std::size_t differ = 0;
+    std::size_t differ = 0, n = 0;
     std::string rows;
     for (auto u : upids) {
       auto ia = la.find(u);
@@ -352,6 +370,7 @@ void params_diff(std::string& out, const config::DriveConfig& a, const config::D
       auto found = items.find({l, u});
       const DiffItem* it = found == items.end() ? nullptr : found->second;
       std::string name = it && !it->name.empty() ? it->name : info.name;
+      chunk_break(rows, n, "params d");
       rows += "<tr class=\"param";
       if (it) {
         ++differ;
