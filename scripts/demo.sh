@@ -2,7 +2,8 @@
 # The whole story on two simulated drives: a commissioned axis (modified
 # parameters in every layer, curves, command table) and a used spare with
 # leftovers of another machine. Backup, diff against defaults, dry-run restore,
-# restore onto the spare with verification, and a diff of the two drives.
+# restore onto the spare with verification, a diff of the two drives, and an
+# HTML report of how the two drives differed before the restore.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 "$root/scripts/install-deps.sh"
@@ -17,6 +18,7 @@ set +e
 step "1. Back up the commissioned axis (simulated drive, state in axis.sim.json)" \
   "$lmcfg" backup --port sim:axis.sim.json --label machine=demo --label axis=X -o axis.json
 step "2. What differs from factory defaults?" "$lmcfg" diff defaults axis.json
+"$lmcfg" backup --port sim:spare.sim.json -o spare-before.json --quiet  # the spare as delivered (step 7)
 step "3. What would a restore onto the used spare do? (dry run: nothing is written)" \
   "$lmcfg" restore axis.json --port sim:spare.sim.json --dry-run
 step "4. Restore onto the spare: plan, write, verify" \
@@ -26,6 +28,11 @@ step "5. Read the spare back and compare the two drives (per-unit data ignored)"
 step "6. The two drives now hold the same configuration" \
   "$lmcfg" diff axis.json spare.json --ignore-unit --ignore-metadata
 rc=$?
+step "7. A page to look at: the commissioned axis vs the spare as it was delivered (curves plotted)" \
+  "$lmcfg" report axis.json spare-before.json -o report.html
+report_rc=$?
+((report_rc == 0)) || rc=$report_rc
 set -e
 printf '\nFiles are in %s (restore.trace holds every telegram of step 4).\n' "$work"
+printf 'Open the report in a browser: file://%s/report.html\n' "$work"
 exit "$rc"

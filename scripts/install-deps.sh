@@ -17,6 +17,7 @@ packages=(
   help2man man-db groff-base bsdextrautils        # man page: generate, render (man -l), col -b
   bash-completion                                 # completion test
   dpkg-dev file debootstrap                       # cpack -G DEB (dpkg-shlibdeps), scripts/test-deb.sh
+  chromium                                        # headless browser: tests load every lmcfg report page
 )
 missing=()
 for p in "${packages[@]}"; do
