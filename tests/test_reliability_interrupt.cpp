@@ -6,6 +6,10 @@
 // list, flash curves and flash command table.
 #include <catch2/catch.hpp>
 
+#include <atomic>
+#include <filesystem>
+
+#include "ops/factory_reset.hpp"
 #include "test_reliability_support.hpp"
 
 using namespace lmcfg;
@@ -106,4 +110,102 @@ TEST_CASE("restore interrupted at every telegram: reported as failed, a rerun co
       "interruption test: %zu interruption points (every telegram of a %zu-telegram restore), "
       "%zu after writes began, %zu reruns converged\n",
       interrupted, total, during_writes, converged);
+}
+
+namespace {
+
+// Sets `flag` when the master sends its nth write request (1-based): the
+// client must complete that telegram and send nothing after it.
+void interrupt_at_write(FaultRig& rig, std::size_t nth, std::atomic<bool>& flag) {
+  auto count = std::make_shared<std::size_t>(0);
+  const auto cfg = rig.drive->state().checksum;
+  rig.sim->faults().set_callback([=, &flag](std::size_t, ByteView req) -> std::vector<sim::Fault> {
+    auto t = codec::decode(req, cfg);
+    if (t.ok() && client::is_write_request(*t) && ++*count == nth) flag = true;
+    return {};
+  });
+}
+
+}  // namespace
+
+TEST_CASE("SIGINT during the write phase (ClientOptions::cancel): the step is named, a rerun "
+          "converges",
+          "[reliability][interrupt][restore]") {
+  const auto file = small_file();
+  const auto spare = test::load_sim_drive("used-spare.json")->state();
+  ops::RestoreOptions ro;
+  ro.include_comm = true;
+  ro.max_curve_id = 8;
+  ro.recovery_path = test::restore_record();
+  std::size_t tried = 0;
+  for (std::size_t nth : {1u, 2u, 5u, 10u, 20u, 40u}) {
+    INFO("interrupted at write request " << nth);
+    auto drive = std::make_shared<sim::Drive>(spare);
+    test::forget_restore_record();
+    std::atomic<bool> flag{false};
+    client::ClientOptions co;
+    co.cancel = &flag;
+    std::int64_t t_end = 0;
+    {
+      FaultRig rig(drive, co);
+      interrupt_at_write(rig, nth, flag);
+      auto run = test::run_restore(*rig.client, file, ro);
+      if (!flag) continue;  // the restore had fewer writes
+      ++tried;
+      REQUIRE_FALSE(run.ok());
+      CHECK(run.outcome.error().code == Errc::interrupted);
+      const std::string& m = run.outcome.error().message;
+      CHECK(m.rfind("restore interrupted at step ", 0) == 0);
+      CHECK(m.find("(the telegram in flight was completed)") != std::string::npos);
+      CHECK(m.find("run the same restore again to converge.") != std::string::npos);
+      CHECK(std::filesystem::exists(test::restore_record()));
+      t_end = rig.now_ns();
+    }
+    FaultRig again(drive, {}, t_end + 10'000'000'000);
+    auto second = test::run_restore(*again.client, file, ro);
+    INFO((second.ok() ? std::string() : second.outcome.error().message));
+    REQUIRE(second.ok());
+    CHECK(test::drive_vs_file(*drive, file).empty());
+    CHECK(drive->state().mc_running);
+    CHECK_FALSE(std::filesystem::exists(test::restore_record()));
+  }
+  CHECK(tried >= 4);
+}
+
+TEST_CASE("default --layers intf: the first keep-write lost, the rerun restores the drive's own "
+          "communication settings from the recovery record",
+          "[reliability][interrupt][default]") {
+  auto drive = std::make_shared<sim::Drive>(test::load_sim_drive("commissioned-axis.json")->state());
+  const auto before = drive->state();
+  REQUIRE(before.params.at(0x200E).rom == 2);  // baud rate "By Parameter"
+  REQUIRE(before.params.at(0x206C).rom == 3);  // MACID "By Parameter"
+  const auto record = std::filesystem::temp_directory_path() /
+                      ("lmcfg-test-default-record-" + std::to_string(::getpid()) + ".json");
+  std::filesystem::remove(record);
+  ops::DefaultOptions opt;
+  opt.layers = {false, false, true, false};
+  opt.recovery_path = record;
+  opt.port = "sim:test";
+  std::int64_t t_end = 0;
+  {
+    FaultRig rig(drive);
+    // The link closes at the first ROM write: the layer is defaulted, nothing kept yet.
+    test::aim(rig, test::request(0x05, 0x01), 1, sim::Fault::close_link());
+    auto r = ops::default_drive(*rig.client, opt, nullptr);
+    REQUIRE_FALSE(r.ok());
+    CHECK(r.error().message.find("run the same command again; it finishes from the recovery "
+                                 "record " +
+                                 record.string()) != std::string::npos);
+    CHECK(drive->state().params.at(0x200E).rom == before.params.at(0x200E).def);
+    CHECK(std::filesystem::exists(record));
+    t_end = rig.now_ns();
+  }
+  FaultRig again(drive, {}, t_end + 10'000'000'000);
+  auto r = ops::default_drive(*again.client, opt, nullptr);
+  INFO((r.ok() ? std::string() : r.error().message));
+  REQUIRE(r.ok());
+  CHECK(r->recovered);
+  CHECK(drive->state().params.at(0x200E).rom == 2);
+  CHECK(drive->state().params.at(0x206C).rom == 3);
+  CHECK_FALSE(std::filesystem::exists(record));
 }
