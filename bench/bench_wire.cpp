@@ -104,6 +104,8 @@ RestoreRun run_restore(Rig& rig, const config::DriveConfig& file, const db::Data
   if (!plan.ok()) die(what, Error(Errc::plan_refused, plan.problems.front()));
   r.execute = measure(*rig.link,
                       [&] { must(ops::execute_plan(*rig.client, plan, ro), what + ": execute"); });
+  // As ops::run_restore: a plan with nothing to do compared everything already.
+  if (plan.nothing_to_do()) return r;
   ops::VerifyReport rep;
   r.verify = measure(*rig.link, [&] {
     rep = must(ops::verify_restore(*rig.client, plan, ro), what + ": verify");
@@ -347,7 +349,15 @@ int main(int argc, char** argv) {
     sim::DriveState state;
     bool demo;
   };
+  // The demo axis with one setpoint of its first curve changed (RAM and flash).
+  auto one_curve_off = demo;
+  for (auto* curves : {&one_curve_off.curves_flash, &one_curve_off.curves_ram}) {
+    auto& data = curves->begin()->second.data;
+    if (!data.empty()) data[0] = static_cast<std::uint8_t>(data[0] ^ 1);
+  }
   const std::vector<Target> targets{
+      {"(c) demo -> itself (matches)", demo, true},
+      {"(c) demo -> one curve differs", one_curve_off, true},
       {"(c) demo -> factory-fresh", benchwire::factory_fresh(demo), true},
       {"(c) demo -> used spare", spare, true},
       {"(c) heavy -> factory-fresh", benchwire::factory_fresh(heavy), false},
