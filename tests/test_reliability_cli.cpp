@@ -534,3 +534,51 @@ TEST_CASE("restore without --yes and without a terminal: exit 2, nothing written
   CHECK(traced_writes(d.path / "t.trace") == 0);
   CHECK(same_config(state_of(d.path / "spare.json"), spare_before));
 }
+
+TEST_CASE("restore and default --json validate against schemas/report-restore and report-default "
+          "(real ajv); restore steps are items with UPID, old and new",
+          "[reliability][cli][restore][json]") {
+  TempDir d;
+  good_backup(d);
+  auto valid = [&](const char* schema, const std::string& json) {
+    spit(d.path / "report.json", json);
+    const auto ajv = fs::path(LMCFG_SOURCE_DIR) / "tools/node/node_modules/.bin/ajv";
+    const auto s = fs::path(LMCFG_SOURCE_DIR) / "schemas" / schema;
+    const std::string cmd = "'" + ajv.string() + "' validate --spec=draft2020 --strict=true -s '" +
+                            s.string() + "' -d '" + (d.path / "report.json").string() +
+                            "' >/dev/null 2>&1";
+    return std::system(cmd.c_str()) == 0;
+  };
+  auto dry = tool(d.path, "restore good.json --port sim:spare.json --dry-run --json");
+  INFO(dry.err);
+  REQUIRE(dry.exit_code == 0);
+  CHECK(valid("report-restore.schema.json", dry.out));
+  const auto j = nlohmann::json::parse(dry.out);
+  CHECK(j["outcome"] == "dry run");
+  bool saw_write = false;
+  for (const auto& s : j["steps"])
+    if (s["action"] == "write_rom" && s["upid"] == "13A2") {
+      saw_write = true;
+      CHECK(s["old"]["raw"] == 25);  // the spare's value
+      CHECK(s["new"]["raw"] == 40);  // the file's
+    }
+  CHECK(saw_write);
+  auto real = tool(d.path, "restore good.json --port sim:spare.json --yes --json");
+  INFO(real.err);
+  CHECK(real.exit_code == 0);
+  CHECK(valid("report-restore.schema.json", real.out));
+  CHECK(nlohmann::json::parse(real.out)["outcome"] == "restored and verified");
+  auto again = tool(d.path, "restore good.json --port sim:spare.json --yes --json");
+  CHECK(valid("report-restore.schema.json", again.out));
+  CHECK(nlohmann::json::parse(again.out)["outcome"] == "nothing to do");
+  CHECK_FALSE(valid("report-restore.schema.json", "{\"outcome\": \"done\"}"));  // the schema bites
+  auto def = tool(d.path, "default --port sim:spare.json --layers intf --yes --json");
+  INFO(def.err);
+  CHECK(def.exit_code == 0);
+  CHECK(valid("report-default.schema.json", def.out));
+  const auto kept = nlohmann::json::parse(def.out)["kept"];
+  CHECK_FALSE(kept.empty());  // the spare's LinRS source selects, written back
+  for (const auto& k : kept)
+    CHECK((k["upid"] == "200E" || k["upid"] == "2012" || k["upid"] == "206C" ||
+           k["upid"] == "2076"));
+}
