@@ -55,8 +55,8 @@ struct Run {
 Run tool(const fs::path& dir, const std::string& args) {
   // Recovery records (ops/recovery.hpp) stay inside the test's directory.
   const std::string cmd = "cd '" + dir.string() + "' && XDG_STATE_HOME='" + dir.string() + "' '" +
-                          std::string(LMCFG_TOOL_PATH) + "' " +
-                          args + " >stdout.txt 2>stderr.txt </dev/null";
+                          std::string(LMCFG_TOOL_PATH) + "' " + args +
+                          " >stdout.txt 2>stderr.txt </dev/null";
   const int rc = std::system(cmd.c_str());
   Run r;
   r.exit_code = WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
@@ -442,9 +442,10 @@ void set_param_field(const fs::path& state, const char* upid, const char* field,
 
 }  // namespace
 
-TEST_CASE("seed003 §10 05h 05h/06h: the plan takes min/max from the target; a lower max is "
-          "refused by dry run and real run, zero write telegrams",
-          "[reliability][cli][restore]") {
+TEST_CASE(
+    "seed003 §10 05h 05h/06h: the plan takes min/max from the target; a lower max is "
+    "refused by dry run and real run, zero write telegrams",
+    "[reliability][cli][restore]") {
   TempDir d;
   good_backup(d);  // 13A2h = 40 in the file
   set_param_field(d.path / "spare.json", "13A2", "max", 30);
@@ -452,8 +453,8 @@ TEST_CASE("seed003 §10 05h 05h/06h: the plan takes min/max from the target; a l
   for (const char* extra : {" --dry-run", " --yes"}) {
     DYNAMIC_SECTION(extra) {
       fs::remove(d.path / "t.trace");
-      auto r = tool(d.path, std::string("restore good.json --port sim:spare.json --trace t.trace") +
-                                extra);
+      auto r = tool(d.path,
+                    std::string("restore good.json --port sim:spare.json --trace t.trace") + extra);
       INFO(r.err);
       CHECK(r.exit_code == 3);
       CHECK(r.err.find("MC 13A2h") != std::string::npos);
@@ -475,7 +476,7 @@ TEST_CASE("restore of a drive's own backup onto it: nothing to do, no write, MC 
   CHECK(r.out == "nothing to do: the drive already matches good.json\n");
   const auto sent = traced_requests(d.path / "t.trace");
   CHECK(traced_writes(d.path / "t.trace") == 0);
-  CHECK(count_requests(sent, 0x06) == 0);  // no MC stop, start or reset (§13)
+  CHECK(count_requests(sent, 0x06) == 0);        // no MC stop, start or reset (§13)
   CHECK(count_requests(sent, 0x04, 0x00) == 0);  // no curve flash save (§11)
   CHECK(count_requests(sent, 0x08, 0x00) == 0);  // no command table flash save (§12)
   CHECK(same_config(state_of(d.path / "axis.json"), before));
@@ -505,12 +506,12 @@ TEST_CASE("restore onto a drive that differs in one curve: only that curve, one 
   INFO(r.out);
   CHECK(r.exit_code == 0);
   const auto sent = traced_requests(d.path / "t.trace");
-  CHECK(count_requests(sent, 0x05, 0x01) == 0);                      // no ROM write
-  CHECK(count_requests(sent, 0x08, std::nullopt, true) == 0);        // command table: reads only
-  CHECK(count_requests(sent, 0x04, 0x00) == 1);                      // one curve flash save
-  CHECK(count_requests(sent, 0x04, 0x01) == 0);                      // no "delete all curves"
-  CHECK(count_requests(sent, 0x04, 0x02) == 1);                      // that curve deleted ...
-  CHECK(count_requests(sent, 0x04, 0x04) == 1);                      // ... and added again
+  CHECK(count_requests(sent, 0x05, 0x01) == 0);                // no ROM write
+  CHECK(count_requests(sent, 0x08, std::nullopt, true) == 0);  // command table: reads only
+  CHECK(count_requests(sent, 0x04, 0x00) == 1);                // one curve flash save
+  CHECK(count_requests(sent, 0x04, 0x01) == 0);                // no "delete all curves"
+  CHECK(count_requests(sent, 0x04, 0x02) == 1);                // that curve deleted ...
+  CHECK(count_requests(sent, 0x04, 0x04) == 1);                // ... and added again
   CHECK(count_requests(sent, 0x06, 0x01) + count_requests(sent, 0x06, 0x02) == 0);  // no reset
   for (const auto& t : sent)
     if (t.main == 0x04 && (t.sub == 0x02 || t.sub == 0x04)) {
@@ -535,9 +536,10 @@ TEST_CASE("restore without --yes and without a terminal: exit 2, nothing written
   CHECK(same_config(state_of(d.path / "spare.json"), spare_before));
 }
 
-TEST_CASE("restore and default --json validate against schemas/report-restore and report-default "
-          "(real ajv); restore steps are items with UPID, old and new",
-          "[reliability][cli][restore][json]") {
+TEST_CASE(
+    "restore and default --json validate against schemas/report-restore and report-default "
+    "(real ajv); restore steps are items with UPID, old and new",
+    "[reliability][cli][restore][json]") {
   TempDir d;
   good_backup(d);
   auto valid = [&](const char* schema, const std::string& json) {
@@ -579,6 +581,6 @@ TEST_CASE("restore and default --json validate against schemas/report-restore an
   const auto kept = nlohmann::json::parse(def.out)["kept"];
   CHECK_FALSE(kept.empty());  // the spare's LinRS source selects, written back
   for (const auto& k : kept)
-    CHECK((k["upid"] == "200E" || k["upid"] == "2012" || k["upid"] == "206C" ||
-           k["upid"] == "2076"));
+    CHECK(
+        (k["upid"] == "200E" || k["upid"] == "2012" || k["upid"] == "206C" || k["upid"] == "2076"));
 }

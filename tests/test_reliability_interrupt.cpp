@@ -4,9 +4,8 @@
 // the same restore run again on a fresh link to the same drive must end with
 // the drive equal to the file: ROM values of the file's UPIDs, the modified
 // list, flash curves and flash command table.
-#include <catch2/catch.hpp>
-
 #include <atomic>
+#include <catch2/catch.hpp>
 #include <filesystem>
 
 #include "ops/factory_reset.hpp"
@@ -128,9 +127,10 @@ void interrupt_at_write(FaultRig& rig, std::size_t nth, std::atomic<bool>& flag)
 
 }  // namespace
 
-TEST_CASE("SIGINT during the write phase (ClientOptions::cancel): the step is named, a rerun "
-          "converges",
-          "[reliability][interrupt][restore]") {
+TEST_CASE(
+    "SIGINT during the write phase (ClientOptions::cancel): the step is named, a rerun "
+    "converges",
+    "[reliability][interrupt][restore]") {
   const auto file = small_file();
   const auto spare = test::load_sim_drive("used-spare.json")->state();
   ops::RestoreOptions ro;
@@ -172,10 +172,12 @@ TEST_CASE("SIGINT during the write phase (ClientOptions::cancel): the step is na
   CHECK(tried >= 4);
 }
 
-TEST_CASE("default --layers intf: the first keep-write lost, the rerun restores the drive's own "
-          "communication settings from the recovery record",
-          "[reliability][interrupt][default]") {
-  auto drive = std::make_shared<sim::Drive>(test::load_sim_drive("commissioned-axis.json")->state());
+TEST_CASE(
+    "default --layers intf: the first keep-write lost, the rerun restores the drive's own "
+    "communication settings from the recovery record",
+    "[reliability][interrupt][default]") {
+  auto drive =
+      std::make_shared<sim::Drive>(test::load_sim_drive("commissioned-axis.json")->state());
   const auto before = drive->state();
   REQUIRE(before.params.at(0x200E).rom == 2);  // baud rate "By Parameter"
   REQUIRE(before.params.at(0x206C).rom == 3);  // MACID "By Parameter"
