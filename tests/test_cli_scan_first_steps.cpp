@@ -257,3 +257,91 @@ TEST_CASE("first steps: db scan checks its output path before talking to the dri
         "it or name another path\n");
   CHECK_FALSE(fs::exists(d.path / "t.trace"));  // the link was never opened
 }
+
+// Issue 18 item 7: a drive command that never got an answer names the likely
+// wrong setting and what to run; the protocol detail only with --verbose.
+// (Wrong parity: a pseudo-terminal cannot change parity, so that case is not
+// tested here; the advice for answers no setting explains names --parity.)
+TEST_CASE("errors that say what to do: wrong baud rate, MACID and checksum", "[cli][advice][pty]") {
+  TempDir d;
+  const auto state = axis_2a(d.path);  // 115200 Bd, MACID 2Ah, no checksum
+  test::Child sim({LMCFG_TOOL_PATH, "sim", "--state", state.string()});
+  const std::string pty = sim.read_line();
+  REQUIRE(pty.rfind("/dev/", 0) == 0);
+  const std::string fast = " --timeout-ms 20 --retries 0";
+
+  SECTION("wrong baud rate") {
+    auto r = tool(d.path, "info --port " + pty + " --baud 57600 --id 0x2A" + fast);
+    CHECK(r.exit_code == 4);
+    CHECK(r.err ==
+          "lmcfg info: no answer from MACID 2Ah at 57600 Bd: check --id and --baud (and "
+          "--parity), or run `lmcfg scan --port " +
+              pty + "` to try every MACID and rate\n");
+  }
+  SECTION("wrong MACID") {
+    auto r = tool(d.path, "get 13A2 --port " + pty + " --baud 115200 --id 0x11" + fast);
+    CHECK(r.exit_code == 4);
+    CHECK(r.err ==
+          "lmcfg get: no answer from MACID 11h at 115200 Bd, but a drive answers as MACID 2Ah: "
+          "try --id 0x2A\n");
+  }
+  SECTION("wrong checksum, with and without --verbose") {
+    auto r = tool(d.path, "backup -o x.json --port " + pty + " --baud 115200 --id 0x2A" +
+                              " --checksum crc" + fast + " --quiet");
+    CHECK(r.exit_code == 4);
+    CHECK(r.err ==
+          "lmcfg backup: answers fail their checksum: the drive seems to use checksum none: try "
+          "--checksum none\n");
+    CHECK_FALSE(fs::exists(d.path / "x.json"));
+    auto v = tool(d.path, "info --port " + pty + " --baud 115200 --id 0x2A --checksum crc" + fast +
+                              " --verbose");
+    CHECK(v.exit_code == 4);
+    CHECK(v.err.rfind("lmcfg info: answers fail their checksum: the drive seems to use checksum "
+                      "none: try --checksum none (detail: no valid answer from drive 2Ah",
+                      0) == 0);
+  }
+}
+
+TEST_CASE("errors that say what to do: a drive using CRC, asked without checksum",
+          "[cli][advice][pty]") {
+  TempDir d;
+  const auto state = axis_2a(d.path, "crc_ccitt");
+  test::Child sim({LMCFG_TOOL_PATH, "sim", "--state", state.string()});
+  const std::string pty = sim.read_line();
+  REQUIRE(pty.rfind("/dev/", 0) == 0);
+  auto r = tool(d.path,
+                "get 13A2 --port " + pty + " --baud 115200 --id 0x2A --timeout-ms 20 --retries 0");
+  CHECK(r.exit_code == 4);
+  CHECK(r.err ==
+        "lmcfg get: answers fail their checksum: the drive seems to use checksum crc-ffff: try "
+        "--checksum crc-ffff\n");
+}
+
+// Issue 18 item 5: long operations have no upper bound in the manual (§10.4):
+// --long-timeout-s sets the deadline, progress goes to stderr while waiting.
+TEST_CASE("seed003 §10.4 a layer default taking 8 s: progress while waiting, --long-timeout-s",
+          "[cli][long]") {
+  TempDir d;
+  auto j = nlohmann::json::parse(
+      slurp(std::string(LMCFG_SOURCE_DIR) + "/tests/fixtures/sim/commissioned-axis.json"));
+  j["timing_us"]["defaulting"] = 8'000'000;
+  std::ofstream(d.path / "slow.json") << j.dump(2);
+  const std::string link = " --port sim:slow.json";
+  auto ok = tool(d.path, "default --layers mc --yes" + link);
+  INFO(ok.err);
+  CHECK(ok.exit_code == 0);
+  CHECK(ok.err.find("lmcfg: still defaulting layer MC: 5 s (waiting up to 60 s; "
+                    "--long-timeout-s)\n") != std::string::npos);
+  auto quiet = tool(d.path, "default --layers mc --yes --quiet" + link);
+  INFO(quiet.err);
+  CHECK(quiet.exit_code == 0);
+  CHECK(quiet.err.find("still defaulting") == std::string::npos);
+  auto cut = tool(d.path, "default --layers mc --yes --long-timeout-s 3" + link);
+  INFO(cut.err);
+  CHECK(cut.exit_code == 4);
+  CHECK(cut.err.find("(defaulting layer MC; the manual gives no upper bound for it)") !=
+        std::string::npos);
+  auto bad = tool(d.path, "default --layers mc --yes --long-timeout-s 9999" + link);
+  CHECK(bad.exit_code == 2);
+  CHECK(bad.err == "lmcfg default: --long-timeout-s 9999 is outside 1..3600\n");
+}

@@ -123,7 +123,6 @@ Result<Bytes> Client::read_block(const Telegram& setup, std::uint8_t setup_sub,
                                  const Telegram& chunk_req, std::uint8_t chunk_sub,
                                  std::size_t size, const char* what) {
   const std::size_t chunks = (size + 3) / 4;
-  const int need = agreeing_reads();
   BlockVotes votes(chunks);
   RestartBudget budget(opt_.read_retries + 1, opt_.transfer_deadline);
   Error last(Errc::timeout, "");
@@ -136,6 +135,8 @@ Result<Bytes> Client::read_block(const Telegram& setup, std::uint8_t setup_sub,
     ++stats_.block_passes;
     auto pass = block_pass(chunk_req, chunk_sub, chunks, votes, what);
     if (!pass.ok() && !is_link_error(pass.error())) return std::move(pass).error();
+    if (votes.disagreed()) noise_seen_ = true;  // one position read two ways: bits flip
+    const int need = agreeing_reads();
     const std::size_t done = votes.decided_count(need);
     if (done == chunks) {
       if (votes.disagreed()) ++stats_.disagreements;

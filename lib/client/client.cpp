@@ -1,5 +1,6 @@
 #include "client/client.hpp"
 
+#include <algorithm>
 #include <cstdio>
 
 #include "client/internal.hpp"
@@ -104,7 +105,8 @@ bool documented_state(std::uint8_t s) {
 
 int Client::agreeing_reads() const {
   if (opt_.agreeing_reads > 0) return opt_.agreeing_reads;
-  return opt_.checksum.mode == codec::ChecksumMode::none && !opt_.link_has_parity ? 2 : 1;
+  if (opt_.checksum.mode != codec::ChecksumMode::none || opt_.link_has_parity) return 1;
+  return noise_seen_ ? std::max(2, opt_.noisy_agreeing_reads) : 2;
 }
 
 Result<void> Client::settle_line() {
@@ -174,6 +176,7 @@ Result<Telegram> Client::transact(const Telegram& req_in, Millis timeout, bool i
       while (auto item = decoder_.next()) {
         if (!item->ok()) {
           ++stats_.bad_frames;
+          noise_seen_ = true;
           garbled = std::move(*item).error();
           continue;
         }
@@ -225,6 +228,7 @@ Result<Telegram> Client::transact(const Telegram& req_in, Millis timeout, bool i
         // one), the same state twice in a row for the drive's answer.
         if (!documented_state(s)) {
           ++stats_.undocumented_states;
+          noise_seen_ = true;
           refusal.message = "drive " + hexid("%02Xh", opt_.id) + " answered " + describe(req) +
                             refused_subject(req) + " with communication state " +
                             hexid("%02Xh", s) + ", which seed 003 §16.1 does not list";
@@ -247,9 +251,11 @@ Result<Telegram> Client::transact(const Telegram& req_in, Millis timeout, bool i
     }
     if (auto partial = decoder_.flush_idle()) {
       ++stats_.bad_frames;
+      noise_seen_ = true;
       garbled = std::move(*partial);
     }
     if (garbled) {
+      noise_seen_ = true;
       last = Error(garbled->code, "no valid answer from drive " + hexid("%02Xh", opt_.id) + " to " +
                                       describe(req) + ": " + garbled->message);
     } else {

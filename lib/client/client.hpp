@@ -67,6 +67,13 @@ struct ClientOptions {
   // else 1. The tools' sessions (ops::open_session) use 0; a bare Client
   // reads once unless told.
   int agreeing_reads = 1;
+  // Automatic mode only: once the link has shown that it corrupts answers (a
+  // garbled frame, reads of one value that disagreed), this many reads must
+  // agree from then on. Two answers can carry the same flipped value bit (on a
+  // line flipping 3 % of answers about once per 150,000 reads: a wrong file
+  // in about one of 200 backups); a third agreeing read makes that a triple
+  // coincidence. 2 keeps the old behaviour.
+  int noisy_agreeing_reads = 3;
   bool link_has_parity = false;  // set by whoever opens the link (parity even/odd)
   // A block or list transfer restarts from its setup/start telegram as long as
   // the restarts make progress: it gives up after `read_retries` + 1 passes in
@@ -97,6 +104,7 @@ struct Stats {
   std::uint64_t writes_confirmed = 0;  // write answers lost, effect confirmed by reading back
   std::uint64_t extra_reads = 0;       // reads made to confirm a value (agreeing_reads > 1)
   std::uint64_t disagreements = 0;     // values whose reads disagreed (a tie broken by more reads)
+  std::uint64_t third_reads = 0;       // reads of one value beyond the second (noisy line, ties)
   std::uint64_t block_passes = 0;      // passes of block reads (1 per block on a clean line)
   std::uint64_t block_rewrites = 0;    // block writes restarted from their setup telegram
   std::uint64_t undocumented_states = 0;  // answers with a state the manual does not list
@@ -144,8 +152,11 @@ class Client {
   void set_options(const ClientOptions& o) { opt_ = o; }
   const Stats& stats() const { return stats_; }
   const ProbeForms& probe_forms() const { return forms_; }
-  // Reads per value actually used (agreeing_reads resolved).
+  // Reads per value actually used (agreeing_reads resolved; in automatic mode
+  // it rises to noisy_agreeing_reads once the line has shown corruption).
   int agreeing_reads() const;
+  // The line has shown corruption (garbled frames, disagreeing reads).
+  bool noise_seen() const { return noise_seen_; }
   transport::Transport& link() { return link_; }
 
   // Sends `req` and waits for the answer the request's group defines.
@@ -253,7 +264,8 @@ class Client {
   ClientOptions opt_;
   codec::StreamDecoder decoder_;
   Stats stats_;
-  bool unsettled_ = false;  // the last exchange ended without its answer
+  bool unsettled_ = false;   // the last exchange ended without its answer
+  bool noise_seen_ = false;  // corruption seen on this link (agreeing_reads)
   ProbeForms forms_;
   std::string long_wait_;  // what a long operation in flight waits for (transact_long)
 };

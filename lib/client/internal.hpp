@@ -77,21 +77,28 @@ namespace lmcfg::client {
 // read required this is just `read()`.
 template <class T, class F>
 Result<T> Client::agreed(F&& read) {
-  const int need = agreeing_reads();
   std::vector<Result<T>> seen;
   int link_failures = 0;
-  const int max_reads = need + 2 + opt_.read_retries;
-  for (int i = 0; i < max_reads; ++i) {
+  // The limit grows by one if the line shows corruption during this value.
+  const auto max_reads = [&] { return agreeing_reads() + 2 + opt_.read_retries; };
+  for (int i = 0; i < max_reads(); ++i) {
     if (i > 0) ++stats_.extra_reads;
+    if (i >= 2) ++stats_.third_reads;
     Result<T> r = read();
     if (!r.ok() && r.error().code.category() != comm_state_category()) {
-      // A read that failed on the link (after the transact's retries) gets
+      // A read that failed on the link (after the transact's own retries) gets
       // one more chance from the same budget; a second one ends it.
       if (!detail::is_link_error(r.error()) || link_failures++ > 0) return r;
       continue;
     }
     int count = 1;
-    for (const auto& s : seen) count += detail::same_answer(s, r) ? 1 : 0;
+    for (const auto& s : seen) {
+      if (detail::same_answer(s, r))
+        ++count;
+      else
+        noise_seen_ = true;  // reads of one value disagreed: the line flips bits
+    }
+    const int need = agreeing_reads();
     if (count >= need) {
       if (static_cast<int>(seen.size()) + 1 > need) ++stats_.disagreements;
       return r;
@@ -100,7 +107,7 @@ Result<T> Client::agreed(F&& read) {
   }
   ++stats_.disagreements;
   return Error(Errc::unexpected_response,
-               "no " + std::to_string(need) + " of " + std::to_string(max_reads) +
+               "no " + std::to_string(agreeing_reads()) + " of " + std::to_string(max_reads()) +
                    " reads agreed (no checksum on this link: a flipped bit cannot be detected)");
 }
 

@@ -5,6 +5,7 @@
 // passes go on while they make progress (RestartBudget). Where nothing on the
 // link detects a flipped bit (agreeing_reads() > 1), a list counts only when
 // that many complete passes are identical.
+#include <algorithm>
 #include <cstdio>
 
 #include "client/client.hpp"
@@ -108,7 +109,11 @@ Result<std::vector<ModifiedParam>> Client::modified_list(int layer) {
       if (pass.odd_end && (!pass.params.empty() || opt_.confirm_empty_lists))
         need = std::max(need, 2);
       int count = 1;
-      for (const auto& c : complete) count += c == pass.params ? 1 : 0;
+      for (const auto& c : complete) {
+        count += c == pass.params ? 1 : 0;
+        if (!(c == pass.params)) noise_seen_ = true;
+      }
+      need = std::max(need, agreeing_reads());
       if (count >= need) {
         if (static_cast<int>(complete.size()) + 1 > need) ++stats_.disagreements;
         return std::move(pass.params);
@@ -181,9 +186,12 @@ Result<std::vector<UpidInfo>> Client::upid_list(int layer,
     if (!failed && !ended)
       return Error(Errc::unexpected_response, "UPID list did not end (no C6 after 3840 entries)");
     if (!failed) {
-      const int need = agreeing_reads();
       int count = 1;
-      for (const auto& c : complete) count += c == out ? 1 : 0;
+      for (const auto& c : complete) {
+        count += c == out ? 1 : 0;
+        if (!(c == out)) noise_seen_ = true;
+      }
+      const int need = agreeing_reads();
       if (count >= need) {
         if (static_cast<int>(complete.size()) + 1 > need) ++stats_.disagreements;
         return out;

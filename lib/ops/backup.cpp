@@ -200,10 +200,15 @@ Result<config::DriveConfig> backup(client::Client& c, const BackupOptions& opt,
     r.reads_per_value = c.agreeing_reads();
     r.empty_curve_form = c.probe_forms().empty_curve;
     r.empty_ct_form = c.probe_forms().empty_ct_entry;
-    if (r.reads_per_value > 1) {
+    if (r.reads_per_value == 2) {
       r.notes.push_back(
           "no checksum on this link: each value read twice; enable CRC on the drive (§15) to halve "
           "backup time");
+    } else if (r.reads_per_value > 2) {
+      r.notes.push_back(
+          "no checksum on this link, and it corrupted answers: each value read until " +
+          std::to_string(r.reads_per_value) +
+          " reads agreed; enable CRC on the drive (§15) to read each value once");
     }
     if (r.empty_curve_form && *r.empty_curve_form != 0) {
       r.notes.push_back("this drive answers a probe of an empty curve ID with " +

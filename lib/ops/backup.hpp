@@ -27,7 +27,8 @@ using Progress = std::function<void(const std::string& phase, std::size_t done, 
 
 // What a backup found out about the link and the drive, for the report.
 struct BackupReport {
-  int reads_per_value = 1;  // 2: no checksum and no parity, each value confirmed by a second read
+  int reads_per_value = 1;  // 2: no checksum and no parity, each value confirmed by a second read;
+                            // 3: such a link that showed corruption (a third agreeing read)
   // How the drive answers a probe of an empty curve ID / undefined CT entry
   // (00h: zero size; else the error state), when a probe found nothing.
   std::optional<std::uint8_t> empty_curve_form, empty_ct_form;

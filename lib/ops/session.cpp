@@ -1,6 +1,7 @@
 #include "ops/session.hpp"
 
 #include <filesystem>
+#include <optional>
 
 #include "sim/link.hpp"
 #include "sim/state_file.hpp"
@@ -97,8 +98,10 @@ namespace {
 class LinkSession final : public Session {
  public:
   LinkSession(LinkOptions opt, std::unique_ptr<transport::Transport> link, sim::SimLink* sim,
-              std::shared_ptr<sim::Drive> sim_drive, std::string sim_path)
-      : opt_(std::move(opt)),
+              std::shared_ptr<sim::Drive> sim_drive, std::string sim_path,
+              std::optional<transport::LowLatencyReport> latency)
+      : latency_(std::move(latency)),
+        opt_(std::move(opt)),
         link_(std::move(link)),
         sim_(sim),
         sim_drive_(std::move(sim_drive)),
@@ -118,6 +121,9 @@ class LinkSession final : public Session {
   }
 
   transport::SerialSettings line() const override { return opt_.serial; }
+  const transport::LowLatencyReport* low_latency() const override {
+    return latency_ ? &*latency_ : nullptr;
+  }
 
   Result<void> relink(const transport::SerialSettings& line, std::uint8_t id,
                       const codec::ChecksumConfig& checksum) override {
@@ -149,6 +155,7 @@ class LinkSession final : public Session {
   }
 
  private:
+  std::optional<transport::LowLatencyReport> latency_;
   LinkOptions opt_;
   std::unique_ptr<transport::Transport> link_;
   sim::SimLink* sim_;
@@ -168,6 +175,7 @@ Result<std::unique_ptr<Session>> open_session(const LinkOptions& opt_in) {
   sim::SimLink* sim = nullptr;
   std::shared_ptr<sim::Drive> drive;
   std::string sim_path;
+  std::optional<transport::LowLatencyReport> latency;
   if (opt.port.rfind("sim:", 0) == 0) {
     sim_path = opt.port.substr(4);
     LMCFG_ASSIGN_OR_RETURN(auto state, sim::load_state(sim_path));
@@ -203,7 +211,9 @@ Result<std::unique_ptr<Session>> open_session(const LinkOptions& opt_in) {
       return Error(Errc::invalid_argument,
                    "port '" + opt.port + "' is a directory, not a serial device");
     }
-    LMCFG_ASSIGN_OR_RETURN(link, transport::open_serial(opt.serial));
+    transport::LowLatencyReport report;
+    LMCFG_ASSIGN_OR_RETURN(link, transport::open_serial(opt.serial, &report));
+    latency = std::move(report);
   }
   if (!opt.trace_path.empty()) {
     std::shared_ptr<transport::TraceSink> sink = transport::make_file_trace(opt.trace_path);
@@ -215,8 +225,9 @@ Result<std::unique_ptr<Session>> open_session(const LinkOptions& opt_in) {
   opt.client.link_has_parity = opt.serial.parity != transport::Parity::none;
   opt.client.agreeing_reads =
       0;  // automatic: two agreeing reads when nothing detects a flipped bit
-  return std::unique_ptr<Session>(std::make_unique<LinkSession>(
-      std::move(opt), std::move(link), sim, std::move(drive), std::move(sim_path)));
+  return std::unique_ptr<Session>(
+      std::make_unique<LinkSession>(std::move(opt), std::move(link), sim, std::move(drive),
+                                    std::move(sim_path), std::move(latency)));
 }
 
 }  // namespace lmcfg::ops

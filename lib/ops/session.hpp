@@ -61,6 +61,9 @@ class Session {
   // the client takes the new MACID and checksum.
   virtual Result<void> relink(const transport::SerialSettings& line, std::uint8_t id,
                               const codec::ChecksumConfig& checksum) = 0;
+  // What opening a serial port found about its receive latency (USB adapters'
+  // latency timer); nullptr for TCP and sim: ports.
+  virtual const transport::LowLatencyReport* low_latency() const { return nullptr; }
 };
 
 Result<std::unique_ptr<Session>> open_session(const LinkOptions& opt);

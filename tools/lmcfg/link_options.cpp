@@ -10,6 +10,7 @@
 
 #include "command.hpp"
 #include "common/layers.hpp"
+#include "ops/link_advice.hpp"
 
 namespace lmcfg::cli {
 
@@ -39,7 +40,12 @@ void add_link_options(CLI::App* sub, CommonOptions& o) {
       ->capture_default_str();
   sub->add_option("--retries", o.retries, "retries of a read after a lost or garbled answer")
       ->capture_default_str();
+  sub->add_option("--long-timeout-s", o.long_timeout_s,
+                  "deadline of each long operation (defaulting a layer, flash save, reset, MC "
+                  "start) in seconds; default: defaulting 60, flash save 30, reset and MC start 6");
   sub->add_option("--trace", o.trace, "write every telegram as timestamped hex to FILE");
+  sub->add_flag("--verbose", o.verbose,
+                "link errors: the protocol detail too, after the advice on what to change");
 }
 
 void add_output_options(CLI::App* sub, CommonOptions& o) {
@@ -50,6 +56,30 @@ void add_output_options(CLI::App* sub, CommonOptions& o) {
       "UPID database (default: $LMCFG_UPID_DB, else lmcfg-upid.sqlite next to lmcfg, else "
       "../share/lmcfg/)");
 }
+
+namespace {
+// Progress of a long operation on stderr: on a terminal every second on one
+// line; otherwise one line after 5 s and every 5 s after that (logs).
+std::function<void(const std::string&, transport::Millis)> long_wait_reporter(
+    const client::ClientOptions& c) {
+  const bool tty = ::isatty(STDERR_FILENO) != 0;
+  const long long def_s = c.defaulting_timeout.count() / 1000,
+                  flash_s = c.flash_timeout.count() / 1000,
+                  reset_s = c.reset_timeout.count() / 1000;
+  return [=](const std::string& what, transport::Millis waited) {
+    const long long s = waited.count() / 1000;
+    const long long limit = what.rfind("defaulting", 0) == 0          ? def_s
+                            : what.find("flash") != std::string::npos ? flash_s
+                                                                      : reset_s;
+    if (tty) {
+      std::fprintf(stderr, "\r%s: %lld s (waiting up to %lld s) ", what.c_str(), s, limit);
+    } else if (s >= 5 && s % 5 == 0) {
+      std::fprintf(stderr, "lmcfg: still %s: %lld s (waiting up to %lld s; --long-timeout-s)\n",
+                   what.c_str(), s, limit);
+    }
+  };
+}
+}  // namespace
 
 Result<ops::LinkOptions> link_options(const CommonOptions& o) {
   ops::LinkOptions l;
@@ -93,6 +123,15 @@ Result<ops::LinkOptions> link_options(const CommonOptions& o) {
   }
   l.client.timeout = transport::Millis(o.timeout_ms);
   l.client.read_retries = o.retries;
+  if (o.long_timeout_s < 0 || o.long_timeout_s > 3600) {
+    return Error(Errc::invalid_argument,
+                 "--long-timeout-s " + std::to_string(o.long_timeout_s) + " is outside 1..3600");
+  }
+  if (o.long_timeout_s > 0) {
+    const transport::Millis t(1000LL * o.long_timeout_s);
+    l.client.defaulting_timeout = l.client.flash_timeout = l.client.reset_timeout = t;
+  }
+  if (!o.quiet && !o.json) l.client.on_long_wait = long_wait_reporter(l.client);
   return l;
 }
 
@@ -130,9 +169,51 @@ Result<ops::RelinkOverrides> relink_overrides(const ReconnectOptions& o) {
   return r;
 }
 
+namespace {
+// The session open_link opened last, while it lives, for fail()'s advice.
+struct OpenLink {
+  ops::Session* session = nullptr;
+  std::string port;
+  bool verbose = false;
+};
+OpenLink& open_link_state() {
+  static OpenLink s;
+  return s;
+}
+
+// Forwards to the session and registers it while it lives.
+class TrackedSession final : public ops::Session {
+ public:
+  TrackedSession(std::unique_ptr<ops::Session> s, const CommonOptions& o) : s_(std::move(s)) {
+    open_link_state() = OpenLink{this, o.port, o.verbose};
+  }
+  ~TrackedSession() override {
+    if (open_link_state().session == this) open_link_state() = OpenLink{};
+  }
+  client::Client& client() override { return s_->client(); }
+  sim::SimLink* sim_link() override { return s_->sim_link(); }
+  Result<void> close() override { return s_->close(); }
+  std::string describe() const override { return s_->describe(); }
+  config::LinkSettings link_settings() const override { return s_->link_settings(); }
+  transport::SerialSettings line() const override { return s_->line(); }
+  const transport::LowLatencyReport* low_latency() const override { return s_->low_latency(); }
+  Result<void> relink(const transport::SerialSettings& line, std::uint8_t id,
+                      const codec::ChecksumConfig& checksum) override {
+    return s_->relink(line, id, checksum);
+  }
+
+ private:
+  std::unique_ptr<ops::Session> s_;
+};
+}  // namespace
+
 Result<std::unique_ptr<ops::Session>> open_link(const CommonOptions& o) {
   LMCFG_ASSIGN_OR_RETURN(auto l, link_options(o));
-  return ops::open_session(l);
+  LMCFG_ASSIGN_OR_RETURN(auto s, ops::open_session(l));
+  // A USB adapter whose latency timer stays above 2 ms: said once, with the fix.
+  if (const auto* lat = s->low_latency(); lat && !lat->advice.empty() && !o.quiet)
+    std::fprintf(stderr, "lmcfg: %s\n", lat->advice.c_str());
+  return std::unique_ptr<ops::Session>(std::make_unique<TrackedSession>(std::move(s), o));
 }
 
 const db::Database* load_database(const CommonOptions& o, std::optional<db::Database>& holder) {
@@ -270,6 +351,14 @@ int exit_code_for(const Error& e) {
 }
 
 int fail(const char* command, const Error& e) {
+  auto& link = open_link_state();
+  if (link.session && ops::settings_suspect(*link.session, e)) {
+    if (auto advice = ops::link_advice(*link.session, link.port)) {
+      if (link.verbose) *advice += " (detail: " + e.message + ")";
+      std::fprintf(stderr, "lmcfg %s: %s\n", command, advice->c_str());
+      return exit_code_for(e);
+    }
+  }
   std::fprintf(stderr, "lmcfg %s: %s\n", command, e.message.c_str());
   return exit_code_for(e);
 }

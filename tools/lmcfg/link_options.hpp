@@ -24,14 +24,16 @@ struct CommonOptions {
   std::string response_layout = "auto";
   int timeout_ms = 200;
   int retries = 2;
+  int long_timeout_s = 0;  // 0: the client's defaults (defaulting 60 s, flash 30 s, reset 6 s)
   std::string trace;
   bool quiet = false;
   bool json = false;
+  bool verbose = false;  // link errors keep their protocol detail
   std::string db_path;
 };
 
 // --port, --baud, --parity, --stop-bits, --id, --checksum, --checksum-coverage,
-// --timeout-ms, --retries, --trace.
+// --timeout-ms, --retries, --long-timeout-s, --trace, --verbose.
 void add_link_options(CLI::App* sub, CommonOptions& o);
 // --quiet, --json, --db.
 void add_output_options(CLI::App* sub, CommonOptions& o);
@@ -65,6 +67,9 @@ Result<std::array<bool, 4>> parse_layers(const std::string& text);
 Result<void> check_output_path(const std::string& path, const std::string& option);
 
 // "lmcfg backup: <message>" on stderr; returns the exit code for the error.
+// A link failure of a session opened by open_link (still alive) before the
+// drive ever answered is replaced by advice naming the likely wrong setting
+// (ops::link_advice); --verbose appends the protocol detail.
 int fail(const char* command, const Error& e);
 int exit_code_for(const Error& e);
 

@@ -1,0 +1,88 @@
+#include "ops/link_advice.hpp"
+
+#include <cstdio>
+
+#include "ops/scan.hpp"
+
+namespace lmcfg::ops {
+
+bool settings_suspect(Session& session, const Error& e) {
+  if (e.code.category() != lmcfg_category()) return false;
+  switch (static_cast<Errc>(e.code.value())) {
+    case Errc::timeout:
+    case Errc::frame_short:
+    case Errc::frame_overlong:
+    case Errc::frame_malformed:
+    case Errc::checksum_mismatch:
+    case Errc::unexpected_response:
+      break;
+    default:
+      return false;
+  }
+  return session.client().stats().answers == 0;
+}
+
+namespace {
+std::string hex_id(unsigned id, const char* fmt) {
+  char b[16];
+  std::snprintf(b, sizeof b, fmt, id);
+  return b;
+}
+}  // namespace
+
+std::optional<std::string> link_advice(Session& session, const std::string& port) {
+  const std::uint8_t id = session.client().options().id;
+  const codec::ChecksumConfig chk = session.client().options().checksum;
+  const transport::SerialSettings line = session.line();
+  const std::string at = " at " + std::to_string(line.baud) + " Bd";
+  const std::string scan_hint = "run `lmcfg scan --port " + port + "`";
+  ScanOptions so;
+  so.bauds = {line.baud};
+  so.first_id = so.last_id = id;
+  so.checksum = chk;
+  so.try_parities = false;  // a pty cannot change parity; parity is named in the advice
+  auto mine = scan(session, so);
+  if (!mine.ok()) return std::nullopt;
+  for (const auto& f : mine->found) {
+    if (f.checksum == chk) continue;
+    return "answers fail their checksum: the drive seems to use checksum " +
+           checksum_name(f.checksum) + ": try " + checksum_options(f.checksum);
+  }
+  std::size_t garbled = 0;
+  for (const auto& p : mine->passes) garbled += p.unexplained_bytes;
+  if (garbled > 0) {
+    return "the drive's answers" + at + " arrive garbled: check --parity and --stop-bits " +
+           "(factory setting 8N1) and --baud, or " + scan_hint;
+  }
+  // Silent at this MACID: is any drive on this line at this rate?
+  so.first_id = 0;
+  so.last_id = 255;
+  auto all = scan(session, so);
+  if (all.ok() && !all->found.empty()) {
+    const FoundDrive* f = &all->found.front();
+    for (const auto& g : all->found)
+      if (g.id == id) f = &g;
+    if (f->id == id) {
+      return "answers fail their checksum: the drive seems to use checksum " +
+             checksum_name(f->checksum) + ": try " + checksum_options(f->checksum);
+    }
+    std::string s = "no answer from MACID " + hex_id(id, "%02Xh") + at +
+                    ", but a drive answers as MACID " + hex_id(f->id, "%02Xh") + ": try --id " +
+                    hex_id(f->id, "0x%02X");
+    if (!(f->checksum == chk)) s += " " + checksum_options(f->checksum);
+    return s;
+  }
+  if (all.ok()) {
+    std::size_t heard = 0;
+    for (const auto& p : all->passes) heard += p.unexplained_bytes;
+    if (heard > 0)
+      return "the line" + at +
+             " carries bytes no setting explains: check --baud, --parity and "
+             "--stop-bits, or " +
+             scan_hint;
+  }
+  return "no answer from MACID " + hex_id(id, "%02Xh") + at + ": check --id and --baud (and " +
+         "--parity), or " + scan_hint + " to try every MACID and rate";
+}
+
+}  // namespace lmcfg::ops
