@@ -108,6 +108,15 @@ TEST_CASE(
   REQUIRE(j["passes"].size() == 6);
   CHECK(j["passes"][0]["line"] == "57600 8N1");
   CHECK(j["passes"][1]["line"] == "115200 8N1");
+  {  // the report's shape: schemas/report-scan.schema.json, checked by ajv
+    std::ofstream(d.path / "scan.json") << all.out;
+    const auto ajv = fs::path(LMCFG_SOURCE_DIR) / "tools/node/node_modules/.bin/ajv";
+    const auto schema = fs::path(LMCFG_SOURCE_DIR) / "schemas/report-scan.schema.json";
+    CHECK(std::system(("'" + ajv.string() + "' validate --spec=draft2020 --strict=true -s '" +
+                       schema.string() + "' -d '" + (d.path / "scan.json").string() +
+                       "' >/dev/null 2>&1")
+                          .c_str()) == 0);
+  }
   WARN("scan of every rate over a pty: " << all.seconds << " s");
 }
 

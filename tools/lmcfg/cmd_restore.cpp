@@ -39,6 +39,9 @@ void report_json(const ops::RestoreOutcome& out, const std::string& file) {
 }
 
 int run(RestoreCli& o) {
+  // From the start: a signal before the link opens stops the plan before its
+  // first telegram, with the message and exit 130, instead of killing silently.
+  ops::install_interrupt_handlers();
   using S = ops::RestoreOutcome::Stage;
   // The file first: a bad file never opens the link, so nothing is written.
   auto file = config::read_config_file(o.file);
@@ -49,7 +52,6 @@ int run(RestoreCli& o) {
   if (!overrides.ok()) return fail("restore", overrides.error());
   auto session = open_link(o.common);
   if (!session.ok()) return fail("restore", session.error());
-  ops::install_interrupt_handlers();
   auto& client = (*session)->client();
   auto copt = client.options();
   copt.cancel = &ops::interrupt_flag();
