@@ -13,7 +13,9 @@ namespace lmcfg::ops {
 std::atomic<bool>& interrupt_flag();
 
 // Installs SIGINT and SIGTERM handlers that set interrupt_flag(). A second
-// signal while the flag is already set ends the process at once (exit 130).
+// signal more than a second after the first ends the process at once (exit
+// 130); one sooner is taken as the same Ctrl-C delivered twice (GNU timeout
+// signals the process and its group).
 void install_interrupt_handlers();
 
 }  // namespace lmcfg::ops
