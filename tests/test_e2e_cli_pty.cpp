@@ -16,6 +16,7 @@
 #include "common/bytes.hpp"
 #include "e2e_support.hpp"
 #include "subprocess.hpp"
+#include "trace_support.hpp"
 
 using namespace lmcfg;
 namespace fs = std::filesystem;
@@ -112,31 +113,6 @@ TEST_CASE("e2e over TCP on loopback: backup through a serial-gateway style link"
   fs::remove_all(dir);
 }
 
-namespace {
-
-// Write telegrams among the TX lines of a --trace file ("<t> TX <hex>").
-std::size_t trace_writes(const fs::path& trace) {
-  std::ifstream in(trace);
-  std::string line;
-  codec::StreamDecoder dec;
-  std::size_t writes = 0;
-  while (std::getline(in, line)) {
-    std::istringstream ls(line);
-    std::string t, dir, hex;
-    ls >> t >> dir;
-    if (dir != "TX") continue;
-    std::getline(ls, hex);
-    auto bytes = from_hex(hex);
-    REQUIRE(bytes.has_value());
-    dec.feed(*bytes);
-    while (auto item = dec.next())
-      if (item->ok() && client::is_write_request(item->value())) ++writes;
-  }
-  return writes;
-}
-
-}  // namespace
-
 TEST_CASE(
     "e2e over pty: restore checks the target's max, does nothing on a matching drive, and "
     "stops on SIGINT with exit 130 and converges when run again",
@@ -165,7 +141,7 @@ TEST_CASE(
                        " --trace " + trace.string() + " 2>" + err.string() + " >/dev/null")
                           .c_str()) == 3 * 256);
     CHECK(slurp(err).find("MC 13A2h") != std::string::npos);
-    CHECK(trace_writes(trace) == 0);
+    CHECK(test::traced_writes(trace) == 0);
   }
 
   const auto same = dir / "same.trace";
@@ -174,7 +150,7 @@ TEST_CASE(
                      same.string() + " >" + out.string() + " 2>/dev/null")
                         .c_str()) == 0);
   CHECK(slurp(out) == "nothing to do: the drive already matches " + file + "\n");
-  CHECK(trace_writes(same) == 0);
+  CHECK(test::traced_writes(same) == 0);
 
   // The spare is served with the modelled delays (flash save, reset), so a
   // restore takes seconds: SIGINT at several points, each followed by a rerun.

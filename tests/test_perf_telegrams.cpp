@@ -101,14 +101,15 @@ void check_against_model(const Counted& n, const benchwire::RestoreCost& m,
   CHECK(near(n.plan, m.plan.telegrams + empty_list_confirmations(target)));
   CHECK(near(n.execute, m.execute.telegrams));
   CHECK(near(n.verify, m.verify.telegrams));
-  std::printf("restore telegrams: plan %llu (model %llu), execute %llu (model %llu), verify %llu "
-              "(model %llu)\n",
-              static_cast<unsigned long long>(n.plan),
-              static_cast<unsigned long long>(m.plan.telegrams + empty_list_confirmations(target)),
-              static_cast<unsigned long long>(n.execute),
-              static_cast<unsigned long long>(m.execute.telegrams),
-              static_cast<unsigned long long>(n.verify),
-              static_cast<unsigned long long>(m.verify.telegrams));
+  std::printf(
+      "restore telegrams: plan %llu (model %llu), execute %llu (model %llu), verify %llu "
+      "(model %llu)\n",
+      static_cast<unsigned long long>(n.plan),
+      static_cast<unsigned long long>(m.plan.telegrams + empty_list_confirmations(target)),
+      static_cast<unsigned long long>(n.execute),
+      static_cast<unsigned long long>(m.execute.telegrams),
+      static_cast<unsigned long long>(n.verify),
+      static_cast<unsigned long long>(m.verify.telegrams));
 }
 
 std::map<std::uint16_t, std::uint32_t> modified(const sim::DriveState& s) {

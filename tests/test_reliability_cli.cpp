@@ -18,8 +18,11 @@
 #include "common/bytes.hpp"
 #include "common/result.hpp"
 #include "sim/state_file.hpp"
+#include "trace_support.hpp"
 
 using namespace lmcfg;
+using test::traced_requests;
+using test::traced_writes;
 namespace fs = std::filesystem;
 
 namespace {
@@ -63,28 +66,6 @@ Run tool(const fs::path& dir, const std::string& args) {
   r.err = slurp(dir / "stderr.txt");
   r.out = slurp(dir / "stdout.txt");
   return r;
-}
-
-// Write telegrams among the TX lines of a --trace file ("<t> TX <hex>").
-std::size_t traced_writes(const fs::path& trace) {
-  std::ifstream in(trace);
-  std::string line;
-  codec::StreamDecoder dec;
-  std::size_t writes = 0;
-  while (std::getline(in, line)) {
-    std::istringstream ls(line);
-    std::string t, dir;
-    ls >> t >> dir;
-    if (dir != "TX") continue;
-    std::string hex;
-    std::getline(ls, hex);
-    auto bytes = from_hex(hex);
-    REQUIRE(bytes.has_value());
-    dec.feed(*bytes);
-    while (auto item = dec.next())
-      if (item->ok() && client::is_write_request(item->value())) ++writes;
-  }
-  return writes;
 }
 
 struct TempDir {
@@ -397,28 +378,6 @@ TEST_CASE("cli: get and set ask the drive what the database does not know, and s
 // ---- Restore you can trust (seed 003 §10, §11, §12; docs/restore.md) ----
 
 namespace {
-
-// The TX telegrams of a --trace file, decoded.
-std::vector<codec::Telegram> traced_requests(const fs::path& trace) {
-  std::ifstream in(trace);
-  std::string line;
-  codec::StreamDecoder dec;
-  std::vector<codec::Telegram> out;
-  while (std::getline(in, line)) {
-    std::istringstream ls(line);
-    std::string t, dir;
-    ls >> t >> dir;
-    if (dir != "TX") continue;
-    std::string hex;
-    std::getline(ls, hex);
-    auto bytes = from_hex(hex);
-    REQUIRE(bytes.has_value());
-    dec.feed(*bytes);
-    while (auto item = dec.next())
-      if (item->ok()) out.push_back(item->value());
-  }
-  return out;
-}
 
 std::size_t count_requests(const std::vector<codec::Telegram>& ts, std::uint8_t main,
                            std::optional<std::uint8_t> sub = std::nullopt, bool writes = false) {

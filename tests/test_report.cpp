@@ -341,8 +341,8 @@ TEST_CASE("report of a large configuration: size, time, every setpoint, in a bro
   // The < 2 s load goal is measured by build/bench/lmcfg_bench_report, which
   // prints its figures (docs/performance.md); a timed check here failed on a
   // loaded CI-like machine (2.3 s best of five) and speed is not a unit test's verdict.
-  WARN("large report in Chromium: load event " << j["load_ms"] << " ms, rendered "
-                                               << j["render_ms"] << " ms");
+  WARN("large report in Chromium: load event " << j["load_ms"] << " ms, rendered " << j["render_ms"]
+                                               << " ms");
   check_param_rows(j, {&cfg});
   REQUIRE(j["params"].size() == 5000);
   check_curves(j, cfg, nullptr);

@@ -389,6 +389,8 @@ void diff_metadata(const config::Identity& a, const config::Identity& b, const D
   }
 }
 
+}  // namespace
+
 const char* kind_name(DiffItem::Kind k) {
   switch (k) {
     case DiffItem::Kind::metadata:
@@ -404,8 +406,6 @@ const char* kind_name(DiffItem::Kind k) {
   }
   return "";
 }
-
-}  // namespace
 
 config::DriveConfig factory_defaults_config() {
   config::DriveConfig c;

@@ -47,6 +47,8 @@ struct DiffItem {
   std::string a_invalid, b_invalid;
   std::string a_type, b_type;
 };
+// "metadata", "parameter", "curve", "ct_entry", "scope": the `kind` of diff --json.
+const char* kind_name(DiffItem::Kind k);
 
 struct DiffResult {
   config::Scope scope_a, scope_b;

@@ -82,22 +82,6 @@ std::string hex4(std::uint32_t v) {
   return b;
 }
 
-std::string kind_name(DiffItem::Kind k) {
-  switch (k) {
-    case DiffItem::Kind::metadata:
-      return "metadata";
-    case DiffItem::Kind::parameter:
-      return "parameter";
-    case DiffItem::Kind::curve:
-      return "curve";
-    case DiffItem::Kind::ct_entry:
-      return "ct_entry";
-    case DiffItem::Kind::scope:
-      return "scope";
-  }
-  return "";
-}
-
 std::string diff_key(const DiffItem& it) {
   std::string key;
   switch (it.kind) {
@@ -111,7 +95,8 @@ std::string diff_key(const DiffItem& it) {
     default:
       key = html_escape(it.name);
   }
-  std::string s = " data-kind=\"" + kind_name(it.kind) + "\" data-key=\"" + key + "\"";
+  std::string s =
+      " data-kind=\"" + std::string(ops::kind_name(it.kind)) + "\" data-key=\"" + key + "\"";
   if (it.kind == DiffItem::Kind::parameter)
     s += " data-layer=\"" + std::string(config::layer_name(it.layer)) + "\"";
   return s;
@@ -454,7 +439,7 @@ void summary(std::string& out, const config::DriveConfig& a, const config::Drive
     } else if (it.kind == DiffItem::Kind::ct_entry) {
       in_a = a.find_ct_entry(it.key), in_b = b.find_ct_entry(it.key);
     }
-    ++n[kind_name(it.kind)][in_a && in_b ? 0 : in_b ? 1 : 2];
+    ++n[ops::kind_name(it.kind)][in_a && in_b ? 0 : in_b ? 1 : 2];
   }
   out +=
       "<table class=\"summary\"><thead><tr><th>differences</th><th class=\"num\">changed</th>"

@@ -16,7 +16,6 @@ namespace lmcfg::ops::report_parts {
 std::string hex4(std::uint32_t v);
 // ' class="... diff" data-kind="parameter" data-key="13A2"' for a DiffItem.
 std::string diff_key(const DiffItem& it);
-std::string kind_name(DiffItem::Kind k);
 
 // The <defs> every plot refers to (setpoint markers of side A and B).
 std::string curve_defs();
