@@ -14,6 +14,7 @@ packages=(
   libxml2-utils                                   # xmllint: validates the XSD in tests
   nodejs npm                                      # ajv-cli: validates the JSON Schema in tests
   clang libclang-rt-14-dev                        # libFuzzer targets with sanitizers
+  clang-format                                    # scripts/check-format.sh (CI)
   help2man man-db groff-base bsdextrautils        # man page: generate, render (man -l), col -b
   bash-completion                                 # completion test
   dpkg-dev file debootstrap                       # cpack -G DEB (dpkg-shlibdeps), scripts/test-deb.sh

@@ -50,7 +50,9 @@ TEST_CASE("compiler reports malformed parameter rows with file:line:column", "[d
                  prow("13A5", "*", "MC", "UINT16", "") +              // 8 missing source
                  prow("13A2", "e1100", "MC", "UINT16", "s") +         // 9 duplicate
                  prow("0F00", "*", "OS", "UINT16", "s") +             // 10 outside ranges
-                 prow("13A6", "e2200", "MC", "UINT16", "s"));         // 11 unknown profile
+                 prow("13A6", "e2200", "MC", "UINT16", "s") +         // 11 unknown profile
+                 prow("6300", "*", "Other", "UINT16", "s") +          // 12 ok: between ranges
+                 prow("13A7", "*", "Other", "UINT16", "s"));          // 13 Other in a range
   auto out = (dir / "out.sqlite").string();
   write_file(out, "previous");
   auto rep = compile_upid_db(dir.string(), out);
@@ -67,10 +69,10 @@ TEST_CASE("compiler reports malformed parameter rows with file:line:column", "[d
       f + ":7:8: error: layer \"MC\" does not match UPID 2008 (in the Intf range 2000-2EFF)",
       f + ":8:30: error: missing source (provenance) in column 'source'",
       f + ":9:1: error: duplicate UPID 13A2 for profile e1100 (first at parameters.tsv:3)",
-      f + ":10:1: error: UPID 0F00 is outside every layer range (OS 0000-0EFF, MC 1000-1EFF, Intf "
-          "2000-2EFF, Appl "
-          "3000-3EFF)",
+      f + ":10:8: error: UPID 0F00 is outside every layer range (OS 0000-0EFF, MC 1000-1EFF, Intf "
+          "2000-2EFF, Appl 3000-3EFF): its layer must be Other",
       f + ":11:6: error: unknown profile \"e2200\" in column 'profiles' (not in profiles.tsv)",
+      f + ":13:8: error: layer \"Other\" does not match UPID 13A7 (in the MC range 1000-1EFF)",
   };
   CHECK(messages(rep) == expected);
   // Nothing written: the previous file is untouched.
@@ -84,20 +86,26 @@ TEST_CASE("compiler reports header, hex and reference errors in the other tables
   auto dir = scratch_dir("bad-other");
   write_file(dir / "profiles.tsv", "profile\tfamily\tsoftware\tversion\tdescriptoin\tsource\n");
   write_file(dir / "errors.tsv",
-             "domain\tcode\ttext\tdescription\taction\tsource\n"
-             "mc\t000C\tPos Lag\t\t\ts\n"
-             "mc\t00XC\tBad\t\t\ts\n"
-             "mc\t000c\tAgain\t\t\ts\n");
+             "domain\tcode\tclass\ttext\tdescription\taction\tsource\n"
+             "mc\t000C\tErr\tErr: Pos Lag\t\t\ts\n"
+             "mc\t00XC\t\tBad\t\t\ts\n"
+             "mc\t000c\t\tAgain\t\t\ts\n"
+             "mc\t000D\tFatal\tFatal Err: X\t\t\ts\n"
+             "mc\t000E\tUser Err\tErr: Y\t\t\ts\n");
   write_file(dir / "motion_commands.tsv",
              "master\tsub\tname\tproducts\tdescription\tsource\n"
              "01\t0\tVAI Go To Pos\t\t\ts\n"
              "1\t0\tShort\t\t\ts\n");
   write_file(dir / "motion_command_params.tsv",
-             "master\tsub\tindex\toffset\tname\ttype\tunit\tscale\tsource\n"
-             "01\t0\t1\t2\tTarget Position\tSINT32\tmm\t0.0001\ts\n"
-             "02\t0\t1\t2\tX\tSINT32\t\t\ts\n"
-             "01\t0\t2\t32\tY\tSINT32\t\t\ts\n"
-             "01\t0\t3\t6\tZ\tUINT32\tm/s\tfast\ts\n");
+             "master\tsub\tindex\toffset\tname\ttype\tunit\tscale\trange\tmin\tmax\tscaled\tsource\n"
+             "01\t0\t1\t2\tTarget Position\tSINT32\tmm\t0.0001\t\t\t\t\ts\n"
+             "02\t0\t1\t2\tX\tSINT32\t\t\t\t\t\t\ts\n"
+             "01\t0\t2\t32\tY\tSINT32\t\t\t\t\t\t\ts\n"
+             "01\t0\t3\t6\tZ\tUINT32\tm/s\tfast\t\t\t\t\ts\n"
+             "01\t0\t4\t10\tC\tUINT16\t\t\t1..\t\t\t\ts\n"
+             "01\t0\t5\t12\tV\tSINT16\tmm\t\t\t\t\t1\ts\n"
+             "01\t0\t6\t14\tW\tUINT16\t\t\t1..255\t1\t255\t\ts\n"
+             "01\t0\t7\t16\tU\tUINT8\t\t\t1..300\t1\t300\t\ts\n");
   write_file(dir / "notes.tsv", "x\n");
   auto rep = compile_upid_db(dir.string(), "");
   auto p = [&](const char* n) { return (dir / n).string(); };
@@ -111,6 +119,12 @@ TEST_CASE("compiler reports header, hex and reference errors in the other tables
           ":3:4: error: bad hex \"00XC\" in column 'code' (expected 1 to 8 hex digits, e.g. 000C)",
       p("errors.tsv") +
           ":4:4: error: duplicate error code 000c in domain mc (first at errors.tsv:2)",
+      p("errors.tsv") +
+          ":5:9: error: unknown error class \"Fatal\" (expected Err, Fatal Err, Cfg Err, Cfg Err "
+          "(Fatal), User Err, Setup Err, Runtime Err or empty)",
+      p("errors.tsv") +
+          ":6:9: error: error class \"User Err\" is not the prefix of the text \"Err: Y\" (seed "
+          "001 §10 writes the class before a colon)",
       p("motion_commands.tsv") +
           ":3:1: error: bad hex \"1\" in column 'master' (expected 2 hex digits, e.g. 01)",
       p("motion_command_params.tsv") +
@@ -120,6 +134,12 @@ TEST_CASE("compiler reports header, hex and reference errors in the other tables
           "more, with the value ending by byte 34)",
       p("motion_command_params.tsv") +
           ":5:23: error: bad scale \"fast\" (expected a positive decimal number, e.g. 0.0001)",
+      p("motion_command_params.tsv") +
+          ":6:22: error: range \"1..\" needs its lower bound in column 'min'",
+      p("motion_command_params.tsv") +
+          ":7:27: error: a Scaled parameter has no fixed unit (found unit \"mm\")",
+      p("motion_command_params.tsv") +
+          ":9:30: error: max 300 is outside the UINT8 range 0..255",
   };
   CHECK(messages(rep) == expected);
 }

@@ -2,6 +2,7 @@
 // edit of upid-db/*.tsv cannot silently drop rows; upid-db/EXTRACTION.md has
 // the per-section counts) and spot values read off the seeds themselves.
 #include <catch2/catch.hpp>
+#include <map>
 
 #include "db/ct_entry.hpp"
 #include "db/database.hpp"
@@ -20,7 +21,7 @@ const Database& real_db() {
 TEST_CASE("upid-db: row counts of the extraction from seeds 001 and 003", "[db][seed]") {
   const auto& counts = real_db().info().counts;
   CHECK(counts.at("profiles") == 3);
-  CHECK(counts.at("parameters") == 92);  // 82 from seed 001, 10 from seed 003
+  CHECK(counts.at("parameters") == 93);  // 83 from seed 001 (6300h in layer Other), 10 from seed 003
   CHECK(counts.at("errors") == 113);  // 85 MC codes 0000-008A, 8 LinRS states, 20 DeviceNet codes
   CHECK(counts.at("motion_commands") == 215);
   CHECK(counts.at("motion_command_params") == 469);
@@ -37,6 +38,20 @@ TEST_CASE("upid-db: seed 003 §10.1 13A2h is UINT16, min 0, max 65535, default 1
   CHECK(p->spec.max == 65535);
   CHECK(p->default_value == 15);
   CHECK(p->prov.source.find("seed003") != std::string::npos);
+}
+
+TEST_CASE("upid-db: seed 001 §3.7 6300h lies outside the seed 003 §10.2 ranges, in layer Other",
+          "[db][seed]") {
+  const Parameter* p = real_db().find(0x6300);
+  REQUIRE(p != nullptr);
+  CHECK(p->layer == Layer::Other);
+  CHECK(layer_name(p->layer) == "Other");
+  CHECK_FALSE(layer_of_upid(0x6300).has_value());
+  CHECK(p->prov.source == "seed001 §3.7");
+  CHECK(p->name.empty());  // the seed names no parameter
+  for (auto l : {Layer::OS, Layer::MC, Layer::Intf, Layer::Appl})
+    for (const Parameter* q : real_db().in_layer(l)) CHECK(q->upid != 0x6300);
+  REQUIRE(real_db().in_layer(Layer::Other).size() == 1);
 }
 
 TEST_CASE("upid-db: seed 003 §10.2/§15 LinRS parameters are communication parameters",
@@ -147,4 +162,60 @@ TEST_CASE(
   CHECK(db.error("devicenet", 0x8100)->text == "Application needs DN servo controller");
   REQUIRE(db.error("devicenet", 0x8148) != nullptr);
   CHECK(db.error("devicenet", 0x8148)->text == "CAN BOFF error");
+}
+
+TEST_CASE("upid-db: seed 001 §4.3 ranges and Scaled written in the unit column are kept",
+          "[db][seed]") {
+  // §4.3.41 040xh Time Curve With Default Parameters: "Curve ID UInt16 1..100".
+  const MotionCommand* curve = real_db().motion_command(0x0400);
+  REQUIRE(curve != nullptr);
+  REQUIRE(curve->params.size() == 1);
+  CHECK(curve->params[0].range_text == "1..100");
+  CHECK(curve->params[0].spec.min == 1);
+  CHECK(curve->params[0].spec.max == 100);
+  CHECK_FALSE(curve->params[0].scaled);
+  // §4.3.140 200xh Command Table: Start Command Table: "Command Table ID UInt16 1..255".
+  const MotionCommand* ct = real_db().motion_command(0x2000);
+  REQUIRE(ct != nullptr);
+  CHECK(ct->params.at(0).range_text == "1..255");
+  CHECK(ct->params.at(0).spec.max == 255);
+  // §4.3.143 208xh: "Parameter Offset UInt16 0..3Eh".
+  const MotionCommand* mod = real_db().motion_command(0x2080);
+  REQUIRE(mod != nullptr);
+  CHECK(mod->params.at(1).range_text == "0..3Eh");
+  CHECK(mod->params.at(1).spec.max == 0x3E);
+  // §4.3.77 098xh VAI 16 Bit Go To Pos After Actual Command: "Target Position SInt16 Scaled".
+  const MotionCommand* vai16 = real_db().motion_command(0x0980);
+  REQUIRE(vai16 != nullptr);
+  CHECK(vai16->params.at(0).scaled);
+  CHECK(vai16->params.at(0).spec.unit.empty());
+  std::size_t scaled = 0, ranged = 0;
+  for (const auto& c : real_db().motion_commands())
+    for (const auto& p : c.params) {
+      scaled += p.scaled ? 1 : 0;
+      ranged += p.range_text.empty() ? 0 : 1;
+    }
+  CHECK(scaled == 66);  // every "Scaled" of §4.3
+  CHECK(ranged == 84);  // 39 x 1..255, 38 x 1..100, 5 x 0.., 2 x 0..3Eh
+}
+
+TEST_CASE("upid-db: seed 001 §10 error classes are a field; fatal ones say so", "[db][seed]") {
+  CHECK(real_db().error("mc", 0x0001)->error_class == "Err");
+  CHECK_FALSE(real_db().error("mc", 0x0001)->fatal());
+  CHECK(real_db().error("mc", 0x000A)->error_class == "Fatal Err");  // X12 Signals Missing
+  CHECK(real_db().error("mc", 0x000A)->fatal());
+  CHECK(real_db().error("mc", 0x0064)->error_class == "Cfg Err (Fatal)");
+  CHECK(real_db().error("mc", 0x0064)->fatal());
+  CHECK(real_db().error("mc", 0x0000)->error_class.empty());  // "No Error"
+  std::map<std::string, int> per_class;
+  for (const auto& e : real_db().all_errors())
+    if (e.domain == "mc") ++per_class[e.error_class];
+  CHECK(per_class == std::map<std::string, int>{{"", 1},
+                                                {"Cfg Err", 5},
+                                                {"Cfg Err (Fatal)", 4},
+                                                {"Err", 56},
+                                                {"Fatal Err", 5},
+                                                {"Runtime Err", 1},
+                                                {"Setup Err", 2},
+                                                {"User Err", 11}});
 }

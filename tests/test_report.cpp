@@ -22,6 +22,7 @@
 #include <string>
 
 #include "../bench/report_workload.hpp"
+#include "common/bytes.hpp"
 #include "config/config_io.hpp"
 #include "db/database.hpp"
 #include "ops/diff.hpp"
@@ -123,12 +124,6 @@ json load_in_browser(const Work& w, const fs::path& html, const std::string& sho
   return j;
 }
 
-std::string hex4(std::uint32_t v) {
-  char b[8];
-  std::snprintf(b, sizeof b, "%04X", v);
-  return b;
-}
-
 // Every parameter of the configuration has its row, once.
 void check_param_rows(const json& page, const std::vector<const config::DriveConfig*>& sides) {
   std::multiset<std::pair<std::string, std::string>> seen, want;
@@ -138,7 +133,7 @@ void check_param_rows(const json& page, const std::vector<const config::DriveCon
   for (const auto* c : sides)
     for (int l = 1; l <= config::kLayerCount; ++l)
       for (const auto& p : c->layer(l))
-        all.insert({std::string(config::layer_name(l)), hex4(p.upid)});
+        all.insert({std::string(config::layer_name(l)), hex(p.upid, 4)});
   want.insert(all.begin(), all.end());
   CHECK(seen.size() == want.size());
   CHECK(seen == want);

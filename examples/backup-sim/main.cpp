@@ -8,6 +8,7 @@
 #include "db/database.hpp"
 #include "ops/backup.hpp"
 #include "ops/session.hpp"
+#include "sim/state_file.hpp"
 
 int main(int argc, char** argv) {
   if (argc != 3) {
@@ -20,7 +21,10 @@ int main(int argc, char** argv) {
     return 2;
   }
   lmcfg::ops::LinkOptions link;
-  link.port = std::string("sim:") + argv[1];  // the in-process simulated drive
+  // The operations know serial ports and TCP gateways; "sim:" (the in-process
+  // simulated drive) is registered by the program, as the lmcfg tool does.
+  lmcfg::ops::register_link_scheme("sim", lmcfg::sim::state_file_link_factory());
+  link.port = std::string("sim:") + argv[1];
   auto session = lmcfg::ops::open_session(link);
   if (!session) {
     std::fprintf(stderr, "backup-sim: %s\n", session.error().message.c_str());

@@ -1,3 +1,4 @@
+#include "common/bytes.hpp"
 #include "codec/messages.hpp"
 
 #include <cstdio>
@@ -43,12 +44,6 @@ Bytes u16_chunk(std::uint16_t a, const std::array<std::uint8_t, 4>& c) {
                c[1],
                c[2],
                c[3]};
-}
-
-std::string hex2(unsigned v) {
-  char buf[8];
-  std::snprintf(buf, sizeof buf, "%02Xh", v & 0xFF);
-  return buf;
 }
 
 Error unexpected(const Telegram& t, const std::string& expected) {
@@ -301,7 +296,7 @@ std::optional<std::uint8_t> error_state_of(const Telegram& t) {
 Result<IdValueResponse> decode_id_value(const Telegram& t, std::uint8_t expected_sub) {
   if (auto s = error_state_of(t)) return refused(t, *s);
   if (t.main != 0x00 || t.sub != expected_sub || t.data.size() != 7) {
-    return unexpected(t, "response sub " + hex2(expected_sub) + " with 7 data bytes");
+    return unexpected(t, "response sub " + hex(expected_sub, 2, "h") + " with 7 data bytes");
   }
   IdValueResponse r;
   r.id = t.id;

@@ -16,6 +16,19 @@ std::string to_hex(ByteView b, char sep) {
   return s;
 }
 
+std::string hex(std::uint32_t v, int digits, std::string_view suffix) {
+  static constexpr char kDigits[] = "0123456789ABCDEF";
+  std::string s;
+  do {
+    s.insert(s.begin(), kDigits[v & 0xF]);
+    v >>= 4;
+  } while (v != 0);
+  if (static_cast<int>(s.size()) < digits)
+    s.insert(0, static_cast<std::size_t>(digits) - s.size(), '0');
+  s += suffix;
+  return s;
+}
+
 namespace {
 int hex_value(char c) {
   if (c >= '0' && c <= '9') return c - '0';

@@ -29,6 +29,10 @@ inline void put_u32le(Bytes& out, std::uint32_t v) {
 
 // "01 11 05" (upper case, space separated).
 std::string to_hex(ByteView b, char sep = ' ');
+// `v` in upper-case hex with at least `digits` digits (as printf's %0*X), then
+// `suffix`: hex(0x13A2, 4) == "13A2", hex(0x11, 2, "h") == "11h" (the manuals'
+// notation). The one hex formatter of lmcfg.
+std::string hex(std::uint32_t v, int digits, std::string_view suffix = {});
 // Accepts hex digits with optional spaces/colons between byte pairs; nullopt on odd count or non-hex.
 std::optional<Bytes> from_hex(std::string_view text);
 // Parses "0x13A2", "13A2h", "13A2" as hex when hex_default, or decimal otherwise ("5026").

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <set>
 
+#include "common/bytes.hpp"
 #include "common/layers.hpp"
 
 namespace lmcfg::config {
@@ -159,18 +160,6 @@ void canonicalize(DriveConfig& cfg) {
                    [](const auto& a, const auto& b) { return a.id < b.id; });
 }
 
-namespace {
-std::string hex4(std::uint32_t v) {
-  static constexpr char kDigits[] = "0123456789ABCDEF";
-  std::string s(4, '0');
-  for (int i = 3; i >= 0; --i) {
-    s[static_cast<std::size_t>(i)] = kDigits[v & 0xF];
-    v >>= 4;
-  }
-  return s;
-}
-}  // namespace
-
 bool is_clean_text(std::string_view s) noexcept {
   std::size_t i = 0;
   while (i < s.size()) {
@@ -252,12 +241,12 @@ std::optional<Issue> find_issue(const DriveConfig& cfg) {
       const auto& p = params[i];
       if (p.upid < info.first_upid || p.upid > info.last_upid)
         return Issue{Issue::Where::param, l, i, "upid",
-                     "UPID " + hex4(p.upid) + "h is outside layer " + std::to_string(l) + " (" +
-                         std::string(info.name) + ") range " + hex4(info.first_upid) + "-" +
-                         hex4(info.last_upid)};
+                     "UPID " + hex(p.upid, 4) + "h is outside layer " + std::to_string(l) + " (" +
+                         std::string(info.name) + ") range " + hex(info.first_upid, 4) + "-" +
+                         hex(info.last_upid, 4)};
       if (!seen.insert(p.upid).second)
         return Issue{Issue::Where::param, l, i, "upid",
-                     "duplicate UPID " + hex4(p.upid) + "h in layer " + std::to_string(l) + " (" +
+                     "duplicate UPID " + hex(p.upid, 4) + "h in layer " + std::to_string(l) + " (" +
                          std::string(info.name) + ")"};
       for (const auto& [field, value] :
            {std::pair<const char*, const std::string*>{"name", &p.name},

@@ -14,6 +14,7 @@
 #include <set>
 #include <sstream>
 
+#include "common/bytes.hpp"
 #include "db/database.hpp"
 #include "db/schema.hpp"
 
@@ -241,12 +242,6 @@ std::string type_list() {
   return s;
 }
 
-std::string hex4(unsigned v) {
-  char b[8];
-  std::snprintf(b, sizeof b, "%04X", v & 0xFFFFu);
-  return b;
-}
-
 // ---------------------------------------------------------------- the model
 
 struct Model {
@@ -451,22 +446,23 @@ void load_parameters(const Table& t, Model& m) {
     auto layer = layer_from_name(lf.text);
     if (!layer) {
       t.error(r, lf,
-              "unknown layer \"" + std::string(lf.text) + "\" (expected OS, MC, Intf or Appl)");
+              "unknown layer \"" + std::string(lf.text) +
+                  "\" (expected OS, MC, Intf, Appl or Other)");
       ok = false;
     } else if (upid) {
       auto actual = layer_of_upid(p.upid);
-      if (!actual) {
-        t.error(r, uf,
-                "UPID " + hex4(p.upid) +
+      if (!actual && *layer != Layer::Other) {
+        t.error(r, lf,
+                "UPID " + hex(p.upid, 4) +
                     " is outside every layer range (OS 0000-0EFF, MC 1000-1EFF, Intf 2000-2EFF, "
-                    "Appl 3000-3EFF)");
+                    "Appl 3000-3EFF): its layer must be Other");
         ok = false;
-      } else if (*actual != *layer) {
+      } else if (actual && *actual != *layer) {
         unsigned base = layer_base_upid(*actual);
         t.error(r, lf,
-                "layer \"" + std::string(lf.text) + "\" does not match UPID " + hex4(p.upid) +
-                    " (in the " + std::string(layer_name(*actual)) + " range " + hex4(base) + "-" +
-                    hex4(base + 0x0EFF) + ")");
+                "layer \"" + std::string(lf.text) + "\" does not match UPID " + hex(p.upid, 4) +
+                    " (in the " + std::string(layer_name(*actual)) + " range " + hex(base, 4) + "-" +
+                    hex(base + 0x0EFF, 4) + ")");
         ok = false;
       } else {
         p.layer = *layer;
@@ -508,7 +504,7 @@ void load_parameters(const Table& t, Model& m) {
         if (id == other || id == "*" || other == "*") {
           std::string which = id == "*" ? other : id;
           t.error(r, uf,
-                  "duplicate UPID " + hex4(p.upid) +
+                  "duplicate UPID " + hex(p.upid, 4) +
                       (which == "*" ? std::string(" for every profile") : " for profile " + which) +
                       " (first at " + t.name() + ":" + std::to_string(line) + ")");
           dup = true;
@@ -549,6 +545,22 @@ void load_errors(const Table& t, Model& m) {
       e.code_text = std::string(cf.text);
     }
     e.text = std::string(t.get(r, "text").text);
+    const Field& klass = t.get(r, "class");
+    e.error_class = std::string(klass.text);
+    static const std::set<std::string_view> kClasses = {
+        "Err", "Fatal Err", "Cfg Err", "Cfg Err (Fatal)", "User Err", "Setup Err", "Runtime Err"};
+    if (!e.error_class.empty() && !kClasses.count(e.error_class)) {
+      t.error(r, klass,
+              "unknown error class \"" + e.error_class +
+                  "\" (expected Err, Fatal Err, Cfg Err, Cfg Err (Fatal), User Err, Setup Err, "
+                  "Runtime Err or empty)");
+      ok = false;
+    } else if (!e.error_class.empty() && e.text.rfind(e.error_class + ":", 0) != 0) {
+      t.error(r, klass,
+              "error class \"" + e.error_class + "\" is not the prefix of the text \"" + e.text +
+                  "\" (seed 001 §10 writes the class before a colon)");
+      ok = false;
+    }
     e.description = std::string(t.get(r, "description").text);
     e.action = std::string(t.get(r, "action").text);
     if (!require(t, r, "source", "source (provenance)")) ok = false;
@@ -665,6 +677,19 @@ void load_command_params(const Table& t, Model& m) {
     }
     p.name = std::string(t.get(r, "name").text);  // may be unknown (empty)
     if (!read_scale_unit(t, r, p.spec)) ok = false;
+    p.range_text = std::string(t.get(r, "range").text);
+    if (!read_range(t, r, p.spec, nullptr)) ok = false;
+    if (!p.range_text.empty() && !p.spec.min) {
+      t.error(r, t.get(r, "range"),
+              "range \"" + p.range_text + "\" needs its lower bound in column 'min'");
+      ok = false;
+    }
+    if (!read_flag(t, r, "scaled", "1", p.scaled)) ok = false;
+    if (p.scaled && !p.spec.unit.empty()) {
+      t.error(r, t.get(r, "scaled"),
+              "a Scaled parameter has no fixed unit (found unit \"" + p.spec.unit + "\")");
+      ok = false;
+    }
     if (!require(t, r, "source", "source (provenance)")) ok = false;
     p.prov = prov_of(t, r);
     if (!ok) continue;
@@ -778,10 +803,11 @@ const std::map<std::string, std::vector<std::string>>& columns_of() {
       {"parameters.tsv",
        {"upid", "profiles", "layer", "name", "path", "type", "address_usage", "min", "max",
         "default", "unit", "scale", "enum", "comm", "description", "source"}},
-      {"errors.tsv", {"domain", "code", "text", "description", "action", "source"}},
+      {"errors.tsv", {"domain", "code", "class", "text", "description", "action", "source"}},
       {"motion_commands.tsv", {"master", "sub", "name", "products", "description", "source"}},
       {"motion_command_params.tsv",
-       {"master", "sub", "index", "offset", "name", "type", "unit", "scale", "source"}},
+       {"master", "sub", "index", "offset", "name", "type", "unit", "scale", "range", "min",
+        "max", "scaled", "source"}},
       {"devicenet_parameters.tsv",
        {"id", "name", "path", "type", "min", "max", "default", "unit", "scale", "enum", "comm",
         "description", "source"}},
@@ -897,9 +923,10 @@ std::string write_db(const Model& m, const std::string& path, const std::string&
       "comm, description, "
       "source, src_file, src_line) VALUES(?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)");
   sqlite3_stmt* lab = prep("INSERT INTO enum_labels VALUES(?,?,?,?,?,?)");
-  sqlite3_stmt* err = prep("INSERT INTO errors VALUES(?,?,?,?,?,?,?,?,?)");
+  sqlite3_stmt* err = prep("INSERT INTO errors VALUES(?,?,?,?,?,?,?,?,?,?)");
   sqlite3_stmt* cmd = prep("INSERT INTO motion_commands VALUES(?,?,?,?,?,?,?,?,?)");
-  sqlite3_stmt* cpar = prep("INSERT INTO motion_command_params VALUES(?,?,?,?,?,?,?,?,?,?,?,?)");
+  sqlite3_stmt* cpar =
+      prep("INSERT INTO motion_command_params VALUES(?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)");
   sqlite3_stmt* dnp =
       prep("INSERT INTO devicenet_parameters VALUES(?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)");
   sqlite3_stmt* dnpl = prep("INSERT INTO devicenet_parameter_labels VALUES(?,?,?,?,?,?)");
@@ -942,7 +969,7 @@ std::string write_db(const Model& m, const std::string& path, const std::string&
     Binder b{par};
     b.integer(id)
         .integer(p.upid)
-        .text(hex4(p.upid))
+        .text(hex(p.upid, 4))
         .text(profiles)
         .text(std::string(layer_name(p.layer)))
         .text(p.name)
@@ -976,6 +1003,7 @@ std::string write_db(const Model& m, const std::string& path, const std::string&
              .text(e.text)
              .text(e.description)
              .text(e.action)
+             .text(e.error_class)
              .prov(e.prov)
              .step())
       return fail("errors");
@@ -1003,6 +1031,10 @@ std::string write_db(const Model& m, const std::string& path, const std::string&
                .text(p.spec.type ? std::string(type_name(*p.spec.type)) : std::string())
                .text(p.spec.unit)
                .real(p.spec.scale)
+               .text(p.range_text)
+               .integer(p.spec.min)
+               .integer(p.spec.max)
+               .integer(p.scaled ? 1 : 0)
                .prov(p.prov)
                .step())
         return fail("motion_command_params");

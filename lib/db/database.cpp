@@ -153,7 +153,7 @@ const UpidRows kAbsent{};
 struct ParamTable {
   std::vector<Parameter> rows;             // sorted by UPID, row id
   std::vector<std::string> search_keys;    // lower-case "name\npath\ndescription" per row
-  std::array<std::size_t, 4> per_layer{};  // rows per layer
+  std::array<std::size_t, kLayerCount> per_layer{};  // rows per layer
 };
 struct ErrorTable {
   std::vector<ErrorEntry> rows;  // sorted by domain, code (error() searches it)
@@ -406,12 +406,12 @@ Result<ParamTable> Database::Impl::load_params() {
 Result<ErrorTable> Database::Impl::load_errors() {
   ErrorTable t;
   Stmt q(db,
-         "SELECT domain, code, code_text, text, description, action, source, src_file, src_line "
-         "FROM errors ORDER BY domain, code");
+         "SELECT domain, code, code_text, text, description, action, source, src_file, src_line, "
+         "class FROM errors ORDER BY domain, code");
   if (!q.ok()) return sql_error("errors");
   while (q.next())
     t.rows.push_back(ErrorEntry{q.text(0), static_cast<std::uint32_t>(q.i64(1)), q.text(2),
-                                q.text(3), q.text(4), q.text(5), q.prov(6)});
+                                q.text(3), q.text(4), q.text(5), q.prov(6), q.text(9)});
   if (q.failed()) return sql_error("errors");
   // SQLite's ORDER BY already is this order (BINARY collation); made certain
   // for the binary search.
@@ -444,7 +444,8 @@ Result<CommandTable> Database::Impl::load_commands() {
   {
     Stmt q(db,
            "SELECT master, sub, idx, offset, name, type_code, unit, scale, source, src_file, "
-           "src_line FROM motion_command_params ORDER BY master, sub, idx");
+           "src_line, range_text, min, max, scaled FROM motion_command_params "
+           "ORDER BY master, sub, idx");
     if (!q.ok()) return sql_error("motion_command_params");
     while (q.next()) {
       auto h =
@@ -459,6 +460,10 @@ Result<CommandTable> Database::Impl::load_commands() {
       p.spec.unit = q.text(6);
       p.spec.scale = q.opt_real(7);
       p.prov = q.prov(8);
+      p.range_text = q.text(11);
+      p.spec.min = q.opt_i64(12);
+      p.spec.max = q.opt_i64(13);
+      p.scaled = q.i64(14) != 0;
       t.rows[it->second].params.push_back(std::move(p));
     }
     if (q.failed()) return sql_error("motion_command_params");
@@ -573,12 +578,19 @@ Result<DbInfo> Database::Impl::load_counts() {
   return full;
 }
 
-// db::Layer is the 0-based view of the layer numbers 1..4 of common/layers.hpp.
-std::string_view layer_name(Layer l) noexcept { return layers::name(static_cast<int>(l) + 1); }
+// db::Layer is the 0-based view of the layer numbers 1..4 of common/layers.hpp,
+// plus Other for the UPIDs between the ranges.
+std::string_view layer_name(Layer l) noexcept {
+  if (l == Layer::Other) return "Other";
+  return layers::name(static_cast<int>(l) + 1);
+}
 
 std::optional<Layer> layer_from_name(std::string_view name) noexcept {
   auto n = layers::from_name(name);
-  if (!n) return std::nullopt;
+  if (!n) {
+    if (lower(name) == "other") return Layer::Other;
+    return std::nullopt;
+  }
   return static_cast<Layer>(*n - 1);
 }
 
@@ -589,6 +601,7 @@ std::optional<Layer> layer_of_upid(std::uint16_t upid) noexcept {
 }
 
 std::uint16_t layer_base_upid(Layer l) noexcept {
+  if (l == Layer::Other) return 0xFFFF;
   return layers::base_upid(static_cast<int>(l) + 1);
 }
 

@@ -19,18 +19,22 @@
 namespace lmcfg::db {
 
 // Version of the SQLite schema written by the compiler and required by open().
-inline constexpr int kSchemaVersion = 2;
+inline constexpr int kSchemaVersion = 3;
 // File name looked for next to the running executable.
 inline constexpr std::string_view kDefaultDbFileName = "lmcfg-upid.sqlite";
 // Environment variable that overrides the default location.
 inline constexpr std::string_view kDbPathEnv = "LMCFG_UPID_DB";
 
-// Firmware layers and their UPID ranges (seed 003 §10.2).
-enum class Layer { OS, MC, Intf, Appl };
-std::string_view layer_name(Layer l) noexcept;                         // "OS", "MC", "Intf", "Appl"
+// Firmware layers and their UPID ranges (seed 003 §10.2). `Other` holds the
+// UPIDs the seeds name outside the four ranges (6300h, seed 001 §3.7): no
+// layer list, layer default or modified list reaches them.
+enum class Layer { OS, MC, Intf, Appl, Other };
+inline constexpr std::size_t kLayerCount = 5;  // with Other
+// "OS", "MC", "Intf", "Appl", "Other"
+std::string_view layer_name(Layer l) noexcept;
 std::optional<Layer> layer_from_name(std::string_view name) noexcept;  // case-insensitive
-std::optional<Layer> layer_of_upid(std::uint16_t upid) noexcept;       // nullopt between ranges
-std::uint16_t layer_base_upid(Layer l) noexcept;                       // 0000, 1000, 2000, 3000
+std::optional<Layer> layer_of_upid(std::uint16_t upid) noexcept;  // nullopt between the ranges
+std::uint16_t layer_base_upid(Layer l) noexcept;  // 0000, 1000, 2000, 3000; FFFF for Other
 
 // Address usage word (seed 003 §10; resolved bits only, see linrs-facts.md).
 // Bit 7 vs 8 ("live parameter") is unresolved: use raw.
@@ -78,13 +82,21 @@ struct ErrorEntry {
   std::string code_text;  // as written in the TSV ("000C", "C1")
   std::string text, description, action;
   Provenance prov;
+  // Seed 001 §10's class, the prefix of `text`: "Err", "Fatal Err", "Cfg Err",
+  // "Cfg Err (Fatal)", "User Err", "Setup Err", "Runtime Err"; empty where
+  // the seed gives none (LinRS states, DeviceNet codes, "No Error").
+  std::string error_class;
+  // Seed 001 §3.4: a fatal error cannot be acknowledged, only a reset clears it.
+  bool fatal() const noexcept { return error_class.find("Fatal") != std::string::npos; }
 };
 
 struct MotionParam {
   int index = 0;   // 1-based
   int offset = 0;  // from the command header (first parameter at 2)
   std::string name;
-  ValueSpec spec;
+  ValueSpec spec;          // type, unit, scale; min/max parsed from range_text
+  std::string range_text;  // as the seed's unit column writes it: "1..255", "0..", "0..3Eh"
+  bool scaled = false;     // "Scaled": 16 bit interface scaling (seed 001 §4.3), no fixed unit
   Provenance prov;
 };
 

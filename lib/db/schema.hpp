@@ -37,7 +37,7 @@ CREATE TABLE enum_labels(
   PRIMARY KEY(parameter_id, raw));
 CREATE TABLE errors(
   domain TEXT NOT NULL, code INTEGER NOT NULL, code_text TEXT NOT NULL,
-  text TEXT, description TEXT, action TEXT,
+  text TEXT, description TEXT, action TEXT, class TEXT,
   source TEXT NOT NULL, src_file TEXT NOT NULL, src_line INTEGER NOT NULL,
   PRIMARY KEY(domain, code));
 CREATE TABLE motion_commands(
@@ -48,6 +48,7 @@ CREATE TABLE motion_commands(
 CREATE TABLE motion_command_params(
   master INTEGER NOT NULL, sub INTEGER NOT NULL, idx INTEGER NOT NULL, offset INTEGER NOT NULL,
   name TEXT, type_code INTEGER, type TEXT, unit TEXT, scale REAL,
+  range_text TEXT, min INTEGER, max INTEGER, scaled INTEGER NOT NULL,
   source TEXT NOT NULL, src_file TEXT NOT NULL, src_line INTEGER NOT NULL,
   PRIMARY KEY(master, sub, idx),
   FOREIGN KEY(master, sub) REFERENCES motion_commands(master, sub));

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "common/bytes.hpp"
 #include "config/atomic_file.hpp"
 
 namespace lmcfg::ops {
@@ -29,12 +30,6 @@ const std::vector<std::string>& parameter_columns() {
 const std::vector<std::string>& profile_columns() {
   static const std::vector<std::string> k = {"profile", "family", "software", "version", "description", "source"};
   return k;
-}
-
-std::string hex(unsigned v, int digits) {
-  char b[16];
-  std::snprintf(b, sizeof b, "%0*X", digits, v);
-  return b;
 }
 
 std::optional<std::uint32_t> parse_hex(std::string_view s, std::size_t digits) {

@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 #include <set>
 
+#include "common/bytes.hpp"
 #include "db/ct_entry.hpp"
 #include "db/database.hpp"
 #include "ops/backup.hpp"
@@ -12,12 +13,6 @@
 namespace lmcfg::ops {
 
 namespace {
-
-std::string hex4(std::uint32_t v) {
-  char buf[12];
-  std::snprintf(buf, sizeof buf, "%04Xh", v);
-  return buf;
-}
 
 DiffItem make_item(DiffItem::Kind kind, std::string name, std::string a, std::string b,
                    std::string detail) {
@@ -202,7 +197,7 @@ void diff_parameters(const config::DriveConfig& a, const config::DriveConfig& b,
       const std::string name = d && !d->name.empty() ? d->name : rec.name;
       if (same && !type_differs) {
         if (!bad_a.empty())
-          r.notes.push_back(std::string(config::layer_name(layer)) + " " + hex4(upid) +
+          r.notes.push_back(std::string(config::layer_name(layer)) + " " + hex(upid, 4, "h") +
                             (name.empty() ? "" : " " + name) +
                             ": both sides hold the invalid value " +
                             show(ea, db, upid, def, ta, bad_a));
@@ -326,7 +321,7 @@ std::string ct_changes(const db::Database* db, const config::CtEntry& a, const c
       }
     }
   }
-  if (da->link != dbb->link) parts.push_back("link " + hex4(da->link) + " -> " + hex4(dbb->link));
+  if (da->link != dbb->link) parts.push_back("link " + hex(da->link, 4, "h") + " -> " + hex(dbb->link, 4, "h"));
   if (da->name != dbb->name) parts.push_back("name '" + da->name + "' -> '" + dbb->name + "'");
   if (parts.empty()) parts.push_back("undecoded bytes differ");
   std::string s;
@@ -472,7 +467,7 @@ std::string render_text(const DiffResult& r, const std::string& an, const std::s
         break;
       case DiffItem::Kind::parameter:
         head(std::string("layer ") + std::string(config::layer_name(it.layer)));
-        out += "  " + hex4(it.key) + " " + (it.name.empty() ? "(name unknown)" : it.name) + ": " +
+        out += "  " + hex(it.key, 4, "h") + " " + (it.name.empty() ? "(name unknown)" : it.name) + ": " +
                it.a + " -> " + it.b + (it.detail.empty() ? "" : " (" + it.detail + ")") + "\n";
         break;
       case DiffItem::Kind::curve:
@@ -520,7 +515,7 @@ std::string render_json(const DiffResult& r, const std::string& an, const std::s
     d["kind"] = kind_name(it.kind);
     if (it.kind == DiffItem::Kind::parameter) {
       d["layer"] = std::string(config::layer_name(it.layer));
-      d["upid"] = hex4(it.key).substr(0, 4);
+      d["upid"] = hex(it.key, 4, "h").substr(0, 4);
     } else if (it.kind == DiffItem::Kind::curve || it.kind == DiffItem::Kind::ct_entry) {
       d["id"] = it.key;
     }

@@ -2,6 +2,7 @@
 
 #include <cstdio>
 
+#include "common/bytes.hpp"
 #include "ops/scan.hpp"
 
 namespace lmcfg::ops {
@@ -21,14 +22,6 @@ bool settings_suspect(Session& session, const Error& e) {
   }
   return session.client().stats().answers == 0;
 }
-
-namespace {
-std::string hex_id(unsigned id, const char* fmt) {
-  char b[16];
-  std::snprintf(b, sizeof b, fmt, id);
-  return b;
-}
-}  // namespace
 
 std::optional<std::string> link_advice(Session& session, const std::string& port) {
   const std::uint8_t id = session.client().options().id;
@@ -66,9 +59,9 @@ std::optional<std::string> link_advice(Session& session, const std::string& port
       return "answers fail their checksum: the drive seems to use checksum " +
              checksum_name(f->checksum) + ": try " + checksum_options(f->checksum);
     }
-    std::string s = "no answer from MACID " + hex_id(id, "%02Xh") + at +
-                    ", but a drive answers as MACID " + hex_id(f->id, "%02Xh") + ": try --id " +
-                    hex_id(f->id, "0x%02X");
+    std::string s = "no answer from MACID " + hex(id, 2, "h") + at +
+                    ", but a drive answers as MACID " + hex(f->id, 2, "h") + ": try --id " +
+                    "0x" + hex(f->id, 2);
     if (!(f->checksum == chk)) s += " " + checksum_options(f->checksum);
     return s;
   }
@@ -81,7 +74,7 @@ std::optional<std::string> link_advice(Session& session, const std::string& port
              "--stop-bits, or " +
              scan_hint;
   }
-  return "no answer from MACID " + hex_id(id, "%02Xh") + at + ": check --id and --baud (and " +
+  return "no answer from MACID " + hex(id, 2, "h") + at + ": check --id and --baud (and " +
          "--parity), or " + scan_hint + " to try every MACID and rate";
 }
 

@@ -4,6 +4,7 @@
 #include <cctype>
 #include <cstdio>
 
+#include "common/bytes.hpp"
 #include "common/layers.hpp"
 #include "db/database.hpp"
 
@@ -12,18 +13,6 @@ namespace lmcfg::ops {
 namespace {
 
 constexpr std::uint16_t kBaudSource = kBaudRateSource, kBaudCode = kBaudRateCode;
-
-std::string hex2(unsigned v) {
-  char b[8];
-  std::snprintf(b, sizeof b, "%02Xh", v & 0xFFu);
-  return b;
-}
-
-std::string hex4(unsigned v) {
-  char b[8];
-  std::snprintf(b, sizeof b, "%04Xh", v & 0xFFFFu);
-  return b;
-}
 
 struct Known {
   std::optional<std::uint32_t> value;
@@ -63,7 +52,7 @@ std::optional<unsigned> baud_of_label(const db::Database* db, std::uint16_t upid
 }
 
 std::string describe(const RelinkCandidate& c) {
-  return std::to_string(c.line.baud) + " Bd, MACID " + hex2(c.macid) + ", checksum " +
+  return std::to_string(c.line.baud) + " Bd, MACID " + hex(c.macid, 2, "h") + ", checksum " +
          checksum_name(c.checksum);
 }
 
@@ -77,50 +66,50 @@ ExpectedLink expected_link(const Plan& plan, const db::Database* db) {
   const Known id_src = value_after(plan, db, kMacidSource);
   if (!id_src.value) {
     out.reasons.push_back(
-        "MACID: " + hex4(kMacidSource) +
+        "MACID: " + hex(kMacidSource, 4, "h") +
         " MACID Source Select is at its factory default, the hex switches (seed 003 §15); their "
         "setting is not known to the tool");
   } else if (*id_src.value == kMacidByParameter) {
     const Known id = value_after(plan, db, kMacidValue);
     if (id.value && *id.value <= 0xFF) {
       out.macid = static_cast<std::uint8_t>(*id.value);
-      out.reasons.push_back("MACID " + hex2(*out.macid) + ": " + hex4(kMacidSource) +
-                            " = By Parameter, " + hex4(kMacidValue) + " MACID Parameter Value = " +
+      out.reasons.push_back("MACID " + hex(*out.macid, 2, "h") + ": " + hex(kMacidSource, 4, "h") +
+                            " = By Parameter, " + hex(kMacidValue, 4, "h") + " MACID Parameter Value = " +
                             std::to_string(*id.value) + (id.from_default ? " (its default)" : ""));
     } else {
-      out.reasons.push_back("MACID: " + hex4(kMacidSource) + " = By Parameter, but the value of " +
-                            hex4(kMacidValue) + " is not known");
+      out.reasons.push_back("MACID: " + hex(kMacidSource, 4, "h") + " = By Parameter, but the value of " +
+                            hex(kMacidValue, 4, "h") + " is not known");
     }
   } else {
-    out.reasons.push_back("MACID: " + hex4(kMacidSource) + " = " + std::to_string(*id_src.value) +
+    out.reasons.push_back("MACID: " + hex(kMacidSource, 4, "h") + " = " + std::to_string(*id_src.value) +
                           " selects the hex switches, whose setting is not known to the tool");
   }
 
   const Known baud_src = value_after(plan, db, kBaudSource);
   if (!baud_src.value) {
     out.reasons.push_back(
-        "baud rate: " + hex4(kBaudSource) +
+        "baud rate: " + hex(kBaudSource, 4, "h") +
         " Baud Rate Source Select is at its factory default, hex switch S1 (seed 003 §15); its "
         "setting is not known to the tool");
   } else if (*baud_src.value == kBaudRateByParameter) {
     const Known code = value_after(plan, db, kBaudCode);
     if (code.value) out.baud = baud_of_label(db, kBaudCode, *code.value);
     if (out.baud) {
-      out.reasons.push_back("baud rate " + std::to_string(*out.baud) + ": " + hex4(kBaudSource) +
-                            " = By Parameter, " + hex4(kBaudCode) +
+      out.reasons.push_back("baud rate " + std::to_string(*out.baud) + ": " + hex(kBaudSource, 4, "h") +
+                            " = By Parameter, " + hex(kBaudCode, 4, "h") +
                             " Baud Rate Parameter Def = " + std::to_string(*code.value));
     } else if (code.value) {
-      out.reasons.push_back("baud rate: " + hex4(kBaudSource) +
-                            " = By Parameter, but the database has no rate for " + hex4(kBaudCode) +
+      out.reasons.push_back("baud rate: " + hex(kBaudSource, 4, "h") +
+                            " = By Parameter, but the database has no rate for " + hex(kBaudCode, 4, "h") +
                             " = " + std::to_string(*code.value) +
                             " (seed 003 states only 8 = 38400 Baud)");
     } else {
-      out.reasons.push_back("baud rate: " + hex4(kBaudSource) +
-                            " = By Parameter, but the raw value of " + hex4(kBaudCode) +
+      out.reasons.push_back("baud rate: " + hex(kBaudSource, 4, "h") +
+                            " = By Parameter, but the raw value of " + hex(kBaudCode, 4, "h") +
                             " (its default, 57600 Bit/s by seed 003 §15) is not known");
     }
   } else {
-    out.reasons.push_back("baud rate: " + hex4(kBaudSource) + " = " +
+    out.reasons.push_back("baud rate: " + hex(kBaudSource, 4, "h") + " = " +
                           std::to_string(*baud_src.value) +
                           " selects hex switch S1, whose setting is not known to the tool");
   }

@@ -7,6 +7,7 @@
 #include <map>
 #include <set>
 
+#include "common/bytes.hpp"
 #include "db/database.hpp"
 #include "db/value.hpp"
 #include "ops/backup.hpp"
@@ -76,17 +77,11 @@ std::string html_escape(std::string_view s) {
 
 namespace report_parts {
 
-std::string hex4(std::uint32_t v) {
-  char b[12];
-  std::snprintf(b, sizeof b, "%04X", v);
-  return b;
-}
-
 std::string diff_key(const DiffItem& it) {
   std::string key;
   switch (it.kind) {
     case DiffItem::Kind::parameter:
-      key = hex4(it.key);
+      key = hex(it.key, 4);
       break;
     case DiffItem::Kind::curve:
     case DiffItem::Kind::ct_entry:
@@ -291,7 +286,7 @@ void params_single(std::string& out, const config::DriveConfig& cfg, const db::D
                        : "<td class=\"same\">= default</td>";
       }
       rows += "<tr class=\"param\" data-layer=\"" + layer_name(l) + "\" data-upid=\"" +
-              hex4(p.upid) + "\"><td>" + hex4(p.upid) + "h</td><td>" + html_escape(i.name) +
+              hex(p.upid, 4) + "\"><td>" + hex(p.upid, 4) + "h</td><td>" + html_escape(i.name) +
               "</td><td>" + html_escape(display_value(db, p.upid, p.value, p.type)) + "</td><td>" +
               (i.def ? html_escape(display_value(db, p.upid, *i.def, p.type))
                      : std::string("<span class=\"absent\">unknown</span>")) +
@@ -363,7 +358,7 @@ void params_diff(std::string& out, const config::DriveConfig& a, const config::D
       } else {
         rows += "\"";
       }
-      rows += " data-layer=\"" + layer_name(l) + "\" data-upid=\"" + hex4(u) + "\"><td>" + hex4(u) +
+      rows += " data-layer=\"" + layer_name(l) + "\" data-upid=\"" + hex(u, 4) + "\"><td>" + hex(u, 4) +
               "h</td><td>" + html_escape(name) + "</td>";
       if (it) {
         rows += "<td class=\"old\">" + html_escape(it->a) +

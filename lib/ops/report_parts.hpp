@@ -13,7 +13,6 @@ class Database;
 namespace lmcfg::ops::report_parts {
 
 // "13A2" (four hex digits, no suffix).
-std::string hex4(std::uint32_t v);
 // ' class="... diff" data-kind="parameter" data-key="13A2"' for a DiffItem.
 std::string diff_key(const DiffItem& it);
 

@@ -4,6 +4,7 @@
 
 #include <cstdio>
 
+#include "common/bytes.hpp"
 #include "db/database.hpp"
 #include "ops/restore_internal.hpp"
 
@@ -19,19 +20,13 @@ bool is_comm_parameter(const db::Database* db, std::uint16_t upid) {
 
 namespace detail {
 
-std::string hex4(std::uint32_t v) {
-  char buf[12];
-  std::snprintf(buf, sizeof buf, "%04Xh", v);
-  return buf;
-}
-
 std::string param_name(std::uint16_t, const db::Parameter* d, const config::Parameter* p) {
   return d && !d->name.empty() ? d->name : (p ? p->name : std::string());
 }
 
 std::string param_label(int layer, std::uint16_t upid, const db::Parameter* d,
                         const config::Parameter* p) {
-  std::string s = std::string(config::layer_name(layer)) + " " + hex4(upid);
+  std::string s = std::string(config::layer_name(layer)) + " " + hex(upid, 4, "h");
   const std::string name = param_name(upid, d, p);
   if (!name.empty()) s += " " + name;
   return s;

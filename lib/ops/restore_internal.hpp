@@ -9,7 +9,6 @@
 
 namespace lmcfg::ops::detail {
 
-std::string hex4(std::uint32_t v);  // "13A2h"
 // "MC 13A2h P Gain" (name from the database, else from the file's record).
 std::string param_label(int layer, std::uint16_t upid, const db::Parameter* d,
                         const config::Parameter* p);

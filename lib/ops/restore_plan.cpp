@@ -4,6 +4,7 @@
 #include <set>
 
 #include "db/database.hpp"
+#include "common/bytes.hpp"
 #include "ops/recovery.hpp"
 #include "ops/restore.hpp"
 #include "ops/restore_internal.hpp"
@@ -69,7 +70,7 @@ Result<void> check_parameter(client::Client& c, const db::Database* db, int laye
   }
   auto code = db::type_from_code(type);
   if (!code) {
-    plan.problems.push_back(label + ": the target reports type code " + hex4(type) +
+    plan.problems.push_back(label + ": the target reports type code " + hex(type, 4, "h") +
                             ", which seed 003 §10 does not define");
     return {};
   }
@@ -86,12 +87,12 @@ Result<void> check_parameter(client::Client& c, const db::Database* db, int laye
   }
   if (address_usage && !address_usage->rom_write()) {
     plan.problems.push_back(label + ": read-only on the target (" + au_source + " address usage " +
-                            hex4(address_usage->raw) + " has no ROM write bit)");
+                            hex(address_usage->raw, 4, "h") + " has no ROM write bit)");
     return {};
   }
   auto value = as_integer(*code, p.value);
   if (!value) {
-    plan.problems.push_back(label + ": value " + hex4(p.value) + " does not fit type " +
+    plan.problems.push_back(label + ": value " + hex(p.value, 4, "h") + " does not fit type " +
                             std::string(db::type_name(*code)));
     return {};
   }
@@ -537,7 +538,7 @@ Result<Plan> plan_restore(client::Client& c, const config::DriveConfig& file,
                std::to_string(w.leftovers.size()) + " leftover(s) go back to their defaults";
       b.add(std::move(s), 1);
       for (const auto* m : w.leftovers)
-        plan.notes.push_back("leftover " + lname + " " + hex4(m->upid) + " = " +
+        plan.notes.push_back("leftover " + lname + " " + hex(m->upid, 4, "h") + " = " +
                              display_value(db, m->upid, m->value) + " goes back to its default");
       for (const auto& x : w.writes) b.add_write(w.layer, x);
       for (const auto& p : w.same)

@@ -1,6 +1,7 @@
 // Restore: the plan for people (render_plan) and as structured items
 // (plan_json, documented in docs/restore.md). See restore.hpp.
 #include "ops/restore.hpp"
+#include "common/bytes.hpp"
 #include "ops/restore_internal.hpp"
 
 namespace lmcfg::ops {
@@ -78,7 +79,7 @@ nlohmann::ordered_json plan_json(const Plan& p) {
     switch (s.action) {
       case PlanStep::Action::write_rom:
         o["layer"] = std::string(config::layer_name(s.layer));
-        o["upid"] = detail::hex4(s.key).substr(0, 4);
+        o["upid"] = hex(s.key, 4);
         o["name"] = s.name;
         if (s.old_value)
           o["old"] = {{"raw", *s.old_value}, {"display", s.old_display}};

@@ -2,11 +2,10 @@
 #include <map>
 
 #include "ops/restore.hpp"
+#include "common/bytes.hpp"
 #include "ops/restore_internal.hpp"
 
 namespace lmcfg::ops {
-
-using detail::hex4;
 
 Result<VerifyReport> verify_restore(client::Client& c, const Plan& p, const RestoreOptions& opt) {
   VerifyReport rep;
@@ -28,12 +27,12 @@ Result<VerifyReport> verify_restore(client::Client& c, const Plan& p, const Rest
         LMCFG_ASSIGN_OR_RETURN(actual, c.read_rom(e.upid));
       }
       if (actual != e.value) {
-        rep.mismatches.push_back(lname + " " + hex4(e.upid) + ": expected " +
+        rep.mismatches.push_back(lname + " " + hex(e.upid, 4, "h") + ": expected " +
                                  std::to_string(e.value) + ", drive has " + std::to_string(actual));
       }
     }
     for (const auto& [upid, value] : on_drive) {
-      rep.mismatches.push_back(lname + " " + hex4(upid) + ": modified on the drive (" +
+      rep.mismatches.push_back(lname + " " + hex(upid, 4, "h") + ": modified on the drive (" +
                                std::to_string(value) + ") but not in the file");
     }
   }

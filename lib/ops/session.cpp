@@ -1,10 +1,8 @@
 #include "ops/session.hpp"
 
 #include <filesystem>
+#include <map>
 #include <optional>
-
-#include "sim/link.hpp"
-#include "sim/state_file.hpp"
 
 namespace lmcfg::ops {
 
@@ -94,100 +92,83 @@ Result<transport::Parity> parse_parity(std::string_view t) {
 }
 
 namespace {
-
-class LinkSession final : public Session {
- public:
-  LinkSession(LinkOptions opt, std::unique_ptr<transport::Transport> link, sim::SimLink* sim,
-              std::shared_ptr<sim::Drive> sim_drive, std::string sim_path,
-              std::optional<transport::LowLatencyReport> latency)
-      : latency_(std::move(latency)),
-        opt_(std::move(opt)),
-        link_(std::move(link)),
-        sim_(sim),
-        sim_drive_(std::move(sim_drive)),
-        sim_path_(std::move(sim_path)),
-        client_(*link_, opt_.client) {}
-
-  client::Client& client() override { return client_; }
-  sim::SimLink* sim_link() override { return sim_; }
-  std::string describe() const override { return link_->describe(); }
-
-  Result<void> close() override {
-    if (sim_drive_ && !sim_path_.empty()) {
-      LMCFG_TRY(sim::save_state(sim_drive_->state(), sim_path_));
-      sim_path_.clear();
-    }
-    return {};
-  }
-
-  transport::SerialSettings line() const override { return opt_.serial; }
-  const transport::LowLatencyReport* low_latency() const override {
-    return latency_ ? &*latency_ : nullptr;
-  }
-
-  Result<void> relink(const transport::SerialSettings& line, std::uint8_t id,
-                      const codec::ChecksumConfig& checksum) override {
-    const auto& cur = opt_.serial;
-    if (line.baud != cur.baud || line.parity != cur.parity || line.stop_bits != cur.stop_bits) {
-      LMCFG_TRY(link_->reconfigure(line));
-      const std::string device = opt_.serial.device;
-      opt_.serial = line;
-      opt_.serial.device = device;
-    }
-    auto co = client_.options();
-    co.id = id;
-    co.checksum = checksum;
-    co.link_has_parity = opt_.serial.parity != transport::Parity::none;
-    client_.set_options(co);
-    opt_.client.id = id;
-    opt_.client.checksum = checksum;
-    return {};
-  }
-
-  config::LinkSettings link_settings() const override {
-    config::LinkSettings s;
-    s.port = opt_.port;
-    s.baud = std::to_string(opt_.serial.baud);
-    s.parity = std::string(transport::parity_name(opt_.serial.parity));
-    s.stop_bits = std::to_string(opt_.serial.stop_bits);
-    s.checksum = checksum_name(opt_.client.checksum);
-    return s;
-  }
-
- private:
-  std::optional<transport::LowLatencyReport> latency_;
-  LinkOptions opt_;
-  std::unique_ptr<transport::Transport> link_;
-  sim::SimLink* sim_;
-  std::shared_ptr<sim::Drive> sim_drive_;
-  std::string sim_path_;
-  client::Client client_;
-};
-
+std::map<std::string, transport::LinkFactory, std::less<>>& link_schemes() {
+  static std::map<std::string, transport::LinkFactory, std::less<>> schemes;
+  return schemes;
+}
 }  // namespace
+
+void register_link_scheme(std::string scheme, transport::LinkFactory factory) {
+  link_schemes()[std::move(scheme)] = std::move(factory);
+}
+
+Session::Session(LinkOptions opt, transport::OpenedLink link,
+                 std::optional<transport::LowLatencyReport> latency)
+    : latency_(std::move(latency)),
+      opt_(std::move(opt)),
+      link_(std::move(link.link)),
+      on_close_(std::move(link.on_close)),
+      client_(*link_, opt_.client) {}
+
+Result<void> Session::close() {
+  if (on_close_) {
+    auto once = std::move(on_close_);
+    on_close_ = nullptr;
+    LMCFG_TRY(once());
+  }
+  return {};
+}
+
+Result<void> Session::relink(const transport::SerialSettings& line, std::uint8_t id,
+                             const codec::ChecksumConfig& checksum) {
+  const auto& cur = opt_.serial;
+  if (line.baud != cur.baud || line.parity != cur.parity || line.stop_bits != cur.stop_bits) {
+    LMCFG_TRY(link_->reconfigure(line));
+    const std::string device = opt_.serial.device;
+    opt_.serial = line;
+    opt_.serial.device = device;
+  }
+  auto co = client_.options();
+  co.id = id;
+  co.checksum = checksum;
+  co.link_has_parity = opt_.serial.parity != transport::Parity::none;
+  client_.set_options(co);
+  opt_.client.id = id;
+  opt_.client.checksum = checksum;
+  return {};
+}
+
+config::LinkSettings Session::link_settings() const {
+  config::LinkSettings s;
+  s.port = opt_.port;
+  s.baud = std::to_string(opt_.serial.baud);
+  s.parity = std::string(transport::parity_name(opt_.serial.parity));
+  s.stop_bits = std::to_string(opt_.serial.stop_bits);
+  s.checksum = checksum_name(opt_.client.checksum);
+  return s;
+}
 
 Result<std::unique_ptr<Session>> open_session(const LinkOptions& opt_in) {
   LinkOptions opt = opt_in;
   if (opt.port.empty())
     return Error(Errc::invalid_argument,
                  "no --port given (a serial device, tcp://host:port or sim:FILE)");
-  std::unique_ptr<transport::Transport> link;
-  sim::SimLink* sim = nullptr;
-  std::shared_ptr<sim::Drive> drive;
-  std::string sim_path;
+  transport::OpenedLink opened;
+  auto& link = opened.link;
   std::optional<transport::LowLatencyReport> latency;
-  if (opt.port.rfind("sim:", 0) == 0) {
-    sim_path = opt.port.substr(4);
-    LMCFG_ASSIGN_OR_RETURN(auto state, sim::load_state(sim_path));
-    drive = std::make_shared<sim::Drive>(std::move(state));
-    auto owned = std::make_unique<sim::SimLink>(drive);
-    sim = owned.get();
-    sim->set_real_time(opt.real_time_sim);
-    // The simulated line is wired at the drive's settings.
-    opt.serial.baud = drive->state().link.baud;
-    opt.serial.parity = drive->state().link.parity;
-    opt.serial.stop_bits = drive->state().link.stop_bits;
-    link = std::move(owned);
+  const auto scheme_end = opt.port.find(':');
+  const auto scheme = scheme_end == std::string::npos
+                          ? link_schemes().end()
+                          : link_schemes().find(opt.port.substr(0, scheme_end));
+  if (scheme != link_schemes().end()) {
+    LMCFG_ASSIGN_OR_RETURN(
+        opened, scheme->second(transport::LinkRequest{opt.port.substr(scheme_end + 1),
+                                                      opt.real_time_sim}));
+    if (opened.line) {
+      opt.serial.baud = opened.line->baud;
+      opt.serial.parity = opened.line->parity;
+      opt.serial.stop_bits = opened.line->stop_bits;
+    }
   } else if (opt.port.rfind("tcp://", 0) == 0) {
     const std::string hp = opt.port.substr(6);
     const auto colon = hp.rfind(':');
@@ -225,9 +206,7 @@ Result<std::unique_ptr<Session>> open_session(const LinkOptions& opt_in) {
   opt.client.link_has_parity = opt.serial.parity != transport::Parity::none;
   opt.client.agreeing_reads =
       0;  // automatic: two agreeing reads when nothing detects a flipped bit
-  return std::unique_ptr<Session>(
-      std::make_unique<LinkSession>(std::move(opt), std::move(link), sim, std::move(drive),
-                                    std::move(sim_path), std::move(latency)));
+  return std::make_unique<Session>(std::move(opt), std::move(opened), std::move(latency));
 }
 
 }  // namespace lmcfg::ops

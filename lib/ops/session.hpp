@@ -3,19 +3,17 @@
 // and the drive client. Ports:
 //   /dev/ttyUSB0        real serial port (termios)
 //   tcp://host:port     serial-to-Ethernet gateway
-//   sim:STATE.json      the built-in simulated drive, in-process; its state is
-//                       loaded from and saved back to STATE.json on close(), so
-//                       a sequence of commands acts on one persistent drive.
+//   SCHEME:ADDRESS      a scheme registered with register_link_scheme(); the
+//                       tools register sim:STATE.json, the built-in simulated
+//                       drive, in-process; its state is loaded from and saved
+//                       back to STATE.json on close(), so a sequence of
+//                       commands acts on one persistent drive.
 #include <memory>
 #include <string>
 
 #include "client/client.hpp"
 #include "config/model.hpp"
 #include "transport/transport.hpp"
-
-namespace lmcfg::sim {
-class SimLink;
-}
 
 namespace lmcfg::ops {
 
@@ -24,7 +22,7 @@ struct LinkOptions {
   transport::SerialSettings serial;  // device filled from port for serial links
   client::ClientOptions client;      // MACID, checksum, timeouts, retries
   std::string trace_path;            // "" = no trace
-  bool real_time_sim = false;        // sim: sleep for the modelled wire time
+  bool real_time_sim = false;        // a simulated peer sleeps for the modelled wire time
 };
 
 // "none", "add", "crc" (0xFFFF init), "crc-ffff", "crc-0000", "crc-kermit"
@@ -42,28 +40,44 @@ std::string checksum_name(const codec::ChecksumConfig& c);
 std::string checksum_options(const codec::ChecksumConfig& c);
 Result<transport::Parity> parse_parity(std::string_view text);
 
+// Registers the factory for ports "SCHEME:..." (scheme without the colon, e.g.
+// "sim"), replacing an earlier one. Not thread-safe: register at start-up.
+void register_link_scheme(std::string scheme, transport::LinkFactory factory);
+
+// One open link to one drive, with its client. Closing saves what the link's
+// factory asked to be saved (a simulated drive's state).
 class Session {
  public:
-  virtual ~Session() = default;
-  virtual client::Client& client() = 0;
-  // The in-process simulated link (sim: ports), else nullptr.
-  virtual sim::SimLink* sim_link() = 0;
-  // Saves the simulated drive's state (sim: ports); closes the link.
-  virtual Result<void> close() = 0;
-  virtual std::string describe() const = 0;
+  Session(LinkOptions opt, transport::OpenedLink link,
+          std::optional<transport::LowLatencyReport> latency);
+  Session(const Session&) = delete;
+  Session& operator=(const Session&) = delete;
+
+  client::Client& client() { return client_; }
+  Result<void> close();
+  std::string describe() const { return link_->describe(); }
   // Settings as recorded in a backup's identity.
-  virtual config::LinkSettings link_settings() const = 0;
+  config::LinkSettings link_settings() const;
   // The line settings the tool talks with now (for sim: ports, the simulated
   // drive's settings at open; for tcp: ports, what --baud etc. said).
-  virtual transport::SerialSettings line() const = 0;
+  transport::SerialSettings line() const { return opt_.serial; }
   // Talks to the drive with other settings from now on: the serial line is
   // reconfigured (Errc::not_supported on a TCP gateway when `line` differs),
   // the client takes the new MACID and checksum.
-  virtual Result<void> relink(const transport::SerialSettings& line, std::uint8_t id,
-                              const codec::ChecksumConfig& checksum) = 0;
+  Result<void> relink(const transport::SerialSettings& line, std::uint8_t id,
+                      const codec::ChecksumConfig& checksum);
   // What opening a serial port found about its receive latency (USB adapters'
-  // latency timer); nullptr for TCP and sim: ports.
-  virtual const transport::LowLatencyReport* low_latency() const { return nullptr; }
+  // latency timer); nullptr for TCP and registered-scheme ports.
+  const transport::LowLatencyReport* low_latency() const {
+    return latency_ ? &*latency_ : nullptr;
+  }
+
+ private:
+  std::optional<transport::LowLatencyReport> latency_;
+  LinkOptions opt_;
+  std::unique_ptr<transport::Transport> link_;
+  std::function<Result<void>()> on_close_;
+  client::Client client_;
 };
 
 Result<std::unique_ptr<Session>> open_session(const LinkOptions& opt);

@@ -5,6 +5,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "sim/link.hpp"
+
 namespace lmcfg::sim {
 
 using nlohmann::json;
@@ -434,6 +436,24 @@ Result<void> save_state(const DriveState& s, const std::string& path) {
   if (std::rename(tmp.c_str(), path.c_str()) != 0)
     return Error(Errc::file_error, "cannot rename " + tmp + " to " + path);
   return {};
+}
+
+transport::LinkFactory state_file_link_factory() {
+  return [](const transport::LinkRequest& req) -> Result<transport::OpenedLink> {
+    LMCFG_ASSIGN_OR_RETURN(auto state, load_state(req.address));
+    auto drive = std::make_shared<Drive>(std::move(state));
+    auto link = std::make_unique<SimLink>(drive);
+    link->set_real_time(req.real_time_peer);
+    transport::OpenedLink out;
+    transport::SerialSettings line;
+    line.baud = drive->state().link.baud;
+    line.parity = drive->state().link.parity;
+    line.stop_bits = drive->state().link.stop_bits;
+    out.line = line;
+    out.link = std::move(link);
+    out.on_close = [drive, path = req.address]() { return save_state(drive->state(), path); };
+    return out;
+  };
 }
 
 }  // namespace lmcfg::sim

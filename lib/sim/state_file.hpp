@@ -7,6 +7,7 @@
 
 #include "common/result.hpp"
 #include "sim/drive.hpp"
+#include "transport/transport.hpp"
 
 namespace lmcfg::sim {
 
@@ -20,5 +21,10 @@ Result<DriveState> from_json(const nlohmann::json& j);
 Result<DriveState> load_state(const std::string& path);
 // Written to `path`.tmp, then renamed over `path`.
 Result<void> save_state(const DriveState& s, const std::string& path);
+
+// The factory of "sim:STATE.json" ports, which the tools register with
+// ops::register_link_scheme("sim", ...): loads the drive from STATE.json, wires
+// the line at the drive's settings and saves the state back on a clean close.
+transport::LinkFactory state_file_link_factory();
 
 }  // namespace lmcfg::sim

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -144,5 +145,22 @@ class MemoryTrace : public TraceSink {
   mutable std::mutex mu_;
   std::vector<TraceRecord> records_;
 };
+
+// A link opened by a port scheme the operations layer does not know itself
+// (ops::register_link_scheme): the tools register "sim:" this way, so the
+// operations never depend on the simulator.
+struct OpenedLink {
+  std::unique_ptr<Transport> link;
+  // The line's settings when the far end dictates them (a simulated drive is
+  // wired at its own settings); nullopt keeps what the options said.
+  std::optional<SerialSettings> line;
+  // Run by a clean close (a simulated drive saves its state); may be empty.
+  std::function<Result<void>()> on_close;
+};
+struct LinkRequest {
+  std::string address;          // the port without its scheme: "axis.json" of "sim:axis.json"
+  bool real_time_peer = false;  // a simulated peer sleeps for the modelled wire time
+};
+using LinkFactory = std::function<Result<OpenedLink>(const LinkRequest&)>;
 
 }  // namespace lmcfg::transport

@@ -105,7 +105,9 @@ int run(BackupCli& o) {
   return kOk;
 }
 
-const Register reg(10, [](CLI::App& app, int& exit_code) {
+}  // namespace
+
+void add_backup(CLI::App& app, int& exit_code) {
   auto o = std::make_shared<BackupCli>();
   auto* sub = app.add_subcommand("backup",
                                  "Read a drive's configuration and write it to a JSON or XML file");
@@ -135,7 +137,5 @@ const Register reg(10, [](CLI::App& app, int& exit_code) {
       "do not ask the drive for types and defaults the UPID database lacks (fewer telegrams)");
   sub->add_option("--label", o->labels, "KEY=VALUE stored in the file (machine, axis, ...)");
   sub->callback([o, &exit_code] { exit_code = run(*o); });
-});
-
-}  // namespace
+}
 }  // namespace lmcfg::cli

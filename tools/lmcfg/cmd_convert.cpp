@@ -68,7 +68,9 @@ int run(const ConvertCli& o) {
   return kOk;
 }
 
-const Register reg(70, [](CLI::App& app, int& exit_code) {
+}  // namespace
+
+void add_convert(CLI::App& app, int& exit_code) {
   auto o = std::make_shared<ConvertCli>();
   auto* sub =
       app.add_subcommand("convert", "Convert a configuration file between JSON and XML (lossless)");
@@ -85,7 +87,5 @@ const Register reg(70, [](CLI::App& app, int& exit_code) {
       ->check(CLI::IsMember({"json", "xml"}));
   add_output_options(sub, o->common);
   sub->callback([o, &exit_code] { exit_code = run(*o); });
-});
-
-}  // namespace
+}
 }  // namespace lmcfg::cli

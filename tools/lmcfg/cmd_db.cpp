@@ -32,12 +32,6 @@ struct DbOptions {
   bool devicenet_params = false;
 };
 
-std::string hex(unsigned v, int digits) {
-  char b[16];
-  std::snprintf(b, sizeof b, "%0*X", digits, v);
-  return b;
-}
-
 std::optional<Database> open_db(const DbOptions& o, int& exit_code) {
   auto r = o.db_path.empty() ? Database::open_default() : Database::open(o.db_path);
   if (!r) {
@@ -212,6 +206,8 @@ int run_errors(const DbOptions& o) {
     for (const auto* e : v)
       arr.push_back({{"domain", e->domain},
                      {"code", e->code_text},
+                     {"class", e->error_class},
+                     {"fatal", e->fatal()},
                      {"text", e->text},
                      {"description", e->description},
                      {"action", e->action},
@@ -242,6 +238,10 @@ int run_commands(const DbOptions& o) {
              {"type", p.spec.type ? json(std::string(db::type_name(*p.spec.type))) : json(nullptr)},
              {"unit", p.spec.unit},
              {"scale", p.spec.scale ? json(*p.spec.scale) : json(nullptr)},
+             {"range", p.range_text},
+             {"min", p.spec.min ? json(*p.spec.min) : json(nullptr)},
+             {"max", p.spec.max ? json(*p.spec.max) : json(nullptr)},
+             {"scaled", p.scaled},
              {"provenance", prov_json(p.prov)}});
       arr.push_back({{"header", hex(c.header() >> 4, 3) + "x"},
                      {"master", hex(c.master, 2)},
@@ -257,9 +257,12 @@ int run_commands(const DbOptions& o) {
   std::printf("%-6s %-45s %s\n", "HEADER", "NAME", "PARAMETERS");
   for (const auto& c : v) {
     std::string ps;
-    for (const auto& p : c.params)
-      ps +=
-          (ps.empty() ? "" : ", ") + p.name + (p.spec.unit.empty() ? "" : " [" + p.spec.unit + "]");
+    for (const auto& p : c.params) {
+      std::string what = p.spec.unit;
+      if (p.scaled) what = "scaled";
+      if (!p.range_text.empty()) what += (what.empty() ? "" : ", ") + p.range_text;
+      ps += (ps.empty() ? "" : ", ") + p.name + (what.empty() ? "" : " [" + what + "]");
+    }
     std::printf("%-6s %-45s %s\n", (hex(c.header() >> 4, 3) + "x").c_str(), c.name.c_str(),
                 ps.c_str());
   }
@@ -642,8 +645,7 @@ void setup(CLI::App& app, int& exit_code) {
   merge->add_flag("--json", mo->common.json, "machine-readable report on stdout");
   merge->callback([mo, &exit_code] { exit_code = run_merge(*mo); });
 }
-
-Register reg(60, setup);
-
 }  // namespace
+
+void add_db(CLI::App& app, int& exit_code) { setup(app, exit_code); }
 }  // namespace lmcfg::cli

@@ -107,7 +107,9 @@ int run(DefaultCli& o) {
   return kOk;
 }
 
-const Register reg(40, [](CLI::App& app, int& exit_code) {
+}  // namespace
+
+void add_default(CLI::App& app, int& exit_code) {
   auto o = std::make_shared<DefaultCli>();
   auto* sub = app.add_subcommand(
       "default", "Set layers to factory defaults; optionally delete curves and command table");
@@ -131,7 +133,5 @@ const Register reg(40, [](CLI::App& app, int& exit_code) {
       "also default communication parameters (the drive may stop answering on these settings)");
   sub->add_flag("--yes,-y", o->yes, "do not ask for confirmation");
   sub->callback([o, &exit_code] { exit_code = run(*o); });
-});
-
-}  // namespace
+}
 }  // namespace lmcfg::cli

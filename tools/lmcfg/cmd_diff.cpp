@@ -23,7 +23,9 @@ int run(CompareOptions& o) {
   return result.identical() ? kOk : kDifferent;
 }
 
-const Register reg(20, [](CLI::App& app, int& exit_code) {
+}  // namespace
+
+void add_diff(CLI::App& app, int& exit_code) {
   auto o = std::make_shared<CompareOptions>();
   auto* sub = app.add_subcommand(
       "diff", "Compare two configurations (files, factory defaults or a live drive)");
@@ -43,7 +45,5 @@ const Register reg(20, [](CLI::App& app, int& exit_code) {
       "Exit status: 0 identical, 1 different, 2 or more on error.");
   add_compare_options(sub, *o, true, true);
   sub->callback([o, &exit_code] { exit_code = run(*o); });
-});
-
-}  // namespace
+}
 }  // namespace lmcfg::cli

@@ -21,7 +21,9 @@ int run(CommonOptions& o) {
   return kOk;
 }
 
-const Register reg(60, [](CLI::App& app, int& exit_code) {
+}  // namespace
+
+void add_info(CLI::App& app, int& exit_code) {
   auto o = std::make_shared<CommonOptions>();
   auto* sub = app.add_subcommand(
       "info", "Show a drive's state, status and warn words, actual error and error log");
@@ -29,7 +31,5 @@ const Register reg(60, [](CLI::App& app, int& exit_code) {
   add_link_options(sub, *o);
   add_output_options(sub, *o);
   sub->callback([o, &exit_code] { exit_code = run(*o); });
-});
-
-}  // namespace
+}
 }  // namespace lmcfg::cli

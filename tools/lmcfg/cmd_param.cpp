@@ -188,7 +188,9 @@ int run_set(ParamCli& o) {
   return kOk;
 }
 
-const Register reg_get(50, [](CLI::App& app, int& exit_code) {
+}  // namespace
+
+void add_get(CLI::App& app, int& exit_code) {
   auto o = std::make_shared<ParamCli>();
   auto* sub =
       app.add_subcommand("get", "Read one parameter (RAM by default, --rom for the stored value)");
@@ -198,9 +200,9 @@ const Register reg_get(50, [](CLI::App& app, int& exit_code) {
   add_output_options(sub, o->common);
   sub->add_flag("--rom", o->rom, "read the ROM value (§10 05h 00h) instead of RAM (§9 03h 00h)");
   sub->callback([o, &exit_code] { exit_code = run_get(*o); });
-});
+}
 
-const Register reg_set(51, [](CLI::App& app, int& exit_code) {
+void add_set(CLI::App& app, int& exit_code) {
   auto o = std::make_shared<ParamCli>();
   auto* sub = app.add_subcommand(
       "set", "Write one parameter (RAM by default; --rom, or --ram --rom for both)");
@@ -223,7 +225,5 @@ const Register reg_set(51, [](CLI::App& app, int& exit_code) {
   sub->add_flag("--include-comm", o->include_comm,
                 "allow writing a communication parameter (baud rate, MACID, checksum, parity)");
   sub->callback([o, &exit_code] { exit_code = run_set(*o); });
-});
-
-}  // namespace
+}
 }  // namespace lmcfg::cli

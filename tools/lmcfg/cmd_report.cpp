@@ -58,7 +58,9 @@ int run(ReportCli& o) {
   return kOk;
 }
 
-const Register reg(25, [](CLI::App& app, int& exit_code) {
+}  // namespace
+
+void add_report(CLI::App& app, int& exit_code) {
   auto o = std::make_shared<ReportCli>();
   auto* sub = app.add_subcommand(
       "report", "Write a configuration, or the diff of two, as one HTML page with curve plots");
@@ -94,7 +96,5 @@ const Register reg(25, [](CLI::App& app, int& exit_code) {
   sub->add_option("-o,--output", o->output, "the HTML file to write ('-': standard output)")
       ->required();
   sub->callback([o, &exit_code] { exit_code = run(*o); });
-});
-
-}  // namespace
+}
 }  // namespace lmcfg::cli

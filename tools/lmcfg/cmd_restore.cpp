@@ -133,7 +133,9 @@ int run(RestoreCli& o) {
   return code;
 }
 
-const Register reg(30, [](CLI::App& app, int& exit_code) {
+}  // namespace
+
+void add_restore(CLI::App& app, int& exit_code) {
   auto o = std::make_shared<RestoreCli>();
   auto* sub = app.add_subcommand("restore",
                                  "Restore a configuration file onto a drive: plan, write, verify");
@@ -166,7 +168,5 @@ const Register reg(30, [](CLI::App& app, int& exit_code) {
   sub->add_flag("--no-reset", o->no_reset,
                 "do not reset the drive at the end (ROM values act after the next restart)");
   sub->callback([o, &exit_code] { exit_code = run(*o); });
-});
-
-}  // namespace
+}
 }  // namespace lmcfg::cli

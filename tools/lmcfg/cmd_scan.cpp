@@ -84,7 +84,9 @@ int run(ScanCli& o) {
   return r.found.empty() ? kDifferent : kOk;  // 1: no drive answered
 }
 
-const Register reg(70, [](CLI::App& app, int& exit_code) {
+}  // namespace
+
+void add_scan(CLI::App& app, int& exit_code) {
   auto o = std::make_shared<ScanCli>();
   auto* sub = app.add_subcommand("scan",
                                  "Find drives: tries MACIDs at every LinRS baud rate (or --baud), "
@@ -104,7 +106,5 @@ const Register reg(70, [](CLI::App& app, int& exit_code) {
     o->timeout_given = sub->get_option("--timeout-ms")->count() > 0;
     exit_code = run(*o);
   });
-});
-
-}  // namespace
+}
 }  // namespace lmcfg::cli

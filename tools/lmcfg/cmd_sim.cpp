@@ -170,7 +170,9 @@ int run(const SimArgs& a) {
   return rc;
 }
 
-const Register reg(90, [](CLI::App& app, int& exit_code) {
+}  // namespace
+
+void add_sim(CLI::App& app, int& exit_code) {
   auto args = std::make_shared<SimArgs>();
   auto* cmd = app.add_subcommand(
       "sim", "Serve a simulated LinMot drive (LinRS) on a pseudo-terminal or TCP port");
@@ -188,7 +190,5 @@ const Register reg(90, [](CLI::App& app, int& exit_code) {
   cmd->add_flag("--fast", args->fast, "Answer at once instead of after the modelled delays");
   cmd->add_flag("-v,--verbose", args->verbose, "Trace every chunk to stderr");
   cmd->callback([args, &exit_code] { exit_code = run(*args); });
-});
-
-}  // namespace
+}
 }  // namespace lmcfg::cli

@@ -1,7 +1,7 @@
 #pragma once
-// Subcommand registry: each subcommand lives in its own cmd_*.cpp, registers
-// itself at static-initialisation time, and stays a thin main over one library
-// call. main.cpp only parses and dispatches.
+// The subcommands: each lives in its own cmd_*.cpp as an add_NAME() that adds
+// it to the app and stays a thin main over one library call. main.cpp lists
+// them in one table (their order is the order of --help) and dispatches.
 #include <CLI/CLI.hpp>
 #include <functional>
 #include <string>
@@ -21,12 +21,19 @@ enum Exit : int {
   kInterrupted = 130,   // SIGINT/SIGTERM: stopped between two telegrams (128 + SIGINT)
 };
 
-// The setup function adds a subcommand to `app` and arranges (via the
-// subcommand's callback) for `exit_code` to be set when it runs.
-using Setup = std::function<void(CLI::App& app, int& exit_code)>;
-
-struct Register {
-  Register(int order, Setup setup);
-};
+// Each adds its subcommand to `app` and arranges (via the subcommand's
+// callback) for `exit_code` to be set when it runs.
+void add_backup(CLI::App& app, int& exit_code);
+void add_diff(CLI::App& app, int& exit_code);
+void add_report(CLI::App& app, int& exit_code);
+void add_restore(CLI::App& app, int& exit_code);
+void add_default(CLI::App& app, int& exit_code);
+void add_get(CLI::App& app, int& exit_code);
+void add_set(CLI::App& app, int& exit_code);
+void add_db(CLI::App& app, int& exit_code);
+void add_info(CLI::App& app, int& exit_code);
+void add_convert(CLI::App& app, int& exit_code);
+void add_scan(CLI::App& app, int& exit_code);
+void add_sim(CLI::App& app, int& exit_code);
 
 }  // namespace lmcfg::cli

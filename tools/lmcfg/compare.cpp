@@ -9,7 +9,7 @@ namespace lmcfg::cli {
 
 int load_and_compare(const char* command, const CompareOptions& o, const db::Database* db,
                      Compared& out) {
-  std::unique_ptr<ops::Session> session;
+  SessionHandle session;
   const bool two = !o.b.empty();
   const bool needs_drive = o.a == "drive" || o.b == "drive";
   if (needs_drive || !o.common.port.empty()) {

@@ -181,39 +181,21 @@ OpenLink& open_link_state() {
   return s;
 }
 
-// Forwards to the session and registers it while it lives.
-class TrackedSession final : public ops::Session {
- public:
-  TrackedSession(std::unique_ptr<ops::Session> s, const CommonOptions& o) : s_(std::move(s)) {
-    open_link_state() = OpenLink{this, o.port, o.verbose};
-  }
-  ~TrackedSession() override {
-    if (open_link_state().session == this) open_link_state() = OpenLink{};
-  }
-  client::Client& client() override { return s_->client(); }
-  sim::SimLink* sim_link() override { return s_->sim_link(); }
-  Result<void> close() override { return s_->close(); }
-  std::string describe() const override { return s_->describe(); }
-  config::LinkSettings link_settings() const override { return s_->link_settings(); }
-  transport::SerialSettings line() const override { return s_->line(); }
-  const transport::LowLatencyReport* low_latency() const override { return s_->low_latency(); }
-  Result<void> relink(const transport::SerialSettings& line, std::uint8_t id,
-                      const codec::ChecksumConfig& checksum) override {
-    return s_->relink(line, id, checksum);
-  }
-
- private:
-  std::unique_ptr<ops::Session> s_;
-};
 }  // namespace
 
-Result<std::unique_ptr<ops::Session>> open_link(const CommonOptions& o) {
+void ForgetOnDelete::operator()(ops::Session* s) const {
+  if (open_link_state().session == s) open_link_state() = OpenLink{};
+  delete s;
+}
+
+Result<SessionHandle> open_link(const CommonOptions& o) {
   LMCFG_ASSIGN_OR_RETURN(auto l, link_options(o));
   LMCFG_ASSIGN_OR_RETURN(auto s, ops::open_session(l));
   // A USB adapter whose latency timer stays above 2 ms: said once, with the fix.
   if (const auto* lat = s->low_latency(); lat && !lat->advice.empty() && !o.quiet)
     std::fprintf(stderr, "lmcfg: %s\n", lat->advice.c_str());
-  return std::unique_ptr<ops::Session>(std::make_unique<TrackedSession>(std::move(s), o));
+  open_link_state() = OpenLink{s.get(), o.port, o.verbose};
+  return SessionHandle(s.release());
 }
 
 const db::Database* load_database(const CommonOptions& o, std::optional<db::Database>& holder) {

@@ -40,7 +40,12 @@ void add_output_options(CLI::App* sub, CommonOptions& o);
 
 // Validates option values (baud 0, ID 300 ... are refused with a message).
 Result<ops::LinkOptions> link_options(const CommonOptions& o);
-Result<std::unique_ptr<ops::Session>> open_link(const CommonOptions& o);
+// The session open_link opened, remembered for fail()'s advice while it lives.
+struct ForgetOnDelete {
+  void operator()(ops::Session* s) const;
+};
+using SessionHandle = std::unique_ptr<ops::Session, ForgetOnDelete>;
+Result<SessionHandle> open_link(const CommonOptions& o);
 
 // The database, or nullptr with a warning on stderr: a missing database makes
 // output less readable, never wrong.

@@ -1,21 +1,19 @@
-#include <algorithm>
 #include <cstdio>
 #include <exception>
-#include <vector>
 
 #include "command.hpp"
+#include "ops/session.hpp"
+#include "sim/state_file.hpp"
 #include "version_info.hpp"
 
 namespace lmcfg::cli {
 namespace {
-std::vector<std::pair<int, Setup>>& registry() {
-  static std::vector<std::pair<int, Setup>> r;
-  return r;
-}
-}  // namespace
-Register::Register(int order, Setup setup) { registry().emplace_back(order, std::move(setup)); }
+// Every subcommand, in the order --help lists them.
+constexpr void (*kSubcommands[])(CLI::App&, int&) = {
+    add_backup, add_diff, add_report, add_restore, add_default, add_get,
+    add_set,    add_db,   add_info,   add_convert, add_scan,    add_sim,
+};
 
-namespace {
 // The first word that is not an option must name a subcommand: "lmcfg fleet
 // backup" is an error naming 'fleet', never a backup. nullptr when it does.
 const char* unknown_subcommand(const CLI::App& app, int argc, char** argv) {
@@ -45,9 +43,10 @@ int main(int argc, char** argv) {
                        "UPID database it uses (path, fingerprint, profiles), then exit");
   app.require_subcommand(1);
   int exit_code = kOk;
-  auto& reg = registry();
-  std::stable_sort(reg.begin(), reg.end(), [](auto& a, auto& b) { return a.first < b.first; });
-  for (auto& [order, setup] : reg) setup(app, exit_code);
+  for (auto add : kSubcommands) add(app, exit_code);
+  // The operations layer knows serial ports and TCP gateways; the simulated
+  // drive's port scheme is the tools' to add.
+  lmcfg::ops::register_link_scheme("sim", lmcfg::sim::state_file_link_factory());
   if (const char* word = unknown_subcommand(app, argc, argv)) {
     std::fprintf(stderr, "lmcfg: unknown subcommand '%s' (one of: %s; see lmcfg --help)\n", word,
                  subcommand_names(app).c_str());

@@ -1,0 +1,45 @@
+#!/usr/bin/env python3
+"""The build enforces the layering of lib/ (docs/architecture.md): with the
+include flags of each layer's own sources (compile_commands.json), a header of
+every layer it declares compiles and a header of any other layer does not.
+usage: layering-test.py BUILD_DIR SOURCE_DIR"""
+import json, os, shlex, subprocess, sys, tempfile
+
+ALLOWED = {  # as lib/CMakeLists.txt declares, with the layer itself
+    "common": {"common"},
+    "codec": {"codec", "common"},
+    "transport": {"transport", "common"},
+    "db": {"db", "common"},
+    "config": {"config", "common"},
+    "client": {"client", "codec", "transport", "common"},
+    "sim": {"sim", "codec", "transport", "common"},
+    "ops": {"ops", "client", "config", "db", "codec", "transport", "common"},
+}
+build, source = sys.argv[1], sys.argv[2]
+commands = json.load(open(os.path.join(build, "compile_commands.json")))
+header_of = {}
+for layer in ALLOWED:
+    hs = sorted(f for f in os.listdir(os.path.join(source, "lib", layer)) if f.endswith(".hpp"))
+    header_of[layer] = f"{layer}/{hs[0]}"
+failures, checks = [], 0
+with tempfile.TemporaryDirectory() as tmp:
+    for layer, allowed in ALLOWED.items():
+        entry = next(c for c in commands if f"/lib/{layer}/" in c["file"] and c["file"].endswith(".cpp"))
+        args = shlex.split(entry["command"])
+        i = args.index("-c")
+        o = args.index("-o")
+        for other in ALLOWED:
+            src = os.path.join(tmp, f"{layer}-{other}.cpp")
+            with open(src, "w") as f:
+                f.write(f'#include "{header_of[other]}"\n')
+            cmd = args[:i] + ["-fsyntax-only", src] + [a for k, a in enumerate(args) if k > i + 1 and k not in (o, o + 1)]
+            cmd = [a for k, a in enumerate(cmd) if a != "-c"]
+            ok = subprocess.run(cmd, cwd=entry["directory"], capture_output=True).returncode == 0
+            checks += 1
+            if ok != (other in allowed):
+                failures.append(f"lib/{layer} including {header_of[other]}: "
+                                f"{'compiles' if ok else 'fails'}, expected {'success' if other in allowed else 'failure'}")
+for f in failures:
+    print("layering-test:", f)
+print(f"layering-test: {checks - len(failures)} of {checks} include checks as declared")
+sys.exit(1 if failures else 0)
