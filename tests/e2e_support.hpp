@@ -37,14 +37,14 @@ class WireRecorder : public transport::TraceSink {
   void record(bool is_tx, ByteView bytes) override {
     if (is_tx) tx.emplace_back(bytes.begin(), bytes.end());
   }
-  // Write telegrams (client::is_write_request) among everything sent.
+  // Write telegrams (codec::is_write_request) among everything sent.
   std::size_t write_telegrams() const {
     std::size_t n = 0;
     codec::StreamDecoder dec;
     for (const auto& chunk : tx) {
       dec.feed(chunk);
       while (auto t = dec.next()) {
-        if (t->ok() && client::is_write_request(t->value())) ++n;
+        if (t->ok() && codec::is_write_request(t->value())) ++n;
       }
     }
     return n;

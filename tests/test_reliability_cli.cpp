@@ -382,7 +382,7 @@ namespace {
 std::size_t count_requests(const std::vector<codec::Telegram>& ts, std::uint8_t main,
                            std::optional<std::uint8_t> sub = std::nullopt, bool writes = false) {
   return static_cast<std::size_t>(std::count_if(ts.begin(), ts.end(), [&](const auto& t) {
-    return t.main == main && (!sub || t.sub == *sub) && (!writes || client::is_write_request(t));
+    return t.main == main && (!sub || t.sub == *sub) && (!writes || codec::is_write_request(t));
   }));
 }
 

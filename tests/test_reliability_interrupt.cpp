@@ -120,7 +120,7 @@ void interrupt_at_write(FaultRig& rig, std::size_t nth, std::atomic<bool>& flag)
   const auto cfg = rig.drive->state().checksum;
   rig.sim->faults().set_callback([=, &flag](std::size_t, ByteView req) -> std::vector<sim::Fault> {
     auto t = codec::decode(req, cfg);
-    if (t.ok() && client::is_write_request(*t) && ++*count == nth) flag = true;
+    if (t.ok() && codec::is_write_request(*t) && ++*count == nth) flag = true;
     return {};
   });
 }

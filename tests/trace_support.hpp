@@ -35,10 +35,10 @@ inline std::vector<codec::Telegram> traced_requests(const std::filesystem::path&
   return out;
 }
 
-// Write telegrams among them (client::is_write_request).
+// Write telegrams among them (codec::is_write_request).
 inline std::size_t traced_writes(const std::filesystem::path& trace) {
   std::size_t n = 0;
-  for (const auto& t : traced_requests(trace)) n += client::is_write_request(t) ? 1 : 0;
+  for (const auto& t : traced_requests(trace)) n += codec::is_write_request(t) ? 1 : 0;
   return n;
 }
 

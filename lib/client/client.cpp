@@ -19,65 +19,8 @@ std::optional<int> layer_of(std::uint16_t upid) {
 }
 const char* layer_name(int layer) { return layers::name(layer).data(); }
 
-std::uint8_t expected_answer_sub(const Telegram& r) {
-  switch (static_cast<Main>(r.main)) {
-    case Main::curve:
-      return 0x40;
-    case Main::param_config:
-      return static_cast<std::uint8_t>(0x50 + r.sub);
-    case Main::program:
-      return (r.sub == 0x01 || r.sub == 0x04) ? 0x60 : 0x00;
-    case Main::error_info:
-      return static_cast<std::uint8_t>(0x70 + r.sub);
-    case Main::command_table:
-      return static_cast<std::uint8_t>(0x80 + r.sub);
-    default:
-      return 0x00;
-  }
-}
-
-bool is_write_request(const Telegram& r) {
-  switch (static_cast<Main>(r.main)) {
-    case Main::control_word:
-    case Main::motion_command:
-      return true;
-    case Main::parameter:
-      return r.sub == 0x01 || r.sub == 0x03 || r.sub == 0x04 || (r.sub >= 0x11 && r.sub <= 0x14);
-    case Main::param_config:
-      return r.sub == 0x01 || (r.sub >= 0x0C && r.sub <= 0x0F);
-    case Main::curve:
-      return r.sub <= 0x06;
-    case Main::program:
-      return true;
-    case Main::command_table:
-      return r.sub <= 0x04;
-    default:
-      return false;
-  }
-}
-
 Client::Client(transport::Transport& link, ClientOptions opt)
     : link_(link), opt_(opt), decoder_(opt.checksum) {}
-
-std::optional<std::uint16_t> request_key(const Telegram& r) {
-  if (r.data.size() < 2) return std::nullopt;
-  bool keyed = false;
-  switch (static_cast<Main>(r.main)) {
-    case Main::param_config:
-      keyed = r.sub <= 0x01 || (r.sub >= 0x04 && r.sub <= 0x07);
-      break;
-    case Main::curve:
-      keyed = r.sub == 0x02 || (r.sub >= 0x04 && r.sub <= 0x06) || (r.sub >= 0x08 && r.sub <= 0x0A);
-      break;
-    case Main::command_table:
-      keyed = r.sub >= 0x02 && r.sub <= 0x07;
-      break;
-    default:
-      break;
-  }
-  if (!keyed) return std::nullopt;
-  return static_cast<std::uint16_t>(r.data[0] | r.data[1] << 8);
-}
 
 namespace {
 

@@ -29,6 +29,7 @@
 
 #include "codec/frame.hpp"
 #include "codec/messages.hpp"
+#include "codec/requests.hpp"
 #include "transport/transport.hpp"
 
 namespace lmcfg::client {
@@ -269,16 +270,5 @@ class Client {
   ProbeForms forms_;
   std::string long_wait_;  // what a long operation in flight waits for (transact_long)
 };
-
-// Expected answer sub ID for a request (seed 003 §6 table): 00 default
-// response, 40h curves, 50h+sub configuration, 60h program handling (subs 01,
-// 04; others answer the default response), 70h+sub error info, 80h+sub CT.
-std::uint8_t expected_answer_sub(const codec::Telegram& request);
-// True when a request changes drive state (used for "no write on the wire" checks).
-bool is_write_request(const codec::Telegram& request);
-// The UPID / curve ID / CT entry / list block a request names and its answer
-// must echo (configuration, curve and command table groups); nullopt when the
-// answer's key is not tied to the request (lists, saves, delete all).
-std::optional<std::uint16_t> request_key(const codec::Telegram& request);
 
 }  // namespace lmcfg::client

@@ -13,9 +13,6 @@ namespace lmcfg::ops::detail {
 std::string param_label(int layer, std::uint16_t upid, const db::Parameter* d,
                         const config::Parameter* p);
 std::string param_name(std::uint16_t upid, const db::Parameter* d, const config::Parameter* p);
-// The 4-byte field as an integer of its type: upper bytes must be zero, or the
-// sign extension for signed types (a drive may send either for SINT8/16).
-std::optional<std::int64_t> as_integer(db::TypeCode t, std::uint32_t raw);
 // A curve's name from its info block (offset 8, up to 22 characters, §11 /
 // docs/config-files.md); "" when the block is too short.
 std::string curve_name(const Bytes& info);

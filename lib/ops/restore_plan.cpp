@@ -90,7 +90,7 @@ Result<void> check_parameter(client::Client& c, const db::Database* db, int laye
                             hex(address_usage->raw, 4, "h") + " has no ROM write bit)");
     return {};
   }
-  auto value = as_integer(*code, p.value);
+  auto value = db::field_integer(*code, p.value);
   if (!value) {
     plan.problems.push_back(label + ": value " + hex(p.value, 4, "h") + " does not fit type " +
                             std::string(db::type_name(*code)));
@@ -109,7 +109,7 @@ Result<void> check_parameter(client::Client& c, const db::Database* db, int laye
       plan.problems.push_back(label + ": the target refused the min/max query: " + e.message);
       return {};
     }
-    const auto tmin = as_integer(*code, *mn), tmax = as_integer(*code, *mx);
+    const auto tmin = db::field_integer(*code, *mn), tmax = db::field_integer(*code, *mx);
     if (d && (d->spec.min || d->spec.max) && (d->spec.min != tmin || d->spec.max != tmax)) {
       plan.notes.push_back(label + ": the target's range " + range_text(tmin, tmax) +
                            " differs from the UPID database's " +

@@ -3,11 +3,19 @@
 #include <algorithm>
 #include <array>
 
+#include "codec/requests.hpp"
 #include "common/layers.hpp"
 
 namespace lmcfg::sim {
 
+using codec::CfgOp;
+using codec::CtOp;
+using codec::CurveOp;
+using codec::ErrorInfoOp;
 using codec::Main;
+using codec::ParamOp;
+using codec::ProgramOp;
+using codec::ResponseRequest;
 using codec::Telegram;
 namespace st = codec::state;
 
@@ -230,16 +238,18 @@ std::optional<Answer> Drive::handle(const Telegram& t, std::int64_t now) {
     ++stats_.ignored_busy;
     return std::nullopt;
   }
+  // The codec's request table (seed 003 §5-14) decides which requests exist
+  // and what they carry; the handlers below only act on them.
+  if (!codec::known_main(t.main)) return error_answer(st::bad_main_id, now);
+  const auto spec = codec::request_spec(t.main, t.sub);
+  if (!spec || t.data.size() < spec->data_len) return error_answer(st::bad_sub_id, now);
   switch (static_cast<Main>(t.main)) {
     case Main::response:
       return on_response_request(t, now);
     case Main::control_word:
-      if (t.data.size() < 2) return error_answer(st::bad_sub_id, now);
-      if (t.sub != 0) return error_answer(st::bad_sub_id, now);
       control_word_ = get_u16le(t.data, 0);
       return finish(default_response(st::ok), 0, now);
     case Main::motion_command:
-      if (t.sub != 0 || t.data.size() < 2) return error_answer(st::bad_sub_id, now);
       last_motion_header_ = get_u16le(t.data, 0);
       return finish(default_response(st::ok), 0, now);
     case Main::parameter:
@@ -259,18 +269,17 @@ std::optional<Answer> Drive::handle(const Telegram& t, std::int64_t now) {
 }
 
 std::optional<Answer> Drive::on_response_request(const Telegram& t, std::int64_t now) {
-  switch (t.sub) {
-    case 0x01:
+  switch (static_cast<ResponseRequest>(t.sub)) {
+    case ResponseRequest::default_response:
       return finish(default_response(st::ok), 0, now);
-    case 0x02:
+    case ResponseRequest::status_word:
       return finish(default_response(st::ok, s_.mc_running ? s_.live.status_word : 0u), 0, now);
-    case 0x03:
+    case ResponseRequest::warn_word:
       return finish(default_response(st::ok, s_.live.warn_word), 0, now);
-    case 0x04:
+    case ResponseRequest::state_var:
       return finish(default_response(st::ok, s_.mc_running ? s_.live.state_var : 0u), 0, now);
-    default:
-      return error_answer(st::bad_sub_id, now);
   }
+  return error_answer(st::bad_sub_id, now);
 }
 
 // ---- parameters (§9, §10) ----------------------------------------------------
@@ -307,46 +316,48 @@ void Drive::load_ram_from_rom() {
 }
 
 std::optional<Answer> Drive::on_parameter(const Telegram& t, std::int64_t now) {
-  if (t.sub >= 0x11 && t.sub <= 0x14) {
-    default_layer(static_cast<Layer>(t.sub - 0x10));
+  if (t.sub >= codec::kParamDefaultLayerFirst && t.sub <= codec::kParamDefaultLayerLast) {
+    default_layer(static_cast<Layer>(t.sub - codec::kParamDefaultLayerFirst + 1));
     return finish(default_response(st::ok), s_.timing.defaulting_us, now);
   }
-  if (t.sub > 0x07) return error_answer(st::bad_sub_id, now);
-  const bool is_write = t.sub == 0x01 || t.sub == 0x03 || t.sub == 0x04;
-  if (t.data.size() < (is_write ? 6u : 2u)) return error_answer(st::bad_sub_id, now);
   const std::uint16_t upid = get_u16le(t.data, 0);
   Parameter* p = find(upid);
   if (!p) return error_answer(st::unknown_upid, now);
-  switch (t.sub) {
-    case 0x00:
+  const auto op = static_cast<ParamOp>(t.sub);
+  switch (op) {
+    case ParamOp::read_ram:
       return finish(default_response(st::ok, p->ram), 0, now);
-    case 0x02:
+    case ParamOp::read_rom:
       return finish(default_response(st::ok, p->rom), 0, now);
-    case 0x05:
+    case ParamOp::get_min:
       return finish(default_response(st::ok, p->min), 0, now);
-    case 0x06:
+    case ParamOp::get_max:
       return finish(default_response(st::ok, p->max), 0, now);
-    case 0x07:
+    case ParamOp::get_default:
       return finish(default_response(st::ok, p->def), 0, now);
-    default:
+    case ParamOp::write_ram:
+    case ParamOp::write_rom:
+    case ParamOp::write_ram_rom:
       break;
   }
   const std::uint32_t v = get_u32le(t.data, 2);
-  const std::uint8_t state = write_value(*p, t.sub != 0x03, t.sub != 0x01, v);
+  const std::uint8_t state =
+      write_value(*p, op != ParamOp::write_rom, op != ParamOp::write_ram, v);
   return finish(default_response(state), 0, now);
 }
 
 std::optional<Answer> Drive::on_param_config(const Telegram& t, std::int64_t now) {
-  const std::uint8_t sub = static_cast<std::uint8_t>(0x50 + t.sub);
+  const std::uint8_t sub = codec::expected_answer_sub(t);
   const auto& o = s_.options;
-  if (t.sub >= 0x0C && t.sub <= 0x0F) {
-    const auto layer = static_cast<std::uint8_t>(t.sub - 0x0B);
+  const auto op = static_cast<CfgOp>(t.sub);
+  if (op >= CfgOp::default_os && op <= CfgOp::default_appl) {
+    const auto layer = static_cast<std::uint8_t>(t.sub - static_cast<std::uint8_t>(CfgOp::default_os) + 1);
     default_layer(static_cast<Layer>(layer));
     const std::uint16_t key = t.data.size() >= 2 ? get_u16le(t.data, 0) : 0;
     return finish(id_value(sub, st::ok, key, layer), s_.timing.defaulting_us, now);
   }
   // 09h/0Bh: the UPID field is ignored (erratum 4, §10.3 "not used").
-  if (t.sub == 0x09) {
+  if (op == CfgOp::next_modified) {
     auto& c = modified_;
     auto empty = [&] {
       c.ended = true;
@@ -367,7 +378,7 @@ std::optional<Answer> Drive::on_param_config(const Telegram& t, std::int64_t now
     return finish(id_value(sub, more ? st::ok : st::last_in_list, found->first, found->second.rom),
                   0, now);
   }
-  if (t.sub == 0x0B) {
+  if (op == CfgOp::next_upid) {
     auto& c = upids_;
     auto entry = [&](std::uint8_t state, const Parameter& p) {
       return finish(id_value(sub, state, p.upid,
@@ -390,34 +401,32 @@ std::optional<Answer> Drive::on_param_config(const Telegram& t, std::int64_t now
     }
     return finish(id_value(sub, o.empty_list_state, o.empty_list_upid, 0), 0, now);
   }
-  if (t.sub == 0x02 || t.sub == 0x03 || t.sub > 0x0F) return error_answer(st::bad_sub_id, now);
-  if (t.data.size() < (t.sub == 0x01 ? 6u : 2u)) return error_answer(st::bad_sub_id, now);
   const std::uint16_t upid = get_u16le(t.data, 0);
-  if (t.sub == 0x08 || t.sub == 0x0A) {
+  if (op == CfgOp::start_modified || op == CfgOp::start_upid_list) {
     const Layer l = layer_of(upid);
     if (l == Layer::none) return finish(id_value(sub, st::unknown_upid, upid, 0), 0, now);
-    ListCursor& c = t.sub == 0x08 ? modified_ : upids_;
+    ListCursor& c = op == CfgOp::start_modified ? modified_ : upids_;
     c = ListCursor{true, false, l, std::nullopt};
     return finish(id_value(sub, st::ok, upid, 0), 0, now);
   }
   Parameter* p = find(upid);
   if (!p) return finish(id_value(sub, st::unknown_upid, upid, 0), 0, now);
-  switch (t.sub) {
-    case 0x00:
+  switch (op) {
+    case CfgOp::read_rom:
       return finish(id_value(sub, st::ok, upid, p->rom), 0, now);
-    case 0x01: {
+    case CfgOp::write_rom: {
       const std::uint8_t state = write_value(*p, false, true, get_u32le(t.data, 2));
       return finish(id_value(sub, state, upid, p->rom), 0, now);
     }
-    case 0x04:
+    case CfgOp::get_type:
       return finish(id_value(sub, st::ok, upid, p->type), 0, now);
-    case 0x05:
+    case CfgOp::get_min:
       return finish(id_value(sub, st::ok, upid, p->min), 0, now);
-    case 0x06:
+    case CfgOp::get_max:
       return finish(id_value(sub, st::ok, upid, p->max), 0, now);
-    case 0x07:
+    case CfgOp::get_default:
       return finish(id_value(sub, st::ok, upid, p->def), 0, now);
-    default:
+    default:  // lists and layer defaults: handled above
       break;
   }
   return error_answer(st::bad_sub_id, now);
@@ -461,44 +470,35 @@ std::int64_t Drive::flash_save_duration_us() {
 }
 
 std::optional<Answer> Drive::on_curve(const Telegram& t, std::int64_t now) {
-  constexpr std::uint8_t sub = 0x40;  // every curve answer is 40h (§11)
+  const std::uint8_t sub = codec::expected_answer_sub(t);  // 40h for every curve request
   const auto& o = s_.options;
-  switch (t.sub) {
-    case 0x00:
+  const auto op = static_cast<CurveOp>(t.sub);
+  switch (op) {
+    case CurveOp::save_to_flash:
       if (s_.mc_running) return finish(id_value(sub, o.flash_refused_state, 0, 0), 0, now);
       s_.curves_flash = s_.curves_ram;
       ++stats_.flash_saves;
       return finish(id_value(sub, st::ok, 0, 0), flash_save_duration_us(), now);
-    case 0x01:
+    case CurveOp::delete_all:
       s_.curves_ram.clear();
       xfer_ = {};
       return finish(id_value(sub, st::ok, 0, 0), 0, now);
-    case 0x02:
-    case 0x04:
-    case 0x05:
-    case 0x06:
-    case 0x08:
-    case 0x09:
-    case 0x0A:
-      break;
     default:
-      return error_answer(st::bad_sub_id, now);
+      break;
   }
-  const std::size_t need = t.sub == 0x04 || t.sub == 0x05 || t.sub == 0x06 ? 6u : 2u;
-  if (t.data.size() < need) return error_answer(st::bad_sub_id, now);
   const std::uint16_t id = get_u16le(t.data, 0);
   auto it = s_.curves_ram.find(id);
   const bool exists = it != s_.curves_ram.end();
-  switch (t.sub) {
-    case 0x02:
+  switch (op) {
+    case CurveOp::delete_one:
       s_.curves_ram.erase(id);
       if (xfer_.key == id) xfer_ = {};
       return finish(id_value(sub, st::ok, id, 0), 0, now);
-    case 0x04:
+    case CurveOp::add:
       s_.curves_ram[id] = Curve{Bytes(get_u16le(t.data, 2), 0), Bytes(get_u16le(t.data, 4), 0)};
       xfer_ = {};
       return finish(id_value(sub, st::ok, id, 0), 0, now);
-    case 0x08:
+    case CurveOp::read_sizes:
       // Undocumented: the client restarts a lost block read with "read sizes";
       // the simulator models that as resetting the curve's transfer cursor.
       if (xfer_.key == id) xfer_ = {};
@@ -515,39 +515,37 @@ std::optional<Answer> Drive::on_curve(const Telegram& t, std::int64_t now) {
   }
   if (!exists) return finish(id_value(sub, o.missing_object_state, id, 0), 0, now);
   Curve& c = it->second;
-  if (t.sub == 0x05 || t.sub == 0x06) {
-    const bool info = t.sub == 0x05;
+  if (op == CurveOp::write_info || op == CurveOp::write_data) {
+    const bool info = op == CurveOp::write_info;
     const auto state =
         block_write(info ? c.info : c.data, info ? XferKind::curve_info_w : XferKind::curve_data_w,
                     id, ByteView(t.data).subspan(2, 4));
     return finish(id_value(sub, state, id, 0), 0, now);
   }
   std::uint32_t v = 0;
-  const bool info = t.sub == 0x09;
+  const bool info = op == CurveOp::read_info;
   const auto state = block_read(info ? c.info : c.data,
                                 info ? XferKind::curve_info_r : XferKind::curve_data_r, id, v);
   return finish(id_value(sub, state, id, v), 0, now);
 }
 
 std::optional<Answer> Drive::on_command_table(const Telegram& t, std::int64_t now) {
-  if (t.sub > 0x07) return error_answer(st::bad_sub_id, now);
-  const std::uint8_t sub = static_cast<std::uint8_t>(0x80 + t.sub);
+  const std::uint8_t sub = codec::expected_answer_sub(t);
   const auto& o = s_.options;
-  if (t.sub == 0x00) {
+  const auto op = static_cast<CtOp>(t.sub);
+  if (op == CtOp::save_to_flash) {
     if (s_.mc_running) return finish(id_value(sub, o.flash_refused_state, 0, 0), 0, now);
     s_.ct_flash = s_.ct_ram;
     ++stats_.flash_saves;
     return finish(id_value(sub, st::ok, 0, 0), flash_save_duration_us(), now);
   }
-  if (t.sub == 0x01) {
+  if (op == CtOp::delete_all) {
     s_.ct_ram.clear();
     xfer_ = {};
     return finish(id_value(sub, st::ok, 0, 0), 0, now);
   }
-  const std::size_t need = t.sub == 0x03 || t.sub == 0x04 ? 6u : 2u;
-  if (t.data.size() < need) return error_answer(st::bad_sub_id, now);
   const std::uint16_t key = get_u16le(t.data, 0);
-  if (t.sub == 0x07) {
+  if (op == CtOp::defined_list) {
     if (key > 7) return finish(id_value(sub, o.missing_object_state, key, 0), 0, now);
     std::uint32_t bits = 0xFFFFFFFF;  // bit = 1: entry not defined
     for (unsigned i = 0; i < 32; ++i)
@@ -557,32 +555,32 @@ std::optional<Answer> Drive::on_command_table(const Telegram& t, std::int64_t no
   if (key > 255) return finish(id_value(sub, o.missing_object_state, key, 0), 0, now);
   auto it = s_.ct_ram.find(key);
   const bool exists = it != s_.ct_ram.end();
-  switch (t.sub) {
-    case 0x02:
+  switch (op) {
+    case CtOp::delete_one:
       s_.ct_ram.erase(key);
       if (xfer_.key == key) xfer_ = {};
       return finish(id_value(sub, st::ok, key, 0), 0, now);
-    case 0x03: {
+    case CtOp::setup_write: {
       const std::uint32_t size = get_u32le(t.data, 2);
       if (size > 0xFFFF) return finish(id_value(sub, s_.options.reject_state, key, 0), 0, now);
       s_.ct_ram[key] = Bytes(size, 0);
       xfer_ = Transfer{XferKind::ct_w, key, 0};
       return finish(id_value(sub, st::ok, key, 0), 0, now);
     }
-    case 0x04: {
+    case CtOp::write_data: {
       if (!exists) return finish(id_value(sub, o.missing_object_state, key, 0), 0, now);
       const auto state =
           block_write(it->second, XferKind::ct_w, key, ByteView(t.data).subspan(2, 4));
       return finish(id_value(sub, state, key, 0), 0, now);
     }
-    case 0x05:
+    case CtOp::setup_read:
       if (!exists && o.missing_ct_entry_zero_size)
         return finish(id_value(sub, st::ok, key, 0), 0, now);  // size 0 for a missing entry
       if (!exists) return finish(id_value(sub, o.missing_object_state, key, 0), 0, now);
       xfer_ = Transfer{XferKind::ct_r, key, 0};
       return finish(id_value(sub, st::ok, key, static_cast<std::uint32_t>(it->second.size())), 0,
                     now);
-    case 0x06: {
+    case CtOp::read_data: {
       if (!exists) return finish(id_value(sub, o.missing_object_state, key, 0), 0, now);
       std::uint32_t v = 0;
       const auto state = block_read(it->second, XferKind::ct_r, key, v);
@@ -614,24 +612,24 @@ void Drive::reset(std::int64_t now_ns, bool make_busy) {
 }
 
 std::optional<Answer> Drive::on_program(const Telegram& t, std::int64_t now) {
-  switch (t.sub) {
-    case 0x01:  // reset, answer after completion
+  switch (static_cast<ProgramOp>(t.sub)) {
+    case ProgramOp::reset_after_completion:
       reset(now, false);
       return finish(codec::make_program_response(s_.macid, st::ok), s_.timing.reset_us, now);
-    case 0x02: {  // reset, immediate answer; deaf until the reboot completes
+    case ProgramOp::reset_immediate: {  // deaf until the reboot completes
       reset(now, false);
       auto a = finish(default_response(st::ok), 0, now);
       busy_until_ns_ = std::max(busy_until_ns_, now + s_.timing.reset_us * 1000);
       return a;
     }
-    case 0x03:
+    case ProgramOp::stop_mc:
       s_.mc_running = false;
       return finish(default_response(st::ok), 0, now);
-    case 0x04:
+    case ProgramOp::start_after_completion:
       load_ram_from_rom();
       s_.mc_running = true;
       return finish(codec::make_program_response(s_.macid, st::ok), s_.timing.start_us, now);
-    case 0x05: {
+    case ProgramOp::start_immediate: {
       load_ram_from_rom();
       s_.mc_running = true;
       auto a = finish(default_response(st::ok), 0, now);
@@ -650,25 +648,23 @@ std::optional<Answer> Drive::on_error_info(const Telegram& t, std::int64_t now) 
     auto it = s_.error_texts.find(code);
     return it == s_.error_texts.end() ? std::string() : it->second;
   };
-  switch (t.sub) {
-    case 0x00:
+  switch (static_cast<ErrorInfoOp>(t.sub)) {
+    case ErrorInfoOp::actual_text:
       return finish(
           codec::make_error_text_response(s_.macid, std::nullopt, text_of(s_.live.error_code)), 0,
           now);
-    case 0x01: {
-      if (t.data.size() < 2) return error_answer(st::bad_sub_id, now);
+    case ErrorInfoOp::text_of_code: {
       const std::uint16_t code = get_u16le(t.data, 0);
       return finish(codec::make_error_text_response(s_.macid, code, text_of(code)), 0, now);
     }
-    case 0x02:
+    case ErrorInfoOp::counters:
       return finish(
           codec::make_error_counters_response(
               s_.macid,
               {static_cast<std::uint16_t>(std::min<std::size_t>(s_.error_log.size(), 0xFFFF)),
                s_.errors_occurred}),
           0, now);
-    case 0x03: {
-      if (t.data.size() < 2) return error_answer(st::bad_sub_id, now);
+    case ErrorInfoOp::log_entry: {
       const std::uint16_t n = get_u16le(t.data, 0);
       codec::ErrorLogEntry e{};
       if (n < s_.error_log.size()) e = s_.error_log[n];
