@@ -102,17 +102,17 @@ inline sim::DriveState heavy_state(const HeavySpec& spec) {
       p.name = "synthetic";
       switch (i % 4) {
         case 0:
-          p.type = sim::type::uint16, p.min = 0, p.max = 65535, p.def = 100;
+          p.type = type_code(TypeCode::UInt16), p.min = 0, p.max = 65535, p.def = 100;
           break;
         case 1:
-          p.type = sim::type::sint32, p.min = static_cast<std::uint32_t>(-1'000'000),
+          p.type = type_code(TypeCode::SInt32), p.min = static_cast<std::uint32_t>(-1'000'000),
           p.max = 1'000'000, p.def = 0;
           break;
         case 2:
-          p.type = sim::type::uint32, p.min = 0, p.max = 0xFFFFFFFF, p.def = 5000;
+          p.type = type_code(TypeCode::UInt32), p.min = 0, p.max = 0xFFFFFFFF, p.def = 5000;
           break;
         default:
-          p.type = sim::type::uint8, p.min = 0, p.max = 255, p.def = 1;
+          p.type = type_code(TypeCode::UInt8), p.min = 0, p.max = 255, p.def = 1;
           break;
       }
       p.address_usage = (i % 5 == 4)
@@ -417,7 +417,7 @@ inline RestoreCost min_restore(const sim::DriveState& t, const config::DriveConf
     }
     for (const auto* p : writes) {
       if (!walk_list) rc.plan += w.cfg(codec::CfgOp::get_type, p->upid);
-      const auto tp = t.params.count(p->upid) ? t.params.at(p->upid).type : sim::type::uint16;
+      const auto tp = t.params.count(p->upid) ? t.params.at(p->upid).type : type_code(TypeCode::UInt16);
       const auto code = db::type_from_code(tp);
       if (!(code && db::is_text_type(*code))) {
         rc.plan += w.cfg(codec::CfgOp::get_min, p->upid);

@@ -13,8 +13,10 @@
 
 #include "sim/state_file.hpp"
 #include "subprocess.hpp"
+#include "files.hpp"
 
 using namespace lmcfg;
+using test::slurp;
 namespace fs = std::filesystem;
 
 namespace {
@@ -24,13 +26,6 @@ struct Run {
   std::string out, err;
   double seconds = 0;
 };
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 struct TempDir {
   fs::path path;

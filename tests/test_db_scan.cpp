@@ -11,9 +11,11 @@
 #include "db/value.hpp"
 #include "e2e_support.hpp"
 #include "ops/db_scan.hpp"
+#include "files.hpp"
 
 namespace fs = std::filesystem;
 using namespace lmcfg;
+using test::slurp;
 
 namespace {
 
@@ -25,13 +27,6 @@ fs::path scan_scratch(const std::string& name) {
   fs::remove_all(d);
   fs::create_directories(d);
   return d;
-}
-
-std::string read_all(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
 }
 
 const db::Database& real_db() {
@@ -319,7 +314,7 @@ TEST_CASE("db scan: merging refuses to replace a profile not made by a scan", "[
   const auto dir = scan_scratch("refuse");
   fs::copy_file(fs::path(LMCFG_SOURCE_DIR) / "upid-db" / "profiles.tsv", dir / "profiles.tsv");
   fs::copy_file(fs::path(LMCFG_SOURCE_DIR) / "upid-db" / "parameters.tsv", dir / "parameters.tsv");
-  const std::string before = read_all(dir / "parameters.tsv");
+  const std::string before = slurp(dir / "parameters.tsv");
   std::string frag =
       "#@profiles.tsv\tprofile\tfamily\tsoftware\tversion\tdescription\tsource\n"
       "#@profiles.tsv\te1100-mc-linrs\tE1100\t\t\t\tscanned from a drive: e1100-mc-linrs 2026-01-02 MACID 11h\n"
@@ -328,6 +323,6 @@ TEST_CASE("db scan: merging refuses to replace a profile not made by a scan", "[
   auto r = ops::merge_scan_fragment(dir.string(), frag);
   REQUIRE_FALSE(r.ok());
   CHECK(r.error().code == make_error_code(Errc::validation_failed));
-  CHECK(read_all(dir / "parameters.tsv") == before);
+  CHECK(slurp(dir / "parameters.tsv") == before);
   CHECK_FALSE(ops::merge_scan_fragment(dir.string(), "upid\tprofiles\n").ok());
 }

@@ -17,29 +17,20 @@
 #include "e2e_support.hpp"
 #include "subprocess.hpp"
 #include "trace_support.hpp"
+#include "files.hpp"
 
 using namespace lmcfg;
+using test::temp_dir;
+using test::slurp;
 namespace fs = std::filesystem;
 
 namespace {
-
-fs::path temp_dir(const std::string& name) {
-  auto d = fs::temp_directory_path() / ("lmcfg-" + name + "-" + std::to_string(::getpid()));
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
 
 std::map<std::uint16_t, std::uint32_t> modified_rom(const sim::DriveState& s) {
   std::map<std::uint16_t, std::uint32_t> m;
   for (const auto& [upid, p] : s.params)
     if (p.modified()) m[upid] = p.rom;
   return m;
-}
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  return std::string(std::istreambuf_iterator<char>(in), {});
 }
 
 }  // namespace

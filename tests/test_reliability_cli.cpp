@@ -17,10 +17,13 @@
 #include "codec/frame.hpp"
 #include "common/bytes.hpp"
 #include "common/result.hpp"
+#include "files.hpp"
 #include "sim/state_file.hpp"
 #include "trace_support.hpp"
 
 using namespace lmcfg;
+using test::slurp;
+using test::spit;
 using test::traced_requests;
 using test::traced_writes;
 namespace fs = std::filesystem;
@@ -36,17 +39,6 @@ struct BadFile {
 const BadFile kBadFiles[] = {
 #include "fixtures/config/bad/expected.inc"
 };
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-void spit(const fs::path& p, const std::string& text) {
-  std::ofstream out(p, std::ios::binary | std::ios::trunc);
-  out << text;
-}
 
 struct Run {
   int exit_code = -1;

@@ -16,23 +16,14 @@
 #include "ops/restore.hpp"
 #include "ops/session.hpp"
 #include "subprocess.hpp"
+#include "files.hpp"
 
 using namespace lmcfg;
+using test::temp_dir;
+using test::slurp;
 namespace fs = std::filesystem;
 
 namespace {
-
-fs::path temp_dir(const std::string& name) {
-  auto d = fs::temp_directory_path() / ("lmcfg-relink-" + name + "-" + std::to_string(::getpid()));
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
 
 void set_rom(sim::Drive& d, std::uint16_t upid, std::uint32_t v) {
   auto* p = d.find(upid);
@@ -187,7 +178,7 @@ TEST_CASE(
   auto db = test::built_database();
   REQUIRE(db);
   const auto file = moved_axis_file(&*db);
-  const auto dir = temp_dir("inproc");
+  const auto dir = temp_dir("relink-inproc");
   fs::copy_file(test::sim_fixture("used-spare.json"), dir / "spare.sim.json");
   ops::LinkOptions lo;
   lo.port = "sim:" + (dir / "spare.sim.json").string();
@@ -239,7 +230,7 @@ TEST_CASE("relink: a drive on an unknown hex-switch ID is not found; --reconnect
           "[relink]") {
   auto db = test::built_database();
   REQUIRE(db);
-  const auto dir = temp_dir("switch");
+  const auto dir = temp_dir("relink-switch");
   // The spare's switches select 33h; it answers on 11h by parameter now.
   auto spare = test::load_sim_drive("used-spare.json");
   spare->state().switches = sim::HexSwitches{0x33, 57600};
@@ -293,7 +284,7 @@ TEST_CASE(
     "[relink][e2e][pty]") {
   auto db = test::built_database();
   REQUIRE(db);
-  const auto dir = temp_dir("pty");
+  const auto dir = temp_dir("relink-pty");
   const std::string file = (dir / "moved.json").string();
   REQUIRE(config::write_config_file(moved_axis_file(&*db), file).ok());
   fs::copy_file(test::sim_fixture("used-spare.json"), dir / "spare.sim.json");

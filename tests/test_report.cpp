@@ -27,8 +27,10 @@
 #include "db/database.hpp"
 #include "ops/diff.hpp"
 #include "ops/report.hpp"
+#include "files.hpp"
 
 using namespace lmcfg;
+using test::slurp;
 namespace fs = std::filesystem;
 using nlohmann::json;
 
@@ -56,11 +58,6 @@ struct Work {
     fs::remove_all(path, ec);
   }
 };
-
-std::string slurp(const fs::path& p) {
-  std::ifstream f(p, std::ios::binary);
-  return {std::istreambuf_iterator<char>(f), {}};
-}
 
 std::string q(const fs::path& p) { return "'" + p.string() + "'"; }
 

@@ -35,6 +35,8 @@ std::string to_hex(ByteView b, char sep = ' ');
 std::string hex(std::uint32_t v, int digits, std::string_view suffix = {});
 // Accepts hex digits with optional spaces/colons between byte pairs; nullopt on odd count or non-hex.
 std::optional<Bytes> from_hex(std::string_view text);
+// ASCII case-insensitive equality ("uint16" == "UINT16").
+bool iequals(std::string_view a, std::string_view b) noexcept;
 // Parses "0x13A2", "13A2h", "13A2" as hex when hex_default, or decimal otherwise ("5026").
 std::optional<std::uint32_t> parse_number(std::string_view text, bool hex_default);
 

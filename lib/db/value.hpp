@@ -10,52 +10,28 @@
 #include <vector>
 
 #include "common/result.hpp"
+#include "common/types.hpp"
 
 namespace lmcfg::db {
 
-// Seed 003 §10 "Supported Parameter Types". Values are the wire type codes.
-enum class TypeCode : std::uint8_t {
-  Bool = 0x00,
-  UInt8 = 0x01,
-  SInt8 = 0x02,
-  UInt16 = 0x03,
-  SInt16 = 0x04,
-  UInt32 = 0x05,
-  SInt32 = 0x06,
-  LinFloat = 0x07,  // "not used as parameter"
-  String = 0x08,
-  CapDir = 0x09,
-  RadioDirBit = 0x0A,
-  RadioDir16 = 0x0B,
-  EnumDir8 = 0x0C,
-  EnumDir16 = 0x0D,
-  Stringlet = 0x0E,  // 4 characters of a string
-  CapDirlet = 0x0F,  // 4 characters of a string
-};
-
-// "BOOL", "UINT8", ... exactly as seed 003 §10 / upid-db/FORMAT.md spell them.
-std::string_view type_name(TypeCode t) noexcept;
-// Case-insensitive; also accepts the seed 001 spelling "SInt32", "UInt16".
-std::optional<TypeCode> type_from_name(std::string_view name) noexcept;
-std::optional<TypeCode> type_from_code(unsigned code) noexcept;
-// Bytes the value occupies in the 4-byte field (BOOL/RADIO_DIR_BIT: 1; the
-// string types and LIN_FLOAT: 4). Also the size of a motion command parameter.
-unsigned type_size(TypeCode t) noexcept;
-// Four characters per value: STRING, CAP_DIR, STRINGLET, CAP_DIRLET.
-bool is_text_type(TypeCode t) noexcept;
-bool is_signed_type(TypeCode t) noexcept;
+// The type codes of seed 003 §10 live in common/types.hpp; the database's
+// users name them db::TypeCode as well.
+using lmcfg::field_integer;
+using lmcfg::IntRange;
+using lmcfg::is_signed_type;
+using lmcfg::is_text_type;
+using lmcfg::type_from_code;
+using lmcfg::type_from_name;
+using lmcfg::type_name;
+using lmcfg::type_range;
+using lmcfg::type_size;
+using lmcfg::TypeCode;
 
 // One UPID syntax for every command and file-free input: 1..4 hex digits,
 // optionally with a "0x" prefix or an "h" suffix, any case: "13A2", "13a2h",
 // "0x13A2". Errc::invalid_argument naming the text otherwise.
 Result<std::uint16_t> parse_upid(std::string_view text);
 
-struct IntRange {
-  std::int64_t min;
-  std::int64_t max;
-};
-// Integer range of the type; nullopt for LIN_FLOAT and the text types.
-std::optional<IntRange> type_range(TypeCode t) noexcept;
 
 // A decoded 4-byte field.
 struct Value {
@@ -68,11 +44,6 @@ struct Value {
 // for SINT8/SINT16; 32-bit: whole field (SINT32 sign-extended); text types: the
 // four bytes as characters, lowest byte first; LIN_FLOAT: Kind::Raw.
 Value decode_value(TypeCode t, std::uint32_t raw) noexcept;
-// The 4-byte field as an integer of its type, or nullopt when it does not fit:
-// the upper bytes must be zero, or the sign extension for signed types (a
-// drive may send either for SINT8/SINT16); BOOL/RADIO_DIR_BIT only 0 or 1.
-// Text types and LIN_FLOAT: the field as is. Never truncates.
-std::optional<std::int64_t> field_integer(TypeCode t, std::uint32_t raw) noexcept;
 // Inverse for integers: the value masked to the type's width (upper bytes 0).
 std::uint32_t encode_integer(TypeCode t, std::int64_t v) noexcept;
 // Up to 4 characters, first character in the lowest byte, NUL-padded.

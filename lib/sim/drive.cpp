@@ -28,47 +28,26 @@ const char* layer_name(Layer l) {
   return l == Layer::none ? "none" : layers::name(static_cast<int>(l)).data();
 }
 
-namespace type {
-namespace {
-constexpr std::array<const char*, 16> kNames{
-    "BOOL",      "UINT8",      "SINT8",     "UINT16",    "SINT16",        "UINT32",
-    "SINT32",    "LIN_FLOAT",  "STRING",    "CAP_DIR",   "RADIO_DIR_BIT", "RADIO_DIR16",
-    "ENUM_DIR8", "ENUM_DIR16", "STRINGLET", "CAP_DIRLET"};
-}
-const char* name(std::uint16_t code) { return code < kNames.size() ? kNames[code] : "?"; }
-std::optional<std::uint16_t> from_name(std::string_view n) {
-  for (std::size_t i = 0; i < kNames.size(); ++i)
-    if (n == kNames[i]) return static_cast<std::uint16_t>(i);
-  return std::nullopt;
-}
-}  // namespace type
-
 namespace {
 
-std::int64_t as_number(std::uint16_t t, std::uint32_t v) {
-  switch (t) {
-    case type::sint8:
-      return static_cast<std::int8_t>(v & 0xFF);
-    case type::sint16:
-      return static_cast<std::int16_t>(v & 0xFFFF);
-    case type::sint32:
-      return static_cast<std::int32_t>(v);
-    default:
-      return static_cast<std::int64_t>(v);
-  }
+// The field as a number of its type for range checks: signed types
+// sign-extended from their width; other and unknown codes as unsigned.
+std::int64_t as_number(std::uint16_t code, std::uint32_t v) {
+  const auto t = type_from_code(code);
+  if (!t || !is_signed_type(*t)) return static_cast<std::int64_t>(v);
+  const unsigned bits = 8 * type_size(*t);
+  if (bits >= 32) return static_cast<std::int32_t>(v);
+  const std::uint32_t field = v & ((1u << bits) - 1);
+  const std::uint32_t sign = 1u << (bits - 1);
+  return (field & sign) ? static_cast<std::int64_t>(field) - (std::int64_t{1} << bits)
+                        : static_cast<std::int64_t>(field);
 }
 
-bool range_checked(std::uint16_t t) {
-  switch (t) {
-    case type::lin_float:
-    case type::string:
-    case type::cap_dir:
-    case type::stringlet:
-    case type::cap_dirlet:
-      return false;
-    default:
-      return true;
-  }
+// LIN_FLOAT and the text types have no integer range; an unknown code is
+// checked as unsigned.
+bool range_checked(std::uint16_t code) {
+  const auto t = type_from_code(code);
+  return !t || !(is_text_type(*t) || *t == TypeCode::LinFloat);
 }
 
 }  // namespace

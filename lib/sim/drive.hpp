@@ -15,6 +15,7 @@
 #include "codec/frame.hpp"
 #include "codec/messages.hpp"
 #include "common/bytes.hpp"
+#include "common/types.hpp"
 #include "transport/transport.hpp"
 
 namespace lmcfg::sim {
@@ -35,22 +36,12 @@ inline constexpr std::uint16_t not_for_hash = 0x1000;
 inline constexpr std::uint16_t parameter = ram_read | ram_write | rom_read | rom_write;  // 000Fh
 }  // namespace au
 
-// Type codes of §10.
-namespace type {
-inline constexpr std::uint16_t boolean = 0x00, uint8 = 0x01, sint8 = 0x02, uint16 = 0x03,
-                               sint16 = 0x04, uint32 = 0x05, sint32 = 0x06, lin_float = 0x07,
-                               string = 0x08, cap_dir = 0x09, radio_dir_bit = 0x0A,
-                               radio_dir16 = 0x0B, enum_dir8 = 0x0C, enum_dir16 = 0x0D,
-                               stringlet = 0x0E, cap_dirlet = 0x0F;
-const char* name(std::uint16_t code);                        // "UINT16"; "?" when unknown
-std::optional<std::uint16_t> from_name(std::string_view n);  // "UINT16" -> 3
-}  // namespace type
 
 // One UPID. Values are the raw 4-byte fields of §9 (a word in the two lower bytes...).
 struct Parameter {
   std::uint16_t upid = 0;
   std::string name;  // informational only, never on the wire
-  std::uint16_t type = type::uint16;
+  std::uint16_t type = type_code(TypeCode::UInt16);  // raw: a drive may use codes §10 lacks
   std::uint16_t address_usage = au::parameter;  // raw word, stored as given
   std::uint32_t min = 0;
   std::uint32_t max = 0xFFFFFFFF;

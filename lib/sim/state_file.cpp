@@ -208,8 +208,10 @@ json to_json(const DriveState& s) {
   for (const auto& [upid, p] : s.params) {
     json q = {{"upid", hex16(upid)}};
     if (!p.name.empty()) q["name"] = p.name;
-    q["type"] = type::name(p.type);
-    if (std::string(type::name(p.type)) == "?") q["type"] = p.type;
+    if (auto t = type_from_code(p.type))
+      q["type"] = std::string(type_name(*t));
+    else
+      q["type"] = p.type;  // a code §10 does not list, kept as the number
     q["address_usage"] = hex16(p.address_usage);
     q["min"] = p.min;
     q["max"] = p.max;
@@ -361,8 +363,8 @@ Result<DriveState> from_json(const json& j) {
         p.name = q.value("name", std::string());
         if (auto t = q.find("type"); t != q.end()) {
           if (t->is_string()) {
-            auto code = type::from_name(t->get<std::string>());
-            p.type = code ? *code : static_cast<std::uint16_t>(num(*t, "type"));
+            auto code = type_from_name(t->get<std::string>());
+            p.type = code ? type_code(*code) : static_cast<std::uint16_t>(num(*t, "type"));
           } else {
             p.type = static_cast<std::uint16_t>(num(*t, "type"));
           }

@@ -11,23 +11,15 @@
 
 #include "common/bytes.hpp"
 #include "config/model.hpp"
+#include "files.hpp"
 
 namespace lmcfg::config::testing {
 
+using lmcfg::test::slurp;
+using lmcfg::test::spit;
+
 inline std::filesystem::path fixture_dir() {
   return std::filesystem::path(LMCFG_SOURCE_DIR) / "tests" / "fixtures" / "config";
-}
-
-inline std::string slurp(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
-inline void spit(const std::filesystem::path& p, const std::string& s) {
-  std::ofstream out(p, std::ios::binary | std::ios::trunc);
-  out << s;
 }
 
 inline Bytes hex(const char* s) { return *from_hex(s); }
@@ -130,7 +122,7 @@ struct BadCase {
   const char* message;
 };
 inline constexpr BadCase kBadCases[] = {
-#include "fixtures/config/bad/expected.inc"
+#include "../fixtures/config/bad/expected.inc"
 };
 inline constexpr std::size_t kBadCaseCount = sizeof(kBadCases) / sizeof(kBadCases[0]);
 
