@@ -129,7 +129,8 @@ double Client::wire_us(std::size_t bytes) const {
 }
 
 std::int64_t Client::deadline_floor_us(const Telegram& req) const {
-  const std::size_t overhead = 5 + opt_.checksum.size() + 1;  // 01 ID LEN MAIN SUB .. [CS] 04
+  // 01 ID LEN 02 SUB MAIN .. [CS] 04: LEN counts 02, SUB, MAIN and the data.
+  const std::size_t overhead = 7 + opt_.checksum.size();
   const std::size_t bytes = 2 * overhead + req.data.size() + max_answer_data(req, opt_.layout);
   const double us = wire_us(bytes) +
                     1000.0 * (opt_.turnaround_max_ms + link_.receive_latency_ms()) +
@@ -164,12 +165,8 @@ void Client::rtt_sample(double excess_us) {
 Result<void> Client::settle_line() {
   ++stats_.settles;
   Millis quiet = opt_.settle;
-  if (opt_.adaptive_settle && link_.byte_time_us() > 0.0 && settle_quiet_us_ > 0) {
-    const double longest = 2.0 * max_rtt_us_;
-    const auto us =
-        static_cast<std::int64_t>(std::max(static_cast<double>(settle_quiet_us_), longest));
-    quiet = std::min(opt_.settle, Millis((us + 999) / 1000));
-  }
+  if (opt_.adaptive_settle && link_.byte_time_us() > 0.0 && settle_quiet_us_ > 0)
+    quiet = std::min(opt_.settle, Millis((settle_quiet_us_ + 999) / 1000));
   bool late_counted = false;
   // Bounded: a line that never goes quiet is a link problem, not an answer.
   for (int reads = 0; reads < 256; ++reads) {
@@ -228,7 +225,7 @@ Result<Telegram> Client::transact(const Telegram& req_in, Millis timeout, bool i
       stats_.max_deadline_us =
           std::max(stats_.max_deadline_us, static_cast<std::uint64_t>(deadline_us));
     }
-    settle_quiet_us_ = deadline_us;  // a settle after this exchange waits as long
+    settle_quiet_us_ = deadline_us;  // a settle after this exchange: see below
     const std::int64_t sent_ns = link_.now_ns();
     last_send_ns_ = sent_ns;
     LMCFG_TRY(link_.write(wire));
@@ -243,6 +240,7 @@ Result<Telegram> Client::transact(const Telegram& req_in, Millis timeout, bool i
     const std::int64_t end_ns = link_.now_ns() + deadline_us * 1000;
     auto remaining = Millis((end_ns - link_.now_ns() + 999'999) / 1'000'000);
     std::size_t answer_bytes = 0;
+    bool corrupt_frame = false;  // a complete frame that failed its checksum
     std::optional<Error> garbled;
     std::optional<Error> retry_refused;
     for (;;) {
@@ -270,6 +268,7 @@ Result<Telegram> Client::transact(const Telegram& req_in, Millis timeout, bool i
           ++stats_.bad_frames;
           noise_seen_ = true;
           garbled = std::move(*item).error();
+          if (garbled->code == Errc::checksum_mismatch) corrupt_frame = true;
           continue;
         }
         Telegram t = std::move(*item).value();
@@ -301,7 +300,14 @@ Result<Telegram> Client::transact(const Telegram& req_in, Millis timeout, bool i
         answer = std::move(t);
         break;
       }
-      if (!answer) continue;
+      if (!answer) {
+        // A read whose answer came complete but failed its checksum: nothing
+        // better is coming; settle (and retry, or report the garbled answer)
+        // rather than wait out the deadline (adaptive timing only; a write
+        // waits for a valid answer).
+        if (corrupt_frame && ordinary && opt_.adaptive_deadline) break;
+        continue;
+      }
       ++stats_.answers;
       unsettled_ = false;
       // Karn's rule: only a first attempt's answer times the link (a retry's
@@ -354,6 +360,12 @@ Result<Telegram> Client::transact(const Telegram& req_in, Millis timeout, bool i
       noise_seen_ = true;
       garbled = std::move(*partial);
     }
+    // The settle before the next request: an answer that came garbled needs
+    // only the line to go quiet for this exchange's deadline; after no answer
+    // at all, a late one may still come: also twice the longest round trip
+    // seen (adaptive_settle; settle_line caps it at `settle`).
+    if (!garbled)
+      settle_quiet_us_ = std::max(deadline_us, static_cast<std::int64_t>(2.0 * max_rtt_us_));
     if (garbled) {
       noise_seen_ = true;
       last = Error(garbled->code, "no valid answer from drive " + hexid("%02Xh", opt_.id) + " to " +

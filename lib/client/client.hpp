@@ -67,11 +67,14 @@ struct ClientOptions {
   int read_retries = 2;
   // Quiet time required after a lost/garbled answer before the next request.
   // With `adaptive_settle` on a link with a byte time (serial, simulated), the
-  // quiet time is the longer of the deadline the failed exchange waited and
-  // twice the longest round trip timed so far, at most `settle`: an answer
-  // later than that deadline + quiet time could meet a later request whose
-  // answer carries no key (list get-next, block chunks). On a TCP gateway
-  // (jitter unbounded) and without `adaptive_settle`: always `settle`.
+  // quiet time is the deadline the failed exchange waited and, when no answer
+  // came at all, at least twice the longest round trip timed so far; at most
+  // `settle`: an answer later than that deadline + quiet time could meet a
+  // later request whose answer carries no key (list get-next, block chunks).
+  // On a TCP gateway (jitter unbounded) and without `adaptive_settle`: always
+  // `settle`. With adaptive_deadline, a read whose answer arrived complete but
+  // failed its checksum is retried at once (after the settle), without
+  // waiting out its deadline.
   Millis settle{500};
   bool adaptive_settle = false;
   // A modified list that ends at once with C6 for a UPID outside the layer is
