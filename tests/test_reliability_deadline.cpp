@@ -12,9 +12,14 @@
 //  - promise 2 of docs/reliability.md: a late answer is dropped while settling
 //    or rejected by its key, never taken for a later request's answer, for
 //    keyed reads, list "get next" and block chunks (answers without a key).
+#include <unistd.h>
+
 #include <catch2/catch.hpp>
+#include <chrono>
+#include <filesystem>
 
 #include "ops/backup.hpp"
+#include "ops/session.hpp"
 #include "test_reliability_support.hpp"
 
 using namespace lmcfg;
@@ -263,4 +268,35 @@ TEST_CASE("adaptive deadline keeps promise 2: a late answer never answers a late
       }
     }
   }
+}
+
+TEST_CASE("the tools' sessions time adaptively; --settle-ms fixes the settle",
+          "[reliability][deadline]") {
+  namespace fs = std::filesystem;
+  const fs::path dir =
+      fs::temp_directory_path() /
+      ("lmcfg-deadline-" + std::to_string(::getpid()) + "-" +
+       std::to_string(std::chrono::steady_clock::now().time_since_epoch().count()));
+  fs::create_directories(dir);
+  fs::copy_file(test::sim_fixture("commissioned-axis.json"), dir / "axis.json");
+  ops::LinkOptions lo;
+  lo.port = "sim:" + (dir / "axis.json").string();
+  {
+    auto s = ops::open_session(lo);
+    REQUIRE(s.ok());
+    CHECK((*s)->client().options().adaptive_deadline);
+    CHECK((*s)->client().options().adaptive_settle);
+    CHECK((*s)->client().options().timeout == transport::Millis(200));  // the upper bound
+  }
+  lo.fixed_settle = true;
+  lo.client.settle = transport::Millis(50);
+  {
+    auto s = ops::open_session(lo);
+    REQUIRE(s.ok());
+    CHECK((*s)->client().options().adaptive_deadline);
+    CHECK_FALSE((*s)->client().options().adaptive_settle);
+    CHECK((*s)->client().options().settle == transport::Millis(50));
+  }
+  std::error_code ec;
+  fs::remove_all(dir, ec);
 }
