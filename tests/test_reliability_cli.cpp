@@ -222,6 +222,8 @@ TEST_CASE("cli: absurd option values are refused with exit 2 and nothing on the 
       {"backup --port sim:spare.json -o out.txt", "out.txt"},
       {"backup --port sim:spare.json --timeout-ms 0 -o out.json",
        "--timeout-ms 0 is outside 1..60000"},
+      {"backup --port sim:spare.json --settle-ms 0 -o out.json",
+       "--settle-ms 0 is outside 1..60000"},
       {"backup --port sim:spare.json --retries 99 -o out.json", "--retries 99 is outside 0..10"},
       {"backup --port sim:spare.json --checksum sha1 -o out.json",
        "checksum 'sha1' is not one of none, add, crc, crc-ffff, crc-0000"},

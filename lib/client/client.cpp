@@ -1,6 +1,7 @@
 #include "client/client.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 
 #include "client/internal.hpp"
@@ -52,11 +53,67 @@ int Client::agreeing_reads() const {
   return noise_seen_ ? std::max(2, opt_.noisy_agreeing_reads) : 2;
 }
 
+namespace {
+// Longest data (after SUB MAIN) an answer to `req` can carry: the group's
+// answers (at most 11 bytes: 73h error log entry), error texts (71h: state,
+// code, 32 characters), or the default response form (the configured layout
+// and a read value), which any request may draw (error states).
+std::size_t max_answer_data(const Telegram& req, const DefaultResponseLayout& layout) {
+  const std::uint8_t sub = expected_answer_sub(req);
+  const std::size_t group = (sub & 0xF0) == 0x70 ? 35 : 11;
+  return std::max(group, layout.size() + (layout.mc_response ? 0 : 4));
+}
+constexpr double kUnknownByteUs = 10.0 * 1e6 / 4800.0;  // TCP gateway: assume the slowest rate
+}  // namespace
+
+double Client::wire_us(std::size_t bytes) const {
+  const double bt = link_.byte_time_us();
+  return static_cast<double>(bytes) * (bt > 0.0 ? bt : kUnknownByteUs);
+}
+
+std::int64_t Client::deadline_floor_us(const Telegram& req) const {
+  // 01 ID LEN 02 SUB MAIN .. [CS] 04: LEN counts 02, SUB, MAIN and the data.
+  const std::size_t overhead = 7 + opt_.checksum.size();
+  const std::size_t bytes = 2 * overhead + req.data.size() + max_answer_data(req, opt_.layout);
+  const double us = wire_us(bytes) +
+                    1000.0 * (opt_.turnaround_max_ms + link_.receive_latency_ms()) +
+                    1000.0 * opt_.deadline_margin_ms;
+  return static_cast<std::int64_t>(us + 0.5);
+}
+
+std::int64_t Client::answer_deadline_us(const Telegram& req) const {
+  const std::int64_t cap = static_cast<std::int64_t>(opt_.timeout.count()) * 1000;
+  if (!opt_.adaptive_deadline || srtt_us_ < 0) return cap;
+  const std::int64_t floor = deadline_floor_us(req);
+  // The measured part replaces the turnaround (and latency) of the floor when larger.
+  const double measured = srtt_us_ + 4.0 * rttvar_us_;
+  const double fixed_turn = 1000.0 * (opt_.turnaround_max_ms + link_.receive_latency_ms());
+  double us = static_cast<double>(floor) + std::max(0.0, measured - fixed_turn);
+  for (int i = 0; i < backoff_ && us < static_cast<double>(cap); ++i) us *= 2.0;
+  return std::min(cap, static_cast<std::int64_t>(us + 0.5));
+}
+
+void Client::rtt_sample(double excess_us) {
+  excess_us = std::max(0.0, excess_us);
+  ++stats_.rtt_samples;
+  if (srtt_us_ < 0) {
+    srtt_us_ = excess_us;
+    rttvar_us_ = excess_us / 2.0;
+  } else {
+    rttvar_us_ = 0.75 * rttvar_us_ + 0.25 * std::abs(srtt_us_ - excess_us);
+    srtt_us_ = 0.875 * srtt_us_ + 0.125 * excess_us;
+  }
+}
+
 Result<void> Client::settle_line() {
   ++stats_.settles;
+  Millis quiet = opt_.settle;
+  if (opt_.adaptive_settle && link_.byte_time_us() > 0.0 && settle_quiet_us_ > 0)
+    quiet = std::min(opt_.settle, Millis((settle_quiet_us_ + 999) / 1000));
+  bool late_counted = false;
   // Bounded: a line that never goes quiet is a link problem, not an answer.
   for (int reads = 0; reads < 256; ++reads) {
-    auto chunk = link_.read_some(opt_.settle);
+    auto chunk = link_.read_some(quiet);
     if (!chunk.ok()) return std::move(chunk).error();
     if (chunk->empty()) {
       unsettled_ = false;
@@ -64,9 +121,20 @@ Result<void> Client::settle_line() {
     }
     stats_.bytes_rx += chunk->size();
     stats_.settle_bytes += chunk->size();
+    if (!late_counted) {
+      // An answer after its deadline (or noise): the deadline was too short
+      // for this link; its round trip feeds the estimate (adaptive_deadline).
+      late_counted = true;
+      ++stats_.late_answers;
+      if (opt_.adaptive_deadline && last_send_ns_ > 0) {
+        const double rtt_us = static_cast<double>(link_.now_ns() - last_send_ns_) / 1000.0;
+        max_rtt_us_ = std::max(max_rtt_us_, rtt_us);
+        rtt_sample(rtt_us - wire_us(chunk->size()));
+      }
+    }
   }
   return Error(Errc::io_error, "the line to drive " + hexid("%02Xh", opt_.id) +
-                                   " does not go quiet (" + std::to_string(opt_.settle.count()) +
+                                   " does not go quiet (" + std::to_string(quiet.count()) +
                                    " ms without bytes never seen in 256 reads)");
 }
 
@@ -78,6 +146,10 @@ Result<Telegram> Client::transact(const Telegram& req_in, Millis timeout, bool i
   const std::uint8_t want_sub = expected_answer_sub(req);
   const std::optional<std::uint16_t> want_key = request_key(req);
   const int attempts = idempotent ? 1 + opt_.read_retries : 1;
+  // An ordinary read (not a write, not a long operation) may wait the adaptive
+  // deadline. A write always waits `timeout`: an answer that came after a
+  // shorter deadline would count as lost, and a write is never resent blindly.
+  const bool ordinary = long_wait_.empty() && timeout == opt_.timeout && !is_write_request(req);
   Error last(Errc::timeout, "");
   std::optional<std::uint8_t> undocumented;  // an undocumented state seen on an earlier attempt
   for (int attempt = 0; attempt < attempts; ++attempt) {
@@ -89,18 +161,34 @@ Result<Telegram> Client::transact(const Telegram& req_in, Millis timeout, bool i
     link_.discard_input();
     decoder_.reset();
     unsettled_ = true;  // until this exchange has its answer
+    const std::int64_t deadline_us =
+        ordinary ? answer_deadline_us(req) : static_cast<std::int64_t>(timeout.count()) * 1000;
+    if (ordinary) {
+      stats_.last_deadline_us = static_cast<std::uint64_t>(deadline_us);
+      stats_.max_deadline_us =
+          std::max(stats_.max_deadline_us, static_cast<std::uint64_t>(deadline_us));
+    }
+    settle_quiet_us_ = deadline_us;  // a settle after this exchange: see below
+    const std::int64_t sent_ns = link_.now_ns();
+    last_send_ns_ = sent_ns;
     LMCFG_TRY(link_.write(wire));
     ++stats_.requests;
     stats_.bytes_tx += wire.size();
     if (is_write_request(req)) ++stats_.write_requests;
 
-    auto remaining = timeout;
+    // Counted in link time (the simulated drive's virtual clock on sim links)
+    // from when write() returned (a serial port returns before the bytes are
+    // on the wire: the adaptive deadline includes the request's wire time), in
+    // whole milliseconds (read_some).
+    const std::int64_t end_ns = link_.now_ns() + deadline_us * 1000;
+    auto remaining = Millis((end_ns - link_.now_ns() + 999'999) / 1'000'000);
+    std::size_t answer_bytes = 0;
+    bool corrupt_frame = false;  // a complete frame that failed its checksum
     std::optional<Error> garbled;
     std::optional<Error> retry_refused;
     for (;;) {
       // An empty read means the transport waited the whole remaining time.
       if (remaining.count() <= 0) break;
-      const auto t0 = transport::Clock::now();
       // A long operation is waited for in slices of a second, with progress.
       const bool sliced = !long_wait_.empty() && opt_.on_long_wait;
       const Millis wait = sliced ? std::min(remaining, Millis(1000)) : remaining;
@@ -112,7 +200,9 @@ Result<Telegram> Client::transact(const Telegram& req_in, Millis timeout, bool i
         continue;
       }
       if (chunk->empty()) break;
-      remaining -= std::chrono::duration_cast<Millis>(transport::Clock::now() - t0);
+      remaining = Millis((end_ns - link_.now_ns() + 999'999) / 1'000'000);
+      if (sliced) remaining = std::max(remaining, Millis(0));
+      answer_bytes += chunk->size();
       stats_.bytes_rx += chunk->size();
       decoder_.feed(*chunk);
       std::optional<Telegram> answer;
@@ -121,6 +211,7 @@ Result<Telegram> Client::transact(const Telegram& req_in, Millis timeout, bool i
           ++stats_.bad_frames;
           noise_seen_ = true;
           garbled = std::move(*item).error();
+          if (garbled->code == Errc::checksum_mismatch) corrupt_frame = true;
           continue;
         }
         Telegram t = std::move(*item).value();
@@ -152,9 +243,24 @@ Result<Telegram> Client::transact(const Telegram& req_in, Millis timeout, bool i
         answer = std::move(t);
         break;
       }
-      if (!answer) continue;
+      if (!answer) {
+        // A read whose answer came complete but failed its checksum: nothing
+        // better is coming; settle (and retry, or report the garbled answer)
+        // rather than wait out the deadline (adaptive timing only; a write
+        // waits for a valid answer).
+        if (corrupt_frame && ordinary && opt_.adaptive_deadline) break;
+        continue;
+      }
       ++stats_.answers;
       unsettled_ = false;
+      // Karn's rule: only a first attempt's answer times the link (a retry's
+      // answer may be the earlier attempt's).
+      if (ordinary && attempt == 0 && opt_.adaptive_deadline) {
+        const double rtt_us = static_cast<double>(link_.now_ns() - sent_ns) / 1000.0;
+        max_rtt_us_ = std::max(max_rtt_us_, rtt_us);
+        rtt_sample(rtt_us - wire_us(wire.size() + std::min(answer_bytes, wire.size() + 40)));
+        backoff_ = 0;
+      }
       // Bytes after the answer (noise, a duplicate) must not reach the next exchange.
       decoder_.reset();
       // Every group answer starts with the comm state; the default response only when configured
@@ -197,14 +303,27 @@ Result<Telegram> Client::transact(const Telegram& req_in, Millis timeout, bool i
       noise_seen_ = true;
       garbled = std::move(*partial);
     }
+    // The settle before the next request: an answer that came garbled needs
+    // only the line to go quiet for this exchange's deadline; after no answer
+    // at all, a late one may still come: also twice the longest round trip
+    // seen (adaptive_settle; settle_line caps it at `settle`).
+    if (!garbled)
+      settle_quiet_us_ = std::max(deadline_us, static_cast<std::int64_t>(2.0 * max_rtt_us_));
     if (garbled) {
       noise_seen_ = true;
       last = Error(garbled->code, "no valid answer from drive " + hexid("%02Xh", opt_.id) + " to " +
                                       describe(req) + ": " + garbled->message);
     } else {
       ++stats_.timeouts;
+      if (ordinary && opt_.adaptive_deadline && srtt_us_ >= 0 && backoff_ < 16) ++backoff_;
+      char waited[32];
+      std::snprintf(waited, sizeof waited, "%.1f ms", static_cast<double>(deadline_us) / 1000.0);
       last = Error(Errc::timeout, "no answer from drive " + hexid("%02Xh", opt_.id) + " within " +
-                                      std::to_string(timeout.count()) + " ms to " + describe(req));
+                                      (ordinary && opt_.adaptive_deadline
+                                           ? std::string(waited) + " (adaptive; --timeout-ms " +
+                                                 std::to_string(opt_.timeout.count()) + " caps it)"
+                                           : std::to_string(timeout.count()) + " ms") +
+                                      " to " + describe(req));
     }
   }
   if (attempts > 1) last.message += " (after " + std::to_string(attempts) + " attempts)";

@@ -40,14 +40,44 @@ struct ClientOptions {
   std::uint8_t id = 0x11;  // seed 003 §15 factory MACID parameter value
   codec::ChecksumConfig checksum;
   codec::DefaultResponseLayout layout;
-  Millis timeout{200};  // ordinary request (drive answers in 0.5-1.5 ms, §6.1.1.1)
+  // Answer deadline of an ordinary request (drive answers in 0.5-1.5 ms,
+  // §6.1.1.1). With `adaptive_deadline` it is the upper bound (and the
+  // deadline until the first answer has been timed); without, the deadline.
+  Millis timeout{200};
+  // ---- adaptive answer deadline (issue 18 item 1), like TCP's RTO ----
+  // true: an ordinary read (not a write, whose late answer would count as
+  // lost and which is never resent; not a long operation) waits
+  //   wire(request) + wire(longest answer its group can have) + max(turnaround_max
+  //   + the link's receive latency, srtt + 4 x rttvar) + deadline_margin,
+  // where srtt/rttvar smooth the measured round trip minus its wire time
+  // (Jacobson/Karels, first attempts only: Karn's rule), at most `timeout`;
+  // `timeout` itself until the first answer has been timed. A timeout doubles
+  // the deadline for the next attempts (backoff) until an answer is timed
+  // again; bytes that arrive late (while settling) count as a round trip. On a
+  // link without a byte time (TCP gateway) the wire time is that of 4800 Bd.
+  // false: every ordinary request waits `timeout` (a bare Client's default;
+  // the tools' sessions, ops::open_session, switch it on).
+  bool adaptive_deadline = false;
+  double turnaround_max_ms = 1.5;  // §6.1.1.1: the drive answers within 0.5-1.5 ms
+  double deadline_margin_ms = 2.0;
   // §10.4: "could be more than 1 s", no upper bound: generous (a drive that
   // takes several seconds must never be abandoned with MC stopped).
   Millis defaulting_timeout{60000};
   Millis flash_timeout{30000};  // §11/§12: saving to flash, "timeout 10s"; 3x margin
   Millis reset_timeout{6000};   // §13.1: "ca. 3 s"
   int read_retries = 2;
-  Millis settle{500};  // quiet time required after a lost/garbled answer
+  // Quiet time required after a lost/garbled answer before the next request.
+  // With `adaptive_settle` on a link with a byte time (serial, simulated), the
+  // quiet time is the deadline the failed exchange waited and, when no answer
+  // came at all, at least twice the longest round trip timed so far; at most
+  // `settle`: an answer later than that deadline + quiet time could meet a
+  // later request whose answer carries no key (list get-next, block chunks).
+  // On a TCP gateway (jitter unbounded) and without `adaptive_settle`: always
+  // `settle`. With adaptive_deadline, a read whose answer arrived complete but
+  // failed its checksum is retried at once (after the settle), without
+  // waiting out its deadline.
+  Millis settle{500};
+  bool adaptive_settle = false;
   // A modified list that ends at once with C6 for a UPID outside the layer is
   // an empty list, or a drive that reset between "start" and "get next" (it
   // forgot the list). true: read such a list twice (2 more telegrams per empty
@@ -109,6 +139,10 @@ struct Stats {
   std::uint64_t block_passes = 0;      // passes of block reads (1 per block on a clean line)
   std::uint64_t block_rewrites = 0;    // block writes restarted from their setup telegram
   std::uint64_t undocumented_states = 0;  // answers with a state the manual does not list
+  std::uint64_t rtt_samples = 0;          // answers timed for the adaptive deadline
+  std::uint64_t late_answers = 0;      // settles that dropped bytes (an answer after its deadline)
+  std::uint64_t max_deadline_us = 0;   // longest ordinary deadline used
+  std::uint64_t last_deadline_us = 0;  // the deadline of the last ordinary request
 };
 
 // How this drive answers a probe of an ID that holds nothing (the manual does
@@ -161,8 +195,19 @@ class Client {
   transport::Transport& link() { return link_; }
 
   // Sends `req` and waits for the answer the request's group defines.
-  // idempotent: may be retried on timeout/garbled answer.
+  // idempotent: may be retried on timeout/garbled answer. A read (not
+  // is_write_request) with `timeout` equal to options().timeout, outside a long
+  // operation, is an ordinary read: with adaptive_deadline it waits
+  // answer_deadline_us(req) instead.
   Result<codec::Telegram> transact(const codec::Telegram& req, Millis timeout, bool idempotent);
+  // The deadline the next ordinary request `req` would wait (adaptive_deadline;
+  // else options().timeout), in microseconds, and its floor (no measurement).
+  std::int64_t answer_deadline_us(const codec::Telegram& req) const;
+  std::int64_t deadline_floor_us(const codec::Telegram& req) const;
+  // Smoothed excess round trip (answer time minus wire time) and its variation,
+  // microseconds; srtt < 0 until the first answer has been timed.
+  double srtt_us() const { return srtt_us_; }
+  double rttvar_us() const { return rttvar_us_; }
 
   // §6
   Result<codec::DefaultResponse> default_response(
@@ -265,8 +310,16 @@ class Client {
   ClientOptions opt_;
   codec::StreamDecoder decoder_;
   Stats stats_;
-  bool unsettled_ = false;   // the last exchange ended without its answer
-  bool noise_seen_ = false;  // corruption seen on this link (agreeing_reads)
+  bool unsettled_ = false;  // the last exchange ended without its answer
+  // Adaptive deadline state (microseconds): see ClientOptions::adaptive_deadline.
+  void rtt_sample(double excess_us);
+  double wire_us(std::size_t bytes) const;
+  double srtt_us_ = -1.0, rttvar_us_ = 0.0;
+  double max_rtt_us_ = 0.0;           // longest round trip timed, wire time included
+  int backoff_ = 0;                   // doublings after timeouts, until the next timed answer
+  std::int64_t last_send_ns_ = 0;     // link time before the last request was written
+  std::int64_t settle_quiet_us_ = 0;  // quiet time of the next settle (adaptive_settle)
+  bool noise_seen_ = false;           // corruption seen on this link (agreeing_reads)
   ProbeForms forms_;
   std::string long_wait_;  // what a long operation in flight waits for (transact_long)
 };

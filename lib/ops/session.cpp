@@ -206,6 +206,10 @@ Result<std::unique_ptr<Session>> open_session(const LinkOptions& opt_in) {
   opt.client.link_has_parity = opt.serial.parity != transport::Parity::none;
   opt.client.agreeing_reads =
       0;  // automatic: two agreeing reads when nothing detects a flipped bit
+  // Deadlines from the wire time and the measured round trips, capped by
+  // --timeout-ms; the settle after a lost answer as long as its deadline.
+  opt.client.adaptive_deadline = true;
+  opt.client.adaptive_settle = !opt.fixed_settle;
   return std::make_unique<Session>(std::move(opt), std::move(opened), std::move(latency));
 }
 

@@ -23,6 +23,10 @@ struct LinkOptions {
   client::ClientOptions client;      // MACID, checksum, timeouts, retries
   std::string trace_path;            // "" = no trace
   bool real_time_sim = false;        // a simulated peer sleeps for the modelled wire time
+  // open_session switches the client's adaptive answer deadline on (capped by
+  // client.timeout) and, unless fixed_settle, the adaptive settle (capped by
+  // client.settle). fixed_settle: every settle waits client.settle (--settle-ms).
+  bool fixed_settle = false;
 };
 
 // "none", "add", "crc" (0xFFFF init), "crc-ffff", "crc-0000", "crc-kermit"

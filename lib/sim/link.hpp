@@ -179,6 +179,7 @@ class SimLink : public transport::Transport {
   void discard_input() override;
   std::string describe() const override;
   double byte_time_us() const override { return sim::byte_time_us(bus_->line()); }
+  std::int64_t now_ns() const override { return bus_->clock().now_ns(); }
   // The master's side of the line: a drive hears only a master at its own settings.
   Result<void> reconfigure(const transport::SerialSettings& s) override;
 

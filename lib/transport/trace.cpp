@@ -60,6 +60,8 @@ class TracedTransport final : public Transport {
   std::string describe() const override { return inner_->describe(); }
   double byte_time_us() const override { return inner_->byte_time_us(); }
   Result<void> reconfigure(const SerialSettings& s) override { return inner_->reconfigure(s); }
+  double receive_latency_ms() const override { return inner_->receive_latency_ms(); }
+  std::int64_t now_ns() const override { return inner_->now_ns(); }
 
  private:
   std::unique_ptr<Transport> inner_;

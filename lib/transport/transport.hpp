@@ -48,6 +48,13 @@ class Transport {
   // serial adapter's latency timer), in milliseconds; 0 when there is no such
   // buffering or it is unknown (pty, TCP, simulated link).
   virtual double receive_latency_ms() const { return 0.0; }
+  // The link's time in nanoseconds (monotonic): the steady clock, or the
+  // simulated drive's virtual clock, so that round-trip times measured by the
+  // client follow the time the link models.
+  virtual std::int64_t now_ns() const {
+    return std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now().time_since_epoch())
+        .count();
+  }
 };
 
 // What opening a serial port found about receive latency (USB serial adapters

@@ -53,6 +53,7 @@ class ByteDropper final : public transport::Transport {
   void discard_input() override { inner_->discard_input(); }
   std::string describe() const override { return inner_->describe(); }
   double byte_time_us() const override { return inner_->byte_time_us(); }
+  std::int64_t now_ns() const override { return inner_->now_ns(); }
 
  private:
   std::unique_ptr<transport::Transport> inner_;

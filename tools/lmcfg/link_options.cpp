@@ -36,8 +36,13 @@ void add_link_options(CLI::App* sub, CommonOptions& o) {
                   "items of the drive's default response (§6.1.1.1): auto (from the answer's "
                   "length), factory, or a list like comm_state,status_word,warn_word,monitoring_1")
       ->capture_default_str();
-  sub->add_option("--timeout-ms", o.timeout_ms, "answer deadline of an ordinary request")
+  sub->add_option("--timeout-ms", o.timeout_ms,
+                  "upper bound of an ordinary request's answer deadline; the deadline adapts "
+                  "below it to the wire time and the measured round trips (docs/reliability.md)")
       ->capture_default_str();
+  sub->add_option("--settle-ms", o.settle_ms,
+                  "quiet time awaited after a lost or garbled answer before the next request "
+                  "(default: as long as the failed exchange's deadline, at most 500 ms)");
   sub->add_option("--retries", o.retries, "retries of a read after a lost or garbled answer")
       ->capture_default_str();
   sub->add_option("--long-timeout-s", o.long_timeout_s,
@@ -122,6 +127,13 @@ Result<ops::LinkOptions> link_options(const CommonOptions& o) {
                  "--retries " + std::to_string(o.retries) + " is outside 0..10");
   }
   l.client.timeout = transport::Millis(o.timeout_ms);
+  if (o.settle_ms != -1) {
+    if (o.settle_ms < 1 || o.settle_ms > 60000)
+      return Error(Errc::invalid_argument,
+                   "--settle-ms " + std::to_string(o.settle_ms) + " is outside 1..60000");
+    l.client.settle = transport::Millis(o.settle_ms);
+    l.fixed_settle = true;
+  }
   l.client.read_retries = o.retries;
   if (o.long_timeout_s < 0 || o.long_timeout_s > 3600) {
     return Error(Errc::invalid_argument,

@@ -23,6 +23,7 @@ struct CommonOptions {
   std::string checksum_coverage = "id";
   std::string response_layout = "auto";
   int timeout_ms = 200;
+  int settle_ms = -1;  // -1: adaptive (the failed exchange's deadline, at most 500 ms)
   int retries = 2;
   int long_timeout_s = 0;  // 0: the client's defaults (defaulting 60 s, flash 30 s, reset 6 s)
   std::string trace;
@@ -33,7 +34,7 @@ struct CommonOptions {
 };
 
 // --port, --baud, --parity, --stop-bits, --id, --checksum, --checksum-coverage,
-// --timeout-ms, --retries, --long-timeout-s, --trace, --verbose.
+// --timeout-ms, --settle-ms, --retries, --long-timeout-s, --trace, --verbose.
 void add_link_options(CLI::App* sub, CommonOptions& o);
 // --quiet, --json, --db.
 void add_output_options(CLI::App* sub, CommonOptions& o);

@@ -1,0 +1,143 @@
+// Issue 18 item 7: the wrong-parity hint. A drive at even parity and the tool
+// at none (or the reverse) must get advice naming --parity and `lmcfg scan`.
+//
+// Why not over a pseudo-terminal: Linux ptys force CS8 and clear PARENB
+// (docs/transport.md), so the simulated drive behind `lmcfg sim` cannot see
+// the master's parity, and `--port sim:FILE` wires the line at the drive's own
+// settings. The decision (ops::settings_suspect + ops::link_advice, what
+// `fail()` in tools/lmcfg/link_options.cpp prints as "lmcfg CMD: ADVICE",
+// exit 4 for a timeout or garbled answers) is therefore tested here on a
+// session whose simulated line runs at the tool's parity while the drive
+// listens at its own: a UART at the wrong parity hears nothing it can decode
+// (sim::Bus), or, in the other direction, hands the master mangled bytes.
+#include <catch2/catch.hpp>
+
+#include "e2e_support.hpp"
+#include "ops/link_advice.hpp"
+#include "ops/session.hpp"
+#include "sim/link.hpp"
+
+using namespace lmcfg;
+
+namespace {
+
+// What a master UART at the wrong parity makes of the drive's answers: every
+// byte arrives misframed (the parity bit read as a stop bit shifts the frame),
+// so nothing decodes. Modelled as the top bit flipped in every byte.
+class ParityMangler final : public transport::Transport {
+ public:
+  explicit ParityMangler(sim::SimLink& inner) : inner_(inner) {}
+  Result<void> write(ByteView b) override { return inner_.write(b); }
+  Result<Bytes> read_some(transport::Millis t) override {
+    auto r = inner_.read_some(t);
+    if (r.ok())
+      for (auto& b : *r) b = static_cast<std::uint8_t>(b ^ 0x80);
+    return r;
+  }
+  void discard_input() override { inner_.discard_input(); }
+  std::string describe() const override { return inner_.describe(); }
+  double byte_time_us() const override { return inner_.byte_time_us(); }
+  std::int64_t now_ns() const override { return inner_.now_ns(); }
+  Result<void> reconfigure(const transport::SerialSettings& s) override {
+    return inner_.reconfigure(s);
+  }
+
+ private:
+  sim::SimLink& inner_;
+};
+
+// A session on a simulated line at the tool's settings (`line`); the drive
+// keeps its own. relink() reconfigures the line, as on a serial port.
+class ParitySession final : public ops::Session {
+ public:
+  ParitySession(std::shared_ptr<sim::Drive> drive, transport::SerialSettings line, bool mangle)
+      : drive_(std::move(drive)), sim_(drive_), line_(line) {
+    REQUIRE(sim_.reconfigure(line_).ok());
+    if (mangle) mangler_ = std::make_unique<ParityMangler>(sim_);
+    client::ClientOptions o;
+    o.id = drive_->macid();
+    o.timeout = transport::Millis(20);
+    o.read_retries = 0;
+    o.adaptive_deadline = o.adaptive_settle = true;  // as ops::open_session
+    client_ = std::make_unique<client::Client>(
+        mangler_ ? static_cast<transport::Transport&>(*mangler_) : sim_, o);
+  }
+  client::Client& client() override { return *client_; }
+  sim::SimLink* sim_link() override { return nullptr; }  // a serial port, as far as the tools see
+  Result<void> close() override { return {}; }
+  std::string describe() const override { return "serial /dev/ttyUSB0"; }
+  config::LinkSettings link_settings() const override { return {}; }
+  transport::SerialSettings line() const override { return line_; }
+  Result<void> relink(const transport::SerialSettings& line, std::uint8_t id,
+                      const codec::ChecksumConfig& checksum) override {
+    LMCFG_TRY(sim_.reconfigure(line));
+    line_ = line;
+    auto o = client_->options();
+    o.id = id;
+    o.checksum = checksum;
+    client_->set_options(o);
+    return {};
+  }
+
+ private:
+  std::shared_ptr<sim::Drive> drive_;
+  sim::SimLink sim_;
+  std::unique_ptr<ParityMangler> mangler_;
+  transport::SerialSettings line_;
+  std::unique_ptr<client::Client> client_;
+};
+
+struct Outcome {
+  Error error{Errc::ok, ""};
+  bool suspect = false;
+  std::optional<std::string> advice;
+};
+
+Outcome first_read(transport::Parity drive_parity, transport::Parity tool_parity, bool mangle) {
+  auto drive = test::load_sim_drive("commissioned-axis.json");  // MACID 11h, 57600
+  drive->state().link.parity = drive_parity;
+  transport::SerialSettings line = drive->state().link;
+  line.parity = tool_parity;
+  ParitySession s(drive, line, mangle);
+  auto r = s.client().read_rom(0x13A2);
+  REQUIRE_FALSE(r.ok());
+  Outcome o;
+  o.error = r.error();
+  o.suspect = ops::settings_suspect(s, o.error);
+  if (o.suspect) o.advice = ops::link_advice(s, "/dev/ttyUSB0");
+  return o;
+}
+
+}  // namespace
+
+TEST_CASE("wrong parity: the advice names --parity and lmcfg scan", "[cli][advice][parity]") {
+  const std::string silent =
+      "no answer from MACID 11h at 57600 Bd: check --id and --baud (and --parity), or run "
+      "`lmcfg scan --port /dev/ttyUSB0` to try every MACID and rate";
+  const std::string garbled =
+      "the drive's answers at 57600 Bd arrive garbled: check --parity and --stop-bits (factory "
+      "setting 8N1) and --baud, or run `lmcfg scan --port /dev/ttyUSB0`";
+
+  SECTION("drive at even parity, tool at none: the drive hears nothing it can decode") {
+    auto o = first_read(transport::Parity::even, transport::Parity::none, false);
+    CHECK(o.error.code == Errc::timeout);  // exit 4 (communication failure)
+    CHECK(o.suspect);
+    REQUIRE(o.advice);
+    CHECK(*o.advice == silent);
+  }
+  SECTION("drive at no parity, tool at even: silent as well") {
+    auto o = first_read(transport::Parity::none, transport::Parity::even, false);
+    CHECK(o.error.code == Errc::timeout);
+    CHECK(o.suspect);
+    REQUIRE(o.advice);
+    CHECK(*o.advice == silent);
+  }
+  SECTION("the drive answers but the master's UART mangles every byte") {
+    // Both sides at the same parity for the drive to hear; the mangler plays
+    // the master's misframing.
+    auto o = first_read(transport::Parity::even, transport::Parity::even, true);
+    CHECK(o.suspect);
+    REQUIRE(o.advice);
+    CHECK(*o.advice == garbled);
+  }
+}
