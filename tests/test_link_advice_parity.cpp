@@ -1,4 +1,4 @@
-// Issue 18 item 7: the wrong-parity hint. A drive at even parity and the tool
+// The wrong-parity hint (docs/reliability.md, errors that say what to do). A drive at even parity and the tool
 // at none (or the reverse) must get advice naming --parity and `lmcfg scan`.
 //
 // Why not over a pseudo-terminal: Linux ptys force CS8 and clear PARENB
@@ -21,71 +21,53 @@ using namespace lmcfg;
 
 namespace {
 
-// What a master UART at the wrong parity makes of the drive's answers: every
-// byte arrives misframed (the parity bit read as a stop bit shifts the frame),
-// so nothing decodes. Modelled as the top bit flipped in every byte.
-class ParityMangler final : public transport::Transport {
+// The simulated line at the tool's settings, seen by the tools as a serial
+// port. With `mangle`, what a master UART at the wrong parity makes of the
+// drive's answers: every byte arrives misframed (the parity bit read as a stop
+// bit shifts the frame), so nothing decodes. Modelled as the top bit flipped
+// in every byte received.
+class ParityLine final : public transport::Transport {
  public:
-  explicit ParityMangler(sim::SimLink& inner) : inner_(inner) {}
-  Result<void> write(ByteView b) override { return inner_.write(b); }
+  ParityLine(std::shared_ptr<sim::Drive> drive, bool mangle)
+      : sim_(std::move(drive)), mangle_(mangle) {}
+  Result<void> write(ByteView b) override { return sim_.write(b); }
   Result<Bytes> read_some(transport::Millis t) override {
-    auto r = inner_.read_some(t);
-    if (r.ok())
+    auto r = sim_.read_some(t);
+    if (r.ok() && mangle_)
       for (auto& b : *r) b = static_cast<std::uint8_t>(b ^ 0x80);
     return r;
   }
-  void discard_input() override { inner_.discard_input(); }
-  std::string describe() const override { return inner_.describe(); }
-  double byte_time_us() const override { return inner_.byte_time_us(); }
-  std::int64_t now_ns() const override { return inner_.now_ns(); }
+  void discard_input() override { sim_.discard_input(); }
+  std::string describe() const override { return "serial /dev/ttyUSB0"; }
+  double byte_time_us() const override { return sim_.byte_time_us(); }
+  std::int64_t now_ns() const override { return sim_.now_ns(); }
   Result<void> reconfigure(const transport::SerialSettings& s) override {
-    return inner_.reconfigure(s);
+    return sim_.reconfigure(s);
   }
 
  private:
-  sim::SimLink& inner_;
+  sim::SimLink sim_;
+  bool mangle_;
 };
 
 // A session on a simulated line at the tool's settings (`line`); the drive
 // keeps its own. relink() reconfigures the line, as on a serial port.
-class ParitySession final : public ops::Session {
- public:
-  ParitySession(std::shared_ptr<sim::Drive> drive, transport::SerialSettings line, bool mangle)
-      : drive_(std::move(drive)), sim_(drive_), line_(line) {
-    REQUIRE(sim_.reconfigure(line_).ok());
-    if (mangle) mangler_ = std::make_unique<ParityMangler>(sim_);
-    client::ClientOptions o;
-    o.id = drive_->macid();
-    o.timeout = transport::Millis(20);
-    o.read_retries = 0;
-    o.adaptive_deadline = o.adaptive_settle = true;  // as ops::open_session
-    client_ = std::make_unique<client::Client>(
-        mangler_ ? static_cast<transport::Transport&>(*mangler_) : sim_, o);
-  }
-  client::Client& client() override { return *client_; }
-  sim::SimLink* sim_link() override { return nullptr; }  // a serial port, as far as the tools see
-  Result<void> close() override { return {}; }
-  std::string describe() const override { return "serial /dev/ttyUSB0"; }
-  config::LinkSettings link_settings() const override { return {}; }
-  transport::SerialSettings line() const override { return line_; }
-  Result<void> relink(const transport::SerialSettings& line, std::uint8_t id,
-                      const codec::ChecksumConfig& checksum) override {
-    LMCFG_TRY(sim_.reconfigure(line));
-    line_ = line;
-    auto o = client_->options();
-    o.id = id;
-    o.checksum = checksum;
-    client_->set_options(o);
-    return {};
-  }
-
- private:
-  std::shared_ptr<sim::Drive> drive_;
-  sim::SimLink sim_;
-  std::unique_ptr<ParityMangler> mangler_;
-  transport::SerialSettings line_;
-  std::unique_ptr<client::Client> client_;
-};
+std::unique_ptr<ops::Session> parity_session(std::shared_ptr<sim::Drive> drive,
+                                             transport::SerialSettings line, bool mangle) {
+  ops::LinkOptions lo;
+  lo.port = "/dev/ttyUSB0";
+  lo.serial = line;
+  lo.serial.device = lo.port;
+  lo.client.id = drive->macid();
+  lo.client.timeout = transport::Millis(20);
+  lo.client.read_retries = 0;
+  lo.client.adaptive_deadline = lo.client.adaptive_settle = true;  // as ops::open_session
+  transport::OpenedLink opened;
+  auto link = std::make_unique<ParityLine>(std::move(drive), mangle);
+  REQUIRE(link->reconfigure(line).ok());
+  opened.link = std::move(link);
+  return std::make_unique<ops::Session>(lo, std::move(opened), std::nullopt);
+}
 
 struct Outcome {
   Error error{Errc::ok, ""};
@@ -98,7 +80,8 @@ Outcome first_read(transport::Parity drive_parity, transport::Parity tool_parity
   drive->state().link.parity = drive_parity;
   transport::SerialSettings line = drive->state().link;
   line.parity = tool_parity;
-  ParitySession s(drive, line, mangle);
+  auto session = parity_session(drive, line, mangle);
+  auto& s = *session;
   auto r = s.client().read_rom(0x13A2);
   REQUIRE_FALSE(r.ok());
   Outcome o;
