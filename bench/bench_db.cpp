@@ -73,8 +73,8 @@ bool build_large_db(const std::filesystem::path& dir, const std::string& out) {
       const bool two = l * per_layer + i < doubled;
       for (int k = 0; k < (two ? 2 : 1); ++k, ++row) {
         const char* prof = two ? (k == 0 ? "big-a" : "big-b") : "big-a,big-b";
-        f << lmcfg::hex(upid, 4) << '\t' << prof << '\t' << layers[l] << "\tSynthetic Parameter " << row
-          << '\t' << layers[l] << "\\Group " << (i / 64) << "\\Parameter " << i << '\t';
+        f << lmcfg::hex(upid, 4) << '\t' << prof << '\t' << layers[l] << "\tSynthetic Parameter "
+          << row << '\t' << layers[l] << "\\Group " << (i / 64) << "\\Parameter " << i << '\t';
         if (row % 10 == 0)
           f << "ENUM_DIR16\t000F\t0\t2\t1\t\t\t0=Off|1=On|2=Auto";
         else

@@ -33,7 +33,7 @@ inline constexpr std::size_t kLayerCount = 5;  // with Other
 // "OS", "MC", "Intf", "Appl", "Other"
 std::string_view layer_name(Layer l) noexcept;
 std::optional<Layer> layer_from_name(std::string_view name) noexcept;  // case-insensitive
-std::optional<Layer> layer_of_upid(std::uint16_t upid) noexcept;  // nullopt between the ranges
+std::optional<Layer> layer_of_upid(std::uint16_t upid) noexcept;       // nullopt between the ranges
 std::uint16_t layer_base_upid(Layer l) noexcept;  // 0000, 1000, 2000, 3000; FFFF for Other
 
 // Address usage word (seed 003 §10; resolved bits only, see linrs-facts.md).
