@@ -96,16 +96,17 @@ TEST_CASE("compiler reports header, hex and reference errors in the other tables
              "master\tsub\tname\tproducts\tdescription\tsource\n"
              "01\t0\tVAI Go To Pos\t\t\ts\n"
              "1\t0\tShort\t\t\ts\n");
-  write_file(dir / "motion_command_params.tsv",
-             "master\tsub\tindex\toffset\tname\ttype\tunit\tscale\trange\tmin\tmax\tscaled\tsource\n"
-             "01\t0\t1\t2\tTarget Position\tSINT32\tmm\t0.0001\t\t\t\t\ts\n"
-             "02\t0\t1\t2\tX\tSINT32\t\t\t\t\t\t\ts\n"
-             "01\t0\t2\t32\tY\tSINT32\t\t\t\t\t\t\ts\n"
-             "01\t0\t3\t6\tZ\tUINT32\tm/s\tfast\t\t\t\t\ts\n"
-             "01\t0\t4\t10\tC\tUINT16\t\t\t1..\t\t\t\ts\n"
-             "01\t0\t5\t12\tV\tSINT16\tmm\t\t\t\t\t1\ts\n"
-             "01\t0\t6\t14\tW\tUINT16\t\t\t1..255\t1\t255\t\ts\n"
-             "01\t0\t7\t16\tU\tUINT8\t\t\t1..300\t1\t300\t\ts\n");
+  write_file(
+      dir / "motion_command_params.tsv",
+      "master\tsub\tindex\toffset\tname\ttype\tunit\tscale\trange\tmin\tmax\tscaled\tsource\n"
+      "01\t0\t1\t2\tTarget Position\tSINT32\tmm\t0.0001\t\t\t\t\ts\n"
+      "02\t0\t1\t2\tX\tSINT32\t\t\t\t\t\t\ts\n"
+      "01\t0\t2\t32\tY\tSINT32\t\t\t\t\t\t\ts\n"
+      "01\t0\t3\t6\tZ\tUINT32\tm/s\tfast\t\t\t\t\ts\n"
+      "01\t0\t4\t10\tC\tUINT16\t\t\t1..\t\t\t\ts\n"
+      "01\t0\t5\t12\tV\tSINT16\tmm\t\t\t\t\t1\ts\n"
+      "01\t0\t6\t14\tW\tUINT16\t\t\t1..255\t1\t255\t\ts\n"
+      "01\t0\t7\t16\tU\tUINT8\t\t\t1..300\t1\t300\t\ts\n");
   write_file(dir / "notes.tsv", "x\n");
   auto rep = compile_upid_db(dir.string(), "");
   auto p = [&](const char* n) { return (dir / n).string(); };
@@ -138,8 +139,7 @@ TEST_CASE("compiler reports header, hex and reference errors in the other tables
           ":6:22: error: range \"1..\" needs its lower bound in column 'min'",
       p("motion_command_params.tsv") +
           ":7:27: error: a Scaled parameter has no fixed unit (found unit \"mm\")",
-      p("motion_command_params.tsv") +
-          ":9:30: error: max 300 is outside the UINT8 range 0..255",
+      p("motion_command_params.tsv") + ":9:30: error: max 300 is outside the UINT8 range 0..255",
   };
   CHECK(messages(rep) == expected);
 }
@@ -235,4 +235,44 @@ TEST_CASE("compiler reports malformed seed 000 DeviceNet rows with file:line:col
       c + ":8:23: error: missing source (provenance) in column 'source'",
   };
   CHECK(messages(rep) == expected);
+}
+
+TEST_CASE("tsv: lines, comments, fields and the columns of each file", "[db]") {
+  // upid-db/FORMAT.md: BOM, CRLF, comment and blank lines, TAB-separated fields.
+  const std::string text = "\xEF\xBB\xBFupid\tname\r\n# comment\n\n \t \n13A2\t\xC2\xB5m Gain\n";
+  auto lines = tsv::lines(tsv::strip_bom(text));
+  REQUIRE(lines.size() == 5);
+  CHECK(lines[0] == "upid\tname");
+  CHECK_FALSE(tsv::is_data_line(lines[1]));
+  CHECK_FALSE(tsv::is_data_line(lines[2]));
+  CHECK_FALSE(tsv::is_data_line(lines[3]));
+  CHECK(tsv::is_data_line(lines[4]));
+  CHECK(tsv::split(lines[4]) == std::vector<std::string_view>{"13A2", "\xC2\xB5m Gain"});
+  CHECK(tsv::split("a\t\tb\t") == std::vector<std::string_view>{"a", "", "b", ""});
+  CHECK(tsv::char_column(lines[4], lines[4].size()) == 13);  // after 12 characters (µ is one)
+  CHECK(tsv::field("a\tb\r\nc") == "a b  c");
+  CHECK(tsv::join({"a", "", "b"}) == "a\t\tb");
+
+  // One table per known file, in the compiler's order; db scan's fragment uses
+  // the same lists.
+  CHECK(tsv::source_files() == upid_db_source_files());
+  for (const auto& f : tsv::source_files()) CHECK(tsv::columns_of(f) != nullptr);
+  CHECK(tsv::columns_of("notes.tsv") == nullptr);
+  CHECK(tsv::profile_columns() == *tsv::columns_of("profiles.tsv"));
+  REQUIRE(tsv::parameter_columns().size() == 16);
+  CHECK(tsv::parameter_columns().front() == "upid");
+  CHECK(tsv::parameter_columns().back() == "source");
+
+  // The reader: rows with their line and character columns; problems as
+  // file:line:column diagnostics.
+  std::vector<Diagnostic> diags;
+  tsv::Table t(diags, "dir/x.tsv", "x.tsv", "a\tb\n# c\n1\t2\n1\t2\t3\n", {"a", "b"});
+  CHECK(t.header_ok());
+  REQUIRE(t.rows().size() == 1);
+  CHECK(t.rows()[0].line == 3);
+  CHECK(t.get(t.rows()[0], "b").text == "2");
+  CHECK(t.get(t.rows()[0], "b").column == 3);
+  REQUIRE(diags.size() == 1);
+  CHECK(diags[0].str() ==
+        "dir/x.tsv:4:5: error: expected 2 fields (as in the header, line 1), found 3");
 }

@@ -285,7 +285,7 @@ TEST_CASE("open errors say what and where", "[db]") {
   // The lookup without $LMCFG_UPID_DB: tests/test_install.cpp.
 }
 
-TEST_CASE("lazy lookups: find returns the rows the whole table has", "[db]") {
+TEST_CASE("lookups: find returns the rows of the whole table, not copies", "[db]") {
   if (!std::filesystem::exists(LMCFG_DB_PATH)) {
     WARN("the built database is not there yet: skipped");
     return;
@@ -294,7 +294,6 @@ TEST_CASE("lazy lookups: find returns the rows the whole table has", "[db]") {
   REQUIRE(opened);
   const Database& db = *opened;
 
-  // Looked up before any table is loaded.
   const Parameter* gain = db.find(0x13A2);
   REQUIRE(gain);
   CHECK(gain->upid == 0x13A2);
@@ -317,7 +316,8 @@ TEST_CASE("lazy lookups: find returns the rows the whole table has", "[db]") {
   CHECK(behavior->spec.labels[2].label == "Quick Stop");
   CHECK(behavior->format(1) == "Power Off (1)");
 
-  // Every row of the whole table, against the per-UPID lookup.
+  // Every row of the whole table, against the per-UPID lookup: one copy of
+  // the rows, so find() and find_all() point into parameters().
   const auto& all = db.parameters();
   REQUIRE(all.size() == db.info().counts.at("parameters"));
   std::map<std::uint16_t, std::vector<const Parameter*>> rows;
@@ -326,15 +326,18 @@ TEST_CASE("lazy lookups: find returns the rows the whole table has", "[db]") {
     INFO("UPID " << upid);
     auto got = db.find_all(upid);
     REQUIRE(got.size() == want.size());
-    for (std::size_t i = 0; i < got.size(); ++i) CHECK(same_parameter(*got[i], *want[i]));
+    for (std::size_t i = 0; i < got.size(); ++i) {
+      CHECK(got[i] == want[i]);
+      CHECK(same_parameter(*got[i], *want[i]));
+    }
     CHECK(db.find(upid) == got[0]);
     CHECK(db.find_all(upid) == got);  // the same objects every time
   }
-  CHECK(db.find(0x13A2) == gain);  // loading the whole table changed nothing
+  CHECK(db.find(0x13A2) == gain);
   CHECK_FALSE(db.last_error());
 }
 
-TEST_CASE("lazy lookups: two profile rows of one UPID", "[db]") {
+TEST_CASE("lookups: two profile rows of one UPID", "[db]") {
   auto opened = Database::open(fixture_copy("two-profiles"));
   REQUIRE(opened);
   const Database& db = *opened;
@@ -355,7 +358,7 @@ TEST_CASE("lazy lookups: two profile rows of one UPID", "[db]") {
   CHECK(macid->format(2) == "By Parameter (2)");
 }
 
-TEST_CASE("lazy lookups: absent UPIDs stay absent", "[db]") {
+TEST_CASE("lookups: absent UPIDs stay absent", "[db]") {
   auto opened = Database::open(fixture_copy("absent"));
   REQUIRE(opened);
   const Database& db = *opened;
@@ -371,7 +374,7 @@ TEST_CASE("lazy lookups: absent UPIDs stay absent", "[db]") {
   CHECK_FALSE(db.last_error());
 }
 
-TEST_CASE("lazy lookups: pointers stay valid after the Database is moved", "[db]") {
+TEST_CASE("lookups: pointers stay valid after the Database is moved", "[db]") {
   auto opened = Database::open(fixture_copy("move"));
   REQUIRE(opened);
   Database db = std::move(opened).value();
@@ -422,7 +425,7 @@ TEST_CASE("lazy lookups: pointers stay valid after the Database is moved", "[db]
   CHECK(gain->default_value == 16);
 }
 
-TEST_CASE("lazy lookups: concurrent use of one const Database", "[db]") {
+TEST_CASE("lookups: concurrent use of one const Database", "[db]") {
   constexpr int kPerLayer = 150, kDoubled = 20, kThreads = 8;
   const std::string path = synthetic_db("concurrent", kPerLayer, kDoubled);
   std::vector<std::uint16_t> upids;
@@ -430,7 +433,7 @@ TEST_CASE("lazy lookups: concurrent use of one const Database", "[db]") {
     for (int i = 0; i < kPerLayer; ++i) upids.push_back(std::uint16_t(l * 0x1000 + i * 3));
   for (std::uint16_t u = 0x0F00; u < 0x0F40; ++u) upids.push_back(u);  // absent
 
-  for (int attempt = 0; attempt < 3; ++attempt) {  // several fresh, cold databases
+  for (int attempt = 0; attempt < 3; ++attempt) {  // several fresh databases
     auto opened = Database::open(path);
     REQUIRE(opened);
     const Database& db = *opened;
@@ -503,8 +506,8 @@ TEST_CASE("lazy lookups: concurrent use of one const Database", "[db]") {
   }
 }
 
-TEST_CASE("lazy lookups: the file deleted after open", "[db]") {
-  // The open connection keeps reading the file it opened: not a failure.
+TEST_CASE("open: the file deleted after open", "[db]") {
+  // open() read every table: the file is not needed afterwards.
   const std::string path = fixture_copy("deleted");
   auto opened = Database::open(path);
   REQUIRE(opened);
@@ -527,10 +530,10 @@ TEST_CASE("lazy lookups: the file deleted after open", "[db]") {
   CHECK(again.error().code == Errc::file_error);
 }
 
-TEST_CASE("lazy lookups: the file overwritten in place after open", "[db]") {
+TEST_CASE("open: the file overwritten in place after open", "[db]") {
   // Nothing in lmcfg writes the file in place (the compiler replaces it by
-  // rename); if something does, loads fail without crashing and say so, and
-  // what was loaded before is still served.
+  // rename). open() read every table, so an open Database serves what it read;
+  // a new open() of the damaged file fails and names it.
   const std::string path = fixture_copy("corrupted");
   std::string original;
   {
@@ -549,32 +552,43 @@ TEST_CASE("lazy lookups: the file overwritten in place after open", "[db]") {
   const Database& db = *opened;
   const Parameter* gain = db.find(0x13A2);
   REQUIRE(gain);
-  CHECK_FALSE(db.last_error());
 
   overwrite(std::string(original.size(), '\xA5'));
-  CHECK(db.find(0x13A2) == gain);  // cached: still served
+  CHECK(db.find(0x13A2) == gain);
   CHECK(gain->name == "P Gain Position Controller Set A");
-  // Tables not read yet fail: nullptr / empty, the error kept.
-  CHECK(db.error("linrs", 0xC8) == nullptr);
-  CHECK(db.errors().empty());
-  CHECK(db.motion_command(0x0100) == nullptr);
-  CHECK(db.devicenet_commands().empty());
-  CHECK(db.info().schema_version == kSchemaVersion);  // read at open
-  CHECK(db.info().counts.empty());
-  auto err = db.last_error();
-  REQUIRE(err);
-  CHECK(err->code == Errc::parse_error);
-  CHECK(err->message.find(path) != std::string::npos);
-  CAPTURE(err->message);
-
-  // Failures are not cached: once the file is whole again, the loads succeed.
-  overwrite(original);
   const ErrorEntry* c8 = db.error("linrs", 0xC8);
   REQUIRE(c8);
   CHECK(c8->text == "Unknown UPID");
-  CHECK(db.motion_command(0x0100) != nullptr);
+  REQUIRE(db.motion_command(0x0100));
+  CHECK(db.motion_command(0x0100)->params.size() == 4);
   CHECK(db.info().counts.at("parameters") == 8);
-  CHECK(db.find(0x13A2) == gain);
+  CHECK_FALSE(db.last_error());
+
+  auto again = Database::open(path);
+  REQUIRE_FALSE(again);
+  CHECK(again.error().message.find(path) != std::string::npos);
+  CAPTURE(again.error().message);
+
+  overwrite(original);
+  auto whole = Database::open(path);
+  REQUIRE(whole);
+  CHECK(whole->find(0x13A2)->name == "P Gain Position Controller Set A");
+}
+
+TEST_CASE("open: a table that cannot be read fails the open and names it", "[db]") {
+  // Every table is read by open(): a damaged one is an open error, not a
+  // missing row later.
+  const std::string path = fixture_copy("broken-table");
+  sqlite3* raw = nullptr;
+  REQUIRE(sqlite3_open_v2(path.c_str(), &raw, SQLITE_OPEN_READWRITE, nullptr) == SQLITE_OK);
+  REQUIRE(sqlite3_exec(raw, "DROP TABLE motion_command_params", nullptr, nullptr, nullptr) ==
+          SQLITE_OK);
+  sqlite3_close(raw);
+  auto r = Database::open(path);
+  REQUIRE_FALSE(r);
+  CHECK(r.error().code == Errc::parse_error);
+  CHECK(r.error().message.rfind("UPID database " + path + ": motion_command_params: ", 0) == 0);
+  CAPTURE(r.error().message);
 }
 
 TEST_CASE("open: a path with URI characters, a relative path", "[db]") {

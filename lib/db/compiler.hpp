@@ -8,22 +8,16 @@
 #include <string_view>
 #include <vector>
 
+#include "db/tsv.hpp"
+
 namespace lmcfg::db {
 
-struct Diagnostic {
-  std::string file;  // as opened: source_dir / "parameters.tsv"
-  int line = 0;      // 1-based
-  int column = 0;    // 1-based, in characters (UTF-8 code points)
-  std::string message;
-  bool warning = false;
-  // "file:line:column: error: message" (or "warning:").
-  std::string str() const;
-};
+// Diagnostic (file:line:column: error: message): lib/db/tsv.hpp.
 
 struct CompileReport {
-  std::vector<Diagnostic> diagnostics;  // errors and warnings, in file order
+  std::vector<Diagnostic> diagnostics;        // errors and warnings, in file order
   std::map<std::string, std::size_t> counts;  // rows per table written
-  std::string content_hash;  // "fnv1a64:<16 hex digits>"
+  std::string content_hash;                   // "fnv1a64:<16 hex digits>"
   bool written = false;
   bool ok() const;  // no error diagnostics
 };

@@ -1,8 +1,8 @@
 #pragma once
 // Read-only access to the compiled UPID database (lmcfg-upid.sqlite, built from
-// upid-db/*.tsv by upiddb-compile; schema in docs/upid-db.md). open() reads the
-// meta table only and keeps the SQLite connection; everything else is loaded
-// on first use and cached (see the contract above class Database).
+// upid-db/*.tsv by upiddb-compile; schema in docs/upid-db.md). open() reads
+// every table into memory and closes the file (see the contract above class
+// Database).
 #include <cstdint>
 #include <filesystem>
 #include <map>
@@ -33,7 +33,7 @@ inline constexpr std::size_t kLayerCount = 5;  // with Other
 // "OS", "MC", "Intf", "Appl", "Other"
 std::string_view layer_name(Layer l) noexcept;
 std::optional<Layer> layer_from_name(std::string_view name) noexcept;  // case-insensitive
-std::optional<Layer> layer_of_upid(std::uint16_t upid) noexcept;  // nullopt between the ranges
+std::optional<Layer> layer_of_upid(std::uint16_t upid) noexcept;       // nullopt between the ranges
 std::uint16_t layer_base_upid(Layer l) noexcept;  // 0000, 1000, 2000, 3000; FFFF for Other
 
 // Address usage word (seed 003 §10; resolved bits only, see linrs-facts.md).
@@ -153,44 +153,23 @@ struct DbInfo {
   std::map<std::string, std::size_t> counts;  // rows per table
 };
 
-// Loading. open() checks the file and its schema version and reads meta
-// (content_hash, built_from); it keeps the read-only SQLite connection open for
-// the Database's lifetime and reads nothing else, so it costs the same for 90 or
-// 20,000 parameters (about 0.1 ms, nearly all of it SQLite's connection setup
-// and schema parse; figures in docs/upid-db.md).
-// - find()/find_all(): the first call for a UPID runs one indexed query
-//   (parameters_upid, plus the UPID's enum labels) and caches the rows, or the
-//   fact that the UPID is absent; later calls for that UPID take no lock and
-//   touch no SQLite (an atomic load of a published pointer: nanoseconds).
-// - Whole tables (parameters(), search(), in_layer(); the errors; the motion
-//   commands; each DeviceNet table; profiles) are loaded once, on the first call
-//   that needs them. info() is filled at open except `counts`, which the first
-//   info() call counts with one query.
+// Loading. open() checks the file and its schema version, reads every table
+// into plain vectors (one copy of each row) and closes the SQLite connection:
+// the database holds about a hundred parameter rows and a thousand others, so
+// this costs about a millisecond (figures in docs/upid-db.md). A table that
+// cannot be read fails the open. info() has the row counts.
 //
 // Lifetime and identity. Every pointer and reference a Database returns stays
 // valid, and its object unchanged, until the Database is destroyed, also across
 // a move (the moved-to Database owns it). A moved-from Database behaves as an
-// empty one. find() and find_all() return the same objects for a UPID on every
-// call; those are not the elements of parameters() (nor the pointers search()
-// and in_layer() return, which point into parameters()): equal in content, but
-// do not compare pointers across the two.
+// empty one. find(), find_all(), search() and in_layer() return pointers into
+// parameters().
 //
-// Threads. Every const member function may be called concurrently on one
-// Database from any number of threads (e.g. one `const Database*` shared by
-// worker threads). Loads and all SQLite use are serialised by one mutex inside;
-// cached lookups are lock-free. Moving, assigning or destroying a Database
-// needs exclusive access, as for any object.
-//
-// Failures after open(). If SQLite fails during a lazy load (an I/O error, the
-// file overwritten in place), the call returns what it returns for a missing
-// entry (nullptr, an empty vector, info() without counts), nothing is cached
-// for it, and the error is kept: last_error() returns it. A later call tries the
-// load again. What was loaded before keeps being served. Deleting the file, or
-// replacing it by rename (as upiddb-compile does), is not a failure: the open
-// connection keeps reading the file it opened. The file is opened immutable
-// (nothing in lmcfg writes it in place): SQLite takes no locks and does not
-// watch for changes, so bytes changed in place under an open Database give
-// load errors or rows read from the new bytes, never a crash.
+// Threads. Nothing changes after open(): every const member function may be
+// called concurrently on one Database from any number of threads. Moving,
+// assigning or destroying a Database needs exclusive access, as for any
+// object. The file is not needed after open(): deleting or replacing it does
+// not affect an open Database.
 class Database {
  public:
   static Result<Database> open(const std::string& path);
@@ -240,7 +219,8 @@ class Database {
   const std::vector<ErrorEntry>& all_errors() const;  // sorted by domain, code
   const DbInfo& info() const;
 
-  // The latest failure of a lazy load (see above), or nullopt if none happened.
+  // Always nullopt: every table is read by open(), whose result carries any
+  // failure. Kept for source compatibility.
   std::optional<Error> last_error() const;
 
  private:

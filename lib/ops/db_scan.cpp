@@ -10,6 +10,7 @@
 
 #include "common/bytes.hpp"
 #include "config/atomic_file.hpp"
+#include "db/tsv.hpp"
 
 namespace lmcfg::ops {
 
@@ -21,17 +22,6 @@ constexpr const char* kPartialHeader = "# lmcfg db scan partial state, version 1
 constexpr const char* kScannedSource = "scanned from a drive";
 constexpr const char* kProfilesMark = "#@profiles.tsv\t";
 
-const std::vector<std::string>& parameter_columns() {
-  static const std::vector<std::string> k = {"upid",  "profiles", "layer", "name", "path",  "type",
-                                             "address_usage", "min", "max", "default", "unit", "scale",
-                                             "enum", "comm",     "description", "source"};
-  return k;
-}
-const std::vector<std::string>& profile_columns() {
-  static const std::vector<std::string> k = {"profile", "family", "software", "version", "description", "source"};
-  return k;
-}
-
 std::optional<std::uint32_t> parse_hex(std::string_view s, std::size_t digits) {
   if (s.size() != digits) return std::nullopt;
   std::uint32_t v = 0;
@@ -40,50 +30,30 @@ std::optional<std::uint32_t> parse_hex(std::string_view s, std::size_t digits) {
   return v;
 }
 
-std::vector<std::string_view> split(std::string_view s, char sep) {
-  std::vector<std::string_view> out;
-  while (true) {
-    auto i = s.find(sep);
-    out.push_back(s.substr(0, i));
-    if (i == std::string_view::npos) break;
-    s.remove_prefix(i + 1);
-  }
-  return out;
-}
-
-std::vector<std::string> lines_of(const std::string& text) {
-  std::vector<std::string> out;
-  std::istringstream in(text);
-  std::string line;
-  while (std::getline(in, line)) {
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    out.push_back(line);
-  }
-  return out;
-}
-
-// A field for a TSV: tabs and line breaks would split the row.
-std::string field(std::string s) {
-  for (auto& ch : s)
-    if (ch == '\t' || ch == '\n' || ch == '\r') ch = ' ';
-  return s;
-}
+using db::tsv::field;
+using db::tsv::is_data_line;
+using db::tsv::join;
+using db::tsv::split;
 
 bool is_scanned_source(std::string_view source) { return source.rfind(kScannedSource, 0) == 0; }
 
 std::string limit_text(const std::optional<std::uint32_t>& v) { return v ? hex(*v, 8) : "-"; }
 
 std::string partial_line(const ScannedUpid& u) {
-  return hex(u.upid, 4) + "\t" + hex(u.address_usage, 4) + "\t" + hex(u.type, 4) + "\t" + limit_text(u.limits.min) +
-         "\t" + limit_text(u.limits.max) + "\t" + limit_text(u.limits.def) + "\n";
+  return hex(u.upid, 4) + "\t" + hex(u.address_usage, 4) + "\t" + hex(u.type, 4) + "\t" +
+         limit_text(u.limits.min) + "\t" + limit_text(u.limits.max) + "\t" +
+         limit_text(u.limits.def) + "\n";
 }
 
 std::optional<ScannedUpid> parse_partial_line(std::string_view line) {
-  auto f = split(line, '\t');
+  auto f = split(line);
   if (f.size() != 6) return std::nullopt;
   auto upid = parse_hex(f[0], 4), au = parse_hex(f[1], 4), type = parse_hex(f[2], 4);
   if (!upid || !au || !type) return std::nullopt;
-  ScannedUpid u{static_cast<std::uint16_t>(*upid), static_cast<std::uint16_t>(*au), static_cast<std::uint16_t>(*type), {}};
+  ScannedUpid u{static_cast<std::uint16_t>(*upid),
+                static_cast<std::uint16_t>(*au),
+                static_cast<std::uint16_t>(*type),
+                {}};
   std::optional<std::uint32_t>* dst[3] = {&u.limits.min, &u.limits.max, &u.limits.def};
   for (int i = 0; i < 3; ++i) {
     std::string_view t = f[static_cast<std::size_t>(3 + i)];
@@ -103,7 +73,8 @@ std::optional<ScannedLimits> MemoryScanStore::find(std::uint16_t upid, std::uint
                                                    std::uint16_t address_usage) const {
   auto it = std::lower_bound(entries_.begin(), entries_.end(), upid,
                              [](const ScannedUpid& e, std::uint16_t u) { return e.upid < u; });
-  if (it == entries_.end() || it->upid != upid || it->type != type || it->address_usage != address_usage)
+  if (it == entries_.end() || it->upid != upid || it->type != type ||
+      it->address_usage != address_usage)
     return std::nullopt;
   return it->limits;
 }
@@ -111,12 +82,15 @@ std::optional<ScannedLimits> MemoryScanStore::find(std::uint16_t upid, std::uint
 Result<void> MemoryScanStore::add(const ScannedUpid& u) {
   auto it = std::lower_bound(entries_.begin(), entries_.end(), u.upid,
                              [](const ScannedUpid& e, std::uint16_t x) { return e.upid < x; });
-  if (it != entries_.end() && it->upid == u.upid) *it = u;
-  else entries_.insert(it, u);
+  if (it != entries_.end() && it->upid == u.upid)
+    *it = u;
+  else
+    entries_.insert(it, u);
   return {};
 }
 
-Result<std::unique_ptr<PartialFileStore>> PartialFileStore::open(const std::string& path, const std::string& profile) {
+Result<std::unique_ptr<PartialFileStore>> PartialFileStore::open(const std::string& path,
+                                                                 const std::string& profile) {
   std::unique_ptr<PartialFileStore> s(new PartialFileStore());
   s->path_ = path;
   std::error_code ec;
@@ -128,21 +102,23 @@ Result<std::unique_ptr<PartialFileStore>> PartialFileStore::open(const std::stri
     ss << in.rdbuf();
     const std::string text = ss.str();
     bool have_profile = false, any = false;
-    for (const auto& line : lines_of(text)) {
+    for (std::string_view line : db::tsv::lines(text)) {
       if (line.empty() || line[0] == '#') continue;
       any = true;
       if (line.rfind("profile\t", 0) == 0) {
-        std::string p = line.substr(8);
+        std::string p(line.substr(8));
         if (p != profile) {
-          return Error(Errc::invalid_argument, path + ": partial scan state of profile '" + p + "', not '" + profile +
-                                                   "'; rerun with --profile " + p + " or delete the file to start over");
+          return Error(Errc::invalid_argument,
+                       path + ": partial scan state of profile '" + p + "', not '" + profile +
+                           "'; rerun with --profile " + p + " or delete the file to start over");
         }
         have_profile = true;
       } else if (auto u = parse_partial_line(line)) {
         (void)s->mem_.add(*u);
       }
     }
-    if (any && !have_profile) return Error(Errc::invalid_argument, path + ": not a partial scan state of lmcfg db scan");
+    if (any && !have_profile)
+      return Error(Errc::invalid_argument, path + ": not a partial scan state of lmcfg db scan");
     s->loaded_ = s->mem_.size();
     s->f_ = std::fopen(path.c_str(), "ab");
     if (!s->f_) return Error(Errc::file_error, path + ": cannot append to the partial scan state");
@@ -154,7 +130,8 @@ Result<std::unique_ptr<PartialFileStore>> PartialFileStore::open(const std::stri
     if (!s->f_) return Error(Errc::file_error, path + ": cannot create the partial scan state");
     std::fprintf(s->f_, "%s\nprofile\t%s\n", kPartialHeader, profile.c_str());
   }
-  if (std::fflush(s->f_) != 0) return Error(Errc::file_error, path + ": cannot write the partial scan state");
+  if (std::fflush(s->f_) != 0)
+    return Error(Errc::file_error, path + ": cannot write the partial scan state");
   return s;
 }
 
@@ -188,20 +165,23 @@ Result<void> PartialFileStore::remove() {
 // ---------------------------------------------------------------- scan
 
 Result<void> check_scan_profile_id(const std::string& id, const db::Database* db) {
-  if (id.empty()) return Error(Errc::invalid_argument, "a profile id is required (e.g. e1100-fw-x)");
+  if (id.empty())
+    return Error(Errc::invalid_argument, "a profile id is required (e.g. e1100-fw-x)");
   for (char ch : id) {
-    const bool ok = (ch >= 'a' && ch <= 'z') || (ch >= 'A' && ch <= 'Z') || (ch >= '0' && ch <= '9') || ch == '-' ||
-                    ch == '_' || ch == '.';
+    const bool ok = (ch >= 'a' && ch <= 'z') || (ch >= 'A' && ch <= 'Z') ||
+                    (ch >= '0' && ch <= '9') || ch == '-' || ch == '_' || ch == '.';
     if (!ok) {
-      return Error(Errc::invalid_argument, "profile id '" + id +
-                                               "' may only contain letters, digits, '-', '_' and '.' (e.g. e1100-fw-x)");
+      return Error(Errc::invalid_argument,
+                   "profile id '" + id +
+                       "' may only contain letters, digits, '-', '_' and '.' (e.g. e1100-fw-x)");
     }
   }
   if (db) {
     if (const auto* p = db->profile(id); p && !is_scanned_source(p->prov.source)) {
-      return Error(Errc::invalid_argument, "profile '" + id + "' is already defined in the UPID database (" +
-                                               p->prov.file + ":" + std::to_string(p->prov.line) + ", source \"" +
-                                               p->prov.source + "\"); choose a new id for the scanned profile");
+      return Error(Errc::invalid_argument,
+                   "profile '" + id + "' is already defined in the UPID database (" + p->prov.file +
+                       ":" + std::to_string(p->prov.line) + ", source \"" + p->prov.source +
+                       "\"); choose a new id for the scanned profile");
     }
   }
   return {};
@@ -210,7 +190,8 @@ Result<void> check_scan_profile_id(const std::string& id, const db::Database* db
 namespace {
 
 bool is_refusal(const Error& e) {
-  return e.code.category() == comm_state_category() || e.code == make_error_code(Errc::drive_refused);
+  return e.code.category() == comm_state_category() ||
+         e.code == make_error_code(Errc::drive_refused);
 }
 
 ScanRow make_row(const ScannedUpid& s, const db::Database* db, const std::string& names_from) {
@@ -249,20 +230,23 @@ std::string scale_text(double v) {
 
 }  // namespace
 
-Result<DbScanResult> scan_drive_profile(client::Client& c, const db::Database* db, const DbScanOptions& opt) {
+Result<DbScanResult> scan_drive_profile(client::Client& c, const db::Database* db,
+                                        const DbScanOptions& opt) {
   LMCFG_TRY(check_scan_profile_id(opt.profile.id, db));
   DbScanResult r;
   r.profile = opt.profile;
   if (!opt.names_from.empty() && db) {
     const auto* known = db->profile(opt.names_from);
     if (!known) {
-      return Error(Errc::invalid_argument, "--names-from: profile '" + opt.names_from + "' is not in the UPID database");
+      return Error(Errc::invalid_argument,
+                   "--names-from: profile '" + opt.names_from + "' is not in the UPID database");
     }
     if (r.profile.family.empty()) r.profile.family = known->family;
     if (r.profile.software.empty()) r.profile.software = known->software;
   }
   const std::string date = opt.date.empty() ? utc_now().substr(0, 10) : opt.date;
-  r.source = std::string(kScannedSource) + ": " + opt.profile.id + " " + date + " MACID " + hex(c.options().id, 2) + "h";
+  r.source = std::string(kScannedSource) + ": " + opt.profile.id + " " + date + " MACID " +
+             hex(c.options().id, 2) + "h";
 
   // 1. The UPID list of each layer (§10.3). Always walked: the cursor is on the drive.
   std::vector<client::UpidInfo> all;
@@ -276,9 +260,12 @@ Result<DbScanResult> scan_drive_profile(client::Client& c, const db::Database* d
     r.per_layer[static_cast<std::size_t>(layer - 1)] = list->size();
     all.insert(all.end(), list->begin(), list->end());
   }
-  std::sort(all.begin(), all.end(), [](const client::UpidInfo& a, const client::UpidInfo& b) { return a.upid < b.upid; });
+  std::sort(all.begin(), all.end(),
+            [](const client::UpidInfo& a, const client::UpidInfo& b) { return a.upid < b.upid; });
   all.erase(std::unique(all.begin(), all.end(),
-                        [](const client::UpidInfo& a, const client::UpidInfo& b) { return a.upid == b.upid; }),
+                        [](const client::UpidInfo& a, const client::UpidInfo& b) {
+                          return a.upid == b.upid;
+                        }),
             all.end());
 
   // 2. min, max, default of each UPID (05h/06h/07h), unless the store has them.
@@ -325,41 +312,46 @@ std::string scan_fragment_tsv(const DbScanResult& r) {
   const std::string& id = r.profile.id;
   std::string desc = r.profile.description;
   if (desc.empty()) {
-    desc = "Parameter set scanned from a drive with lmcfg db scan: " + std::to_string(r.rows.size()) + " UPIDs (OS " +
-           std::to_string(r.per_layer[0]) + ", MC " + std::to_string(r.per_layer[1]) + ", Intf " +
-           std::to_string(r.per_layer[2]) + ", Appl " + std::to_string(r.per_layer[3]) +
-           "); type, address usage, min, max and default as the drive reports them; names, paths, units, scales, "
-           "enum labels and comm flags copied from the UPID database for " +
-           std::to_string(r.named) + " known UPIDs.";
+    desc =
+        "Parameter set scanned from a drive with lmcfg db scan: " + std::to_string(r.rows.size()) +
+        " UPIDs (OS " + std::to_string(r.per_layer[0]) + ", MC " + std::to_string(r.per_layer[1]) +
+        ", Intf " + std::to_string(r.per_layer[2]) + ", Appl " + std::to_string(r.per_layer[3]) +
+        "); type, address usage, min, max and default as the drive reports them; names, paths, "
+        "units, scales, "
+        "enum labels and comm flags copied from the UPID database for " +
+        std::to_string(r.named) + " known UPIDs.";
   }
   std::string out;
-  out += "# upid-db fragment written by `lmcfg db scan` (format: upid-db/FORMAT.md; merging: docs/upid-db.md).\n";
+  out +=
+      "# upid-db fragment written by `lmcfg db scan` (format: upid-db/FORMAT.md; merging: "
+      "docs/upid-db.md).\n";
   out += "# " + field(r.source) + "\n";
-  out += "# The #@profiles.tsv lines are the header and the row for profiles.tsv; the table below is in\n";
+  out +=
+      "# The #@profiles.tsv lines are the header and the row for profiles.tsv; the table below is "
+      "in\n";
   out += "# parameters.tsv format. Merge both with: lmcfg db merge <this file> --into upid-db\n";
-  auto join = [](const std::vector<std::string>& v) {
-    std::string s;
-    for (std::size_t i = 0; i < v.size(); ++i) s += (i ? "\t" : "") + v[i];
-    return s;
-  };
-  out += kProfilesMark + join(profile_columns()) + "\n";
-  out += kProfilesMark + join({field(id), field(r.profile.family), field(r.profile.software), field(r.profile.version),
-                               field(desc), field(r.source)}) +
+  out += kProfilesMark + join(db::tsv::profile_columns()) + "\n";
+  out += kProfilesMark +
+         join({field(id), field(r.profile.family), field(r.profile.software),
+               field(r.profile.version), field(desc), field(r.source)}) +
          "\n";
-  out += join(parameter_columns()) + "\n";
+  out += join(db::tsv::parameter_columns()) + "\n";
   for (const auto& row : r.rows) {
     const auto& s = row.scanned;
     auto layer = db::layer_of_upid(s.upid);
     auto type = db::type_from_code(s.type);
     std::string note;
-    if (!type) note = "type code " + hex(s.type, 2) + "h is not a seed 003 §10 type; min/max/default left raw. ";
+    if (!type)
+      note = "type code " + hex(s.type, 2) +
+             "h is not a seed 003 §10 type; min/max/default left raw. ";
     std::optional<std::int64_t> mn, mx, df;
     if (s.limits.min) mn = value_of(s.type, *s.limits.min);
     if (s.limits.max) mx = value_of(s.type, *s.limits.max);
     if (s.limits.def) df = value_of(s.type, *s.limits.def);
     if (mn && mx && *mn > *mx) {
       note += "The drive reports min " + std::to_string(*mn) + " above max " + std::to_string(*mx) +
-              " (raw " + hex(*s.limits.min, 8) + "h, " + hex(*s.limits.max, 8) + "h); neither is stored. ";
+              " (raw " + hex(*s.limits.min, 8) + "h, " + hex(*s.limits.max, 8) +
+              "h); neither is stored. ";
       mn.reset();
       mx.reset();
     }
@@ -371,14 +363,18 @@ std::string scan_fragment_tsv(const DbScanResult& r) {
       note += "The drive refused to report " + which + ". ";
     }
     while (!note.empty() && note.back() == ' ') note.pop_back();
-    auto num = [](const std::optional<std::int64_t>& v) { return v ? std::to_string(*v) : std::string(); };
+    auto num = [](const std::optional<std::int64_t>& v) {
+      return v ? std::to_string(*v) : std::string();
+    };
     std::string labels;
-    for (const auto& l : row.labels) labels += (labels.empty() ? "" : "|") + std::to_string(l.raw) + "=" + field(l.label);
-    out += join({hex(s.upid, 4), field(id), layer ? std::string(db::layer_name(*layer)) : std::string(),
-                 field(row.name), field(row.path), type ? std::string(db::type_name(*type)) : std::string(),
+    for (const auto& l : row.labels)
+      labels += (labels.empty() ? "" : "|") + std::to_string(l.raw) + "=" + field(l.label);
+    out += join({hex(s.upid, 4), field(id),
+                 layer ? std::string(db::layer_name(*layer)) : std::string(), field(row.name),
+                 field(row.path), type ? std::string(db::type_name(*type)) : std::string(),
                  hex(s.address_usage, 4), num(mn), num(mx), num(df), field(row.unit),
-                 row.scale ? scale_text(*row.scale) : std::string(), labels, row.comm ? "1" : "", field(note),
-                 field(r.source)}) +
+                 row.scale ? scale_text(*row.scale) : std::string(), labels, row.comm ? "1" : "",
+                 field(note), field(r.source)}) +
            "\n";
   }
   return out;
@@ -399,48 +395,39 @@ struct TsvFile {
   }
 };
 
-bool is_data_line(const std::string& l) {
-  return !l.empty() && l[0] != '#' &&
-         !std::all_of(l.begin(), l.end(), [](char ch) { return ch == ' ' || ch == '\t'; });
-}
-
 Result<TsvFile> read_tsv(const fs::path& path, const std::vector<std::string>& default_columns) {
   TsvFile t;
   std::error_code ec;
   if (fs::exists(path, ec)) {
     LMCFG_ASSIGN_OR_RETURN(auto text, config::read_text_file(path));
-    if (text.rfind("\xEF\xBB\xBF", 0) == 0) text.erase(0, 3);
-    t.lines = lines_of(text);
+    for (std::string_view l : db::tsv::lines(db::tsv::strip_bom(text))) t.lines.emplace_back(l);
   }
   for (std::size_t i = 0; i < t.lines.size(); ++i) {
     if (!is_data_line(t.lines[i])) continue;
     t.header = static_cast<std::ptrdiff_t>(i);
-    for (auto f : split(t.lines[i], '\t')) t.columns.emplace_back(f);
+    for (auto f : split(t.lines[i])) t.columns.emplace_back(f);
     break;
   }
   if (t.header < 0) {
-    std::string h;
-    for (const auto& c : default_columns) h += (h.empty() ? "" : "\t") + c;
-    t.lines.push_back(h);
+    t.lines.push_back(join(default_columns));
     t.header = static_cast<std::ptrdiff_t>(t.lines.size() - 1);
     t.columns = default_columns;
   }
   for (const auto& c : default_columns)
-    if (t.column(c) < 0) return Error(Errc::validation_failed, path.string() + ": header lacks column \"" + c + "\"");
+    if (t.column(c) < 0)
+      return Error(Errc::validation_failed, path.string() + ": header lacks column \"" + c + "\"");
   return t;
 }
 
 // Row given in `from` column order -> the target's column order.
 std::string remap(const std::vector<std::string>& from, std::string_view row, const TsvFile& to) {
-  auto f = split(row, '\t');
+  auto f = split(row);
   std::vector<std::string> out(to.columns.size());
   for (std::size_t i = 0; i < from.size() && i < f.size(); ++i) {
     int j = to.column(from[i]);
     if (j >= 0) out[static_cast<std::size_t>(j)] = std::string(f[i]);
   }
-  std::string s;
-  for (std::size_t i = 0; i < out.size(); ++i) s += (i ? "\t" : "") + out[i];
-  return s;
+  return join(out);
 }
 
 std::string text_of(const std::vector<std::string>& lines) {
@@ -451,18 +438,19 @@ std::string text_of(const std::vector<std::string>& lines) {
 
 }  // namespace
 
-Result<MergeReport> merge_scan_fragment(const std::string& source_dir, const std::string& fragment_text) {
+Result<MergeReport> merge_scan_fragment(const std::string& source_dir,
+                                        const std::string& fragment_text) {
   // Parse the fragment.
   std::vector<std::string> prof_cols, param_cols;
   std::string prof_row;
   std::vector<std::string> param_rows;
-  for (const auto& l : lines_of(fragment_text)) {
+  for (std::string_view l : db::tsv::lines(fragment_text)) {
     if (l.rfind(kProfilesMark, 0) == 0) {
-      std::string body = l.substr(std::string_view(kProfilesMark).size());
+      std::string_view body = l.substr(std::string_view(kProfilesMark).size());
       if (prof_cols.empty()) {
-        for (auto f : split(body, '\t')) prof_cols.emplace_back(f);
+        for (auto f : split(body)) prof_cols.emplace_back(f);
       } else if (prof_row.empty()) {
-        prof_row = body;
+        prof_row = std::string(body);
       } else {
         return Error(Errc::parse_error, "fragment: more than one #@profiles.tsv row");
       }
@@ -470,32 +458,37 @@ Result<MergeReport> merge_scan_fragment(const std::string& source_dir, const std
     }
     if (!is_data_line(l)) continue;
     if (param_cols.empty()) {
-      for (auto f : split(l, '\t')) param_cols.emplace_back(f);
+      for (auto f : split(l)) param_cols.emplace_back(f);
     } else {
-      param_rows.push_back(l);
+      param_rows.emplace_back(l);
     }
   }
   if (prof_row.empty() || param_cols.empty())
-    return Error(Errc::parse_error, "not a lmcfg db scan fragment: no #@profiles.tsv row or no parameters header");
+    return Error(Errc::parse_error,
+                 "not a lmcfg db scan fragment: no #@profiles.tsv row or no parameters header");
   auto pi = std::find(prof_cols.begin(), prof_cols.end(), "profile");
   auto ps = std::find(prof_cols.begin(), prof_cols.end(), "source");
   if (pi == prof_cols.end() || ps == prof_cols.end())
     return Error(Errc::parse_error, "fragment: the #@profiles.tsv header lacks profile or source");
-  auto pf = split(prof_row, '\t');
+  auto pf = split(prof_row);
   const auto id_col = static_cast<std::size_t>(pi - prof_cols.begin());
   const auto src_col = static_cast<std::size_t>(ps - prof_cols.begin());
-  if (pf.size() != prof_cols.size()) return Error(Errc::parse_error, "fragment: the #@profiles.tsv row has the wrong field count");
+  if (pf.size() != prof_cols.size())
+    return Error(Errc::parse_error, "fragment: the #@profiles.tsv row has the wrong field count");
   MergeReport rep;
   rep.profile = std::string(pf[id_col]);
   if (!is_scanned_source(pf[src_col]))
-    return Error(Errc::parse_error, "fragment: the profile's source is not \"scanned from a drive: ...\"");
+    return Error(Errc::parse_error,
+                 "fragment: the profile's source is not \"scanned from a drive: ...\"");
   auto upc = std::find(param_cols.begin(), param_cols.end(), "profiles");
-  if (upc == param_cols.end()) return Error(Errc::parse_error, "fragment: the parameters header lacks column profiles");
+  if (upc == param_cols.end())
+    return Error(Errc::parse_error, "fragment: the parameters header lacks column profiles");
   for (const auto& row : param_rows) {
-    auto f = split(row, '\t');
+    auto f = split(row);
     auto k = static_cast<std::size_t>(upc - param_cols.begin());
     if (f.size() != param_cols.size() || f[k] != rep.profile) {
-      return Error(Errc::parse_error, "fragment: a parameters row is not of profile " + rep.profile + ": " + row);
+      return Error(Errc::parse_error,
+                   "fragment: a parameters row is not of profile " + rep.profile + ": " + row);
     }
   }
 
@@ -504,19 +497,21 @@ Result<MergeReport> merge_scan_fragment(const std::string& source_dir, const std
   if (!fs::is_directory(dir, ec)) return Error(Errc::file_error, source_dir + ": not a directory");
 
   // profiles.tsv: replace an earlier scan's row, refuse any other definition.
-  LMCFG_ASSIGN_OR_RETURN(auto profiles, read_tsv(dir / "profiles.tsv", profile_columns()));
+  LMCFG_ASSIGN_OR_RETURN(auto profiles, read_tsv(dir / "profiles.tsv", db::tsv::profile_columns()));
   {
     const int c_id = profiles.column("profile"), c_src = profiles.column("source");
     std::vector<std::string> kept;
     for (std::size_t i = 0; i < profiles.lines.size(); ++i) {
       const auto& l = profiles.lines[i];
       if (static_cast<std::ptrdiff_t>(i) > profiles.header && is_data_line(l)) {
-        auto f = split(l, '\t');
-        if (f.size() > static_cast<std::size_t>(std::max(c_id, c_src)) && f[static_cast<std::size_t>(c_id)] == rep.profile) {
+        auto f = split(l);
+        if (f.size() > static_cast<std::size_t>(std::max(c_id, c_src)) &&
+            f[static_cast<std::size_t>(c_id)] == rep.profile) {
           if (!is_scanned_source(f[static_cast<std::size_t>(c_src)])) {
-            return Error(Errc::validation_failed, (dir / "profiles.tsv").string() + ":" + std::to_string(i + 1) +
-                                                      ": profile '" + rep.profile +
-                                                      "' is defined there other than by a scan; not replaced");
+            return Error(Errc::validation_failed,
+                         (dir / "profiles.tsv").string() + ":" + std::to_string(i + 1) +
+                             ": profile '" + rep.profile +
+                             "' is defined there other than by a scan; not replaced");
           }
           rep.profile_replaced = true;
           continue;
@@ -528,15 +523,17 @@ Result<MergeReport> merge_scan_fragment(const std::string& source_dir, const std
     profiles.lines = std::move(kept);
   }
   // parameters.tsv: drop the earlier scan's rows of this profile, append ours.
-  LMCFG_ASSIGN_OR_RETURN(auto params, read_tsv(dir / "parameters.tsv", parameter_columns()));
+  LMCFG_ASSIGN_OR_RETURN(auto params,
+                         read_tsv(dir / "parameters.tsv", db::tsv::parameter_columns()));
   {
     const int c_prof = params.column("profiles");
     std::vector<std::string> kept;
     for (std::size_t i = 0; i < params.lines.size(); ++i) {
       const auto& l = params.lines[i];
       if (static_cast<std::ptrdiff_t>(i) > params.header && is_data_line(l)) {
-        auto f = split(l, '\t');
-        if (f.size() > static_cast<std::size_t>(c_prof) && f[static_cast<std::size_t>(c_prof)] == rep.profile) {
+        auto f = split(l);
+        if (f.size() > static_cast<std::size_t>(c_prof) &&
+            f[static_cast<std::size_t>(c_prof)] == rep.profile) {
           ++rep.parameters_replaced;
           continue;
         }
