@@ -2,7 +2,6 @@
 // of 500 setpoints, 255 command table entries) in both file formats.
 #include <benchmark/benchmark.h>
 
-
 #include "config/config_io.hpp"
 
 namespace {
@@ -47,7 +46,8 @@ DriveConfig big_config() {
     put16(4, 500);
     put16(6, 4);
     const char name[] = "BenchCurve";
-    for (std::size_t i = 0; i + 1 < sizeof(name); ++i) cv.info[8 + i] = static_cast<std::uint8_t>(name[i]);
+    for (std::size_t i = 0; i + 1 < sizeof(name); ++i)
+      cv.info[8 + i] = static_cast<std::uint8_t>(name[i]);
     put16(30, id);
     for (int s = 0; s < 500; ++s) put_u32le(cv.data, static_cast<std::uint32_t>(s * 2000));
     c.curves.push_back(std::move(cv));
@@ -56,7 +56,8 @@ DriveConfig big_config() {
   for (std::uint32_t id = 0; id < 255; ++id) {
     CtEntry e;
     e.id = id;
-    for (std::uint32_t i = 0; i < 64; ++i) e.raw.push_back(static_cast<std::uint8_t>((id + i) & 0xFF));
+    for (std::uint32_t i = 0; i < 64; ++i)
+      e.raw.push_back(static_cast<std::uint8_t>((id + i) & 0xFF));
     c.ct_entries.push_back(std::move(e));
   }
   return c;

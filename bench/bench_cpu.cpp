@@ -1,4 +1,4 @@
-// lmcfg_bench_cpu: the CPU side of backup/restore (issue 6). Codec encode and
+// lmcfg_bench_cpu: the CPU side of backup/restore (docs/performance.md). Codec encode and
 // decode of single telegrams, stream decoding of a capture of answers, and the
 // diff of two heavy configurations (2,500 UPIDs, 20 curves of 500 setpoints,
 // 64 command table entries). The wire costs milliseconds per telegram; these

@@ -1,4 +1,4 @@
-// lmcfg_bench_link: backups on a noisy line (issue 18). The demo axis served by
+// lmcfg_bench_link: backups on a noisy line (docs/reliability.md). The demo axis served by
 // the simulated drive (lib/sim, virtual clock, 57600 8N1) answers 3 % of
 // requests with one flipped bit (random byte of the answer, random bit) and
 // loses 2 % of its answers. For each checksum setting and client timing the

@@ -1,4 +1,4 @@
-// lmcfg report on the large configuration of issue 15 (5,000 parameters, 100
+// lmcfg report on the large configuration of the report benchmark (5,000 parameters, 100
 // curves of 1,000 setpoints, 255 command table entries): generation time and
 // file size of the one-configuration page and of the diff page against a
 // changed copy, then (when Chromium and node are installed) the time the page

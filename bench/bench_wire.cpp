@@ -1,5 +1,5 @@
 // lmcfg_bench_wire: backup and restore measured against the protocol's own
-// limit (issue 6). For each workload, side by side: the protocol minimum
+// limit (docs/performance.md). For each workload, side by side: the protocol minimum
 // (bench/wire_workloads.hpp, docs/performance.md), the tool on the simulator's
 // virtual clock with its telegram count, the ratio tool/minimum, the naive
 // script a user would write as a ratio to the tool, and wall-clock figures with

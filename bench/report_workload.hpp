@@ -1,5 +1,5 @@
 #pragma once
-// The large configuration of issue 15 (5,000 parameters, 100 curves of 1,000
+// The large configuration of the report benchmark (5,000 parameters, 100 curves of 1,000
 // setpoints, 255 command table entries) and a changed copy, for
 // lmcfg_bench_report and tests/test_report.cpp (header-only so both use it).
 // Names carry markup (`<script>alert(1)</script>` in a label; the longest

@@ -326,7 +326,7 @@ struct RestoreCost {
 };
 
 // Restore of `file` onto the drive `t` (its state before the restore), as
-// issue 12 plans it: compare first, write only what differs, check what is
+// docs/restore.md plans it: compare first, write only what differs, check what is
 // written against the target.
 //  plan:    per restored layer the target's modified list; per file value the
 //           target does not list and whose default is unknown or equal to the
@@ -417,7 +417,8 @@ inline RestoreCost min_restore(const sim::DriveState& t, const config::DriveConf
     }
     for (const auto* p : writes) {
       if (!walk_list) rc.plan += w.cfg(codec::CfgOp::get_type, p->upid);
-      const auto tp = t.params.count(p->upid) ? t.params.at(p->upid).type : type_code(TypeCode::UInt16);
+      const auto tp =
+          t.params.count(p->upid) ? t.params.at(p->upid).type : type_code(TypeCode::UInt16);
       const auto code = db::type_from_code(tp);
       if (!(code && db::is_text_type(*code))) {
         rc.plan += w.cfg(codec::CfgOp::get_min, p->upid);

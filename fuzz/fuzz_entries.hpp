@@ -47,7 +47,8 @@ inline void decoder_entry(const std::uint8_t* data, std::size_t size) {
       auto wire = codec::encode(t, cfg);
       if (!wire.ok()) fuzz_fail("decoded telegram does not re-encode", wire.error().message);
       auto back = codec::decode(*wire, cfg);
-      if (!back.ok() || !(back.value() == t)) fuzz_fail("re-encoded telegram does not decode to itself");
+      if (!back.ok() || !(back.value() == t))
+        fuzz_fail("re-encoded telegram does not decode to itself");
     }
   }
   (void)dec.flush_idle();
@@ -61,7 +62,8 @@ inline void decoder_entry(const std::uint8_t* data, std::size_t size) {
 // (validation included) and read again.
 inline void config_entry(const std::uint8_t* data, std::size_t size, config::FileFormat format) {
   const std::string_view text(reinterpret_cast<const char*>(data), size);
-  auto cfg = config::read_config_text(text, format == config::FileFormat::json ? "fuzz.json" : "fuzz.xml", format);
+  auto cfg = config::read_config_text(
+      text, format == config::FileFormat::json ? "fuzz.json" : "fuzz.xml", format);
   if (!cfg.ok()) {
     if (cfg.error().message.empty()) fuzz_fail("reader error without a message");
     return;
@@ -72,8 +74,12 @@ inline void config_entry(const std::uint8_t* data, std::size_t size, config::Fil
   if (!again.ok()) fuzz_fail("written configuration does not read back", again.error().message);
 }
 
-inline void json_entry(const std::uint8_t* data, std::size_t size) { config_entry(data, size, config::FileFormat::json); }
-inline void xml_entry(const std::uint8_t* data, std::size_t size) { config_entry(data, size, config::FileFormat::xml); }
+inline void json_entry(const std::uint8_t* data, std::size_t size) {
+  config_entry(data, size, config::FileFormat::json);
+}
+inline void xml_entry(const std::uint8_t* data, std::size_t size) {
+  config_entry(data, size, config::FileFormat::xml);
+}
 
 // A transport whose "drive" answers arbitrary bytes: the input is split into
 // answers at each 0xFE 0xFD marker pair (the marker is dropped); every write
@@ -132,10 +138,18 @@ inline void client_entry(const std::uint8_t* data, std::size_t size) {
     if (!r.ok() && r.error().message.empty()) fuzz_fail("client error without a message");
   };
   switch (op % 12) {
-    case 0: check(c.read_rom(0x13A2)); break;
-    case 1: check(c.write_rom(0x13A2, 16)); break;
-    case 2: check(c.modified_list(1 + (op >> 4) % 4)); break;
-    case 3: check(c.upid_list(1 + (op >> 4) % 4)); break;
+    case 0:
+      check(c.read_rom(0x13A2));
+      break;
+    case 1:
+      check(c.write_rom(0x13A2, 16));
+      break;
+    case 2:
+      check(c.modified_list(1 + (op >> 4) % 4));
+      break;
+    case 3:
+      check(c.upid_list(1 + (op >> 4) % 4));
+      break;
     case 4: {
       auto r = c.read_curve(1);
       check(r);
@@ -151,11 +165,14 @@ inline void client_entry(const std::uint8_t* data, std::size_t size) {
       if (r.ok() && r->size() != op) fuzz_fail("block read returned the wrong size");
       break;
     }
-    case 6: check(c.ct_defined_entries()); break;
+    case 6:
+      check(c.ct_defined_entries());
+      break;
     case 7: {
       auto r = c.read_ct_entry(2);
       check(r);
-      if (r.ok() && (r->empty() || r->size() > 0xFFFF)) fuzz_fail("CT entry read returned an impossible size");
+      if (r.ok() && (r->empty() || r->size() > 0xFFFF))
+        fuzz_fail("CT entry read returned an impossible size");
       break;
     }
     case 8: {
@@ -163,7 +180,9 @@ inline void client_entry(const std::uint8_t* data, std::size_t size) {
       check(c.write_curve(3, info, data_block));
       break;
     }
-    case 9: check(c.write_ct_entry(4, Bytes(64, 0x33))); break;
+    case 9:
+      check(c.write_ct_entry(4, Bytes(64, 0x33)));
+      break;
     case 10: {
       check(c.actual_error_text());
       check(c.error_counters());

@@ -11,9 +11,9 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "files.hpp"
 #include "sim/state_file.hpp"
 #include "subprocess.hpp"
-#include "files.hpp"
 
 using namespace lmcfg;
 using test::slurp;
@@ -262,7 +262,7 @@ TEST_CASE("first steps: db scan checks its output path before talking to the dri
   CHECK_FALSE(fs::exists(d.path / "t.trace"));  // the link was never opened
 }
 
-// Issue 18 item 7: a drive command that never got an answer names the likely
+// docs/reliability.md: a drive command that never got an answer names the likely
 // wrong setting and what to run; the protocol detail only with --verbose.
 // (Wrong parity: a pseudo-terminal cannot change parity, so that case is not
 // tested here; the advice for answers no setting explains names --parity.)
@@ -321,7 +321,7 @@ TEST_CASE("errors that say what to do: a drive using CRC, asked without checksum
         "--checksum crc-ffff\n");
 }
 
-// Issue 18 item 5: long operations have no upper bound in the manual (§10.4):
+// docs/reliability.md: long operations have no upper bound in the manual (§10.4):
 // --long-timeout-s sets the deadline, progress goes to stderr while waiting.
 TEST_CASE("seed003 §10.4 a layer default taking 8 s: progress while waiting, --long-timeout-s",
           "[cli][long]") {

@@ -1,4 +1,4 @@
-// Issue 18 item 5, "Done when": simulated drive variants with each checksum
+// docs/reliability.md, "Done when": simulated drive variants with each checksum
 // mode, CRC variant and coverage, with a non-factory default-response layout,
 // and with a layer default taking several seconds: every drive-facing
 // subcommand (info, get, set, backup, diff against the drive, default,
@@ -141,7 +141,7 @@ std::vector<Variant> variants() {
 
 }  // namespace
 
-TEST_CASE("issue 18 item 5: every subcommand works against every drive variant",
+TEST_CASE("docs/reliability.md: every subcommand works against every drive variant",
           "[cli][variants]") {
   for (const auto& variant : variants()) {
     DYNAMIC_SECTION(variant.name) {

@@ -22,11 +22,16 @@ Telegram rebuild_request(const Telegram& t) {
   const std::uint8_t id = t.id;
   const ByteView d(t.data);
   auto u16at = [&](std::size_t o) { return get_u16le(d, o); };
-  auto chunk = [&](std::size_t o) { return std::array<std::uint8_t, 4>{d[o], d[o + 1], d[o + 2], d[o + 3]}; };
+  auto chunk = [&](std::size_t o) {
+    return std::array<std::uint8_t, 4>{d[o], d[o + 1], d[o + 2], d[o + 3]};
+  };
   switch (static_cast<Main>(t.main)) {
-    case Main::response: return make_response_request(id, static_cast<ResponseRequest>(t.sub));
-    case Main::control_word: return make_write_control_word(id, u16at(0));
-    case Main::motion_command: return make_motion_command(id, u16at(0), d.subspan(2));
+    case Main::response:
+      return make_response_request(id, static_cast<ResponseRequest>(t.sub));
+    case Main::control_word:
+      return make_write_control_word(id, u16at(0));
+    case Main::motion_command:
+      return make_motion_command(id, u16at(0), d.subspan(2));
     case Main::parameter:
       if (t.sub >= 0x11 && t.sub <= 0x14) return make_param_default_layer(id, t.sub - 0x10);
       if (t.sub == 0x01 || t.sub == 0x03 || t.sub == 0x04)
@@ -35,32 +40,46 @@ Telegram rebuild_request(const Telegram& t) {
     case Main::curve:
       switch (static_cast<CurveOp>(t.sub)) {
         case CurveOp::save_to_flash:
-        case CurveOp::delete_all: return make_curve(id, static_cast<CurveOp>(t.sub));
-        case CurveOp::add: return make_curve_add(id, u16at(0), u16at(2), u16at(4));
+        case CurveOp::delete_all:
+          return make_curve(id, static_cast<CurveOp>(t.sub));
+        case CurveOp::add:
+          return make_curve_add(id, u16at(0), u16at(2), u16at(4));
         case CurveOp::write_info:
-        case CurveOp::write_data: return make_curve_write(id, static_cast<CurveOp>(t.sub), u16at(0), chunk(2));
-        default: return make_curve(id, static_cast<CurveOp>(t.sub), u16at(0));
+        case CurveOp::write_data:
+          return make_curve_write(id, static_cast<CurveOp>(t.sub), u16at(0), chunk(2));
+        default:
+          return make_curve(id, static_cast<CurveOp>(t.sub), u16at(0));
       }
     case Main::param_config:
       if (t.sub == 0x01) return make_cfg_write(id, u16at(0), get_u32le(d, 2));
       if (t.sub >= 0x0C && t.sub <= 0x0F) return make_cfg_default_layer(id, t.sub - 0x0B);
       return make_cfg(id, static_cast<CfgOp>(t.sub), u16at(0));
-    case Main::program: return make_program(id, static_cast<ProgramOp>(t.sub));
+    case Main::program:
+      return make_program(id, static_cast<ProgramOp>(t.sub));
     case Main::error_info:
       switch (t.sub) {
-        case 0x00: return make_error_actual_text(id);
-        case 0x01: return make_error_text(id, u16at(0));
-        case 0x02: return make_error_counters(id);
-        default: return make_error_log_entry(id, u16at(0));
+        case 0x00:
+          return make_error_actual_text(id);
+        case 0x01:
+          return make_error_text(id, u16at(0));
+        case 0x02:
+          return make_error_counters(id);
+        default:
+          return make_error_log_entry(id, u16at(0));
       }
     case Main::command_table:
       switch (static_cast<CtOp>(t.sub)) {
         case CtOp::save_to_flash:
-        case CtOp::delete_all: return make_ct(id, static_cast<CtOp>(t.sub));
-        case CtOp::setup_write: return make_ct_setup_write(id, u16at(0), get_u32le(d, 2));
-        case CtOp::write_data: return make_ct_write(id, u16at(0), chunk(2));
-        case CtOp::defined_list: return make_ct_defined_list(id, u16at(0), d.size() == 6);
-        default: return make_ct(id, static_cast<CtOp>(t.sub), u16at(0));
+        case CtOp::delete_all:
+          return make_ct(id, static_cast<CtOp>(t.sub));
+        case CtOp::setup_write:
+          return make_ct_setup_write(id, u16at(0), get_u32le(d, 2));
+        case CtOp::write_data:
+          return make_ct_write(id, u16at(0), chunk(2));
+        case CtOp::defined_list:
+          return make_ct_defined_list(id, u16at(0), d.size() == 6);
+        default:
+          return make_ct(id, static_cast<CtOp>(t.sub), u16at(0));
       }
   }
   return t;
@@ -106,7 +125,8 @@ std::string verdict_name(const std::error_code& ec) {
 
 }  // namespace
 
-TEST_CASE("seed003 all captures: requests encode byte-exact, responses decode, errata rejected", "[codec][golden]") {
+TEST_CASE("seed003 all captures: requests encode byte-exact, responses decode, errata rejected",
+          "[codec][golden]") {
   const auto captures = test::load_seed003_captures();
   const auto inconsistent = load_inconsistent();
   REQUIRE(captures.size() == 381);
@@ -136,8 +156,10 @@ TEST_CASE("seed003 all captures: requests encode byte-exact, responses decode, e
     }
   }
   CHECK(rx_rejected == static_cast<int>(inconsistent.size()));
-  std::printf("seed003 golden captures: %d Tx encoded byte-exact, %d Rx decoded, %d inconsistent Rx rejected (of %zu)\n",
-              tx_ok, rx_ok, rx_rejected, captures.size());
+  std::printf(
+      "seed003 golden captures: %d Tx encoded byte-exact, %d Rx decoded, %d inconsistent Rx "
+      "rejected (of %zu)\n",
+      tx_ok, rx_ok, rx_rejected, captures.size());
 }
 
 TEST_CASE("seed003 captures file matches the seed", "[codec][golden]") {
@@ -152,8 +174,10 @@ TEST_CASE("seed003 captures file matches the seed", "[codec][golden]") {
     INFO(c.name());
     REQUIRE(c.seed_line <= static_cast<int>(lines.size()));
     std::string digits;
-    for (char ch : lines[static_cast<std::size_t>(c.seed_line - 1)].substr(0, lines[static_cast<std::size_t>(c.seed_line - 1)].find(';')))
-      if (std::isxdigit(static_cast<unsigned char>(ch))) digits.push_back(static_cast<char>(std::toupper(ch)));
+    for (char ch : lines[static_cast<std::size_t>(c.seed_line - 1)].substr(
+             0, lines[static_cast<std::size_t>(c.seed_line - 1)].find(';')))
+      if (std::isxdigit(static_cast<unsigned char>(ch)))
+        digits.push_back(static_cast<char>(std::toupper(ch)));
     CHECK(digits.find(to_hex(c.bytes, '\0')) != std::string::npos);
   }
 }
@@ -198,7 +222,7 @@ TEST_CASE("request table: sub IDs the manual does not list are unknown; main IDs
   CHECK_FALSE(request_spec(0x04, 0x03).has_value());  // §11 skips 03h and 07h
   CHECK_FALSE(request_spec(0x08, 0x08).has_value());
   CHECK_FALSE(request_spec(0x00, 0x00).has_value());  // §6 requests are 01h..04h
-  CHECK(request_spec(0x03, 0x12).has_value());         // §9 default layer MC
+  CHECK(request_spec(0x03, 0x12).has_value());        // §9 default layer MC
   CHECK_FALSE(known_main(0x09));
   CHECK(known_main(0x08));
   CHECK(request_spec(0x06, 0x01)->answer_sub == 0x60);  // §13 reset after completion

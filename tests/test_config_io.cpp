@@ -78,7 +78,8 @@ TEST_CASE("config: golden fixtures read back to the seed configuration", "[confi
   CHECK(must(read_config_file(fixture_dir() / "everything.xml")) == everything());
 }
 
-TEST_CASE("config: JSON -> model -> XML -> model -> JSON is byte-identical for every fixture", "[config]") {
+TEST_CASE("config: JSON -> model -> XML -> model -> JSON is byte-identical for every fixture",
+          "[config]") {
   FakeCtDecoder dec;
   WriteOptions opts;
   opts.ct_decoder = &dec;
@@ -170,7 +171,8 @@ TEST_CASE("config: format selection", "[config]") {
   CHECK(*format_from_path("a/b.JSON") == FileFormat::json);
   CHECK(*format_from_path("b.xml") == FileFormat::xml);
   CHECK(format_from_path("b.txt").error().message ==
-        "b.txt: cannot tell the format from the extension; expected .json or .xml (or give the format "
+        "b.txt: cannot tell the format from the extension; expected .json or .xml (or give the "
+        "format "
         "explicitly)");
   CHECK(*format_from_name("XML") == FileFormat::xml);
   CHECK_FALSE(format_from_name("yaml").ok());

@@ -64,15 +64,18 @@ TEST_CASE("config: migrate_v1_to_v2 step by step", "[config]") {
   CHECK_FALSE(migrate_v1_to_v2(v1).ok());
   v1.params.clear();
   v1.ct_entries = {{256, {}, hex("01"), "f: e"}};
-  CHECK(migrate_v1_to_v2(v1).error().message == "f: e/@id: command table entry ID 256 is outside 0..255");
+  CHECK(migrate_v1_to_v2(v1).error().message ==
+        "f: e/@id: command table entry ID 256 is outside 0..255");
   v1.ct_entries.clear();
-  v1.curves = {{1, hex("08 00 03 00 02 00 04 00"), hex("00 00 00 00"), "f: /lmcfg/curves/curve[1]"}};
+  v1.curves = {
+      {1, hex("08 00 03 00 02 00 04 00"), hex("00 00 00 00"), "f: /lmcfg/curves/curve[1]"}};
   auto bad = migrate_v1_to_v2(v1);
   REQUIRE_FALSE(bad.ok());
   CHECK(bad.error().code == make_error_code(Errc::validation_failed));
-  CHECK(bad.error().message ==
-        "f: /lmcfg/curves/curve[1]/@data: curve 1: data block has 4 bytes but the info block says 2 "
-        "setpoints x 4 bytes = 8");
+  CHECK(
+      bad.error().message ==
+      "f: /lmcfg/curves/curve[1]/@data: curve 1: data block has 4 bytes but the info block says 2 "
+      "setpoints x 4 bytes = 8");
 }
 
 TEST_CASE("config: version 1 errors carry v1 locations", "[config]") {
@@ -92,7 +95,8 @@ TEST_CASE("config: version 1 errors carry v1 locations", "[config]") {
       "<param upid=\"5026\" value=\"1\"/><param upid=\"5026\" value=\"x\"/></parameters></lmcfg>";
   auto rx = read_xml(x, "old.xml");
   REQUIRE_FALSE(rx.ok());
-  CHECK(rx.error().message == "old.xml: /lmcfg/parameters/param[2]/@value: expected a decimal value, found \"x\"");
+  CHECK(rx.error().message ==
+        "old.xml: /lmcfg/parameters/param[2]/@value: expected a decimal value, found \"x\"");
   const std::string x2 =
       "<lmcfg format=\"lmcfg-drive-config\" format_version=\"1\"><parameters>"
       "<param upid=\"5026\" value=\"1\"/><param upid=\"5026\" value=\"2\"/></parameters></lmcfg>";
@@ -104,9 +108,12 @@ TEST_CASE("config: format version checks", "[config]") {
   auto r = read_json("{\"format\": \"lmcfg-drive-config\", \"format_version\": 3}", "new.json");
   REQUIRE_FALSE(r.ok());
   CHECK(r.error().code == make_error_code(Errc::unsupported_version));
-  CHECK(r.error().message == "new.json: file format_version 3 is newer than this lmcfg supports (2); update lmcfg");
+  CHECK(r.error().message ==
+        "new.json: file format_version 3 is newer than this lmcfg supports (2); update lmcfg");
   auto r0 = read_json("{\"format\": \"lmcfg-drive-config\", \"format_version\": 0}", "z.json");
-  CHECK(r0.error().message == "z.json:1:52: /format_version: expected format_version 1..2, found 0");
+  CHECK(r0.error().message ==
+        "z.json:1:52: /format_version: expected format_version 1..2, found 0");
   auto x = read_xml("<lmcfg format=\"lmcfg-drive-config\" format_version=\"7\"/>", "new.xml");
-  CHECK(x.error().message == "new.xml: file format_version 7 is newer than this lmcfg supports (2); update lmcfg");
+  CHECK(x.error().message ==
+        "new.xml: file format_version 7 is newer than this lmcfg supports (2); update lmcfg");
 }

@@ -19,7 +19,8 @@ Bytes transcript_block(const std::string& seed, const std::string& from, const s
   REQUIRE(b != std::string::npos);
   std::string part = seed.substr(a, b - a);
   std::regex rx("Rx: 01 11 0A 02 " + sub +
-                " 00 \\**([0-9A-F]{2})\\** [0-9A-F]{2} 00 ([0-9A-F]{2} [0-9A-F]{2} [0-9A-F]{2} [0-9A-F]{2}) 04");
+                " 00 \\**([0-9A-F]{2})\\** [0-9A-F]{2} 00 ([0-9A-F]{2} [0-9A-F]{2} [0-9A-F]{2} "
+                "[0-9A-F]{2}) 04");
   Bytes out;
   for (std::sregex_iterator it(part.begin(), part.end(), rx), end; it != end; ++it) {
     auto bytes = from_hex((*it)[2].str());
@@ -36,17 +37,20 @@ TEST_CASE("config: fixture curve and CT bytes agree with the seed 003 transcript
     return;
   }
   // §11.1: 18 telegrams of 4 bytes = 72 bytes; the info block is the first 70 (2 padding bytes).
-  Bytes info = transcript_block(seed, "Reading Curve 1 Info Block Data", "Reading Curve data", "40");
+  Bytes info =
+      transcript_block(seed, "Reading Curve 1 Info Block Data", "Reading Curve data", "40");
   REQUIRE(info.size() == 72);
   info.resize(70);
   CHECK(info == sinrise_info());
   // Data: setpoint 1's line lost a byte (errata 1), so the regex finds 20 of 21.
-  Bytes data = transcript_block(seed, "Reading Curve data 21 Position values", "11.2 Write Curve", "40");
+  Bytes data =
+      transcript_block(seed, "Reading Curve data 21 Position values", "11.2 Write Curve", "40");
   REQUIRE(data.size() == 80);
   const Bytes all = sinrise_data();
   CHECK(Bytes(all.begin() + 4, all.end()) == data);
   // §12.1: 16 telegrams of 4 bytes = the 64-byte entry.
-  Bytes ct = transcript_block(seed, "12.1 Read Command Table Entry", "12.2 Write Command Table", "86");
+  Bytes ct =
+      transcript_block(seed, "12.1 Read Command Table Entry", "12.2 Write Command Table", "86");
   CHECK(ct == ct_entry2());
 }
 
@@ -75,7 +79,8 @@ TEST_CASE("config: SinRise decodes", "[config]") {
   CHECK(v->setpoints.front() == 0);
   CHECK(v->setpoints[1] == 6156);
   CHECK(v->setpoints.back() == 1000000);
-  for (std::size_t i = 1; i < v->setpoints.size(); ++i) CHECK(v->setpoints[i] > v->setpoints[i - 1]);
+  for (std::size_t i = 1; i < v->setpoints.size(); ++i)
+    CHECK(v->setpoints[i] > v->setpoints[i - 1]);
 }
 
 TEST_CASE("config: curve length text is exact", "[config]") {
@@ -95,10 +100,12 @@ TEST_CASE("config: curve block size checks", "[config]") {
   auto r = check_curve_blocks(c);
   REQUIRE_FALSE(r.ok());
   CHECK(r.error().code == make_error_code(Errc::validation_failed));
-  CHECK(r.error().message == "data block has 83 bytes but the info block says 21 setpoints x 4 bytes = 84");
+  CHECK(r.error().message ==
+        "data block has 83 bytes but the info block says 21 setpoints x 4 bytes = 84");
   c.data = sinrise_data();
   c.info.push_back(0);
-  CHECK(check_curve_blocks(c).error().message == "info block has 71 bytes but its header (offset 0) says 70");
+  CHECK(check_curve_blocks(c).error().message ==
+        "info block has 71 bytes but its header (offset 0) says 70");
   c.info = hex("08 00");
   CHECK(check_curve_blocks(c).error().message ==
         "info block has 2 bytes; expected at least 8 (sizes at offsets 0, 4 and 6)");
@@ -153,7 +160,8 @@ TEST_CASE("config: model validation finds problems", "[config]") {
   {
     auto c = golden_sinrise();
     c.scope.layers[2] = false;
-    CHECK(find_issue(c)->message == "layer 3 (Intf) has parameters but is not in the scope's layers");
+    CHECK(find_issue(c)->message ==
+          "layer 3 (Intf) has parameters but is not in the scope's layers");
   }
   {
     auto c = golden_sinrise();

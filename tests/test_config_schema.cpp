@@ -73,7 +73,8 @@ TEST_CASE("config: writer output passes the JSON Schema and XSD", "[config][sche
   fs::remove_all(dir, ec);
 }
 
-TEST_CASE("config: the validators reject the bad fixtures that are a schema matter", "[config][schema]") {
+TEST_CASE("config: the validators reject the bad fixtures that are a schema matter",
+          "[config][schema]") {
   if (!validators_ready()) {
     FAIL("validators unavailable: run scripts/install-node-deps.sh and install libxml2-utils");
   }

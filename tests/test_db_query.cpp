@@ -262,7 +262,7 @@ TEST_CASE("the real built database: every row has provenance", "[db]") {
   REQUIRE(r->params.size() == 4);
   CHECK(r->params[0].text == "100 mm");
   CHECK(r->params[1].text == "0.5 m/s");
-  // Issue 3 acceptance, through the real catalogue extracted from seed 001 §4.3.
+  // docs/upid-db.md acceptance, through the real catalogue extracted from seed 001 §4.3.
   CHECK(r->summary() ==
         "VAI Go To Pos, target 100 mm, max velocity 0.5 m/s, acceleration 2 m/s2, deceleration 2 "
         "m/s2");

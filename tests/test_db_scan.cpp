@@ -1,4 +1,4 @@
-// lmcfg db scan (issue 3 §3): learn a firmware profile from a (simulated) drive.
+// lmcfg db scan (docs/upid-db.md): learn a firmware profile from a (simulated) drive.
 #include <unistd.h>
 
 #include <catch2/catch.hpp>
@@ -10,8 +10,8 @@
 #include "db/database.hpp"
 #include "db/value.hpp"
 #include "e2e_support.hpp"
-#include "ops/db_scan.hpp"
 #include "files.hpp"
+#include "ops/db_scan.hpp"
 
 namespace fs = std::filesystem;
 using namespace lmcfg;
@@ -101,7 +101,8 @@ TEST_CASE("db scan: the scanned profile is the simulated drive's own parameter s
   CHECK(known > 0);
   CHECK(unknown > 0);
   // Rows in UPID order; one progress phase per layer list, then the limits.
-  for (std::size_t i = 1; i < r->rows.size(); ++i) CHECK(r->rows[i - 1].scanned.upid < r->rows[i].scanned.upid);
+  for (std::size_t i = 1; i < r->rows.size(); ++i)
+    CHECK(r->rows[i - 1].scanned.upid < r->rows[i].scanned.upid);
   REQUIRE(phases.size() == 5);
   CHECK(phases[0].first == "UPID list OS");
   CHECK(phases[4].first == "min/max/default");
@@ -147,7 +148,8 @@ TEST_CASE("db scan: profile ids are checked", "[db][scan]") {
   CHECK(rig.client->stats().requests == 0);
 }
 
-TEST_CASE("db scan: an interrupted scan resumes from the partial file with fewer telegrams", "[db][scan]") {
+TEST_CASE("db scan: an interrupted scan resumes from the partial file with fewer telegrams",
+          "[db][scan]") {
   const auto& d = real_db();
   // The uninterrupted reference.
   test::SimRig full(kFixture);
@@ -224,7 +226,8 @@ TEST_CASE("db scan: a partial file of another profile is refused", "[db][scan]")
   CHECK_FALSE(ops::PartialFileStore::open(junk.string(), "profile-a").ok());
 }
 
-TEST_CASE("db scan: the fragment compiles with the real compiler and the profile is queryable", "[db][scan]") {
+TEST_CASE("db scan: the fragment compiles with the real compiler and the profile is queryable",
+          "[db][scan]") {
   const auto& d = real_db();
   test::SimRig rig(kFixture);
   auto r = ops::scan_drive_profile(*rig.client, &d, scan_options());
@@ -245,7 +248,8 @@ TEST_CASE("db scan: the fragment compiles with the real compiler and the profile
     CHECK(rep.ok());
     bool warned = false;
     for (const auto& dg : rep.diagnostics)
-      if (dg.warning && dg.file.find("scan-e1100-fw-scantest.tsv") != std::string::npos) warned = true;
+      if (dg.warning && dg.file.find("scan-e1100-fw-scantest.tsv") != std::string::npos)
+        warned = true;
     CHECK(warned);
     CHECK(rep.counts["parameters"] == real_rows);
   }
@@ -306,7 +310,8 @@ TEST_CASE("db scan: the fragment compiles with the real compiler and the profile
       CHECK(q->name.empty());
     }
     // The seed-derived definition stays as it was.
-    if (const auto* k = d.find(upid, "e1100-mc-linrs")) CHECK(nd.find(upid, "e1100-mc-linrs")->prov.source == k->prov.source);
+    if (const auto* k = d.find(upid, "e1100-mc-linrs"))
+      CHECK(nd.find(upid, "e1100-mc-linrs")->prov.source == k->prov.source);
   }
 }
 
@@ -317,8 +322,10 @@ TEST_CASE("db scan: merging refuses to replace a profile not made by a scan", "[
   const std::string before = slurp(dir / "parameters.tsv");
   std::string frag =
       "#@profiles.tsv\tprofile\tfamily\tsoftware\tversion\tdescription\tsource\n"
-      "#@profiles.tsv\te1100-mc-linrs\tE1100\t\t\t\tscanned from a drive: e1100-mc-linrs 2026-01-02 MACID 11h\n"
-      "upid\tprofiles\tlayer\tname\tpath\ttype\taddress_usage\tmin\tmax\tdefault\tunit\tscale\tenum\tcomm\tdescription\t"
+      "#@profiles.tsv\te1100-mc-linrs\tE1100\t\t\t\tscanned from a drive: e1100-mc-linrs "
+      "2026-01-02 MACID 11h\n"
+      "upid\tprofiles\tlayer\tname\tpath\ttype\taddress_"
+      "usage\tmin\tmax\tdefault\tunit\tscale\tenum\tcomm\tdescription\t"
       "source\n";
   auto r = ops::merge_scan_fragment(dir.string(), frag);
   REQUIRE_FALSE(r.ok());

@@ -21,7 +21,8 @@ const Database& real_db() {
 TEST_CASE("upid-db: row counts of the extraction from seeds 001 and 003", "[db][seed]") {
   const auto& counts = real_db().info().counts;
   CHECK(counts.at("profiles") == 3);
-  CHECK(counts.at("parameters") == 93);  // 83 from seed 001 (6300h in layer Other), 10 from seed 003
+  CHECK(counts.at("parameters") ==
+        93);                          // 83 from seed 001 (6300h in layer Other), 10 from seed 003
   CHECK(counts.at("errors") == 113);  // 85 MC codes 0000-008A, 8 LinRS states, 20 DeviceNet codes
   CHECK(counts.at("motion_commands") == 215);
   CHECK(counts.at("motion_command_params") == 469);

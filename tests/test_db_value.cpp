@@ -75,7 +75,8 @@ TEST_CASE("format values with scale, unit and labels", "[db]") {
   CHECK(format_value(pos, static_cast<std::uint32_t>(-5)) == "-0.0005 mm");
   ValueSpec vel{TypeCode::UInt32, 0.000001, "m/s", {}, std::nullopt, std::nullopt};
   CHECK(format_value(vel, 500000) == "0.5 m/s");
-  ValueSpec en{TypeCode::EnumDir16, std::nullopt, "", {{0, "By Hex Switch S1"}, {2, "By Parameter"}}, 0, 2};
+  ValueSpec en{
+      TypeCode::EnumDir16, std::nullopt, "", {{0, "By Hex Switch S1"}, {2, "By Parameter"}}, 0, 2};
   CHECK(format_value(en, 2) == "By Parameter (2)");
   CHECK(format_value(en, 1) == "1");
   ValueSpec txt{TypeCode::Stringlet, std::nullopt, "", {}, std::nullopt, std::nullopt};
@@ -104,7 +105,8 @@ TEST_CASE("parse user values back to raw", "[db]") {
     auto r = parse_value(pos, "100 m/s");
     REQUIRE_FALSE(r);
     CHECK(r.error().code == Errc::invalid_argument);
-    CHECK(r.error().message == "unit \"m/s\" in \"100 m/s\" does not match the value's unit \"mm\"");
+    CHECK(r.error().message ==
+          "unit \"m/s\" in \"100 m/s\" does not match the value's unit \"mm\"");
   }
   {
     auto r = parse_value(pos, "2000 mm");
@@ -115,13 +117,15 @@ TEST_CASE("parse user values back to raw", "[db]") {
   {
     auto r = parse_value(pos, "1.5");
     REQUIRE_FALSE(r);
-    CHECK(r.error().message == "\"1.5\" has decimals but no unit: a bare number is a raw value; write it as \"1.5 mm\"");
+    CHECK(r.error().message ==
+          "\"1.5\" has decimals but no unit: a bare number is a raw value; write it as \"1.5 mm\"");
   }
   ValueSpec acc{TypeCode::UInt32, 0.00001, "m/s^2", {}, std::nullopt, std::nullopt};
   CHECK(parse_value(acc, "2 m/s2").value() == 200000u);  // '^' optional
   CHECK(parse_value(acc, "2 m/s^2").value() == 200000u);
 
-  ValueSpec en{TypeCode::EnumDir16, std::nullopt, "", {{0, "By Hex Switch S1"}, {2, "By Parameter"}}, 0, 2};
+  ValueSpec en{
+      TypeCode::EnumDir16, std::nullopt, "", {{0, "By Hex Switch S1"}, {2, "By Parameter"}}, 0, 2};
   CHECK(parse_value(en, "by parameter").value() == 2u);
   CHECK(parse_value(en, "By Parameter (2)").value() == 2u);
   CHECK(parse_value(en, "0").value() == 0u);
@@ -129,7 +133,8 @@ TEST_CASE("parse user values back to raw", "[db]") {
     auto r = parse_value(en, "Sometimes");
     REQUIRE_FALSE(r);
     CHECK(r.error().message ==
-          "cannot read \"Sometimes\": expected a raw number, a value with unit or one of the labels \"By Hex Switch S1\", "
+          "cannot read \"Sometimes\": expected a raw number, a value with unit or one of the "
+          "labels \"By Hex Switch S1\", "
           "\"By Parameter\"");
   }
   ValueSpec s8{TypeCode::SInt8, std::nullopt, "", {}, std::nullopt, std::nullopt};

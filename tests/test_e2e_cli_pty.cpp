@@ -1,4 +1,4 @@
-// Issue 5 acceptance, through the real `lmcfg` binary and real pseudo-terminals:
+// README acceptance, through the real `lmcfg` binary and real pseudo-terminals:
 // two `lmcfg sim --pty` servers (a commissioned axis and a used spare), then
 // backup -> diff against defaults -> restore onto the spare -> the spare's ROM
 // values, flash curves and flash command table equal the source's.
@@ -15,13 +15,13 @@
 #include "codec/frame.hpp"
 #include "common/bytes.hpp"
 #include "e2e_support.hpp"
+#include "files.hpp"
 #include "subprocess.hpp"
 #include "trace_support.hpp"
-#include "files.hpp"
 
 using namespace lmcfg;
-using test::temp_dir;
 using test::slurp;
+using test::temp_dir;
 namespace fs = std::filesystem;
 
 namespace {

@@ -1,4 +1,4 @@
-// Issue 5 end to end, in process: backup a commissioned axis, restore onto a
+// README end to end, in process: backup a commissioned axis, restore onto a
 // used spare, and prove the spare's ROM values, flash curves and flash command
 // table equal the source's and the leftovers are gone; diff against defaults
 // lists exactly the modified UPIDs; every bad input is refused with a precise

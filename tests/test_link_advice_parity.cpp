@@ -1,5 +1,5 @@
-// The wrong-parity hint (docs/reliability.md, errors that say what to do). A drive at even parity and the tool
-// at none (or the reverse) must get advice naming --parity and `lmcfg scan`.
+// The wrong-parity hint (docs/reliability.md, errors that say what to do). A drive at even parity
+// and the tool at none (or the reverse) must get advice naming --parity and `lmcfg scan`.
 //
 // Why not over a pseudo-terminal: Linux ptys force CS8 and clear PARENB
 // (docs/transport.md), so the simulated drive behind `lmcfg sim` cannot see

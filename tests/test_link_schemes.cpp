@@ -22,20 +22,20 @@ TEST_CASE("link schemes: a registered scheme opens its port; the factory's close
           "[session]") {
   REQUIRE(kSimPortsRegistered);
   int opened = 0, closed = 0;
-  ops::register_link_scheme("counting", [&](const transport::LinkRequest& req)
-                                            -> Result<transport::OpenedLink> {
-    ++opened;
-    CHECK(req.address == "some/where");
-    CHECK(req.real_time_peer);
-    LMCFG_ASSIGN_OR_RETURN(auto inner, sim::state_file_link_factory()(transport::LinkRequest{
-                                           LMCFG_SOURCE_DIR "/tests/fixtures/sim/commissioned-axis.json",
-                                           false}));
-    inner.on_close = [&closed]() -> Result<void> {
-      ++closed;
-      return {};
-    };
-    return inner;
-  });
+  ops::register_link_scheme(
+      "counting", [&](const transport::LinkRequest& req) -> Result<transport::OpenedLink> {
+        ++opened;
+        CHECK(req.address == "some/where");
+        CHECK(req.real_time_peer);
+        LMCFG_ASSIGN_OR_RETURN(
+            auto inner, sim::state_file_link_factory()(transport::LinkRequest{
+                            LMCFG_SOURCE_DIR "/tests/fixtures/sim/commissioned-axis.json", false}));
+        inner.on_close = [&closed]() -> Result<void> {
+          ++closed;
+          return {};
+        };
+        return inner;
+      });
   ops::LinkOptions lo;
   lo.port = "counting:some/where";
   lo.real_time_sim = true;

@@ -1,4 +1,4 @@
-// Issue 6: the telegram count of every operation is a tested invariant, so a
+// docs/performance.md: the telegram count of every operation is a tested invariant, so a
 // performance regression fails a test instead of a stopwatch. Each count is
 // asserted twice: as a literal (what the tool sends today) and against the
 // protocol-minimum model of bench/wire_workloads.hpp (what it cannot avoid).

@@ -1,5 +1,5 @@
-// Issue 7 §3 and §4 through the real tool binary (LMCFG_TOOL_PATH) and the
-// built-in simulated drive (--port sim:STATE.json, copied to a temp dir):
+// docs/reliability.md promises 8 and 9 (bad input, failed backups) through the real tool binary
+// (LMCFG_TOOL_PATH) and the built-in simulated drive (--port sim:STATE.json, copied to a temp dir):
 // every bad input gives one clear message naming the problem and where it is,
 // the documented exit code (2 invalid input, 3 plan refused), no write
 // telegram on the wire (the --trace TX lines, decoded) and no file written or

@@ -1,4 +1,4 @@
-// Issue 18 item 1: the adaptive answer deadline and settle
+// docs/reliability.md: the adaptive answer deadline and settle
 // (ClientOptions::adaptive_deadline / adaptive_settle, what the tools use).
 // Every figure here is the simulated drive's virtual time (deterministic):
 // no wall-clock assertion.

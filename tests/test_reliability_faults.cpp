@@ -1,4 +1,4 @@
-// Issue 7 §1: faults on the line never cost a configuration.
+// docs/reliability.md: faults on the line never cost a configuration.
 //
 // Expected behaviour, per fault, proven below against the simulated drive:
 //  - corrupted byte, dropped byte, lost answer, wrong-ID answer: a read is

@@ -1,4 +1,4 @@
-// Issue 7 §2: a small restore (a few parameters, one small curve, two command
+// docs/reliability.md: a small restore (a few parameters, one small curve, two command
 // table entries) onto a used spare, interrupted at EVERY telegram index in turn
 // (the link closes at exchange k). The interrupted run must report failure;
 // the same restore run again on a fresh link to the same drive must end with

@@ -1,4 +1,4 @@
-// Issue 18 (robustness half): drives that answer differently, lines that
+// docs/reliability.md (robustness half): drives that answer differently, lines that
 // lose and corrupt answers, long operations. Golden behaviour from seed 003:
 // §10.2 (modified list), §10.4 (defaulting), §11 (curves), §12 (command
 // table), §15 (checksum), §16.1 (communication states).

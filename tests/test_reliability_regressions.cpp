@@ -1,7 +1,7 @@
-// Issue 7 §5: every input a fuzz target ever failed on (tests/fixtures/fuzz-regressions/<target>/)
-// is fed to the same entry point (fuzz/fuzz_entries.hpp) in the normal test
-// suite, built with gcc. A regression aborts the run (fuzz_fail) or trips the
-// sanitizers in the LMCFG_SANITIZE build.
+// docs/reliability.md: every input a fuzz target ever failed on
+// (tests/fixtures/fuzz-regressions/<target>/) is fed to the same entry point
+// (fuzz/fuzz_entries.hpp) in the normal test suite, built with gcc. A regression aborts the run
+// (fuzz_fail) or trips the sanitizers in the LMCFG_SANITIZE build.
 #include <catch2/catch.hpp>
 #include <filesystem>
 #include <fstream>
@@ -52,9 +52,10 @@ TEST_CASE("fuzz regressions: telegram stream decoder", "[reliability][fuzz]") {
   const std::vector<Bytes> edge{
       {},
       {0x00, 0x00},
-      {0x01, 0x05, 0x01, 0x11, 0x3F, 0x02},                                // LEN 63, nothing follows
-      {0x00, 0x01, 0x01, 0x01, 0x01, 0x01, 0x01, 0x01, 0x01, 0x01},        // only start bytes
-      {0x02, 0x00, 0x01, 0x11, 0x03, 0x02, 0x00, 0x00, 0x00, 0x00, 0x04},  // checksum mode, no checksum bytes
+      {0x01, 0x05, 0x01, 0x11, 0x3F, 0x02},                          // LEN 63, nothing follows
+      {0x00, 0x01, 0x01, 0x01, 0x01, 0x01, 0x01, 0x01, 0x01, 0x01},  // only start bytes
+      {0x02, 0x00, 0x01, 0x11, 0x03, 0x02, 0x00, 0x00, 0x00, 0x00,
+       0x04},  // checksum mode, no checksum bytes
   };
   for (const auto& b : edge) fuzz::decoder_entry(b.data(), b.size());
   SUCCEED(std::to_string(n) + " regression input(s)");
@@ -65,7 +66,8 @@ TEST_CASE("fuzz regressions: telegram stream decoder", "[reliability][fuzz]") {
 // the reader now reports it as a parse error with its position.
 TEST_CASE("fuzz regressions: JSON configuration reader", "[reliability][fuzz]") {
   const auto n = replay("json_config", fuzz::json_entry);
-  for (const std::string& s : std::vector<std::string>{"", "{", "[]", "{\"format\": 1e999}", "\xEF\xBB\xBF{}", std::string(64, '[')}) {
+  for (const std::string& s : std::vector<std::string>{"", "{", "[]", "{\"format\": 1e999}",
+                                                       "\xEF\xBB\xBF{}", std::string(64, '[')}) {
     fuzz::json_entry(reinterpret_cast<const std::uint8_t*>(s.data()), s.size());
   }
   SUCCEED(std::to_string(n) + " regression input(s)");
@@ -73,8 +75,9 @@ TEST_CASE("fuzz regressions: JSON configuration reader", "[reliability][fuzz]") 
 
 TEST_CASE("fuzz regressions: XML configuration reader", "[reliability][fuzz]") {
   const auto n = replay("xml_config", fuzz::xml_entry);
-  for (const std::string& s : std::vector<std::string>{"", "<", "<lmcfg/>", "<?xml version=\"1.0\"?><lmcfg format_version=\"99\"/>",
-                        "<!DOCTYPE x [<!ENTITY a \"aaaa\">]><lmcfg>&a;</lmcfg>"}) {
+  for (const std::string& s : std::vector<std::string>{
+           "", "<", "<lmcfg/>", "<?xml version=\"1.0\"?><lmcfg format_version=\"99\"/>",
+           "<!DOCTYPE x [<!ENTITY a \"aaaa\">]><lmcfg>&a;</lmcfg>"}) {
     fuzz::xml_entry(reinterpret_cast<const std::uint8_t*>(s.data()), s.size());
   }
   SUCCEED(std::to_string(n) + " regression input(s)");
@@ -93,9 +96,12 @@ TEST_CASE("fuzz regressions: client answer handling", "[reliability][fuzz]") {
   SUCCEED(std::to_string(n) + " regression input(s)");
 }
 
-TEST_CASE("a JSON number no double can hold is a parse error with its position", "[reliability][config]") {
-  auto r = config::read_config_text("{\n  \"format\": 1e999\n}\n", "big.json", config::FileFormat::json);
+TEST_CASE("a JSON number no double can hold is a parse error with its position",
+          "[reliability][config]") {
+  auto r =
+      config::read_config_text("{\n  \"format\": 1e999\n}\n", "big.json", config::FileFormat::json);
   REQUIRE_FALSE(r.ok());
   CHECK(r.error().code == Errc::parse_error);
-  CHECK(r.error().message == "big.json:2:13: number 1e999 is out of range (expected an integer value field)");
+  CHECK(r.error().message ==
+        "big.json:2:13: number 1e999 is out of range (expected an integer value field)");
 }

@@ -1,4 +1,4 @@
-// Issue 7 §6: soak. 1,000 backup/restore cycles against simulated drives with
+// docs/reliability.md: soak. 1,000 backup/restore cycles against simulated drives with
 // random faults (seeded, deterministic) and random configurations. Every run
 // that reports success must have verified (the drive equals the file / the
 // backup equals the drive, checked against the simulator's own state); every

@@ -1,4 +1,4 @@
-// Issue 5 §4: "when [communication parameters] are [restored], the tool
+// README: "when [communication parameters] are [restored], the tool
 // reconnects with the new settings after the reset and says so". The drive
 // picks MACID and baud rate at start-up from its hex switches or "By
 // Parameter" (seed 003 §3.2, §10.2, §15); the simulated drive models that, and
@@ -10,17 +10,17 @@
 #include "codec/messages.hpp"
 #include "config/config_io.hpp"
 #include "e2e_support.hpp"
+#include "files.hpp"
 #include "ops/backup.hpp"
 #include "ops/factory_reset.hpp"
 #include "ops/relink.hpp"
 #include "ops/restore.hpp"
 #include "ops/session.hpp"
 #include "subprocess.hpp"
-#include "files.hpp"
 
 using namespace lmcfg;
-using test::temp_dir;
 using test::slurp;
+using test::temp_dir;
 namespace fs = std::filesystem;
 
 namespace {

@@ -1,4 +1,4 @@
-// lmcfg report (issue 15): pages of the demo axis, of the diff between the
+// lmcfg report (README): pages of the demo axis, of the diff between the
 // demo axis and the used spare, and of a large configuration (5,000
 // parameters, 100 curves of 1,000 setpoints, 255 command table entries), each
 // loaded in headless Chromium (tests/browser/check-report.js) and checked in
@@ -25,9 +25,9 @@
 #include "common/bytes.hpp"
 #include "config/config_io.hpp"
 #include "db/database.hpp"
+#include "files.hpp"
 #include "ops/diff.hpp"
 #include "ops/report.hpp"
-#include "files.hpp"
 
 using namespace lmcfg;
 using test::slurp;

@@ -13,7 +13,8 @@ using lmcfg::test::SimHarness;
 namespace {
 constexpr std::uint8_t kId = 0x11;
 
-std::vector<std::uint16_t> modified_list(SimHarness& h, std::uint16_t base, std::uint8_t* last_state = nullptr) {
+std::vector<std::uint16_t> modified_list(SimHarness& h, std::uint16_t base,
+                                         std::uint8_t* last_state = nullptr) {
   std::vector<std::uint16_t> out;
   auto start = h.ask_iv(make_cfg(kId, CfgOp::start_modified, base), 0x58);
   REQUIRE(start.state == 0x00);
@@ -57,7 +58,8 @@ TEST_CASE("sim: modified-UPID list follows ROM writes and ends with C6 on the la
   CHECK(modified_list(h, 0x1000) == before);
   CHECK(h.drive->ram(0x1710) == 0u);
   // Every layer of the commissioned axis has modified parameters.
-  for (int base : {0x0000, 0x1000, 0x2000, 0x3000}) CHECK_FALSE(modified_list(h, static_cast<std::uint16_t>(base)).empty());
+  for (int base : {0x0000, 0x1000, 0x2000, 0x3000})
+    CHECK_FALSE(modified_list(h, static_cast<std::uint16_t>(base)).empty());
 }
 
 TEST_CASE("sim: empty modified list answers C6 with UPID FFFFh (configurable)", "[sim]") {
@@ -90,7 +92,8 @@ TEST_CASE("sim: UPID list ends with C6 repeating the last UPID", "[sim]") {
   CHECK(seen == std::vector<std::uint16_t>{0x3010, 0x3020, 0x3030});
 }
 
-TEST_CASE("sim: layer defaulting (03 12h) sets MC ROM to default; RAM follows only after reset", "[sim]") {
+TEST_CASE("sim: layer defaulting (03 12h) sets MC ROM to default; RAM follows only after reset",
+          "[sim]") {
   SimHarness h("commissioned-axis.json");
   REQUIRE(h.drive->rom(0x13A2) == 40u);
   const auto t0 = h.link.clock().now_ns();
@@ -116,14 +119,16 @@ TEST_CASE("sim: RAM reloads from ROM at reset and at MC start", "[sim]") {
   CHECK(h.drive->ram(0x13A2) == 40u);
 }
 
-TEST_CASE("sim: out-of-range and read-only ROM writes are refused with C9 (policy configurable)", "[sim]") {
+TEST_CASE("sim: out-of-range and read-only ROM writes are refused with C9 (policy configurable)",
+          "[sim]") {
   SimHarness h("commissioned-axis.json");
   auto r = h.ask_iv(make_cfg_write(kId, 0x1290, 7), 0x51);  // max 1
   CHECK(r.state == 0xC9);
-  CHECK(r.value == 0u);  // the unchanged ROM value
+  CHECK(r.value == 0u);                                                 // the unchanged ROM value
   CHECK(h.ask_iv(make_cfg_write(kId, 0x2136, 1), 0x51).state == 0xC9);  // AU 1001h: no ROM write
   CHECK(dr(h.ask(make_param_write(kId, ParamOp::write_rom, 0x1290, 7))).comm_state == 0xC9);
-  CHECK(h.ask_iv(make_cfg_write(kId, 0x1040, 0xFFFFFF00), 0x51).state == 0x00);  // SINT16 -256 within range
+  CHECK(h.ask_iv(make_cfg_write(kId, 0x1040, 0xFFFFFF00), 0x51).state ==
+        0x00);  // SINT16 -256 within range
   h.drive->state().options.write_policy = sim::WritePolicy::clamp;
   CHECK(h.ask_iv(make_cfg_write(kId, 0x1290, 7), 0x51).value == 1u);
 }
@@ -176,7 +181,8 @@ TEST_CASE("sim: command table setup/write/read round trip and defined list", "[s
   for (std::size_t i = 0; i < entry.size(); ++i) entry[i] = static_cast<std::uint8_t>(i * 3);
   CHECK(h.ask_iv(make_ct_setup_write(kId, 40, 64), 0x83).state == 0x00);
   for (std::size_t o = 0; o < 64; o += 4) {
-    auto r = h.ask_iv(make_ct_write(kId, 40, {entry[o], entry[o + 1], entry[o + 2], entry[o + 3]}), 0x84);
+    auto r = h.ask_iv(make_ct_write(kId, 40, {entry[o], entry[o + 1], entry[o + 2], entry[o + 3]}),
+                      0x84);
     CHECK(r.state == (o + 4 < 64 ? 0x04 : 0x00));
   }
   CHECK(h.drive->state().ct_ram.at(40) == entry);
@@ -190,13 +196,15 @@ TEST_CASE("sim: command table setup/write/read round trip and defined list", "[s
   }
   CHECK(back == entry);
   // 3, 9 (fixture) and 40: block 0 has bits 3 and 9 cleared, block 1 bit 8.
-  CHECK(h.ask_iv(make_ct_defined_list(kId, 0), 0x87).value == (0xFFFFFFFFu & ~(1u << 3) & ~(1u << 9)));
+  CHECK(h.ask_iv(make_ct_defined_list(kId, 0), 0x87).value ==
+        (0xFFFFFFFFu & ~(1u << 3) & ~(1u << 9)));
   CHECK(h.ask_iv(make_ct_defined_list(kId, 1, false), 0x87).value == (0xFFFFFFFFu & ~(1u << 8)));
 }
 
 // ---- bus, checksums ----------------------------------------------------------------
 
-TEST_CASE("sim: frames for other MACIDs are ignored; a bus answers only from the addressed drive", "[sim]") {
+TEST_CASE("sim: frames for other MACIDs are ignored; a bus answers only from the addressed drive",
+          "[sim]") {
   auto bus = std::make_shared<sim::Bus>();
   auto a = load_fixture("commissioned-axis.json");
   auto b = load_fixture("used-spare.json");
@@ -255,7 +263,8 @@ TEST_CASE("sim: C2 answer when the end of telegram is missing", "[sim]") {
 
 // ---- timing ---------------------------------------------------------------------------
 
-TEST_CASE("sim: virtual clock, 9-byte request + 14-byte answer at 57600 8N1 = 23*10/57600 s + 1 ms", "[sim]") {
+TEST_CASE("sim: virtual clock, 9-byte request + 14-byte answer at 57600 8N1 = 23*10/57600 s + 1 ms",
+          "[sim]") {
   auto s = load_fixture("commissioned-axis.json");
   SimHarness h(s);
   CHECK(h.link.byte_time_us() == Approx(10.0 * 1e6 / 57600));
@@ -273,7 +282,8 @@ TEST_CASE("sim: virtual clock, 9-byte request + 14-byte answer at 57600 8N1 = 23
   SimHarness h2(s);
   const auto t1 = h2.link.clock().now_ns();
   (void)h2.exchange(from_hex("01 11 05 02 00 05 A2 13 04").value());
-  CHECK(static_cast<double>(h2.link.clock().now_ns() - t1) == Approx(23.0 * 12 / 19200 * 1e9 + 1e6).margin(1.0));
+  CHECK(static_cast<double>(h2.link.clock().now_ns() - t1) ==
+        Approx(23.0 * 12 / 19200 * 1e9 + 1e6).margin(1.0));
 }
 
 TEST_CASE("sim: read_some times out on the virtual clock", "[sim]") {
@@ -373,7 +383,8 @@ TEST_CASE("sim: fault injection per exchange", "[sim][sim-faults]") {
   }
   SECTION("callback") {
     f.set_callback([](std::size_t ex, ByteView) {
-      return ex % 2 == 1 ? std::vector<sim::Fault>{sim::Fault::drop_answer()} : std::vector<sim::Fault>{};
+      return ex % 2 == 1 ? std::vector<sim::Fault>{sim::Fault::drop_answer()}
+                         : std::vector<sim::Fault>{};
     });
     int answered = 0;
     for (int i = 0; i < 10; ++i) answered += h.exchange(req, 50).empty() ? 0 : 1;
@@ -429,10 +440,11 @@ TEST_CASE("sim: state file round trip and fixtures", "[sim]") {
   CHECK(a.curves_flash.at(1).info.size() == 70);
   CHECK(a.curves_flash.at(1).data.size() == 84);
   CHECK(a.ct_flash.size() == 5);
-  CHECK(a.ct_flash.at(2) == from_hex("01 A7 FF FF 00 01 40 42 0F 00 20 A1 07 00 40 0D 03 00 40 0D 03 00"
-                                     "00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 55 6E 6E 61 6D 65 64 00"
-                                     "00 00 00 00 00 00 00 00 FF FF FF FF FF FF FF FF FF FF")
-                                .value());
+  CHECK(a.ct_flash.at(2) ==
+        from_hex("01 A7 FF FF 00 01 40 42 0F 00 20 A1 07 00 40 0D 03 00 40 0D 03 00"
+                 "00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 55 6E 6E 61 6D 65 64 00"
+                 "00 00 00 00 00 00 00 00 FF FF FF FF FF FF FF FF FF FF")
+            .value());
   CHECK(b.curves_flash.count(7) == 1);
   CHECK(b.ct_flash.size() == 2);
   CHECK(b.ct_flash.count(3) == 1);
@@ -451,7 +463,8 @@ TEST_CASE("sim: state file round trip and fixtures", "[sim]") {
   auto bad = sim::from_json(nlohmann::json{{"format", "lmcfg-sim-state"}, {"version", 2}});
   REQUIRE_FALSE(bad.ok());
   CHECK(bad.error().code == make_error_code(Errc::unsupported_version));
-  auto bad2 = sim::from_json(nlohmann::json::parse(R"({"format":"lmcfg-sim-state","version":1,"parameters":[{"upid":"zz"}]})"));
+  auto bad2 = sim::from_json(nlohmann::json::parse(
+      R"({"format":"lmcfg-sim-state","version":1,"parameters":[{"upid":"zz"}]})"));
   REQUIRE_FALSE(bad2.ok());
   CHECK(bad2.error().code == make_error_code(Errc::parse_error));
 }

@@ -103,7 +103,8 @@ TEST_CASE("sim: seed003 §10.2 modified UPID lists of the Intf and MC layers", "
   CHECK(replay(h, "10.2") == 8);
 }
 
-TEST_CASE("sim: seed003 §10.3 UPID list of the Intf layer (first entry, last two, C6 repeat)", "[sim][sim-manual]") {
+TEST_CASE("sim: seed003 §10.3 UPID list of the Intf layer (first entry, last two, C6 repeat)",
+          "[sim][sim-manual]") {
   SimHarness h("manual-drive.json");
   // Lines 1057-1060: start and the first entry.
   CHECK(replay(h, "10.3", 1057, 1060) == 2);
@@ -134,13 +135,16 @@ TEST_CASE("sim: seed003 §10.4 defaulting the four layers", "[sim][sim-manual]")
   CHECK(h.drive->ram(0x13A2) == 0x0Au);
 }
 
-TEST_CASE("sim: seed003 §11.1 read curve 1 sizes, info block (18 telegrams, 2 padding bytes) and data", "[sim][sim-manual]") {
+TEST_CASE(
+    "sim: seed003 §11.1 read curve 1 sizes, info block (18 telegrams, 2 padding bytes) and data",
+    "[sim][sim-manual]") {
   SimHarness h("manual-drive.json");
   CHECK(replay(h, "11.1") == 1 + 18 + 21);
   CHECK_FALSE(h.drive->transfer_active());
 }
 
-TEST_CASE("sim: seed003 §11.2 write curve 1 (requests; answers compared on state)", "[sim][sim-manual]") {
+TEST_CASE("sim: seed003 §11.2 write curve 1 (requests; answers compared on state)",
+          "[sim][sim-manual]") {
   SimHarness h("manual-drive.json");
   const auto original = h.drive->state().curves_ram.at(1);
   h.drive->state().curves_ram.clear();
@@ -152,14 +156,15 @@ TEST_CASE("sim: seed003 §11.2 write curve 1 (requests; answers compared on stat
 TEST_CASE("sim: seed003 §11 delete curve, delete all, save to flash", "[sim][sim-manual]") {
   SimHarness h("manual-drive.json");
   (void)h.exchange(from_hex("01 11 03 02 03 06 04").value());  // §13.3 stop MC: flash saves need it
-  CHECK(replay(h, "11", 1235, 1237) == 1);                      // delete curve 1
+  CHECK(replay(h, "11", 1235, 1237) == 1);                     // delete curve 1
   CHECK(h.drive->state().curves_ram.empty());
   CHECK(replay(h, "11", 1192, 1194) == 1);  // delete all
   CHECK(replay(h, "11", 1153, 1155) == 1);  // save (capture truncated: state compared)
   CHECK(h.drive->state().curves_flash.empty());
 }
 
-TEST_CASE("sim: seed003 §12 defined entry list (entries 1,2,4,5,6) and delete", "[sim][sim-manual]") {
+TEST_CASE("sim: seed003 §12 defined entry list (entries 1,2,4,5,6) and delete",
+          "[sim][sim-manual]") {
   SimHarness h("manual-drive.json");
   CHECK(replay(h, "12", 1669, 1684) == 8);
   CHECK(replay(h, "12", 1628, 1630) == 1);  // delete entry 2
@@ -170,12 +175,14 @@ TEST_CASE("sim: seed003 §12 defined entry list (entries 1,2,4,5,6) and delete",
   CHECK(replay(h, "12", 1552, 1554) == 1);  // save
 }
 
-TEST_CASE("sim: seed003 §12.1 read command table entry 2 (64 bytes, 16 telegrams)", "[sim][sim-manual]") {
+TEST_CASE("sim: seed003 §12.1 read command table entry 2 (64 bytes, 16 telegrams)",
+          "[sim][sim-manual]") {
   SimHarness h("manual-drive.json");
   CHECK(replay(h, "12.1") == 17);
 }
 
-TEST_CASE("sim: seed003 §12.2 write command table entry 2 (requests; answers compared on state)", "[sim][sim-manual]") {
+TEST_CASE("sim: seed003 §12.2 write command table entry 2 (requests; answers compared on state)",
+          "[sim][sim-manual]") {
   SimHarness h("manual-drive.json");
   const auto original = h.drive->state().ct_ram.at(2);
   h.drive->state().ct_ram.erase(2);

@@ -6,8 +6,6 @@
 #include <unistd.h>
 
 #include <catch2/catch.hpp>
-
-#include "transport_test_support.hpp"
 #include <chrono>
 #include <cstring>
 #include <thread>
@@ -15,6 +13,7 @@
 
 #include "transport/pty.hpp"
 #include "transport/transport.hpp"
+#include "transport_test_support.hpp"
 
 using namespace lmcfg;
 using namespace lmcfg::transport;
@@ -130,7 +129,8 @@ TEST_CASE("tcp connect refused names host and port", "[transport]") {
   CHECK(Clock::now() - t0 < 1500ms);
   REQUIRE_FALSE(t.ok());
   CHECK(t.error().code == Errc::io_error);
-  CHECK(t.error().message == "tcp 127.0.0.1:" + std::to_string(l.port) + ": cannot connect: Connection refused");
+  CHECK(t.error().message ==
+        "tcp 127.0.0.1:" + std::to_string(l.port) + ": cannot connect: Connection refused");
 }
 
 TEST_CASE("tcp rejects port 0 and an empty host", "[transport]") {
@@ -219,7 +219,8 @@ TEST_CASE("tcp connect gives up at the deadline", "[transport]") {
     return;
   }
   CHECK(t.error().code == Errc::timeout);
-  CHECK(t.error().message == "tcp 127.0.0.1:" + std::to_string(l.port) + ": connect timed out after 300 ms");
+  CHECK(t.error().message ==
+        "tcp 127.0.0.1:" + std::to_string(l.port) + ": connect timed out after 300 ms");
   CHECK(elapsed >= 290ms);
   CHECK(elapsed < 2000ms);
 }

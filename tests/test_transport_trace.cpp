@@ -121,7 +121,8 @@ TEST_CASE("file trace open errors", "[transport]") {
   auto r = open_file_trace("/nonexistent-lmcfg-dir/x.trace");
   REQUIRE_FALSE(r.ok());
   CHECK(r.error().code == Errc::file_error);
-  CHECK(r.error().message == "cannot open trace file /nonexistent-lmcfg-dir/x.trace: No such file or directory");
+  CHECK(r.error().message ==
+        "cannot open trace file /nonexistent-lmcfg-dir/x.trace: No such file or directory");
 }
 
 TEST_CASE("memory trace records writes and reads in order", "[transport]") {

@@ -44,7 +44,7 @@ struct ClientOptions {
   // §6.1.1.1). With `adaptive_deadline` it is the upper bound (and the
   // deadline until the first answer has been timed); without, the deadline.
   Millis timeout{200};
-  // ---- adaptive answer deadline (issue 18 item 1), like TCP's RTO ----
+  // ---- adaptive answer deadline (docs/reliability.md), like TCP's RTO ----
   // true: an ordinary read (not a write, whose late answer would count as
   // lost and which is never resent; not a long operation) waits
   //   wire(request) + wire(longest answer its group can have) + max(turnaround_max
@@ -91,7 +91,7 @@ struct ClientOptions {
   // length closest to `layout` (codec::layout_for_length) from then on;
   // false = refuse it (the layout was given explicitly).
   bool adapt_layout = true;
-  // ---- issue 18: fault-tolerant transfers and confirmed values ----
+  // ---- docs/reliability.md: fault-tolerant transfers and confirmed values ----
   // Every value that goes into a file is read this many times in agreement
   // (a further read breaks a tie). 0 = automatic: 2 when the checksum is off
   // and `link_has_parity` is false (nothing on the link detects a flipped bit),

@@ -1,7 +1,8 @@
-#include "common/bytes.hpp"
 #include "codec/messages.hpp"
 
 #include <cstdio>
+
+#include "common/bytes.hpp"
 
 namespace lmcfg::codec {
 

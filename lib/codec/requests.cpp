@@ -122,7 +122,9 @@ std::optional<RequestSpec> request_spec(std::uint8_t main, std::uint8_t sub) {
   return std::nullopt;
 }
 
-bool known_main(std::uint8_t main) { return main <= static_cast<std::uint8_t>(Main::command_table); }
+bool known_main(std::uint8_t main) {
+  return main <= static_cast<std::uint8_t>(Main::command_table);
+}
 
 std::uint8_t expected_answer_sub(const Telegram& r) {
   const auto s = request_spec(r.main, r.sub);

@@ -24,10 +24,11 @@ inline constexpr std::uint8_t kParamDefaultLayerFirst = 0x11;
 inline constexpr std::uint8_t kParamDefaultLayerLast = 0x14;
 
 struct RequestSpec {
-  std::uint8_t answer_sub = 0;  // §6 table: 00 default response, 40h, 50h+sub, 60h, 70h+sub, 80h+sub
-  bool writes = false;          // changes drive state (never repeated blindly)
-  bool keyed = false;           // the answer echoes the UPID / curve / entry / block of data[0..1]
-  std::uint8_t data_len = 0;    // bytes the request carries after SUB MAIN (at least)
+  std::uint8_t answer_sub =
+      0;                      // §6 table: 00 default response, 40h, 50h+sub, 60h, 70h+sub, 80h+sub
+  bool writes = false;        // changes drive state (never repeated blindly)
+  bool keyed = false;         // the answer echoes the UPID / curve / entry / block of data[0..1]
+  std::uint8_t data_len = 0;  // bytes the request carries after SUB MAIN (at least)
 };
 
 // What the manual defines for the request (main, sub); nullopt for a sub ID

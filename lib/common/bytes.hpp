@@ -17,7 +17,8 @@ inline std::uint16_t get_u16le(ByteView b, std::size_t off) {
 }
 inline std::uint32_t get_u32le(ByteView b, std::size_t off) {
   return static_cast<std::uint32_t>(b[off]) | (static_cast<std::uint32_t>(b[off + 1]) << 8) |
-         (static_cast<std::uint32_t>(b[off + 2]) << 16) | (static_cast<std::uint32_t>(b[off + 3]) << 24);
+         (static_cast<std::uint32_t>(b[off + 2]) << 16) |
+         (static_cast<std::uint32_t>(b[off + 3]) << 24);
 }
 inline void put_u16le(Bytes& out, std::uint16_t v) {
   out.push_back(static_cast<std::uint8_t>(v & 0xFF));
@@ -33,7 +34,8 @@ std::string to_hex(ByteView b, char sep = ' ');
 // `suffix`: hex(0x13A2, 4) == "13A2", hex(0x11, 2, "h") == "11h" (the manuals'
 // notation). The one hex formatter of lmcfg.
 std::string hex(std::uint32_t v, int digits, std::string_view suffix = {});
-// Accepts hex digits with optional spaces/colons between byte pairs; nullopt on odd count or non-hex.
+// Accepts hex digits with optional spaces/colons between byte pairs; nullopt on odd count or
+// non-hex.
 std::optional<Bytes> from_hex(std::string_view text);
 // ASCII case-insensitive equality ("uint16" == "UINT16").
 bool iequals(std::string_view a, std::string_view b) noexcept;

@@ -30,7 +30,8 @@ std::optional<int> from_name(std::string_view text) noexcept {
     if (n.size() != text.size()) continue;
     bool same = true;
     for (std::size_t i = 0; i < n.size() && same; ++i) {
-      same = std::tolower(static_cast<unsigned char>(n[i])) == std::tolower(static_cast<unsigned char>(text[i]));
+      same = std::tolower(static_cast<unsigned char>(n[i])) ==
+             std::tolower(static_cast<unsigned char>(text[i]));
     }
     if (same) return l;
   }

@@ -44,7 +44,8 @@ std::vector<std::string> block_rows(ByteView b) {
 
 std::optional<Bytes> parse_row(std::string_view s) {
   // "HH( HH){0,15}"
-  if (s.size() < 2 || s.size() > kBytesPerRow * 3 - 1 || (s.size() + 1) % 3 != 0) return std::nullopt;
+  if (s.size() < 2 || s.size() > kBytesPerRow * 3 - 1 || (s.size() + 1) % 3 != 0)
+    return std::nullopt;
   Bytes out;
   out.reserve((s.size() + 1) / 3);
   for (std::size_t i = 0; i < s.size(); i += 3) {
@@ -83,22 +84,23 @@ std::optional<std::int64_t> parse_signed_decimal(std::string_view s) noexcept {
 
 Result<void> check_format_id(std::string_view format, const std::string& where) {
   if (format != kFormatId)
-    return Error(Errc::unsupported_version, where + ": expected format \"" + std::string(kFormatId) +
-                                                "\", found \"" + std::string(format) + "\"");
+    return Error(Errc::unsupported_version, where + ": expected format \"" +
+                                                std::string(kFormatId) + "\", found \"" +
+                                                std::string(format) + "\"");
   return {};
 }
 
-Result<void> check_format_version(std::int64_t version, std::string_view name, const std::string& where) {
+Result<void> check_format_version(std::int64_t version, std::string_view name,
+                                  const std::string& where) {
   if (version > kFormatVersion)
-    return Error(Errc::unsupported_version,
-                 std::string(name) + ": file format_version " + std::to_string(version) +
-                     " is newer than this lmcfg supports (" + std::to_string(kFormatVersion) +
-                     "); update lmcfg");
+    return Error(Errc::unsupported_version, std::string(name) + ": file format_version " +
+                                                std::to_string(version) +
+                                                " is newer than this lmcfg supports (" +
+                                                std::to_string(kFormatVersion) + "); update lmcfg");
   if (version < kOldestFormatVersion)
-    return Error(Errc::unsupported_version, where + ": expected format_version " +
-                                                std::to_string(kOldestFormatVersion) + ".." +
-                                                std::to_string(kFormatVersion) + ", found " +
-                                                std::to_string(version));
+    return Error(Errc::unsupported_version,
+                 where + ": expected format_version " + std::to_string(kOldestFormatVersion) +
+                     ".." + std::to_string(kFormatVersion) + ", found " + std::to_string(version));
   return {};
 }
 

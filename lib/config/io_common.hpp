@@ -30,6 +30,7 @@ std::optional<std::int64_t> parse_signed_decimal(std::string_view s) noexcept;
 // message ("f.json:2:13: /format" or "f.xml: /lmcfg/@format").
 Result<void> check_format_id(std::string_view format, const std::string& where);
 // Version must be within kOldestFormatVersion..kFormatVersion.
-Result<void> check_format_version(std::int64_t version, std::string_view name, const std::string& where);
+Result<void> check_format_version(std::int64_t version, std::string_view name,
+                                  const std::string& where);
 
 }  // namespace lmcfg::config::detail

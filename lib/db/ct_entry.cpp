@@ -31,7 +31,8 @@ std::string summary_label(std::string_view catalogue_name) {
 std::string CtEntry::summary() const {
   std::string s = command_name;
   for (const auto& p : params)
-    s += ", " + (p.name.empty() ? "parameter " + std::to_string(p.index) : summary_label(p.name)) + " " + p.text;
+    s += ", " + (p.name.empty() ? "parameter " + std::to_string(p.index) : summary_label(p.name)) +
+         " " + p.text;
   return s;
 }
 
@@ -44,11 +45,13 @@ Result<CtEntry> decode_ct_entry(const Database& db, ByteView entry) {
   e.word0 = get_u16le(entry, 0);
   e.link = get_u16le(entry, 2);
   e.header = get_u16le(entry, 4);
-  for (std::size_t i = 38; i < 54 && entry[i] != 0; ++i) e.name.push_back(static_cast<char>(entry[i]));
+  for (std::size_t i = 38; i < 54 && entry[i] != 0; ++i)
+    e.name.push_back(static_cast<char>(entry[i]));
   e.command = db.motion_command(e.header);
   if (!e.command) {
     char b[48];
-    std::snprintf(b, sizeof b, "unknown motion command %04Xh", static_cast<unsigned>(e.header & 0xFFF0u));
+    std::snprintf(b, sizeof b, "unknown motion command %04Xh",
+                  static_cast<unsigned>(e.header & 0xFFF0u));
     e.command_name = b;
     return e;
   }
@@ -60,11 +63,17 @@ Result<CtEntry> decode_ct_entry(const Database& db, ByteView entry) {
     cp.name = p.name;
     auto off = static_cast<std::size_t>(cp.entry_offset);
     // Unknown type: up to 4 bytes, shown as hex.
-    unsigned size = p.spec.type ? type_size(*p.spec.type) : static_cast<unsigned>(std::min<std::size_t>(4, 38 - std::min<std::size_t>(off, 38)));
+    unsigned size =
+        p.spec.type
+            ? type_size(*p.spec.type)
+            : static_cast<unsigned>(std::min<std::size_t>(4, 38 - std::min<std::size_t>(off, 38)));
     if (off + size > 38 || size == 0)
-      return Error(Errc::validation_failed, "motion command " + e.command->name + " parameter " + p.name + " at offset " +
-                                                std::to_string(p.offset) + " runs past the parameter area (entry bytes 6..37)");
-    for (unsigned i = 0; i < size; ++i) cp.raw |= static_cast<std::uint32_t>(entry[off + i]) << (8 * i);
+      return Error(Errc::validation_failed,
+                   "motion command " + e.command->name + " parameter " + p.name + " at offset " +
+                       std::to_string(p.offset) +
+                       " runs past the parameter area (entry bytes 6..37)");
+    for (unsigned i = 0; i < size; ++i)
+      cp.raw |= static_cast<std::uint32_t>(entry[off + i]) << (8 * i);
     cp.text = format_value(p.spec, cp.raw);
     e.params.push_back(std::move(cp));
   }

@@ -26,7 +26,7 @@ struct CtParam {
   int entry_offset = 0;  // from the start of the entry
   std::string name;      // catalogue name ("Target Position")
   std::uint32_t raw = 0;
-  std::string text;      // formatted: "100 mm"
+  std::string text;  // formatted: "100 mm"
 };
 
 struct CtEntry {
@@ -34,7 +34,7 @@ struct CtEntry {
   std::uint16_t link = kCtNoLink;
   std::uint16_t header = 0;
   const MotionCommand* command = nullptr;  // null when the header is not in the catalogue
-  std::string command_name;  // catalogue name, or "unknown motion command 0123h"
+  std::string command_name;                // catalogue name, or "unknown motion command 0123h"
   std::vector<CtParam> params;
   std::string name;  // entry name ("Unnamed")
   Bytes raw;         // the 64 bytes as given

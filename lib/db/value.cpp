@@ -64,7 +64,6 @@ std::optional<std::int64_t> parse_raw_integer(std::string_view t) {
 
 }  // namespace
 
-
 Value decode_value(TypeCode t, std::uint32_t raw) noexcept {
   Value v;
   v.raw = raw;
@@ -264,7 +263,6 @@ Result<std::uint32_t> parse_value(const ValueSpec& spec, std::string_view input)
   }
   return encode_integer(*spec.type, raw);
 }
-
 
 Result<std::uint16_t> parse_upid(std::string_view text) {
   std::string_view t = text;

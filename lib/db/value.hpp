@@ -32,7 +32,6 @@ using lmcfg::TypeCode;
 // "0x13A2". Errc::invalid_argument naming the text otherwise.
 Result<std::uint16_t> parse_upid(std::string_view text);
 
-
 // A decoded 4-byte field.
 struct Value {
   enum class Kind { Integer, Text, Raw } kind = Kind::Raw;

@@ -1,5 +1,5 @@
 #pragma once
-// Backup (issue 5 §1): read a drive's configuration into the model.
+// Backup (README): read a drive's configuration into the model.
 //   parameters: the modified-UPID list of each layer (seed 003 §10.2), or with
 //               `full` every ROM-writable UPID of the UPID list (§10.3) read with
 //               "read ROM value";

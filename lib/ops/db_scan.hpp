@@ -1,5 +1,5 @@
 #pragma once
-// Learn a firmware profile from a drive (issue 3 §3, `lmcfg db scan`):
+// Learn a firmware profile from a drive (docs/upid-db.md, `lmcfg db scan`):
 //   1. walk the UPID list of every selected layer (seed 003 §10.3: UPID,
 //      address usage, type);
 //   2. ask min, max and default of each UPID (§10, 05h/06h/07h);
@@ -46,14 +46,16 @@ class ScanStore {
   virtual ~ScanStore() = default;
   // Limits stored for this UPID, only when stored with the same type and
   // address usage (otherwise the drive is not the one scanned before).
-  virtual std::optional<ScannedLimits> find(std::uint16_t upid, std::uint16_t type, std::uint16_t address_usage) const = 0;
+  virtual std::optional<ScannedLimits> find(std::uint16_t upid, std::uint16_t type,
+                                            std::uint16_t address_usage) const = 0;
   virtual Result<void> add(const ScannedUpid& u) = 0;
   virtual std::size_t size() const = 0;
 };
 
 class MemoryScanStore : public ScanStore {
  public:
-  std::optional<ScannedLimits> find(std::uint16_t upid, std::uint16_t type, std::uint16_t address_usage) const override;
+  std::optional<ScannedLimits> find(std::uint16_t upid, std::uint16_t type,
+                                    std::uint16_t address_usage) const override;
   Result<void> add(const ScannedUpid& u) override;
   std::size_t size() const override { return entries_.size(); }
 
@@ -73,12 +75,14 @@ class PartialFileStore : public ScanStore {
  public:
   // Loads `path` if it exists (entries of an earlier run), else creates it.
   // A file written for another profile is refused (Errc::invalid_argument).
-  static Result<std::unique_ptr<PartialFileStore>> open(const std::string& path, const std::string& profile);
+  static Result<std::unique_ptr<PartialFileStore>> open(const std::string& path,
+                                                        const std::string& profile);
   ~PartialFileStore() override;
   PartialFileStore(const PartialFileStore&) = delete;
   PartialFileStore& operator=(const PartialFileStore&) = delete;
 
-  std::optional<ScannedLimits> find(std::uint16_t upid, std::uint16_t type, std::uint16_t address_usage) const override;
+  std::optional<ScannedLimits> find(std::uint16_t upid, std::uint16_t type,
+                                    std::uint16_t address_usage) const override;
   Result<void> add(const ScannedUpid& u) override;
   std::size_t size() const override { return mem_.size(); }
   std::size_t loaded() const { return loaded_; }  // entries read from an earlier run
@@ -122,13 +126,13 @@ struct ScanRow {
 };
 
 struct DbScanResult {
-  ScanProfile profile;  // family/software filled from names_from when not given
-  std::string source;   // "scanned from a drive: <profile> <date> MACID <id>"
+  ScanProfile profile;        // family/software filled from names_from when not given
+  std::string source;         // "scanned from a drive: <profile> <date> MACID <id>"
   std::vector<ScanRow> rows;  // UPID order
-  std::size_t asked = 0;    // UPIDs whose limits were read in this run
-  std::size_t resumed = 0;  // UPIDs whose limits came from the store
-  std::size_t refused = 0;  // limits the drive refused (left unknown)
-  std::size_t named = 0;    // rows with names from the database
+  std::size_t asked = 0;      // UPIDs whose limits were read in this run
+  std::size_t resumed = 0;    // UPIDs whose limits came from the store
+  std::size_t refused = 0;    // limits the drive refused (left unknown)
+  std::size_t named = 0;      // rows with names from the database
   std::array<std::size_t, 4> per_layer{0, 0, 0, 0};
 };
 
@@ -138,7 +142,8 @@ Result<void> check_scan_profile_id(const std::string& id, const db::Database* db
 
 // Runs the scan. Errors: invalid_argument (profile id), link errors as the
 // client reports them (the store keeps what was read).
-Result<DbScanResult> scan_drive_profile(client::Client& c, const db::Database* db, const DbScanOptions& opt);
+Result<DbScanResult> scan_drive_profile(client::Client& c, const db::Database* db,
+                                        const DbScanOptions& opt);
 
 // The fragment: a parameters.tsv-format file (header + one row per UPID) whose
 // leading `#@profiles.tsv<TAB>...` comment lines carry the profiles.tsv header
@@ -157,6 +162,7 @@ struct MergeReport {
 // atomically). Rows of an earlier scan of the same profile (profiles column
 // exactly the id, source "scanned from a drive: ...") are replaced; a profile
 // defined otherwise is refused (Errc::validation_failed).
-Result<MergeReport> merge_scan_fragment(const std::string& source_dir, const std::string& fragment_text);
+Result<MergeReport> merge_scan_fragment(const std::string& source_dir,
+                                        const std::string& fragment_text);
 
 }  // namespace lmcfg::ops

@@ -321,7 +321,8 @@ std::string ct_changes(const db::Database* db, const config::CtEntry& a, const c
       }
     }
   }
-  if (da->link != dbb->link) parts.push_back("link " + hex(da->link, 4, "h") + " -> " + hex(dbb->link, 4, "h"));
+  if (da->link != dbb->link)
+    parts.push_back("link " + hex(da->link, 4, "h") + " -> " + hex(dbb->link, 4, "h"));
   if (da->name != dbb->name) parts.push_back("name '" + da->name + "' -> '" + dbb->name + "'");
   if (parts.empty()) parts.push_back("undecoded bytes differ");
   std::string s;
@@ -467,8 +468,9 @@ std::string render_text(const DiffResult& r, const std::string& an, const std::s
         break;
       case DiffItem::Kind::parameter:
         head(std::string("layer ") + std::string(config::layer_name(it.layer)));
-        out += "  " + hex(it.key, 4, "h") + " " + (it.name.empty() ? "(name unknown)" : it.name) + ": " +
-               it.a + " -> " + it.b + (it.detail.empty() ? "" : " (" + it.detail + ")") + "\n";
+        out += "  " + hex(it.key, 4, "h") + " " + (it.name.empty() ? "(name unknown)" : it.name) +
+               ": " + it.a + " -> " + it.b + (it.detail.empty() ? "" : " (" + it.detail + ")") +
+               "\n";
         break;
       case DiffItem::Kind::curve:
         head("curves");

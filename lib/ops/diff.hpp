@@ -1,5 +1,5 @@
 #pragma once
-// Diff of two drive configurations (issue 5 §2, issue 12 §5). Parameters are
+// Diff of two drive configurations (README). Parameters are
 // compared by effective value: a UPID absent from a modified-only capture
 // (§10.2) is at its default; absent from a full capture (§10.3) it is not
 // ROM-writable. A recorded type that differs between the sides is a

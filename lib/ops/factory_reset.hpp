@@ -1,5 +1,5 @@
 #pragma once
-// `lmcfg default` (issue 5 §3): set chosen layers to factory defaults (seed 003
+// `lmcfg default` (README): set chosen layers to factory defaults (seed 003
 // §10.4), optionally delete all curves and command table entries, with MC
 // stopped as the manual requires (§10, §11, §12), then start MC and reset so
 // the defaults become active. Communication parameters of the drive (database

@@ -1,5 +1,5 @@
 #pragma once
-// SIGINT/SIGTERM during a command that writes to a drive (issue 12 §4): the
+// SIGINT/SIGTERM during a command that writes to a drive (docs/restore.md): the
 // handler only sets a flag (std::atomic<bool>, lock-free, async-signal-safe);
 // the client checks it before each telegram (ClientOptions::cancel), so the
 // telegram in flight completes and no half telegram is ever left on the line.

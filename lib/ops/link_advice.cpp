@@ -60,8 +60,8 @@ std::optional<std::string> link_advice(Session& session, const std::string& port
              checksum_name(f->checksum) + ": try " + checksum_options(f->checksum);
     }
     std::string s = "no answer from MACID " + hex(id, 2, "h") + at +
-                    ", but a drive answers as MACID " + hex(f->id, 2, "h") + ": try --id " +
-                    "0x" + hex(f->id, 2);
+                    ", but a drive answers as MACID " + hex(f->id, 2, "h") + ": try --id " + "0x" +
+                    hex(f->id, 2);
     if (!(f->checksum == chk)) s += " " + checksum_options(f->checksum);
     return s;
   }

@@ -1,5 +1,5 @@
 #pragma once
-// Errors that say what to do (issue 18 item 7): when a drive command fails on
+// Errors that say what to do (docs/reliability.md): when a drive command fails on
 // the link before the drive ever answered, the usual cause is a link setting
 // (--baud, --id, --checksum, --parity), not the line. link_advice() probes the
 // session's port quickly (ops::scan at the current rate: this MACID with every

@@ -1,6 +1,6 @@
 #pragma once
 // One parameter's description for `lmcfg get/set`: the UPID database's, with
-// what it does not know asked from the drive (issue 3 §4: a UPID the database
+// what it does not know asked from the drive (docs/upid-db.md: a UPID the database
 // does not know is not an error; the tools ask the drive and say so).
 #include <cstdint>
 #include <string>

@@ -1,5 +1,5 @@
 #pragma once
-// Recovery record (issue 12 §7): what a `default` must write back after
+// Recovery record (docs/restore.md): what a `default` must write back after
 // defaulting a layer (the drive's communication values), stored on the host
 // before the first destructive step, so that a lost write-back is never lost
 // for good: a re-run of the same command finds the record, writes the recorded

@@ -74,14 +74,17 @@ ExpectedLink expected_link(const Plan& plan, const db::Database* db) {
     if (id.value && *id.value <= 0xFF) {
       out.macid = static_cast<std::uint8_t>(*id.value);
       out.reasons.push_back("MACID " + hex(*out.macid, 2, "h") + ": " + hex(kMacidSource, 4, "h") +
-                            " = By Parameter, " + hex(kMacidValue, 4, "h") + " MACID Parameter Value = " +
-                            std::to_string(*id.value) + (id.from_default ? " (its default)" : ""));
+                            " = By Parameter, " + hex(kMacidValue, 4, "h") +
+                            " MACID Parameter Value = " + std::to_string(*id.value) +
+                            (id.from_default ? " (its default)" : ""));
     } else {
-      out.reasons.push_back("MACID: " + hex(kMacidSource, 4, "h") + " = By Parameter, but the value of " +
-                            hex(kMacidValue, 4, "h") + " is not known");
+      out.reasons.push_back("MACID: " + hex(kMacidSource, 4, "h") +
+                            " = By Parameter, but the value of " + hex(kMacidValue, 4, "h") +
+                            " is not known");
     }
   } else {
-    out.reasons.push_back("MACID: " + hex(kMacidSource, 4, "h") + " = " + std::to_string(*id_src.value) +
+    out.reasons.push_back("MACID: " + hex(kMacidSource, 4, "h") + " = " +
+                          std::to_string(*id_src.value) +
                           " selects the hex switches, whose setting is not known to the tool");
   }
 
@@ -95,13 +98,14 @@ ExpectedLink expected_link(const Plan& plan, const db::Database* db) {
     const Known code = value_after(plan, db, kBaudCode);
     if (code.value) out.baud = baud_of_label(db, kBaudCode, *code.value);
     if (out.baud) {
-      out.reasons.push_back("baud rate " + std::to_string(*out.baud) + ": " + hex(kBaudSource, 4, "h") +
-                            " = By Parameter, " + hex(kBaudCode, 4, "h") +
+      out.reasons.push_back("baud rate " + std::to_string(*out.baud) + ": " +
+                            hex(kBaudSource, 4, "h") + " = By Parameter, " +
+                            hex(kBaudCode, 4, "h") +
                             " Baud Rate Parameter Def = " + std::to_string(*code.value));
     } else if (code.value) {
       out.reasons.push_back("baud rate: " + hex(kBaudSource, 4, "h") +
-                            " = By Parameter, but the database has no rate for " + hex(kBaudCode, 4, "h") +
-                            " = " + std::to_string(*code.value) +
+                            " = By Parameter, but the database has no rate for " +
+                            hex(kBaudCode, 4, "h") + " = " + std::to_string(*code.value) +
                             " (seed 003 states only 8 = 38400 Baud)");
     } else {
       out.reasons.push_back("baud rate: " + hex(kBaudSource, 4, "h") +

@@ -1,5 +1,5 @@
 #pragma once
-// Finding the drive again after its LinRS settings changed (issue 5 §4,
+// Finding the drive again after its LinRS settings changed (README,
 // `restore --include-comm`). The drive chooses its MACID and baud rate at
 // start-up (seed 003 §3.2, §15): from hex switches S2/S1, or "By Parameter"
 // from MACID Parameter Value 2076h / Baud Rate Parameter Def 2012h. A restore

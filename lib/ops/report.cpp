@@ -358,8 +358,8 @@ void params_diff(std::string& out, const config::DriveConfig& a, const config::D
       } else {
         rows += "\"";
       }
-      rows += " data-layer=\"" + layer_name(l) + "\" data-upid=\"" + hex(u, 4) + "\"><td>" + hex(u, 4) +
-              "h</td><td>" + html_escape(name) + "</td>";
+      rows += " data-layer=\"" + layer_name(l) + "\" data-upid=\"" + hex(u, 4) + "\"><td>" +
+              hex(u, 4) + "h</td><td>" + html_escape(name) + "</td>";
       if (it) {
         rows += "<td class=\"old\">" + html_escape(it->a) +
                 "</td><td class=\"arrow\">\xE2\x86\x92</td><td class=\"new\">" +

@@ -1,5 +1,5 @@
 #pragma once
-// `lmcfg report` (issue 15): a drive configuration, or the difference of two,
+// `lmcfg report` (README): a drive configuration, or the difference of two,
 // as one self-contained HTML page for people: inline CSS and SVG only (no
 // script, no external font or URL; a Content-Security-Policy forbids both),
 // readable without JavaScript and printable (a print stylesheet, a page break

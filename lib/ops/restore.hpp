@@ -1,5 +1,5 @@
 #pragma once
-// Restore (issue 5 §4, issue 12 §1-§4) in three phases, one file each:
+// Restore (README) in three phases, one file each:
 //
 // plan_restore (restore_plan.cpp): reads only. Compares the target with the
 // file first (the target's modified list of each restored layer; a ROM read

@@ -3,8 +3,8 @@
 #include <map>
 #include <set>
 
-#include "db/database.hpp"
 #include "common/bytes.hpp"
+#include "db/database.hpp"
 #include "ops/recovery.hpp"
 #include "ops/restore.hpp"
 #include "ops/restore_internal.hpp"
@@ -99,7 +99,7 @@ Result<void> check_parameter(client::Client& c, const db::Database* db, int laye
   db::ValueSpec spec = d ? d->spec : db::ValueSpec{};
   spec.type = *code;
   if (!db::is_text_type(*code)) {
-    // The target's range is the truth (issue 12 §1): the database describes
+    // The target's range is the truth (docs/restore.md): the database describes
     // the firmware we know, the target may allow less (§10 05h 05h/06h).
     auto mn = c.get_min(p.upid);
     auto mx = mn.ok() ? c.get_max(p.upid) : Result<std::uint32_t>(mn.error());
@@ -456,7 +456,7 @@ Result<Plan> plan_restore(client::Client& c, const config::DriveConfig& file,
       w.leftovers.push_back(&m);
     }
     // A layer defaulted by the unfinished run no longer lists the values it
-    // kept: the record has them (issue 12 §7).
+    // kept: the record has them (docs/restore.md).
     if (rec && !opt.include_comm) {
       for (const auto& k : rec->keep) {
         if (client::layer_of(k.upid) != layer || restored.count(k.upid)) continue;

@@ -1,7 +1,7 @@
 // Restore: the plan for people (render_plan) and as structured items
 // (plan_json, documented in docs/restore.md). See restore.hpp.
-#include "ops/restore.hpp"
 #include "common/bytes.hpp"
+#include "ops/restore.hpp"
 #include "ops/restore_internal.hpp"
 
 namespace lmcfg::ops {

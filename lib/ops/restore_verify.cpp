@@ -1,8 +1,8 @@
 // Restore phase 3: read the target back and list every mismatch. See restore.hpp.
 #include <map>
 
-#include "ops/restore.hpp"
 #include "common/bytes.hpp"
+#include "ops/restore.hpp"
 #include "ops/restore_internal.hpp"
 
 namespace lmcfg::ops {

@@ -161,9 +161,8 @@ Result<std::unique_ptr<Session>> open_session(const LinkOptions& opt_in) {
                           ? link_schemes().end()
                           : link_schemes().find(opt.port.substr(0, scheme_end));
   if (scheme != link_schemes().end()) {
-    LMCFG_ASSIGN_OR_RETURN(
-        opened, scheme->second(transport::LinkRequest{opt.port.substr(scheme_end + 1),
-                                                      opt.real_time_sim}));
+    LMCFG_ASSIGN_OR_RETURN(opened, scheme->second(transport::LinkRequest{
+                                       opt.port.substr(scheme_end + 1), opt.real_time_sim}));
     if (opened.line) {
       opt.serial.baud = opened.line->baud;
       opt.serial.parity = opened.line->parity;

@@ -72,9 +72,7 @@ class Session {
                       const codec::ChecksumConfig& checksum);
   // What opening a serial port found about its receive latency (USB adapters'
   // latency timer); nullptr for TCP and registered-scheme ports.
-  const transport::LowLatencyReport* low_latency() const {
-    return latency_ ? &*latency_ : nullptr;
-  }
+  const transport::LowLatencyReport* low_latency() const { return latency_ ? &*latency_ : nullptr; }
 
  private:
   std::optional<transport::LowLatencyReport> latency_;

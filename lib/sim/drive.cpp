@@ -320,8 +320,7 @@ std::optional<Answer> Drive::on_parameter(const Telegram& t, std::int64_t now) {
       break;
   }
   const std::uint32_t v = get_u32le(t.data, 2);
-  const std::uint8_t state =
-      write_value(*p, op != ParamOp::write_rom, op != ParamOp::write_ram, v);
+  const std::uint8_t state = write_value(*p, op != ParamOp::write_rom, op != ParamOp::write_ram, v);
   return finish(default_response(state), 0, now);
 }
 
@@ -330,7 +329,8 @@ std::optional<Answer> Drive::on_param_config(const Telegram& t, std::int64_t now
   const auto& o = s_.options;
   const auto op = static_cast<CfgOp>(t.sub);
   if (op >= CfgOp::default_os && op <= CfgOp::default_appl) {
-    const auto layer = static_cast<std::uint8_t>(t.sub - static_cast<std::uint8_t>(CfgOp::default_os) + 1);
+    const auto layer =
+        static_cast<std::uint8_t>(t.sub - static_cast<std::uint8_t>(CfgOp::default_os) + 1);
     default_layer(static_cast<Layer>(layer));
     const std::uint16_t key = t.data.size() >= 2 ? get_u16le(t.data, 0) : 0;
     return finish(id_value(sub, st::ok, key, layer), s_.timing.defaulting_us, now);

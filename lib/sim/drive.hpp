@@ -36,13 +36,12 @@ inline constexpr std::uint16_t not_for_hash = 0x1000;
 inline constexpr std::uint16_t parameter = ram_read | ram_write | rom_read | rom_write;  // 000Fh
 }  // namespace au
 
-
 // One UPID. Values are the raw 4-byte fields of §9 (a word in the two lower bytes...).
 struct Parameter {
   std::uint16_t upid = 0;
-  std::string name;  // informational only, never on the wire
+  std::string name;                                  // informational only, never on the wire
   std::uint16_t type = type_code(TypeCode::UInt16);  // raw: a drive may use codes §10 lacks
-  std::uint16_t address_usage = au::parameter;  // raw word, stored as given
+  std::uint16_t address_usage = au::parameter;       // raw word, stored as given
   std::uint32_t min = 0;
   std::uint32_t max = 0xFFFFFFFF;
   std::uint32_t def = 0;
@@ -125,7 +124,7 @@ struct Options {
   // (powers of two in the order §15 lists the rates). A code not in the table
   // leaves the drive at its S1 switch rate.
   std::map<std::uint32_t, unsigned> baud_codes = default_baud_codes();
-  // ---- issue 18 (drive variance) ----
+  // ---- docs/reliability.md (drive variance) ----
   // §12 setup read (08h 05h) of an entry that does not exist: true = state 00
   // with size 0, false = state `missing_object_state` (C8).
   bool missing_ct_entry_zero_size = true;

@@ -1,9 +1,8 @@
 #pragma once
 // The "sim state file": a Drive's state as JSON (format in docs/simulator.md,
 // fixtures in tests/fixtures/sim/). Format id "lmcfg-sim-state", version 1.
-#include <string>
-
 #include <nlohmann/json.hpp>
+#include <string>
 
 #include "common/result.hpp"
 #include "sim/drive.hpp"

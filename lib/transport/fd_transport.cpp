@@ -79,8 +79,8 @@ Result<void> FdTransport::write(ByteView bytes) {
     if (r == 0 && Clock::now() >= deadline) {
       return Error(Errc::timeout, description_ + ": write timed out after " +
                                       std::to_string(limit.count()) + " ms (" +
-                                      std::to_string(off) + " of " +
-                                      std::to_string(bytes.size()) + " bytes written)");
+                                      std::to_string(off) + " of " + std::to_string(bytes.size()) +
+                                      " bytes written)");
     }
     if (r > 0 && (pfd.revents & POLLNVAL) != 0)
       return Error(Errc::io_error, description_ + ": write failed: descriptor is not open");
@@ -116,18 +116,21 @@ Result<Bytes> FdTransport::read_some(Millis timeout) {
         continue;
       }
       if (n < 0 && errno == EINTR) continue;
-      if (!out.empty()) break;  // deliver what came before an end or error; the next call reports it
+      if (!out.empty())
+        break;  // deliver what came before an end or error; the next call reports it
       if (n == 0) {
         // A terminal in raw mode with VMIN=0/VTIME=0 also returns 0 for "no data";
         // it is the end only when poll reported a hang-up.
         if (!is_tty_ || hangup)
-          return Error(Errc::link_closed, description_ + (is_socket_ ? ": peer closed the connection"
-                                                                     : ": device hung up"));
+          return Error(
+              Errc::link_closed,
+              description_ + (is_socket_ ? ": peer closed the connection" : ": device hung up"));
         break;
       }
       if (errno == EAGAIN || errno == EWOULDBLOCK) break;
       if (errno == EIO && is_tty_)
-        return Error(Errc::link_closed, description_ + ": device hung up (" + std::strerror(EIO) + ")");
+        return Error(Errc::link_closed,
+                     description_ + ": device hung up (" + std::strerror(EIO) + ")");
       return os_error("read failed", errno);
     }
     if (!out.empty()) return out;

@@ -1,4 +1,6 @@
 // Pseudo-terminal pairs for tests and for serving a simulated drive.
+#include "transport/pty.hpp"
+
 #include <errno.h>
 #include <fcntl.h>
 #include <pty.h>
@@ -7,8 +9,6 @@
 
 #include <array>
 #include <cstring>
-
-#include "transport/pty.hpp"
 
 namespace lmcfg::transport {
 

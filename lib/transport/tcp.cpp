@@ -29,7 +29,8 @@ int ms_left(Clock::time_point deadline) {
 
 // Connects one resolved address; 0 on success, otherwise the errno (ETIMEDOUT at the deadline).
 int connect_one(const addrinfo& ai, Clock::time_point deadline, UniqueFd& out) {
-  UniqueFd fd(::socket(ai.ai_family, ai.ai_socktype | SOCK_NONBLOCK | SOCK_CLOEXEC, ai.ai_protocol));
+  UniqueFd fd(
+      ::socket(ai.ai_family, ai.ai_socktype | SOCK_NONBLOCK | SOCK_CLOEXEC, ai.ai_protocol));
   if (!fd) return errno;
   if (::connect(fd.get(), ai.ai_addr, ai.ai_addrlen) != 0) {
     if (errno != EINPROGRESS && errno != EINTR) return errno;
@@ -63,9 +64,11 @@ Result<std::unique_ptr<Transport>> open_tcp(const std::string& host, std::uint16
   if (host.empty()) return Error(Errc::invalid_argument, "tcp: host is empty");
   // "[::1]" is accepted as well as "::1".
   std::string name = host;
-  if (name.size() >= 2 && name.front() == '[' && name.back() == ']') name = name.substr(1, name.size() - 2);
+  if (name.size() >= 2 && name.front() == '[' && name.back() == ']')
+    name = name.substr(1, name.size() - 2);
   const std::string where = host_port(name, port);
-  if (port == 0) return Error(Errc::invalid_argument, "tcp " + where + ": port 0 is not a valid port");
+  if (port == 0)
+    return Error(Errc::invalid_argument, "tcp " + where + ": port 0 is not a valid port");
 
   addrinfo hints{};
   hints.ai_family = AF_UNSPEC;
@@ -91,7 +94,8 @@ Result<std::unique_ptr<Transport>> open_tcp(const std::string& host, std::uint16
     UniqueFd fd;
     last = connect_one(*ai, deadline, fd);
     if (last == 0) {
-      return std::unique_ptr<Transport>(std::make_unique<FdTransport>(std::move(fd), "tcp " + where));
+      return std::unique_ptr<Transport>(
+          std::make_unique<FdTransport>(std::move(fd), "tcp " + where));
     }
     if (last == ETIMEDOUT) break;
   }

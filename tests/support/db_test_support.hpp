@@ -12,7 +12,8 @@
 namespace lmcfg::db::test {
 
 inline std::filesystem::path scratch_dir(const std::string& name) {
-  auto d = std::filesystem::temp_directory_path() / ("lmcfg-dbtest-" + std::to_string(::getpid())) / name;
+  auto d = std::filesystem::temp_directory_path() / ("lmcfg-dbtest-" + std::to_string(::getpid())) /
+           name;
   std::filesystem::remove_all(d);
   std::filesystem::create_directories(d);
   return d;
@@ -28,7 +29,9 @@ inline const Database& fixture_db() {
     auto dir = scratch_dir("fixture");
     auto out = (dir / "fixture.sqlite").string();
     auto rep = compile_upid_db(LMCFG_SOURCE_DIR "/tests/fixtures/upid-db", out);
-    if (!rep.ok()) throw std::runtime_error("fixture catalogue does not compile: " + rep.diagnostics.front().str());
+    if (!rep.ok())
+      throw std::runtime_error("fixture catalogue does not compile: " +
+                               rep.diagnostics.front().str());
     auto r = Database::open(out);
     if (!r) throw std::runtime_error(r.error().message);
     return std::move(r).value();

@@ -59,7 +59,8 @@ struct SimRig {
   std::unique_ptr<transport::Transport> link;
   std::unique_ptr<client::Client> client;
 
-  explicit SimRig(const std::string& fixture, client::ClientOptions opt = {}) : drive(load_sim_drive(fixture)) {
+  explicit SimRig(const std::string& fixture, client::ClientOptions opt = {})
+      : drive(load_sim_drive(fixture)) {
     auto raw = std::make_unique<sim::SimLink>(drive);
     sim_link_ptr = raw.get();
     link = transport::make_traced(std::move(raw), wire);

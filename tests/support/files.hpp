@@ -11,8 +11,8 @@ namespace lmcfg::test {
 
 // An empty directory of this test process: TMPDIR/lmcfg-NAME-PID (emptied first).
 inline std::filesystem::path temp_dir(const std::string& name) {
-  auto d = std::filesystem::temp_directory_path() /
-           ("lmcfg-" + name + "-" + std::to_string(::getpid()));
+  auto d =
+      std::filesystem::temp_directory_path() / ("lmcfg-" + name + "-" + std::to_string(::getpid()));
   std::filesystem::remove_all(d);
   std::filesystem::create_directories(d);
   return d;

@@ -29,7 +29,8 @@ struct SimHarness {
   std::shared_ptr<sim::Drive> drive;
   sim::SimLink link;
 
-  explicit SimHarness(sim::DriveState s) : drive(std::make_shared<sim::Drive>(std::move(s))), link(drive) {}
+  explicit SimHarness(sim::DriveState s)
+      : drive(std::make_shared<sim::Drive>(std::move(s))), link(drive) {}
   explicit SimHarness(const std::string& fixture) : SimHarness(load_fixture(fixture)) {}
 
   // One request, the answer bytes that arrive within `timeout_ms` (empty on timeout).

@@ -1,5 +1,5 @@
 #pragma once
-// Options every drive-facing subcommand shares (issue 5): link, output mode,
+// Options every drive-facing subcommand shares (README): link, output mode,
 // database; the mapping from library errors to the documented exit codes.
 #include <CLI/CLI.hpp>
 #include <optional>
