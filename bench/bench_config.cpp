@@ -2,6 +2,7 @@
 // of 500 setpoints, 255 command table entries) in both file formats.
 #include <benchmark/benchmark.h>
 
+#include "common/layers.hpp"
 #include "config/config_io.hpp"
 
 namespace {
@@ -16,8 +17,8 @@ DriveConfig big_config() {
   c.scope.parameters = ParamSet::full;
   // 5,000 parameters: 1,250 per layer.
   std::uint32_t x = 12345;
-  for (int l = 1; l <= kLayerCount; ++l) {
-    const auto base = kLayers[static_cast<std::size_t>(l - 1)].first_upid;
+  for (int l = 1; l <= lmcfg::layers::kCount; ++l) {
+    const auto base = lmcfg::layers::base_upid(l);
     for (std::uint16_t i = 0; i < 1250; ++i) {
       Parameter p;
       p.upid = static_cast<std::uint16_t>(base + i);

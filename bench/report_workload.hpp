@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <string>
 
+#include "common/layers.hpp"
 #include "config/model.hpp"
 
 namespace lmcfg::reportbench {
@@ -53,11 +54,10 @@ inline config::DriveConfig large_config() {
   c.identity.captured_at = "2026-11-23T12:00:00Z";
   c.identity.labels["machine"] = kScript;
   c.identity.labels[kScript] = "label key";
-  for (int l = 1; l <= config::kLayerCount; ++l)
+  for (int l = 1; l <= lmcfg::layers::kCount; ++l)
     for (std::uint16_t i = 0; i < 1250; ++i) {
       config::Parameter p;
-      p.upid = static_cast<std::uint16_t>(
-          config::kLayers[static_cast<std::size_t>(l - 1)].first_upid + 0x100 + i);
+      p.upid = static_cast<std::uint16_t>(lmcfg::layers::base_upid(l) + 0x100 + i);
       p.value = 1000u + i;
       p.type = 0x05;
       p.default_value = i % 3 ? p.value + 1 : p.value;
@@ -93,7 +93,7 @@ inline config::DriveConfig large_config() {
 inline config::DriveConfig large_config_changed(const config::DriveConfig& a) {
   config::DriveConfig b = a;
   b.identity.labels["machine"] = "press 3";
-  for (int l = 1; l <= config::kLayerCount; ++l) {
+  for (int l = 1; l <= lmcfg::layers::kCount; ++l) {
     auto& ps = b.layer(l);
     for (std::size_t i = 0; i < ps.size(); i += 100) ps[i].value += 7;
     ps.erase(ps.begin() + 5);  // at its default on B

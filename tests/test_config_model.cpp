@@ -1,6 +1,7 @@
 #include <catch2/catch.hpp>
 #include <regex>
 
+#include "common/layers.hpp"
 #include "config/model.hpp"
 #include "test_config_support.hpp"
 
@@ -117,14 +118,14 @@ TEST_CASE("config: curve block size checks", "[config]") {
 TEST_CASE("config: CT entry name and layers", "[config]") {
   CHECK(ct_entry_name(ct_entry2()) == "Unnamed");
   CHECK(ct_entry_name(hex("01 02")) == "");
-  CHECK(layer_of_upid(0x0000) == 1);
-  CHECK(layer_of_upid(0x0EFF) == 1);
-  CHECK(layer_of_upid(0x0F00) == 0);
-  CHECK(layer_of_upid(0x13A2) == 2);
-  CHECK(layer_of_upid(0x2076) == 3);
-  CHECK(layer_of_upid(0x3EFF) == 4);
-  CHECK(layer_of_upid(0x3F00) == 0);
-  CHECK(layer_name(3) == "Intf");
+  CHECK(lmcfg::layers::of_upid(0x0000) == 1);
+  CHECK(lmcfg::layers::of_upid(0x0EFF) == 1);
+  CHECK(lmcfg::layers::of_upid(0x0F00) == 0);
+  CHECK(lmcfg::layers::of_upid(0x13A2) == 2);
+  CHECK(lmcfg::layers::of_upid(0x2076) == 3);
+  CHECK(lmcfg::layers::of_upid(0x3EFF) == 4);
+  CHECK(lmcfg::layers::of_upid(0x3F00) == 0);
+  CHECK(lmcfg::layers::name(3) == "Intf");
 }
 
 TEST_CASE("config: model validation finds problems", "[config]") {

@@ -18,6 +18,7 @@
 #include <chrono>
 #include <filesystem>
 
+#include "common/layers.hpp"
 #include "ops/backup.hpp"
 #include "ops/session.hpp"
 #include "test_reliability_support.hpp"
@@ -190,7 +191,7 @@ TEST_CASE("adaptive deadline: wire-time floor, adapted to measured round trips, 
     // Stop MC, then defaulting a layer (1.2 s): its own long deadline.
     drive->state().timing.turnaround_us = 1'000;
     REQUIRE(c.stop_mc().ok());
-    auto d = c.default_layer(client::kLayerAppl);
+    auto d = c.default_layer(lmcfg::layers::kAppl);
     INFO((d.ok() ? std::string() : d.error().message));
     CHECK(d.ok());
   }

@@ -5,6 +5,7 @@
 #include <catch2/catch.hpp>
 #include <random>
 
+#include "common/layers.hpp"
 #include "ops/diff.hpp"
 #include "ops/factory_reset.hpp"
 #include "test_reliability_support.hpp"
@@ -386,7 +387,7 @@ TEST_CASE(
     };
     rig.client->set_options(o);
     REQUIRE(rig.client->stop_mc().ok());
-    auto r = rig.client->default_layer(client::kLayerMc);
+    auto r = rig.client->default_layer(lmcfg::layers::kMC);
     INFO((r.ok() ? std::string() : r.error().message));
     REQUIRE(r.ok());
     REQUIRE(waited.size() >= 7);
@@ -399,7 +400,7 @@ TEST_CASE(
     o.defaulting_timeout = client::Millis(3000);
     rig.client->set_options(o);
     REQUIRE(rig.client->stop_mc().ok());
-    auto r = rig.client->default_layer(client::kLayerMc);
+    auto r = rig.client->default_layer(lmcfg::layers::kMC);
     REQUIRE_FALSE(r.ok());
     CHECK(r.error().code == Errc::timeout);
     CHECK_THAT(r.error().message,

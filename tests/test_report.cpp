@@ -23,6 +23,7 @@
 
 #include "../bench/report_workload.hpp"
 #include "common/bytes.hpp"
+#include "common/layers.hpp"
 #include "config/config_io.hpp"
 #include "db/database.hpp"
 #include "files.hpp"
@@ -128,9 +129,9 @@ void check_param_rows(const json& page, const std::vector<const config::DriveCon
     seen.insert({p[0].get<std::string>(), p[1].get<std::string>()});
   std::set<std::pair<std::string, std::string>> all;
   for (const auto* c : sides)
-    for (int l = 1; l <= config::kLayerCount; ++l)
+    for (int l = 1; l <= lmcfg::layers::kCount; ++l)
       for (const auto& p : c->layer(l))
-        all.insert({std::string(config::layer_name(l)), hex(p.upid, 4)});
+        all.insert({std::string(lmcfg::layers::name(l)), hex(p.upid, 4)});
   want.insert(all.begin(), all.end());
   CHECK(seen.size() == want.size());
   CHECK(seen == want);

@@ -13,13 +13,6 @@ using namespace codec;
 using detail::hexid;
 using detail::is_link_error;
 
-std::uint16_t layer_base(int layer) { return layers::base_upid(layer); }
-std::optional<int> layer_of(std::uint16_t upid) {
-  const int l = layers::of_upid(upid);
-  return l == 0 ? std::nullopt : std::optional<int>(l);
-}
-const char* layer_name(int layer) { return layers::name(layer).data(); }
-
 Client::Client(transport::Transport& link, ClientOptions opt)
     : link_(link), opt_(opt), decoder_(opt.checksum) {}
 
@@ -465,7 +458,7 @@ Result<void> Client::default_layer(int layer) {
     return Error(Errc::invalid_argument, "layer " + std::to_string(layer) + " is not 1..4");
   LMCFG_ASSIGN_OR_RETURN(
       auto t, transact_long(make_cfg_default_layer(opt_.id, layer), opt_.defaulting_timeout,
-                            std::string("defaulting layer ") + layer_name(layer)));
+                            "defaulting layer " + std::string(lmcfg::layers::name(layer))));
   LMCFG_TRY(decode_id_value(t, static_cast<std::uint8_t>(0x5B + layer)));
   return {};
 }

@@ -173,12 +173,6 @@ struct CurveSizes {
   std::uint16_t data = 0;
 };
 
-// Layers of seed 003 §10.2.
-inline constexpr int kLayerOs = 1, kLayerMc = 2, kLayerIntf = 3, kLayerAppl = 4;
-std::uint16_t layer_base(int layer);              // 0000, 1000, 2000, 3000
-std::optional<int> layer_of(std::uint16_t upid);  // nullopt outside the four ranges
-const char* layer_name(int layer);                // "OS", "MC", "Intf", "Appl"
-
 class Client {
  public:
   Client(transport::Transport& link, ClientOptions opt);

@@ -10,6 +10,7 @@
 
 #include "client/client.hpp"
 #include "client/internal.hpp"
+#include "common/layers.hpp"
 
 namespace lmcfg::client {
 
@@ -32,8 +33,8 @@ struct ModifiedPass {
 }  // namespace
 
 Result<std::vector<ModifiedParam>> Client::modified_list(int layer) {
-  const std::uint16_t base = layer_base(layer);
-  const std::string lname = layer_name(layer);
+  const std::uint16_t base = lmcfg::layers::base_upid(layer);
+  const std::string lname(lmcfg::layers::name(layer));
   // Failures allowed per position: twice the read attempts of a single value.
   RestartBudget budget(2 * (opt_.read_retries + 1), opt_.transfer_deadline);
   std::vector<std::vector<ModifiedParam>> complete;  // passes that ended with C6
@@ -62,7 +63,7 @@ Result<std::vector<ModifiedParam>> Client::modified_list(int layer) {
       }
       reached = pass.params.size() + 1;
       const bool last_one = next->state == state::last_in_list;
-      const bool in_layer = layer_of(next->key) == layer;
+      const bool in_layer = lmcfg::layers::of_upid(next->key) == layer;
       const bool seen = !pass.params.empty() && pass.params.back().upid == next->key;
       if (!last_one) {
         if (!in_layer) {
@@ -149,7 +150,7 @@ Result<std::vector<ModifiedParam>> Client::modified_list(int layer) {
 
 Result<std::vector<UpidInfo>> Client::upid_list(int layer,
                                                 const std::function<void(std::size_t)>& progress) {
-  const std::uint16_t base = layer_base(layer);
+  const std::uint16_t base = lmcfg::layers::base_upid(layer);
   // Failures allowed per position: twice the read attempts of a single value.
   RestartBudget budget(2 * (opt_.read_retries + 1), opt_.transfer_deadline);
   std::vector<std::vector<UpidInfo>> complete;
@@ -174,7 +175,7 @@ Result<std::vector<UpidInfo>> Client::upid_list(int layer,
       auto e = decode_upid_list_entry(*t);
       if (!e.ok()) return std::move(e).error();
       const bool last_one = e->state == state::last_in_list;
-      const bool in_layer = layer_of(e->upid) == layer;
+      const bool in_layer = lmcfg::layers::of_upid(e->upid) == layer;
       const bool seen = !out.empty() && out.back().upid == e->upid;
       if ((!last_one || !seen) && in_layer) out.push_back({e->upid, e->address_usage, e->type});
       if (progress) progress(out.size());
@@ -201,7 +202,7 @@ Result<std::vector<UpidInfo>> Client::upid_list(int layer,
       if (static_cast<int>(complete.size()) >= need + 2 + opt_.read_retries) {
         ++stats_.disagreements;
         return Error(Errc::unexpected_response,
-                     "UPID list of layer " + std::string(layer_name(layer)) + ": " +
+                     "UPID list of layer " + std::string(lmcfg::layers::name(layer)) + ": " +
                          std::to_string(complete.size()) + " complete reads, no " +
                          std::to_string(need) + " of them agree");
       }

@@ -9,6 +9,7 @@
 namespace lmcfg::layers {
 
 inline constexpr int kCount = 4;
+inline constexpr int kOS = 1, kMC = 2, kIntf = 3, kAppl = 4;
 
 // 1..4, or 0 when the UPID lies in no layer's range.
 int of_upid(std::uint32_t upid) noexcept;

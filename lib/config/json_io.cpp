@@ -4,6 +4,7 @@
 #include <set>
 #include <utility>
 
+#include "common/layers.hpp"
 #include "config/atomic_file.hpp"
 #include "config/io_common.hpp"
 #include "config/migrate.hpp"
@@ -354,12 +355,12 @@ Result<DriveConfig> Reader::read_v2(const json& doc) {
   }
 
   // parameters (required)
-  std::array<std::size_t, kLayerCount> layer_index{};
+  std::array<std::size_t, lmcfg::layers::kCount> layer_index{};
   {
     const Ptr p = root / "parameters";
     LMCFG_ASSIGN_OR_RETURN(const json* pj, member(doc, root, "parameters", true));
     LMCFG_TRY(array(*pj, p));
-    std::array<bool, kLayerCount> seen{};
+    std::array<bool, lmcfg::layers::kCount> seen{};
     for (std::size_t li = 0; li < pj->size(); ++li) {
       const Ptr lp = p / li;
       const json& lj = (*pj)[li];

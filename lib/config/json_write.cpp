@@ -1,6 +1,7 @@
 // Writing the canonical JSON form (split from json_io.cpp: reading there).
 #include <nlohmann/json.hpp>
 
+#include "common/layers.hpp"
 #include "config/atomic_file.hpp"
 #include "config/io_common.hpp"
 #include "config/json_io.hpp"
@@ -49,7 +50,7 @@ Result<std::string> write_json(const DriveConfig& in, const WriteOptions& opts) 
   {
     ojson s;
     ojson layers = ojson::array();
-    for (int l = 1; l <= kLayerCount; ++l)
+    for (int l = 1; l <= lmcfg::layers::kCount; ++l)
       if (cfg.scope.layers[static_cast<std::size_t>(l - 1)]) layers.push_back(l);
     s["layers"] = std::move(layers);
     s["parameters"] = to_string(cfg.scope.parameters);
@@ -59,10 +60,10 @@ Result<std::string> write_json(const DriveConfig& in, const WriteOptions& opts) 
   }
   {
     ojson params = ojson::array();
-    for (int l = 1; l <= kLayerCount; ++l) {
+    for (int l = 1; l <= lmcfg::layers::kCount; ++l) {
       ojson lj;
       lj["layer"] = l;
-      lj["name"] = layer_name(l);
+      lj["name"] = lmcfg::layers::name(l);
       ojson arr = ojson::array();
       for (const auto& p : cfg.layer(l)) {
         ojson q;

@@ -3,6 +3,7 @@
 #include <map>
 #include <utility>
 
+#include "common/layers.hpp"
 #include "config/io_common.hpp"
 
 namespace lmcfg::config {
@@ -26,7 +27,7 @@ Result<DriveConfig> migrate_v1_to_v2(const ConfigV1& v1) {
                                                 "upid: expected a UPID 0..65535, found " +
                                                 std::to_string(p.upid));
     const auto upid = static_cast<std::uint32_t>(p.upid);
-    const int layer = layer_of_upid(upid);
+    const int layer = lmcfg::layers::of_upid(upid);
     if (layer == 0)
       return Error(Errc::validation_failed,
                    p.where + v1.field_sep + "upid: UPID " + std::to_string(p.upid) + " (" +

@@ -8,10 +8,6 @@
 
 namespace lmcfg::config {
 
-int layer_of_upid(std::uint32_t upid) noexcept { return layers::of_upid(upid); }
-
-std::string_view layer_name(int layer) noexcept { return layers::name(layer); }
-
 std::string_view to_string(ParamSet s) noexcept {
   return s == ParamSet::full ? "full" : "modified";
 }
@@ -133,7 +129,7 @@ std::string ct_entry_name(ByteView raw) {
 
 // ---------------------------------------------------------------------------
 const Parameter* DriveConfig::find_param(std::uint16_t upid) const {
-  const int l = layer_of_upid(upid);
+  const int l = lmcfg::layers::of_upid(upid);
   if (l == 0) return nullptr;
   for (const auto& p : layer(l))
     if (p.upid == upid) return &p;
@@ -227,27 +223,28 @@ std::optional<Issue> find_issue(const DriveConfig& cfg) {
                      "expected UTF-8 text without control characters"};
     }
   }
-  for (int l = 1; l <= kLayerCount; ++l) {
+  for (int l = 1; l <= lmcfg::layers::kCount; ++l) {
     const auto& params = cfg.layer(l);
-    const auto& info = kLayers[static_cast<std::size_t>(l - 1)];
+    const std::string_view info_name = lmcfg::layers::name(l);
+    const unsigned first_upid = lmcfg::layers::base_upid(l), last_upid = first_upid + 0x0EFFu;
     if (!params.empty() && !cfg.scope.layers[static_cast<std::size_t>(l - 1)]) {
       Issue is{Issue::Where::layer, l, 0, "", ""};
-      is.message = "layer " + std::to_string(l) + " (" + std::string(info.name) +
+      is.message = "layer " + std::to_string(l) + " (" + std::string(info_name) +
                    ") has parameters but is not in the scope's layers";
       return is;
     }
     std::set<std::uint16_t> seen;
     for (std::size_t i = 0; i < params.size(); ++i) {
       const auto& p = params[i];
-      if (p.upid < info.first_upid || p.upid > info.last_upid)
+      if (p.upid < first_upid || p.upid > last_upid)
         return Issue{Issue::Where::param, l, i, "upid",
                      "UPID " + hex(p.upid, 4) + "h is outside layer " + std::to_string(l) + " (" +
-                         std::string(info.name) + ") range " + hex(info.first_upid, 4) + "-" +
-                         hex(info.last_upid, 4)};
+                         std::string(info_name) + ") range " + hex(first_upid, 4) + "-" +
+                         hex(last_upid, 4)};
       if (!seen.insert(p.upid).second)
         return Issue{Issue::Where::param, l, i, "upid",
                      "duplicate UPID " + hex(p.upid, 4) + "h in layer " + std::to_string(l) + " (" +
-                         std::string(info.name) + ")"};
+                         std::string(info_name) + ")"};
       for (const auto& [field, value] :
            {std::pair<const char*, const std::string*>{"name", &p.name},
             {"unit", &p.unit},

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "common/bytes.hpp"
+#include "common/layers.hpp"
 #include "common/result.hpp"
 
 namespace lmcfg::config {
@@ -26,24 +27,7 @@ inline constexpr int kFormatVersion = 2;        // what the writers produce
 inline constexpr int kOldestFormatVersion = 1;  // oldest the readers migrate
 
 // ---------------------------------------------------------------------------
-// Firmware layers (seed 003 §10.2). Layer numbers are 1..4.
-inline constexpr int kLayerCount = 4;
-struct LayerInfo {
-  int number;             // 1..4
-  std::string_view name;  // "OS", "MC", "Intf", "Appl"
-  std::uint16_t first_upid;
-  std::uint16_t last_upid;
-};
-inline constexpr std::array<LayerInfo, kLayerCount> kLayers{{
-    {1, "OS", 0x0000, 0x0EFF},
-    {2, "MC", 0x1000, 0x1EFF},
-    {3, "Intf", 0x2000, 0x2EFF},
-    {4, "Appl", 0x3000, 0x3EFF},
-}};
-// Layer number (1..4) whose UPID range holds `upid`, or 0 when none does.
-int layer_of_upid(std::uint32_t upid) noexcept;
-// "OS", "MC", ... for 1..4; "?" otherwise.
-std::string_view layer_name(int layer) noexcept;
+// Firmware layers: numbers 1..4, ranges and names in common/layers.hpp.
 
 // ---------------------------------------------------------------------------
 // Identity and provenance.
@@ -80,7 +64,7 @@ std::string_view to_string(ParamSet s) noexcept;  // "modified" / "full"
 std::optional<ParamSet> param_set_from_string(std::string_view s) noexcept;
 
 struct Scope {
-  std::array<bool, kLayerCount> layers{true, true, true, true};  // index = layer - 1
+  std::array<bool, lmcfg::layers::kCount> layers{true, true, true, true};  // index = layer - 1
   ParamSet parameters = ParamSet::modified;
   bool curves = true;         // curves captured: absent curve = none on the drive
   bool command_table = true;  // CT captured: absent entry = undefined entry
@@ -182,7 +166,7 @@ class CtEntryDecoder {
 struct DriveConfig {
   Identity identity;
   Scope scope;
-  std::array<std::vector<Parameter>, kLayerCount> layers;  // index = layer - 1
+  std::array<std::vector<Parameter>, lmcfg::layers::kCount> layers;  // index = layer - 1
   std::vector<Curve> curves;
   std::vector<CtEntry> ct_entries;
 

@@ -5,6 +5,7 @@
 #include <sstream>
 #include <utility>
 
+#include "common/layers.hpp"
 #include "config/atomic_file.hpp"
 #include "config/io_common.hpp"
 #include "config/json_io.hpp"  // text_position
@@ -268,8 +269,8 @@ Result<DriveConfig> Reader::read_v2(xml_node root) {
     LMCFG_ASSIGN_OR_RETURN(cfg.scope.command_table, bool_attr(scope, "command_table"));
   }
 
-  std::array<xml_node, kLayerCount> layer_nodes{};
-  std::array<std::vector<xml_node>, kLayerCount> param_nodes;
+  std::array<xml_node, lmcfg::layers::kCount> layer_nodes{};
+  std::array<std::vector<xml_node>, lmcfg::layers::kCount> param_nodes;
   LMCFG_ASSIGN_OR_RETURN(xml_node params, single(root, "parameters", true));
   LMCFG_TRY(shape(params, {}, {"layer"}));
   for (xml_node ln : params.children("layer")) {
@@ -537,7 +538,7 @@ Result<std::string> write_xml(const DriveConfig& in, const WriteOptions& opts) {
   {
     xml_node s = root.append_child("scope");
     std::string layers;
-    for (int l = 1; l <= kLayerCount; ++l)
+    for (int l = 1; l <= lmcfg::layers::kCount; ++l)
       if (cfg.scope.layers[static_cast<std::size_t>(l - 1)])
         layers += (layers.empty() ? "" : " ") + std::to_string(l);
     s.append_attribute("layers") = layers.c_str();
@@ -547,10 +548,10 @@ Result<std::string> write_xml(const DriveConfig& in, const WriteOptions& opts) {
   }
   {
     xml_node ps = root.append_child("parameters");
-    for (int l = 1; l <= kLayerCount; ++l) {
+    for (int l = 1; l <= lmcfg::layers::kCount; ++l) {
       xml_node ln = ps.append_child("layer");
       ln.append_attribute("number") = l;
-      ln.append_attribute("name") = std::string(layer_name(l)).c_str();
+      ln.append_attribute("name") = std::string(lmcfg::layers::name(l)).c_str();
       for (const auto& p : cfg.layer(l)) {
         xml_node pn = ln.append_child("param");
         pn.append_attribute("upid") = detail::upid_hex(p.upid).c_str();

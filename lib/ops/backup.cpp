@@ -4,6 +4,7 @@
 #include <ctime>
 #include <set>
 
+#include "common/layers.hpp"
 #include "common/version.hpp"
 #include "db/database.hpp"
 
@@ -95,7 +96,7 @@ Result<void> describe_from_drive(client::Client& c, const db::Database* db, int 
                                  std::vector<config::Parameter>& params,
                                  const std::set<std::uint16_t>* modified,
                                  const Progress& progress) {
-  const std::string phase = std::string("types and defaults ") + client::layer_name(layer);
+  const std::string phase = "types and defaults " + std::string(lmcfg::layers::name(layer));
   std::size_t n = 0;
   for (auto& p : params) {
     report(progress, phase, ++n, params.size());
@@ -136,7 +137,7 @@ Result<config::DriveConfig> backup(client::Client& c, const BackupOptions& opt,
   std::vector<std::string> notes;
   for (int layer = 1; layer <= 4; ++layer) {
     if (!opt.layers[static_cast<std::size_t>(layer - 1)]) continue;
-    const std::string phase = std::string("parameters ") + client::layer_name(layer);
+    const std::string phase = "parameters " + std::string(lmcfg::layers::name(layer));
     auto& out = cfg.layer(layer);
     if (!opt.full) {
       LMCFG_ASSIGN_OR_RETURN(auto mods, c.modified_list(layer));

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "common/bytes.hpp"
+#include "common/layers.hpp"
 #include "config/atomic_file.hpp"
 #include "db/tsv.hpp"
 
@@ -250,9 +251,9 @@ Result<DbScanResult> scan_drive_profile(client::Client& c, const db::Database* d
 
   // 1. The UPID list of each layer (§10.3). Always walked: the cursor is on the drive.
   std::vector<client::UpidInfo> all;
-  for (int layer = client::kLayerOs; layer <= client::kLayerAppl; ++layer) {
+  for (int layer = lmcfg::layers::kOS; layer <= lmcfg::layers::kAppl; ++layer) {
     if (!opt.layers[static_cast<std::size_t>(layer - 1)]) continue;
-    const std::string phase = std::string("UPID list ") + client::layer_name(layer);
+    const std::string phase = "UPID list " + std::string(lmcfg::layers::name(layer));
     auto list = c.upid_list(layer, [&](std::size_t n) {
       if (opt.progress) opt.progress(phase, n, 0);
     });

@@ -5,6 +5,7 @@
 #include <set>
 
 #include "common/bytes.hpp"
+#include "common/layers.hpp"
 #include "db/ct_entry.hpp"
 #include "db/database.hpp"
 #include "ops/backup.hpp"
@@ -125,11 +126,11 @@ Recorded recorded(const ByUpid& a, const ByUpid& b, std::uint16_t upid) {
   return r;
 }
 
-std::string layer_list(const std::array<bool, config::kLayerCount>& layers) {
+std::string layer_list(const std::array<bool, lmcfg::layers::kCount>& layers) {
   std::string s;
-  for (int l = 1; l <= config::kLayerCount; ++l)
+  for (int l = 1; l <= lmcfg::layers::kCount; ++l)
     if (layers[static_cast<std::size_t>(l - 1)])
-      s += (s.empty() ? "" : ", ") + std::string(config::layer_name(l));
+      s += (s.empty() ? "" : ", ") + std::string(lmcfg::layers::name(l));
   return s.empty() ? "no layer" : s;
 }
 
@@ -145,7 +146,7 @@ void diff_parameters(const config::DriveConfig& a, const config::DriveConfig& b,
       DiffItem it;
       it.kind = DiffItem::Kind::scope;
       it.layer = layer;
-      it.name = "layer " + std::string(config::layer_name(layer));
+      it.name = "layer " + std::string(lmcfg::layers::name(layer));
       it.a = in_a ? "captured" : "not captured";
       it.b = in_b ? "captured" : "not captured";
       it.detail = std::to_string(holder.layer(layer).size()) + " parameter(s) on the " +
@@ -197,7 +198,7 @@ void diff_parameters(const config::DriveConfig& a, const config::DriveConfig& b,
       const std::string name = d && !d->name.empty() ? d->name : rec.name;
       if (same && !type_differs) {
         if (!bad_a.empty())
-          r.notes.push_back(std::string(config::layer_name(layer)) + " " + hex(upid, 4, "h") +
+          r.notes.push_back(std::string(lmcfg::layers::name(layer)) + " " + hex(upid, 4, "h") +
                             (name.empty() ? "" : " " + name) +
                             ": both sides hold the invalid value " +
                             show(ea, db, upid, def, ta, bad_a));
@@ -467,7 +468,7 @@ std::string render_text(const DiffResult& r, const std::string& an, const std::s
         out += "  " + it.name + ": " + it.a + " -> " + it.b + " (" + it.detail + ")\n";
         break;
       case DiffItem::Kind::parameter:
-        head(std::string("layer ") + std::string(config::layer_name(it.layer)));
+        head(std::string("layer ") + std::string(lmcfg::layers::name(it.layer)));
         out += "  " + hex(it.key, 4, "h") + " " + (it.name.empty() ? "(name unknown)" : it.name) +
                ": " + it.a + " -> " + it.b + (it.detail.empty() ? "" : " (" + it.detail + ")") +
                "\n";
@@ -494,8 +495,8 @@ namespace {
 nlohmann::ordered_json scope_json(const config::Scope& s) {
   nlohmann::ordered_json j;
   j["layers"] = nlohmann::ordered_json::array();
-  for (int l = 1; l <= config::kLayerCount; ++l)
-    if (s.layers[static_cast<std::size_t>(l - 1)]) j["layers"].push_back(config::layer_name(l));
+  for (int l = 1; l <= lmcfg::layers::kCount; ++l)
+    if (s.layers[static_cast<std::size_t>(l - 1)]) j["layers"].push_back(lmcfg::layers::name(l));
   j["parameters"] = config::to_string(s.parameters);
   j["curves"] = s.curves;
   j["command_table"] = s.command_table;
@@ -516,7 +517,7 @@ std::string render_json(const DiffResult& r, const std::string& an, const std::s
     nlohmann::ordered_json d;
     d["kind"] = kind_name(it.kind);
     if (it.kind == DiffItem::Kind::parameter) {
-      d["layer"] = std::string(config::layer_name(it.layer));
+      d["layer"] = std::string(lmcfg::layers::name(it.layer));
       d["upid"] = hex(it.key, 4, "h").substr(0, 4);
     } else if (it.kind == DiffItem::Kind::curve || it.kind == DiffItem::Kind::ct_entry) {
       d["id"] = it.key;

@@ -2,6 +2,7 @@
 
 #include <map>
 
+#include "common/layers.hpp"
 #include "config/model.hpp"
 #include "db/database.hpp"
 #include "ops/recovery.hpp"
@@ -49,8 +50,8 @@ Result<DefaultReport> default_drive(client::Client& c, const DefaultOptions& opt
     LMCFG_ASSIGN_OR_RETURN(auto found, load_recovery(opt.recovery_path));
     if (found && !opt.include_comm) {
       for (const auto& k : found->keep) {
-        const auto layer = client::layer_of(k.upid);
-        if (layer && opt.layers[static_cast<std::size_t>(*layer - 1)]) keep[k.upid] = k.value;
+        const int layer = lmcfg::layers::of_upid(k.upid);
+        if (layer != 0 && opt.layers[static_cast<std::size_t>(layer - 1)]) keep[k.upid] = k.value;
       }
       rep.recovered = true;
       rep.recovery_note = "found the recovery record " + record + " of an interrupted run (" +
@@ -69,7 +70,7 @@ Result<DefaultReport> default_drive(client::Client& c, const DefaultOptions& opt
   bool rom_changed = false;
   for (int layer = 1; layer <= 4; ++layer) {
     if (!opt.layers[static_cast<std::size_t>(layer - 1)]) continue;
-    LMCFG_TRY(step(std::string("default ") + client::layer_name(layer) + " layer",
+    LMCFG_TRY(step("default " + std::string(lmcfg::layers::name(layer)) + " layer",
                    c.default_layer(layer)));
     rom_changed = true;
   }

@@ -8,6 +8,7 @@
 #include <set>
 
 #include "common/bytes.hpp"
+#include "common/layers.hpp"
 #include "db/database.hpp"
 #include "db/value.hpp"
 #include "ops/backup.hpp"
@@ -93,7 +94,7 @@ std::string diff_key(const DiffItem& it) {
   std::string s =
       " data-kind=\"" + std::string(ops::kind_name(it.kind)) + "\" data-key=\"" + key + "\"";
   if (it.kind == DiffItem::Kind::parameter)
-    s += " data-layer=\"" + std::string(config::layer_name(it.layer)) + "\"";
+    s += " data-layer=\"" + std::string(lmcfg::layers::name(it.layer)) + "\"";
   return s;
 }
 
@@ -161,7 +162,7 @@ input.toggle{margin-left:0}
 }
 )css";
 
-std::string layer_name(int l) { return std::string(config::layer_name(l)); }
+std::string layer_name(int l) { return std::string(lmcfg::layers::name(l)); }
 
 // The database's entry, the name it or the capture knows.
 struct ParamInfo {
@@ -266,7 +267,7 @@ void chunk_break(std::string& rows, std::size_t& n, const char* cls) {
 // ------------------------------------------------------------ one configuration
 
 void params_single(std::string& out, const config::DriveConfig& cfg, const db::Database* db) {
-  for (int l = 1; l <= config::kLayerCount; ++l) {
+  for (int l = 1; l <= lmcfg::layers::kCount; ++l) {
     const auto& ps = cfg.layer(l);
     if (!cfg.scope.layers[static_cast<std::size_t>(l - 1)]) {
       out += "<p>Layer " + layer_name(l) + ": not captured.</p>\n";
@@ -334,7 +335,7 @@ void params_diff(std::string& out, const config::DriveConfig& a, const config::D
   std::map<std::pair<int, std::uint32_t>, const DiffItem*> items;
   for (const auto& it : r.items)
     if (it.kind == DiffItem::Kind::parameter) items[{it.layer, it.key}] = &it;
-  for (int l = 1; l <= config::kLayerCount; ++l) {
+  for (int l = 1; l <= lmcfg::layers::kCount; ++l) {
     const auto la = by_upid(a, l), lb = by_upid(b, l);
     std::set<std::uint16_t> upids;
     for (const auto& [u, p] : la) upids.insert(u);
@@ -418,8 +419,8 @@ void identity_diff(std::string& out, const config::DriveConfig& a, const config:
 void summary(std::string& out, const config::DriveConfig& a, const config::DriveConfig& b,
              const DiffResult& r) {
   std::map<std::string, std::array<std::size_t, 3>> n;  // changed, added, removed
-  std::array<ByUpid, config::kLayerCount> pa, pb;
-  for (int l = 1; l <= config::kLayerCount; ++l) {
+  std::array<ByUpid, lmcfg::layers::kCount> pa, pb;
+  for (int l = 1; l <= lmcfg::layers::kCount; ++l) {
     pa[static_cast<std::size_t>(l - 1)] = by_upid(a, l);
     pb[static_cast<std::size_t>(l - 1)] = by_upid(b, l);
   }

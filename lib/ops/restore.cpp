@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "common/bytes.hpp"
+#include "common/layers.hpp"
 #include "db/database.hpp"
 #include "ops/restore_internal.hpp"
 
@@ -26,7 +27,7 @@ std::string param_name(std::uint16_t, const db::Parameter* d, const config::Para
 
 std::string param_label(int layer, std::uint16_t upid, const db::Parameter* d,
                         const config::Parameter* p) {
-  std::string s = std::string(config::layer_name(layer)) + " " + hex(upid, 4, "h");
+  std::string s = std::string(lmcfg::layers::name(layer)) + " " + hex(upid, 4, "h");
   const std::string name = param_name(upid, d, p);
   if (!name.empty()) s += " " + name;
   return s;

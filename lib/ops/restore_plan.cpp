@@ -4,6 +4,7 @@
 #include <set>
 
 #include "common/bytes.hpp"
+#include "common/layers.hpp"
 #include "db/database.hpp"
 #include "ops/recovery.hpp"
 #include "ops/restore.hpp"
@@ -43,7 +44,7 @@ Result<void> check_parameter(client::Client& c, const db::Database* db, int laye
     auto it = listed->find(p.upid);
     if (it == listed->end()) {
       plan.problems.push_back(label + ": UPID does not exist on the target (not in its " +
-                              std::string(config::layer_name(layer)) + " UPID list, §10.3)");
+                              std::string(lmcfg::layers::name(layer)) + " UPID list, §10.3)");
       return {};
     }
     type = it->second.type;
@@ -459,7 +460,7 @@ Result<Plan> plan_restore(client::Client& c, const config::DriveConfig& file,
     // kept: the record has them (docs/restore.md).
     if (rec && !opt.include_comm) {
       for (const auto& k : rec->keep) {
-        if (client::layer_of(k.upid) != layer || restored.count(k.upid)) continue;
+        if (lmcfg::layers::of_upid(k.upid) != layer || restored.count(k.upid)) continue;
         config::Parameter kp{k.upid, k.value, std::nullopt, std::nullopt, {}, {}, {}};
         auto same = [&](const config::Parameter& x) { return x.upid == k.upid; };
         std::erase_if(w.keep, same);
@@ -481,14 +482,14 @@ Result<Plan> plan_restore(client::Client& c, const config::DriveConfig& file,
     });
     std::optional<std::map<std::uint16_t, client::UpidInfo>> listed;
     if (au_unknown) {
-      const std::string phase = "plan: " + std::string(config::layer_name(layer)) + " UPID list";
+      const std::string phase = "plan: " + std::string(lmcfg::layers::name(layer)) + " UPID list";
       LMCFG_ASSIGN_OR_RETURN(auto list, c.upid_list(layer, [&](std::size_t n) {
         if (opt.progress) opt.progress(phase, n, 0);
       }));
       listed.emplace();
       for (const auto& u : list) (*listed)[u.upid] = u;
       plan.notes.push_back(
-          std::string(config::layer_name(layer)) +
+          std::string(lmcfg::layers::name(layer)) +
           ": the UPID database does not know the address usage of " + std::to_string(au_unknown) +
           " parameter(s); read the target's UPID list (" + std::to_string(list.size()) +
           " UPIDs, §10.3) to check ROM write access");
@@ -517,7 +518,7 @@ Result<Plan> plan_restore(client::Client& c, const config::DriveConfig& file,
   bool rom_changed = false;
   for (auto& w : work) {
     const std::size_t first_step = plan.steps.size();
-    const std::string lname(config::layer_name(w.layer));
+    const std::string lname(lmcfg::layers::name(w.layer));
     plan.expected.layer(w.layer) = w.expected;
     // Leftovers go back to their defaults either by defaulting the layer
     // (§10.4, > 1 s; then what the target already held must be written again)

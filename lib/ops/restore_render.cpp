@@ -1,6 +1,7 @@
 // Restore: the plan for people (render_plan) and as structured items
 // (plan_json, documented in docs/restore.md). See restore.hpp.
 #include "common/bytes.hpp"
+#include "common/layers.hpp"
 #include "ops/restore.hpp"
 #include "ops/restore_internal.hpp"
 
@@ -78,7 +79,7 @@ nlohmann::ordered_json plan_json(const Plan& p) {
     o["action"] = action_name(s.action);
     switch (s.action) {
       case PlanStep::Action::write_rom:
-        o["layer"] = std::string(config::layer_name(s.layer));
+        o["layer"] = std::string(lmcfg::layers::name(s.layer));
         o["upid"] = hex(s.key, 4);
         o["name"] = s.name;
         if (s.old_value)
@@ -89,7 +90,7 @@ nlohmann::ordered_json plan_json(const Plan& p) {
         o["why"] = s.why;
         break;
       case PlanStep::Action::default_layer:
-        o["layer"] = std::string(config::layer_name(s.layer));
+        o["layer"] = std::string(lmcfg::layers::name(s.layer));
         break;
       case PlanStep::Action::write_ct:
       case PlanStep::Action::delete_ct:

@@ -2,6 +2,7 @@
 #include <map>
 
 #include "common/bytes.hpp"
+#include "common/layers.hpp"
 #include "ops/restore.hpp"
 #include "ops/restore_internal.hpp"
 
@@ -12,7 +13,7 @@ Result<VerifyReport> verify_restore(client::Client& c, const Plan& p, const Rest
   const config::DriveConfig& want = p.expected;
   for (int layer = 1; layer <= 4; ++layer) {
     if (!want.scope.layers[static_cast<std::size_t>(layer - 1)]) continue;
-    const std::string lname(config::layer_name(layer));
+    const std::string lname(lmcfg::layers::name(layer));
     LMCFG_ASSIGN_OR_RETURN(auto mods, c.modified_list(layer));
     std::map<std::uint16_t, std::uint32_t> on_drive;
     for (const auto& m : mods) on_drive[m.upid] = m.value;
