@@ -27,18 +27,8 @@ struct Run {
   double seconds = 0;
 };
 
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    path = fs::temp_directory_path() /
-           ("lmcfg-scan-" + std::to_string(::getpid()) + "-" +
-            std::to_string(std::chrono::steady_clock::now().time_since_epoch().count()));
-    fs::create_directories(path);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
+struct TempDir : test::ScratchDir {
+  TempDir() : ScratchDir("scan") {}
 };
 
 Run tool(const fs::path& dir, const std::string& args) {

@@ -25,45 +25,14 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct Run {
-  int exit_code = -1;
-  std::string out, err;
+using Run = test::ToolRun;
+using test::slurp;
+
+struct TempDir : test::ScratchDir {
+  TempDir() : ScratchDir("variants") {}
 };
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    path = fs::temp_directory_path() /
-           ("lmcfg-variants-" + std::to_string(::getpid()) + "-" +
-            std::to_string(std::chrono::steady_clock::now().time_since_epoch().count()));
-    fs::create_directories(path);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
-};
-
-// XDG_STATE_HOME in the test's directory: the recovery records of restore and
-// default are named after port and MACID, which parallel tests share.
-Run tool(const fs::path& dir, const std::string& args) {
-  const std::string cmd = "cd '" + dir.string() + "' && XDG_STATE_HOME='" + dir.string() + "' '" +
-                          std::string(LMCFG_TOOL_PATH) + "' " + args +
-                          " >stdout.txt 2>stderr.txt </dev/null";
-  const int rc = std::system(cmd.c_str());
-  Run r;
-  r.exit_code = WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
-  r.out = slurp(dir / "stdout.txt");
-  r.err = slurp(dir / "stderr.txt");
-  return r;
-}
+Run tool(const fs::path& dir, const std::string& args) { return test::run_tool_in(dir, args); }
 
 struct Variant {
   std::string name;

@@ -19,6 +19,7 @@
 #include "common/result.hpp"
 #include "files.hpp"
 #include "sim/state_file.hpp"
+#include "subprocess.hpp"
 #include "trace_support.hpp"
 
 using namespace lmcfg;
@@ -40,42 +41,19 @@ const BadFile kBadFiles[] = {
 #include "fixtures/config/bad/expected.inc"
 };
 
-struct Run {
-  int exit_code = -1;
-  std::string err;  // stderr
-  std::string out;  // stdout
-};
+using Run = test::ToolRun;
 
-// Runs `lmcfg ARGS` in `dir`; stdout and stderr to files.
-Run tool(const fs::path& dir, const std::string& args) {
-  // Recovery records (ops/recovery.hpp) stay inside the test's directory.
-  const std::string cmd = "cd '" + dir.string() + "' && XDG_STATE_HOME='" + dir.string() + "' '" +
-                          std::string(LMCFG_TOOL_PATH) + "' " + args +
-                          " >stdout.txt 2>stderr.txt </dev/null";
-  const int rc = std::system(cmd.c_str());
-  Run r;
-  r.exit_code = WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
-  r.err = slurp(dir / "stderr.txt");
-  r.out = slurp(dir / "stdout.txt");
-  return r;
-}
+// Runs `lmcfg ARGS` in `dir`; stdout and stderr to files, recovery records
+// (ops/recovery.hpp) inside the test's directory.
+Run tool(const fs::path& dir, const std::string& args) { return test::run_tool_in(dir, args); }
 
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    static int n = 0;
-    path = fs::temp_directory_path() /
-           ("lmcfg-rel-" + std::to_string(::getpid()) + "-" + std::to_string(++n));
-    fs::remove_all(path);
+struct TempDir : test::ScratchDir {
+  TempDir() : ScratchDir("rel") {
     fs::create_directories(path / "bad");
     fs::copy_file(fs::path(LMCFG_SOURCE_DIR) / "tests/fixtures/sim/used-spare.json",
                   path / "spare.json");
     fs::copy_file(fs::path(LMCFG_SOURCE_DIR) / "tests/fixtures/sim/commissioned-axis.json",
                   path / "axis.json");
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
   }
 };
 

@@ -26,6 +26,25 @@ inline std::string slurp(const std::filesystem::path& p) {
   return s.str();
 }
 
+// A directory of one test's own, removed afterwards:
+// TMPDIR/lmcfg-PREFIX-PID-N (N counts within the process).
+struct ScratchDir {
+  std::filesystem::path path;
+  explicit ScratchDir(const std::string& prefix) {
+    static int n = 0;
+    path = std::filesystem::temp_directory_path() /
+           ("lmcfg-" + prefix + "-" + std::to_string(::getpid()) + "-" + std::to_string(++n));
+    std::filesystem::remove_all(path);
+    std::filesystem::create_directories(path);
+  }
+  ~ScratchDir() {
+    std::error_code ec;
+    std::filesystem::remove_all(path, ec);
+  }
+  ScratchDir(const ScratchDir&) = delete;
+  ScratchDir& operator=(const ScratchDir&) = delete;
+};
+
 // Replaces the file's content with `text`.
 inline void spit(const std::filesystem::path& p, const std::string& text) {
   std::ofstream out(p, std::ios::binary | std::ios::trunc);

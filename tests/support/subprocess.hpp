@@ -7,8 +7,11 @@
 #include <unistd.h>
 
 #include <cstdlib>
+#include <filesystem>
 #include <string>
 #include <vector>
+
+#include "files.hpp"
 
 namespace lmcfg::test {
 
@@ -64,6 +67,27 @@ class Child {
   pid_t pid_ = -1;
   int out_ = -1;
 };
+
+struct ToolRun {
+  int exit_code = -1;
+  std::string out;  // stdout
+  std::string err;  // stderr
+};
+// `lmcfg ARGS` run in `dir` (stdin /dev/null; stdout and stderr kept in
+// dir/stdout.txt and dir/stderr.txt). XDG_STATE_HOME is `dir`: the recovery
+// records of restore and default (ops/recovery.hpp) are named after port and
+// MACID, which parallel tests share.
+inline ToolRun run_tool_in(const std::filesystem::path& dir, const std::string& args) {
+  const std::string cmd = "cd '" + dir.string() + "' && XDG_STATE_HOME='" + dir.string() + "' '" +
+                          std::string(LMCFG_TOOL_PATH) + "' " + args +
+                          " >stdout.txt 2>stderr.txt </dev/null";
+  const int rc = std::system(cmd.c_str());
+  ToolRun r;
+  r.exit_code = WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+  r.out = slurp(dir / "stdout.txt");
+  r.err = slurp(dir / "stderr.txt");
+  return r;
+}
 
 inline int run_tool(const std::string& args) {
   const int rc = std::system((std::string(LMCFG_TOOL_PATH) + " " + args).c_str());
