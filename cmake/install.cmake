@@ -29,8 +29,8 @@ set(CPACK_PACKAGING_INSTALL_PREFIX /usr)
 set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
 set(CPACK_DEBIAN_PACKAGE_RELEASE 1)
 set(CPACK_DEBIAN_PACKAGE_SECTION utils)
-# Runtime libraries from dpkg-shlibdeps (libsqlite3-0, libpugixml1v5, libstdc++6, libc6).
+# Runtime libraries from dpkg-shlibdeps (libsqlite3-0, libpugixml1v5, libgit2-1.5, libtomlplusplus3, libstdc++6, libc6).
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
 # For the installed CMake package (headers and static library): what lmcfgConfig.cmake finds.
-set(CPACK_DEBIAN_PACKAGE_SUGGESTS "libsqlite3-dev, libpugixml-dev, nlohmann-json3-dev, pkg-config, bash-completion")
+set(CPACK_DEBIAN_PACKAGE_SUGGESTS "libsqlite3-dev, libpugixml-dev, libgit2-dev, libtomlplusplus-dev, nlohmann-json3-dev, pkg-config, bash-completion")
 include(CPack)

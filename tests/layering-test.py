@@ -14,6 +14,7 @@ ALLOWED = {  # as lib/CMakeLists.txt declares, with the layer itself
     "client": {"client", "codec", "transport", "common"},
     "sim": {"sim", "codec", "transport", "common"},
     "ops": {"ops", "client", "config", "db", "codec", "transport", "common"},
+    "fleet": {"fleet", "ops", "client", "config", "db", "codec", "transport", "common"},
 }
 build, source = sys.argv[1], sys.argv[2]
 commands = json.load(open(os.path.join(build, "compile_commands.json")))

@@ -201,11 +201,11 @@ TEST_CASE("first steps: lmcfg sim alone serves the demo axis on a pty", "[cli][s
 TEST_CASE("first steps: unknown subcommands and stray words are errors naming them",
           "[cli][first-steps]") {
   TempDir d;
-  auto fleet = tool(d.path, "fleet backup x");
+  auto fleet = tool(d.path, "fleat backup x");
   CHECK(fleet.exit_code == 2);
   CHECK(fleet.err ==
-        "lmcfg: unknown subcommand 'fleet' (one of: backup, diff, report, restore, default, get, "
-        "set, db, info, convert, scan, sim; see lmcfg --help)\n");
+        "lmcfg: unknown subcommand 'fleat' (one of: backup, diff, report, restore, default, get, "
+        "set, db, info, convert, scan, sim, fleet; see lmcfg --help)\n");
   auto stray = tool(d.path, "info stray --port sim:none.json");
   CHECK(stray.exit_code == 2);
   CHECK(stray.err == "lmcfg: unexpected argument 'stray' (see lmcfg SUBCOMMAND --help)\n");

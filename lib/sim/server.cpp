@@ -19,6 +19,11 @@ namespace lmcfg::sim {
 
 Result<void> serve(Drive& drive, transport::Transport& link, const ServeOptions& opt,
                    ServeStats* stats) {
+  return serve_bus({&drive}, link, opt, stats);
+}
+
+Result<void> serve_bus(const std::vector<Drive*>& drives, transport::Transport& link,
+                       const ServeOptions& opt, ServeStats* stats) {
   using clock = std::chrono::steady_clock;
   const auto start = clock::now();
   // Without real time the answers go out at once; the drive's clock then jumps
@@ -31,14 +36,17 @@ Result<void> serve(Drive& drive, transport::Transport& link, const ServeOptions&
   struct Due {
     std::int64_t at_ns;
     Bytes bytes;
+    const Drive* from;
   };
   std::vector<Due> pending;  // sorted by at_ns
   ServeStats local;
   ServeStats& st = stats ? *stats : local;
-  auto wrong_baud = [&] {
+  // Every drive hears every byte at its own baud rate; only the addressed one
+  // answers (an RS485 line, seed 003 §2).
+  auto wrong_baud = [&](const Drive& d) {
     if (!opt.master_baud) return false;
     const auto b = opt.master_baud();
-    return b && *b != drive.state().link.baud;
+    return b && *b != d.state().link.baud;
   };
 
   while (!(opt.should_stop && opt.should_stop())) {
@@ -54,26 +62,29 @@ Result<void> serve(Drive& drive, transport::Transport& link, const ServeOptions&
     if (!r->empty()) {
       st.bytes_in += r->size();
       if (opt.trace) opt.trace(false, *r);
-      if (wrong_baud()) {
-        st.bytes_at_wrong_baud += r->size();
-        r->clear();
-      }
-      for (auto& a : drive.receive(*r, t)) {
-        std::int64_t at = t;
-        if (opt.real_time) {
-          at += a.delay_ns + wire_time_ns(a.bytes.size(), drive.state().link);
-        } else {
-          skipped_ns += a.delay_ns;
+      for (Drive* drive : drives) {
+        if (wrong_baud(*drive)) {
+          st.bytes_at_wrong_baud += r->size();
+          continue;
         }
-        auto pos = std::upper_bound(pending.begin(), pending.end(), at,
-                                    [](std::int64_t v, const Due& d) { return v < d.at_ns; });
-        pending.insert(pos, Due{at, std::move(a.bytes)});
+        for (auto& a : drive->receive(*r, t)) {
+          std::int64_t at = t;
+          if (opt.real_time) {
+            at += a.delay_ns + wire_time_ns(a.bytes.size(), drive->state().link);
+          } else {
+            skipped_ns += a.delay_ns;
+          }
+          auto pos = std::upper_bound(pending.begin(), pending.end(), at,
+                                      [](std::int64_t v, const Due& d) { return v < d.at_ns; });
+          pending.insert(pos, Due{at, std::move(a.bytes), drive});
+        }
       }
     }
     while (!pending.empty() && pending.front().at_ns <= now_ns()) {
       Bytes out = std::move(pending.front().bytes);
+      const Drive* from = pending.front().from;
       pending.erase(pending.begin());
-      if (wrong_baud()) {  // e.g. the drive rebooted at another rate before answering
+      if (wrong_baud(*from)) {  // e.g. the drive rebooted at another rate before answering
         st.bytes_at_wrong_baud += out.size();
         continue;
       }

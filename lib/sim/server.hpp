@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "sim/drive.hpp"
 #include "transport/pty.hpp"
@@ -35,6 +36,10 @@ struct ServeStats {
 // (returns its error; Errc::link_closed when the peer went away).
 Result<void> serve(Drive& drive, transport::Transport& link, const ServeOptions& opt,
                    ServeStats* stats = nullptr);
+// The same for an RS485 line with several drives (distinct MACIDs): every
+// drive hears every byte; only the addressed one answers.
+Result<void> serve_bus(const std::vector<Drive*>& drives, transport::Transport& link,
+                       const ServeOptions& opt, ServeStats* stats = nullptr);
 
 // Loopback TCP listener for `lmcfg sim --tcp`. Port 0 picks a free port;
 // the bound port is returned in `bound_port`.

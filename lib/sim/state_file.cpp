@@ -5,6 +5,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "common/bytes.hpp"
 #include "sim/link.hpp"
 
 namespace lmcfg::sim {
@@ -442,18 +443,44 @@ Result<void> save_state(const DriveState& s, const std::string& path) {
 
 transport::LinkFactory state_file_link_factory() {
   return [](const transport::LinkRequest& req) -> Result<transport::OpenedLink> {
-    LMCFG_ASSIGN_OR_RETURN(auto state, load_state(req.address));
-    auto drive = std::make_shared<Drive>(std::move(state));
-    auto link = std::make_unique<SimLink>(drive);
+    std::vector<std::string> paths;
+    for (std::size_t from = 0;;) {
+      const auto comma = req.address.find(',', from);
+      paths.push_back(req.address.substr(from, comma - from));
+      if (comma == std::string::npos) break;
+      from = comma + 1;
+    }
+    std::vector<std::shared_ptr<Drive>> drives;
+    for (const auto& path : paths) {
+      LMCFG_ASSIGN_OR_RETURN(auto state, load_state(path));
+      for (std::size_t i = 0; i < drives.size(); ++i) {
+        if (drives[i]->state().macid == state.macid) {
+          return Error(Errc::invalid_argument, path + ": MACID " + hex(state.macid, 2, "h") +
+                                                   " is already used by " + paths[i] +
+                                                   " on this line");
+        }
+      }
+      drives.push_back(std::make_shared<Drive>(std::move(state)));
+    }
+    // The line runs at the first drive's settings; a drive at other settings
+    // hears nothing until the master switches to them.
+    transport::SerialSettings line;
+    line.baud = drives.front()->state().link.baud;
+    line.parity = drives.front()->state().link.parity;
+    line.stop_bits = drives.front()->state().link.stop_bits;
+    auto bus = std::make_shared<Bus>(drives.front()->state().link);
+    for (auto& d : drives) bus->add(d);
+    auto link = std::make_unique<SimLink>(bus);
     link->set_real_time(req.real_time_peer);
     transport::OpenedLink out;
-    transport::SerialSettings line;
-    line.baud = drive->state().link.baud;
-    line.parity = drive->state().link.parity;
-    line.stop_bits = drive->state().link.stop_bits;
     out.line = line;
     out.link = std::move(link);
-    out.on_close = [drive, path = req.address]() { return save_state(drive->state(), path); };
+    out.on_close = [drives, paths]() -> Result<void> {
+      for (std::size_t i = 0; i < drives.size(); ++i) {
+        LMCFG_TRY(save_state(drives[i]->state(), paths[i]));
+      }
+      return {};
+    };
     return out;
   };
 }

@@ -5,9 +5,11 @@
 #include <unistd.h>
 
 #include <cstdio>
+#include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "command.hpp"
 #include "common/bytes.hpp"
@@ -24,7 +26,7 @@ volatile sig_atomic_t g_stop = 0;
 void on_signal(int) { g_stop = 1; }
 
 struct SimArgs {
-  std::string state;
+  std::vector<std::string> states;
   bool pty = false;
   std::string tcp;
   bool save_on_exit = false;
@@ -66,17 +68,43 @@ std::string link_options_for(const std::string& port, const sim::DriveState& s) 
   return o + " --id " + id + " " + ops::checksum_options(s.checksum);
 }
 
+// The drives on the served line: the demo axis, or one per --state file
+// (several: an RS485 line with distinct MACIDs).
+Result<std::vector<std::unique_ptr<sim::Drive>>> load_drives(
+    const std::vector<std::string>& states) {
+  std::vector<std::unique_ptr<sim::Drive>> drives;
+  if (states.empty()) {
+    LMCFG_ASSIGN_OR_RETURN(auto st, demo_axis());
+    drives.push_back(std::make_unique<sim::Drive>(std::move(st)));
+    return drives;
+  }
+  std::map<std::uint8_t, std::string> seen;
+  for (const auto& path : states) {
+    LMCFG_ASSIGN_OR_RETURN(auto st, sim::load_state(path));
+    auto [it, fresh] = seen.emplace(st.macid, path);
+    if (!fresh) {
+      return Error(Errc::invalid_argument, path + ": MACID " + hex(st.macid, 2, "h") +
+                                               " is already used by " + it->second +
+                                               " on this line");
+    }
+    drives.push_back(std::make_unique<sim::Drive>(std::move(st)));
+  }
+  return drives;
+}
+
 int run(const SimArgs& a) {
-  if (a.state.empty() && a.save_on_exit) {
+  if (a.states.empty() && a.save_on_exit) {
     std::fprintf(stderr, "lmcfg sim: --save-on-exit needs --state FILE to save to\n");
     return kInvalidInput;
   }
-  auto st = a.state.empty() ? demo_axis() : sim::load_state(a.state);
-  if (!st.ok()) {
-    std::fprintf(stderr, "lmcfg sim: %s\n", st.error().message.c_str());
+  auto loaded = load_drives(a.states);
+  if (!loaded.ok()) {
+    std::fprintf(stderr, "lmcfg sim: %s\n", loaded.error().message.c_str());
     return kInvalidInput;
   }
-  sim::Drive drive(std::move(st).value());
+  std::vector<sim::Drive*> line;
+  for (auto& d : *loaded) line.push_back(d.get());
+  sim::Drive& drive = *line.front();
 
   struct sigaction sa {};
   sa.sa_handler = on_signal;
@@ -121,7 +149,7 @@ int run(const SimArgs& a) {
       }
       if (!c->valid()) continue;
       transport::FdTransport t(std::move(c).value(), "tcp client of lmcfg sim");
-      auto r = sim::serve(drive, t, opt);
+      auto r = sim::serve_bus(line, t, opt);
       if (!r.ok() && r.error().code != make_error_code(Errc::link_closed))
         std::fprintf(stderr, "lmcfg sim: %s\n", r.error().message.c_str());
     }
@@ -135,7 +163,7 @@ int run(const SimArgs& a) {
     std::printf("%s\n", p->slave_path.c_str());
     std::printf("link options: %s\n", link_options_for(p->slave_path, drive.state()).c_str());
     std::fflush(stdout);
-    if (a.state.empty()) {
+    if (a.states.empty()) {
       std::fprintf(stderr,
                    "lmcfg sim: serving the README demo axis on %s (Ctrl-C stops); try:\n"
                    "  lmcfg info %s\n  lmcfg backup %s -o axis.json\n",
@@ -155,16 +183,18 @@ int run(const SimArgs& a) {
       }
       return b;
     };
-    auto r = sim::serve(drive, t, opt);
+    auto r = sim::serve_bus(line, t, opt);
     if (!r.ok()) {
       std::fprintf(stderr, "lmcfg sim: %s\n", r.error().message.c_str());
       rc = kCommFailure;
     }
   }
   if (a.save_on_exit) {
-    if (auto s = sim::save_state(drive.state(), a.state); !s.ok()) {
-      std::fprintf(stderr, "lmcfg sim: %s\n", s.error().message.c_str());
-      return kInternal;
+    for (std::size_t i = 0; i < line.size(); ++i) {
+      if (auto s = sim::save_state(line[i]->state(), a.states[i]); !s.ok()) {
+        std::fprintf(stderr, "lmcfg sim: %s\n", s.error().message.c_str());
+        return kInternal;
+      }
     }
   }
   return rc;
@@ -176,8 +206,9 @@ void add_sim(CLI::App& app, int& exit_code) {
   auto args = std::make_shared<SimArgs>();
   auto* cmd = app.add_subcommand(
       "sim", "Serve a simulated LinMot drive (LinRS) on a pseudo-terminal or TCP port");
-  cmd->add_option("--state", args->state,
-                  "Sim state file (JSON, see docs/simulator.md); default: the README demo axis");
+  cmd->add_option("--state", args->states,
+                  "Sim state file (JSON, see docs/simulator.md); default: the README demo axis. "
+                  "Repeat for several drives on one RS485 line (distinct MACIDs)");
   auto* pty = cmd->add_flag("--pty", args->pty,
                             "Serve on a new pseudo-terminal; prints its slave path (default)");
   cmd->add_option("--tcp", args->tcp,

@@ -1,0 +1,189 @@
+#include "fleet/archive.hpp"
+
+#include <git2.h>
+
+#include <filesystem>
+#include <mutex>
+
+namespace lmcfg::fleet {
+namespace {
+
+void init_libgit2() {
+  static std::once_flag once;
+  std::call_once(once, [] { git_libgit2_init(); });
+}
+
+Error git_failure(Errc code, const std::string& what) {
+  const ::git_error* e = git_error_last();
+  return Error(code, what + ": " + (e && e->message ? e->message : "libgit2 error"));
+}
+
+template <typename T, void (*Free)(T*)>
+struct Owned {
+  T* p = nullptr;
+  Owned() = default;
+  Owned(const Owned&) = delete;
+  Owned& operator=(const Owned&) = delete;
+  ~Owned() {
+    if (p) Free(p);
+  }
+};
+using Object = Owned<git_object, git_object_free>;
+using Commit = Owned<git_commit, git_commit_free>;
+using Tree = Owned<git_tree, git_tree_free>;
+using Index = Owned<git_index, git_index_free>;
+using Signature = Owned<git_signature, git_signature_free>;
+using Reference = Owned<git_reference, git_reference_free>;
+using Remote = Owned<git_remote, git_remote_free>;
+
+std::string oid_hex(const git_oid& oid) {
+  char buf[GIT_OID_HEXSZ + 1];
+  git_oid_tostr(buf, sizeof buf, &oid);
+  return buf;
+}
+
+CommitInfo info_of(const git_commit* c) {
+  const char* summary = git_commit_summary(const_cast<git_commit*>(c));
+  return CommitInfo{oid_hex(*git_commit_id(c)), summary ? summary : ""};
+}
+
+bool unborn(git_repository* repo) { return git_repository_head_unborn(repo) == 1; }
+
+}  // namespace
+
+Result<Archive> Archive::open(const std::string& dir, bool create) {
+  init_libgit2();
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const bool exists = fs::exists(dir, ec);
+  if (exists && !fs::is_directory(dir, ec))
+    return Error(Errc::invalid_argument, "archive " + dir + " is not a directory");
+  git_repository* repo = nullptr;
+  if (exists && git_repository_open_ext(&repo, dir.c_str(), GIT_REPOSITORY_OPEN_NO_SEARCH,
+                                        nullptr) == 0) {
+    if (git_repository_is_bare(repo)) {
+      git_repository_free(repo);
+      return Error(Errc::invalid_argument,
+                   "archive " + dir +
+                       " is a bare git repository; give a clone with a work tree (push to the "
+                       "bare one with --push)");
+    }
+    return Archive(dir, repo);
+  }
+  const bool empty = !exists || fs::is_empty(dir, ec);
+  if (!create || !empty) {
+    return Error(Errc::invalid_argument,
+                 "archive " + dir + " is not a git repository" +
+                     (create ? " (and not empty, so it is not made one: give an empty or new "
+                               "directory, or run git init there)"
+                             : ""));
+  }
+  fs::create_directories(dir, ec);
+  if (ec) return Error(Errc::file_error, "archive " + dir + ": " + ec.message());
+  if (git_repository_init(&repo, dir.c_str(), 0) != 0)
+    return git_failure(Errc::file_error, "archive " + dir + ": git init");
+  return Archive(dir, repo);
+}
+
+Archive::Archive(Archive&& o) noexcept : dir_(std::move(o.dir_)), repo_(o.repo_) {
+  o.repo_ = nullptr;
+}
+Archive& Archive::operator=(Archive&& o) noexcept {
+  if (this != &o) {
+    if (repo_) git_repository_free(repo_);
+    dir_ = std::move(o.dir_);
+    repo_ = o.repo_;
+    o.repo_ = nullptr;
+  }
+  return *this;
+}
+Archive::~Archive() {
+  if (repo_) git_repository_free(repo_);
+}
+
+Result<std::optional<CommitInfo>> Archive::resolve(const std::string& rev) const {
+  if (rev == "HEAD" && unborn(repo_)) return std::optional<CommitInfo>();
+  Object obj;
+  if (git_revparse_single(&obj.p, repo_, (rev + "^{commit}").c_str()) != 0)
+    return git_failure(Errc::not_found, "archive " + dir_ + ": revision '" + rev + "'");
+  return std::optional<CommitInfo>(info_of(reinterpret_cast<git_commit*>(obj.p)));
+}
+
+Result<std::optional<std::string>> Archive::read(const std::string& path,
+                                                 const std::string& rev) const {
+  LMCFG_ASSIGN_OR_RETURN(auto commit, resolve(rev));
+  if (!commit) return std::optional<std::string>();
+  Object blob;
+  const std::string spec = commit->id + ":" + path;
+  const int rc = git_revparse_single(&blob.p, repo_, spec.c_str());
+  if (rc == GIT_ENOTFOUND) return std::optional<std::string>();
+  if (rc != 0) return git_failure(Errc::file_error, "archive " + dir_ + ": " + path + " at " + rev);
+  if (git_object_type(blob.p) != GIT_OBJECT_BLOB)
+    return Error(Errc::file_error, "archive " + dir_ + ": " + path + " at " + rev + " is not a file");
+  auto* b = reinterpret_cast<git_blob*>(blob.p);
+  return std::optional<std::string>(
+      std::string(static_cast<const char*>(git_blob_rawcontent(b)), git_blob_rawsize(b)));
+}
+
+Result<std::optional<CommitInfo>> Archive::commit(const std::vector<std::string>& paths,
+                                                  const std::string& message, bool allow_empty) {
+  const std::string where = "archive " + dir_;
+  Index index;
+  if (git_repository_index(&index.p, repo_) != 0) return git_failure(Errc::file_error, where);
+  for (const auto& p : paths) {
+    if (git_index_add_bypath(index.p, p.c_str()) != 0)
+      return git_failure(Errc::file_error, where + ": staging " + p);
+  }
+  if (git_index_write(index.p) != 0) return git_failure(Errc::file_error, where + ": index");
+  git_oid tree_id;
+  if (git_index_write_tree(&tree_id, index.p) != 0)
+    return git_failure(Errc::file_error, where + ": tree");
+  Commit parent;
+  if (!unborn(repo_)) {
+    git_oid head;
+    if (git_reference_name_to_id(&head, repo_, "HEAD") != 0 ||
+        git_commit_lookup(&parent.p, repo_, &head) != 0)
+      return git_failure(Errc::file_error, where + ": HEAD");
+    if (!allow_empty && git_oid_equal(git_commit_tree_id(parent.p), &tree_id))
+      return std::optional<CommitInfo>();
+  } else if (!allow_empty && paths.empty()) {
+    return std::optional<CommitInfo>();
+  }
+  Tree tree;
+  if (git_tree_lookup(&tree.p, repo_, &tree_id) != 0) return git_failure(Errc::file_error, where);
+  Signature sig;
+  // Without user.name/user.email in git's configuration the archive still
+  // records who wrote it: the tool.
+  if (git_signature_default(&sig.p, repo_) != 0 &&
+      git_signature_now(&sig.p, "lmcfg fleet", "lmcfg@localhost") != 0)
+    return git_failure(Errc::file_error, where + ": signature");
+  const git_commit* parents[1] = {parent.p};
+  git_oid id;
+  if (git_commit_create(&id, repo_, "HEAD", sig.p, sig.p, nullptr, message.c_str(), tree.p,
+                        parent.p ? 1 : 0, parents) != 0)
+    return git_failure(Errc::file_error, where + ": commit");
+  Commit made;
+  if (git_commit_lookup(&made.p, repo_, &id) != 0) return git_failure(Errc::file_error, where);
+  return std::optional<CommitInfo>(info_of(made.p));
+}
+
+Result<void> Archive::push(const std::string& remote_name) {
+  const std::string where = "archive " + dir_ + ": push to " + remote_name;
+  Reference head;
+  if (git_repository_head(&head.p, repo_) != 0) return git_failure(Errc::file_error, where);
+  const std::string branch = git_reference_name(head.p);  // refs/heads/main
+  Remote remote;
+  if (git_remote_lookup(&remote.p, repo_, remote_name.c_str()) != 0 &&
+      git_remote_create_anonymous(&remote.p, repo_, remote_name.c_str()) != 0)
+    return git_failure(Errc::invalid_argument, where);
+  std::string spec = branch + ":" + branch;
+  char* specs[] = {spec.data()};
+  const git_strarray refspecs = {specs, 1};
+  git_push_options opts;
+  git_push_options_init(&opts, GIT_PUSH_OPTIONS_VERSION);
+  if (git_remote_push(remote.p, &refspecs, &opts) != 0)
+    return git_failure(Errc::io_error, where);
+  return {};
+}
+
+}  // namespace lmcfg::fleet

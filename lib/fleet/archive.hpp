@@ -1,0 +1,56 @@
+#pragma once
+// The fleet archive: an ordinary git repository (libgit2) holding one
+// configuration file per drive position, <name>.json. Each fleet run is one
+// commit; history, review and replication are git's (docs/fleet.md).
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "common/result.hpp"
+
+struct git_repository;
+
+namespace lmcfg::fleet {
+
+struct CommitInfo {
+  std::string id;       // full hex object id
+  std::string summary;  // first line of the message
+};
+
+class Archive {
+ public:
+  // Opens the repository at `dir` (its work tree's top, not a subfolder).
+  // create: a directory that does not exist or is empty becomes a new
+  // repository. A directory with files that is not a repository is refused
+  // (Errc::invalid_argument), as is a bare repository.
+  static Result<Archive> open(const std::string& dir, bool create);
+
+  Archive(Archive&&) noexcept;
+  Archive& operator=(Archive&&) noexcept;
+  ~Archive();
+
+  const std::string& dir() const { return dir_; }
+  // The commit `rev` names ("HEAD", a hash, "HEAD~2", a tag). nullopt: HEAD of
+  // a repository with no commit yet. Errc::not_found for a name git does not know.
+  Result<std::optional<CommitInfo>> resolve(const std::string& rev) const;
+  // The content of `path` (relative to the top) in revision `rev`; nullopt
+  // when that revision has no such file (or there is no commit yet).
+  Result<std::optional<std::string>> read(const std::string& path,
+                                          const std::string& rev = "HEAD") const;
+  // Stages `paths` (files the caller wrote in the work tree) and commits them
+  // with `message`. nullopt, and no commit, when the tree equals HEAD's,
+  // unless allow_empty (a record such as "restored press3/z-axis").
+  Result<std::optional<CommitInfo>> commit(const std::vector<std::string>& paths,
+                                           const std::string& message, bool allow_empty = false);
+  // Pushes the current branch to `remote` (a configured remote's name or a
+  // URL/path), same branch name there.
+  Result<void> push(const std::string& remote);
+
+ private:
+  Archive(std::string dir, git_repository* repo) : dir_(std::move(dir)), repo_(repo) {}
+  std::string dir_;
+  git_repository* repo_ = nullptr;
+};
+
+}  // namespace lmcfg::fleet

@@ -1,0 +1,399 @@
+#include "fleet/fleet.hpp"
+
+#include <chrono>
+#include <filesystem>
+#include <mutex>
+#include <nlohmann/json.hpp>
+#include <thread>
+
+#include "common/bytes.hpp"
+#include "common/layers.hpp"
+#include "config/config_io.hpp"
+
+namespace lmcfg::fleet {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t) {
+  return std::chrono::duration<double>(Clock::now() - t).count();
+}
+
+struct LiveRead {
+  DriveResult result;
+  std::optional<config::DriveConfig> config;
+};
+
+// One line's worker: one session, the drives in inventory order.
+void read_line(const LineEntry& line, const ops::LinkOptions& link_in, const FleetOptions& opt,
+               std::mutex& report_lock, std::vector<LiveRead>& out) {
+  ops::LinkOptions link = link_in;
+  link.client.id = line.drives.front().id;
+  auto session = ops::open_session(link);
+  std::size_t done = 0;
+  for (std::size_t i = 0; i < line.drives.size(); ++i) {
+    const auto& d = line.drives[i];
+    auto& r = out[i].result;
+    r.line = line.name;
+    r.name = d.name;
+    r.id = d.id;
+    const auto start = Clock::now();
+    if (!session.ok()) {
+      r.error = Error(session.error().code,
+                      "line '" + line.name + "' (" + line.port + "): " + session.error().message);
+    } else if (auto relinked = (*session)->relink((*session)->line(), d.id, link.client.checksum);
+               !relinked.ok()) {
+      r.error = relinked.error();
+    } else {
+      ops::BackupOptions bo = opt.backup;
+      bo.progress = nullptr;
+      bo.report = nullptr;
+      auto cfg = ops::backup((*session)->client(), bo, opt.db);
+      if (!cfg.ok()) {
+        r.error = cfg.error();
+      } else {
+        cfg->identity.link = (*session)->link_settings();
+        cfg->identity.labels = d.labels;
+        for (const auto& l : cfg->layers) r.parameters += l.size();
+        r.curves = cfg->curves.size();
+        r.ct_entries = cfg->ct_entries.size();
+        out[i].config = std::move(cfg).value();
+      }
+    }
+    r.seconds = seconds_since(start);
+    if (opt.on_drive) {
+      std::lock_guard<std::mutex> lock(report_lock);
+      opt.on_drive(r, ++done, line.drives.size());
+    }
+  }
+  if (session.ok()) {
+    // A simulated line saves its drives here; a real one has nothing to save.
+    if (auto closed = (*session)->close(); !closed.ok()) {
+      for (auto& o : out) {
+        if (!o.result.error) {
+          o.result.error = closed.error();
+          o.config.reset();
+        }
+      }
+    }
+  }
+}
+
+// Every drive of the inventory, read live: one thread per line.
+std::vector<LiveRead> read_all(const Inventory& inv, const FleetOptions& opt) {
+  std::vector<std::vector<LiveRead>> per_line(inv.lines.size());
+  std::mutex report_lock;
+  std::vector<std::thread> workers;
+  for (std::size_t l = 0; l < inv.lines.size(); ++l) {
+    per_line[l].resize(inv.lines[l].drives.size());
+    workers.emplace_back([&, l] {
+      read_line(inv.lines[l], opt.links[l], opt, report_lock, per_line[l]);
+    });
+  }
+  for (auto& w : workers) w.join();
+  std::vector<LiveRead> all;
+  for (auto& line : per_line)
+    for (auto& r : line) all.push_back(std::move(r));
+  return all;
+}
+
+// Compares each live read with its archived file at `rev`; sets the status.
+Result<void> compare(const Inventory& inv, const Archive& archive, const std::string& rev,
+                     const db::Database* db, std::vector<LiveRead>& reads) {
+  std::size_t k = 0;
+  for (const auto& line : inv.lines) {
+    for (const auto& d : line.drives) {
+      auto& live = reads[k++];
+      auto& r = live.result;
+      if (!live.config) {
+        r.status = DriveResult::Status::failed;
+        continue;
+      }
+      LMCFG_ASSIGN_OR_RETURN(auto text, archive.read(archive_path(d), rev));
+      if (!text) {
+        r.status = DriveResult::Status::added;
+        continue;
+      }
+      auto archived = config::read_config_text(*text, archive_path(d) + " at " + rev,
+                                               config::FileFormat::json);
+      if (!archived.ok()) return archived.error();
+      r.diff = ops::diff(*archived, *live.config, db, nullptr, ops::DiffOptions{});
+      r.status = r.diff.identical() ? DriveResult::Status::unchanged : DriveResult::Status::changed;
+    }
+  }
+  return {};
+}
+
+Result<FleetRun> read_and_compare(const Inventory& inv, const Archive& archive,
+                                  const FleetOptions& opt, std::vector<LiveRead>& reads) {
+  if (opt.links.size() != inv.lines.size())
+    return Error(Errc::invalid_argument, "fleet: one link per inventory line is needed");
+  FleetRun run;
+  LMCFG_ASSIGN_OR_RETURN(run.compared_to, archive.resolve(opt.rev));
+  const auto start = Clock::now();
+  reads = read_all(inv, opt);
+  LMCFG_TRY(compare(inv, archive, opt.rev, opt.db, reads));
+  for (auto& r : reads) run.drives.push_back(r.result);
+  run.seconds = seconds_since(start);
+  return run;
+}
+
+std::string plural(std::size_t n, const char* one, const char* many) {
+  return std::to_string(n) + " " + (n == 1 ? one : many);
+}
+
+std::string counts_line(const DriveResult& r) {
+  using K = ops::DiffItem::Kind;
+  std::string s = plural(r.count(K::parameter), "parameter", "parameters") + ", " +
+                  plural(r.count(K::curve), "curve", "curves") + ", " +
+                  plural(r.count(K::ct_entry), "CT entry", "CT entries");
+  if (auto other = r.count(K::metadata) + r.count(K::scope))
+    s += ", " + plural(other, "other difference", "other differences");
+  return s;
+}
+
+std::string item_line(const ops::DiffItem& it) {
+  using K = ops::DiffItem::Kind;
+  std::string what;
+  switch (it.kind) {
+    case K::parameter:
+      what = std::string(layers::name(it.layer)) + " " + hex(it.key, 4, "h");
+      break;
+    case K::curve:
+      what = "curve " + std::to_string(it.key);
+      break;
+    case K::ct_entry:
+      what = "CT entry " + std::to_string(it.key);
+      break;
+    case K::metadata:
+    case K::scope:
+      what = ops::kind_name(it.kind);
+      break;
+  }
+  if (!it.name.empty()) what += " " + it.name;
+  what += ": " + it.a + " -> " + it.b;
+  if (!it.detail.empty()) what += " (" + it.detail + ")";
+  return what;
+}
+
+std::string where(const DriveResult& r) {
+  return r.name + " (line " + r.line + ", MACID " + hex(r.id, 2, "h") + ")";
+}
+
+constexpr std::size_t kItemsPerDrive = 20;  // in a commit message; the diff has them all
+
+void append_items(std::string& s, const DriveResult& r, const char* indent) {
+  std::size_t n = 0;
+  for (const auto& it : r.diff.items) {
+    if (n++ == kItemsPerDrive) {
+      s += indent + std::string("... and ") + std::to_string(r.diff.items.size() - kItemsPerDrive) +
+           " more\n";
+      break;
+    }
+    s += indent + item_line(it) + "\n";
+  }
+}
+
+}  // namespace
+
+std::size_t DriveResult::count(ops::DiffItem::Kind kind) const {
+  std::size_t n = 0;
+  for (const auto& it : diff.items) n += it.kind == kind;
+  return n;
+}
+
+const char* status_name(DriveResult::Status s) {
+  switch (s) {
+    case DriveResult::Status::unchanged:
+      return "unchanged";
+    case DriveResult::Status::changed:
+      return "changed";
+    case DriveResult::Status::added:
+      return "new";
+    case DriveResult::Status::failed:
+      return "failed";
+  }
+  return "?";
+}
+
+std::size_t FleetRun::count(DriveResult::Status s) const {
+  std::size_t n = 0;
+  for (const auto& d : drives) n += d.status == s;
+  return n;
+}
+
+std::string archive_path(const DriveEntry& d) { return d.name + ".json"; }
+
+Result<FleetRun> fleet_backup(const Inventory& inv, Archive& archive, const FleetOptions& opt) {
+  std::vector<LiveRead> reads;
+  LMCFG_ASSIGN_OR_RETURN(auto run, read_and_compare(inv, archive, opt, reads));
+  std::optional<ops::DatabaseCtDecoder> ct_decoder;
+  config::WriteOptions wo;
+  if (opt.db) wo.ct_decoder = &ct_decoder.emplace(*opt.db);
+  std::vector<std::string> paths;
+  std::size_t k = 0;
+  for (const auto& line : inv.lines) {
+    for (const auto& d : line.drives) {
+      auto& live = reads[k++];
+      using S = DriveResult::Status;
+      if (live.result.status != S::changed && live.result.status != S::added) continue;
+      const std::filesystem::path file = std::filesystem::path(archive.dir()) / archive_path(d);
+      std::error_code ec;
+      std::filesystem::create_directories(file.parent_path(), ec);
+      if (ec) return Error(Errc::file_error, file.parent_path().string() + ": " + ec.message());
+      LMCFG_TRY(config::write_config_file(*live.config, file, config::FileFormat::json, wo));
+      paths.push_back(archive_path(d));
+    }
+  }
+  LMCFG_ASSIGN_OR_RETURN(run.commit, archive.commit(paths, commit_message(run)));
+  return run;
+}
+
+Result<FleetRun> fleet_status(const Inventory& inv, const Archive& archive,
+                              const FleetOptions& opt) {
+  std::vector<LiveRead> reads;
+  return read_and_compare(inv, archive, opt, reads);
+}
+
+std::string commit_message(const FleetRun& run) {
+  using S = DriveResult::Status;
+  std::string s = "fleet backup: " + std::to_string(run.count(S::changed)) + " changed, " +
+                  std::to_string(run.count(S::unchanged)) + " unchanged, " +
+                  std::to_string(run.count(S::added)) + " new, " +
+                  std::to_string(run.count(S::failed)) + " failed\n";
+  for (const auto& r : run.drives) {
+    if (r.status == S::changed) {
+      s += "\nchanged " + where(r) + ": " + counts_line(r) + "\n";
+      append_items(s, r, "  ");
+    }
+  }
+  for (const auto& r : run.drives) {
+    if (r.status == S::added) {
+      s += "\nnew " + where(r) + ": " + plural(r.parameters, "parameter", "parameters") + ", " +
+           plural(r.curves, "curve", "curves") + ", " +
+           plural(r.ct_entries, "CT entry", "CT entries") + "\n";
+    }
+  }
+  for (const auto& r : run.drives) {
+    if (r.status == S::failed) {
+      s += "\nfailed " + where(r) + ", previous file kept: " +
+           (r.error ? r.error->message : "unknown error") + "\n";
+    }
+  }
+  return s;
+}
+
+std::string render_text(const FleetRun& run, bool status) {
+  using S = DriveResult::Status;
+  std::string s;
+  for (const auto& r : run.drives) {
+    if (r.status == S::unchanged) continue;  // counted in the summary
+    const char* word = status_name(r.status);
+    if (status && r.status == S::changed) word = "drift";
+    if (status && r.status == S::added) word = "not in archive";
+    s += std::string(word) + ": " + where(r);
+    if (r.status == S::failed) s += ": " + (r.error ? r.error->message : "unknown error");
+    if (r.status == S::changed) s += ": " + counts_line(r);
+    s += "\n";
+    if (r.status == S::changed) append_items(s, r, "    ");
+  }
+  char secs[32];
+  std::snprintf(secs, sizeof secs, "%.1f", run.seconds);
+  if (status) {
+    s += std::to_string(run.drives.size()) + " drive(s): " +
+         std::to_string(run.count(S::unchanged)) + " as archived, " +
+         std::to_string(run.count(S::changed)) + " drifted, " +
+         std::to_string(run.count(S::added)) + " not in archive, " +
+         std::to_string(run.count(S::failed)) + " failed";
+    if (run.compared_to) s += " (against " + run.compared_to->id.substr(0, 12) + ")";
+  } else {
+    s += std::to_string(run.drives.size()) + " drive(s): " +
+         std::to_string(run.count(S::changed)) + " changed, " +
+         std::to_string(run.count(S::unchanged)) + " unchanged, " +
+         std::to_string(run.count(S::added)) + " new, " + std::to_string(run.count(S::failed)) +
+         " failed; ";
+    s += run.commit ? "committed " + run.commit->id.substr(0, 12) : std::string("no changes");
+  }
+  return s + " in " + secs + " s\n";
+}
+
+std::string render_json(const FleetRun& run, bool status) {
+  using S = DriveResult::Status;
+  nlohmann::ordered_json j;
+  j["operation"] = status ? "status" : "backup";
+  j["seconds"] = run.seconds;
+  j["compared_to"] = run.compared_to ? nlohmann::ordered_json(run.compared_to->id) : nullptr;
+  if (!status) j["commit"] = run.commit ? nlohmann::ordered_json(run.commit->id) : nullptr;
+  j["counts"] = {{"unchanged", run.count(S::unchanged)},
+                 {"changed", run.count(S::changed)},
+                 {"new", run.count(S::added)},
+                 {"failed", run.count(S::failed)}};
+  auto& drives = j["drives"] = nlohmann::ordered_json::array();
+  for (const auto& r : run.drives) {
+    nlohmann::ordered_json d{{"name", r.name},
+                             {"line", r.line},
+                             {"id", r.id},
+                             {"status", status_name(r.status)},
+                             {"seconds", r.seconds}};
+    if (r.error) d["error"] = r.error->message;
+    if (r.status != S::failed) {
+      d["parameters"] = r.parameters;
+      d["curves"] = r.curves;
+      d["ct_entries"] = r.ct_entries;
+    }
+    if (r.status == S::changed) {
+      auto& items = d["differences"] = nlohmann::ordered_json::array();
+      for (const auto& it : r.diff.items) {
+        items.push_back({{"kind", ops::kind_name(it.kind)},
+                         {"layer", it.layer},
+                         {"key", it.key},
+                         {"name", it.name},
+                         {"archived", it.a},
+                         {"live", it.b},
+                         {"detail", it.detail},
+                         {"text", item_line(it)}});
+      }
+    }
+    drives.push_back(std::move(d));
+  }
+  return j.dump(2) + "\n";
+}
+
+Result<FleetRestoreResult> fleet_restore(const Inventory& inv, Archive& archive,
+                                         const FleetRestore& opt) {
+  const LineEntry* line = nullptr;
+  const DriveEntry* d = inv.find_drive(opt.drive, &line);
+  if (!d) {
+    return Error(Errc::not_found,
+                 inv.path + ": no drive named '" + opt.drive + "' in the inventory");
+  }
+  FleetRestoreResult res;
+  LMCFG_ASSIGN_OR_RETURN(auto source, archive.resolve(opt.rev));
+  if (!source) return Error(Errc::not_found, "archive " + archive.dir() + " has no commit yet");
+  res.source = *source;
+  const std::string path = archive_path(*d);
+  LMCFG_ASSIGN_OR_RETURN(auto text, archive.read(path, source->id));
+  if (!text) {
+    return Error(Errc::not_found, "archive " + archive.dir() + " has no " + path + " at " +
+                                      opt.rev + " (" + source->id.substr(0, 12) + ")");
+  }
+  const std::string file_name = path + "@" + source->id.substr(0, 12);
+  LMCFG_ASSIGN_OR_RETURN(auto file,
+                         config::read_config_text(*text, file_name, config::FileFormat::json));
+  ops::LinkOptions link = opt.link;
+  link.client.id = d->id;
+  LMCFG_ASSIGN_OR_RETURN(auto session, ops::open_session(link));
+  res.outcome = opt.restore(*session, file, file_name);
+  auto closed = session->close();
+  if (res.outcome.written) {
+    const std::string message = "fleet restore: " + d->name + " <- " + path + " at " +
+                                source->id.substr(0, 12) + " (" + opt.rev + "): " +
+                                ops::stage_name(res.outcome.stage) + "\n\nline " + line->name +
+                                " (" + line->port + "), MACID " + hex(d->id, 2, "h") + ", " +
+                                std::to_string(res.outcome.plan.steps.size()) + " step(s)\n";
+    LMCFG_ASSIGN_OR_RETURN(res.record, archive.commit({}, message, true));
+  }
+  if (!closed.ok()) return closed.error();
+  return res;
+}
+
+}  // namespace lmcfg::fleet

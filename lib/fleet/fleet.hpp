@@ -1,0 +1,98 @@
+#pragma once
+// Fleet operations over an inventory (docs/fleet.md): read every drive, lines
+// in parallel (one worker per line: an RS485 line carries one telegram at a
+// time, separate lines and gateways are independent), drives of a line in
+// sequence; compare each with its archived file; back up into the archive
+// (one commit per run) or report drift.
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "config/model.hpp"
+#include "fleet/archive.hpp"
+#include "fleet/inventory.hpp"
+#include "ops/backup.hpp"
+#include "ops/diff.hpp"
+#include "ops/restore_run.hpp"
+#include "ops/session.hpp"
+
+namespace lmcfg::fleet {
+
+struct DriveResult {
+  enum class Status {
+    unchanged,  // matches the archived file
+    changed,    // differs from the archived file (backup: new file written)
+    added,      // no archived file yet
+    failed,     // could not be read: `error`; the archived file is kept
+  };
+  std::string line, name;
+  std::uint8_t id = 0;
+  Status status = Status::failed;
+  std::optional<Error> error;
+  std::size_t parameters = 0, curves = 0, ct_entries = 0;  // in the live read
+  ops::DiffResult diff;                                    // archived -> live
+  double seconds = 0;
+  // Differences by kind (parameter, curve, ct_entry, other).
+  std::size_t count(ops::DiffItem::Kind kind) const;
+};
+const char* status_name(DriveResult::Status s);  // "unchanged", "changed", "new", "failed"
+
+struct FleetOptions {
+  std::vector<ops::LinkOptions> links;  // one per inventory line, same order
+  const db::Database* db = nullptr;
+  ops::BackupOptions backup;  // what to read (progress and report are per drive, ignored)
+  std::string rev = "HEAD";   // the archive revision compared against
+  // Called as each drive finishes (from the line's worker, one call at a time).
+  std::function<void(const DriveResult&, std::size_t done_on_line, std::size_t on_line)> on_drive;
+};
+
+struct FleetRun {
+  std::vector<DriveResult> drives;  // inventory order
+  std::optional<CommitInfo> compared_to;
+  std::optional<CommitInfo> commit;  // backup: the run's commit; nullopt = no changes
+  double seconds = 0;
+  std::size_t count(DriveResult::Status s) const;
+};
+
+// Backs up every drive: writes <archive>/<name>.json for new and changed ones
+// (canonical JSON), keeps a failed drive's file, commits once with
+// commit_message(). A run where nothing changed makes no commit.
+Result<FleetRun> fleet_backup(const Inventory& inv, Archive& archive, const FleetOptions& opt);
+// Reads every drive and compares it with its file at opt.rev; writes nothing.
+Result<FleetRun> fleet_status(const Inventory& inv, const Archive& archive,
+                              const FleetOptions& opt);
+
+// "fleet backup: 1 changed, 7 unchanged, 0 new, 1 failed" and a paragraph per
+// changed, new and failed drive (the changed UPIDs by name, the failure's reason).
+std::string commit_message(const FleetRun& run);
+// For people (status: drift per drive with the diff's wording) and scripts.
+std::string render_text(const FleetRun& run, bool status);
+std::string render_json(const FleetRun& run, bool status);
+
+// The archive path of a position: "<name>.json".
+std::string archive_path(const DriveEntry& d);
+
+struct FleetRestore {
+  std::string drive;  // position name
+  std::string rev = "HEAD";
+  ops::LinkOptions link;  // the drive's line (client.id is set from the inventory)
+  const db::Database* db = nullptr;
+  // Runs the normal restore (plan, confirmation, verify) of the archived file
+  // on the open session and returns its outcome.
+  std::function<ops::RestoreOutcome(ops::Session&, const config::DriveConfig&,
+                                    const std::string& file_name)>
+      restore;
+};
+struct FleetRestoreResult {
+  ops::RestoreOutcome outcome;
+  CommitInfo source;                 // the archive revision restored from
+  std::optional<CommitInfo> record;  // the commit recording the restore (when written)
+};
+// Restores position `drive`'s archived file (at rev) onto the drive now at that
+// position; when anything was written, records an empty commit naming the
+// position, the revision and the outcome.
+Result<FleetRestoreResult> fleet_restore(const Inventory& inv, Archive& archive,
+                                         const FleetRestore& opt);
+
+}  // namespace lmcfg::fleet

@@ -1,0 +1,80 @@
+#pragma once
+// The fleet inventory (docs/fleet.md): a TOML file naming the plant's lines
+// (one port each, with its link settings) and the drives on each line (a
+// position name, a MACID, optional labels).
+//
+//   [[line]]
+//   name = "line1"
+//   port = "/dev/ttyUSB0"
+//   baud = 57600
+//   [[line.drive]]
+//   name = "press3/z-axis"
+//   id = 0x11
+//   labels = { machine = "press3" }
+//
+// Loading checks everything a run needs before any drive is talked to:
+// unknown keys, wrong value types, names that are not archive paths,
+// duplicate drive names in the plant, duplicate line names, duplicate MACIDs
+// on a line. Every problem is reported as "FILE:LINE:COLUMN: what".
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "common/result.hpp"
+
+namespace lmcfg::fleet {
+
+struct Position {
+  std::string file;
+  int line = 0, column = 0;
+  std::string str() const;  // "plant.toml:12:1"
+};
+
+struct DriveEntry {
+  std::string name;  // position in the machine; the archive file is <name>.json
+  std::uint8_t id = 0x11;
+  std::map<std::string, std::string> labels;
+  Position at;
+};
+
+// Link settings as text, the way the command-line options take them (the tools
+// validate them with the same code as --baud, --parity ...). Unset: the
+// option's default.
+struct LineEntry {
+  std::string name;
+  std::string port;
+  std::optional<std::int64_t> baud, stop_bits, timeout_ms, retries, settle_ms;
+  std::optional<std::string> parity, checksum, checksum_coverage;
+  std::vector<DriveEntry> drives;
+  Position at;
+};
+
+struct Inventory {
+  std::string path;
+  std::vector<LineEntry> lines;
+  std::size_t drive_count() const;
+  // nullptr when no drive has that name.
+  const DriveEntry* find_drive(std::string_view name, const LineEntry** line = nullptr) const;
+};
+
+// Errc::parse_error: TOML syntax; Errc::validation_failed: the rest (all
+// problems, one per line of the message, each with its position).
+Result<Inventory> parse_inventory(std::string_view text, std::string path);
+// Errc::file_error when the file cannot be read.
+Result<Inventory> load_inventory(const std::string& path);
+
+// Whether each line's port can be reached before any drive is talked to: a
+// device path ("/dev/ttyUSB0") exists, "tcp://HOST:PORT" has a port 1..65535.
+// Other "SCHEME:ADDRESS" ports are their scheme's to check when opened; a
+// gateway that does not answer fails its line's drives at run time.
+// Errc::validation_failed with every problem and its position.
+Result<void> check_ports(const Inventory& inv);
+
+// Whether `name` can be a position name: segments of [A-Za-z0-9._-] separated
+// by '/', none empty, "." or "..". The message says what is wrong.
+Result<void> check_position_name(std::string_view name);
+
+}  // namespace lmcfg::fleet

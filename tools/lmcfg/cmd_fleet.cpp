@@ -1,0 +1,209 @@
+// lmcfg fleet check|backup|status|restore INVENTORY: every drive of a plant,
+// lines in parallel, into a git archive (docs/fleet.md).
+#include <unistd.h>
+
+#include <cstdio>
+
+#include "command.hpp"
+#include "fleet/fleet.hpp"
+#include "link_options.hpp"
+#include "ops/interrupt.hpp"
+#include "restore_flow.hpp"
+
+namespace lmcfg::cli {
+namespace {
+
+struct FleetCli {
+  CommonOptions common;  // --db, --json, --quiet, --trace; link settings come per line
+  std::string inventory, archive, since = "HEAD", push, drive, rev = "HEAD";
+  bool no_curves = false, no_ct = false, full = false;
+  RestoreFlags flags;
+};
+
+// The line's link settings, checked as the command-line options are; a bad
+// value is reported at the line's position in the inventory.
+Result<std::vector<ops::LinkOptions>> line_links(const fleet::Inventory& inv,
+                                                 const CommonOptions& base) {
+  std::vector<ops::LinkOptions> links;
+  for (const auto& l : inv.lines) {
+    CommonOptions c = base;
+    c.port = l.port;
+    auto set_int = [&](const std::optional<std::int64_t>& v, auto& field) {
+      if (v) field = static_cast<std::remove_reference_t<decltype(field)>>(
+                 std::clamp<std::int64_t>(*v, -1, 100'000'000));
+    };
+    set_int(l.baud, c.baud);
+    set_int(l.stop_bits, c.stop_bits);
+    set_int(l.timeout_ms, c.timeout_ms);
+    set_int(l.retries, c.retries);
+    set_int(l.settle_ms, c.settle_ms);
+    if (l.parity) c.parity = *l.parity;
+    if (l.checksum) c.checksum = *l.checksum;
+    if (l.checksum_coverage) c.checksum_coverage = *l.checksum_coverage;
+    auto opt = link_options(c);
+    if (!opt.ok()) {
+      return Error(opt.error().code,
+                   l.at.str() + ": line '" + l.name + "': " + opt.error().message);
+    }
+    opt->client.on_long_wait = nullptr;  // lines run in parallel: no shared progress line
+    links.push_back(std::move(opt).value());
+  }
+  return links;
+}
+
+Result<fleet::Inventory> load_checked(const FleetCli& o) {
+  LMCFG_ASSIGN_OR_RETURN(auto inv, fleet::load_inventory(o.inventory));
+  LMCFG_TRY(line_links(inv, o.common));
+  LMCFG_TRY(fleet::check_ports(inv));
+  return inv;
+}
+
+int run_check(const FleetCli& o) {
+  auto inv = load_checked(o);
+  if (!inv.ok()) return fail("fleet check", inv.error());
+  if (!o.common.quiet)
+    std::printf("%s: %zu line(s), %zu drive(s): ok\n", o.inventory.c_str(), inv->lines.size(),
+                inv->drive_count());
+  return kOk;
+}
+
+// 0: every drive read; else the exit code of the first failure (4 link, 5 drive refused).
+int failure_code(const fleet::FleetRun& run) {
+  for (const auto& d : run.drives)
+    if (d.status == fleet::DriveResult::Status::failed && d.error) return exit_code_for(*d.error);
+  return kOk;
+}
+
+int run_fleet(const FleetCli& o, bool status) {
+  const char* name = status ? "fleet status" : "fleet backup";
+  auto inv = load_checked(o);
+  if (!inv.ok()) return fail(name, inv.error());
+  auto archive = fleet::Archive::open(o.archive, !status);
+  if (!archive.ok()) return fail(name, archive.error());
+  std::optional<db::Database> holder;
+  fleet::FleetOptions fo;
+  fo.db = load_database(o.common, holder);
+  fo.links = *line_links(*inv, o.common);
+  fo.rev = status ? o.since : "HEAD";
+  fo.backup.curves = !o.no_curves;
+  fo.backup.command_table = !o.no_ct;
+  fo.backup.full = o.full;
+  if (!o.common.quiet) {
+    fo.on_drive = [](const fleet::DriveResult& r, std::size_t done, std::size_t total) {
+      if (r.error) {
+        std::fprintf(stderr, "[%s %zu/%zu] %s: failed: %s\n", r.line.c_str(), done, total,
+                     r.name.c_str(), r.error->message.c_str());
+      } else {
+        std::fprintf(stderr, "[%s %zu/%zu] %s: read %zu parameter(s), %zu curve(s), %zu CT "
+                     "entr%s in %.1f s\n", r.line.c_str(), done, total, r.name.c_str(),
+                     r.parameters, r.curves, r.ct_entries, r.ct_entries == 1 ? "y" : "ies",
+                     r.seconds);
+      }
+    };
+  }
+  auto run = status ? fleet::fleet_status(*inv, *archive, fo)
+                    : fleet::fleet_backup(*inv, *archive, fo);
+  if (!run.ok()) return fail(name, run.error());
+  if (o.common.json)
+    std::fputs(fleet::render_json(*run, status).c_str(), stdout);
+  else if (!o.common.quiet || status)
+    std::fputs(fleet::render_text(*run, status).c_str(), stdout);
+  if (!status && !o.push.empty() && run->commit) {
+    if (auto pushed = archive->push(o.push); !pushed.ok()) return fail(name, pushed.error());
+  }
+  if (int code = failure_code(*run); code != kOk) return code;
+  using S = fleet::DriveResult::Status;
+  if (status && (run->count(S::changed) || run->count(S::added))) return kDifferent;
+  return kOk;
+}
+
+int run_restore(const FleetCli& o) {
+  ops::install_interrupt_handlers();
+  auto inv = load_checked(o);
+  if (!inv.ok()) return fail("fleet restore", inv.error());
+  const fleet::LineEntry* line = nullptr;
+  const fleet::DriveEntry* d = inv->find_drive(o.drive, &line);
+  if (!d) {
+    return fail("fleet restore", Error(Errc::not_found, o.inventory + ": no drive named '" +
+                                                            o.drive + "' in the inventory"));
+  }
+  auto overrides = relink_overrides(o.flags.reconnect);
+  if (!overrides.ok()) return fail("fleet restore", overrides.error());
+  auto archive = fleet::Archive::open(o.archive, false);
+  if (!archive.ok()) return fail("fleet restore", archive.error());
+  std::optional<db::Database> holder;
+  fleet::FleetRestore fr;
+  fr.drive = o.drive;
+  fr.rev = o.rev;
+  fr.db = load_database(o.common, holder);
+  const auto links = *line_links(*inv, o.common);
+  fr.link = links[static_cast<std::size_t>(line - inv->lines.data())];
+  CommonOptions common = o.common;  // the plan's prompt names the drive's port and MACID
+  common.port = line->port;
+  common.id = hex(d->id, 2, "h");
+  int code = kOk;
+  fr.restore = [&](ops::Session& s, const config::DriveConfig& file, const std::string& file_name) {
+    ops::RestoreOutcome out;
+    code = restore_on_session(s, file, file_name, common, o.flags, *overrides, fr.db, out);
+    return out;
+  };
+  auto res = fleet::fleet_restore(*inv, *archive, fr);
+  if (!res.ok()) return fail("fleet restore", res.error());
+  if (res->record && !o.common.quiet && !o.common.json)
+    std::fprintf(stderr, "fleet restore: recorded as %s in %s\n",
+                 res->record->id.substr(0, 12).c_str(), o.archive.c_str());
+  return code;
+}
+
+CLI::App* add_part(CLI::App* fleet, const char* name, const char* help, FleetCli& o) {
+  auto* sub = fleet->add_subcommand(name, help);
+  sub->add_option("INVENTORY", o.inventory, "inventory file (TOML, docs/fleet.md)")->required();
+  add_output_options(sub, o.common);
+  return sub;
+}
+
+}  // namespace
+
+void add_fleet(CLI::App& app, int& exit_code) {
+  auto o = std::make_shared<FleetCli>();
+  auto* fleet = app.add_subcommand(
+      "fleet", "Back up, watch and restore every drive of a plant (inventory + git archive)");
+  fleet->require_subcommand(1);
+  fleet->footer(
+      "Examples:\n"
+      "  lmcfg fleet check plant.toml\n"
+      "  lmcfg fleet backup plant.toml --archive /srv/lmcfg-archive\n"
+      "  lmcfg fleet status plant.toml --archive /srv/lmcfg-archive --since HEAD~7\n"
+      "  lmcfg fleet restore plant.toml --archive /srv/lmcfg-archive --drive press3/z-axis\n"
+      "Lines are read in parallel, the drives of a line one after another. docs/fleet.md has the\n"
+      "inventory format and the archive workflow.");
+  add_part(fleet, "check", "Validate an inventory: keys, names, MACIDs, ports", *o)
+      ->callback([o, &exit_code] { exit_code = run_check(*o); });
+  for (bool status : {false, true}) {
+    auto* sub = add_part(fleet, status ? "status" : "backup",
+                         status ? "Read every drive and report drift from the archive "
+                                  "(exit 0 none, 1 drift, 4/5 failures)"
+                                : "Back up every drive into the archive: one git commit per run",
+                         *o);
+    sub->add_option("--archive", o->archive, "the archive: a git repository (backup creates it)")
+        ->required();
+    sub->add_flag("--no-curves", o->no_curves, "do not read curves");
+    sub->add_flag("--no-ct", o->no_ct, "do not read the command table");
+    sub->add_flag("--full", o->full, "read every ROM-writable UPID");
+    if (status)
+      sub->add_option("--since", o->since, "compare against this archive revision (git syntax)");
+    else
+      sub->add_option("--push", o->push, "push the commit to this remote (name, URL or path)");
+    sub->callback([o, &exit_code, status] { exit_code = run_fleet(*o, status); });
+  }
+  auto* restore = add_part(fleet, "restore",
+                           "Restore a position's archived file onto the drive now there", *o);
+  restore->add_option("--archive", o->archive, "the archive (a git repository)")->required();
+  restore->add_option("--drive", o->drive, "the position's name in the inventory")->required();
+  restore->add_option("--rev", o->rev, "archive revision to restore from (git syntax)")
+      ->capture_default_str();
+  add_restore_flags(restore, o->flags);
+  restore->callback([o, &exit_code] { exit_code = run_restore(*o); });
+}
+
+}  // namespace lmcfg::cli

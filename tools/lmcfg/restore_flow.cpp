@@ -1,0 +1,132 @@
+// The restore flow of `lmcfg restore` and `lmcfg fleet restore`.
+#include "restore_flow.hpp"
+
+#include <cstdio>
+#include <nlohmann/json.hpp>
+
+#include "command.hpp"
+#include "ops/interrupt.hpp"
+#include "ops/recovery.hpp"
+
+namespace lmcfg::cli {
+namespace {
+
+void report_json(const ops::RestoreOutcome& out, const std::string& file) {
+  nlohmann::ordered_json j;
+  j["file"] = file;
+  j["outcome"] = ops::stage_name(out.stage);
+  if (out.relink)
+    j["link_after"] = {{"changed", out.relink->changed},
+                       {"summary", out.relink->summary},
+                       {"reasons", out.relink->reasons}};
+  const auto plan = ops::plan_json(out.plan);  // alive while its items are copied
+  for (const auto& [k, v] : plan.items()) j[k] = v;
+  j["mismatches"] = out.mismatches;
+  if (out.error) j["error"] = out.error->message;
+  std::printf("%s\n", j.dump(2).c_str());
+}
+
+}  // namespace
+
+void add_restore_flags(CLI::App* sub, RestoreFlags& f) {
+  sub->add_flag("--dry-run", f.dry_run, "print the plan and exit without writing");
+  sub->add_flag(
+      "--no-default", f.no_default,
+      "write only differences and set leftovers to defaults, instead of defaulting layers first");
+  sub->add_flag("--include-comm", f.include_comm,
+                "also restore communication parameters (baud rate, MACID); after the reset the "
+                "tool finds the drive "
+                "with the settings they select");
+  add_reconnect_options(sub, f.reconnect);
+  sub->add_flag("--yes,-y", f.yes,
+                "do not ask for confirmation (needed when stdin is not a terminal)");
+  sub->add_flag("--no-reset", f.no_reset,
+                "do not reset the drive at the end (ROM values act after the next restart)");
+}
+
+int restore_on_session(ops::Session& session, const config::DriveConfig& file,
+                       const std::string& file_name, const CommonOptions& common,
+                       const RestoreFlags& f, const ops::RelinkOverrides& overrides,
+                       const db::Database* db, ops::RestoreOutcome& out) {
+  using S = ops::RestoreOutcome::Stage;
+  auto& client = session.client();
+  auto copt = client.options();
+  copt.cancel = &ops::interrupt_flag();
+  client.set_options(copt);
+
+  ops::RestoreRunOptions ro;
+  auto record = ops::recovery_path("restore", common.port, copt.id);
+  if (!record.ok()) return fail("restore", record.error());
+  ro.restore.recovery_path = *record;
+  ro.restore.port = common.port;
+  ro.restore.default_first = !f.no_default;
+  ro.restore.include_comm = f.include_comm;
+  ro.restore.reset_after = !f.no_reset;
+  ro.restore.progress = make_progress(common);
+  ro.dry_run = f.dry_run;
+  ro.overrides = overrides;
+  ro.confirm = [&](const ops::Plan& plan) {
+    end_progress(common);
+    // The plan goes to stderr when stdout carries the JSON report.
+    if (!f.yes) std::fputs(ops::render_plan(plan).c_str(), common.json ? stderr : stdout);
+    std::fflush(stdout);
+    return ops::confirm("Write this plan to drive " + common.id + " on " + common.port + "?",
+                        "restore " + file_name + " onto a drive", f.yes);
+  };
+  out = ops::run_restore(session, file, db, ro);
+  end_progress(common);
+  const bool text = !common.json;
+  if (common.json) report_json(out, file_name);
+  int code = kOk;
+  switch (out.stage) {
+    case S::failed:
+      code = exit_code_for(*out.error);
+      std::fprintf(stderr, "lmcfg restore: %s\n", out.error->message.c_str());
+      break;
+    case S::plan_refused:
+      if (text) std::fputs(ops::render_plan(out.plan).c_str(), stderr);
+      code = kPlanRefused;
+      break;
+    case S::dry_run:
+      if (text) std::fputs(ops::render_plan(out.plan).c_str(), stdout);
+      break;
+    case S::declined:
+      std::fprintf(stderr, "cancelled; nothing written\n");
+      break;
+    case S::nothing_to_do:
+      if (text && !common.quiet) {
+        for (const auto& s : out.plan.skipped) std::fprintf(stderr, "skip: %s\n", s.c_str());
+        std::printf("nothing to do: the drive already matches %s\n", file_name.c_str());
+      }
+      break;
+    case S::verify_mismatch:
+      if (text) {
+        std::fprintf(stderr, "lmcfg restore: verification found %zu mismatch(es):\n",
+                     out.mismatches.size());
+        for (const auto& m : out.mismatches) std::fprintf(stderr, "  %s\n", m.c_str());
+      }
+      code = kVerifyMismatch;
+      break;
+    case S::restored:
+      if (text && !common.quiet) {
+        if (out.plan.link_may_change && f.no_reset)
+          std::fprintf(stderr,
+                       "restore: the restored communication parameters act after the next "
+                       "restart\n");
+        if (out.relink && out.relink->changed)
+          std::fprintf(stderr,
+                       "restore: the restored link settings are active: %s; use them from now "
+                       "on\n",
+                       out.relink->summary.c_str());
+        std::fprintf(stderr,
+                     "restore: %zu step(s) done, verified: the drive matches %s (%llu "
+                     "telegrams)\n",
+                     out.plan.steps.size(), file_name.c_str(),
+                     static_cast<unsigned long long>(client.stats().requests));
+      }
+      break;
+  }
+  return code;
+}
+
+}  // namespace lmcfg::cli

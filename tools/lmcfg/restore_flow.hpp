@@ -1,0 +1,35 @@
+#pragma once
+// The restore flow shared by `lmcfg restore` and `lmcfg fleet restore`: the
+// options, the confirmation on a terminal, ops::run_restore, and the output
+// and exit code of each outcome.
+#include <CLI/CLI.hpp>
+#include <string>
+
+#include "config/model.hpp"
+#include "link_options.hpp"
+#include "ops/restore_run.hpp"
+
+namespace lmcfg::cli {
+
+struct RestoreFlags {
+  bool dry_run = false;
+  bool no_default = false;
+  bool include_comm = false;
+  bool no_reset = false;
+  bool yes = false;
+  ReconnectOptions reconnect;
+};
+
+// --dry-run, --no-default, --include-comm, --reconnect-*, --yes, --no-reset.
+void add_restore_flags(CLI::App* sub, RestoreFlags& f);
+
+// Restores `file` (called `file_name` in messages) over `session` as `lmcfg
+// restore` does, printing the plan, the confirmation and the outcome; returns
+// the documented exit code. `overrides` come from relink_overrides(f.reconnect),
+// checked by the caller before the link opened.
+int restore_on_session(ops::Session& session, const config::DriveConfig& file,
+                       const std::string& file_name, const CommonOptions& common,
+                       const RestoreFlags& f, const ops::RelinkOverrides& overrides,
+                       const db::Database* db, ops::RestoreOutcome& out);
+
+}  // namespace lmcfg::cli
