@@ -44,7 +44,8 @@ std::string oid_hex(const git_oid& oid) {
 
 CommitInfo info_of(const git_commit* c) {
   const char* summary = git_commit_summary(const_cast<git_commit*>(c));
-  return CommitInfo{oid_hex(*git_commit_id(c)), summary ? summary : ""};
+  const char* message = git_commit_message(c);
+  return CommitInfo{oid_hex(*git_commit_id(c)), summary ? summary : "", message ? message : ""};
 }
 
 bool unborn(git_repository* repo) { return git_repository_head_unborn(repo) == 1; }
@@ -59,8 +60,8 @@ Result<Archive> Archive::open(const std::string& dir, bool create) {
   if (exists && !fs::is_directory(dir, ec))
     return Error(Errc::invalid_argument, "archive " + dir + " is not a directory");
   git_repository* repo = nullptr;
-  if (exists && git_repository_open_ext(&repo, dir.c_str(), GIT_REPOSITORY_OPEN_NO_SEARCH,
-                                        nullptr) == 0) {
+  if (exists &&
+      git_repository_open_ext(&repo, dir.c_str(), GIT_REPOSITORY_OPEN_NO_SEARCH, nullptr) == 0) {
     if (git_repository_is_bare(repo)) {
       git_repository_free(repo);
       return Error(Errc::invalid_argument,
@@ -119,7 +120,8 @@ Result<std::optional<std::string>> Archive::read(const std::string& path,
   if (rc == GIT_ENOTFOUND) return std::optional<std::string>();
   if (rc != 0) return git_failure(Errc::file_error, "archive " + dir_ + ": " + path + " at " + rev);
   if (git_object_type(blob.p) != GIT_OBJECT_BLOB)
-    return Error(Errc::file_error, "archive " + dir_ + ": " + path + " at " + rev + " is not a file");
+    return Error(Errc::file_error,
+                 "archive " + dir_ + ": " + path + " at " + rev + " is not a file");
   auto* b = reinterpret_cast<git_blob*>(blob.p);
   return std::optional<std::string>(
       std::string(static_cast<const char*>(git_blob_rawcontent(b)), git_blob_rawsize(b)));
@@ -181,8 +183,7 @@ Result<void> Archive::push(const std::string& remote_name) {
   const git_strarray refspecs = {specs, 1};
   git_push_options opts;
   git_push_options_init(&opts, GIT_PUSH_OPTIONS_VERSION);
-  if (git_remote_push(remote.p, &refspecs, &opts) != 0)
-    return git_failure(Errc::io_error, where);
+  if (git_remote_push(remote.p, &refspecs, &opts) != 0) return git_failure(Errc::io_error, where);
   return {};
 }
 

@@ -16,6 +16,7 @@ namespace lmcfg::fleet {
 struct CommitInfo {
   std::string id;       // full hex object id
   std::string summary;  // first line of the message
+  std::string message;  // the whole message
 };
 
 class Archive {

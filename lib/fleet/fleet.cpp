@@ -85,9 +85,8 @@ std::vector<LiveRead> read_all(const Inventory& inv, const FleetOptions& opt) {
   std::vector<std::thread> workers;
   for (std::size_t l = 0; l < inv.lines.size(); ++l) {
     per_line[l].resize(inv.lines[l].drives.size());
-    workers.emplace_back([&, l] {
-      read_line(inv.lines[l], opt.links[l], opt, report_lock, per_line[l]);
-    });
+    workers.emplace_back(
+        [&, l] { read_line(inv.lines[l], opt.links[l], opt, report_lock, per_line[l]); });
   }
   for (auto& w : workers) w.join();
   std::vector<LiveRead> all;
@@ -113,8 +112,8 @@ Result<void> compare(const Inventory& inv, const Archive& archive, const std::st
         r.status = DriveResult::Status::added;
         continue;
       }
-      auto archived = config::read_config_text(*text, archive_path(d) + " at " + rev,
-                                               config::FileFormat::json);
+      auto archived =
+          config::read_config_text(*text, archive_path(d) + " at " + rev, config::FileFormat::json);
       if (!archived.ok()) return archived.error();
       r.diff = ops::diff(*archived, *live.config, db, nullptr, ops::DiffOptions{});
       r.status = r.diff.identical() ? DriveResult::Status::unchanged : DriveResult::Status::changed;
@@ -275,8 +274,8 @@ std::string commit_message(const FleetRun& run) {
   }
   for (const auto& r : run.drives) {
     if (r.status == S::failed) {
-      s += "\nfailed " + where(r) + ", previous file kept: " +
-           (r.error ? r.error->message : "unknown error") + "\n";
+      s += "\nfailed " + where(r) +
+           ", previous file kept: " + (r.error ? r.error->message : "unknown error") + "\n";
     }
   }
   return s;
@@ -299,16 +298,15 @@ std::string render_text(const FleetRun& run, bool status) {
   char secs[32];
   std::snprintf(secs, sizeof secs, "%.1f", run.seconds);
   if (status) {
-    s += std::to_string(run.drives.size()) + " drive(s): " +
-         std::to_string(run.count(S::unchanged)) + " as archived, " +
+    s += std::to_string(run.drives.size()) +
+         " drive(s): " + std::to_string(run.count(S::unchanged)) + " as archived, " +
          std::to_string(run.count(S::changed)) + " drifted, " +
          std::to_string(run.count(S::added)) + " not in archive, " +
          std::to_string(run.count(S::failed)) + " failed";
     if (run.compared_to) s += " (against " + run.compared_to->id.substr(0, 12) + ")";
   } else {
-    s += std::to_string(run.drives.size()) + " drive(s): " +
-         std::to_string(run.count(S::changed)) + " changed, " +
-         std::to_string(run.count(S::unchanged)) + " unchanged, " +
+    s += std::to_string(run.drives.size()) + " drive(s): " + std::to_string(run.count(S::changed)) +
+         " changed, " + std::to_string(run.count(S::unchanged)) + " unchanged, " +
          std::to_string(run.count(S::added)) + " new, " + std::to_string(run.count(S::failed)) +
          " failed; ";
     s += run.commit ? "committed " + run.commit->id.substr(0, 12) : std::string("no changes");
@@ -386,10 +384,10 @@ Result<FleetRestoreResult> fleet_restore(const Inventory& inv, Archive& archive,
   auto closed = session->close();
   if (res.outcome.written) {
     const std::string message = "fleet restore: " + d->name + " <- " + path + " at " +
-                                source->id.substr(0, 12) + " (" + opt.rev + "): " +
-                                ops::stage_name(res.outcome.stage) + "\n\nline " + line->name +
-                                " (" + line->port + "), MACID " + hex(d->id, 2, "h") + ", " +
-                                std::to_string(res.outcome.plan.steps.size()) + " step(s)\n";
+                                source->id.substr(0, 12) + " (" + opt.rev +
+                                "): " + ops::stage_name(res.outcome.stage) + "\n\nline " +
+                                line->name + " (" + line->port + "), MACID " + hex(d->id, 2, "h") +
+                                ", " + std::to_string(res.outcome.plan.steps.size()) + " step(s)\n";
     LMCFG_ASSIGN_OR_RETURN(res.record, archive.commit({}, message, true));
   }
   if (!closed.ok()) return closed.error();

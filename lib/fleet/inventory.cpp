@@ -1,11 +1,12 @@
 #include "fleet/inventory.hpp"
 
+#include <toml++/toml.h>
+
 #include <filesystem>
 #include <fstream>
 #include <set>
 #include <span>
 #include <sstream>
-#include <toml++/toml.h>
 
 #include "common/bytes.hpp"
 
@@ -71,8 +72,8 @@ class Checker {
 
 constexpr std::string_view kRootKeys[] = {"line"};
 constexpr std::string_view kLineKeys[] = {
-    "name",       "port",    "baud",      "parity",   "stop_bits", "checksum",
-    "checksum_coverage", "timeout_ms", "retries", "settle_ms", "drive"};
+    "name",       "port",    "baud",      "parity", "stop_bits", "checksum", "checksum_coverage",
+    "timeout_ms", "retries", "settle_ms", "drive"};
 constexpr std::string_view kDriveKeys[] = {"name", "id", "labels"};
 
 void read_drive(Checker& c, const toml::table& t, LineEntry& line) {
@@ -98,7 +99,8 @@ void read_drive(Checker& c, const toml::table& t, LineEntry& line) {
   }
   if (const toml::node* labels = t.get("labels")) {
     if (!labels->is_table()) {
-      c.problem(labels->source(), "'labels' must be a table of strings, e.g. { machine = \"press3\" }");
+      c.problem(labels->source(),
+                "'labels' must be a table of strings, e.g. { machine = \"press3\" }");
     } else {
       for (auto&& [k, v] : *labels->as_table()) {
         if (!v.is_string()) {
@@ -145,21 +147,20 @@ void check_unique(Checker& c, const Inventory& inv) {
   std::map<std::string, Position> line_names, drive_names;
   for (const auto& line : inv.lines) {
     if (auto [it, fresh] = line_names.emplace(line.name, line.at); !fresh) {
-      c.problem(line.at, "duplicate line name '" + line.name + "' (first at " +
-                                       it->second.str() + ")");
+      c.problem(line.at,
+                "duplicate line name '" + line.name + "' (first at " + it->second.str() + ")");
     }
     std::map<std::uint8_t, const DriveEntry*> ids;
     for (const auto& d : line.drives) {
       if (d.name.empty()) continue;
       if (auto [it, fresh] = drive_names.emplace(d.name, d.at); !fresh) {
         c.problem(d.at, "duplicate drive name '" + d.name + "' at " + d.at.str() + " (first at " +
-                      it->second.str() + ")");
+                            it->second.str() + ")");
       }
       if (auto [it, fresh] = ids.emplace(d.id, &d); !fresh) {
-        c.problem(d.at, "line '" + line.name + "': drives '" + it->second->name +
-                                         "' (" + it->second->at.str() + ") and '" + d.name +
-                                         "' (" + d.at.str() + ") both have MACID " +
-                                         hex(d.id, 2, "h"));
+        c.problem(d.at, "line '" + line.name + "': drives '" + it->second->name + "' (" +
+                            it->second->at.str() + ") and '" + d.name + "' (" + d.at.str() +
+                            ") both have MACID " + hex(d.id, 2, "h"));
       }
     }
   }
@@ -194,7 +195,8 @@ Result<void> check_position_name(std::string_view name) {
   std::size_t start = 0;
   while (start <= name.size()) {
     const auto slash = name.find('/', start);
-    const auto seg = name.substr(start, slash == std::string_view::npos ? name.npos : slash - start);
+    const auto seg =
+        name.substr(start, slash == std::string_view::npos ? name.npos : slash - start);
     if (seg.empty() || seg == "." || seg == "..") {
       return Error(Errc::invalid_argument,
                    quoted + " must be path segments separated by '/', none empty, '.' or '..'");

@@ -200,6 +200,10 @@ class Drive {
   // Byte front end: feed what arrived on the line at `now_ns` (time of the last
   // byte). Frames for other MACIDs are ignored.
   std::vector<Answer> receive(ByteView bytes, std::int64_t now_ns);
+  // On the drive's clock: when it last heard a byte or, if later, when it
+  // stops being busy (start, reset, flash save). A server that skips the
+  // modelled delays continues a new connection from here.
+  std::int64_t idle_at_ns() const { return std::max(last_byte_ns_, busy_until_ns_); }
   // Telegram front end (the byte front end calls this); nullopt = no answer.
   std::optional<Answer> handle(const codec::Telegram& t, std::int64_t now_ns);
 

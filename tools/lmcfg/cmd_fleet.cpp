@@ -29,8 +29,9 @@ Result<std::vector<ops::LinkOptions>> line_links(const fleet::Inventory& inv,
     CommonOptions c = base;
     c.port = l.port;
     auto set_int = [&](const std::optional<std::int64_t>& v, auto& field) {
-      if (v) field = static_cast<std::remove_reference_t<decltype(field)>>(
-                 std::clamp<std::int64_t>(*v, -1, 100'000'000));
+      if (v)
+        field = static_cast<std::remove_reference_t<decltype(field)>>(
+            std::clamp<std::int64_t>(*v, -1, 100'000'000));
     };
     set_int(l.baud, c.baud);
     set_int(l.stop_bits, c.stop_bits);
@@ -94,15 +95,16 @@ int run_fleet(const FleetCli& o, bool status) {
         std::fprintf(stderr, "[%s %zu/%zu] %s: failed: %s\n", r.line.c_str(), done, total,
                      r.name.c_str(), r.error->message.c_str());
       } else {
-        std::fprintf(stderr, "[%s %zu/%zu] %s: read %zu parameter(s), %zu curve(s), %zu CT "
-                     "entr%s in %.1f s\n", r.line.c_str(), done, total, r.name.c_str(),
-                     r.parameters, r.curves, r.ct_entries, r.ct_entries == 1 ? "y" : "ies",
-                     r.seconds);
+        std::fprintf(stderr,
+                     "[%s %zu/%zu] %s: read %zu parameter(s), %zu curve(s), %zu CT "
+                     "entr%s in %.1f s\n",
+                     r.line.c_str(), done, total, r.name.c_str(), r.parameters, r.curves,
+                     r.ct_entries, r.ct_entries == 1 ? "y" : "ies", r.seconds);
       }
     };
   }
-  auto run = status ? fleet::fleet_status(*inv, *archive, fo)
-                    : fleet::fleet_backup(*inv, *archive, fo);
+  auto run =
+      status ? fleet::fleet_status(*inv, *archive, fo) : fleet::fleet_backup(*inv, *archive, fo);
   if (!run.ok()) return fail(name, run.error());
   if (o.common.json)
     std::fputs(fleet::render_json(*run, status).c_str(), stdout);
@@ -196,8 +198,8 @@ void add_fleet(CLI::App& app, int& exit_code) {
       sub->add_option("--push", o->push, "push the commit to this remote (name, URL or path)");
     sub->callback([o, &exit_code, status] { exit_code = run_fleet(*o, status); });
   }
-  auto* restore = add_part(fleet, "restore",
-                           "Restore a position's archived file onto the drive now there", *o);
+  auto* restore =
+      add_part(fleet, "restore", "Restore a position's archived file onto the drive now there", *o);
   restore->add_option("--archive", o->archive, "the archive (a git repository)")->required();
   restore->add_option("--drive", o->drive, "the position's name in the inventory")->required();
   restore->add_option("--rev", o->rev, "archive revision to restore from (git syntax)")

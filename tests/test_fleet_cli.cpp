@@ -1,0 +1,262 @@
+// lmcfg fleet end to end: two lines behind loopback TCP gateways (`lmcfg sim
+// --tcp` serving an RS485 line of several MACIDs each) and one simulated line
+// in-process (sim:A.json,B.json), archived in a real git repository (libgit2).
+#include <catch2/catch.hpp>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+
+#include "files.hpp"
+#include "fleet/archive.hpp"
+#include "subprocess.hpp"
+
+using namespace lmcfg;
+namespace fs = std::filesystem;
+
+namespace {
+
+const std::string kFixtures = std::string(LMCFG_SOURCE_DIR) + "/tests/fixtures/sim/";
+
+// The commissioned axis at MACID `id`. Its communication parameters are left
+// at their defaults, so a restore without --include-comm reproduces it fully.
+void write_axis(const fs::path& path, int id, bool factory_fresh = false) {
+  auto j = nlohmann::json::parse(test::slurp(kFixtures + "commissioned-axis.json"));
+  j["macid"] = id;
+  for (auto& p : j["parameters"]) {
+    const std::string upid = p["upid"];
+    if (factory_fresh || upid == "200E" || upid == "206C") p["rom"] = p["ram"] = p["default"];
+  }
+  if (factory_fresh) {
+    j["curves"] = nlohmann::json::array();
+    j["command_table"] = nlohmann::json::array();
+  }
+  test::spit(path, j.dump(1));
+}
+
+// `lmcfg sim --tcp` serving the drives of `states` on one line.
+struct Gateway {
+  std::unique_ptr<test::Child> child;
+  std::string port;
+  explicit Gateway(const std::vector<fs::path>& states) {
+    std::vector<std::string> argv{LMCFG_TOOL_PATH, "sim", "--tcp", "127.0.0.1:0", "--fast"};
+    for (const auto& s : states) {
+      argv.push_back("--state");
+      argv.push_back(s.string());
+    }
+    child = std::make_unique<test::Child>(argv);
+    port = "tcp://127.0.0.1:" + child->read_line();
+  }
+};
+
+std::size_t count(const std::string& text, const std::string& what) {
+  std::size_t n = 0;
+  for (auto at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+  return n;
+}
+
+}  // namespace
+
+TEST_CASE("fleet: backup, drift, a silent line and a restored replacement, over TCP gateways "
+          "and a simulated RS485 line",
+          "[fleet][cli]") {
+  test::ScratchDir d("fleet");
+  const auto& dir = d.path;
+  write_axis(dir / "g1a.json", 0x11);
+  write_axis(dir / "g1b.json", 0x12);
+  write_axis(dir / "g1c.json", 0x13);
+  write_axis(dir / "g2a.json", 0x21);
+  write_axis(dir / "g2b.json", 0x22);
+  write_axis(dir / "s1.json", 0x11);
+  write_axis(dir / "s2.json", 0x12);
+  Gateway gw1({dir / "g1a.json", dir / "g1b.json", dir / "g1c.json"});
+  auto gw2 = std::make_unique<Gateway>(std::vector<fs::path>{dir / "g2a.json", dir / "g2b.json"});
+  REQUIRE(gw1.port.size() > 16);
+  REQUIRE(gw2->port.size() > 16);
+  test::spit(dir / "plant.toml", "[[line]]\nname = \"line1\"\nport = \"" + gw1.port +
+                                     "\"\n"
+                                     "[[line.drive]]\nname = \"press3/z-axis\"\nid = 0x11\n"
+                                     "labels = { machine = \"press3\" }\n"
+                                     "[[line.drive]]\nname = \"press3/x-axis\"\nid = 0x12\n"
+                                     "[[line.drive]]\nname = \"press3/y-axis\"\nid = 0x13\n"
+                                     "[[line]]\nname = \"line2\"\nport = \"" +
+                                     gw2->port +
+                                     "\"\ntimeout_ms = 50\nretries = 0\n"
+                                     "[[line.drive]]\nname = \"press4/z\"\nid = 0x21\n"
+                                     "[[line.drive]]\nname = \"press4/x\"\nid = 0x22\n"
+                                     "[[line]]\nname = \"bench\"\nport = \"sim:s1.json,s2.json\"\n"
+                                     "[[line.drive]]\nname = \"bench/a\"\nid = 0x11\n"
+                                     "[[line.drive]]\nname = \"bench/b\"\nid = 0x12\n");
+  const std::vector<std::string> files = {"press3/z-axis.json", "press3/x-axis.json",
+                                          "press3/y-axis.json", "press4/z.json",
+                                          "press4/x.json",      "bench/a.json",
+                                          "bench/b.json"};
+
+  auto check = test::run_tool_in(dir, "fleet check plant.toml");
+  INFO(check.err);
+  CHECK(check.exit_code == 0);
+  CHECK(check.out == "plant.toml: 3 line(s), 7 drive(s): ok\n");
+
+  // The first backup creates the archive and commits every file.
+  auto first = test::run_tool_in(dir, "fleet backup plant.toml --archive arch");
+  INFO(first.err);
+  REQUIRE(first.exit_code == 0);
+  auto archive = fleet::Archive::open((dir / "arch").string(), false);
+  REQUIRE(archive.ok());
+  auto head1 = archive->resolve("HEAD");
+  REQUIRE(head1.ok());
+  REQUIRE(*head1);
+  CHECK((*head1)->summary == "fleet backup: 0 changed, 0 unchanged, 7 new, 0 failed");
+  for (const auto& f : files) {
+    INFO(f);
+    auto text = archive->read(f);
+    REQUIRE(text.ok());
+    REQUIRE(*text);
+    CHECK(**text == test::slurp(dir / "arch" / f));
+  }
+  CHECK(archive->read("press3/z-axis.json").value()->find("\"machine\": \"press3\"") !=
+        std::string::npos);
+  CHECK(count(first.err, "[line1 ") == 3);  // progress per line
+  CHECK(count(first.err, "[line2 ") == 2);
+
+  // Nothing changed: no commit, and the run says so.
+  auto second = test::run_tool_in(dir, "fleet backup plant.toml --archive arch");
+  CHECK(second.exit_code == 0);
+  CHECK(second.out.find("7 drive(s): 0 changed, 7 unchanged, 0 new, 0 failed; no changes") !=
+        std::string::npos);
+  CHECK(archive->resolve("HEAD").value()->id == (*head1)->id);
+
+  // Someone tunes a gain on one drive: status reports exactly that drift.
+  auto set = test::run_tool_in(
+      dir, "set --port " + gw1.port + " --id 0x12 --rom --stop-mc 13A2 1234");
+  INFO(set.err);
+  REQUIRE(set.exit_code == 0);
+  auto status = test::run_tool_in(dir, "fleet status plant.toml --archive arch");
+  CHECK(status.exit_code == 1);
+  CHECK(status.out.rfind(
+            "drift: press3/x-axis (line line1, MACID 12h): 1 parameter, 0 curves, 0 CT entries\n"
+            "    MC 13A2h P Gain Position Controller Set A: 40 -> 1234\n"
+            "7 drive(s): 6 as archived, 1 drifted, 0 not in archive, 0 failed (against " +
+                (*head1)->id.substr(0, 12) + ")",
+            0) == 0);
+  auto status_json = test::run_tool_in(dir, "fleet status plant.toml --archive arch --json");
+  CHECK(status_json.exit_code == 1);
+  const auto sj = nlohmann::json::parse(status_json.out);
+  CHECK(sj["counts"]["changed"] == 1);
+  CHECK(sj["drives"][1]["differences"][0]["key"] == 0x13A2);
+
+  // The next backup commits only that drive's file, naming the drive and the UPID.
+  auto third = test::run_tool_in(dir, "fleet backup plant.toml --archive arch");
+  CHECK(third.exit_code == 0);
+  auto head2 = archive->resolve("HEAD").value();
+  REQUIRE(head2);
+  CHECK(head2->id != (*head1)->id);
+  CHECK(head2->message ==
+        "fleet backup: 1 changed, 6 unchanged, 0 new, 0 failed\n"
+        "\n"
+        "changed press3/x-axis (line line1, MACID 12h): 1 parameter, 0 curves, 0 CT entries\n"
+        "  MC 13A2h P Gain Position Controller Set A: 40 -> 1234\n");
+  for (const auto& f : files) {
+    INFO(f);
+    const bool same = *archive->read(f, "HEAD").value() == *archive->read(f, "HEAD~1").value();
+    CHECK(same == (f != "press3/x-axis.json"));
+  }
+  CHECK(test::run_tool_in(dir, "fleet status plant.toml --archive arch").exit_code == 0);
+  auto since = test::run_tool_in(dir, "fleet status plant.toml --archive arch --since HEAD~1");
+  CHECK(since.exit_code == 1);
+  CHECK(count(since.out, "drift: ") == 1);
+
+  // A line that stops answering fails the run (exit 4), names its drives and
+  // keeps their files; the other lines are still read.
+  gw2.reset();
+  auto silent = test::run_tool_in(dir, "fleet backup plant.toml --archive arch");
+  CHECK(silent.exit_code == 4);
+  CHECK(count(silent.out, "failed: press4/") == 2);
+  CHECK(silent.out.find("7 drive(s): 0 changed, 5 unchanged, 0 new, 2 failed; no changes") !=
+        std::string::npos);
+  CHECK(archive->resolve("HEAD").value()->id == head2->id);
+  CHECK(fs::exists(dir / "arch/press4/z.json"));
+
+  // A factory-fresh replacement at bench/b is brought back to the archived file.
+  write_axis(dir / "s2.json", 0x12, true);
+  auto drift = test::run_tool_in(dir, "fleet status plant.toml --archive arch --json");
+  CHECK(nlohmann::json::parse(drift.out)["drives"][6]["status"] == "changed");
+  auto restore = test::run_tool_in(
+      dir, "fleet restore plant.toml --archive arch --drive bench/b --yes");
+  INFO(restore.err);
+  CHECK(restore.exit_code == 0);
+  CHECK(restore.err.find("verified: the drive matches bench/b.json@" + head2->id.substr(0, 12)) !=
+        std::string::npos);
+  auto record = archive->resolve("HEAD").value();
+  CHECK(record->summary == "fleet restore: bench/b <- bench/b.json at " +
+                               head2->id.substr(0, 12) + " (HEAD): restored and verified");
+  auto after = test::run_tool_in(dir, "fleet status plant.toml --archive arch --json");
+  const auto aj = nlohmann::json::parse(after.out);
+  CHECK(aj["drives"][5]["status"] == "unchanged");
+  CHECK(aj["drives"][6]["status"] == "unchanged");
+}
+
+TEST_CASE("fleet: bad inventories and archives give positioned errors and write nothing",
+          "[fleet][cli]") {
+  test::ScratchDir d("fleet-bad");
+  const auto& dir = d.path;
+  write_axis(dir / "s1.json", 0x11);
+  test::spit(dir / "dup.toml",
+             "[[line]]\nname = \"l\"\nport = \"sim:s1.json\"\n[[line.drive]]\nname = \"a\"\nid = "
+             "1\n[[line.drive]]\nname = \"b\"\nid = 1\n");
+  auto dup = test::run_tool_in(dir, "fleet backup dup.toml --archive arch");
+  CHECK(dup.exit_code == 2);
+  CHECK(dup.err == "lmcfg fleet backup: dup.toml:7:1: line 'l': drives 'a' (dup.toml:4:1) and "
+                   "'b' (dup.toml:7:1) both have MACID 01h\n");
+  CHECK_FALSE(fs::exists(dir / "arch"));
+
+  test::spit(dir / "baud.toml",
+             "[[line]]\nname = \"l\"\nport = \"sim:s1.json\"\nbaud = 12345\n[[line.drive]]\nname "
+             "= \"a\"\nid = 0x11\n");
+  auto baud = test::run_tool_in(dir, "fleet check baud.toml");
+  CHECK(baud.exit_code == 2);
+  CHECK(baud.err.rfind("lmcfg fleet check: baud.toml:1:1: line 'l': ", 0) == 0);
+
+  test::spit(dir / "ok.toml",
+             "[[line]]\nname = \"l\"\nport = \"sim:s1.json\"\n[[line.drive]]\nname = \"a\"\nid "
+             "= 0x11\n");
+  fs::create_directories(dir / "notes");
+  test::spit(dir / "notes/readme.txt", "not an archive");
+  auto notgit = test::run_tool_in(dir, "fleet backup ok.toml --archive notes");
+  CHECK(notgit.exit_code == 2);
+  CHECK(notgit.err ==
+        "lmcfg fleet backup: archive notes is not a git repository (and not empty, so it is not "
+        "made one: give an empty or new directory, or run git init there)\n");
+  CHECK(fs::directory_iterator(dir / "notes") != fs::directory_iterator());
+  CHECK_FALSE(fs::exists(dir / "notes/a.json"));
+  auto nostatus = test::run_tool_in(dir, "fleet status ok.toml --archive nothing-here");
+  CHECK(nostatus.exit_code == 2);
+  CHECK(nostatus.err == "lmcfg fleet status: archive nothing-here is not a git repository\n");
+  auto nodrive = test::run_tool_in(dir, "fleet restore ok.toml --archive notes --drive zz --yes");
+  CHECK(nodrive.exit_code == 2);
+  CHECK(nodrive.err == "lmcfg fleet restore: ok.toml: no drive named 'zz' in the inventory\n");
+}
+
+TEST_CASE("fleet: --push sends the run's commit to a bare repository", "[fleet][cli]") {
+  test::ScratchDir d("fleet-push");
+  const auto& dir = d.path;
+  write_axis(dir / "s1.json", 0x11);
+  test::spit(dir / "ok.toml",
+             "[[line]]\nname = \"l\"\nport = \"sim:s1.json\"\n[[line.drive]]\nname = \"a\"\nid "
+             "= 0x11\n");
+  REQUIRE(std::system(("git init -q --bare '" + (dir / "central.git").string() + "'").c_str()) ==
+          0);
+  auto r = test::run_tool_in(
+      dir, "fleet backup ok.toml --archive arch --push '" + (dir / "central.git").string() + "'");
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  auto local = fleet::Archive::open((dir / "arch").string(), false);
+  REQUIRE(local.ok());
+  const auto head = local->resolve("HEAD").value();
+  REQUIRE(head);
+  REQUIRE(std::system(("git clone -q '" + (dir / "central.git").string() + "' '" +
+                       (dir / "clone").string() + "'")
+                          .c_str()) == 0);
+  auto clone = fleet::Archive::open((dir / "clone").string(), false);
+  REQUIRE(clone.ok());
+  CHECK(clone->resolve("HEAD").value()->id == head->id);
+  CHECK(clone->read("a.json").value() == local->read("a.json").value());
+}
