@@ -55,9 +55,10 @@ std::size_t count(const std::string& text, const std::string& what) {
 
 }  // namespace
 
-TEST_CASE("fleet: backup, drift, a silent line and a restored replacement, over TCP gateways "
-          "and a simulated RS485 line",
-          "[fleet][cli]") {
+TEST_CASE(
+    "fleet: backup, drift, a silent line and a restored replacement, over TCP gateways "
+    "and a simulated RS485 line",
+    "[fleet][cli]") {
   test::ScratchDir d("fleet");
   const auto& dir = d.path;
   write_axis(dir / "g1a.json", 0x11);
@@ -85,10 +86,9 @@ TEST_CASE("fleet: backup, drift, a silent line and a restored replacement, over 
                                      "[[line]]\nname = \"bench\"\nport = \"sim:s1.json,s2.json\"\n"
                                      "[[line.drive]]\nname = \"bench/a\"\nid = 0x11\n"
                                      "[[line.drive]]\nname = \"bench/b\"\nid = 0x12\n");
-  const std::vector<std::string> files = {"press3/z-axis.json", "press3/x-axis.json",
-                                          "press3/y-axis.json", "press4/z.json",
-                                          "press4/x.json",      "bench/a.json",
-                                          "bench/b.json"};
+  const std::vector<std::string> files = {
+      "press3/z-axis.json", "press3/x-axis.json", "press3/y-axis.json", "press4/z.json",
+      "press4/x.json",      "bench/a.json",       "bench/b.json"};
 
   auto check = test::run_tool_in(dir, "fleet check plant.toml");
   INFO(check.err);
@@ -125,8 +125,8 @@ TEST_CASE("fleet: backup, drift, a silent line and a restored replacement, over 
   CHECK(archive->resolve("HEAD").value()->id == (*head1)->id);
 
   // Someone tunes a gain on one drive: status reports exactly that drift.
-  auto set = test::run_tool_in(
-      dir, "set --port " + gw1.port + " --id 0x12 --rom --stop-mc 13A2 1234");
+  auto set =
+      test::run_tool_in(dir, "set --port " + gw1.port + " --id 0x12 --rom --stop-mc 13A2 1234");
   INFO(set.err);
   REQUIRE(set.exit_code == 0);
   auto status = test::run_tool_in(dir, "fleet status plant.toml --archive arch");
@@ -179,15 +179,15 @@ TEST_CASE("fleet: backup, drift, a silent line and a restored replacement, over 
   write_axis(dir / "s2.json", 0x12, true);
   auto drift = test::run_tool_in(dir, "fleet status plant.toml --archive arch --json");
   CHECK(nlohmann::json::parse(drift.out)["drives"][6]["status"] == "changed");
-  auto restore = test::run_tool_in(
-      dir, "fleet restore plant.toml --archive arch --drive bench/b --yes");
+  auto restore =
+      test::run_tool_in(dir, "fleet restore plant.toml --archive arch --drive bench/b --yes");
   INFO(restore.err);
   CHECK(restore.exit_code == 0);
   CHECK(restore.err.find("verified: the drive matches bench/b.json@" + head2->id.substr(0, 12)) !=
         std::string::npos);
   auto record = archive->resolve("HEAD").value();
-  CHECK(record->summary == "fleet restore: bench/b <- bench/b.json at " +
-                               head2->id.substr(0, 12) + " (HEAD): restored and verified");
+  CHECK(record->summary == "fleet restore: bench/b <- bench/b.json at " + head2->id.substr(0, 12) +
+                               " (HEAD): restored and verified");
   auto after = test::run_tool_in(dir, "fleet status plant.toml --archive arch --json");
   const auto aj = nlohmann::json::parse(after.out);
   CHECK(aj["drives"][5]["status"] == "unchanged");
@@ -204,8 +204,9 @@ TEST_CASE("fleet: bad inventories and archives give positioned errors and write 
              "1\n[[line.drive]]\nname = \"b\"\nid = 1\n");
   auto dup = test::run_tool_in(dir, "fleet backup dup.toml --archive arch");
   CHECK(dup.exit_code == 2);
-  CHECK(dup.err == "lmcfg fleet backup: dup.toml:7:1: line 'l': drives 'a' (dup.toml:4:1) and "
-                   "'b' (dup.toml:7:1) both have MACID 01h\n");
+  CHECK(dup.err ==
+        "lmcfg fleet backup: dup.toml:7:1: line 'l': drives 'a' (dup.toml:4:1) and "
+        "'b' (dup.toml:7:1) both have MACID 01h\n");
   CHECK_FALSE(fs::exists(dir / "arch"));
 
   test::spit(dir / "baud.toml",

@@ -66,8 +66,7 @@ id = 0x12
   CHECK(inv->find_drive("press4/z") == nullptr);
 }
 
-TEST_CASE("fleet inventory: TOML syntax errors name file, line and column",
-          "[fleet][inventory]") {
+TEST_CASE("fleet inventory: TOML syntax errors name file, line and column", "[fleet][inventory]") {
   auto inv = fleet::parse_inventory("[[line]]\nname = \"a\nport = 1\n", "plant.toml");
   REQUIRE_FALSE(inv.ok());
   CHECK(inv.error().code == make_error_code(Errc::parse_error));
