@@ -22,7 +22,9 @@ using Clock = std::chrono::steady_clock;
 
 namespace {
 
-double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+double since(Clock::time_point t) {
+  return std::chrono::duration<double>(Clock::now() - t).count();
+}
 
 // One RS485 line of drives behind a loopback TCP gateway, served in real time.
 class Gateway {
@@ -127,22 +129,24 @@ int main(int argc, char** argv) {
   const db::Database* dbp = db.ok() ? &*db : nullptr;
   std::vector<std::unique_ptr<Gateway>> gws;
   for (int l = 0; l < lines; ++l) gws.push_back(std::make_unique<Gateway>(*base, per_line));
-  const fs::path tmp = fs::temp_directory_path() / ("lmcfg-bench-fleet-" + std::to_string(::getpid()));
+  const fs::path tmp =
+      fs::temp_directory_path() / ("lmcfg-bench-fleet-" + std::to_string(::getpid()));
 
   std::printf("fleet backup, %d line(s) of %d drive(s), real time over loopback TCP gateways\n",
               lines, per_line);
   double slowest = 0;
-  for (std::size_t l : {std::size_t{0}, static_cast<std::size_t>(lines / 2),
-                        static_cast<std::size_t>(lines - 1)}) {
+  for (std::size_t l :
+       {std::size_t{0}, static_cast<std::size_t>(lines / 2), static_cast<std::size_t>(lines - 1)}) {
     auto t = backup(inventory(gws, l, 1, per_line), tmp / "single", dbp);
     std::printf("  line %zu alone: %.2f s wall (%.2f s reading, %zu failed)\n", l + 1, t.wall,
                 t.read, t.failed);
     slowest = std::max(slowest, t.wall);
   }
   auto all = backup(inventory(gws, 0, static_cast<std::size_t>(lines), per_line), tmp / "all", dbp);
-  std::printf("  all %d lines: %.2f s wall (%.2f s reading, %.3f s writing and committing %zu "
-              "files), %zu failed\n",
-              lines, all.wall, all.read, all.wall - all.read, all.drives, all.failed);
+  std::printf(
+      "  all %d lines: %.2f s wall (%.2f s reading, %.3f s writing and committing %zu "
+      "files), %zu failed\n",
+      lines, all.wall, all.read, all.wall - all.read, all.drives, all.failed);
   std::printf("  ratio all / slowest single line: %.2fx (goal <= 1.2x)\n", all.wall / slowest);
 
   // A commit where every file changed: rewrite each with one more byte.

@@ -261,3 +261,27 @@ TEST_CASE("fleet: --push sends the run's commit to a bare repository", "[fleet][
   CHECK(clone->resolve("HEAD").value()->id == head->id);
   CHECK(clone->read("a.json").value() == local->read("a.json").value());
 }
+
+TEST_CASE("fleet: a damaged archived file is drift that the next backup repairs", "[fleet][cli]") {
+  test::ScratchDir d("fleet-damaged");
+  const auto& dir = d.path;
+  write_axis(dir / "s1.json", 0x11);
+  test::spit(dir / "ok.toml",
+             "[[line]]\nname = \"l\"\nport = \"sim:s1.json\"\n[[line.drive]]\nname = \"a\"\nid "
+             "= 0x11\n");
+  REQUIRE(test::run_tool_in(dir, "fleet backup ok.toml --archive arch -q").exit_code == 0);
+  auto archive = fleet::Archive::open((dir / "arch").string(), false);
+  REQUIRE(archive.ok());
+  test::spit(dir / "arch/a.json", "{\"format\": \"lmcfg-config\", \"version\": 2");
+  REQUIRE(archive->commit({"a.json"}, "someone's edit\n").ok());
+  auto status = test::run_tool_in(dir, "fleet status ok.toml --archive arch");
+  CHECK(status.exit_code == 1);
+  CHECK(status.out.rfind("drift: a (line l, MACID 11h): 0 parameters, 0 curves, 0 CT entries, 1 "
+                         "other difference\n    metadata archived file: unreadable (a.json at ",
+                         0) == 0);
+  auto repair = test::run_tool_in(dir, "fleet backup ok.toml --archive arch");
+  CHECK(repair.exit_code == 0);
+  CHECK(archive->resolve("HEAD").value()->summary ==
+        "fleet backup: 1 changed, 0 unchanged, 0 new, 0 failed");
+  CHECK(test::run_tool_in(dir, "fleet status ok.toml --archive arch").exit_code == 0);
+}

@@ -33,9 +33,6 @@ void read_line(const LineEntry& line, const ops::LinkOptions& link_in, const Fle
   for (std::size_t i = 0; i < line.drives.size(); ++i) {
     const auto& d = line.drives[i];
     auto& r = out[i].result;
-    r.line = line.name;
-    r.name = d.name;
-    r.id = d.id;
     const auto start = Clock::now();
     if (!session.ok()) {
       r.error = Error(session.error().code,
@@ -85,8 +82,23 @@ std::vector<LiveRead> read_all(const Inventory& inv, const FleetOptions& opt) {
   std::vector<std::thread> workers;
   for (std::size_t l = 0; l < inv.lines.size(); ++l) {
     per_line[l].resize(inv.lines[l].drives.size());
-    workers.emplace_back(
-        [&, l] { read_line(inv.lines[l], opt.links[l], opt, report_lock, per_line[l]); });
+    for (std::size_t i = 0; i < inv.lines[l].drives.size(); ++i) {
+      auto& r = per_line[l][i].result;
+      r.line = inv.lines[l].name;
+      r.name = inv.lines[l].drives[i].name;
+      r.id = inv.lines[l].drives[i].id;
+    }
+    workers.emplace_back([&, l] {
+      try {
+        read_line(inv.lines[l], opt.links[l], opt, report_lock, per_line[l]);
+      } catch (const std::exception& e) {
+        // A worker never takes the process down: its unread drives fail, named.
+        for (auto& r : per_line[l]) {
+          if (!r.config && !r.result.error)
+            r.result.error = Error(Errc::io_error, std::string("fleet worker: ") + e.what());
+        }
+      }
+    });
   }
   for (auto& w : workers) w.join();
   std::vector<LiveRead> all;
@@ -114,7 +126,18 @@ Result<void> compare(const Inventory& inv, const Archive& archive, const std::st
       }
       auto archived =
           config::read_config_text(*text, archive_path(d) + " at " + rev, config::FileFormat::json);
-      if (!archived.ok()) return archived.error();
+      if (!archived.ok()) {
+        // A hand-edited or damaged archive file is a difference, not a failure
+        // of the drive: backup replaces it with what the drive holds.
+        ops::DiffItem it;
+        it.kind = ops::DiffItem::Kind::metadata;
+        it.name = "archived file";
+        it.a = "unreadable (" + archived.error().message + ")";
+        it.b = "read from the drive";
+        r.diff.items.push_back(std::move(it));
+        r.status = DriveResult::Status::changed;
+        continue;
+      }
       r.diff = ops::diff(*archived, *live.config, db, nullptr, ops::DiffOptions{});
       r.status = r.diff.identical() ? DriveResult::Status::unchanged : DriveResult::Status::changed;
     }
