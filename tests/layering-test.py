@@ -12,6 +12,7 @@ ALLOWED = {  # as lib/CMakeLists.txt declares, with the layer itself
     "db": {"db", "common"},
     "config": {"config", "common"},
     "client": {"client", "codec", "transport", "common"},
+    "can": {"can", "transport", "common"},
     "sim": {"sim", "codec", "transport", "common"},
     "ops": {"ops", "client", "config", "db", "codec", "transport", "common"},
     "fleet": {"fleet", "ops", "client", "config", "db", "codec", "transport", "common"},

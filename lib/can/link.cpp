@@ -1,0 +1,231 @@
+#include "can/link.hpp"
+
+#include <linux/can.h>
+#include <linux/can/raw.h>
+#include <net/if.h>
+#include <poll.h>
+#include <sys/ioctl.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
+
+namespace lmcfg::can {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+class SlcanLink final : public Link {
+ public:
+  SlcanLink(std::unique_ptr<transport::Transport> serial, SlcanOptions opt)
+      : serial_(std::move(serial)), opt_(opt) {}
+  ~SlcanLink() override { (void)serial_->write(as_bytes(slcan::kClose)); }
+
+  // "C" first (an open channel from an earlier run refuses "Sn"); its answer
+  // does not matter. Then the bit rate and "O", each acknowledged.
+  Result<void> open() {
+    LMCFG_TRY(serial_->write(as_bytes(slcan::kClose)));
+    (void)await_ack("C", transport::Millis(100), true);
+    serial_->discard_input();
+    decoder_.reset();
+    LMCFG_ASSIGN_OR_RETURN(auto rate, slcan::bitrate_command(opt_.bitrate));
+    LMCFG_TRY(command(rate));
+    return command(std::string(slcan::kOpen));
+  }
+
+  Result<void> send(const Frame& f) override {
+    LMCFG_TRY(validate(f));
+    const std::string line = slcan::encode(f);
+    LMCFG_TRY(serial_->write(as_bytes(line)));
+    if (!opt_.expect_transmit_ack) return {};
+    return await_ack(line.substr(0, line.size() - 1), opt_.ack_timeout, false);
+  }
+
+  Result<std::optional<Frame>> receive(transport::Millis timeout) override {
+    const auto until = Clock::now() + timeout;
+    while (frames_.empty()) {
+      const auto left = std::chrono::duration_cast<transport::Millis>(until - Clock::now());
+      if (left.count() <= 0) return std::optional<Frame>();
+      LMCFG_TRY(pump(left));
+    }
+    Frame f = frames_.front();
+    frames_.pop_front();
+    return std::optional<Frame>(f);
+  }
+
+  std::string describe() const override {
+    return "slcan " + serial_->describe() + " " + std::to_string(opt_.bitrate / 1000) + " kbit/s";
+  }
+
+ private:
+  static ByteView as_bytes(std::string_view s) {
+    return ByteView(reinterpret_cast<const std::uint8_t*>(s.data()), s.size());
+  }
+
+  Result<void> command(const std::string& line) {
+    LMCFG_TRY(serial_->write(as_bytes(line)));
+    return await_ack(line.substr(0, line.size() - 1), opt_.ack_timeout, false);
+  }
+
+  // Reads once; frames are queued, acknowledgements and bells counted.
+  Result<void> pump(transport::Millis timeout) {
+    LMCFG_ASSIGN_OR_RETURN(auto bytes, serial_->read_some(timeout));
+    for (auto& e : decoder_.feed(bytes)) {
+      if (auto* f = std::get_if<Frame>(&e)) {
+        frames_.push_back(*f);
+      } else if (std::holds_alternative<slcan::Ack>(e)) {
+        ++acks_;
+      } else if (std::holds_alternative<slcan::Bell>(e)) {
+        ++bells_;
+      } else {
+        last_unknown_ = std::get<slcan::Unknown>(e).line;
+      }
+    }
+    return {};
+  }
+
+  Result<void> await_ack(const std::string& what, transport::Millis timeout, bool quiet) {
+    acks_ = bells_ = 0;
+    const auto until = Clock::now() + timeout;
+    while (acks_ == 0 && bells_ == 0) {
+      const auto left = std::chrono::duration_cast<transport::Millis>(until - Clock::now());
+      if (left.count() <= 0) {
+        if (quiet) return {};
+        return Error(Errc::timeout, serial_->describe() + ": the slcan adapter did not answer '" +
+                                        what + "' within " + std::to_string(timeout.count()) +
+                                        " ms (is it an slcan adapter? " +
+                                        (last_unknown_.empty() ? std::string("it sent nothing")
+                                                               : "it sent '" + last_unknown_ + "'") +
+                                        ")");
+      }
+      LMCFG_TRY(pump(left));
+    }
+    if (bells_ != 0 && !quiet) {
+      return Error(Errc::drive_refused, serial_->describe() + ": the slcan adapter refused '" +
+                                            what + "' (BEL)");
+    }
+    return {};
+  }
+
+  std::unique_ptr<transport::Transport> serial_;
+  SlcanOptions opt_;
+  slcan::Decoder decoder_;
+  std::deque<Frame> frames_;
+  unsigned acks_ = 0, bells_ = 0;
+  std::string last_unknown_;
+};
+
+class SocketCanLink final : public Link {
+ public:
+  SocketCanLink(transport::UniqueFd fd, std::string name) : fd_(std::move(fd)), name_(std::move(name)) {}
+
+  Result<void> send(const Frame& f) override {
+    LMCFG_TRY(validate(f));
+    can_frame raw{};
+    raw.can_id = f.id | (f.extended ? CAN_EFF_FLAG : 0u) | (f.rtr ? CAN_RTR_FLAG : 0u);
+    raw.can_dlc = f.len;
+    std::memcpy(raw.data, f.data.data(), f.len);
+    if (::write(fd_.get(), &raw, sizeof raw) != static_cast<ssize_t>(sizeof raw)) {
+      return Error(Errc::io_error, describe() + ": send: " + std::strerror(errno));
+    }
+    return {};
+  }
+
+  Result<std::optional<Frame>> receive(transport::Millis timeout) override {
+    pollfd p{fd_.get(), POLLIN, 0};
+    const int rc = ::poll(&p, 1, static_cast<int>(timeout.count()));
+    if (rc < 0 && errno != EINTR)
+      return Error(Errc::io_error, describe() + ": poll: " + std::strerror(errno));
+    if (rc <= 0) return std::optional<Frame>();
+    can_frame raw{};
+    if (::read(fd_.get(), &raw, sizeof raw) != static_cast<ssize_t>(sizeof raw)) {
+      return Error(Errc::io_error, describe() + ": receive: " + std::strerror(errno));
+    }
+    Frame f;
+    f.extended = (raw.can_id & CAN_EFF_FLAG) != 0;
+    f.rtr = (raw.can_id & CAN_RTR_FLAG) != 0;
+    f.id = raw.can_id & (f.extended ? CAN_EFF_MASK : CAN_SFF_MASK);
+    f.len = std::min<std::uint8_t>(raw.can_dlc, 8);
+    std::memcpy(f.data.data(), raw.data, f.len);
+    return std::optional<Frame>(f);
+  }
+
+  std::string describe() const override { return "socketcan " + name_; }
+
+ private:
+  transport::UniqueFd fd_;
+  std::string name_;
+};
+
+}  // namespace
+
+Result<std::unique_ptr<Link>> open_slcan(std::unique_ptr<transport::Transport> serial,
+                                         const SlcanOptions& opt) {
+  auto link = std::make_unique<SlcanLink>(std::move(serial), opt);
+  LMCFG_TRY(link->open());
+  return std::unique_ptr<Link>(std::move(link));
+}
+
+Result<std::unique_ptr<Link>> open_socketcan(const std::string& interface) {
+  const std::string where = "CAN interface " + interface;
+  if (interface.empty() || interface.size() >= IFNAMSIZ)
+    return Error(Errc::invalid_argument, where + ": not an interface name");
+  transport::UniqueFd fd(::socket(PF_CAN, SOCK_RAW | SOCK_CLOEXEC, CAN_RAW));
+  if (!fd) {
+    const bool no_can = errno == EAFNOSUPPORT || errno == EPROTONOSUPPORT;
+    return Error(Errc::io_error, where + ": socket: " + std::strerror(errno) +
+                                     (no_can ? " (this kernel has no SocketCAN: modprobe can_raw, "
+                                               "or use a USB adapter speaking slcan: --port "
+                                               "slcan:/dev/ttyACM0)"
+                                             : ""));
+  }
+  ifreq ifr{};
+  std::memcpy(ifr.ifr_name, interface.c_str(), interface.size());
+  if (::ioctl(fd.get(), SIOCGIFINDEX, &ifr) != 0) {
+    return Error(Errc::io_error,
+                 where + ": " + std::strerror(errno) +
+                     " (no such interface? `ip link` lists them; a USB adapter speaking slcan "
+                     "is --port slcan:/dev/ttyACM0)");
+  }
+  sockaddr_can addr{};
+  addr.can_family = AF_CAN;
+  addr.can_ifindex = ifr.ifr_ifindex;
+  if (::bind(fd.get(), reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0)
+    return Error(Errc::io_error, where + ": bind: " + std::strerror(errno));
+  return std::unique_ptr<Link>(std::make_unique<SocketCanLink>(std::move(fd), interface));
+}
+
+Result<std::unique_ptr<Link>> open_link(const std::string& port, const SlcanOptions& opt) {
+  if (port.rfind("slcan:", 0) == 0) {
+    transport::SerialSettings s;
+    s.device = port.substr(6);
+    s.baud = 115200;
+    LMCFG_ASSIGN_OR_RETURN(auto serial, transport::open_serial(s));
+    return open_slcan(std::move(serial), opt);
+  }
+  return open_socketcan(port);
+}
+
+void TraceLink::trace(const Frame& f, bool tx) {
+  std::string line = std::string(tx ? "TX " : "RX ") + can::describe(f);
+  if (annotate_) {
+    const auto meaning = annotate_(f, tx);
+    if (!meaning.empty()) line += "  " + meaning;
+  }
+  sink_(line);
+}
+
+Result<void> TraceLink::send(const Frame& f) {
+  trace(f, true);
+  return inner_->send(f);
+}
+
+Result<std::optional<Frame>> TraceLink::receive(transport::Millis timeout) {
+  LMCFG_ASSIGN_OR_RETURN(auto f, inner_->receive(timeout));
+  if (f) trace(*f, false);
+  return f;
+}
+
+}  // namespace lmcfg::can

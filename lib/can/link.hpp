@@ -1,0 +1,67 @@
+#pragma once
+// One small frame interface for CAN adapters (docs/can.md), next to the byte
+// transports: CAN carries frames, not a byte stream.
+//   can0, vcan0            SocketCAN network interface (Linux)
+//   slcan:/dev/ttyACM0     serial-line adapter speaking slcan (Lawicel ASCII)
+// Framing of the application protocol (DeviceNet) stays above this layer.
+#include <deque>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "can/frame.hpp"
+#include "transport/pty.hpp"
+#include "transport/transport.hpp"
+
+namespace lmcfg::can {
+
+class Link {
+ public:
+  virtual ~Link() = default;
+  // Queues one frame for the bus (slcan: acknowledged by the adapter).
+  virtual Result<void> send(const Frame& f) = 0;
+  // The next frame from the bus, waiting at most `timeout`; nullopt on timeout.
+  virtual Result<std::optional<Frame>> receive(transport::Millis timeout) = 0;
+  virtual std::string describe() const = 0;
+};
+
+struct SlcanOptions {
+  unsigned bitrate = 125000;
+  // Lawicel adapters acknowledge each transmitted frame ("z\r", some "\r");
+  // false: do not wait for it (adapters that stay silent).
+  bool expect_transmit_ack = true;
+  transport::Millis ack_timeout{200};
+};
+
+// Sets the bit rate and opens the channel on an adapter behind `serial`
+// ("C", "Sn", "O"); closes the channel ("C") when destroyed.
+Result<std::unique_ptr<Link>> open_slcan(std::unique_ptr<transport::Transport> serial,
+                                         const SlcanOptions& opt);
+// SocketCAN interface by name; its bit rate is the interface's (ip link set
+// can0 type can bitrate 125000).
+Result<std::unique_ptr<Link>> open_socketcan(const std::string& interface);
+// "slcan:/dev/ttyACM0" (serial 115200 8N1; USB adapters ignore it) or an
+// interface name.
+Result<std::unique_ptr<Link>> open_link(const std::string& port, const SlcanOptions& opt);
+
+// Writes each frame as a line ("TX 123 [2] AA BB" plus what `annotate` says of
+// it, e.g. its DeviceNet meaning) to `sink`, then passes it on.
+class TraceLink final : public Link {
+ public:
+  using Sink = std::function<void(const std::string& line)>;
+  using Annotate = std::function<std::string(const Frame& f, bool tx)>;
+  TraceLink(std::unique_ptr<Link> inner, Sink sink, Annotate annotate = nullptr)
+      : inner_(std::move(inner)), sink_(std::move(sink)), annotate_(std::move(annotate)) {}
+  Result<void> send(const Frame& f) override;
+  Result<std::optional<Frame>> receive(transport::Millis timeout) override;
+  std::string describe() const override { return inner_->describe(); }
+
+ private:
+  void trace(const Frame& f, bool tx);
+  std::unique_ptr<Link> inner_;
+  Sink sink_;
+  Annotate annotate_;
+};
+
+}  // namespace lmcfg::can

@@ -1,0 +1,207 @@
+// The CAN link layer (lib/can, docs/can.md): CAN frames, the slcan (Lawicel
+// ASCII) encoding, an slcan adapter played on a real pseudo-terminal, the
+// trace decorator, and SocketCAN's errors (a vcan loopback when
+// LMCFG_TEST_VCAN names one).
+#include <atomic>
+#include <catch2/catch.hpp>
+#include <cstdlib>
+#include <thread>
+
+#include "can/link.hpp"
+#include "transport/pty.hpp"
+
+using namespace lmcfg;
+
+namespace {
+
+Bytes bytes(std::string_view s) { return Bytes(s.begin(), s.end()); }
+
+// An slcan adapter on the master side of a pty: acknowledges "Sn" and "O"
+// with CR (or refuses the bit rate with BEL), answers "C" on a closed channel
+// with BEL, acknowledges each transmitted frame with "z\r" and puts a reply
+// frame (ID + 1, same data) on the "bus".
+struct FakeAdapter {
+  enum class Mode { normal, refuse_bitrate, silent };
+  std::string slave;
+  std::unique_ptr<transport::FdTransport> master;
+  std::atomic<bool> stop{false};
+  std::vector<std::string> heard;
+  std::thread thread;
+  explicit FakeAdapter(Mode mode) {
+    auto pty = transport::open_pty();
+    REQUIRE(pty.ok());
+    slave = pty->slave_path;
+    master = std::make_unique<transport::FdTransport>(std::move(pty->master), "adapter");
+    thread = std::thread([this, mode] {
+      std::string line;
+      bool open = false;
+      while (!stop) {
+        auto r = master->read_some(transport::Millis(10));
+        if (!r.ok()) return;
+        for (std::uint8_t b : *r) {
+          if (b != '\r') {
+            line.push_back(static_cast<char>(b));
+            continue;
+          }
+          heard.push_back(line);
+          std::string answer;
+          if (mode == Mode::silent) {
+          } else if (line == "C") {
+            answer = open ? "\r" : "\a";
+            open = false;
+          } else if (line[0] == 'S') {
+            answer = mode == Mode::refuse_bitrate ? "\a" : "\r";
+          } else if (line == "O") {
+            answer = "\r";
+            open = true;
+          } else if (line[0] == 't' && open) {
+            auto f = can::slcan::parse_frame_line(line);
+            answer = "z\r";
+            if (f) {
+              f->id += 1;
+              answer += can::slcan::encode(*f);
+            }
+          } else {
+            answer = "\a";
+          }
+          line.clear();
+          if (!answer.empty()) (void)master->write(bytes(answer));
+        }
+      }
+    });
+  }
+  ~FakeAdapter() {
+    stop = true;
+    thread.join();
+  }
+};
+
+std::unique_ptr<transport::Transport> serial(const std::string& path) {
+  auto s = transport::open_serial({path, 115200, transport::Parity::none, 1});
+  REQUIRE(s.ok());
+  return std::move(s).value();
+}
+
+}  // namespace
+
+TEST_CASE("can: slcan encodes standard, extended and remote frames", "[can]") {
+  const std::uint8_t ab[] = {0xAA, 0xBB};
+  CHECK(can::slcan::encode(can::Frame::standard(0x123, ab)) == "t1232AABB\r");
+  // A DeviceNet Group 2 frame: ID 10 MMMMMM 110 = Allocate_Master/Slave to MAC 05h.
+  const std::uint8_t alloc[] = {0x00, 0x4B, 0x03, 0x01, 0x03, 0x00};
+  CHECK(can::slcan::encode(can::Frame::standard(0x42E, alloc)) == "t42E6004B03010300\r");
+  can::Frame ext;
+  ext.id = 0x1ABCDEF0;
+  ext.extended = true;
+  CHECK(can::slcan::encode(ext) == "T1ABCDEF00\r");
+  can::Frame rtr;
+  rtr.id = 0x7FF;
+  rtr.rtr = true;
+  rtr.len = 2;
+  CHECK(can::slcan::encode(rtr) == "r7FF2\r");
+  CHECK(can::describe(can::Frame::standard(0x42E, alloc)) == "42E [6] 00 4B 03 01 03 00");
+  CHECK(can::describe(ext) == "1ABCDEF0x [0]");
+  CHECK(can::describe(rtr) == "7FF [2] RTR");
+}
+
+TEST_CASE("can: frames out of range are refused with the reason", "[can]") {
+  can::Frame f;
+  f.id = 0x800;
+  CHECK(can::validate(f).error().message == "CAN identifier 800h does not fit 11 bits");
+  f.id = 0x10;
+  f.len = 9;
+  CHECK(can::validate(f).error().message == "CAN frame length 9 is more than 8 bytes");
+}
+
+TEST_CASE("can: slcan bit rates; DeviceNet's three and no others by mistake", "[can]") {
+  CHECK(can::slcan::bitrate_command(125000).value() == "S4\r");
+  CHECK(can::slcan::bitrate_command(250000).value() == "S5\r");
+  CHECK(can::slcan::bitrate_command(500000).value() == "S6\r");
+  CHECK(can::slcan::bitrate_command(1000000).value() == "S8\r");
+  CHECK(can::slcan::bitrate_command(125).error().message ==
+        "CAN bit rate 125 is not one slcan can set (DeviceNet: 125000, 250000 or 500000)");
+}
+
+TEST_CASE("can: the slcan decoder splits frames, acknowledgements, bells and junk across reads",
+          "[can]") {
+  can::slcan::Decoder d;
+  auto first = d.feed(bytes("t1232AA"));
+  CHECK(first.empty());
+  auto rest = d.feed(bytes("BB\rz\r\a\r\nt12321122ABCD\rhello\rt12"));
+  REQUIRE(rest.size() == 6);
+  CHECK(std::get<can::Frame>(rest[0]) == can::Frame::standard(0x123, bytes("\xAA\xBB")));
+  CHECK(std::get<can::slcan::Ack>(rest[1]).kind == 'z');
+  CHECK(std::holds_alternative<can::slcan::Bell>(rest[2]));
+  CHECK(std::get<can::slcan::Ack>(rest[3]).kind == 0);  // CR, then LF ignored
+  CHECK(std::get<can::Frame>(rest[4]).len == 2);        // time stamp ABCD ignored
+  CHECK(std::get<can::slcan::Unknown>(rest[5]).line == "hello");
+  CHECK_FALSE(can::slcan::parse_frame_line("t1239"));       // length 9
+  CHECK_FALSE(can::slcan::parse_frame_line("t1232AA"));     // data short
+  CHECK_FALSE(can::slcan::parse_frame_line("t1232AABBC"));  // stray digit
+  CHECK_FALSE(can::slcan::parse_frame_line("t8002AABB"));   // beyond 11 bits
+}
+
+TEST_CASE("can: an slcan adapter on a pty: open, send with acknowledgement, receive",
+          "[can][pty]") {
+  FakeAdapter adapter(FakeAdapter::Mode::normal);
+  std::vector<std::string> trace;
+  auto link = can::open_slcan(serial(adapter.slave), {250000, true, transport::Millis(500)});
+  REQUIRE(link.ok());
+  can::TraceLink traced(std::move(link).value(), [&](const std::string& l) { trace.push_back(l); },
+                        [](const can::Frame& f, bool) {
+                          return f.id == 0x42F ? std::string("(reply)") : std::string();
+                        });
+  const std::uint8_t alloc[] = {0x00, 0x4B, 0x03, 0x01, 0x03, 0x00};
+  REQUIRE(traced.send(can::Frame::standard(0x42E, alloc)).ok());
+  auto got = traced.receive(transport::Millis(1000));
+  REQUIRE(got.ok());
+  REQUIRE(*got);
+  CHECK(**got == can::Frame::standard(0x42F, alloc));
+  auto none = traced.receive(transport::Millis(50));
+  REQUIRE(none.ok());
+  CHECK_FALSE(*none);
+  CHECK(trace == std::vector<std::string>{"TX 42E [6] 00 4B 03 01 03 00",
+                                          "RX 42F [6] 00 4B 03 01 03 00  (reply)"});
+  CHECK(traced.describe().rfind("slcan ", 0) == 0);
+  CHECK(traced.describe().find("250 kbit/s") != std::string::npos);
+  const std::vector<std::string> opening{"C", "S5", "O", "t42E6004B03010300"};
+  CHECK(std::vector<std::string>(adapter.heard.begin(), adapter.heard.begin() + 4) == opening);
+}
+
+TEST_CASE("can: an adapter that refuses the bit rate or says nothing is named", "[can][pty]") {
+  {
+    FakeAdapter adapter(FakeAdapter::Mode::refuse_bitrate);
+    auto link = can::open_slcan(serial(adapter.slave), {125000, true, transport::Millis(500)});
+    REQUIRE_FALSE(link.ok());
+    CHECK(link.error().message.find(": the slcan adapter refused 'S4' (BEL)") !=
+          std::string::npos);
+  }
+  {
+    FakeAdapter adapter(FakeAdapter::Mode::silent);
+    auto link = can::open_slcan(serial(adapter.slave), {125000, true, transport::Millis(100)});
+    REQUIRE_FALSE(link.ok());
+    CHECK(link.error().code == make_error_code(Errc::timeout));
+    CHECK(link.error().message.find(": the slcan adapter did not answer 'S4' within 100 ms (is "
+                                    "it an slcan adapter? it sent nothing)") != std::string::npos);
+  }
+}
+
+TEST_CASE("can: SocketCAN names a missing interface; a vcan loopback when one is given",
+          "[can]") {
+  auto missing = can::open_link("lmcfgnone0", {});
+  REQUIRE_FALSE(missing.ok());
+  CHECK(missing.error().message.rfind("CAN interface lmcfgnone0: ", 0) == 0);
+  CHECK(missing.error().message.find("slcan:/dev/ttyACM0") != std::string::npos);
+  const char* vcan = std::getenv("LMCFG_TEST_VCAN");  // e.g. vcan0, made by the caller
+  if (!vcan) return;
+  auto a = can::open_socketcan(vcan);
+  auto b = can::open_socketcan(vcan);
+  REQUIRE(a.ok());
+  REQUIRE(b.ok());
+  const std::uint8_t data[] = {1, 2, 3};
+  REQUIRE((*a)->send(can::Frame::standard(0x123, data)).ok());
+  auto got = (*b)->receive(transport::Millis(500));
+  REQUIRE(got.ok());
+  REQUIRE(*got);
+  CHECK(**got == can::Frame::standard(0x123, data));
+}
