@@ -147,10 +147,11 @@ TEST_CASE("can: an slcan adapter on a pty: open, send with acknowledgement, rece
   std::vector<std::string> trace;
   auto link = can::open_slcan(serial(adapter.slave), {250000, true, transport::Millis(500)});
   REQUIRE(link.ok());
-  can::TraceLink traced(std::move(link).value(), [&](const std::string& l) { trace.push_back(l); },
-                        [](const can::Frame& f, bool) {
-                          return f.id == 0x42F ? std::string("(reply)") : std::string();
-                        });
+  can::TraceLink traced(
+      std::move(link).value(), [&](const std::string& l) { trace.push_back(l); },
+      [](const can::Frame& f, bool) {
+        return f.id == 0x42F ? std::string("(reply)") : std::string();
+      });
   const std::uint8_t alloc[] = {0x00, 0x4B, 0x03, 0x01, 0x03, 0x00};
   REQUIRE(traced.send(can::Frame::standard(0x42E, alloc)).ok());
   auto got = traced.receive(transport::Millis(1000));
@@ -173,8 +174,7 @@ TEST_CASE("can: an adapter that refuses the bit rate or says nothing is named", 
     FakeAdapter adapter(FakeAdapter::Mode::refuse_bitrate);
     auto link = can::open_slcan(serial(adapter.slave), {125000, true, transport::Millis(500)});
     REQUIRE_FALSE(link.ok());
-    CHECK(link.error().message.find(": the slcan adapter refused 'S4' (BEL)") !=
-          std::string::npos);
+    CHECK(link.error().message.find(": the slcan adapter refused 'S4' (BEL)") != std::string::npos);
   }
   {
     FakeAdapter adapter(FakeAdapter::Mode::silent);
@@ -186,8 +186,7 @@ TEST_CASE("can: an adapter that refuses the bit rate or says nothing is named", 
   }
 }
 
-TEST_CASE("can: SocketCAN names a missing interface; a vcan loopback when one is given",
-          "[can]") {
+TEST_CASE("can: SocketCAN names a missing interface; a vcan loopback when one is given", "[can]") {
   auto missing = can::open_link("lmcfgnone0", {});
   REQUIRE_FALSE(missing.ok());
   CHECK(missing.error().message.rfind("CAN interface lmcfgnone0: ", 0) == 0);

@@ -93,18 +93,19 @@ class SlcanLink final : public Link {
       const auto left = std::chrono::duration_cast<transport::Millis>(until - Clock::now());
       if (left.count() <= 0) {
         if (quiet) return {};
-        return Error(Errc::timeout, serial_->describe() + ": the slcan adapter did not answer '" +
-                                        what + "' within " + std::to_string(timeout.count()) +
-                                        " ms (is it an slcan adapter? " +
-                                        (last_unknown_.empty() ? std::string("it sent nothing")
-                                                               : "it sent '" + last_unknown_ + "'") +
-                                        ")");
+        return Error(Errc::timeout,
+                     serial_->describe() + ": the slcan adapter did not answer '" + what +
+                         "' within " + std::to_string(timeout.count()) +
+                         " ms (is it an slcan adapter? " +
+                         (last_unknown_.empty() ? std::string("it sent nothing")
+                                                : "it sent '" + last_unknown_ + "'") +
+                         ")");
       }
       LMCFG_TRY(pump(left));
     }
     if (bells_ != 0 && !quiet) {
-      return Error(Errc::drive_refused, serial_->describe() + ": the slcan adapter refused '" +
-                                            what + "' (BEL)");
+      return Error(Errc::drive_refused,
+                   serial_->describe() + ": the slcan adapter refused '" + what + "' (BEL)");
     }
     return {};
   }
@@ -119,7 +120,8 @@ class SlcanLink final : public Link {
 
 class SocketCanLink final : public Link {
  public:
-  SocketCanLink(transport::UniqueFd fd, std::string name) : fd_(std::move(fd)), name_(std::move(name)) {}
+  SocketCanLink(transport::UniqueFd fd, std::string name)
+      : fd_(std::move(fd)), name_(std::move(name)) {}
 
   Result<void> send(const Frame& f) override {
     LMCFG_TRY(validate(f));
