@@ -8,8 +8,7 @@
 using namespace lmcfg;
 using devicenet::Motor;
 
-TEST_CASE("seed000 §5.2: command words of Table 5-1 as the bit tables draw them",
-          "[devicenet]") {
+TEST_CASE("seed000 §5.2: command words of Table 5-1 as the bit tables draw them", "[devicenet]") {
   devicenet::CommandWord start;  // Start Curve (20h): Motor A sel, T, 0100000
   start.id = 0x20;
   start.toggle = true;
@@ -38,14 +37,14 @@ TEST_CASE("seed000 §5.1: Status Out bits by name", "[devicenet]") {
   CHECK(s.command_toggle(Motor::B));
   CHECK(s.following_error(Motor::A));
   CHECK(s.names() == std::vector<std::string>{"RUN State", "Curve Done A", "In Position Motor A",
-                                              "Motor A Following Error",
-                                              "Motor A Command Toggle",
+                                              "Motor A Following Error", "Motor A Command Toggle",
                                               "Motor B Command Toggle"});
 }
 
-TEST_CASE("seed000 §5.2 Start Curve: the toggle sent is the inverse of the motor's Command "
-          "Toggle, and the command has run when the status shows it",
-          "[devicenet]") {
+TEST_CASE(
+    "seed000 §5.2 Start Curve: the toggle sent is the inverse of the motor's Command "
+    "Toggle, and the command has run when the status shows it",
+    "[devicenet]") {
   devicenet::Status before;
   before.high = 0x0008;  // Motor A Command Toggle set
   const bool t = devicenet::toggle_to_send(before, Motor::A);
@@ -70,10 +69,10 @@ TEST_CASE("seed000 §5.1 example 1: four master drives, every module", "[devicen
   c.direct_value[1] = 0x1234;
   const Bytes cmd = devicenet::encode_command(l, c);
   REQUIRE(cmd.size() == 22);
-  CHECK(cmd[0] == 0x02);                        // word 1 Control Word, low byte first
-  CHECK(cmd[2] == 0x02);                        // word 2 Addressed Command ID
-  CHECK((cmd[10] | cmd[11] << 8) == 0x0011);    // word 6 Direct Command ID Motor B
-  CHECK((cmd[12] | cmd[13] << 8) == 0x1234);    // word 7 Direct Command Value Motor B
+  CHECK(cmd[0] == 0x02);                      // word 1 Control Word, low byte first
+  CHECK(cmd[2] == 0x02);                      // word 2 Addressed Command ID
+  CHECK((cmd[10] | cmd[11] << 8) == 0x0011);  // word 6 Direct Command ID Motor B
+  CHECK((cmd[12] | cmd[13] << 8) == 0x1234);  // word 7 Direct Command Value Motor B
   Bytes resp(24, 0);
   resp[0] = 0x02;   // word 1 Status Low: RUN State
   resp[4] = 0x02;   // word 3 Echo Addressed Command ID
@@ -87,9 +86,10 @@ TEST_CASE("seed000 §5.1 example 1: four master drives, every module", "[devicen
   CHECK(r->direct_out2[1] == 7);
 }
 
-TEST_CASE("seed000 §5.1 example 2: master drives A and C, Control, Direct In, Status and Direct "
-          "Out 1",
-          "[devicenet]") {
+TEST_CASE(
+    "seed000 §5.1 example 2: master drives A and C, Control, Direct In, Status and Direct "
+    "Out 1",
+    "[devicenet]") {
   devicenet::IoLayout l;
   l.addressed_in = l.addressed_out = false;
   l.direct_in = l.direct_out1 = true;
@@ -103,9 +103,10 @@ TEST_CASE("seed000 §5.1 example 2: master drives A and C, Control, Direct In, S
   CHECK(r->direct_out1[2] == 0x5678);  // word 4: Direct Out 1 Response Motor C
 }
 
-TEST_CASE("devicenet: the default modules make 6 bytes out and 8 back; a response of another "
-          "size is refused with both sizes",
-          "[devicenet]") {
+TEST_CASE(
+    "devicenet: the default modules make 6 bytes out and 8 back; a response of another "
+    "size is refused with both sizes",
+    "[devicenet]") {
   devicenet::IoLayout l;
   CHECK(l.command_size() == 6);
   CHECK(l.response_size() == 8);

@@ -216,6 +216,16 @@ TEST_CASE("fleet: bad inventories and archives give positioned errors and write 
   CHECK(baud.exit_code == 2);
   CHECK(baud.err.rfind("lmcfg fleet check: baud.toml:1:1: line 'l': ", 0) == 0);
 
+  test::spit(dir / "usb.toml",
+             "[[line]]\nname = \"usb\"\nport = \"/dev/lmcfg-no-adapter\"\n[[line.drive]]\nname "
+             "= \"a\"\nid = 0x11\n");
+  auto usb = test::run_tool_in(dir, "fleet backup usb.toml --archive arch");
+  CHECK(usb.exit_code == 2);
+  CHECK(usb.err ==
+        "lmcfg fleet backup: usb.toml:1:1: line 'usb': port /dev/lmcfg-no-adapter "
+        "does not exist (is the adapter plugged in?)\n");
+  CHECK_FALSE(fs::exists(dir / "arch"));
+
   test::spit(dir / "ok.toml",
              "[[line]]\nname = \"l\"\nport = \"sim:s1.json\"\n[[line.drive]]\nname = \"a\"\nid "
              "= 0x11\n");

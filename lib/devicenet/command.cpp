@@ -28,7 +28,8 @@ std::uint16_t CommandWord::encode() const {
   std::uint16_t w = static_cast<std::uint16_t>(id & 0x7F);
   if (toggle) w |= 0x0080;
   for (Motor m : kMotors)
-    if (motors[static_cast<int>(m)]) w |= static_cast<std::uint16_t>(0x1000u << static_cast<int>(m));
+    if (motors[static_cast<int>(m)])
+      w |= static_cast<std::uint16_t>(0x1000u << static_cast<int>(m));
   return w;
 }
 
@@ -36,13 +37,14 @@ CommandWord CommandWord::decode(std::uint16_t w) {
   CommandWord c;
   c.id = static_cast<std::uint8_t>(w & 0x7F);
   c.toggle = (w & 0x0080) != 0;
-  for (Motor m : kMotors) c.motors[static_cast<int>(m)] = (w & (0x1000u << static_cast<int>(m))) != 0;
+  for (Motor m : kMotors)
+    c.motors[static_cast<int>(m)] = (w & (0x1000u << static_cast<int>(m))) != 0;
   return c;
 }
 
 std::vector<std::string> Status::names() const {
-  static constexpr const char* kLow[8] = {"INIT Done",    "RUN State",     "ERROR State",
-                                          "INIT State",   "DISABLE State", "Emergency Stop",
+  static constexpr const char* kLow[8] = {"INIT Done",     "RUN State",      "ERROR State",
+                                          "INIT State",    "DISABLE State",  "Emergency Stop",
                                           "ERROR Pending", "WARNING Pending"};
   std::vector<std::string> out;
   for (int b = 0; b < 8; ++b)
@@ -68,7 +70,8 @@ bool command_done(const Status& s, Motor m, bool sent_toggle) {
 }
 
 std::size_t IoLayout::command_size() const {
-  return 2 * ((control_in ? 1 : 0) + (addressed_in ? 2 : 0) + (direct_in ? 2 * master_count(*this) : 0));
+  return 2 * ((control_in ? 1 : 0) + (addressed_in ? 2 : 0) +
+              (direct_in ? 2 * master_count(*this) : 0));
 }
 
 std::size_t IoLayout::response_size() const {
@@ -98,8 +101,10 @@ Result<PollResponse> decode_response(const IoLayout& l, ByteView bytes) {
   const std::size_t want = l.response_size();
   if (bytes.size() != want) {
     return Error(bytes.size() < want ? Errc::frame_short : Errc::frame_overlong,
-                 "poll response of " + std::to_string(bytes.size()) + " byte(s); the configured "
-                 "modules make " + std::to_string(want));
+                 "poll response of " + std::to_string(bytes.size()) +
+                     " byte(s); the configured "
+                     "modules make " +
+                     std::to_string(want));
   }
   PollResponse r;
   std::size_t at = 0;
@@ -123,26 +128,46 @@ Result<PollResponse> decode_response(const IoLayout& l, ByteView bytes) {
 std::string_view coded_error_text(std::uint16_t code) {
   // §5.2 "Response: Get Coded Error": the application errors.
   switch (code) {
-    case 0x8100: return "Application needs DN servo controller";
-    case 0x8101: return "DeviceNet MACID already in use";
-    case 0x8104: return "Processor speed not supported";
-    case 0x8108: return "Unknown command";
-    case 0x8110: return "Drive not specified";
-    case 0x8111: return "Drive not master";
-    case 0x8112: return "Drive not in serial mode";
-    case 0x8118: return "Range error";
-    case 0x8120: return "Encoder not exists";
-    case 0x8121: return "Encoder in SSI mode";
-    case 0x8130: return "Curve doesn't exists";
-    case 0x8131: return "Curve type mismatch";
-    case 0x8132: return "Curve processing";
-    case 0x8140: return "CAN no error";
-    case 0x8141: return "CAN stuff error";
-    case 0x8142: return "CAN form error";
-    case 0x8143: return "CAN acknowledge error";
-    case 0x8144: return "CAN bit 1 error";
-    case 0x8145: return "CAN CRC error";
-    case 0x8148: return "CAN BOFF error";
+    case 0x8100:
+      return "Application needs DN servo controller";
+    case 0x8101:
+      return "DeviceNet MACID already in use";
+    case 0x8104:
+      return "Processor speed not supported";
+    case 0x8108:
+      return "Unknown command";
+    case 0x8110:
+      return "Drive not specified";
+    case 0x8111:
+      return "Drive not master";
+    case 0x8112:
+      return "Drive not in serial mode";
+    case 0x8118:
+      return "Range error";
+    case 0x8120:
+      return "Encoder not exists";
+    case 0x8121:
+      return "Encoder in SSI mode";
+    case 0x8130:
+      return "Curve doesn't exists";
+    case 0x8131:
+      return "Curve type mismatch";
+    case 0x8132:
+      return "Curve processing";
+    case 0x8140:
+      return "CAN no error";
+    case 0x8141:
+      return "CAN stuff error";
+    case 0x8142:
+      return "CAN form error";
+    case 0x8143:
+      return "CAN acknowledge error";
+    case 0x8144:
+      return "CAN bit 1 error";
+    case 0x8145:
+      return "CAN CRC error";
+    case 0x8148:
+      return "CAN BOFF error";
   }
   return {};
 }
