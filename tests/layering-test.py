@@ -13,8 +13,8 @@ ALLOWED = {  # as lib/CMakeLists.txt declares, with the layer itself
     "config": {"config", "common"},
     "client": {"client", "codec", "transport", "common"},
     "can": {"can", "transport", "common"},
-    "devicenet": {"devicenet", "common"},
-    "sim": {"sim", "codec", "transport", "common"},
+    "devicenet": {"devicenet", "can", "transport", "common"},
+    "sim": {"sim", "devicenet", "can", "codec", "transport", "common"},
     "ops": {"ops", "client", "config", "db", "codec", "transport", "common"},
     "fleet": {"fleet", "ops", "client", "config", "db", "codec", "transport", "common"},
 }

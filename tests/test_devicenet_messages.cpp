@@ -23,20 +23,21 @@ Bytes hex_bytes(std::initializer_list<int> v) {
 }  // namespace
 
 TEST_CASE("DeviceNet identifiers [RA-160] [MKS]", "[devicenet][golden]") {
-  CHECK(devicenet::group2_id(0x09, Group2::unconnected_explicit_request) == 0x44E);  // 10 001001 110
-  CHECK(devicenet::group2_id(0x09, Group2::slave_explicit_response) == 0x44B);       // 10 001001 011
-  CHECK(devicenet::group2_id(0x09, Group2::master_explicit_request) == 0x44C);       // 10 001001 100
-  CHECK(devicenet::group2_id(0x05, Group2::master_io_poll) == 0x42D);                // [MKS] 42D
-  CHECK(devicenet::group2_id(0x09, Group2::duplicate_mac_check) == 0x44F);           // 10 001001 111
-  CHECK(devicenet::group1_id(devicenet::kSlavePollResponse, 0x09) == 0x3C9);         // 01111 001001
+  CHECK(devicenet::group2_id(0x09, Group2::unconnected_explicit_request) ==
+        0x44E);                                                                 // 10 001001 110
+  CHECK(devicenet::group2_id(0x09, Group2::slave_explicit_response) == 0x44B);  // 10 001001 011
+  CHECK(devicenet::group2_id(0x09, Group2::master_explicit_request) == 0x44C);  // 10 001001 100
+  CHECK(devicenet::group2_id(0x05, Group2::master_io_poll) == 0x42D);           // [MKS] 42D
+  CHECK(devicenet::group2_id(0x09, Group2::duplicate_mac_check) == 0x44F);      // 10 001001 111
+  CHECK(devicenet::group1_id(devicenet::kSlavePollResponse, 0x09) == 0x3C9);    // 01111 001001
   CHECK(devicenet::describe_identifier(0x44E) == "Group 2 MAC 09h unconnected explicit request");
-  CHECK(devicenet::describe_identifier(0x3C9) ==
-        "Group 1 MAC 09h slave's I/O poll response (Fh)");
+  CHECK(devicenet::describe_identifier(0x3C9) == "Group 1 MAC 09h slave's I/O poll response (Fh)");
 }
 
-TEST_CASE("DeviceNet Allocate_Master/Slave_Connection_Set request and response [ICP-8124] "
-          "[ICP-7242]",
-          "[devicenet][golden]") {
+TEST_CASE(
+    "DeviceNet Allocate_Master/Slave_Connection_Set request and response [ICP-8124] "
+    "[ICP-7242]",
+    "[devicenet][golden]") {
   const auto strobed = devicenet::allocate(
       0x0A, devicenet::kAllocExplicit | devicenet::kAllocPolled | devicenet::kAllocBitStrobe);
   CHECK(strobed.encode() == hex_bytes({0x0A, 0x4B, 0x03, 0x01, 0x07, 0x0A}));
@@ -52,13 +53,14 @@ TEST_CASE("DeviceNet Allocate_Master/Slave_Connection_Set request and response [
   CHECK(*body_format == hex_bytes({0x00}));  // message body format DeviceNet (8/8)
 }
 
-TEST_CASE("DeviceNet Set_Attribute_Single of the polled connection's expected packet rate "
-          "[ICP-8124]",
-          "[devicenet][golden]") {
+TEST_CASE(
+    "DeviceNet Set_Attribute_Single of the polled connection's expected packet rate "
+    "[ICP-8124]",
+    "[devicenet][golden]") {
   const std::uint8_t rate[] = {0x0A, 0x0E};  // 0E0Ah ms, low byte first
-  const auto set = devicenet::set_attribute(0x0A, devicenet::kConnectionClass,
-                                            devicenet::kPolledConnection,
-                                            devicenet::kExpectedPacketRate, rate);
+  const auto set =
+      devicenet::set_attribute(0x0A, devicenet::kConnectionClass, devicenet::kPolledConnection,
+                               devicenet::kExpectedPacketRate, rate);
   CHECK(set.encode() == hex_bytes({0x0A, 0x10, 0x05, 0x02, 0x09, 0x0A, 0x0E}));
   auto response = devicenet::Explicit::decode(hex_bytes({0x0A, 0x90, 0x10, 0x0E}));
   REQUIRE(response.ok());
@@ -84,9 +86,10 @@ TEST_CASE("DeviceNet error responses name the service and both codes", "[devicen
         "explicit message of 1 byte(s): header and service need 2");
 }
 
-TEST_CASE("DeviceNet I/O fragmentation: 7 data bytes per frame behind the protocol byte, and "
-          "back",
-          "[devicenet]") {
+TEST_CASE(
+    "DeviceNet I/O fragmentation: 7 data bytes per frame behind the protocol byte, and "
+    "back",
+    "[devicenet]") {
   Bytes twelve;
   for (int i = 0; i < 12; ++i) twelve.push_back(static_cast<std::uint8_t>(i));
   auto frames = devicenet::fragment_io(twelve);

@@ -125,6 +125,51 @@ Result<PollResponse> decode_response(const IoLayout& l, ByteView bytes) {
   return r;
 }
 
+Result<PollCommand> decode_command(const IoLayout& l, ByteView bytes) {
+  if (bytes.size() != l.command_size()) {
+    return Error(bytes.size() < l.command_size() ? Errc::frame_short : Errc::frame_overlong,
+                 "poll command of " + std::to_string(bytes.size()) +
+                     " byte(s); the configured "
+                     "modules make " +
+                     std::to_string(l.command_size()));
+  }
+  PollCommand c;
+  std::size_t at = 0;
+  if (l.control_in) c.control = word_at(bytes, at);
+  if (l.addressed_in) {
+    c.addressed = CommandWord::decode(word_at(bytes, at));
+    c.addressed_value = word_at(bytes, at);
+  }
+  if (l.direct_in) {
+    for (Motor m : kMotors) {
+      const auto i = static_cast<std::size_t>(m);
+      if (!l.masters[i]) continue;
+      c.direct[i] = CommandWord::decode(word_at(bytes, at));
+      c.direct_value[i] = word_at(bytes, at);
+    }
+  }
+  return c;
+}
+
+Bytes encode_response(const IoLayout& l, const PollResponse& r) {
+  Bytes out;
+  if (l.status_out) {
+    put_word(out, r.status.low);
+    put_word(out, r.status.high);
+  }
+  if (l.addressed_out) {
+    put_word(out, r.addressed_echo.encode());
+    put_word(out, r.addressed_value);
+  }
+  for (Motor m : kMotors) {
+    const auto i = static_cast<std::size_t>(m);
+    if (!l.masters[i]) continue;
+    if (l.direct_out1) put_word(out, r.direct_out1[i]);
+    if (l.direct_out2) put_word(out, r.direct_out2[i]);
+  }
+  return out;
+}
+
 std::string_view coded_error_text(std::uint16_t code) {
   // §5.2 "Response: Get Coded Error": the application errors.
   switch (code) {

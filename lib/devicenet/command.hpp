@@ -96,6 +96,9 @@ struct PollResponse {
 // In the order of §5.1 "Example IO Data Exchange": Control Word, Addressed
 // Command ID and Value, then per master motor its Direct Command ID and Value.
 Bytes encode_command(const IoLayout& l, const PollCommand& c);
+// The controller's side of the same exchange (the simulated controller).
+Result<PollCommand> decode_command(const IoLayout& l, ByteView bytes);
+Bytes encode_response(const IoLayout& l, const PollResponse& r);
 // Status Low, Status High, Addressed echo and value, then per master motor
 // Direct Out 1 and Direct Out 2. Errc::frame_short / frame_overlong when the
 // size does not match the layout (the message gives both sizes).

@@ -5,7 +5,8 @@
 namespace lmcfg::devicenet {
 
 std::uint16_t group2_id(std::uint8_t mac, Group2 message) {
-  return static_cast<std::uint16_t>(0x400 | ((mac & 0x3F) << 3) | static_cast<std::uint8_t>(message));
+  return static_cast<std::uint16_t>(0x400 | ((mac & 0x3F) << 3) |
+                                    static_cast<std::uint8_t>(message));
 }
 
 std::uint16_t group1_id(std::uint8_t message, std::uint8_t mac) {
@@ -13,15 +14,18 @@ std::uint16_t group1_id(std::uint8_t message, std::uint8_t mac) {
 }
 
 std::string describe_identifier(std::uint32_t id) {
-  static constexpr const char* kGroup2[8] = {
-      "master's I/O bit-strobe command", "master's I/O multicast poll",
-      "master's change of state acknowledge", "slave's explicit/unconnected response",
-      "master's explicit request", "master's I/O poll command",
-      "unconnected explicit request", "duplicate MAC ID check"};
+  static constexpr const char* kGroup2[8] = {"master's I/O bit-strobe command",
+                                             "master's I/O multicast poll",
+                                             "master's change of state acknowledge",
+                                             "slave's explicit/unconnected response",
+                                             "master's explicit request",
+                                             "master's I/O poll command",
+                                             "unconnected explicit request",
+                                             "duplicate MAC ID check"};
   if (id > 0x7FF) return "not a DeviceNet identifier";
   if (id < 0x400) {
     const auto msg = static_cast<std::uint8_t>(id >> 6);
-    const char* what = msg == kSlavePollResponse       ? "slave's I/O poll response"
+    const char* what = msg == kSlavePollResponse        ? "slave's I/O poll response"
                        : msg == kSlaveBitStrobeResponse ? "slave's I/O bit-strobe response"
                        : msg == kSlaveCosMessage        ? "slave's I/O change of state"
                                                         : "group 1 message";
@@ -56,8 +60,8 @@ Result<Explicit> Explicit::decode(ByteView body) {
 }
 
 Explicit allocate(std::uint8_t master_mac, std::uint8_t choice) {
-  return Explicit{false, false, master_mac, false, kAllocate,
-                  Bytes{kDeviceNetClass, 0x01, choice, master_mac}};
+  return Explicit{false, false,     master_mac,
+                  false, kAllocate, Bytes{kDeviceNetClass, 0x01, choice, master_mac}};
 }
 
 Explicit release(std::uint8_t master_mac, std::uint8_t choice) {
@@ -66,8 +70,8 @@ Explicit release(std::uint8_t master_mac, std::uint8_t choice) {
 
 Explicit get_attribute(std::uint8_t master_mac, std::uint8_t cls, std::uint8_t instance,
                        std::uint8_t attribute) {
-  return Explicit{false, false, master_mac, false, kGetAttributeSingle,
-                  Bytes{cls, instance, attribute}};
+  return Explicit{
+      false, false, master_mac, false, kGetAttributeSingle, Bytes{cls, instance, attribute}};
 }
 
 Explicit set_attribute(std::uint8_t master_mac, std::uint8_t cls, std::uint8_t instance,
@@ -82,39 +86,55 @@ Explicit set_attribute(std::uint8_t master_mac, std::uint8_t cls, std::uint8_t i
 
 std::string_view service_name(std::uint8_t service) {
   switch (service) {
-    case kGetAttributeSingle: return "Get_Attribute_Single";
-    case kSetAttributeSingle: return "Set_Attribute_Single";
-    case kErrorResponse: return "Error Response";
-    case kAllocate: return "Allocate_Master/Slave_Connection_Set";
-    case kRelease: return "Release_Master/Slave_Connection_Set";
+    case kGetAttributeSingle:
+      return "Get_Attribute_Single";
+    case kSetAttributeSingle:
+      return "Set_Attribute_Single";
+    case kErrorResponse:
+      return "Error Response";
+    case kAllocate:
+      return "Allocate_Master/Slave_Connection_Set";
+    case kRelease:
+      return "Release_Master/Slave_Connection_Set";
   }
   return "service";
 }
 
 std::string_view general_error_text(std::uint8_t code) {
   switch (code) {  // CIP general status codes
-    case 0x02: return "resource unavailable";
-    case 0x08: return "service not supported";
-    case 0x09: return "invalid attribute value";
-    case 0x0B: return "already in requested mode/state";
-    case 0x0C: return "object state conflict";
-    case 0x0E: return "attribute not settable";
-    case 0x10: return "device state conflict";
-    case 0x13: return "not enough data";
-    case 0x14: return "attribute not supported";
-    case 0x15: return "too much data";
-    case 0x16: return "object does not exist";
-    case 0x20: return "invalid parameter";
+    case 0x02:
+      return "resource unavailable";
+    case 0x08:
+      return "service not supported";
+    case 0x09:
+      return "invalid attribute value";
+    case 0x0B:
+      return "already in requested mode/state";
+    case 0x0C:
+      return "object state conflict";
+    case 0x0E:
+      return "attribute not settable";
+    case 0x10:
+      return "device state conflict";
+    case 0x13:
+      return "not enough data";
+    case 0x14:
+      return "attribute not supported";
+    case 0x15:
+      return "too much data";
+    case 0x16:
+      return "object does not exist";
+    case 0x20:
+      return "invalid parameter";
   }
   return {};
 }
 
 Result<Bytes> response_data(const Explicit& request, const Explicit& response) {
-  const std::string what = std::string(service_name(request.service)) + " " +
-                           hex(request.service, 2, "h");
+  const std::string what =
+      std::string(service_name(request.service)) + " " + hex(request.service, 2, "h");
   if (!response.response) {
-    return Error(Errc::unexpected_response, "a request (service " +
-                                                hex(response.service, 2, "h") +
+    return Error(Errc::unexpected_response, "a request (service " + hex(response.service, 2, "h") +
                                                 ") instead of the response to " + what);
   }
   if (response.service == kErrorResponse) {
@@ -126,9 +146,8 @@ Result<Bytes> response_data(const Explicit& request, const Explicit& response) {
     return Error(Errc::drive_refused, text);
   }
   if (response.service != request.service) {
-    return Error(Errc::unexpected_response, "response to service " +
-                                                hex(response.service, 2, "h") + " instead of " +
-                                                what);
+    return Error(Errc::unexpected_response,
+                 "response to service " + hex(response.service, 2, "h") + " instead of " + what);
   }
   return response.data;
 }

@@ -19,14 +19,14 @@ namespace lmcfg::devicenet {
 
 // Group 2 message IDs (identifier bits 2..0; bits 8..3 the MAC ID, bits 10..9 = 10b).
 enum class Group2 : std::uint8_t {
-  master_bit_strobe = 0,         // source MAC = master
+  master_bit_strobe = 0,  // source MAC = master
   master_multicast_poll = 1,
-  master_cos_ack = 2,            // destination MAC
-  slave_explicit_response = 3,   // source MAC = slave
-  master_explicit_request = 4,   // destination MAC = slave
-  master_io_poll = 5,            // destination MAC = slave
+  master_cos_ack = 2,                // destination MAC
+  slave_explicit_response = 3,       // source MAC = slave
+  master_explicit_request = 4,       // destination MAC = slave
+  master_io_poll = 5,                // destination MAC = slave
   unconnected_explicit_request = 6,  // destination MAC = slave (Allocate, Release)
-  duplicate_mac_check = 7,       // source MAC
+  duplicate_mac_check = 7,           // source MAC
 };
 // Group 1 message IDs (identifier bits 9..6; bits 5..0 the source MAC).
 inline constexpr std::uint8_t kSlaveCosMessage = 0xD;

@@ -1,0 +1,166 @@
+#include "devicenet/master.hpp"
+
+#include <chrono>
+
+namespace lmcfg::devicenet {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+std::string mac_name(std::uint8_t mac) { return "DeviceNet MAC ID " + std::to_string(mac); }
+
+}  // namespace
+
+Master::~Master() {
+  if (connected_) (void)release();
+}
+
+Result<std::optional<can::Frame>> Master::wait_for(std::uint32_t id, transport::Millis timeout) {
+  const auto until = Clock::now() + timeout;
+  for (;;) {
+    const auto left = std::chrono::duration_cast<transport::Millis>(until - Clock::now());
+    if (left.count() <= 0) return std::optional<can::Frame>();
+    LMCFG_ASSIGN_OR_RETURN(auto f, link_.receive(left));
+    if (f && !f->extended && !f->rtr && f->id == id) return f;
+  }
+}
+
+Result<void> Master::check_own_mac() {
+  Bytes data{0x00};  // request, physical port 0
+  data.push_back(static_cast<std::uint8_t>(opt_.vendor_id & 0xFF));
+  data.push_back(static_cast<std::uint8_t>(opt_.vendor_id >> 8));
+  for (int i = 0; i < 4; ++i)
+    data.push_back(static_cast<std::uint8_t>(opt_.serial_number >> (8 * i)));
+  const auto id = group2_id(opt_.own_mac, Group2::duplicate_mac_check);
+  for (int round = 0; round < 2; ++round) {
+    LMCFG_TRY(link_.send(can::Frame::standard(id, data)));
+    LMCFG_ASSIGN_OR_RETURN(auto answer, wait_for(id, opt_.duplicate_check_wait));
+    if (answer) {
+      return Error(Errc::invalid_argument,
+                   mac_name(opt_.own_mac) + " (this tool's) is already used on the bus by another "
+                                            "node: choose another with --devicenet-own-macid");
+    }
+  }
+  return {};
+}
+
+Result<Explicit> Master::explicit_request(Group2 port, const Explicit& request) {
+  LMCFG_TRY(link_.send(can::Frame::standard(group2_id(opt_.slave_mac, port), request.encode())));
+  LMCFG_ASSIGN_OR_RETURN(
+      auto answer, wait_for(group2_id(opt_.slave_mac, Group2::slave_explicit_response), opt_.timeout));
+  if (!answer) {
+    return Error(Errc::timeout, "no answer from " + mac_name(opt_.slave_mac) + " to " +
+                                    std::string(service_name(request.service)) + " within " +
+                                    std::to_string(opt_.timeout.count()) + " ms on " +
+                                    link_.describe() +
+                                    " (check the MAC ID, the bit rate and the cabling)");
+  }
+  return Explicit::decode(answer->payload());
+}
+
+Result<void> Master::connect() {
+  const auto request = allocate(opt_.own_mac, kAllocExplicit | kAllocPolled);
+  LMCFG_ASSIGN_OR_RETURN(auto answer,
+                         explicit_request(Group2::unconnected_explicit_request, request));
+  if (auto data = response_data(request, answer); !data.ok()) {
+    if (data.error().code == make_error_code(Errc::drive_refused)) {
+      return Error(Errc::drive_refused,
+                   mac_name(opt_.slave_mac) + " refused the connection: " + data.error().message +
+                       "; another master (a PLC's scanner) probably holds it: the controller "
+                       "serves one master at a time (seed 000 §2.6)");
+    }
+    return std::move(data).error();
+  }
+  connected_ = true;
+  const std::uint8_t rate[] = {static_cast<std::uint8_t>(opt_.expected_packet_rate_ms & 0xFF),
+                               static_cast<std::uint8_t>(opt_.expected_packet_rate_ms >> 8)};
+  const auto set = set_attribute(opt_.own_mac, kConnectionClass, kPolledConnection,
+                                 kExpectedPacketRate, rate);
+  LMCFG_ASSIGN_OR_RETURN(auto set_answer, explicit_request(Group2::master_explicit_request, set));
+  LMCFG_ASSIGN_OR_RETURN(auto granted, response_data(set, set_answer));
+  granted_rate_ = granted.size() >= 2 ? static_cast<std::uint16_t>(granted[0] | granted[1] << 8)
+                                      : opt_.expected_packet_rate_ms;
+  return {};
+}
+
+Result<void> Master::release() {
+  connected_ = false;
+  const auto request = devicenet::release(opt_.own_mac, kAllocExplicit | kAllocPolled);
+  LMCFG_ASSIGN_OR_RETURN(auto answer,
+                         explicit_request(Group2::unconnected_explicit_request, request));
+  LMCFG_TRY(response_data(request, answer));
+  return {};
+}
+
+Result<PollResponse> Master::poll(const PollCommand& c) {
+  const Bytes command = encode_command(opt_.layout, c);
+  const bool fragmented_answer = opt_.layout.response_size() > 8;
+  const auto poll_id = group2_id(opt_.slave_mac, Group2::master_io_poll);
+  const auto answer_id = group1_id(kSlavePollResponse, opt_.slave_mac);
+  for (int attempt = 0;; ++attempt) {
+    for (const auto& frame : fragment_io(command))
+      LMCFG_TRY(link_.send(can::Frame::standard(poll_id, frame)));
+    IoReassembler reassembler;
+    std::optional<Bytes> response;
+    while (!response) {
+      LMCFG_ASSIGN_OR_RETURN(auto f, wait_for(answer_id, opt_.timeout));
+      if (!f) break;
+      auto part = reassembler.feed(f->payload(), fragmented_answer);
+      if (!part.ok()) break;  // a lost fragment: poll again
+      response = std::move(part).value();
+    }
+    if (response) {
+      LMCFG_ASSIGN_OR_RETURN(auto r, decode_response(opt_.layout, *response));
+      status_ = r.status;
+      return r;
+    }
+    if (attempt >= opt_.retries) {
+      return Error(Errc::timeout, "no poll response from " + mac_name(opt_.slave_mac) +
+                                      " within " + std::to_string(opt_.timeout.count()) +
+                                      " ms (after " + std::to_string(attempt + 1) + " polls)");
+    }
+  }
+}
+
+Result<std::uint16_t> Master::command(std::array<bool, 4> motors, std::uint8_t id,
+                                      std::uint16_t value) {
+  if (!opt_.layout.addressed_in || !opt_.layout.addressed_out) {
+    return Error(Errc::not_supported,
+                 "the controller's module layout has no Addressed In/Out: commands need both");
+  }
+  if (!have_toggle_) {
+    LMCFG_ASSIGN_OR_RETURN(auto first, poll(last_command_));
+    toggle_ = first.addressed_echo.toggle;
+    have_toggle_ = true;
+  }
+  const bool error_before = status_.error_pending();
+  PollCommand c = last_command_;
+  c.addressed = CommandWord{motors, !toggle_, static_cast<std::uint8_t>(id & 0x7F)};
+  c.addressed_value = value;
+  last_command_ = c;
+  toggle_ = c.addressed.toggle;
+  // The command executes on the toggle's change; repeating the same poll
+  // does not execute it again, so polling until the echo matches is safe.
+  constexpr int kPollsForEcho = 50;
+  for (int i = 0; i < kPollsForEcho; ++i) {
+    LMCFG_ASSIGN_OR_RETURN(auto r, poll(c));
+    if (!(r.addressed_echo == c.addressed)) continue;
+    if (r.status.error_pending() && !error_before && id != 0x0A) {
+      auto coded = command({}, 0x0A, 0);
+      const std::uint16_t code = coded.ok() ? *coded : 0;
+      std::string text = "command " + hex(id, 2, "h") + " to " + mac_name(opt_.slave_mac) +
+                         ": the controller reports an error";
+      if (coded.ok()) {
+        text += ", coded error " + hex(code, 4, "h");
+        if (auto t = coded_error_text(code); !t.empty()) text += " " + std::string(t);
+      }
+      return Error(Errc::drive_refused, text);
+    }
+    return r.addressed_value;
+  }
+  return Error(Errc::timeout, "command " + hex(id, 2, "h") + " to " + mac_name(opt_.slave_mac) +
+                                  ": the Addressed Out echo did not show it after " +
+                                  std::to_string(kPollsForEcho) + " polls");
+}
+
+}  // namespace lmcfg::devicenet

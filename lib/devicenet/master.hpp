@@ -1,0 +1,76 @@
+#pragma once
+// A DeviceNet master for one slave at a time, the way a configuration tool
+// talks to a device without a scanner (Group 2 only client of the Predefined
+// Master/Slave Connection Set): duplicate MAC ID check of its own MAC ID,
+// Allocate (explicit + polled), the polled connection's expected packet rate,
+// polled I/O with the controller's module layout (seed 000 §5.1), the §5.2
+// command exchange on the Addressed modules, Release. docs/can.md.
+#include <array>
+#include <cstdint>
+#include <optional>
+
+#include "can/link.hpp"
+#include "devicenet/command.hpp"
+#include "devicenet/messages.hpp"
+
+namespace lmcfg::devicenet {
+
+struct MasterOptions {
+  std::uint8_t own_mac = 0x3E;  // 62: the MAC ID configuration tools commonly take
+  std::uint8_t slave_mac = 0x3F;
+  IoLayout layout;
+  std::uint16_t expected_packet_rate_ms = 2000;  // the slave's watchdog: 4x this without a poll
+  transport::Millis timeout{200};                // per request
+  int retries = 2;                               // polls only; explicit requests are not repeated
+  transport::Millis duplicate_check_wait{1000};  // after each of the two checks
+  std::uint16_t vendor_id = 0;
+  std::uint32_t serial_number = 0x4C4D4346;  // "LMCF"
+};
+
+class Master {
+ public:
+  Master(can::Link& link, MasterOptions opt) : link_(link), opt_(opt) {}
+  Master(const Master&) = delete;
+  Master& operator=(const Master&) = delete;
+  ~Master();  // releases the connection set when it holds it
+
+  // Twice a Duplicate MAC ID Check request from own_mac, each followed by
+  // duplicate_check_wait of listening. A response means another node has
+  // this MAC ID: Errc::invalid_argument naming it.
+  Result<void> check_own_mac();
+  // Allocate explicit + polled, then the expected packet rate. "Another
+  // master owns the connection" (seed 000 §2.6: one explicit connection, one
+  // master at a time) is named when the slave answers Allocate with an error.
+  Result<void> connect();
+  Result<void> release();
+  bool connected() const { return connected_; }
+
+  // One poll: the command as layout().command_size() bytes (fragmented
+  // beyond 8), the response checked against layout().response_size().
+  Result<PollResponse> poll(const PollCommand& c);
+
+  // One §5.2 command on the Addressed In module: sends it with the toggle
+  // inverted, polls until the Addressed Out echo shows the same ID, motors
+  // and toggle, and returns the response value. A command after which the
+  // controller reports ERROR Pending is followed by Get Coded Error (0Ah) and
+  // fails with Errc::drive_refused naming the code and its text.
+  Result<std::uint16_t> command(std::array<bool, 4> motors, std::uint8_t id, std::uint16_t value);
+
+  const Status& last_status() const { return status_; }
+  std::uint16_t granted_packet_rate() const { return granted_rate_; }
+
+ private:
+  Result<Explicit> explicit_request(Group2 port, const Explicit& request);
+  Result<std::optional<can::Frame>> wait_for(std::uint32_t id, transport::Millis timeout);
+
+  can::Link& link_;
+  MasterOptions opt_;
+  bool connected_ = false;
+  bool have_toggle_ = false;
+  bool toggle_ = false;
+  Status status_;
+  std::uint16_t granted_rate_ = 0;
+  PollCommand last_command_;
+};
+
+}  // namespace lmcfg::devicenet

@@ -1,0 +1,218 @@
+#include "sim/devicenet_controller.hpp"
+
+namespace lmcfg::sim {
+namespace {
+
+using devicenet::Group2;
+using devicenet::Motor;
+
+int key_of(std::optional<Motor> m) { return m ? static_cast<int>(*m) : -1; }
+
+// Table 5-1 pairs a Get command with the Set command one above it
+// (24h/25h curve number, 28h/29h curve offset, ...). Ranges the seed gives
+// for the pairs the simulator checks (others are accepted as sent).
+struct Pair {
+  std::uint8_t get;
+  std::int32_t min, max;
+};
+constexpr Pair kPairs[] = {
+    {0x10, -32256, 32256}, {0x24, 0, 63},  {0x26, 0, 63},          {0x28, -32256, 32256},
+    {0x2A, 0, 4096},       {0x2C, 0, 4096}, {0x30, -32768, 32767},
+};
+
+const Pair* pair_of_set(std::uint8_t id) {
+  for (const auto& p : kPairs)
+    if (p.get + 1 == id) return &p;
+  return nullptr;
+}
+const Pair* pair_of_get(std::uint8_t id) {
+  for (const auto& p : kPairs)
+    if (p.get == id) return &p;
+  return nullptr;
+}
+
+}  // namespace
+
+void DeviceNetController::attach(can::VirtualBus& bus) {
+  bus.attach([this](const can::Frame& f, can::VirtualBus& b) { on_frame(f, b); });
+}
+
+std::uint16_t DeviceNetController::value(std::optional<Motor> motor, std::uint8_t get_id) const {
+  auto it = values_.find({key_of(motor), get_id});
+  return it == values_.end() ? 0 : it->second;
+}
+
+void DeviceNetController::set_value(std::optional<Motor> motor, std::uint8_t get_id,
+                                    std::uint16_t v) {
+  values_[{key_of(motor), get_id}] = v;
+}
+
+void DeviceNetController::reset() {
+  allocated_by_.reset();
+  allocation_ = 0;
+  packet_rate_ = 0;
+  status_ = {};
+  echo_ = {};
+  echo_value_ = 0;
+  coded_error_ = 0;
+  seen_command_ = false;
+  reassembler_ = {};
+}
+
+void DeviceNetController::on_frame(const can::Frame& f, can::VirtualBus& bus) {
+  if (f.extended || f.rtr || f.id < 0x400 || f.id >= 0x600) return;
+  const auto mac = static_cast<std::uint8_t>((f.id >> 3) & 0x3F);
+  const auto message = static_cast<Group2>(f.id & 7);
+  if (message == Group2::duplicate_mac_check) {
+    if (mac == opt_.mac && f.len > 0 && !(f.data[0] & 0x80)) {
+      can::Frame answer = f;
+      answer.data[0] |= 0x80;  // response: this MAC ID is taken
+      bus.put(answer);
+    }
+    return;
+  }
+  if (mac != opt_.mac) return;
+  switch (message) {
+    case Group2::unconnected_explicit_request:
+      explicit_message(f, true, bus);
+      break;
+    case Group2::master_explicit_request:
+      if (allocated_by_ && (allocation_ & devicenet::kAllocExplicit)) explicit_message(f, false, bus);
+      break;
+    case Group2::master_io_poll:
+      if (allocated_by_ && (allocation_ & devicenet::kAllocPolled)) poll(f, bus);
+      break;
+    default:
+      break;
+  }
+}
+
+void DeviceNetController::explicit_message(const can::Frame& f, bool unconnected,
+                                           can::VirtualBus& bus) {
+  auto request = devicenet::Explicit::decode(f.payload());
+  if (!request.ok() || request->response) return;
+  devicenet::Explicit answer{false, false, request->mac, true, request->service, {}};
+  auto refuse = [&](std::uint8_t general, std::uint8_t additional) {
+    answer.service = devicenet::kErrorResponse;
+    answer.data = {general, additional};
+  };
+  const Bytes& d = request->data;
+  if (unconnected && request->service == devicenet::kAllocate && d.size() >= 4) {
+    if (allocated_by_ && *allocated_by_ != d[3]) {
+      refuse(0x0C, 0x01);  // object state conflict: another master holds the set
+    } else {
+      allocated_by_ = d[3];
+      allocation_ |= d[2];
+      answer.data = {0x00};  // message body format 8/8
+    }
+  } else if (unconnected && request->service == devicenet::kRelease && d.size() >= 3) {
+    if (!allocated_by_ || *allocated_by_ != request->mac) {
+      refuse(0x0C, 0x02);
+    } else {
+      allocation_ &= static_cast<std::uint8_t>(~d[2]);
+      if (allocation_ == 0) allocated_by_.reset();
+    }
+  } else if (!unconnected && request->service == devicenet::kSetAttributeSingle &&
+             d.size() >= 5 && d[0] == devicenet::kConnectionClass &&
+             d[1] == devicenet::kPolledConnection && d[2] == devicenet::kExpectedPacketRate) {
+    // Rounded up to the controller's 10 ms timer, as slaves report the rate they use.
+    const auto asked = static_cast<std::uint16_t>(d[3] | d[4] << 8);
+    packet_rate_ = static_cast<std::uint16_t>((asked + 9) / 10 * 10);
+    answer.data = {static_cast<std::uint8_t>(packet_rate_ & 0xFF),
+                   static_cast<std::uint8_t>(packet_rate_ >> 8)};
+  } else {
+    refuse(0x08, 0xFF);  // service not supported
+  }
+  bus.put(can::Frame::standard(devicenet::group2_id(opt_.mac, Group2::slave_explicit_response),
+                               answer.encode()));
+}
+
+void DeviceNetController::coded_error(std::uint16_t code) {
+  coded_error_ = code;
+  status_.low |= 0x0040;  // ERROR Pending
+}
+
+std::uint16_t DeviceNetController::execute(const devicenet::CommandWord& w, std::uint16_t v) {
+  ++executed_;
+  std::optional<Motor> motor;
+  int selected = 0;
+  for (Motor m : devicenet::kMotors) {
+    if (!w.motors[static_cast<int>(m)]) continue;
+    ++selected;
+    motor = m;
+  }
+  switch (w.id) {
+    case 0x00:
+      return 0;
+    case 0x02:
+      return status_.low;
+    case 0x03:
+      return status_.high;
+    case 0x0A:
+      return coded_error_;
+    case 0x0B:
+      coded_error_ = 0;
+      status_.low &= static_cast<std::uint16_t>(~0x0040);
+      return 0;
+  }
+  const Pair* get = pair_of_get(w.id);
+  const Pair* set = pair_of_set(w.id);
+  if (!get && !set) {
+    coded_error(0x8108);  // Unknown command
+    return 0;
+  }
+  if (selected != 1) {
+    coded_error(0x8110);  // Drive not specified
+    return 0;
+  }
+  if (!opt_.motors[static_cast<int>(*motor)]) {
+    coded_error(0x8111);  // Drive not master
+    return 0;
+  }
+  if (get) return value(motor, get->get);
+  const auto signed_value = set->min < 0 ? static_cast<std::int16_t>(v) : static_cast<std::int32_t>(v);
+  if (signed_value < set->min || signed_value > set->max) {
+    coded_error(0x8118);  // Range error
+    return 0;
+  }
+  set_value(motor, set->get, v);
+  return v;
+}
+
+void DeviceNetController::poll(const can::Frame& f, can::VirtualBus& bus) {
+  auto whole = reassembler_.feed(f.payload(), opt_.layout.command_size() > 8);
+  if (!whole.ok() || !*whole) return;
+  auto command = devicenet::decode_command(opt_.layout, **whole);
+  if (!command.ok()) return;
+  if (opt_.layout.addressed_in) {
+    const auto& w = command->addressed;
+    // §5.2: a command executes on a change of its toggle bit; the echo and the
+    // selected motors' Command Toggle bits then report the toggle.
+    if (!seen_command_ || w.toggle != last_toggle_) {
+      echo_value_ = execute(w, command->addressed_value);
+      echo_ = w;
+      for (Motor m : devicenet::kMotors) {
+        if (!w.motors[static_cast<int>(m)]) continue;
+        const auto bit = static_cast<std::uint16_t>(0x8u << (4 * static_cast<int>(m)));
+        status_.high = w.toggle ? (status_.high | bit) : (status_.high & ~bit);
+      }
+    }
+    seen_command_ = true;
+    last_toggle_ = w.toggle;
+  }
+  status_.low |= 0x0003;  // INIT Done, RUN State
+  if (drop_polls_ > 0) {
+    --drop_polls_;
+    return;
+  }
+  devicenet::PollResponse r;
+  r.status = status_;
+  r.addressed_echo = echo_;
+  r.addressed_value = echo_value_;
+  for (const auto& frame : devicenet::fragment_io(devicenet::encode_response(opt_.layout, r))) {
+    bus.put(can::Frame::standard(devicenet::group1_id(devicenet::kSlavePollResponse, opt_.mac),
+                                 frame));
+  }
+}
+
+}  // namespace lmcfg::sim

@@ -1,0 +1,69 @@
+#pragma once
+// A simulated DeviceNet LinMot controller (seed 000) on a can::VirtualBus:
+// the Predefined Master/Slave Connection Set (duplicate MAC ID check,
+// Allocate/Release, the polled connection's expected packet rate) and the
+// §5.2 command protocol on the Addressed modules, sharing lib/devicenet's
+// codec with the master. Runtime values are kept per motor and command;
+// fault hooks: lost poll responses, another master holding the connection,
+// a reset mid-session. docs/can.md.
+#include <array>
+#include <cstdint>
+#include <map>
+#include <optional>
+
+#include "can/virtual_bus.hpp"
+#include "devicenet/command.hpp"
+#include "devicenet/messages.hpp"
+
+namespace lmcfg::sim {
+
+struct DeviceNetControllerOptions {
+  std::uint8_t mac = 0x3F;
+  devicenet::IoLayout layout;
+  std::array<bool, 4> motors{true, false, false, false};  // present (master drives)
+};
+
+class DeviceNetController {
+ public:
+  explicit DeviceNetController(DeviceNetControllerOptions o) : opt_(o) {}
+  // Serves on `bus` from now on (the bus keeps a callback to this object).
+  void attach(can::VirtualBus& bus);
+
+  // The runtime value behind a Get command ID (Table 5-1) for a motor, or
+  // for the controller when motor is nullopt.
+  std::uint16_t value(std::optional<devicenet::Motor> motor, std::uint8_t get_id) const;
+  void set_value(std::optional<devicenet::Motor> motor, std::uint8_t get_id, std::uint16_t v);
+
+  // Fault hooks.
+  void hold_for_other_master(std::uint8_t mac) { allocated_by_ = mac; }
+  void drop_poll_responses(int n) { drop_polls_ = n; }
+  void reset();  // power cycle: connection released, status cleared, values kept
+
+  std::optional<std::uint8_t> allocated_by() const { return allocated_by_; }
+  std::uint16_t expected_packet_rate() const { return packet_rate_; }
+  std::uint64_t commands_executed() const { return executed_; }
+
+ private:
+  void on_frame(const can::Frame& f, can::VirtualBus& bus);
+  void explicit_message(const can::Frame& f, bool unconnected, can::VirtualBus& bus);
+  void poll(const can::Frame& f, can::VirtualBus& bus);
+  std::uint16_t execute(const devicenet::CommandWord& w, std::uint16_t value);
+  void coded_error(std::uint16_t code);
+
+  DeviceNetControllerOptions opt_;
+  std::optional<std::uint8_t> allocated_by_;
+  std::uint8_t allocation_ = 0;
+  std::uint16_t packet_rate_ = 0;
+  int drop_polls_ = 0;
+  bool last_toggle_ = false;
+  bool seen_command_ = false;
+  devicenet::Status status_;
+  devicenet::CommandWord echo_;
+  std::uint16_t echo_value_ = 0;
+  std::uint16_t coded_error_ = 0;
+  std::map<std::pair<int, std::uint8_t>, std::uint16_t> values_;
+  devicenet::IoReassembler reassembler_;
+  std::uint64_t executed_ = 0;
+};
+
+}  // namespace lmcfg::sim

@@ -1,0 +1,190 @@
+// The DeviceNet master (lib/devicenet/master) against the simulated DeviceNet
+// LinMot controller (lib/sim/devicenet_controller) on an in-process CAN bus:
+// duplicate MAC ID check, allocation, the expected packet rate, the §5.2
+// command exchange with its toggle, coded errors, lost poll responses,
+// another master holding the connection, fragmented I/O, Release.
+#include <catch2/catch.hpp>
+
+#include "can/virtual_bus.hpp"
+#include "devicenet/master.hpp"
+#include "sim/devicenet_controller.hpp"
+
+using namespace lmcfg;
+using devicenet::Motor;
+
+namespace {
+
+struct Rig {
+  std::shared_ptr<can::VirtualBus> bus = std::make_shared<can::VirtualBus>();
+  sim::DeviceNetController controller;
+  std::unique_ptr<can::Link> link;
+  std::vector<std::string> trace;
+  std::unique_ptr<can::TraceLink> traced;
+  devicenet::Master master;
+
+  static devicenet::MasterOptions options(const devicenet::IoLayout& layout) {
+    devicenet::MasterOptions o;
+    o.slave_mac = 0x3F;
+    o.own_mac = 0x3E;
+    o.layout = layout;
+    o.timeout = transport::Millis(20);
+    o.duplicate_check_wait = transport::Millis(10);
+    return o;
+  }
+  explicit Rig(devicenet::IoLayout layout = {},
+               std::array<bool, 4> motors = {true, false, false, false})
+      : controller({0x3F, layout, motors}),
+        link(bus->open("master")),
+        traced(std::make_unique<can::TraceLink>(
+            std::move(link), [this](const std::string& l) { trace.push_back(l); },
+            [](const can::Frame& f, bool) { return devicenet::describe_identifier(f.id); })),
+        master(*traced, options(layout)) {
+    controller.attach(*bus);
+  }
+};
+
+constexpr std::array<bool, 4> kMotorA{true, false, false, false};
+
+}  // namespace
+
+TEST_CASE("devicenet master: connect, set and read back a curve number, release",
+          "[devicenet][master]") {
+  Rig rig;
+  REQUIRE(rig.master.check_own_mac().ok());
+  REQUIRE(rig.master.connect().ok());
+  CHECK(rig.controller.allocated_by() == 0x3E);
+  CHECK(rig.master.granted_packet_rate() == 2000);
+  auto set = rig.master.command(kMotorA, 0x25, 7);  // Set (Rise) Curve Number
+  REQUIRE(set.ok());
+  CHECK(*set == 7);
+  CHECK(rig.controller.value(Motor::A, 0x24) == 7);
+  auto get = rig.master.command(kMotorA, 0x24, 0);  // Get (Rise) Curve Number
+  REQUIRE(get.ok());
+  CHECK(*get == 7);
+  CHECK(rig.controller.commands_executed() == 3);  // the first poll's No Command, set, get
+  REQUIRE(rig.master.release().ok());
+  CHECK_FALSE(rig.controller.allocated_by());
+  // The trace names each frame's DeviceNet meaning.
+  REQUIRE(rig.trace.size() >= 4);
+  CHECK(rig.trace[0] == "TX 5F7 [7] 00 00 00 46 43 4D 4C  Group 2 MAC 3Eh duplicate MAC ID check");
+  CHECK(rig.trace[2] == "TX 5FE [6] 3E 4B 03 01 03 3E  Group 2 MAC 3Fh unconnected explicit request");
+  CHECK(rig.trace[3] == "RX 5FB [3] 3E CB 00  Group 2 MAC 3Fh slave's explicit/unconnected response");
+}
+
+TEST_CASE("devicenet master: repeating a poll does not execute a command twice",
+          "[devicenet][master]") {
+  Rig rig;
+  REQUIRE(rig.master.connect().ok());
+  REQUIRE(rig.master.command(kMotorA, 0x25, 3).ok());
+  const auto executed = rig.controller.commands_executed();
+  devicenet::PollCommand same;
+  same.addressed = devicenet::CommandWord{kMotorA, !rig.master.last_status().command_toggle(Motor::A), 0x25};
+  // A poll with the toggle the controller already saw: no new execution.
+  same.addressed.toggle = rig.master.last_status().command_toggle(Motor::A);
+  same.addressed_value = 9;
+  REQUIRE(rig.master.poll(same).ok());
+  CHECK(rig.controller.commands_executed() == executed);
+  CHECK(rig.controller.value(Motor::A, 0x24) == 3);
+}
+
+TEST_CASE("devicenet master: a value out of Table 5-1's range is the controller's coded error",
+          "[devicenet][master]") {
+  Rig rig;
+  REQUIRE(rig.master.connect().ok());
+  auto r = rig.master.command(kMotorA, 0x25, 64);  // curve numbers 0..63
+  REQUIRE_FALSE(r.ok());
+  CHECK(r.error().code == make_error_code(Errc::drive_refused));
+  CHECK(r.error().message ==
+        "command 25h to DeviceNet MAC ID 63: the controller reports an error, coded error 8118h "
+        "Range error");
+  auto b = rig.master.command({false, true, false, false}, 0x24, 0);  // motor B is not a master
+  REQUIRE(b.ok());  // ERROR Pending was already set: no new error is attributed to this command
+}
+
+TEST_CASE("devicenet master: lost poll responses are polled again; too many fail in bounded "
+          "time",
+          "[devicenet][master]") {
+  Rig rig;
+  REQUIRE(rig.master.connect().ok());
+  rig.controller.drop_poll_responses(2);
+  auto r = rig.master.command(kMotorA, 0x25, 5);
+  REQUIRE(r.ok());
+  CHECK(rig.controller.value(Motor::A, 0x24) == 5);
+  rig.controller.drop_poll_responses(100);
+  auto lost = rig.master.poll({});
+  REQUIRE_FALSE(lost.ok());
+  CHECK(lost.error().message ==
+        "no poll response from DeviceNet MAC ID 63 within 20 ms (after 3 polls)");
+}
+
+TEST_CASE("devicenet master: another master holding the connection, a silent slave, a MAC ID "
+          "taken",
+          "[devicenet][master]") {
+  {
+    Rig rig;
+    rig.controller.hold_for_other_master(0x00);
+    auto r = rig.master.connect();
+    REQUIRE_FALSE(r.ok());
+    CHECK(r.error().message ==
+          "DeviceNet MAC ID 63 refused the connection: error response to "
+          "Allocate_Master/Slave_Connection_Set 4Bh: general error 0Ch object state conflict, "
+          "additional 01h; another master (a PLC's scanner) probably holds it: the controller "
+          "serves one master at a time (seed 000 §2.6)");
+  }
+  {
+    auto bus = std::make_shared<can::VirtualBus>();
+    auto link = bus->open("master");
+    auto o = Rig::options({});
+    o.slave_mac = 0x05;  // nobody there
+    devicenet::Master m(*link, o);
+    auto r = m.connect();
+    REQUIRE_FALSE(r.ok());
+    CHECK(r.error().code == make_error_code(Errc::timeout));
+    CHECK(r.error().message ==
+          "no answer from DeviceNet MAC ID 5 to Allocate_Master/Slave_Connection_Set within 20 "
+          "ms on virtual CAN master (check the MAC ID, the bit rate and the cabling)");
+  }
+  {
+    auto bus = std::make_shared<can::VirtualBus>();
+    sim::DeviceNetController other({0x3E, {}, kMotorA});  // a controller at the tool's MAC ID
+    other.attach(*bus);
+    auto link = bus->open("master");
+    devicenet::Master m(*link, Rig::options({}));
+    auto r = m.check_own_mac();
+    REQUIRE_FALSE(r.ok());
+    CHECK(r.error().message ==
+          "DeviceNet MAC ID 62 (this tool's) is already used on the bus by another node: choose "
+          "another with --devicenet-own-macid");
+  }
+}
+
+TEST_CASE("devicenet master: a controller reset mid-session drops the connection; reconnecting "
+          "restores it",
+          "[devicenet][master]") {
+  Rig rig;
+  REQUIRE(rig.master.connect().ok());
+  REQUIRE(rig.master.command(kMotorA, 0x29, 100).ok());  // Set Curve Offset
+  rig.controller.reset();
+  auto r = rig.master.command(kMotorA, 0x28, 0);
+  REQUIRE_FALSE(r.ok());
+  CHECK(r.error().code == make_error_code(Errc::timeout));
+  REQUIRE(rig.master.connect().ok());
+  auto again = rig.master.command(kMotorA, 0x28, 0);
+  REQUIRE(again.ok());
+  CHECK(*again == 100);  // runtime values survive in this model until power is lost
+}
+
+TEST_CASE("devicenet master: seed 000 §5.1 example 1 layout needs fragmented I/O both ways",
+          "[devicenet][master]") {
+  devicenet::IoLayout l;
+  l.direct_in = l.direct_out1 = l.direct_out2 = true;
+  l.masters = {true, true, true, true};
+  Rig rig(l, {true, true, true, true});
+  REQUIRE(rig.master.connect().ok());
+  auto r = rig.master.command({false, false, true, false}, 0x2B, 2048);  // Set Curve Amplitude, C
+  REQUIRE(r.ok());
+  CHECK(rig.controller.value(Motor::C, 0x2A) == 2048);
+  auto status = rig.master.command({}, 0x02, 0);  // Get Status Low Word
+  REQUIRE(status.ok());
+  CHECK((*status & 0x0003) == 0x0003);  // INIT Done, RUN State
+}
