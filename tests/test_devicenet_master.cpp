@@ -67,8 +67,10 @@ TEST_CASE("devicenet master: connect, set and read back a curve number, release"
   // The trace names each frame's DeviceNet meaning.
   REQUIRE(rig.trace.size() >= 4);
   CHECK(rig.trace[0] == "TX 5F7 [7] 00 00 00 46 43 4D 4C  Group 2 MAC 3Eh duplicate MAC ID check");
-  CHECK(rig.trace[2] == "TX 5FE [6] 3E 4B 03 01 03 3E  Group 2 MAC 3Fh unconnected explicit request");
-  CHECK(rig.trace[3] == "RX 5FB [3] 3E CB 00  Group 2 MAC 3Fh slave's explicit/unconnected response");
+  CHECK(rig.trace[2] ==
+        "TX 5FE [6] 3E 4B 03 01 03 3E  Group 2 MAC 3Fh unconnected explicit request");
+  CHECK(rig.trace[3] ==
+        "RX 5FB [3] 3E CB 00  Group 2 MAC 3Fh slave's explicit/unconnected response");
 }
 
 TEST_CASE("devicenet master: repeating a poll does not execute a command twice",
@@ -78,7 +80,8 @@ TEST_CASE("devicenet master: repeating a poll does not execute a command twice",
   REQUIRE(rig.master.command(kMotorA, 0x25, 3).ok());
   const auto executed = rig.controller.commands_executed();
   devicenet::PollCommand same;
-  same.addressed = devicenet::CommandWord{kMotorA, !rig.master.last_status().command_toggle(Motor::A), 0x25};
+  same.addressed =
+      devicenet::CommandWord{kMotorA, !rig.master.last_status().command_toggle(Motor::A), 0x25};
   // A poll with the toggle the controller already saw: no new execution.
   same.addressed.toggle = rig.master.last_status().command_toggle(Motor::A);
   same.addressed_value = 9;
@@ -101,9 +104,10 @@ TEST_CASE("devicenet master: a value out of Table 5-1's range is the controller'
   REQUIRE(b.ok());  // ERROR Pending was already set: no new error is attributed to this command
 }
 
-TEST_CASE("devicenet master: lost poll responses are polled again; too many fail in bounded "
-          "time",
-          "[devicenet][master]") {
+TEST_CASE(
+    "devicenet master: lost poll responses are polled again; too many fail in bounded "
+    "time",
+    "[devicenet][master]") {
   Rig rig;
   REQUIRE(rig.master.connect().ok());
   rig.controller.drop_poll_responses(2);
@@ -117,9 +121,10 @@ TEST_CASE("devicenet master: lost poll responses are polled again; too many fail
         "no poll response from DeviceNet MAC ID 63 within 20 ms (after 3 polls)");
 }
 
-TEST_CASE("devicenet master: another master holding the connection, a silent slave, a MAC ID "
-          "taken",
-          "[devicenet][master]") {
+TEST_CASE(
+    "devicenet master: another master holding the connection, a silent slave, a MAC ID "
+    "taken",
+    "[devicenet][master]") {
   {
     Rig rig;
     rig.controller.hold_for_other_master(0x00);
@@ -158,9 +163,10 @@ TEST_CASE("devicenet master: another master holding the connection, a silent sla
   }
 }
 
-TEST_CASE("devicenet master: a controller reset mid-session drops the connection; reconnecting "
-          "restores it",
-          "[devicenet][master]") {
+TEST_CASE(
+    "devicenet master: a controller reset mid-session drops the connection; reconnecting "
+    "restores it",
+    "[devicenet][master]") {
   Rig rig;
   REQUIRE(rig.master.connect().ok());
   REQUIRE(rig.master.command(kMotorA, 0x29, 100).ok());  // Set Curve Offset

@@ -37,8 +37,9 @@ Result<void> Master::check_own_mac() {
     LMCFG_ASSIGN_OR_RETURN(auto answer, wait_for(id, opt_.duplicate_check_wait));
     if (answer) {
       return Error(Errc::invalid_argument,
-                   mac_name(opt_.own_mac) + " (this tool's) is already used on the bus by another "
-                                            "node: choose another with --devicenet-own-macid");
+                   mac_name(opt_.own_mac) +
+                       " (this tool's) is already used on the bus by another "
+                       "node: choose another with --devicenet-own-macid");
     }
   }
   return {};
@@ -47,7 +48,8 @@ Result<void> Master::check_own_mac() {
 Result<Explicit> Master::explicit_request(Group2 port, const Explicit& request) {
   LMCFG_TRY(link_.send(can::Frame::standard(group2_id(opt_.slave_mac, port), request.encode())));
   LMCFG_ASSIGN_OR_RETURN(
-      auto answer, wait_for(group2_id(opt_.slave_mac, Group2::slave_explicit_response), opt_.timeout));
+      auto answer,
+      wait_for(group2_id(opt_.slave_mac, Group2::slave_explicit_response), opt_.timeout));
   if (!answer) {
     return Error(Errc::timeout, "no answer from " + mac_name(opt_.slave_mac) + " to " +
                                     std::string(service_name(request.service)) + " within " +
@@ -74,8 +76,8 @@ Result<void> Master::connect() {
   connected_ = true;
   const std::uint8_t rate[] = {static_cast<std::uint8_t>(opt_.expected_packet_rate_ms & 0xFF),
                                static_cast<std::uint8_t>(opt_.expected_packet_rate_ms >> 8)};
-  const auto set = set_attribute(opt_.own_mac, kConnectionClass, kPolledConnection,
-                                 kExpectedPacketRate, rate);
+  const auto set =
+      set_attribute(opt_.own_mac, kConnectionClass, kPolledConnection, kExpectedPacketRate, rate);
   LMCFG_ASSIGN_OR_RETURN(auto set_answer, explicit_request(Group2::master_explicit_request, set));
   LMCFG_ASSIGN_OR_RETURN(auto granted, response_data(set, set_answer));
   granted_rate_ = granted.size() >= 2 ? static_cast<std::uint16_t>(granted[0] | granted[1] << 8)
@@ -115,9 +117,9 @@ Result<PollResponse> Master::poll(const PollCommand& c) {
       return r;
     }
     if (attempt >= opt_.retries) {
-      return Error(Errc::timeout, "no poll response from " + mac_name(opt_.slave_mac) +
-                                      " within " + std::to_string(opt_.timeout.count()) +
-                                      " ms (after " + std::to_string(attempt + 1) + " polls)");
+      return Error(Errc::timeout, "no poll response from " + mac_name(opt_.slave_mac) + " within " +
+                                      std::to_string(opt_.timeout.count()) + " ms (after " +
+                                      std::to_string(attempt + 1) + " polls)");
     }
   }
 }

@@ -16,7 +16,7 @@ struct Pair {
   std::int32_t min, max;
 };
 constexpr Pair kPairs[] = {
-    {0x10, -32256, 32256}, {0x24, 0, 63},  {0x26, 0, 63},          {0x28, -32256, 32256},
+    {0x10, -32256, 32256}, {0x24, 0, 63},   {0x26, 0, 63},         {0x28, -32256, 32256},
     {0x2A, 0, 4096},       {0x2C, 0, 4096}, {0x30, -32768, 32767},
 };
 
@@ -77,7 +77,8 @@ void DeviceNetController::on_frame(const can::Frame& f, can::VirtualBus& bus) {
       explicit_message(f, true, bus);
       break;
     case Group2::master_explicit_request:
-      if (allocated_by_ && (allocation_ & devicenet::kAllocExplicit)) explicit_message(f, false, bus);
+      if (allocated_by_ && (allocation_ & devicenet::kAllocExplicit))
+        explicit_message(f, false, bus);
       break;
     case Group2::master_io_poll:
       if (allocated_by_ && (allocation_ & devicenet::kAllocPolled)) poll(f, bus);
@@ -112,9 +113,9 @@ void DeviceNetController::explicit_message(const can::Frame& f, bool unconnected
       allocation_ &= static_cast<std::uint8_t>(~d[2]);
       if (allocation_ == 0) allocated_by_.reset();
     }
-  } else if (!unconnected && request->service == devicenet::kSetAttributeSingle &&
-             d.size() >= 5 && d[0] == devicenet::kConnectionClass &&
-             d[1] == devicenet::kPolledConnection && d[2] == devicenet::kExpectedPacketRate) {
+  } else if (!unconnected && request->service == devicenet::kSetAttributeSingle && d.size() >= 5 &&
+             d[0] == devicenet::kConnectionClass && d[1] == devicenet::kPolledConnection &&
+             d[2] == devicenet::kExpectedPacketRate) {
     // Rounded up to the controller's 10 ms timer, as slaves report the rate they use.
     const auto asked = static_cast<std::uint16_t>(d[3] | d[4] << 8);
     packet_rate_ = static_cast<std::uint16_t>((asked + 9) / 10 * 10);
@@ -170,7 +171,8 @@ std::uint16_t DeviceNetController::execute(const devicenet::CommandWord& w, std:
     return 0;
   }
   if (get) return value(motor, get->get);
-  const auto signed_value = set->min < 0 ? static_cast<std::int16_t>(v) : static_cast<std::int32_t>(v);
+  const auto signed_value =
+      set->min < 0 ? static_cast<std::int16_t>(v) : static_cast<std::int32_t>(v);
   if (signed_value < set->min || signed_value > set->max) {
     coded_error(0x8118);  // Range error
     return 0;
@@ -210,8 +212,8 @@ void DeviceNetController::poll(const can::Frame& f, can::VirtualBus& bus) {
   r.addressed_echo = echo_;
   r.addressed_value = echo_value_;
   for (const auto& frame : devicenet::fragment_io(devicenet::encode_response(opt_.layout, r))) {
-    bus.put(can::Frame::standard(devicenet::group1_id(devicenet::kSlavePollResponse, opt_.mac),
-                                 frame));
+    bus.put(
+        can::Frame::standard(devicenet::group1_id(devicenet::kSlavePollResponse, opt_.mac), frame));
   }
 }
 

@@ -11,11 +11,14 @@
 #include <string>
 #include <vector>
 
+#include "can/virtual_bus.hpp"
 #include "command.hpp"
 #include "common/bytes.hpp"
 #include "ops/session.hpp"
+#include "sim/devicenet_controller.hpp"
 #include "sim/drive.hpp"
 #include "sim/server.hpp"
+#include "sim/slcan_adapter.hpp"
 #include "sim/state_file.hpp"
 #include "transport/pty.hpp"
 
@@ -25,6 +28,15 @@ namespace {
 volatile sig_atomic_t g_stop = 0;
 void on_signal(int) { g_stop = 1; }
 
+void install_stop_handlers() {
+  struct sigaction sa {};
+  sa.sa_handler = on_signal;
+  sigemptyset(&sa.sa_mask);
+  ::sigaction(SIGINT, &sa, nullptr);
+  ::sigaction(SIGTERM, &sa, nullptr);
+  ::signal(SIGPIPE, SIG_IGN);
+}
+
 struct SimArgs {
   std::vector<std::string> states;
   bool pty = false;
@@ -33,6 +45,8 @@ struct SimArgs {
   bool until_stdin_eof = false;
   bool fast = false;
   bool verbose = false;
+  bool devicenet = false;
+  std::string devicenet_macid = "63";
 };
 
 bool stdin_at_eof() {
@@ -92,7 +106,46 @@ Result<std::vector<std::unique_ptr<sim::Drive>>> load_drives(
   return drives;
 }
 
+// --devicenet: a simulated DeviceNet LinMot controller (seed 000) behind a
+// simulated slcan adapter on a pty.
+int run_devicenet(const SimArgs& a) {
+  const auto mac = parse_number(a.devicenet_macid, false);
+  if (!mac || *mac > 63) {
+    std::fprintf(stderr, "lmcfg sim: --devicenet-macid '%s' is not a DeviceNet MAC ID 0..63\n",
+                 a.devicenet_macid.c_str());
+    return kInvalidInput;
+  }
+  if (!a.tcp.empty() || !a.states.empty()) {
+    std::fprintf(stderr, "lmcfg sim: --devicenet serves on a pty, without --tcp or --state\n");
+    return kInvalidInput;
+  }
+  install_stop_handlers();
+  auto bus = std::make_shared<can::VirtualBus>();
+  sim::DeviceNetController controller(
+      {static_cast<std::uint8_t>(*mac), {}, {true, false, false, false}});
+  controller.attach(*bus);
+  auto p = transport::open_pty();
+  if (!p.ok()) {
+    std::fprintf(stderr, "lmcfg sim: %s\n", p.error().message.c_str());
+    return kCommFailure;
+  }
+  std::printf("%s\n", p->slave_path.c_str());
+  std::printf("link options: --port slcan:%s --can-bitrate 125000 --devicenet-macid %u\n",
+              p->slave_path.c_str(), static_cast<unsigned>(*mac));
+  std::fflush(stdout);
+  transport::FdTransport t(std::move(p->master), "pty " + p->slave_path);
+  sim::SlcanAdapterOptions o;
+  o.should_stop = [&] { return g_stop != 0 || (a.until_stdin_eof && stdin_at_eof()); };
+  auto r = sim::serve_slcan(*bus, t, o);
+  if (!r.ok()) {
+    std::fprintf(stderr, "lmcfg sim: %s\n", r.error().message.c_str());
+    return kCommFailure;
+  }
+  return kOk;
+}
+
 int run(const SimArgs& a) {
+  if (a.devicenet) return run_devicenet(a);
   if (a.states.empty() && a.save_on_exit) {
     std::fprintf(stderr, "lmcfg sim: --save-on-exit needs --state FILE to save to\n");
     return kInvalidInput;
@@ -106,12 +159,7 @@ int run(const SimArgs& a) {
   for (auto& d : *loaded) line.push_back(d.get());
   sim::Drive& drive = *line.front();
 
-  struct sigaction sa {};
-  sa.sa_handler = on_signal;
-  sigemptyset(&sa.sa_mask);
-  ::sigaction(SIGINT, &sa, nullptr);
-  ::sigaction(SIGTERM, &sa, nullptr);
-  ::signal(SIGPIPE, SIG_IGN);
+  install_stop_handlers();
 
   sim::ServeOptions opt;
   opt.real_time = !a.fast;
@@ -220,6 +268,12 @@ void add_sim(CLI::App& app, int& exit_code) {
                 "Also stop when stdin reaches end of file");
   cmd->add_flag("--fast", args->fast, "Answer at once instead of after the modelled delays");
   cmd->add_flag("-v,--verbose", args->verbose, "Trace every chunk to stderr");
+  cmd->add_flag("--devicenet", args->devicenet,
+                "Serve a simulated DeviceNet LinMot controller (seed 000) behind a simulated "
+                "slcan CAN adapter on a pty");
+  cmd->add_option("--devicenet-macid", args->devicenet_macid,
+                  "with --devicenet: the controller's MAC ID (0..63)")
+      ->capture_default_str();
   cmd->callback([args, &exit_code] { exit_code = run(*args); });
 }
 }  // namespace lmcfg::cli

@@ -1,0 +1,25 @@
+#pragma once
+// A simulated slcan (Lawicel) USB-CAN adapter: speaks the adapter's side of
+// the ASCII protocol on a byte transport (the master side of a pty) and
+// carries frames to and from a can::VirtualBus, so the tools reach a
+// simulated DeviceNet controller through a real serial port. docs/can.md.
+#include <functional>
+
+#include "can/virtual_bus.hpp"
+#include "transport/transport.hpp"
+
+namespace lmcfg::sim {
+
+struct SlcanAdapterOptions {
+  transport::Millis poll{20};
+  std::function<bool()> should_stop;  // nullptr: until the transport fails
+  bool transmit_ack = true;           // "z\r" after each transmitted frame
+};
+
+// Serves until should_stop() (ok) or the transport fails (its error). Before
+// "O" (and after "C") frames are neither sent nor delivered, as on a real
+// adapter; "Sn" is refused (BEL) while the channel is open.
+Result<void> serve_slcan(can::VirtualBus& bus, transport::Transport& serial,
+                         const SlcanAdapterOptions& opt);
+
+}  // namespace lmcfg::sim
