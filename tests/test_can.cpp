@@ -5,6 +5,7 @@
 #include <atomic>
 #include <catch2/catch.hpp>
 #include <cstdlib>
+#include <mutex>
 #include <thread>
 
 #include "can/link.hpp"
@@ -23,14 +24,21 @@ Bytes bytes(std::string_view s) { return Bytes(s.begin(), s.end()); }
 struct FakeAdapter {
   enum class Mode { normal, refuse_bitrate, silent };
   std::string slave;
+  transport::UniqueFd slave_fd;  // held open: without it the master reads EIO until a client opens
   std::unique_ptr<transport::FdTransport> master;
   std::atomic<bool> stop{false};
+  std::mutex heard_lock;
   std::vector<std::string> heard;
+  std::vector<std::string> heard_so_far() {
+    std::lock_guard<std::mutex> l(heard_lock);
+    return heard;
+  }
   std::thread thread;
   explicit FakeAdapter(Mode mode) {
     auto pty = transport::open_pty();
     REQUIRE(pty.ok());
     slave = pty->slave_path;
+    slave_fd = std::move(pty->slave);
     master = std::make_unique<transport::FdTransport>(std::move(pty->master), "adapter");
     thread = std::thread([this, mode] {
       std::string line;
@@ -43,7 +51,10 @@ struct FakeAdapter {
             line.push_back(static_cast<char>(b));
             continue;
           }
-          heard.push_back(line);
+          {
+            std::lock_guard<std::mutex> l(heard_lock);
+            heard.push_back(line);
+          }
           std::string answer;
           if (mode == Mode::silent) {
           } else if (line == "C") {
@@ -166,7 +177,9 @@ TEST_CASE("can: an slcan adapter on a pty: open, send with acknowledgement, rece
   CHECK(traced.describe().rfind("slcan ", 0) == 0);
   CHECK(traced.describe().find("250 kbit/s") != std::string::npos);
   const std::vector<std::string> opening{"C", "S5", "O", "t42E6004B03010300"};
-  CHECK(std::vector<std::string>(adapter.heard.begin(), adapter.heard.begin() + 4) == opening);
+  const auto heard = adapter.heard_so_far();
+  REQUIRE(heard.size() >= 4);
+  CHECK(std::vector<std::string>(heard.begin(), heard.begin() + 4) == opening);
 }
 
 TEST_CASE("can: an adapter that refuses the bit rate or says nothing is named", "[can][pty]") {

@@ -14,8 +14,8 @@ TEST_CASE("devicenet: master -> slcan on a pty -> lmcfg sim --devicenet", "[devi
   test::Child sim({LMCFG_TOOL_PATH, "sim", "--devicenet", "--devicenet-macid", "10"});
   const std::string path = sim.read_line();
   REQUIRE(path.rfind("/dev/", 0) == 0);
-  CHECK(sim.read_line() == "link options: --port slcan:" + path +
-                               " --can-bitrate 125000 --devicenet-macid 10");
+  CHECK(sim.read_line() ==
+        "link options: --port slcan:" + path + " --can-bitrate 125000 --devicenet-macid 10");
   std::vector<std::string> trace;
   auto link = can::open_link("slcan:" + path, {125000, true, transport::Millis(1000)});
   REQUIRE(link.ok());
@@ -34,7 +34,7 @@ TEST_CASE("devicenet: master -> slcan on a pty -> lmcfg sim --devicenet", "[devi
     auto get = m.command({true, false, false, false}, 0x2C, 0);
     REQUIRE(get.ok());
     CHECK(*get == 1024);
-  }  // released here
+  }                                           // released here
   CHECK(trace.back() == "RX 453 [2] 3E CC");  // Release answered by MAC 10 (0x453)
   CHECK(sim.stop() == 0);
 }

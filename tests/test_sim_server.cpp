@@ -70,6 +70,7 @@ namespace {
 // Serves `drives` on a new pty until the scope ends (--fast unless real_time).
 struct PtyLine {
   std::string slave;
+  transport::UniqueFd slave_fd;  // held open: without it the master reads EIO until a client opens
   std::unique_ptr<transport::FdTransport> master;
   std::atomic<bool> stop{false};
   std::thread server;
@@ -77,6 +78,7 @@ struct PtyLine {
     auto pty = transport::open_pty();
     REQUIRE(pty.ok());
     slave = pty->slave_path;
+    slave_fd = std::move(pty->slave);
     master = std::make_unique<transport::FdTransport>(std::move(pty->master), "pty " + slave);
     server = std::thread([this, drives, real_time] {
       sim::ServeOptions o;
@@ -100,17 +102,19 @@ TEST_CASE("sim: one served line with several MACIDs; only the addressed drive an
   auto second = test::load_fixture("manual-drive.json");
   second.macid = 0x12;
   sim::Drive b(std::move(second));
-  PtyLine line({&a, &b}, false);
-  auto client = transport::open_serial({line.slave, 38400, transport::Parity::none, 1});
-  REQUIRE(client.ok());
-  auto& c = **client;
-  // §10.1 read ROM of 13A2h, to each MACID and to one nobody has.
-  REQUIRE(c.write(from_hex("01 11 05 02 00 05 A2 13 04").value()).ok());
-  CHECK(read_frame(c, 2000) == from_hex("01 11 0A 02 50 00 00 A2 13 0A 00 00 00 04").value());
-  REQUIRE(c.write(from_hex("01 12 05 02 00 05 A2 13 04").value()).ok());
-  CHECK(read_frame(c, 2000) == from_hex("01 12 0A 02 50 00 00 A2 13 0A 00 00 00 04").value());
-  REQUIRE(c.write(from_hex("01 13 05 02 00 05 A2 13 04").value()).ok());
-  CHECK(read_frame(c, 200).empty());
+  {
+    PtyLine line({&a, &b}, false);
+    auto client = transport::open_serial({line.slave, 38400, transport::Parity::none, 1});
+    REQUIRE(client.ok());
+    auto& c = **client;
+    // §10.1 read ROM of 13A2h, to each MACID and to one nobody has.
+    REQUIRE(c.write(from_hex("01 11 05 02 00 05 A2 13 04").value()).ok());
+    CHECK(read_frame(c, 2000) == from_hex("01 11 0A 02 50 00 00 A2 13 0A 00 00 00 04").value());
+    REQUIRE(c.write(from_hex("01 12 05 02 00 05 A2 13 04").value()).ok());
+    CHECK(read_frame(c, 2000) == from_hex("01 12 0A 02 50 00 00 A2 13 0A 00 00 00 04").value());
+    REQUIRE(c.write(from_hex("01 13 05 02 00 05 A2 13 04").value()).ok());
+    CHECK(read_frame(c, 200).empty());
+  }  // the server has stopped: its drives' counters can be read
   CHECK(a.stats().answers == 1);
   CHECK(b.stats().answers == 1);
 }
@@ -126,10 +130,13 @@ TEST_CASE("sim: a drive started in one fast connection answers at once in the ne
     REQUIRE((*client)->write(from_hex("01 11 03 02 04 06 04").value()).ok());
     CHECK(read_frame(**client, 2000) == from_hex("01 11 04 02 60 00 00 04").value());
   }
-  PtyLine again({&drive}, false);
-  auto client = transport::open_serial({again.slave, 38400, transport::Parity::none, 1});
-  REQUIRE(client.ok());
-  REQUIRE((*client)->write(from_hex("01 11 05 02 00 05 A2 13 04").value()).ok());
-  CHECK(read_frame(**client, 200) == from_hex("01 11 0A 02 50 00 00 A2 13 0A 00 00 00 04").value());
+  {
+    PtyLine again({&drive}, false);
+    auto client = transport::open_serial({again.slave, 38400, transport::Parity::none, 1});
+    REQUIRE(client.ok());
+    REQUIRE((*client)->write(from_hex("01 11 05 02 00 05 A2 13 04").value()).ok());
+    CHECK(read_frame(**client, 200) ==
+          from_hex("01 11 0A 02 50 00 00 A2 13 0A 00 00 00 04").value());
+  }
   CHECK(drive.stats().ignored_busy == 0);
 }
