@@ -159,6 +159,12 @@ struct DbInfo {
 // this costs about a millisecond (figures in docs/upid-db.md). A table that
 // cannot be read fails the open. info() has the row counts.
 //
+// Empty database. A default-constructed Database (and empty()) has no rows:
+// every lookup finds nothing, every list is empty, info() is blank. The tools
+// use it when no database file could be loaded, so no function takes a
+// nullable Database; is_empty() tells that case apart where output differs
+// ("values shown raw").
+//
 // Lifetime and identity. Every pointer and reference a Database returns stays
 // valid, and its object unchanged, until the Database is destroyed, also across
 // a move (the moved-to Database owns it). A moved-from Database behaves as an
@@ -185,6 +191,13 @@ class Database {
   // executable's folder given.
   static Result<std::string> find_default_path(const char* env_value,
                                                const std::filesystem::path& exe_dir);
+
+  // A database without rows (see above).
+  Database() noexcept;
+  // One shared empty database, for callers that have none.
+  static const Database& empty() noexcept;
+  // True for a default-constructed or moved-from Database.
+  bool is_empty() const noexcept { return !impl_; }
 
   Database(Database&&) noexcept;
   Database& operator=(Database&&) noexcept;

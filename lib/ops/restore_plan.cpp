@@ -18,7 +18,7 @@ namespace {
 
 using Action = PlanStep::Action;
 
-bool is_comm(const db::Database* db, std::uint16_t upid) { return is_comm_parameter(db, upid); }
+bool is_comm(const db::Database& db, std::uint16_t upid) { return is_comm_parameter(db, upid); }
 
 bool refused(const Error& e) { return e.code.category() == comm_state_category(); }
 
@@ -31,10 +31,10 @@ std::string range_text(std::optional<std::int64_t> mn, std::optional<std::int64_
 // problems (and notes where the database disagrees with the target). Link
 // errors propagate. `listed`: the target's UPID list of the layer (§10.3), read
 // when the database does not know every address usage; else the type is asked.
-Result<void> check_parameter(client::Client& c, const db::Database* db, int layer,
+Result<void> check_parameter(client::Client& c, const db::Database& db, int layer,
                              const config::Parameter& p,
                              const std::map<std::uint16_t, client::UpidInfo>* listed, Plan& plan) {
-  const db::Parameter* d = db ? db->find(p.upid) : nullptr;
+  const db::Parameter* d = db.find(p.upid);
   const std::string label = param_label(layer, p.upid, d, &p);
   std::uint16_t type = 0;
   std::optional<db::AddressUsage> address_usage;
@@ -172,7 +172,7 @@ void check_tables(const config::DriveConfig& file, const RestoreOptions& opt, Pl
 // (power loss) never activates a half-written pair.
 void order_comm_writes_last(std::vector<PlanStep>& steps, std::size_t first,
                             const std::vector<config::Parameter>& final_values,
-                            const db::Database* db) {
+                            const db::Database& db) {
   auto final_of = [&](std::uint16_t upid) -> std::optional<std::uint32_t> {
     for (const auto& p : final_values)
       if (p.upid == upid) return p.value;
@@ -216,7 +216,7 @@ struct Write {
 
 struct Builder {
   client::Client& c;
-  const db::Database* db;
+  const db::Database& db;
   const RestoreOptions& opt;
   Plan& plan;
 
@@ -232,7 +232,7 @@ struct Builder {
     add(std::move(s), telegrams);
   }
   void add_write(int layer, const Write& w) {
-    const db::Parameter* d = db ? db->find(w.p.upid) : nullptr;
+    const db::Parameter* d = db.find(w.p.upid);
     PlanStep s;
     s.action = Action::write_rom;
     s.layer = layer;
@@ -354,7 +354,7 @@ Result<void> plan_curves(Builder& b, const config::DriveConfig& file, bool force
 }  // namespace
 
 Result<Plan> plan_restore(client::Client& c, const config::DriveConfig& file,
-                          const db::Database* db, const RestoreOptions& opt) {
+                          const db::Database& db, const RestoreOptions& opt) {
   Plan plan;
   plan.expected.identity = file.identity;
   plan.expected.scope = file.scope;
@@ -409,7 +409,7 @@ Result<Plan> plan_restore(client::Client& c, const config::DriveConfig& file,
     std::set<std::uint16_t> restored;
     // Compare first: what the target already holds is not written.
     for (const auto& p : file.layer(layer)) {
-      const db::Parameter* d = db ? db->find(p.upid) : nullptr;
+      const db::Parameter* d = db.find(p.upid);
       if (is_comm(db, p.upid) && !opt.include_comm) {
         plan.skipped.push_back(
             param_label(layer, p.upid, d, &p) +
@@ -477,7 +477,7 @@ Result<Plan> plan_restore(client::Client& c, const config::DriveConfig& file,
     // Where the database does not know it, the target's UPID list tells, with
     // the type of every UPID, in one walk of the layer.
     const std::size_t au_unknown = std::count_if(w.writes.begin(), w.writes.end(), [&](auto& x) {
-      const db::Parameter* d = db ? db->find(x.p.upid) : nullptr;
+      const db::Parameter* d = db.find(x.p.upid);
       return !(d && d->address_usage);
     });
     std::optional<std::map<std::uint16_t, client::UpidInfo>> listed;
@@ -553,7 +553,7 @@ Result<Plan> plan_restore(client::Client& c, const config::DriveConfig& file,
         if (!def.ok()) {
           if (!refused(def.error())) return std::move(def).error();
           plan.problems.push_back(
-              param_label(w.layer, m->upid, db ? db->find(m->upid) : nullptr, nullptr) +
+              param_label(w.layer, m->upid, db.find(m->upid), nullptr) +
               ": leftover, but the target refused its default query: " + def.error().message);
           continue;
         }

@@ -14,6 +14,7 @@
 #include "client/client.hpp"
 #include "codec/frame.hpp"
 #include "config/model.hpp"
+#include "db/database.hpp"
 #include "e2e_support.hpp"
 #include "ops/backup.hpp"
 #include "ops/restore.hpp"
@@ -206,7 +207,7 @@ inline ops::RestoreOptions restore_everything() {
 inline RestoreRun run_restore(client::Client& c, const config::DriveConfig& file,
                               const ops::RestoreOptions& ro = restore_everything()) {
   RestoreRun run;
-  auto plan = ops::plan_restore(c, file, nullptr, ro);
+  auto plan = ops::plan_restore(c, file, db::Database::empty(), ro);
   if (!plan.ok()) {
     run.outcome = std::move(plan).error();
     return run;

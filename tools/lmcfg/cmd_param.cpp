@@ -92,9 +92,8 @@ int fail_with_state(const char* cmd, const Error& e, const std::string& state) {
 int run_get(ParamCli& o) {
   auto upid = parse_upid(o.upid_text);
   if (!upid.ok()) return fail("get", upid.error());
-  std::optional<db::Database> holder;
-  const db::Database* db = load_database(o.common, holder);
-  const db::Parameter* d = db ? db->find(*upid) : nullptr;
+  const db::Database db = load_database(o.common);
+  const db::Parameter* d = db.find(*upid);
   auto session = open_link(o.common);
   if (!session.ok()) return fail("get", session.error());
   auto& c = (*session)->client();
@@ -137,9 +136,8 @@ Result<bool> confirm_stop_mc(const ParamCli& o, std::uint16_t upid) {
 int run_set(ParamCli& o) {
   auto upid = parse_upid(o.upid_text);
   if (!upid.ok()) return fail("set", upid.error());
-  std::optional<db::Database> holder;
-  const db::Database* db = load_database(o.common, holder);
-  const db::Parameter* d = db ? db->find(*upid) : nullptr;
+  const db::Database db = load_database(o.common);
+  const db::Parameter* d = db.find(*upid);
   const bool comm = ops::is_comm_parameter(db, *upid);
   if (comm && !o.include_comm) {
     char hex[8];

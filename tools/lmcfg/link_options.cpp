@@ -210,16 +210,15 @@ Result<SessionHandle> open_link(const CommonOptions& o) {
   return SessionHandle(s.release());
 }
 
-const db::Database* load_database(const CommonOptions& o, std::optional<db::Database>& holder) {
+db::Database load_database(const CommonOptions& o) {
   auto r = o.db_path.empty() ? db::Database::open_default() : db::Database::open(o.db_path);
   if (!r.ok()) {
     if (!o.quiet)
       std::fprintf(stderr, "lmcfg: warning: UPID database not loaded (%s); showing raw values\n",
                    r.error().message.c_str());
-    return nullptr;
+    return db::Database{};
   }
-  holder.emplace(std::move(r).value());
-  return &*holder;
+  return std::move(r).value();
 }
 
 namespace {
