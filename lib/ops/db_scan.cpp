@@ -190,10 +190,7 @@ Result<void> check_scan_profile_id(const std::string& id, const db::Database& db
 
 namespace {
 
-bool is_refusal(const Error& e) {
-  return e.code.category() == comm_state_category() ||
-         e.code == make_error_code(Errc::drive_refused);
-}
+bool is_refusal(const Error& e) { return e.code == ErrorClass::drive_refusal; }
 
 ScanRow make_row(const ScannedUpid& s, const db::Database& db, const std::string& names_from) {
   ScanRow row;

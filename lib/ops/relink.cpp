@@ -181,7 +181,7 @@ Result<RelinkReport> reconnect(Session& session, const ExpectedLink& expected,
     co.read_retries = saved.read_retries;
     client.set_options(co);
     // An error state (C1..C9) is an answer too: the drive hears these settings.
-    if (answer.ok() || answer.error().code.category() == comm_state_category()) {
+    if (answer.ok() || answer.error().code == ErrorClass::drive_refusal) {
       rep.used = cand;
       rep.changed = !(cand.line.baud == before.line.baud && cand.macid == before.macid &&
                       cand.checksum == before.checksum);

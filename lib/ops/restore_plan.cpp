@@ -20,7 +20,7 @@ using Action = PlanStep::Action;
 
 bool is_comm(const db::Database& db, std::uint16_t upid) { return is_comm_parameter(db, upid); }
 
-bool refused(const Error& e) { return e.code.category() == comm_state_category(); }
+bool refused(const Error& e) { return e.code == ErrorClass::drive_refusal; }
 
 std::string range_text(std::optional<std::int64_t> mn, std::optional<std::int64_t> mx) {
   return (mn ? std::to_string(*mn) : std::string("?")) + ".." +

@@ -230,21 +230,6 @@ inline RestoreRun run_restore(client::Client& c, const config::DriveConfig& file
   return run;
 }
 
-inline bool is_comm_failure(const Error& e) {
-  if (e.code.category() != lmcfg_category()) return false;
-  switch (static_cast<Errc>(e.code.value())) {
-    case Errc::timeout:
-    case Errc::link_closed:
-    case Errc::io_error:
-    case Errc::frame_short:
-    case Errc::frame_overlong:
-    case Errc::frame_malformed:
-    case Errc::checksum_mismatch:
-    case Errc::unexpected_response:
-      return true;
-    default:
-      return false;
-  }
-}
+inline bool is_comm_failure(const Error& e) { return e.code == ErrorClass::link_failure; }
 
 }  // namespace lmcfg::test

@@ -74,7 +74,7 @@ void print_value(const ParamCli& o, std::uint16_t upid, const db::Parameter* d,
 // (a refusal can put MC into its error state, seed 003 §15), as a line for
 // stderr; "" for other errors.
 std::string refusal_state(client::Client& c, const char* cmd, const Error& e) {
-  if (e.code.category() != comm_state_category()) return "";
+  if (e.code != ErrorClass::drive_refusal) return "";
   auto st = ops::read_error_state(c);
   return "lmcfg " + std::string(cmd) + ": after the refusal: " +
          (st.ok() ? ops::render_error_state(*st)
