@@ -13,6 +13,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "common/layers.hpp"
 #include "common/result.hpp"
 #include "db/value.hpp"
 
@@ -28,8 +29,15 @@ inline constexpr std::string_view kDbPathEnv = "LMCFG_UPID_DB";
 // Firmware layers and their UPID ranges (seed 003 §10.2). `Other` holds the
 // UPIDs the seeds name outside the four ranges (6300h, seed 001 §3.7): no
 // layer list, layer default or modified list reaches them.
-enum class Layer { OS, MC, Intf, Appl, Other };
-inline constexpr std::size_t kLayerCount = 5;  // with Other
+// The values are the 0-based view of the layer numbers of common/layers.hpp.
+enum class Layer {
+  OS = layers::kOS - 1,
+  MC = layers::kMC - 1,
+  Intf = layers::kIntf - 1,
+  Appl = layers::kAppl - 1,
+  Other = layers::kCount,
+};
+inline constexpr std::size_t kLayerCount = layers::kCount + 1;  // with Other
 // "OS", "MC", "Intf", "Appl", "Other"
 std::string_view layer_name(Layer l) noexcept;
 std::optional<Layer> layer_from_name(std::string_view name) noexcept;  // case-insensitive
