@@ -280,6 +280,29 @@ class Reader {
     return {};
   }
 
+  // The optional array member `key` of the document: each element an object
+  // with only the `allowed` members, of which "decoded" (derived, not read)
+  // must be an object, given to read_one(element, its pointer) in order.
+  template <class F>
+  Result<void> each_object(const json& doc, const char* key,
+                           std::initializer_list<std::string_view> allowed, F&& read_one) const {
+    const Ptr root;
+    const Ptr p = root / key;
+    LMCFG_ASSIGN_OR_RETURN(const json* arr, member(doc, root, key, false));
+    if (!arr) return {};
+    LMCFG_TRY(array(*arr, p));
+    for (std::size_t i = 0; i < arr->size(); ++i) {
+      const Ptr ip = p / i;
+      const json& e = (*arr)[i];
+      LMCFG_TRY(object(e, ip));
+      LMCFG_TRY(keys(e, ip, allowed));
+      LMCFG_TRY(read_one(e, ip));
+      LMCFG_ASSIGN_OR_RETURN(const json* dec, member(e, ip, "decoded", false));
+      if (dec) LMCFG_TRY(object(*dec, ip / "decoded"));
+    }
+    return {};
+  }
+
   Result<DriveConfig> read_document(const json& doc);
 
  private:
@@ -485,56 +508,36 @@ Result<Parameter> Reader::read_parameter(const json& q, const Ptr& pp) const {
 
 // curves (optional)
 Result<void> Reader::read_curves(const json& doc, std::vector<Curve>& out) const {
-  const Ptr root;
-  const Ptr p = root / "curves";
-  LMCFG_ASSIGN_OR_RETURN(const json* cj, member(doc, root, "curves", false));
-  if (cj) {
-    LMCFG_TRY(array(*cj, p));
-    for (std::size_t i = 0; i < cj->size(); ++i) {
-      const Ptr cp = p / i;
-      const json& c = (*cj)[i];
-      LMCFG_TRY(object(c, cp));
-      LMCFG_TRY(keys(c, cp, {"id", "info", "data", "decoded"}));
-      Curve curve;
-      LMCFG_ASSIGN_OR_RETURN(const json* ij, member(c, cp, "id", true));
-      LMCFG_ASSIGN_OR_RETURN(auto id, unsigned_int(*ij, cp / "id", 0xFFFF, "a curve ID"));
-      curve.id = static_cast<std::uint32_t>(id);
-      LMCFG_ASSIGN_OR_RETURN(const json* inf, member(c, cp, "info", true));
-      LMCFG_ASSIGN_OR_RETURN(curve.info, rows(*inf, cp / "info"));
-      LMCFG_ASSIGN_OR_RETURN(const json* dat, member(c, cp, "data", true));
-      LMCFG_ASSIGN_OR_RETURN(curve.data, rows(*dat, cp / "data"));
-      LMCFG_ASSIGN_OR_RETURN(const json* dec, member(c, cp, "decoded", false));
-      if (dec) LMCFG_TRY(object(*dec, cp / "decoded"));  // derived: not read
-      out.push_back(std::move(curve));
-    }
-  }
-  return {};
+  return each_object(doc, "curves", {"id", "info", "data", "decoded"},
+                     [&](const json& c, const Ptr& cp) -> Result<void> {
+                       Curve curve;
+                       LMCFG_ASSIGN_OR_RETURN(const json* ij, member(c, cp, "id", true));
+                       LMCFG_ASSIGN_OR_RETURN(auto id,
+                                              unsigned_int(*ij, cp / "id", 0xFFFF, "a curve ID"));
+                       curve.id = static_cast<std::uint32_t>(id);
+                       LMCFG_ASSIGN_OR_RETURN(const json* inf, member(c, cp, "info", true));
+                       LMCFG_ASSIGN_OR_RETURN(curve.info, rows(*inf, cp / "info"));
+                       LMCFG_ASSIGN_OR_RETURN(const json* dat, member(c, cp, "data", true));
+                       LMCFG_ASSIGN_OR_RETURN(curve.data, rows(*dat, cp / "data"));
+                       out.push_back(std::move(curve));
+                       return {};
+                     });
 }
 
 // command table (optional)
 Result<void> Reader::read_command_table(const json& doc, std::vector<CtEntry>& out) const {
-  const Ptr root;
-  const Ptr p = root / "command_table";
-  LMCFG_ASSIGN_OR_RETURN(const json* tj, member(doc, root, "command_table", false));
-  if (tj) {
-    LMCFG_TRY(array(*tj, p));
-    for (std::size_t i = 0; i < tj->size(); ++i) {
-      const Ptr ep = p / i;
-      const json& e = (*tj)[i];
-      LMCFG_TRY(object(e, ep));
-      LMCFG_TRY(keys(e, ep, {"id", "raw", "decoded"}));
-      CtEntry entry;
-      LMCFG_ASSIGN_OR_RETURN(const json* ij, member(e, ep, "id", true));
-      LMCFG_ASSIGN_OR_RETURN(auto id, unsigned_int(*ij, ep / "id", 0xFFFFFFFFu, "an entry ID"));
-      entry.id = static_cast<std::uint32_t>(id);
-      LMCFG_ASSIGN_OR_RETURN(const json* rj, member(e, ep, "raw", true));
-      LMCFG_ASSIGN_OR_RETURN(entry.raw, rows(*rj, ep / "raw"));
-      LMCFG_ASSIGN_OR_RETURN(const json* dec, member(e, ep, "decoded", false));
-      if (dec) LMCFG_TRY(object(*dec, ep / "decoded"));
-      out.push_back(std::move(entry));
-    }
-  }
-  return {};
+  return each_object(doc, "command_table", {"id", "raw", "decoded"},
+                     [&](const json& e, const Ptr& ep) -> Result<void> {
+                       CtEntry entry;
+                       LMCFG_ASSIGN_OR_RETURN(const json* ij, member(e, ep, "id", true));
+                       LMCFG_ASSIGN_OR_RETURN(
+                           auto id, unsigned_int(*ij, ep / "id", 0xFFFFFFFFu, "an entry ID"));
+                       entry.id = static_cast<std::uint32_t>(id);
+                       LMCFG_ASSIGN_OR_RETURN(const json* rj, member(e, ep, "raw", true));
+                       LMCFG_ASSIGN_OR_RETURN(entry.raw, rows(*rj, ep / "raw"));
+                       out.push_back(std::move(entry));
+                       return {};
+                     });
 }
 
 Result<ConfigV1> Reader::read_v1(const json& doc) {
