@@ -11,6 +11,7 @@
 #include "client/client.hpp"
 #include "codec/frame.hpp"
 #include "codec/messages.hpp"
+#include "db/database.hpp"
 #include "ops/backup.hpp"
 #include "ops/diff.hpp"
 #include "sim/link.hpp"
@@ -85,7 +86,7 @@ const config::DriveConfig& heavy(int which, bool full) {
     client::Client cl(link, client::ClientOptions{});
     ops::BackupOptions bo;
     bo.full = full;
-    auto r = ops::backup(cl, bo, nullptr);
+    auto r = ops::backup(cl, bo, db::Database::empty());
     if (!r.ok()) {
       std::fprintf(stderr, "backup of the heavy drive failed: %s\n", r.error().message.c_str());
       std::exit(1);
@@ -102,7 +103,7 @@ void BM_DiffHeavy(benchmark::State& state) {
   const auto& b = heavy(1, full);
   std::size_t items = 0;
   for (auto _ : state) {
-    auto r = ops::diff(a, b, nullptr, {}, ops::DiffOptions{true, false});
+    auto r = ops::diff(a, b, db::Database::empty(), {}, ops::DiffOptions{true, false});
     items = r.items.size();
     benchmark::DoNotOptimize(r);
   }
@@ -116,7 +117,7 @@ BENCHMARK(BM_DiffHeavy)->Arg(0)->Arg(1)->ArgName("full")->Unit(benchmark::kMilli
 void BM_DiffHeavyText(benchmark::State& state) {
   const auto& a = heavy(0, false);
   const auto& b = heavy(1, false);
-  const auto r = ops::diff(a, b, nullptr, {}, ops::DiffOptions{true, false});
+  const auto r = ops::diff(a, b, db::Database::empty(), {}, ops::DiffOptions{true, false});
   for (auto _ : state) {
     auto s = ops::render_text(r, "a", "b");
     benchmark::DoNotOptimize(s);

@@ -92,7 +92,7 @@ struct Timed {
   bool committed = false;
 };
 
-Timed backup(const fleet::Inventory& inv, const fs::path& dir, const db::Database* db) {
+Timed backup(const fleet::Inventory& inv, const fs::path& dir, const db::Database& db) {
   fs::remove_all(dir);
   auto archive = fleet::Archive::open(dir.string(), true);
   if (!archive.ok()) throw std::runtime_error(archive.error().message);
@@ -126,7 +126,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   auto db = db::Database::open(LMCFG_DB_PATH);
-  const db::Database* dbp = db.ok() ? &*db : nullptr;
+  const db::Database& dbp = db.ok() ? *db : db::Database::empty();
   std::vector<std::unique_ptr<Gateway>> gws;
   for (int l = 0; l < lines; ++l) gws.push_back(std::make_unique<Gateway>(*base, per_line));
   const fs::path tmp =

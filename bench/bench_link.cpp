@@ -61,7 +61,7 @@ bool same_content(config::DriveConfig a, const config::DriveConfig& b) {
 }
 
 Outcome run(sim::DriveState s, const Setting& set, int runs, std::uint32_t seed,
-            const db::Database* db) {
+            const db::Database& db) {
   s.checksum.mode = set.mode;
   Outcome out;
   config::DriveConfig want;
@@ -140,7 +140,7 @@ int main(int argc, char** argv) {
     auto r = db::Database::open(LMCFG_DB_PATH);
     if (r.ok()) database = std::move(r).value();
   }
-  const db::Database* db = database ? &*database : nullptr;
+  const db::Database& db = database ? *database : db::Database::empty();
   auto state = sim::load_state(LMCFG_SOURCE_DIR "/tests/fixtures/sim/commissioned-axis.json");
   if (!state.ok()) {
     std::fprintf(stderr, "lmcfg_bench_link: %s\n", state.error().message.c_str());
@@ -149,7 +149,7 @@ int main(int argc, char** argv) {
   std::printf(
       "lmcfg_bench_link: %d backups of the demo axis per row (UPID database: %s), virtual clock,\n"
       "57600 8N1; 3%% of answers with one flipped bit, 2%% lost; seed %u.\n\n",
-      runs, db ? "yes" : "no", seed);
+      runs, !db.is_empty() ? "yes" : "no", seed);
   std::printf("%-38s %9s %7s %6s %9s %9s %7s %9s %9s %9s %9s\n", "checksum, timeout/settle",
               "complete", "failed", "wrong", "clean s", "noisy s", "ratio", "telegr.x", "3rd reads",
               "timeouts", "max dl ms");

@@ -87,7 +87,7 @@ int main(int argc, char** argv) {
   const fs::path dir = argc > 1 ? argv[1] : ".";
   fs::create_directories(dir);
   auto opened = db::Database::open(LMCFG_DB_PATH);
-  const db::Database* db = opened.ok() ? &*opened : nullptr;
+  const db::Database& db = opened.ok() ? *opened : db::Database::empty();
   const auto a = reportbench::large_config();
   const auto b = reportbench::large_config_changed(a);
   ops::ReportOptions ro;

@@ -94,7 +94,7 @@ ops::RestoreOptions alone_on_line() {
   return ro;
 }
 
-RestoreRun run_restore(Rig& rig, const config::DriveConfig& file, const db::Database* db,
+RestoreRun run_restore(Rig& rig, const config::DriveConfig& file, const db::Database& db,
                        const std::string& what, const ops::RestoreOptions& ro) {
   RestoreRun r;
   ops::Plan plan;
@@ -120,7 +120,7 @@ config::DriveConfig naive_backup(Rig& rig, const std::string& what) {
   ops::BackupOptions bo;
   bo.full = true;
   bo.ask_drive = false;  // a script records values only
-  return must(ops::backup(*rig.client, bo, nullptr), what + ": naive backup");
+  return must(ops::backup(*rig.client, bo, db::Database::empty()), what + ": naive backup");
 }
 // ... and restore by defaulting every layer and writing every value back, then
 // the tables, then start and reset. No checks, no verify.
@@ -231,7 +231,7 @@ double over_pty(sim::DriveState state, F&& f) {
 // `n` drives behind `n` loopback TCP gateways, each served in real time in its
 // own thread, each backed up by its own client thread at once. Returns the wall
 // clock from the first connect to the last backup done.
-double tcp_gateways(const sim::DriveState& state, std::size_t n, const db::Database* db) {
+double tcp_gateways(const sim::DriveState& state, std::size_t n, const db::Database& db) {
   struct Gw {
     transport::UniqueFd listener;
     std::uint16_t port = 0;
@@ -299,14 +299,14 @@ int main(int argc, char** argv) {
     auto r = db::Database::open(LMCFG_DB_PATH);
     if (r.ok()) database = std::move(r).value();
   }
-  const db::Database* db = database ? &*database : nullptr;
+  const db::Database& db = database ? *database : db::Database::empty();
   std::printf(
       "lmcfg_bench_wire: virtual clock of the simulated drive (lib/sim), 57600 8N1, turnaround 1 "
       "ms,\n"
       "defaulting 1.2 s, flash save 2 s, reset 3 s, MC start 3 s. Demo axis with the UPID "
       "database: %s.\n"
       "Heavy axis without it (synthetic UPIDs). Minimum definitions: docs/performance.md.\n",
-      db ? "yes" : "no");
+      !db.is_empty() ? "yes" : "no");
 
   const auto demo =
       must(sim::load_state(fixtures + "/commissioned-axis.json"), "commissioned-axis.json");
@@ -321,7 +321,7 @@ int main(int argc, char** argv) {
   for (int k = 0; k < 2; ++k) {
     const bool is_demo = k == 0;
     const auto& st = is_demo ? demo : heavy;
-    const db::Database* d = is_demo ? db : nullptr;
+    const db::Database& d = is_demo ? db : db::Database::empty();
     const std::string name = is_demo ? "(a) demo axis" : "(b) heavy axis";
     Rig rig(st);
     config::DriveConfig file;
@@ -364,7 +364,7 @@ int main(int argc, char** argv) {
       {"(c) heavy -> used spare", heavy_spare, false},
   };
   for (const auto& t : targets) {
-    const db::Database* d = t.demo ? db : nullptr;
+    const db::Database& d = t.demo ? db : db::Database::empty();
     const auto& file = t.demo ? demo_file : heavy_file;
     const auto m = benchwire::min_restore(t.state, file, d, alone_on_line());
     Rig rig(t.state);

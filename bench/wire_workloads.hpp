@@ -291,7 +291,7 @@ inline std::map<std::uint16_t, std::uint32_t> modified_of(const sim::DriveState&
 // modified UPID a type and a default query when the database (db) does not
 // know them and the backup records them (opt.ask_drive).
 inline Cost min_backup(const sim::DriveState& d, const ops::BackupOptions& opt = {},
-                       const db::Database* db = nullptr) {
+                       const db::Database& db = db::Database::empty()) {
   WireModel w(d);
   Cost c;
   for (int l = 1; l <= 4; ++l) {
@@ -300,7 +300,7 @@ inline Cost min_backup(const sim::DriveState& d, const ops::BackupOptions& opt =
     c += w.modified_list(mods.size());
     if (!opt.ask_drive) continue;
     for (const auto& [upid, value] : mods) {
-      const db::Parameter* p = db ? db->find(upid) : nullptr;
+      const db::Parameter* p = db.find(upid);
       if (!(p && p->spec.type)) c += w.cfg(codec::CfgOp::get_type, upid);
       if (!(p && p->default_value)) c += w.cfg(codec::CfgOp::get_default, upid);
     }
@@ -351,12 +351,12 @@ struct RestoreCost {
 //           value at its default), the CT list and every entry, the 100 curve
 //           probes and every curve's blocks.
 inline RestoreCost min_restore(const sim::DriveState& t, const config::DriveConfig& file,
-                               const db::Database* db, const ops::RestoreOptions& opt = {}) {
+                               const db::Database& db, const ops::RestoreOptions& opt = {}) {
   WireModel w(t);
   RestoreCost rc;
   auto is_comm = [&](std::uint16_t upid) { return ops::is_comm_parameter(db, upid); };
   auto known_default = [&](const config::Parameter& p) -> std::optional<std::uint32_t> {
-    const db::Parameter* d = db ? db->find(p.upid) : nullptr;
+    const db::Parameter* d = db.find(p.upid);
     if (d && d->default_value) return static_cast<std::uint32_t>(*d->default_value);
     return p.default_value;
   };
@@ -406,7 +406,7 @@ inline RestoreCost min_restore(const sim::DriveState& t, const config::DriveConf
       }
     }
     const bool walk_list = std::any_of(writes.begin(), writes.end(), [&](auto* p) {
-      const db::Parameter* d = db ? db->find(p->upid) : nullptr;
+      const db::Parameter* d = db.find(p->upid);
       return !(d && d->address_usage);
     });
     if (walk_list) {

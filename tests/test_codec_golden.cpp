@@ -100,21 +100,6 @@ std::string decode_typed_response(const Telegram& t) {
   return "no typed decoder for sub";
 }
 
-std::map<int, std::string> load_inconsistent() {
-  std::ifstream in(std::string(LMCFG_SOURCE_DIR) + "/tests/golden/seed003-inconsistent.txt");
-  std::map<int, std::string> m;
-  std::string line;
-  while (std::getline(in, line)) {
-    if (line.empty() || line[0] == '#') continue;
-    std::istringstream ss(line);
-    int no = 0;
-    std::string verdict;
-    ss >> no >> verdict;
-    m[no] = verdict;
-  }
-  return m;
-}
-
 std::string verdict_name(const std::error_code& ec) {
   if (ec == Errc::frame_short) return "frame_short";
   if (ec == Errc::frame_overlong) return "frame_overlong";
@@ -128,7 +113,7 @@ std::string verdict_name(const std::error_code& ec) {
 TEST_CASE("seed003 all captures: requests encode byte-exact, responses decode, errata rejected",
           "[codec][golden]") {
   const auto captures = test::load_seed003_captures();
-  const auto inconsistent = load_inconsistent();
+  const auto inconsistent = test::load_seed003_inconsistent();
   REQUIRE(captures.size() == 381);
   int tx_ok = 0, rx_ok = 0, rx_rejected = 0;
   for (const auto& c : captures) {
@@ -188,7 +173,7 @@ TEST_CASE("seed003 all captured exchanges: the request table names the answer's 
   // the table, carries what the table says, and the drive's answer has the sub
   // ID the table expects and echoes the key the table says it echoes.
   const auto captures = test::load_seed003_captures();
-  const auto inconsistent = load_inconsistent();
+  const auto inconsistent = test::load_seed003_inconsistent();
   int pairs = 0, keyed = 0, writes = 0;
   for (std::size_t i = 0; i + 1 < captures.size(); ++i) {
     const auto& tx = captures[i];

@@ -413,6 +413,8 @@ TEST_CASE("lookups: pointers stay valid after the Database is moved", "[db]") {
   CHECK(db.parameters().empty());
   CHECK(db.errors().empty());
   CHECK(db.info().counts.empty());
+  CHECK(db.is_empty());  // NOLINT(bugprone-use-after-move)
+  CHECK_FALSE(moved.is_empty());
 
   // Move assignment keeps them too; the assigned-over Database's own are gone.
   auto other = Database::open(fixture_copy("move-assign"));
@@ -423,6 +425,32 @@ TEST_CASE("lookups: pointers stay valid after the Database is moved", "[db]") {
   CHECK(target.find(0x13A2) == gain);
   CHECK(target.error("linrs", 0xC8) == c8);
   CHECK(gain->default_value == 16);
+}
+
+TEST_CASE("empty database: every lookup finds nothing", "[db]") {
+  // What the tools use when no database file loads: no function takes a
+  // nullable Database.
+  for (const Database* e : {&Database::empty(), static_cast<const Database*>(nullptr)}) {
+    Database local;
+    const Database& d = e ? *e : local;
+    CHECK(d.is_empty());
+    CHECK(d.find(0x13A2) == nullptr);
+    CHECK(d.find_all(0x13A2).empty());
+    CHECK(d.search("gain").empty());
+    CHECK(d.in_layer(Layer::MC).empty());
+    CHECK(d.error("linrs", 0xC8) == nullptr);
+    CHECK(d.errors().empty());
+    CHECK(d.motion_command(0x0100) == nullptr);
+    CHECK(d.motion_commands().empty());
+    CHECK(d.devicenet_parameters().empty());
+    CHECK(d.devicenet_command(0x11) == nullptr);
+    CHECK(d.profiles().empty());
+    CHECK(d.profile("b1100-mc") == nullptr);
+    CHECK(d.parameters().empty());
+    CHECK(d.info().content_hash.empty());
+  }
+  CHECK(&Database::empty() == &Database::empty());
+  CHECK_FALSE(fixture_db().is_empty());
 }
 
 TEST_CASE("lookups: concurrent use of one const Database", "[db]") {

@@ -61,7 +61,7 @@ TEST_CASE("db scan: the scanned profile is the simulated drive's own parameter s
     if (phases.empty() || phases.back().first != phase) phases.emplace_back(phase, total);
     (void)done;
   };
-  auto r = ops::scan_drive_profile(*rig.client, &d, opt);
+  auto r = ops::scan_drive_profile(*rig.client, d, opt);
   REQUIRE(r.ok());
   const auto& params = rig.drive->state().params;
   REQUIRE(r->rows.size() == params.size());
@@ -116,7 +116,7 @@ TEST_CASE("db scan: layers can be chosen; no database leaves every name empty", 
   auto opt = scan_options();
   opt.names_from.clear();
   opt.layers = {false, true, false, false};
-  auto r = ops::scan_drive_profile(*rig.client, nullptr, opt);
+  auto r = ops::scan_drive_profile(*rig.client, db::Database::empty(), opt);
   REQUIRE(r.ok());
   std::size_t mc = 0;
   for (const auto& [upid, p] : rig.drive->state().params)
@@ -132,19 +132,19 @@ TEST_CASE("db scan: layers can be chosen; no database leaves every name empty", 
 
 TEST_CASE("db scan: profile ids are checked", "[db][scan]") {
   const auto& d = real_db();
-  CHECK(ops::check_scan_profile_id("e1100-fw-x", &d).ok());
-  CHECK_FALSE(ops::check_scan_profile_id("", &d).ok());
-  CHECK_FALSE(ops::check_scan_profile_id("a b", &d).ok());
-  CHECK_FALSE(ops::check_scan_profile_id("a,b", &d).ok());
-  CHECK_FALSE(ops::check_scan_profile_id("*", &d).ok());
-  auto seeded = ops::check_scan_profile_id("e1100-mc-linrs", &d);
+  CHECK(ops::check_scan_profile_id("e1100-fw-x", d).ok());
+  CHECK_FALSE(ops::check_scan_profile_id("", d).ok());
+  CHECK_FALSE(ops::check_scan_profile_id("a b", d).ok());
+  CHECK_FALSE(ops::check_scan_profile_id("a,b", d).ok());
+  CHECK_FALSE(ops::check_scan_profile_id("*", d).ok());
+  auto seeded = ops::check_scan_profile_id("e1100-mc-linrs", d);
   REQUIRE_FALSE(seeded.ok());
   CHECK(seeded.error().code == make_error_code(Errc::invalid_argument));
   // Nothing goes on the wire for a refused id.
   test::SimRig rig(kFixture);
   auto opt = scan_options();
   opt.profile.id = "e1100-mc-linrs";
-  CHECK_FALSE(ops::scan_drive_profile(*rig.client, &d, opt).ok());
+  CHECK_FALSE(ops::scan_drive_profile(*rig.client, d, opt).ok());
   CHECK(rig.client->stats().requests == 0);
 }
 
@@ -153,7 +153,7 @@ TEST_CASE("db scan: an interrupted scan resumes from the partial file with fewer
   const auto& d = real_db();
   // The uninterrupted reference.
   test::SimRig full(kFixture);
-  auto ref = ops::scan_drive_profile(*full.client, &d, scan_options());
+  auto ref = ops::scan_drive_profile(*full.client, d, scan_options());
   REQUIRE(ref.ok());
   const auto full_telegrams = full.client->stats().requests;
 
@@ -166,7 +166,7 @@ TEST_CASE("db scan: an interrupted scan resumes from the partial file with fewer
     cut.sim().faults().schedule(full_telegrams * 2 / 3, sim::Fault::close_link());
     auto store = ops::PartialFileStore::open(partial, kProfile);
     REQUIRE(store.ok());
-    auto r = ops::scan_drive_profile(*cut.client, &d, scan_options(store->get()));
+    auto r = ops::scan_drive_profile(*cut.client, d, scan_options(store->get()));
     REQUIRE_FALSE(r.ok());
     CHECK(r.error().code == make_error_code(Errc::link_closed));
     stored_after_cut = (*store)->size();
@@ -183,7 +183,7 @@ TEST_CASE("db scan: an interrupted scan resumes from the partial file with fewer
   auto store = ops::PartialFileStore::open(partial, kProfile);
   REQUIRE(store.ok());
   CHECK((*store)->loaded() == stored_after_cut);
-  auto r = ops::scan_drive_profile(*again.client, &d, scan_options(store->get()));
+  auto r = ops::scan_drive_profile(*again.client, d, scan_options(store->get()));
   REQUIRE(r.ok());
   CHECK(r->resumed == stored_after_cut);
   CHECK(r->asked == ref->rows.size() - stored_after_cut);
@@ -230,7 +230,7 @@ TEST_CASE("db scan: the fragment compiles with the real compiler and the profile
           "[db][scan]") {
   const auto& d = real_db();
   test::SimRig rig(kFixture);
-  auto r = ops::scan_drive_profile(*rig.client, &d, scan_options());
+  auto r = ops::scan_drive_profile(*rig.client, d, scan_options());
   REQUIRE(r.ok());
   const std::string fragment = ops::scan_fragment_tsv(*r);
   CHECK(fragment.find("#@profiles.tsv\tprofile\tfamily") != std::string::npos);

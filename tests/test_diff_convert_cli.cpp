@@ -13,6 +13,7 @@
 #include "config/config_io.hpp"
 #include "config/json_io.hpp"
 #include "config/xml_io.hpp"
+#include "db/database.hpp"
 #include "db/value.hpp"
 #include "ops/diff.hpp"
 #include "test_config_support.hpp"
@@ -104,7 +105,7 @@ TEST_CASE(
   DriveConfig a, b;
   a.layer(2).push_back(typed(0x13A2, 70000, 3));  // UINT16 (§10 type 03h)
   b.layer(2).push_back(typed(0x13A2, 15, 3));
-  auto r = ops::diff(a, b, nullptr, {}, {});
+  auto r = ops::diff(a, b, db::Database::empty(), {}, {});
   REQUIRE_FALSE(r.identical());
   const auto* it = item(r, ops::DiffItem::Kind::parameter);
   REQUIRE(it != nullptr);
@@ -116,7 +117,7 @@ TEST_CASE(
             .find("  13A2h (name unknown): 70000 (00011170h) INVALID: does not fit type UINT16 -> "
                   "15\n") != std::string::npos);
   // The same invalid value on both sides: no difference, but said.
-  auto same = ops::diff(a, a, nullptr, {}, {});
+  auto same = ops::diff(a, a, db::Database::empty(), {}, {});
   CHECK(same.identical());
   REQUIRE(same.notes.size() == 1);
   CHECK(same.notes[0] ==
@@ -125,7 +126,7 @@ TEST_CASE(
   // SINT16 -5 may travel sign-extended: valid.
   DriveConfig s;
   s.layer(2).push_back(typed(0x13A2, 0xFFFFFFFB, 4));
-  auto sr = ops::diff(s, b, nullptr, {}, {});
+  auto sr = ops::diff(s, b, db::Database::empty(), {}, {});
   REQUIRE(item(sr, ops::DiffItem::Kind::parameter) != nullptr);
   CHECK(item(sr, ops::DiffItem::Kind::parameter)->a_invalid.empty());
 }
@@ -134,7 +135,7 @@ TEST_CASE("seed003 §10 diff: a recorded type that differs is a difference", "[d
   DriveConfig a, b;
   a.layer(2).push_back(typed(0x13A2, 16, 3));  // UINT16
   b.layer(2).push_back(typed(0x13A2, 16, 4));  // SINT16
-  auto r = ops::diff(a, b, nullptr, {}, {});
+  auto r = ops::diff(a, b, db::Database::empty(), {}, {});
   REQUIRE_FALSE(r.identical());
   const auto* it = item(r, ops::DiffItem::Kind::parameter);
   REQUIRE(it != nullptr);
@@ -152,7 +153,7 @@ TEST_CASE("seed003 §10.2 §11 §12 diff: a scope one side lacks is stated and i
   full.curves.push_back(Curve{1, sinrise_info(), sinrise_data()});
   partial.scope.layers = {false, true, false, false};
   partial.scope.curves = false;
-  auto r = ops::diff(full, partial, nullptr, {}, {});
+  auto r = ops::diff(full, partial, db::Database::empty(), {}, {});
   CHECK_FALSE(r.identical());
   std::size_t scope_items = 0;
   for (const auto& it : r.items) scope_items += it.kind == ops::DiffItem::Kind::scope ? 1 : 0;
@@ -168,8 +169,8 @@ TEST_CASE("seed003 §10.2 §11 §12 diff: a scope one side lacks is stated and i
         std::string::npos);
   CHECK(text.find("\nidentical\n") == std::string::npos);
   // Factory defaults take the other side's scope: nothing lacking.
-  auto d = ops::diff(ops::factory_defaults_config(partial.scope), partial, nullptr, {},
-                     ops::DiffOptions{true, false});
+  auto d = ops::diff(ops::factory_defaults_config(partial.scope), partial, db::Database::empty(),
+                     {}, ops::DiffOptions{true, false});
   CHECK(d.identical());
 }
 

@@ -14,6 +14,7 @@
 
 #include "config/config_io.hpp"
 #include "db/compiler.hpp"
+#include "db/database.hpp"
 #include "e2e_support.hpp"
 #include "ops/backup.hpp"
 #include "ops/diff.hpp"
@@ -23,7 +24,7 @@ using namespace lmcfg;
 
 namespace {
 
-config::DriveConfig backup_of(test::SimRig& rig, const db::Database* db) {
+config::DriveConfig backup_of(test::SimRig& rig, const db::Database& db) {
   auto cfg = ops::backup(*rig.client, ops::BackupOptions{}, db);
   REQUIRE(cfg.ok());
   return std::move(cfg).value();
@@ -56,7 +57,7 @@ std::set<std::uint16_t> modified_upids(const sim::Drive& d) {
 
 TEST_CASE("e2e: backup, restore onto a used spare, spare equals source", "[e2e]") {
   auto db = test::built_database();
-  const db::Database* dbp = db ? &*db : nullptr;
+  const db::Database& dbp = db ? *db : db::Database::empty();
   test::SimRig source("commissioned-axis.json");
   test::SimRig spare("used-spare.json");
   const auto file = backup_of(source, dbp);
@@ -93,9 +94,9 @@ TEST_CASE("e2e: backup, restore onto a used spare, spare equals source", "[e2e]"
 
 TEST_CASE("e2e: diff against defaults lists exactly the modified UPIDs", "[e2e]") {
   test::SimRig source("commissioned-axis.json");
-  const auto file = backup_of(source, nullptr);
-  auto r =
-      ops::diff(ops::factory_defaults_config(), file, nullptr, {}, ops::DiffOptions{true, false});
+  const auto file = backup_of(source, db::Database::empty());
+  auto r = ops::diff(ops::factory_defaults_config(), file, db::Database::empty(), {},
+                     ops::DiffOptions{true, false});
   CHECK(listed_upids(r) == modified_upids(*source.drive));
   // Curves and command table entries are listed too, each once.
   std::size_t curves = 0, entries = 0;
@@ -109,20 +110,20 @@ TEST_CASE("e2e: diff against defaults lists exactly the modified UPIDs", "[e2e]"
 
 TEST_CASE("e2e: a diff of two backups of one drive is empty", "[e2e]") {
   test::SimRig source("commissioned-axis.json");
-  auto a = backup_of(source, nullptr);
-  auto b = backup_of(source, nullptr);
-  CHECK(ops::diff(a, b, nullptr, {}, ops::DiffOptions{true, false}).identical());
+  auto a = backup_of(source, db::Database::empty());
+  auto b = backup_of(source, db::Database::empty());
+  CHECK(ops::diff(a, b, db::Database::empty(), {}, ops::DiffOptions{true, false}).identical());
   // A changed command table entry is summarised by content.
   REQUIRE_FALSE(b.ct_entries.empty());
   b.ct_entries[0].raw[38] = 'X';
-  auto r = ops::diff(a, b, nullptr, {}, ops::DiffOptions{true, false});
+  auto r = ops::diff(a, b, db::Database::empty(), {}, ops::DiffOptions{true, false});
   REQUIRE(r.items.size() == 1);
   CHECK(r.items[0].kind == ops::DiffItem::Kind::ct_entry);
 }
 
 TEST_CASE("e2e: bad inputs refuse the restore with zero write telegrams on the wire", "[e2e]") {
   test::SimRig source("commissioned-axis.json");
-  const auto good = backup_of(source, nullptr);
+  const auto good = backup_of(source, db::Database::empty());
   struct Case {
     const char* name;
     std::function<void(config::DriveConfig&)> spoil;
@@ -160,7 +161,8 @@ TEST_CASE("e2e: bad inputs refuse the restore with zero write telegrams on the w
       auto before = spare.drive->state();
       auto file = good;
       k.spoil(file);
-      auto plan = ops::plan_restore(*spare.client, file, nullptr, ops::RestoreOptions{});
+      auto plan =
+          ops::plan_restore(*spare.client, file, db::Database::empty(), ops::RestoreOptions{});
       REQUIRE(plan.ok());
       REQUIRE_FALSE(plan->ok());
       bool found = false;
@@ -179,7 +181,7 @@ TEST_CASE("e2e: bad inputs refuse the restore with zero write telegrams on the w
 TEST_CASE("e2e: a backup records each parameter's type and default, asked from the drive",
           "[e2e]") {
   test::SimRig source("commissioned-axis.json");
-  const auto file = backup_of(source, nullptr);
+  const auto file = backup_of(source, db::Database::empty());
   std::size_t n = 0;
   for (int layer = 1; layer <= 4; ++layer) {
     for (const auto& p : file.layer(layer)) {
@@ -203,7 +205,7 @@ TEST_CASE("e2e: a backup records each parameter's type and default, asked from t
   test::SimRig again("commissioned-axis.json");
   ops::BackupOptions bo;
   bo.ask_drive = false;
-  auto bare = ops::backup(*again.client, bo, nullptr);
+  auto bare = ops::backup(*again.client, bo, db::Database::empty());
   REQUIRE(bare.ok());
   for (const auto& l : bare->layers)
     for (const auto& p : l) CHECK_FALSE((p.type || p.default_value));
@@ -215,10 +217,10 @@ TEST_CASE("e2e: offline diff against defaults uses the defaults a capture record
   // default: without the recorded defaults each would look like a difference.
   ops::BackupOptions bo;
   bo.full = true;
-  auto full = ops::backup(*source.client, bo, nullptr);
+  auto full = ops::backup(*source.client, bo, db::Database::empty());
   REQUIRE(full.ok());
-  auto r =
-      ops::diff(ops::factory_defaults_config(), *full, nullptr, {}, ops::DiffOptions{true, false});
+  auto r = ops::diff(ops::factory_defaults_config(), *full, db::Database::empty(), {},
+                     ops::DiffOptions{true, false});
   CHECK(listed_upids(r) == modified_upids(*source.drive));
   // Values are shown by their recorded type: 11F2h is SINT16 on the drive.
   bool shown = false;
@@ -263,7 +265,7 @@ TEST_CASE(
   file.scope.curves = file.scope.command_table = false;
   file.layer(2) = {{0x13A2, 40, std::nullopt, std::nullopt, {}, {}, {}},
                    {0x1EEE, 1, std::nullopt, std::nullopt, {}, {}, {}}};
-  auto plan = ops::plan_restore(*spare.client, file, &*database, ops::RestoreOptions{});
+  auto plan = ops::plan_restore(*spare.client, file, *database, ops::RestoreOptions{});
   REQUIRE(plan.ok());
   REQUIRE(plan->problems.size() == 1);
   CHECK(plan->problems[0] ==

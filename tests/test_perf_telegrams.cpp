@@ -9,6 +9,7 @@
 
 #include "../bench/wire_workloads.hpp"
 #include "client/client.hpp"
+#include "db/database.hpp"
 #include "e2e_support.hpp"
 #include "ops/backup.hpp"
 #include "ops/restore.hpp"
@@ -42,7 +43,7 @@ sim::DriveState fixture(const char* name) {
 
 config::DriveConfig backup_counted(const sim::DriveState& st, std::uint64_t& telegrams) {
   PerfRig rig(st);
-  auto cfg = ops::backup(rig.client, ops::BackupOptions{}, nullptr);
+  auto cfg = ops::backup(rig.client, ops::BackupOptions{}, db::Database::empty());
   REQUIRE(cfg.ok());
   telegrams = rig.telegrams();
   return std::move(cfg).value();
@@ -55,7 +56,7 @@ Counted restore_counted(const sim::DriveState& target, const config::DriveConfig
   ops::RestoreOptions ro;
   ro.include_comm = true;  // the fixtures' LinRS parameters select the same line
   Counted n;
-  auto plan = ops::plan_restore(rig.client, file, nullptr, ro);
+  auto plan = ops::plan_restore(rig.client, file, db::Database::empty(), ro);
   REQUIRE(plan.ok());
   REQUIRE(plan->ok());
   n.plan = rig.telegrams();
@@ -148,7 +149,8 @@ TEST_CASE("perf: restore of the demo axis onto a used spare and a factory-fresh 
 
   sim::DriveState after;
   const auto onto_spare = restore_counted(spare, file, &after);
-  check_against_model(onto_spare, benchwire::min_restore(spare, file, nullptr), spare);
+  check_against_model(onto_spare, benchwire::min_restore(spare, file, db::Database::empty()),
+                      spare);
   // The plan compares first: 4 modified lists, a ROM read per file value the
   // target may hold as its default, 4 UPID lists (no database: address usage
   // unknown), the target's min + max per value it writes, the target's command
@@ -166,7 +168,8 @@ TEST_CASE("perf: restore of the demo axis onto a used spare and a factory-fresh 
   const auto fresh = benchwire::factory_fresh(demo);
   sim::DriveState fresh_after;
   const auto onto_fresh = restore_counted(fresh, file, &fresh_after);
-  check_against_model(onto_fresh, benchwire::min_restore(fresh, file, nullptr), fresh);
+  check_against_model(onto_fresh, benchwire::min_restore(fresh, file, db::Database::empty()),
+                      fresh);
   CHECK(onto_fresh.plan == 212);
   CHECK(onto_fresh.execute == 169);
   CHECK(onto_fresh.verify == 275);
@@ -186,7 +189,8 @@ TEST_CASE("perf: backup and restore of a small generated workload", "[perf]") {
   sim::DriveState after;
   const auto fresh = benchwire::factory_fresh(source);
   const auto onto_fresh = restore_counted(fresh, file, &after);
-  check_against_model(onto_fresh, benchwire::min_restore(fresh, file, nullptr), fresh);
+  check_against_model(onto_fresh, benchwire::min_restore(fresh, file, db::Database::empty()),
+                      fresh);
   CHECK(onto_fresh.plan == 189);
   CHECK(onto_fresh.execute == 121);
   CHECK(onto_fresh.verify == 227);
@@ -194,7 +198,8 @@ TEST_CASE("perf: backup and restore of a small generated workload", "[perf]") {
 
   const auto spare = benchwire::heavy_spare(spec, 6, 1, 2);
   const auto onto_spare = restore_counted(spare, file, &after);
-  check_against_model(onto_spare, benchwire::min_restore(spare, file, nullptr), spare);
+  check_against_model(onto_spare, benchwire::min_restore(spare, file, db::Database::empty()),
+                      spare);
   CHECK(onto_spare.plan == 239);
   CHECK(onto_spare.execute == 128);
   CHECK(onto_spare.verify == 227);
@@ -216,7 +221,7 @@ TEST_CASE(
   };
   {  // factory-fresh: nothing to default, no separate MC start before the reset
     PerfRig rig(benchwire::factory_fresh(source));
-    auto plan = ops::plan_restore(rig.client, file, nullptr, ops::RestoreOptions{});
+    auto plan = ops::plan_restore(rig.client, file, db::Database::empty(), ops::RestoreOptions{});
     REQUIRE(plan.ok());
     CHECK(count(*plan, ops::PlanStep::Action::default_layer) == 0);
     CHECK(count(*plan, ops::PlanStep::Action::start_mc) == 0);
@@ -239,7 +244,7 @@ TEST_CASE(
     PerfRig rig(spare);
     ops::RestoreOptions ro;
     ro.include_comm = true;  // the fixtures' LinRS parameters select the same line
-    auto plan = ops::plan_restore(rig.client, big_file, nullptr, ro);
+    auto plan = ops::plan_restore(rig.client, big_file, db::Database::empty(), ro);
     REQUIRE(plan.ok());
     REQUIRE(plan->ok());
     REQUIRE(count(*plan, ops::PlanStep::Action::default_layer) == 1);
@@ -251,14 +256,14 @@ TEST_CASE(
     REQUIRE(v.ok());
     CHECK(v->ok());
     CHECK(modified(rig.drive->state()) == modified(src));
-    const auto m = benchwire::min_restore(spare, big_file, nullptr);
+    const auto m = benchwire::min_restore(spare, big_file, db::Database::empty());
     const auto counted = restore_counted(spare, big_file);
     CHECK(counted.execute >= m.execute.telegrams);
     CHECK(counted.execute <= m.execute.telegrams + 2);
   }
   {  // nothing differs: nothing to do, not even an MC stop
     PerfRig rig(source);
-    auto plan = ops::plan_restore(rig.client, file, nullptr, ops::RestoreOptions{});
+    auto plan = ops::plan_restore(rig.client, file, db::Database::empty(), ops::RestoreOptions{});
     REQUIRE(plan.ok());
     CHECK(plan->nothing_to_do());
     CHECK(plan->steps.empty());

@@ -19,6 +19,7 @@
 #include <filesystem>
 
 #include "common/layers.hpp"
+#include "db/database.hpp"
 #include "ops/backup.hpp"
 #include "ops/session.hpp"
 #include "test_reliability_support.hpp"
@@ -227,7 +228,7 @@ TEST_CASE("adaptive deadline keeps promise 2: a late answer never answers a late
   // protects them. A late answer within deadline + settle is dropped.
   const auto clean = [&] {
     FaultRig rig(drive, adaptive());
-    auto b = ops::backup(*rig.client, ops::BackupOptions{}, nullptr);
+    auto b = ops::backup(*rig.client, ops::BackupOptions{}, db::Database::empty());
     REQUIRE(b.ok());
     return std::move(b).value();
   }();
@@ -248,7 +249,7 @@ TEST_CASE("adaptive deadline keeps promise 2: a late answer never answers a late
         // Warm up: time the link, so that the deadline is a few ms.
         REQUIRE(read_all(*rig.client, values).failed == 0);
         auto hit = test::aim(rig, x.match, x.nth, sim::Fault::delay(delay_ms));
-        auto b = ops::backup(*rig.client, ops::BackupOptions{}, nullptr);
+        auto b = ops::backup(*rig.client, ops::BackupOptions{}, db::Database::empty());
         REQUIRE(hit.hit->has_value());
         INFO((b.ok() ? std::string() : b.error().message));
         REQUIRE(b.ok());

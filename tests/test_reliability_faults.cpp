@@ -20,6 +20,7 @@
 //    (exit code 4, communication failure); nothing is reported as done.
 #include <catch2/catch.hpp>
 
+#include "db/database.hpp"
 #include "ops/diff.hpp"
 #include "test_reliability_support.hpp"
 
@@ -43,7 +44,7 @@ const Fixtures& fixtures() {
     x.source.checksum.mode = codec::ChecksumMode::crc_ccitt;
     x.spare.checksum.mode = codec::ChecksumMode::crc_ccitt;
     FaultRig rig(std::make_shared<sim::Drive>(x.source));
-    auto b = ops::backup(*rig.client, ops::BackupOptions{}, nullptr);
+    auto b = ops::backup(*rig.client, ops::BackupOptions{}, db::Database::empty());
     if (!b.ok()) throw std::runtime_error(b.error().message);
     x.source_backup = std::move(b).value();
     return x;
@@ -92,7 +93,7 @@ TEST_CASE("faults in backup: reads retried and resynchronised; the backup equals
     DYNAMIC_SECTION(f.name) {
       FaultRig rig(std::make_shared<sim::Drive>(fx.source));
       auto hit = test::aim(rig, request(0x04, 0x09), 2, f.fault, f.drop_byte);
-      auto b = ops::backup(*rig.client, ops::BackupOptions{}, nullptr);
+      auto b = ops::backup(*rig.client, ops::BackupOptions{}, db::Database::empty());
       REQUIRE(hit.hit->has_value());
       CHECK(rig.client->stats().write_requests == 0);  // backup never writes, faults or not
       if (closes(f)) {
@@ -137,7 +138,7 @@ TEST_CASE("faults in diff: a modified list restarted after a fault gives an iden
           true;  // a reset between "start" and the first "get next" looks like an empty list
       FaultRig rig(std::make_shared<sim::Drive>(fx.source), co);
       auto hit = test::aim(rig, request(0x05, 0x09), 3, f.fault, f.drop_byte);
-      auto b = ops::backup(*rig.client, ops::BackupOptions{}, nullptr);
+      auto b = ops::backup(*rig.client, ops::BackupOptions{}, db::Database::empty());
       REQUIRE(hit.hit->has_value());
       if (closes(f) || (slow_reboot(f) && !b.ok())) {
         REQUIRE_FALSE(b.ok());
@@ -146,7 +147,8 @@ TEST_CASE("faults in diff: a modified list restarted after a fault gives an iden
       }
       INFO((b.ok() ? std::string() : b.error().message));
       REQUIRE(b.ok());
-      auto d = ops::diff(fx.source_backup, *b, nullptr, {}, ops::DiffOptions{true, false});
+      auto d =
+          ops::diff(fx.source_backup, *b, db::Database::empty(), {}, ops::DiffOptions{true, false});
       for (const auto& it : d.items) UNSCOPED_INFO(it.name << ": " << it.a << " vs " << it.b);
       CHECK(d.identical());
       CHECK(rig.client->stats().write_requests == 0);
@@ -378,7 +380,7 @@ TEST_CASE("faults give up in bounded time with a communication error", "[reliabi
     if (ex >= 5) return {sim::Fault::drop_request()};
     return {};
   });
-  auto b = ops::backup(*rig.client, ops::BackupOptions{}, nullptr);
+  auto b = ops::backup(*rig.client, ops::BackupOptions{}, db::Database::empty());
   REQUIRE_FALSE(b.ok());
   CHECK(b.error().code == Errc::timeout);
   CHECK(rig.sim->clock().now_s() < 30.0);
@@ -387,7 +389,7 @@ TEST_CASE("faults give up in bounded time with a communication error", "[reliabi
   noisy.sim->faults().set_callback([](std::size_t, ByteView) -> std::vector<sim::Fault> {
     return {sim::Fault::corrupt(3, 0xFF)};
   });
-  auto n = ops::backup(*noisy.client, ops::BackupOptions{}, nullptr);
+  auto n = ops::backup(*noisy.client, ops::BackupOptions{}, db::Database::empty());
   REQUIRE_FALSE(n.ok());
   CHECK(test::is_comm_failure(n.error()));
   CHECK(noisy.sim->clock().now_s() < 30.0);

@@ -8,6 +8,7 @@
 #include <catch2/catch.hpp>
 #include <filesystem>
 
+#include "db/database.hpp"
 #include "ops/factory_reset.hpp"
 #include "test_reliability_support.hpp"
 
@@ -18,7 +19,7 @@ namespace {
 
 config::DriveConfig small_file() {
   FaultRig src(test::load_sim_drive("commissioned-axis.json"));
-  auto b = ops::backup(*src.client, ops::BackupOptions{}, nullptr);
+  auto b = ops::backup(*src.client, ops::BackupOptions{}, db::Database::empty());
   REQUIRE(b.ok());
   config::DriveConfig f = std::move(b).value();
   // Keep two layers with a few parameters each, the smallest curve, two CT entries.
@@ -193,7 +194,7 @@ TEST_CASE(
     FaultRig rig(drive);
     // The link closes at the first ROM write: the layer is defaulted, nothing kept yet.
     test::aim(rig, test::request(0x05, 0x01), 1, sim::Fault::close_link());
-    auto r = ops::default_drive(*rig.client, opt, nullptr);
+    auto r = ops::default_drive(*rig.client, opt, db::Database::empty());
     REQUIRE_FALSE(r.ok());
     CHECK(r.error().message.find("run the same command again; it finishes from the recovery "
                                  "record " +
@@ -203,7 +204,7 @@ TEST_CASE(
     t_end = rig.now_ns();
   }
   FaultRig again(drive, {}, t_end + 10'000'000'000);
-  auto r = ops::default_drive(*again.client, opt, nullptr);
+  auto r = ops::default_drive(*again.client, opt, db::Database::empty());
   INFO((r.ok() ? std::string() : r.error().message));
   REQUIRE(r.ok());
   CHECK(r->recovered);

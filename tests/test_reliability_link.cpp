@@ -6,6 +6,7 @@
 #include <random>
 
 #include "common/layers.hpp"
+#include "db/database.hpp"
 #include "ops/diff.hpp"
 #include "ops/factory_reset.hpp"
 #include "test_reliability_support.hpp"
@@ -44,7 +45,7 @@ client::ClientOptions automatic() {
 
 config::DriveConfig clean_backup(const sim::DriveState& s) {
   FaultRig rig(std::make_shared<sim::Drive>(s), automatic());
-  auto b = ops::backup(*rig.client, ops::BackupOptions{}, nullptr);
+  auto b = ops::backup(*rig.client, ops::BackupOptions{}, db::Database::empty());
   REQUIRE(b.ok());
   return std::move(b).value();
 }
@@ -92,7 +93,7 @@ TEST_CASE(
         s.options.empty_list_echo_upid = v.echo;
         s.checksum.mode = mode;
         FaultRig rig(std::make_shared<sim::Drive>(s), automatic());
-        auto b = ops::backup(*rig.client, ops::BackupOptions{}, nullptr);
+        auto b = ops::backup(*rig.client, ops::BackupOptions{}, db::Database::empty());
         REQUIRE(b.ok());
         CHECK(parameter_count(*b) == 0);
         CHECK(b->curves.empty());
@@ -112,7 +113,7 @@ TEST_CASE("seed003 §10.2 a modified list whose only entry is a real modified UP
   s.params.at(0x13A2).rom = 40;  // the one modified parameter: C6 carries it as the first answer
   s.options.empty_list_upid = 0x0000;
   FaultRig rig(std::make_shared<sim::Drive>(s), automatic());
-  auto b = ops::backup(*rig.client, ops::BackupOptions{}, nullptr);
+  auto b = ops::backup(*rig.client, ops::BackupOptions{}, db::Database::empty());
   REQUIRE(b.ok());
   REQUIRE(parameter_count(*b) == 1);
   CHECK(b->layer(2).front().upid == 0x13A2);
@@ -152,7 +153,7 @@ TEST_CASE(
     ops::BackupReport rep;
     ops::BackupOptions bo;
     bo.report = &rep;
-    auto b = ops::backup(*rig.client, bo, nullptr);
+    auto b = ops::backup(*rig.client, bo, db::Database::empty());
     INFO((b.ok() ? std::string() : b.error().message));
     REQUIRE(b.ok());
     CHECK(same_content(*b, want));
@@ -168,9 +169,9 @@ TEST_CASE(
   }
   SECTION("diff against the drive: identical") {
     FaultRig rig(std::make_shared<sim::Drive>(variant), automatic());
-    auto live = ops::backup(*rig.client, ops::BackupOptions{}, nullptr);
+    auto live = ops::backup(*rig.client, ops::BackupOptions{}, db::Database::empty());
     REQUIRE(live.ok());
-    auto d = ops::diff(want, *live, nullptr, {}, ops::DiffOptions{});
+    auto d = ops::diff(want, *live, db::Database::empty(), {}, ops::DiffOptions{});
     CHECK(d.identical());
   }
   SECTION("restore (plan, write, verify) onto a spare of this variant") {
@@ -203,7 +204,7 @@ TEST_CASE(
     client::ClientOptions one = rig.client->options();
     one.agreeing_reads = 1;
     rig.client->set_options(one);
-    auto b = ops::backup(*rig.client, bo, nullptr);
+    auto b = ops::backup(*rig.client, bo, db::Database::empty());
     REQUIRE(b.ok());
     CHECK(b->ct_entries.size() == want.ct_entries.size());
     REQUIRE_FALSE(rep.notes.empty());
@@ -287,7 +288,7 @@ TEST_CASE("seed003 §15 no checksum: agreeing reads keep bit flips out of 200 ba
         }
         return {};
       });
-      auto b = ops::backup(*rig.client, ops::BackupOptions{}, nullptr);
+      auto b = ops::backup(*rig.client, ops::BackupOptions{}, db::Database::empty());
       if (!b.ok()) {
         ++failed;
         if (std::getenv("LMCFG_DEBUG")) {
@@ -352,7 +353,7 @@ TEST_CASE("seed003 §11 a 1,000-setpoint curve backs up and restores on a line l
       };
       FaultRig src(std::make_shared<sim::Drive>(s), automatic());
       lossy(src);
-      auto b = ops::backup(*src.client, ops::BackupOptions{}, nullptr);
+      auto b = ops::backup(*src.client, ops::BackupOptions{}, db::Database::empty());
       INFO((b.ok() ? std::string() : b.error().message));
       REQUIRE(b.ok());
       CHECK(same_content(*b, want));
@@ -417,7 +418,7 @@ TEST_CASE(
     ops::DefaultOptions d;
     d.layers = {true, true, true, true};
     d.curves = d.command_table = true;
-    auto rep = ops::default_drive(*rig.client, d, nullptr);
+    auto rep = ops::default_drive(*rig.client, d, db::Database::empty());
     INFO((rep.ok() ? std::string() : rep.error().message));
     REQUIRE(rep.ok());
     CHECK(rig.drive->state().mc_running);

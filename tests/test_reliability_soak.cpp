@@ -8,6 +8,7 @@
 #include <chrono>
 #include <random>
 
+#include "db/database.hpp"
 #include "test_reliability_support.hpp"
 
 using namespace lmcfg;
@@ -75,7 +76,7 @@ TEST_CASE("soak: 1000 backup/restore cycles with random faults, zero silent fail
   config::DriveConfig all;
   {
     FaultRig rig(std::make_shared<sim::Drive>(source));
-    auto b = ops::backup(*rig.client, ops::BackupOptions{}, nullptr);
+    auto b = ops::backup(*rig.client, ops::BackupOptions{}, db::Database::empty());
     REQUIRE(b.ok());
     all = std::move(b).value();
   }
@@ -139,7 +140,7 @@ TEST_CASE("soak: 1000 backup/restore cycles with random faults, zero silent fail
     {
       FaultRig rig(drive, {}, t_end + 10'000'000'000);
       install(rig);
-      auto b = ops::backup(*rig.client, bo, nullptr);
+      auto b = ops::backup(*rig.client, bo, db::Database::empty());
       faults += rig.sim->faults().counters().total();
       telegrams += rig.sim->stats().write_calls;
       if (b.ok()) {

@@ -9,6 +9,7 @@
 
 #include "codec/messages.hpp"
 #include "config/config_io.hpp"
+#include "db/database.hpp"
 #include "e2e_support.hpp"
 #include "files.hpp"
 #include "ops/backup.hpp"
@@ -33,7 +34,7 @@ void set_rom(sim::Drive& d, std::uint16_t upid, std::uint32_t v) {
 
 // A backup of the commissioned axis whose LinRS parameters select 38400 Bd
 // (2012h = 8, the one code seed 003 §10.2 gives) and MACID 22h by parameter.
-config::DriveConfig moved_axis_file(const db::Database* db) {
+config::DriveConfig moved_axis_file(const db::Database& db) {
   test::SimRig axis("commissioned-axis.json");
   auto cfg = ops::backup(*axis.client, ops::BackupOptions{}, db);
   REQUIRE(cfg.ok());
@@ -125,7 +126,7 @@ TEST_CASE("relink: what the restored LinRS parameters select, and why", "[relink
           config::Parameter{0x2012, 8, std::nullopt, std::nullopt, {}, {}, {}},
           config::Parameter{0x206C, 3, std::nullopt, std::nullopt, {}, {}, {}},
           config::Parameter{0x2076, 0x22, std::nullopt, std::nullopt, {}, {}, {}}};
-  auto e = ops::expected_link(plan, &*db);
+  auto e = ops::expected_link(plan, *db);
   CHECK(e.baud == 38400u);
   CHECK(e.macid == std::uint8_t{0x22});
   REQUIRE(e.reasons.size() == 2);
@@ -136,7 +137,7 @@ TEST_CASE("relink: what the restored LinRS parameters select, and why", "[relink
   intf = {config::Parameter{0x200E, 2, std::nullopt, std::nullopt, {}, {}, {}},
           config::Parameter{0x2012, 16, std::nullopt, std::nullopt, {}, {}, {}},
           config::Parameter{0x206C, 3, std::nullopt, std::nullopt, {}, {}, {}}};
-  e = ops::expected_link(plan, &*db);
+  e = ops::expected_link(plan, *db);
   CHECK(e.macid == std::uint8_t{0x11});
   CHECK(e.reasons[0] ==
         "MACID 11h: 206Ch = By Parameter, 2076h MACID Parameter Value = 17 (its default)");
@@ -147,7 +148,7 @@ TEST_CASE("relink: what the restored LinRS parameters select, and why", "[relink
 
   // Nothing in the file: factory defaults, the hex switches.
   intf.clear();
-  e = ops::expected_link(plan, &*db);
+  e = ops::expected_link(plan, *db);
   CHECK_FALSE(e.baud);
   CHECK_FALSE(e.macid);
   CHECK(e.reasons[0].find("factory default, the hex switches") != std::string::npos);
@@ -177,7 +178,7 @@ TEST_CASE(
     "[relink][e2e]") {
   auto db = test::built_database();
   REQUIRE(db);
-  const auto file = moved_axis_file(&*db);
+  const auto file = moved_axis_file(*db);
   const auto dir = temp_dir("relink-inproc");
   fs::copy_file(test::sim_fixture("used-spare.json"), dir / "spare.sim.json");
   ops::LinkOptions lo;
@@ -187,12 +188,12 @@ TEST_CASE(
   auto& client = (*session)->client();
 
   ops::RestoreOptions ro;
-  auto without = ops::plan_restore(client, file, &*db, ro);
+  auto without = ops::plan_restore(client, file, *db, ro);
   REQUIRE(without.ok());
   CHECK_FALSE(without->link_may_change);
 
   ro.include_comm = true;
-  auto plan = ops::plan_restore(client, file, &*db, ro);
+  auto plan = ops::plan_restore(client, file, *db, ro);
   REQUIRE(plan.ok());
   REQUIRE(plan->ok());
   CHECK(plan->link_may_change);
@@ -212,7 +213,7 @@ TEST_CASE(
   REQUIRE_FALSE(lost.ok());
   CHECK(lost.error().code == make_error_code(Errc::timeout));
 
-  auto rep = ops::reconnect(**session, ops::expected_link(*plan, &*db), {});
+  auto rep = ops::reconnect(**session, ops::expected_link(*plan, *db), {});
   REQUIRE(rep.ok());
   CHECK(rep->changed);
   CHECK(rep->attempts == 1);
@@ -244,17 +245,17 @@ TEST_CASE("relink: a drive on an unknown hex-switch ID is not found; --reconnect
 
   // The file sets the MACID source back to the hex switches (its default).
   test::SimRig axis("used-spare.json");
-  auto file = ops::backup(*axis.client, ops::BackupOptions{}, &*db);
+  auto file = ops::backup(*axis.client, ops::BackupOptions{}, *db);
   REQUIRE(file.ok());
   ops::RestoreOptions ro;
   ro.include_comm = true;
-  auto plan = ops::plan_restore(client, *file, &*db, ro);
+  auto plan = ops::plan_restore(client, *file, *db, ro);
   REQUIRE(plan.ok());
   REQUIRE(plan->ok());
   CHECK(plan->link_may_change);
   REQUIRE(ops::execute_plan(client, *plan, ro).ok());
 
-  const auto expected = ops::expected_link(*plan, &*db);
+  const auto expected = ops::expected_link(*plan, *db);
   CHECK_FALSE(expected.macid);
   auto none = ops::reconnect(**session, expected, {});
   REQUIRE_FALSE(none.ok());
@@ -286,7 +287,7 @@ TEST_CASE(
   REQUIRE(db);
   const auto dir = temp_dir("relink-pty");
   const std::string file = (dir / "moved.json").string();
-  REQUIRE(config::write_config_file(moved_axis_file(&*db), file).ok());
+  REQUIRE(config::write_config_file(moved_axis_file(*db), file).ok());
   fs::copy_file(test::sim_fixture("used-spare.json"), dir / "spare.sim.json");
   test::Child spare({LMCFG_TOOL_PATH, "sim", "--state", (dir / "spare.sim.json").string(), "--pty",
                      "--fast", "--save-on-exit"});
@@ -321,7 +322,7 @@ TEST_CASE(
   test::SimRig rig("manual-drive.json");  // 38400 Bd and MACID 11h, both by parameter
   ops::DefaultOptions d;
   d.layers = {false, false, true, false};
-  auto kept = ops::default_drive(*rig.client, d, nullptr);
+  auto kept = ops::default_drive(*rig.client, d, db::Database::empty());
   REQUIRE(kept.ok());
   CHECK_FALSE(kept->link_may_change);
   CHECK(rig.drive->state().link.baud == 38400);
@@ -329,7 +330,7 @@ TEST_CASE(
 
   rig.drive->state().switches = sim::HexSwitches{0x05, 57600};
   d.include_comm = true;
-  auto dropped = ops::default_drive(*rig.client, d, nullptr);
+  auto dropped = ops::default_drive(*rig.client, d, db::Database::empty());
   REQUIRE(dropped.ok());
   CHECK(dropped->link_may_change);
   CHECK(dropped->done.back() ==

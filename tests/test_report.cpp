@@ -298,8 +298,9 @@ TEST_CASE("report of two large configurations: curves overlaid, entries side by 
   REQUIRE(config::write_config_file(b, pb.string(), config::FileFormat::json).ok());
   auto db = database();
   const auto t0 = std::chrono::steady_clock::now();
-  const auto r = ops::diff(a, b, db ? &*db : nullptr, {}, {});
-  const std::string page = ops::render_diff_report(a, "a", b, "b", r, db ? &*db : nullptr, {});
+  const auto r = ops::diff(a, b, db ? *db : db::Database::empty(), {}, {});
+  const std::string page =
+      ops::render_diff_report(a, "a", b, "b", r, db ? *db : db::Database::empty(), {});
   const double ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   WARN("large diff report: " << page.size() << " bytes, " << r.items.size()
@@ -316,7 +317,8 @@ TEST_CASE("report of a large configuration: size, time, every setpoint, in a bro
   REQUIRE(config::write_config_file(cfg, file.string(), config::FileFormat::json).ok());
   auto db = database();
   const auto t0 = std::chrono::steady_clock::now();
-  const std::string page = ops::render_report(cfg, "large.json", db ? &*db : nullptr, {});
+  const std::string page =
+      ops::render_report(cfg, "large.json", db ? *db : db::Database::empty(), {});
   const double ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   WARN("large report: " << page.size() << " bytes, rendered in " << ms << " ms");
@@ -358,7 +360,7 @@ TEST_CASE("report: curves and entries that cannot be decoded say why, without a 
   e.id = 7;
   e.raw = {0x01, 0xA7, 0x07, 0x00};  // 4 bytes, links to itself
   c.ct_entries.push_back(e);
-  const std::string one = ops::render_report(c, "odd", nullptr, {});
+  const std::string one = ops::render_report(c, "odd", db::Database::empty(), {});
   CHECK(one.find("not plotted: ") != std::string::npos);
   CHECK(one.find("UPID database: none") != std::string::npos);
   CHECK(one.find("not decoded (no UPID database)") != std::string::npos);
@@ -368,9 +370,9 @@ TEST_CASE("report: curves and entries that cannot be decoded say why, without a 
   auto b = c;
   b.curves[0] = reportbench::make_curve(1, 0, "empty too", 0);
   b.curves[1] = reportbench::make_curve(2, 1, "one", 1);
-  const auto r = ops::diff(c, b, nullptr, {}, {});
+  const auto r = ops::diff(c, b, db::Database::empty(), {}, {});
   REQUIRE(r.items.size() == 2);
-  const std::string two = ops::render_diff_report(c, "a", b, "b", r, nullptr, {});
+  const std::string two = ops::render_diff_report(c, "a", b, "b", r, db::Database::empty(), {});
   CHECK(two.find("data-differences=\"2\"") != std::string::npos);
   CHECK(two.find("nan") == std::string::npos);
   CHECK(two.find("-9223372036854775808") == std::string::npos);  // lround(NaN)

@@ -30,7 +30,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "backup-sim: %s\n", session.error().message.c_str());
     return 4;
   }
-  auto cfg = lmcfg::ops::backup((*session)->client(), lmcfg::ops::BackupOptions{}, &*db);
+  auto cfg = lmcfg::ops::backup((*session)->client(), lmcfg::ops::BackupOptions{}, *db);
   if (!cfg) {
     std::fprintf(stderr, "backup-sim: backup failed: %s\n", cfg.error().message.c_str());
     return 4;

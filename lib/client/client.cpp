@@ -131,193 +131,230 @@ Result<void> Client::settle_line() {
                                    " ms without bytes never seen in 256 reads)");
 }
 
+// One request's exchange, shared by the phases of transact().
+struct Client::Exchange {
+  Telegram req;
+  Bytes wire;
+  std::uint8_t want_sub = 0;
+  std::optional<std::uint16_t> want_key;
+  Millis timeout{};
+  bool ordinary = false;  // may wait the adaptive deadline (see transact)
+  // Per attempt:
+  int attempt = 0;
+  std::int64_t sent_ns = 0;
+  bool corrupt_frame = false;  // a complete frame that failed its checksum
+  std::optional<Error> garbled;
+};
+
+Result<std::int64_t> Client::send_attempt(Exchange& x) {
+  // A late answer to an earlier request may still be on its way: let it pass.
+  if (unsettled_ && opt_.settle.count() > 0) LMCFG_TRY(settle_line());
+  link_.discard_input();
+  decoder_.reset();
+  unsettled_ = true;  // until this exchange has its answer
+  x.corrupt_frame = false;
+  x.garbled.reset();
+  const std::int64_t deadline_us =
+      x.ordinary ? answer_deadline_us(x.req) : static_cast<std::int64_t>(x.timeout.count()) * 1000;
+  if (x.ordinary) {
+    stats_.last_deadline_us = static_cast<std::uint64_t>(deadline_us);
+    stats_.max_deadline_us =
+        std::max(stats_.max_deadline_us, static_cast<std::uint64_t>(deadline_us));
+  }
+  settle_quiet_us_ = deadline_us;  // a settle after this exchange: see attempt_failed
+  x.sent_ns = link_.now_ns();
+  last_send_ns_ = x.sent_ns;
+  LMCFG_TRY(link_.write(x.wire));
+  ++stats_.requests;
+  stats_.bytes_tx += x.wire.size();
+  if (is_write_request(x.req)) ++stats_.write_requests;
+  return deadline_us;
+}
+
+std::optional<Telegram> Client::match_answer(Exchange& x) {
+  while (auto item = decoder_.next()) {
+    if (!item->ok()) {
+      ++stats_.bad_frames;
+      noise_seen_ = true;
+      x.garbled = std::move(*item).error();
+      if (x.garbled->code == Errc::checksum_mismatch) x.corrupt_frame = true;
+      continue;
+    }
+    Telegram t = std::move(*item).value();
+    if (opt_.skip_echo && t == x.req) continue;
+    if (t.id != opt_.id || t.main != 0x00) continue;  // another drive on the bus, or a request
+    // An answer of another sub ID, or naming another UPID / curve / entry,
+    // belongs to another request (a late answer): not ours, keep waiting.
+    // Error states in the default response form (sub 00h) carry no key and
+    // are accepted as the answer to this request.
+    const bool default_form_error =
+        t.sub == 0x00 && !t.data.empty() && opt_.layout.comm_state && state::is_error(t.data[0]);
+    if (t.sub != x.want_sub && !default_form_error) {
+      ++stats_.stale_answers;
+      x.garbled = Error(Errc::unexpected_response, "answer to " + describe(x.req) + " has sub " +
+                                                       hexid("%02Xh", t.sub) + ", expected " +
+                                                       hexid("%02Xh", x.want_sub));
+      continue;
+    }
+    if (x.want_key && t.sub == x.want_sub && t.data.size() >= 3) {
+      const auto key = static_cast<std::uint16_t>(t.data[1] | t.data[2] << 8);
+      if (key != *x.want_key) {
+        ++stats_.stale_answers;
+        x.garbled = Error(Errc::unexpected_response,
+                          "answer to " + describe(x.req) + " names key " + hexid("%04Xh", key) +
+                              ", expected " + hexid("%04Xh", *x.want_key));
+        continue;
+      }
+    }
+    return t;
+  }
+  return std::nullopt;
+}
+
+Result<std::optional<Telegram>> Client::await_answer(Exchange& x, std::int64_t deadline_us) {
+  // Counted in link time (the simulated drive's virtual clock on sim links)
+  // from when write() returned (a serial port returns before the bytes are
+  // on the wire: the adaptive deadline includes the request's wire time), in
+  // whole milliseconds (read_some).
+  const std::int64_t end_ns = link_.now_ns() + deadline_us * 1000;
+  auto remaining = Millis((end_ns - link_.now_ns() + 999'999) / 1'000'000);
+  std::size_t answer_bytes = 0;
+  for (;;) {
+    // An empty read means the transport waited the whole remaining time.
+    if (remaining.count() <= 0) break;
+    // A long operation is waited for in slices of a second, with progress.
+    const bool sliced = !long_wait_.empty() && opt_.on_long_wait;
+    const Millis wait = sliced ? std::min(remaining, Millis(1000)) : remaining;
+    auto chunk = link_.read_some(wait);
+    if (!chunk.ok()) return std::move(chunk).error();
+    if (chunk->empty() && sliced && wait < remaining) {
+      remaining -= wait;  // the transport waited the whole slice
+      opt_.on_long_wait(long_wait_, x.timeout - remaining);
+      continue;
+    }
+    if (chunk->empty()) break;
+    remaining = Millis((end_ns - link_.now_ns() + 999'999) / 1'000'000);
+    if (sliced) remaining = std::max(remaining, Millis(0));
+    answer_bytes += chunk->size();
+    stats_.bytes_rx += chunk->size();
+    decoder_.feed(*chunk);
+    std::optional<Telegram> answer = match_answer(x);
+    if (!answer) {
+      // A read whose answer came complete but failed its checksum: nothing
+      // better is coming; settle (and retry, or report the garbled answer)
+      // rather than wait out the deadline (adaptive timing only; a write
+      // waits for a valid answer).
+      if (x.corrupt_frame && x.ordinary && opt_.adaptive_deadline) break;
+      continue;
+    }
+    ++stats_.answers;
+    unsettled_ = false;
+    // Karn's rule: only a first attempt's answer times the link (a retry's
+    // answer may be the earlier attempt's).
+    if (x.ordinary && x.attempt == 0 && opt_.adaptive_deadline) {
+      const double rtt_us = static_cast<double>(link_.now_ns() - x.sent_ns) / 1000.0;
+      max_rtt_us_ = std::max(max_rtt_us_, rtt_us);
+      rtt_sample(rtt_us - wire_us(x.wire.size() + std::min(answer_bytes, x.wire.size() + 40)));
+      backoff_ = 0;
+    }
+    // Bytes after the answer (noise, a duplicate) must not reach the next exchange.
+    decoder_.reset();
+    return answer;
+  }
+  return std::optional<Telegram>();
+}
+
+std::optional<Error> Client::refusal_in(const Exchange& x, const Telegram& answer) {
+  // Every group answer starts with the comm state; the default response only when configured
+  // so.
+  const bool has_state = !answer.data.empty() && (answer.sub != 0x00 || opt_.layout.comm_state);
+  if (!has_state || !state::is_error(answer.data[0])) return std::nullopt;
+  const std::uint8_t s = answer.data[0];
+  Error refusal(make_comm_state_error(s), "drive " + hexid("%02Xh", opt_.id) + " refused " +
+                                              describe(x.req) + refused_subject(x.req) + ": " +
+                                              state::describe(s));
+  // Seed 003 §16.1 lists C1..C5, C8, C9. Another state is reported with its
+  // hex value.
+  if (!documented_state(s)) {
+    ++stats_.undocumented_states;
+    noise_seen_ = true;
+    refusal.message = "drive " + hexid("%02Xh", opt_.id) + " answered " + describe(x.req) +
+                      refused_subject(x.req) + " with communication state " + hexid("%02Xh", s) +
+                      ", which seed 003 §16.1 does not list";
+  }
+  return refusal;
+}
+
+Error Client::attempt_failed(Exchange& x, std::int64_t deadline_us) {
+  if (auto partial = decoder_.flush_idle()) {
+    ++stats_.bad_frames;
+    noise_seen_ = true;
+    x.garbled = std::move(*partial);
+  }
+  // The settle before the next request: an answer that came garbled needs
+  // only the line to go quiet for this exchange's deadline; after no answer
+  // at all, a late one may still come: also twice the longest round trip
+  // seen (adaptive_settle; settle_line caps it at `settle`).
+  if (!x.garbled)
+    settle_quiet_us_ = std::max(deadline_us, static_cast<std::int64_t>(2.0 * max_rtt_us_));
+  if (x.garbled) {
+    noise_seen_ = true;
+    return Error(x.garbled->code, "no valid answer from drive " + hexid("%02Xh", opt_.id) + " to " +
+                                      describe(x.req) + ": " + x.garbled->message);
+  }
+  ++stats_.timeouts;
+  if (x.ordinary && opt_.adaptive_deadline && srtt_us_ >= 0 && backoff_ < 16) ++backoff_;
+  char waited[32];
+  std::snprintf(waited, sizeof waited, "%.1f ms", static_cast<double>(deadline_us) / 1000.0);
+  return Error(Errc::timeout, "no answer from drive " + hexid("%02Xh", opt_.id) + " within " +
+                                  (x.ordinary && opt_.adaptive_deadline
+                                       ? std::string(waited) + " (adaptive; --timeout-ms " +
+                                             std::to_string(opt_.timeout.count()) + " caps it)"
+                                       : std::to_string(x.timeout.count()) + " ms") +
+                                  " to " + describe(x.req));
+}
+
 Result<Telegram> Client::transact(const Telegram& req_in, Millis timeout, bool idempotent) {
-  Telegram req = req_in;
-  req.id = opt_.id;
+  Exchange x;
+  x.req = req_in;
+  x.req.id = opt_.id;
   decoder_.set_checksum(opt_.checksum);
-  LMCFG_ASSIGN_OR_RETURN(Bytes wire, encode(req, opt_.checksum));
-  const std::uint8_t want_sub = expected_answer_sub(req);
-  const std::optional<std::uint16_t> want_key = request_key(req);
+  LMCFG_ASSIGN_OR_RETURN(x.wire, encode(x.req, opt_.checksum));
+  x.want_sub = expected_answer_sub(x.req);
+  x.want_key = request_key(x.req);
+  x.timeout = timeout;
   const int attempts = idempotent ? 1 + opt_.read_retries : 1;
   // An ordinary read (not a write, not a long operation) may wait the adaptive
   // deadline. A write always waits `timeout`: an answer that came after a
   // shorter deadline would count as lost, and a write is never resent blindly.
-  const bool ordinary = long_wait_.empty() && timeout == opt_.timeout && !is_write_request(req);
+  x.ordinary = long_wait_.empty() && timeout == opt_.timeout && !is_write_request(x.req);
   Error last(Errc::timeout, "");
   std::optional<std::uint8_t> undocumented;  // an undocumented state seen on an earlier attempt
   for (int attempt = 0; attempt < attempts; ++attempt) {
     if (attempt > 0) ++stats_.retries;
     if (opt_.cancel && opt_.cancel->load())
       return Error(Errc::interrupted, "interrupted by a signal before the next telegram");
-    // A late answer to an earlier request may still be on its way: let it pass.
-    if (unsettled_ && opt_.settle.count() > 0) LMCFG_TRY(settle_line());
-    link_.discard_input();
-    decoder_.reset();
-    unsettled_ = true;  // until this exchange has its answer
-    const std::int64_t deadline_us =
-        ordinary ? answer_deadline_us(req) : static_cast<std::int64_t>(timeout.count()) * 1000;
-    if (ordinary) {
-      stats_.last_deadline_us = static_cast<std::uint64_t>(deadline_us);
-      stats_.max_deadline_us =
-          std::max(stats_.max_deadline_us, static_cast<std::uint64_t>(deadline_us));
-    }
-    settle_quiet_us_ = deadline_us;  // a settle after this exchange: see below
-    const std::int64_t sent_ns = link_.now_ns();
-    last_send_ns_ = sent_ns;
-    LMCFG_TRY(link_.write(wire));
-    ++stats_.requests;
-    stats_.bytes_tx += wire.size();
-    if (is_write_request(req)) ++stats_.write_requests;
-
-    // Counted in link time (the simulated drive's virtual clock on sim links)
-    // from when write() returned (a serial port returns before the bytes are
-    // on the wire: the adaptive deadline includes the request's wire time), in
-    // whole milliseconds (read_some).
-    const std::int64_t end_ns = link_.now_ns() + deadline_us * 1000;
-    auto remaining = Millis((end_ns - link_.now_ns() + 999'999) / 1'000'000);
-    std::size_t answer_bytes = 0;
-    bool corrupt_frame = false;  // a complete frame that failed its checksum
-    std::optional<Error> garbled;
-    std::optional<Error> retry_refused;
-    for (;;) {
-      // An empty read means the transport waited the whole remaining time.
-      if (remaining.count() <= 0) break;
-      // A long operation is waited for in slices of a second, with progress.
-      const bool sliced = !long_wait_.empty() && opt_.on_long_wait;
-      const Millis wait = sliced ? std::min(remaining, Millis(1000)) : remaining;
-      auto chunk = link_.read_some(wait);
-      if (!chunk.ok()) return std::move(chunk).error();
-      if (chunk->empty() && sliced && wait < remaining) {
-        remaining -= wait;  // the transport waited the whole slice
-        opt_.on_long_wait(long_wait_, timeout - remaining);
-        continue;
-      }
-      if (chunk->empty()) break;
-      remaining = Millis((end_ns - link_.now_ns() + 999'999) / 1'000'000);
-      if (sliced) remaining = std::max(remaining, Millis(0));
-      answer_bytes += chunk->size();
-      stats_.bytes_rx += chunk->size();
-      decoder_.feed(*chunk);
-      std::optional<Telegram> answer;
-      while (auto item = decoder_.next()) {
-        if (!item->ok()) {
-          ++stats_.bad_frames;
-          noise_seen_ = true;
-          garbled = std::move(*item).error();
-          if (garbled->code == Errc::checksum_mismatch) corrupt_frame = true;
-          continue;
-        }
-        Telegram t = std::move(*item).value();
-        if (opt_.skip_echo && t == req) continue;
-        if (t.id != opt_.id || t.main != 0x00) continue;  // another drive on the bus, or a request
-        // An answer of another sub ID, or naming another UPID / curve / entry,
-        // belongs to another request (a late answer): not ours, keep waiting.
-        // Error states in the default response form (sub 00h) carry no key and
-        // are accepted as the answer to this request.
-        const bool default_form_error = t.sub == 0x00 && !t.data.empty() &&
-                                        opt_.layout.comm_state && state::is_error(t.data[0]);
-        if (t.sub != want_sub && !default_form_error) {
-          ++stats_.stale_answers;
-          garbled = Error(Errc::unexpected_response, "answer to " + describe(req) + " has sub " +
-                                                         hexid("%02Xh", t.sub) + ", expected " +
-                                                         hexid("%02Xh", want_sub));
-          continue;
-        }
-        if (want_key && t.sub == want_sub && t.data.size() >= 3) {
-          const auto key = static_cast<std::uint16_t>(t.data[1] | t.data[2] << 8);
-          if (key != *want_key) {
-            ++stats_.stale_answers;
-            garbled = Error(Errc::unexpected_response,
-                            "answer to " + describe(req) + " names key " + hexid("%04Xh", key) +
-                                ", expected " + hexid("%04Xh", *want_key));
-            continue;
-          }
-        }
-        answer = std::move(t);
-        break;
-      }
-      if (!answer) {
-        // A read whose answer came complete but failed its checksum: nothing
-        // better is coming; settle (and retry, or report the garbled answer)
-        // rather than wait out the deadline (adaptive timing only; a write
-        // waits for a valid answer).
-        if (corrupt_frame && ordinary && opt_.adaptive_deadline) break;
-        continue;
-      }
-      ++stats_.answers;
-      unsettled_ = false;
-      // Karn's rule: only a first attempt's answer times the link (a retry's
-      // answer may be the earlier attempt's).
-      if (ordinary && attempt == 0 && opt_.adaptive_deadline) {
-        const double rtt_us = static_cast<double>(link_.now_ns() - sent_ns) / 1000.0;
-        max_rtt_us_ = std::max(max_rtt_us_, rtt_us);
-        rtt_sample(rtt_us - wire_us(wire.size() + std::min(answer_bytes, wire.size() + 40)));
-        backoff_ = 0;
-      }
-      // Bytes after the answer (noise, a duplicate) must not reach the next exchange.
-      decoder_.reset();
-      // Every group answer starts with the comm state; the default response only when configured
-      // so.
-      const bool has_state =
-          !answer->data.empty() && (answer->sub != 0x00 || opt_.layout.comm_state);
-      if (has_state && state::is_error(answer->data[0])) {
-        const std::uint8_t s = answer->data[0];
-        Error refusal(make_comm_state_error(s), "drive " + hexid("%02Xh", opt_.id) + " refused " +
-                                                    describe(req) + refused_subject(req) + ": " +
-                                                    state::describe(s));
-        // Seed 003 §16.1 lists C1..C5, C8, C9. Another state is reported with
-        // its hex value; once it is taken for a garbled answer (retried like
-        // one), the same state twice in a row for the drive's answer.
-        if (!documented_state(s)) {
-          ++stats_.undocumented_states;
-          noise_seen_ = true;
-          refusal.message = "drive " + hexid("%02Xh", opt_.id) + " answered " + describe(req) +
-                            refused_subject(req) + " with communication state " +
-                            hexid("%02Xh", s) + ", which seed 003 §16.1 does not list";
-        }
-        // C1/C2: the drive received our request garbled; a read may be repeated.
-        const bool garbled_request = s == 0xC1 || s == 0xC2;
-        const bool first_undocumented = !documented_state(s) && undocumented != s;
-        if (idempotent && attempt + 1 < attempts && (garbled_request || first_undocumented)) {
-          if (!documented_state(s)) undocumented = s;
-          retry_refused = std::move(refusal);
-          break;
-        }
-        return refusal;
-      }
-      return std::move(*answer);
-    }
-    if (retry_refused) {
-      last = std::move(*retry_refused);
+    x.attempt = attempt;
+    LMCFG_ASSIGN_OR_RETURN(const std::int64_t deadline_us, send_attempt(x));
+    LMCFG_ASSIGN_OR_RETURN(auto answer, await_answer(x, deadline_us));
+    if (!answer) {
+      last = attempt_failed(x, deadline_us);
       continue;
     }
-    if (auto partial = decoder_.flush_idle()) {
-      ++stats_.bad_frames;
-      noise_seen_ = true;
-      garbled = std::move(*partial);
+    auto refusal = refusal_in(x, *answer);
+    if (!refusal) return std::move(*answer);
+    // C1/C2: the drive received our request garbled; a read may be repeated.
+    // An undocumented state is taken once for a garbled answer (retried like
+    // one): the same state twice in a row is the drive's answer.
+    const auto s = static_cast<std::uint8_t>(refusal->code.value());
+    const bool garbled_request = s == 0xC1 || s == 0xC2;
+    const bool first_undocumented = !documented_state(s) && undocumented != s;
+    if (idempotent && attempt + 1 < attempts && (garbled_request || first_undocumented)) {
+      if (!documented_state(s)) undocumented = s;
+      last = std::move(*refusal);
+      continue;
     }
-    // The settle before the next request: an answer that came garbled needs
-    // only the line to go quiet for this exchange's deadline; after no answer
-    // at all, a late one may still come: also twice the longest round trip
-    // seen (adaptive_settle; settle_line caps it at `settle`).
-    if (!garbled)
-      settle_quiet_us_ = std::max(deadline_us, static_cast<std::int64_t>(2.0 * max_rtt_us_));
-    if (garbled) {
-      noise_seen_ = true;
-      last = Error(garbled->code, "no valid answer from drive " + hexid("%02Xh", opt_.id) + " to " +
-                                      describe(req) + ": " + garbled->message);
-    } else {
-      ++stats_.timeouts;
-      if (ordinary && opt_.adaptive_deadline && srtt_us_ >= 0 && backoff_ < 16) ++backoff_;
-      char waited[32];
-      std::snprintf(waited, sizeof waited, "%.1f ms", static_cast<double>(deadline_us) / 1000.0);
-      last = Error(Errc::timeout, "no answer from drive " + hexid("%02Xh", opt_.id) + " within " +
-                                      (ordinary && opt_.adaptive_deadline
-                                           ? std::string(waited) + " (adaptive; --timeout-ms " +
-                                                 std::to_string(opt_.timeout.count()) + " caps it)"
-                                           : std::to_string(timeout.count()) + " ms") +
-                                      " to " + describe(req));
-    }
+    return std::move(*refusal);
   }
   if (attempts > 1) last.message += " (after " + std::to_string(attempts) + " attempts)";
   return last;

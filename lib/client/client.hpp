@@ -286,6 +286,17 @@ class Client {
 
   // Reads and drops input until the line has been quiet for opt_.settle.
   Result<void> settle_line();
+  // The phases of transact(): send one attempt (settle, deadline, write;
+  // returns the deadline in microseconds), await the answer (nullopt at the
+  // deadline), pick this request's answer out of the decoded frames, the
+  // drive's refusal in an answer, and the error of an attempt without a
+  // valid answer.
+  struct Exchange;
+  Result<std::int64_t> send_attempt(Exchange& x);
+  Result<std::optional<codec::Telegram>> await_answer(Exchange& x, std::int64_t deadline_us);
+  std::optional<codec::Telegram> match_answer(Exchange& x);
+  std::optional<Error> refusal_in(const Exchange& x, const codec::Telegram& answer);
+  Error attempt_failed(Exchange& x, std::int64_t deadline_us);
   // Reads until agreeing_reads() answers agree (refusals count as answers).
   template <class T, class F>
   Result<T> agreed(F&& read);

@@ -15,13 +15,10 @@ inline std::string hexid(const char* fmt, unsigned v) {
   return buf;
 }
 
-// Errors of the link (lost, garbled, mis-addressed answers), as opposed to a
-// drive's refusal: a read that fails with one of these may be repeated.
-inline bool is_link_error(const Error& e) {
-  return e.code == Errc::timeout || e.code == Errc::frame_short ||
-         e.code == Errc::frame_malformed || e.code == Errc::frame_overlong ||
-         e.code == Errc::checksum_mismatch || e.code == Errc::unexpected_response;
-}
+// Lost, garbled or mis-addressed answers (ErrorClass::bad_answer), as opposed
+// to a drive's refusal or a link that is gone (closed, I/O error): a read that
+// fails with one of these may be repeated.
+inline bool is_link_error(const Error& e) { return e.code == ErrorClass::bad_answer; }
 
 // Restarts of a block or list transfer while they make progress. Blocks
 // measure progress as a growing number (votes gathered): a pass that raised it
@@ -85,7 +82,7 @@ Result<T> Client::agreed(F&& read) {
     if (i > 0) ++stats_.extra_reads;
     if (i >= 2) ++stats_.third_reads;
     Result<T> r = read();
-    if (!r.ok() && r.error().code.category() != comm_state_category()) {
+    if (!r.ok() && r.error().code != ErrorClass::drive_refusal) {
       // A read that failed on the link (after the transact's own retries) gets
       // one more chance from the same budget; a second one ends it.
       if (!detail::is_link_error(r.error()) || link_failures++ > 0) return r;

@@ -20,9 +20,7 @@ using detail::is_link_error;
 using detail::RestartBudget;
 
 namespace {
-bool restartable(const Error& e) {
-  return is_link_error(e) || e.code.category() == comm_state_category();
-}
+bool restartable(const Error& e) { return is_link_error(e) || e.code == ErrorClass::drive_refusal; }
 
 struct ModifiedPass {
   std::vector<ModifiedParam> params;

@@ -86,7 +86,86 @@ class CommStateCategory final : public std::error_category {
   }
 };
 
+class ErrorClassCategory final : public std::error_category {
+ public:
+  const char* name() const noexcept override { return "lmcfg-class"; }
+  std::string message(int ev) const override {
+    switch (static_cast<ErrorClass>(ev)) {
+      case ErrorClass::link_failure:
+        return "communication failure";
+      case ErrorClass::bad_answer:
+        return "answer lost, garbled or unexpected";
+      case ErrorClass::link_down:
+        return "link failed";
+      case ErrorClass::drive_refusal:
+        return "drive refused the request";
+      case ErrorClass::bad_input:
+        return "invalid input";
+      case ErrorClass::plan_refused:
+        return "plan refused";
+      case ErrorClass::verify_mismatch:
+        return "verification mismatch";
+      case ErrorClass::interrupted:
+        return "interrupted";
+    }
+    return "unknown error class " + std::to_string(ev);
+  }
+  bool equivalent(const std::error_code& code, int condition) const noexcept override {
+    const auto c = class_of(code);
+    if (!c) return false;
+    const auto want = static_cast<ErrorClass>(condition);
+    if (want == ErrorClass::link_failure)
+      return *c == ErrorClass::bad_answer || *c == ErrorClass::link_down;
+    return *c == want;
+  }
+};
+
 }  // namespace
+
+std::optional<ErrorClass> class_of(const std::error_code& code) noexcept {
+  if (code.category() == comm_state_category()) return ErrorClass::drive_refusal;
+  if (code.category() != lmcfg_category()) return ErrorClass::link_down;  // OS errors on the link
+  switch (static_cast<Errc>(code.value())) {
+    case Errc::ok:
+      return std::nullopt;
+    case Errc::timeout:
+    case Errc::frame_short:
+    case Errc::frame_overlong:
+    case Errc::frame_malformed:
+    case Errc::checksum_mismatch:
+    case Errc::unexpected_response:
+      return ErrorClass::bad_answer;
+    case Errc::link_closed:
+    case Errc::io_error:
+      return ErrorClass::link_down;
+    case Errc::drive_refused:
+      return ErrorClass::drive_refusal;
+    case Errc::invalid_argument:
+    case Errc::parse_error:
+    case Errc::unsupported_version:
+    case Errc::validation_failed:
+    case Errc::not_found:
+    case Errc::file_error:
+    case Errc::cancelled:
+    case Errc::not_supported:
+      return ErrorClass::bad_input;
+    case Errc::plan_refused:
+      return ErrorClass::plan_refused;
+    case Errc::verify_mismatch:
+      return ErrorClass::verify_mismatch;
+    case Errc::interrupted:
+      return ErrorClass::interrupted;
+  }
+  return std::nullopt;
+}
+
+const std::error_category& error_class_category() noexcept {
+  static const ErrorClassCategory c;
+  return c;
+}
+std::error_condition make_error_condition(ErrorClass c) noexcept {
+  return {static_cast<int>(c), error_class_category()};
+}
 
 const std::error_category& lmcfg_category() noexcept {
   static const LmcfgCategory c;

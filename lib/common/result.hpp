@@ -50,6 +50,41 @@ std::error_code make_error_code(Errc e) noexcept;
 const std::error_category& comm_state_category() noexcept;
 std::error_code make_comm_state_error(unsigned state_byte) noexcept;
 
+// What an error means for the caller, whatever its code: the one
+// classification of lmcfg errors. An error_code compares equal to each class it
+// belongs to (`e.code == ErrorClass::link_failure`), through the category's
+// equivalent(); the classes of every Errc and of the communication states are
+// listed in result.cpp (class_of) and checked by tests/test_error_class.cpp.
+// The tools' exit codes follow the classes (tools/lmcfg/link_options.cpp).
+enum class ErrorClass {
+  // The link failed (exit code 4): bad_answer or link_down.
+  link_failure = 1,
+  // An answer lost, garbled or not the one expected (timeout, frame_*,
+  // checksum_mismatch, unexpected_response): repeating a read may help, and
+  // the client does.
+  bad_answer,
+  // The link itself failed (link_closed, io_error, and any error code from
+  // outside lmcfg's categories): repeating does not help.
+  link_down,
+  // The drive answered with an error communication state (C1..C9, any byte of
+  // comm_state_category()) or Errc::drive_refused (exit code 5).
+  drive_refusal,
+  // Bad file, option or argument; something the link or drive cannot do
+  // (exit code 2).
+  bad_input,
+  plan_refused,     // exit code 3
+  verify_mismatch,  // exit code 6
+  interrupted,      // SIGINT/SIGTERM (exit code 130)
+};
+
+const std::error_category& error_class_category() noexcept;
+std::error_condition make_error_condition(ErrorClass c) noexcept;
+// The class of an error code: bad_answer or link_down for a link failure
+// (never link_failure itself), link_down for codes of categories other than
+// lmcfg's and the communication states; nullopt for Errc::ok and values outside
+// Errc.
+std::optional<ErrorClass> class_of(const std::error_code& code) noexcept;
+
 struct Error {
   std::error_code code;
   std::string message;
@@ -125,7 +160,7 @@ class [[nodiscard]] Result<void> {
 template <class T>
 Result<std::optional<T>> unless_refused(Result<T> r) {
   if (r.ok()) return std::optional<T>(std::move(r).value());
-  if (r.error().code.category() == comm_state_category()) return std::optional<T>();
+  if (r.error().code == ErrorClass::drive_refusal) return std::optional<T>();
   return std::move(r).error();
 }
 
@@ -134,6 +169,8 @@ Result<std::optional<T>> unless_refused(Result<T> r) {
 namespace std {
 template <>
 struct is_error_code_enum<lmcfg::Errc> : true_type {};
+template <>
+struct is_error_condition_enum<lmcfg::ErrorClass> : true_type {};
 }  // namespace std
 
 // Propagate an error from an expression returning Result<...>.

@@ -136,6 +136,9 @@ struct Ptr {
   }
 };
 
+// Index of each layer (1..4) in the document's "parameters" array.
+using LayerIndex = std::array<std::size_t, lmcfg::layers::kCount>;
+
 std::string describe(const json& j) {
   if (j.is_number()) return j.dump();
   if (j.is_string()) {
@@ -144,6 +147,41 @@ std::string describe(const json& j) {
     return "string " + json(s).dump();
   }
   return std::string(j.type_name());
+}
+
+// Where a validation issue of the model is in the document.
+Ptr issue_pointer(const Issue& is, const LayerIndex& layer_index) {
+  Ptr p;
+  switch (is.where) {
+    case Issue::Where::identity:
+      p = p / "identity";
+      if (is.field.rfind("labels.", 0) == 0) {
+        p = p / "labels" / std::string_view(is.field).substr(7);
+      } else if (auto dot = is.field.find('.'); dot != std::string::npos) {
+        p = p / std::string_view(is.field).substr(0, dot) /
+            std::string_view(is.field).substr(dot + 1);
+      } else {
+        p = p / is.field;
+      }
+      break;
+    case Issue::Where::scope:
+      p = p / "scope" / is.field;
+      break;
+    case Issue::Where::layer:
+      p = p / "parameters" / layer_index[static_cast<std::size_t>(is.layer - 1)];
+      break;
+    case Issue::Where::param:
+      p = p / "parameters" / layer_index[static_cast<std::size_t>(is.layer - 1)] / "params" /
+          is.index / is.field;
+      break;
+    case Issue::Where::curve:
+      p = p / "curves" / is.index / is.field;
+      break;
+    case Issue::Where::ct_entry:
+      p = p / "command_table" / is.index / is.field;
+      break;
+  }
+  return p;
 }
 
 // ---------------------------------------------------------------------------
@@ -242,10 +280,40 @@ class Reader {
     return {};
   }
 
+  // The optional array member `key` of the document: each element an object
+  // with only the `allowed` members, of which "decoded" (derived, not read)
+  // must be an object, given to read_one(element, its pointer) in order.
+  template <class F>
+  Result<void> each_object(const json& doc, const char* key,
+                           std::initializer_list<std::string_view> allowed, F&& read_one) const {
+    const Ptr root;
+    const Ptr p = root / key;
+    LMCFG_ASSIGN_OR_RETURN(const json* arr, member(doc, root, key, false));
+    if (!arr) return {};
+    LMCFG_TRY(array(*arr, p));
+    for (std::size_t i = 0; i < arr->size(); ++i) {
+      const Ptr ip = p / i;
+      const json& e = (*arr)[i];
+      LMCFG_TRY(object(e, ip));
+      LMCFG_TRY(keys(e, ip, allowed));
+      LMCFG_TRY(read_one(e, ip));
+      LMCFG_ASSIGN_OR_RETURN(const json* dec, member(e, ip, "decoded", false));
+      if (dec) LMCFG_TRY(object(*dec, ip / "decoded"));
+    }
+    return {};
+  }
+
   Result<DriveConfig> read_document(const json& doc);
 
  private:
+  // The phases of read_v2: one member of the document each.
   Result<DriveConfig> read_v2(const json& doc);
+  Result<void> read_identity(const json& idj, Identity& id) const;
+  Result<void> read_scope(const json& doc, Scope& scope) const;
+  Result<void> read_parameters(const json& doc, DriveConfig& cfg, LayerIndex& layer_index) const;
+  Result<Parameter> read_parameter(const json& q, const Ptr& pp) const;
+  Result<void> read_curves(const json& doc, std::vector<Curve>& out) const;
+  Result<void> read_command_table(const json& doc, std::vector<CtEntry>& out) const;
   Result<ConfigV1> read_v1(const json& doc);
 
   std::string_view text_;
@@ -275,233 +343,201 @@ Result<DriveConfig> Reader::read_v2(const json& doc) {
       doc, root,
       {"format", "format_version", "identity", "scope", "parameters", "curves", "command_table"}));
   DriveConfig cfg;
-
-  // identity (optional; every member optional)
   LMCFG_ASSIGN_OR_RETURN(const json* idj, member(doc, root, "identity", false));
-  if (idj) {
-    const Ptr p = root / "identity";
-    LMCFG_TRY(object(*idj, p));
-    LMCFG_TRY(keys(*idj, p,
-                   {"macid", "link", "product", "firmware", "upid_fingerprint", "tool_version",
-                    "upid_db", "captured_at", "labels"}));
-    auto& id = cfg.identity;
-    LMCFG_TRY(opt_string(*idj, p, "macid", id.macid));
-    LMCFG_TRY(opt_string(*idj, p, "product", id.product));
-    LMCFG_TRY(opt_string(*idj, p, "firmware", id.firmware));
-    LMCFG_TRY(opt_string(*idj, p, "upid_fingerprint", id.upid_fingerprint));
-    LMCFG_TRY(opt_string(*idj, p, "tool_version", id.tool_version));
-    LMCFG_TRY(opt_string(*idj, p, "captured_at", id.captured_at));
-    LMCFG_ASSIGN_OR_RETURN(const json* link, member(*idj, p, "link", false));
-    if (link) {
-      const Ptr lp = p / "link";
-      LMCFG_TRY(object(*link, lp));
-      LMCFG_TRY(keys(*link, lp, {"port", "baud", "parity", "stop_bits", "checksum"}));
-      LMCFG_TRY(opt_string(*link, lp, "port", id.link.port));
-      LMCFG_TRY(opt_string(*link, lp, "baud", id.link.baud));
-      LMCFG_TRY(opt_string(*link, lp, "parity", id.link.parity));
-      LMCFG_TRY(opt_string(*link, lp, "stop_bits", id.link.stop_bits));
-      LMCFG_TRY(opt_string(*link, lp, "checksum", id.link.checksum));
-    }
-    LMCFG_ASSIGN_OR_RETURN(const json* db, member(*idj, p, "upid_db", false));
-    if (db) {
-      const Ptr dp = p / "upid_db";
-      LMCFG_TRY(object(*db, dp));
-      LMCFG_TRY(keys(*db, dp, {"version", "hash"}));
-      LMCFG_TRY(opt_string(*db, dp, "version", id.upid_db_version));
-      LMCFG_TRY(opt_string(*db, dp, "hash", id.upid_db_hash));
-    }
-    LMCFG_ASSIGN_OR_RETURN(const json* labels, member(*idj, p, "labels", false));
-    if (labels) {
-      const Ptr lp = p / "labels";
-      LMCFG_TRY(object(*labels, lp));
-      for (auto it = labels->begin(); it != labels->end(); ++it) {
-        LMCFG_ASSIGN_OR_RETURN(auto v, string(it.value(), lp / it.key()));
-        id.labels[it.key()] = std::move(v);
-      }
-    }
-  }
-
-  // scope (required)
-  {
-    const Ptr p = root / "scope";
-    LMCFG_ASSIGN_OR_RETURN(const json* sj, member(doc, root, "scope", true));
-    LMCFG_TRY(object(*sj, p));
-    LMCFG_TRY(keys(*sj, p, {"layers", "parameters", "curves", "command_table"}));
-    LMCFG_ASSIGN_OR_RETURN(const json* lj, member(*sj, p, "layers", true));
-    LMCFG_TRY(array(*lj, p / "layers"));
-    cfg.scope.layers = {false, false, false, false};
-    for (std::size_t i = 0; i < lj->size(); ++i) {
-      const Ptr ip = p / "layers" / i;
-      if (!(*lj)[i].is_number_unsigned() || (*lj)[i].get<std::uint64_t>() < 1 ||
-          (*lj)[i].get<std::uint64_t>() > 4)
-        return err(Errc::parse_error, ip,
-                   "expected a layer number 1..4, found " + describe((*lj)[i]));
-      const auto l = (*lj)[i].get<std::size_t>();
-      if (cfg.scope.layers[l - 1])
-        return err(Errc::validation_failed, ip, "layer " + std::to_string(l) + " listed twice");
-      cfg.scope.layers[l - 1] = true;
-    }
-    LMCFG_ASSIGN_OR_RETURN(const json* pj, member(*sj, p, "parameters", true));
-    LMCFG_ASSIGN_OR_RETURN(auto ps, string(*pj, p / "parameters"));
-    auto set = param_set_from_string(ps);
-    if (!set)
-      return err(Errc::parse_error, p / "parameters",
-                 "expected \"modified\" or \"full\", found " + describe(*pj));
-    cfg.scope.parameters = *set;
-    LMCFG_ASSIGN_OR_RETURN(const json* cj, member(*sj, p, "curves", true));
-    LMCFG_ASSIGN_OR_RETURN(cfg.scope.curves, boolean(*cj, p / "curves"));
-    LMCFG_ASSIGN_OR_RETURN(const json* tj, member(*sj, p, "command_table", true));
-    LMCFG_ASSIGN_OR_RETURN(cfg.scope.command_table, boolean(*tj, p / "command_table"));
-  }
-
-  // parameters (required)
-  std::array<std::size_t, lmcfg::layers::kCount> layer_index{};
-  {
-    const Ptr p = root / "parameters";
-    LMCFG_ASSIGN_OR_RETURN(const json* pj, member(doc, root, "parameters", true));
-    LMCFG_TRY(array(*pj, p));
-    std::array<bool, lmcfg::layers::kCount> seen{};
-    for (std::size_t li = 0; li < pj->size(); ++li) {
-      const Ptr lp = p / li;
-      const json& lj = (*pj)[li];
-      LMCFG_TRY(object(lj, lp));
-      LMCFG_TRY(keys(lj, lp, {"layer", "name", "params"}));
-      LMCFG_ASSIGN_OR_RETURN(const json* nj, member(lj, lp, "layer", true));
-      LMCFG_ASSIGN_OR_RETURN(auto l, unsigned_int(*nj, lp / "layer", 4, "a layer number"));
-      if (l < 1)
-        return err(Errc::parse_error, lp / "layer", "expected a layer number (1..4), found 0");
-      if (seen[l - 1])
-        return err(Errc::validation_failed, lp / "layer",
-                   "layer " + std::to_string(l) + " appears twice");
-      seen[l - 1] = true;
-      layer_index[l - 1] = li;
-      std::string ignored_name;
-      LMCFG_TRY(opt_string(lj, lp, "name", ignored_name));
-      LMCFG_ASSIGN_OR_RETURN(const json* arr, member(lj, lp, "params", true));
-      LMCFG_TRY(array(*arr, lp / "params"));
-      auto& out = cfg.layer(static_cast<int>(l));
-      out.reserve(arr->size());
-      for (std::size_t i = 0; i < arr->size(); ++i) {
-        const Ptr pp = lp / "params" / i;
-        const json& q = (*arr)[i];
-        LMCFG_TRY(object(q, pp));
-        LMCFG_TRY(keys(q, pp, {"upid", "value", "type", "default", "name", "unit", "scaled"}));
-        Parameter prm;
-        LMCFG_ASSIGN_OR_RETURN(const json* uj, member(q, pp, "upid", true));
-        LMCFG_ASSIGN_OR_RETURN(auto us, string(*uj, pp / "upid"));
-        auto upid = detail::parse_upid_hex(us);
-        if (!upid)
-          return err(Errc::parse_error, pp / "upid",
-                     "expected a UPID as 4 hex digits (\"13A2\"), found " + describe(*uj));
-        prm.upid = *upid;
-        LMCFG_ASSIGN_OR_RETURN(const json* vj, member(q, pp, "value", true));
-        LMCFG_ASSIGN_OR_RETURN(
-            auto v, unsigned_int(*vj, pp / "value", 0xFFFFFFFFu, "an unsigned 32-bit value"));
-        prm.value = static_cast<std::uint32_t>(v);
-        LMCFG_ASSIGN_OR_RETURN(const json* tj, member(q, pp, "type", false));
-        if (tj) {
-          LMCFG_ASSIGN_OR_RETURN(auto t, unsigned_int(*tj, pp / "type", 15, "a type code"));
-          prm.type = static_cast<std::uint8_t>(t);
-        }
-        LMCFG_ASSIGN_OR_RETURN(const json* dj, member(q, pp, "default", false));
-        if (dj) {
-          LMCFG_ASSIGN_OR_RETURN(
-              auto d, unsigned_int(*dj, pp / "default", 0xFFFFFFFFu, "an unsigned 32-bit value"));
-          prm.default_value = static_cast<std::uint32_t>(d);
-        }
-        LMCFG_TRY(opt_string(q, pp, "name", prm.name));
-        LMCFG_TRY(opt_string(q, pp, "unit", prm.unit));
-        LMCFG_TRY(opt_string(q, pp, "scaled", prm.scaled));
-        out.push_back(std::move(prm));
-      }
-    }
-  }
-
-  // curves
-  {
-    const Ptr p = root / "curves";
-    LMCFG_ASSIGN_OR_RETURN(const json* cj, member(doc, root, "curves", false));
-    if (cj) {
-      LMCFG_TRY(array(*cj, p));
-      for (std::size_t i = 0; i < cj->size(); ++i) {
-        const Ptr cp = p / i;
-        const json& c = (*cj)[i];
-        LMCFG_TRY(object(c, cp));
-        LMCFG_TRY(keys(c, cp, {"id", "info", "data", "decoded"}));
-        Curve curve;
-        LMCFG_ASSIGN_OR_RETURN(const json* ij, member(c, cp, "id", true));
-        LMCFG_ASSIGN_OR_RETURN(auto id, unsigned_int(*ij, cp / "id", 0xFFFF, "a curve ID"));
-        curve.id = static_cast<std::uint32_t>(id);
-        LMCFG_ASSIGN_OR_RETURN(const json* inf, member(c, cp, "info", true));
-        LMCFG_ASSIGN_OR_RETURN(curve.info, rows(*inf, cp / "info"));
-        LMCFG_ASSIGN_OR_RETURN(const json* dat, member(c, cp, "data", true));
-        LMCFG_ASSIGN_OR_RETURN(curve.data, rows(*dat, cp / "data"));
-        LMCFG_ASSIGN_OR_RETURN(const json* dec, member(c, cp, "decoded", false));
-        if (dec) LMCFG_TRY(object(*dec, cp / "decoded"));  // derived: not read
-        cfg.curves.push_back(std::move(curve));
-      }
-    }
-  }
-
-  // command table
-  {
-    const Ptr p = root / "command_table";
-    LMCFG_ASSIGN_OR_RETURN(const json* tj, member(doc, root, "command_table", false));
-    if (tj) {
-      LMCFG_TRY(array(*tj, p));
-      for (std::size_t i = 0; i < tj->size(); ++i) {
-        const Ptr ep = p / i;
-        const json& e = (*tj)[i];
-        LMCFG_TRY(object(e, ep));
-        LMCFG_TRY(keys(e, ep, {"id", "raw", "decoded"}));
-        CtEntry entry;
-        LMCFG_ASSIGN_OR_RETURN(const json* ij, member(e, ep, "id", true));
-        LMCFG_ASSIGN_OR_RETURN(auto id, unsigned_int(*ij, ep / "id", 0xFFFFFFFFu, "an entry ID"));
-        entry.id = static_cast<std::uint32_t>(id);
-        LMCFG_ASSIGN_OR_RETURN(const json* rj, member(e, ep, "raw", true));
-        LMCFG_ASSIGN_OR_RETURN(entry.raw, rows(*rj, ep / "raw"));
-        LMCFG_ASSIGN_OR_RETURN(const json* dec, member(e, ep, "decoded", false));
-        if (dec) LMCFG_TRY(object(*dec, ep / "decoded"));
-        cfg.ct_entries.push_back(std::move(entry));
-      }
-    }
-  }
-
-  if (auto is = find_issue(cfg)) {
-    Ptr p = root;
-    switch (is->where) {
-      case Issue::Where::identity:
-        p = p / "identity";
-        if (is->field.rfind("labels.", 0) == 0) {
-          p = p / "labels" / std::string_view(is->field).substr(7);
-        } else if (auto dot = is->field.find('.'); dot != std::string::npos) {
-          p = p / std::string_view(is->field).substr(0, dot) /
-              std::string_view(is->field).substr(dot + 1);
-        } else {
-          p = p / is->field;
-        }
-        break;
-      case Issue::Where::scope:
-        p = p / "scope" / is->field;
-        break;
-      case Issue::Where::layer:
-        p = p / "parameters" / layer_index[static_cast<std::size_t>(is->layer - 1)];
-        break;
-      case Issue::Where::param:
-        p = p / "parameters" / layer_index[static_cast<std::size_t>(is->layer - 1)] / "params" /
-            is->index / is->field;
-        break;
-      case Issue::Where::curve:
-        p = p / "curves" / is->index / is->field;
-        break;
-      case Issue::Where::ct_entry:
-        p = p / "command_table" / is->index / is->field;
-        break;
-    }
-    return err(Errc::validation_failed, p, is->message);
-  }
+  if (idj) LMCFG_TRY(read_identity(*idj, cfg.identity));
+  LMCFG_TRY(read_scope(doc, cfg.scope));
+  LayerIndex layer_index{};
+  LMCFG_TRY(read_parameters(doc, cfg, layer_index));
+  LMCFG_TRY(read_curves(doc, cfg.curves));
+  LMCFG_TRY(read_command_table(doc, cfg.ct_entries));
+  if (auto is = find_issue(cfg))
+    return err(Errc::validation_failed, issue_pointer(*is, layer_index), is->message);
   canonicalize(cfg);
   return cfg;
+}
+
+// identity (optional; every member optional)
+Result<void> Reader::read_identity(const json& idj, Identity& id) const {
+  const Ptr p = Ptr{} / "identity";
+  LMCFG_TRY(object(idj, p));
+  LMCFG_TRY(keys(idj, p,
+                 {"macid", "link", "product", "firmware", "upid_fingerprint", "tool_version",
+                  "upid_db", "captured_at", "labels"}));
+  LMCFG_TRY(opt_string(idj, p, "macid", id.macid));
+  LMCFG_TRY(opt_string(idj, p, "product", id.product));
+  LMCFG_TRY(opt_string(idj, p, "firmware", id.firmware));
+  LMCFG_TRY(opt_string(idj, p, "upid_fingerprint", id.upid_fingerprint));
+  LMCFG_TRY(opt_string(idj, p, "tool_version", id.tool_version));
+  LMCFG_TRY(opt_string(idj, p, "captured_at", id.captured_at));
+  LMCFG_ASSIGN_OR_RETURN(const json* link, member(idj, p, "link", false));
+  if (link) {
+    const Ptr lp = p / "link";
+    LMCFG_TRY(object(*link, lp));
+    LMCFG_TRY(keys(*link, lp, {"port", "baud", "parity", "stop_bits", "checksum"}));
+    LMCFG_TRY(opt_string(*link, lp, "port", id.link.port));
+    LMCFG_TRY(opt_string(*link, lp, "baud", id.link.baud));
+    LMCFG_TRY(opt_string(*link, lp, "parity", id.link.parity));
+    LMCFG_TRY(opt_string(*link, lp, "stop_bits", id.link.stop_bits));
+    LMCFG_TRY(opt_string(*link, lp, "checksum", id.link.checksum));
+  }
+  LMCFG_ASSIGN_OR_RETURN(const json* db, member(idj, p, "upid_db", false));
+  if (db) {
+    const Ptr dp = p / "upid_db";
+    LMCFG_TRY(object(*db, dp));
+    LMCFG_TRY(keys(*db, dp, {"version", "hash"}));
+    LMCFG_TRY(opt_string(*db, dp, "version", id.upid_db_version));
+    LMCFG_TRY(opt_string(*db, dp, "hash", id.upid_db_hash));
+  }
+  LMCFG_ASSIGN_OR_RETURN(const json* labels, member(idj, p, "labels", false));
+  if (labels) {
+    const Ptr lp = p / "labels";
+    LMCFG_TRY(object(*labels, lp));
+    for (auto it = labels->begin(); it != labels->end(); ++it) {
+      LMCFG_ASSIGN_OR_RETURN(auto v, string(it.value(), lp / it.key()));
+      id.labels[it.key()] = std::move(v);
+    }
+  }
+  return {};
+}
+
+// scope (required)
+Result<void> Reader::read_scope(const json& doc, Scope& scope) const {
+  const Ptr root;
+  const Ptr p = root / "scope";
+  LMCFG_ASSIGN_OR_RETURN(const json* sj, member(doc, root, "scope", true));
+  LMCFG_TRY(object(*sj, p));
+  LMCFG_TRY(keys(*sj, p, {"layers", "parameters", "curves", "command_table"}));
+  LMCFG_ASSIGN_OR_RETURN(const json* lj, member(*sj, p, "layers", true));
+  LMCFG_TRY(array(*lj, p / "layers"));
+  scope.layers = {false, false, false, false};
+  for (std::size_t i = 0; i < lj->size(); ++i) {
+    const Ptr ip = p / "layers" / i;
+    if (!(*lj)[i].is_number_unsigned() || (*lj)[i].get<std::uint64_t>() < 1 ||
+        (*lj)[i].get<std::uint64_t>() > 4)
+      return err(Errc::parse_error, ip,
+                 "expected a layer number 1..4, found " + describe((*lj)[i]));
+    const auto l = (*lj)[i].get<std::size_t>();
+    if (scope.layers[l - 1])
+      return err(Errc::validation_failed, ip, "layer " + std::to_string(l) + " listed twice");
+    scope.layers[l - 1] = true;
+  }
+  LMCFG_ASSIGN_OR_RETURN(const json* pj, member(*sj, p, "parameters", true));
+  LMCFG_ASSIGN_OR_RETURN(auto ps, string(*pj, p / "parameters"));
+  auto set = param_set_from_string(ps);
+  if (!set)
+    return err(Errc::parse_error, p / "parameters",
+               "expected \"modified\" or \"full\", found " + describe(*pj));
+  scope.parameters = *set;
+  LMCFG_ASSIGN_OR_RETURN(const json* cj, member(*sj, p, "curves", true));
+  LMCFG_ASSIGN_OR_RETURN(scope.curves, boolean(*cj, p / "curves"));
+  LMCFG_ASSIGN_OR_RETURN(const json* tj, member(*sj, p, "command_table", true));
+  LMCFG_ASSIGN_OR_RETURN(scope.command_table, boolean(*tj, p / "command_table"));
+  return {};
+}
+
+// parameters (required); layer_index: where each layer is in the array
+Result<void> Reader::read_parameters(const json& doc, DriveConfig& cfg,
+                                     LayerIndex& layer_index) const {
+  const Ptr root;
+  const Ptr p = root / "parameters";
+  LMCFG_ASSIGN_OR_RETURN(const json* pj, member(doc, root, "parameters", true));
+  LMCFG_TRY(array(*pj, p));
+  std::array<bool, lmcfg::layers::kCount> seen{};
+  for (std::size_t li = 0; li < pj->size(); ++li) {
+    const Ptr lp = p / li;
+    const json& lj = (*pj)[li];
+    LMCFG_TRY(object(lj, lp));
+    LMCFG_TRY(keys(lj, lp, {"layer", "name", "params"}));
+    LMCFG_ASSIGN_OR_RETURN(const json* nj, member(lj, lp, "layer", true));
+    LMCFG_ASSIGN_OR_RETURN(auto l, unsigned_int(*nj, lp / "layer", 4, "a layer number"));
+    if (l < 1)
+      return err(Errc::parse_error, lp / "layer", "expected a layer number (1..4), found 0");
+    if (seen[l - 1])
+      return err(Errc::validation_failed, lp / "layer",
+                 "layer " + std::to_string(l) + " appears twice");
+    seen[l - 1] = true;
+    layer_index[l - 1] = li;
+    std::string ignored_name;
+    LMCFG_TRY(opt_string(lj, lp, "name", ignored_name));
+    LMCFG_ASSIGN_OR_RETURN(const json* arr, member(lj, lp, "params", true));
+    LMCFG_TRY(array(*arr, lp / "params"));
+    auto& out = cfg.layer(static_cast<int>(l));
+    out.reserve(arr->size());
+    for (std::size_t i = 0; i < arr->size(); ++i) {
+      const Ptr pp = lp / "params" / i;
+      const json& q = (*arr)[i];
+      LMCFG_TRY(object(q, pp));
+      LMCFG_TRY(keys(q, pp, {"upid", "value", "type", "default", "name", "unit", "scaled"}));
+      LMCFG_ASSIGN_OR_RETURN(Parameter prm, read_parameter(q, pp));
+      out.push_back(std::move(prm));
+    }
+  }
+  return {};
+}
+
+// One parameter of a layer's "params".
+Result<Parameter> Reader::read_parameter(const json& q, const Ptr& pp) const {
+  Parameter prm;
+  LMCFG_ASSIGN_OR_RETURN(const json* uj, member(q, pp, "upid", true));
+  LMCFG_ASSIGN_OR_RETURN(auto us, string(*uj, pp / "upid"));
+  auto upid = detail::parse_upid_hex(us);
+  if (!upid)
+    return err(Errc::parse_error, pp / "upid",
+               "expected a UPID as 4 hex digits (\"13A2\"), found " + describe(*uj));
+  prm.upid = *upid;
+  LMCFG_ASSIGN_OR_RETURN(const json* vj, member(q, pp, "value", true));
+  LMCFG_ASSIGN_OR_RETURN(auto v,
+                         unsigned_int(*vj, pp / "value", 0xFFFFFFFFu, "an unsigned 32-bit value"));
+  prm.value = static_cast<std::uint32_t>(v);
+  LMCFG_ASSIGN_OR_RETURN(const json* tj, member(q, pp, "type", false));
+  if (tj) {
+    LMCFG_ASSIGN_OR_RETURN(auto t, unsigned_int(*tj, pp / "type", 15, "a type code"));
+    prm.type = static_cast<std::uint8_t>(t);
+  }
+  LMCFG_ASSIGN_OR_RETURN(const json* dj, member(q, pp, "default", false));
+  if (dj) {
+    LMCFG_ASSIGN_OR_RETURN(
+        auto d, unsigned_int(*dj, pp / "default", 0xFFFFFFFFu, "an unsigned 32-bit value"));
+    prm.default_value = static_cast<std::uint32_t>(d);
+  }
+  LMCFG_TRY(opt_string(q, pp, "name", prm.name));
+  LMCFG_TRY(opt_string(q, pp, "unit", prm.unit));
+  LMCFG_TRY(opt_string(q, pp, "scaled", prm.scaled));
+  return prm;
+}
+
+// curves (optional)
+Result<void> Reader::read_curves(const json& doc, std::vector<Curve>& out) const {
+  return each_object(doc, "curves", {"id", "info", "data", "decoded"},
+                     [&](const json& c, const Ptr& cp) -> Result<void> {
+                       Curve curve;
+                       LMCFG_ASSIGN_OR_RETURN(const json* ij, member(c, cp, "id", true));
+                       LMCFG_ASSIGN_OR_RETURN(auto id,
+                                              unsigned_int(*ij, cp / "id", 0xFFFF, "a curve ID"));
+                       curve.id = static_cast<std::uint32_t>(id);
+                       LMCFG_ASSIGN_OR_RETURN(const json* inf, member(c, cp, "info", true));
+                       LMCFG_ASSIGN_OR_RETURN(curve.info, rows(*inf, cp / "info"));
+                       LMCFG_ASSIGN_OR_RETURN(const json* dat, member(c, cp, "data", true));
+                       LMCFG_ASSIGN_OR_RETURN(curve.data, rows(*dat, cp / "data"));
+                       out.push_back(std::move(curve));
+                       return {};
+                     });
+}
+
+// command table (optional)
+Result<void> Reader::read_command_table(const json& doc, std::vector<CtEntry>& out) const {
+  return each_object(doc, "command_table", {"id", "raw", "decoded"},
+                     [&](const json& e, const Ptr& ep) -> Result<void> {
+                       CtEntry entry;
+                       LMCFG_ASSIGN_OR_RETURN(const json* ij, member(e, ep, "id", true));
+                       LMCFG_ASSIGN_OR_RETURN(
+                           auto id, unsigned_int(*ij, ep / "id", 0xFFFFFFFFu, "an entry ID"));
+                       entry.id = static_cast<std::uint32_t>(id);
+                       LMCFG_ASSIGN_OR_RETURN(const json* rj, member(e, ep, "raw", true));
+                       LMCFG_ASSIGN_OR_RETURN(entry.raw, rows(*rj, ep / "raw"));
+                       out.push_back(std::move(entry));
+                       return {};
+                     });
 }
 
 Result<ConfigV1> Reader::read_v1(const json& doc) {

@@ -44,6 +44,58 @@ bool blank(const char* s) {
   return true;
 }
 
+// The elements read_v2 read, to locate a validation issue of the model.
+struct Nodes {
+  xml_node identity, labels, scope, parameters;
+  std::array<xml_node, lmcfg::layers::kCount> layers{};
+  std::array<std::vector<xml_node>, lmcfg::layers::kCount> params;  // <param> per layer
+  std::vector<xml_node> curves, entries;
+};
+
+// The XPath-like location of a validation issue of the model.
+std::string issue_path(const Issue& is, const Nodes& nodes) {
+  std::string path;
+  switch (is.where) {
+    case Issue::Where::identity: {
+      const std::string base = nodes.identity ? node_path(nodes.identity) : "/lmcfg/identity";
+      const std::string& f = is.field;
+      if (f.rfind("labels.", 0) == 0) {
+        path = nodes.labels ? node_path(nodes.labels) : base + "/labels";
+        for (xml_node l : nodes.labels.children("label"))
+          if (f.substr(7) == l.attribute("key").value()) path = node_path(l);
+      } else if (auto dot = f.find('.'); dot != std::string::npos) {
+        path = base + "/" + f.substr(0, dot) + "/@" + f.substr(dot + 1);
+      } else {
+        path = base + "/" + f;
+      }
+      break;
+    }
+    case Issue::Where::scope:
+      path = node_path(nodes.scope) + "/@" + is.field;
+      break;
+    case Issue::Where::layer: {
+      xml_node ln = nodes.layers[static_cast<std::size_t>(is.layer - 1)];
+      path = ln ? node_path(ln) : node_path(nodes.parameters);
+      break;
+    }
+    case Issue::Where::param:
+      path = node_path(nodes.params[static_cast<std::size_t>(is.layer - 1)].at(is.index)) + "/@" +
+             is.field;
+      break;
+    case Issue::Where::curve: {
+      xml_node cn = nodes.curves.at(is.index);
+      path = is.field == "id" ? node_path(cn) + "/@id" : node_path(cn.child(is.field.c_str()));
+      break;
+    }
+    case Issue::Where::ct_entry: {
+      xml_node en = nodes.entries.at(is.index);
+      path = is.field == "id" ? node_path(en) + "/@id" : node_path(en.child(is.field.c_str()));
+      break;
+    }
+  }
+  return path;
+}
+
 class Reader {
  public:
   explicit Reader(std::string_view name) : name_(name) {}
@@ -175,7 +227,14 @@ class Reader {
   Result<DriveConfig> read_document(const pugi::xml_document& doc);
 
  private:
+  // The phases of read_v2: one element of the document each.
   Result<DriveConfig> read_v2(xml_node root);
+  Result<void> read_identity(xml_node root, Identity& id, Nodes& nodes) const;
+  Result<void> read_scope(xml_node root, Scope& scope_out, Nodes& nodes) const;
+  Result<void> read_parameters(xml_node root, DriveConfig& cfg, Nodes& nodes) const;
+  Result<Parameter> read_parameter(xml_node pn) const;
+  Result<void> read_curves(xml_node root, std::vector<Curve>& out, Nodes& nodes) const;
+  Result<void> read_command_table(xml_node root, std::vector<CtEntry>& out, Nodes& nodes) const;
   Result<ConfigV1> read_v1(xml_node root);
   std::string name_;
 };
@@ -201,77 +260,94 @@ Result<DriveConfig> Reader::read_v2(xml_node root) {
   LMCFG_TRY(shape(root, {"format", "format_version"},
                   {"identity", "scope", "parameters", "curves", "command_table"}));
   DriveConfig cfg;
-  auto& id = cfg.identity;
+  Nodes nodes;
+  LMCFG_TRY(read_identity(root, cfg.identity, nodes));
+  LMCFG_TRY(read_scope(root, cfg.scope, nodes));
+  LMCFG_TRY(read_parameters(root, cfg, nodes));
+  LMCFG_TRY(read_curves(root, cfg.curves, nodes));
+  LMCFG_TRY(read_command_table(root, cfg.ct_entries, nodes));
+  if (auto is = find_issue(cfg))
+    return Error(Errc::validation_failed,
+                 name_ + ": " + issue_path(*is, nodes) + ": " + is->message);
+  canonicalize(cfg);
+  return cfg;
+}
 
-  LMCFG_ASSIGN_OR_RETURN(xml_node idn, single(root, "identity", false));
-  xml_node labels_node;
-  if (idn) {
-    LMCFG_TRY(shape(idn, {},
-                    {"macid", "link", "product", "firmware", "upid_fingerprint", "tool_version",
-                     "upid_db", "captured_at", "labels"}));
-    LMCFG_TRY(opt_text(idn, "macid", id.macid));
-    LMCFG_TRY(opt_text(idn, "product", id.product));
-    LMCFG_TRY(opt_text(idn, "firmware", id.firmware));
-    LMCFG_TRY(opt_text(idn, "upid_fingerprint", id.upid_fingerprint));
-    LMCFG_TRY(opt_text(idn, "tool_version", id.tool_version));
-    LMCFG_TRY(opt_text(idn, "captured_at", id.captured_at));
-    LMCFG_ASSIGN_OR_RETURN(xml_node link, single(idn, "link", false));
-    if (link) {
-      LMCFG_TRY(shape(link, {"port", "baud", "parity", "stop_bits", "checksum"}, {}));
-      LMCFG_ASSIGN_OR_RETURN(id.link.port, attr(link, "port", false));
-      LMCFG_ASSIGN_OR_RETURN(id.link.baud, attr(link, "baud", false));
-      LMCFG_ASSIGN_OR_RETURN(id.link.parity, attr(link, "parity", false));
-      LMCFG_ASSIGN_OR_RETURN(id.link.stop_bits, attr(link, "stop_bits", false));
-      LMCFG_ASSIGN_OR_RETURN(id.link.checksum, attr(link, "checksum", false));
-    }
-    LMCFG_ASSIGN_OR_RETURN(xml_node db, single(idn, "upid_db", false));
-    if (db) {
-      LMCFG_TRY(shape(db, {"version", "hash"}, {}));
-      LMCFG_ASSIGN_OR_RETURN(id.upid_db_version, attr(db, "version", false));
-      LMCFG_ASSIGN_OR_RETURN(id.upid_db_hash, attr(db, "hash", false));
-    }
-    LMCFG_ASSIGN_OR_RETURN(labels_node, single(idn, "labels", false));
-    if (labels_node) {
-      LMCFG_TRY(shape(labels_node, {}, {"label"}));
-      for (xml_node l : labels_node.children("label")) {
-        LMCFG_ASSIGN_OR_RETURN(auto key, attr(l, "key", true));
-        LMCFG_ASSIGN_OR_RETURN(auto value, text(l, {"key"}));
-        if (!id.labels.emplace(key, value).second)
-          return err_attr(Errc::validation_failed, l, "key", "duplicate label \"" + key + "\"");
-      }
+// identity (optional; every element optional)
+Result<void> Reader::read_identity(xml_node root, Identity& id, Nodes& nodes) const {
+  LMCFG_ASSIGN_OR_RETURN(nodes.identity, single(root, "identity", false));
+  const xml_node idn = nodes.identity;
+  if (!idn) return {};
+  LMCFG_TRY(shape(idn, {},
+                  {"macid", "link", "product", "firmware", "upid_fingerprint", "tool_version",
+                   "upid_db", "captured_at", "labels"}));
+  LMCFG_TRY(opt_text(idn, "macid", id.macid));
+  LMCFG_TRY(opt_text(idn, "product", id.product));
+  LMCFG_TRY(opt_text(idn, "firmware", id.firmware));
+  LMCFG_TRY(opt_text(idn, "upid_fingerprint", id.upid_fingerprint));
+  LMCFG_TRY(opt_text(idn, "tool_version", id.tool_version));
+  LMCFG_TRY(opt_text(idn, "captured_at", id.captured_at));
+  LMCFG_ASSIGN_OR_RETURN(xml_node link, single(idn, "link", false));
+  if (link) {
+    LMCFG_TRY(shape(link, {"port", "baud", "parity", "stop_bits", "checksum"}, {}));
+    LMCFG_ASSIGN_OR_RETURN(id.link.port, attr(link, "port", false));
+    LMCFG_ASSIGN_OR_RETURN(id.link.baud, attr(link, "baud", false));
+    LMCFG_ASSIGN_OR_RETURN(id.link.parity, attr(link, "parity", false));
+    LMCFG_ASSIGN_OR_RETURN(id.link.stop_bits, attr(link, "stop_bits", false));
+    LMCFG_ASSIGN_OR_RETURN(id.link.checksum, attr(link, "checksum", false));
+  }
+  LMCFG_ASSIGN_OR_RETURN(xml_node db, single(idn, "upid_db", false));
+  if (db) {
+    LMCFG_TRY(shape(db, {"version", "hash"}, {}));
+    LMCFG_ASSIGN_OR_RETURN(id.upid_db_version, attr(db, "version", false));
+    LMCFG_ASSIGN_OR_RETURN(id.upid_db_hash, attr(db, "hash", false));
+  }
+  LMCFG_ASSIGN_OR_RETURN(nodes.labels, single(idn, "labels", false));
+  if (nodes.labels) {
+    LMCFG_TRY(shape(nodes.labels, {}, {"label"}));
+    for (xml_node l : nodes.labels.children("label")) {
+      LMCFG_ASSIGN_OR_RETURN(auto key, attr(l, "key", true));
+      LMCFG_ASSIGN_OR_RETURN(auto value, text(l, {"key"}));
+      if (!id.labels.emplace(key, value).second)
+        return err_attr(Errc::validation_failed, l, "key", "duplicate label \"" + key + "\"");
     }
   }
+  return {};
+}
 
-  LMCFG_ASSIGN_OR_RETURN(xml_node scope, single(root, "scope", true));
-  {
-    LMCFG_TRY(shape(scope, {"layers", "parameters", "curves", "command_table"}, {}));
-    LMCFG_ASSIGN_OR_RETURN(auto layers, attr(scope, "layers", true));
-    cfg.scope.layers = {false, false, false, false};
-    std::istringstream ls(layers);
-    std::string tok;
-    while (ls >> tok) {
-      if (tok.size() != 1 || tok[0] < '1' || tok[0] > '4')
-        return err_attr(
-            Errc::parse_error, scope, "layers",
-            "expected layer numbers 1..4 separated by spaces, found \"" + layers + "\"");
-      auto& flag = cfg.scope.layers[static_cast<std::size_t>(tok[0] - '1')];
-      if (flag)
-        return err_attr(Errc::validation_failed, scope, "layers", "layer " + tok + " listed twice");
-      flag = true;
-    }
-    LMCFG_ASSIGN_OR_RETURN(auto ps, attr(scope, "parameters", true));
-    auto set = param_set_from_string(ps);
-    if (!set)
-      return err_attr(Errc::parse_error, scope, "parameters",
-                      "expected \"modified\" or \"full\", found \"" + ps + "\"");
-    cfg.scope.parameters = *set;
-    LMCFG_ASSIGN_OR_RETURN(cfg.scope.curves, bool_attr(scope, "curves"));
-    LMCFG_ASSIGN_OR_RETURN(cfg.scope.command_table, bool_attr(scope, "command_table"));
+// scope (required)
+Result<void> Reader::read_scope(xml_node root, Scope& scope_out, Nodes& nodes) const {
+  LMCFG_ASSIGN_OR_RETURN(nodes.scope, single(root, "scope", true));
+  const xml_node scope = nodes.scope;
+  LMCFG_TRY(shape(scope, {"layers", "parameters", "curves", "command_table"}, {}));
+  LMCFG_ASSIGN_OR_RETURN(auto layers, attr(scope, "layers", true));
+  scope_out.layers = {false, false, false, false};
+  std::istringstream ls(layers);
+  std::string tok;
+  while (ls >> tok) {
+    if (tok.size() != 1 || tok[0] < '1' || tok[0] > '4')
+      return err_attr(Errc::parse_error, scope, "layers",
+                      "expected layer numbers 1..4 separated by spaces, found \"" + layers + "\"");
+    auto& flag = scope_out.layers[static_cast<std::size_t>(tok[0] - '1')];
+    if (flag)
+      return err_attr(Errc::validation_failed, scope, "layers", "layer " + tok + " listed twice");
+    flag = true;
   }
+  LMCFG_ASSIGN_OR_RETURN(auto ps, attr(scope, "parameters", true));
+  auto set = param_set_from_string(ps);
+  if (!set)
+    return err_attr(Errc::parse_error, scope, "parameters",
+                    "expected \"modified\" or \"full\", found \"" + ps + "\"");
+  scope_out.parameters = *set;
+  LMCFG_ASSIGN_OR_RETURN(scope_out.curves, bool_attr(scope, "curves"));
+  LMCFG_ASSIGN_OR_RETURN(scope_out.command_table, bool_attr(scope, "command_table"));
+  return {};
+}
 
-  std::array<xml_node, lmcfg::layers::kCount> layer_nodes{};
-  std::array<std::vector<xml_node>, lmcfg::layers::kCount> param_nodes;
-  LMCFG_ASSIGN_OR_RETURN(xml_node params, single(root, "parameters", true));
+// parameters (required)
+Result<void> Reader::read_parameters(xml_node root, DriveConfig& cfg, Nodes& nodes) const {
+  LMCFG_ASSIGN_OR_RETURN(nodes.parameters, single(root, "parameters", true));
+  const xml_node params = nodes.parameters;
   LMCFG_TRY(shape(params, {}, {"layer"}));
   for (xml_node ln : params.children("layer")) {
     LMCFG_TRY(shape(ln, {"number", "name"}, {"param"}));
@@ -280,41 +356,49 @@ Result<DriveConfig> Reader::read_v2(xml_node root) {
       return err_attr(Errc::parse_error, ln, "number",
                       "expected a layer number (1..4), found \"0\"");
     const auto li = static_cast<std::size_t>(l - 1);
-    if (layer_nodes[li])
+    if (nodes.layers[li])
       return err_attr(Errc::validation_failed, ln, "number",
                       "layer " + std::to_string(l) + " appears twice");
-    layer_nodes[li] = ln;
+    nodes.layers[li] = ln;
     auto& out = cfg.layer(static_cast<int>(l));
     for (xml_node pn : ln.children("param")) {
-      LMCFG_TRY(shape(pn, {"upid", "value", "type", "default", "name", "unit", "scaled"}, {}));
-      Parameter prm;
-      LMCFG_ASSIGN_OR_RETURN(auto us, attr(pn, "upid", true));
-      auto upid = detail::parse_upid_hex(us);
-      if (!upid)
-        return err_attr(Errc::parse_error, pn, "upid",
-                        "expected a UPID as 4 hex digits (\"13A2\"), found \"" + us + "\"");
-      prm.upid = *upid;
-      LMCFG_ASSIGN_OR_RETURN(auto v,
-                             uint_attr(pn, "value", 0xFFFFFFFFu, "an unsigned 32-bit value"));
-      prm.value = static_cast<std::uint32_t>(v);
-      if (pn.attribute("type")) {
-        LMCFG_ASSIGN_OR_RETURN(auto t, uint_attr(pn, "type", 15, "a type code"));
-        prm.type = static_cast<std::uint8_t>(t);
-      }
-      if (pn.attribute("default")) {
-        LMCFG_ASSIGN_OR_RETURN(auto d,
-                               uint_attr(pn, "default", 0xFFFFFFFFu, "an unsigned 32-bit value"));
-        prm.default_value = static_cast<std::uint32_t>(d);
-      }
-      LMCFG_ASSIGN_OR_RETURN(prm.name, attr(pn, "name", false));
-      LMCFG_ASSIGN_OR_RETURN(prm.unit, attr(pn, "unit", false));
-      LMCFG_ASSIGN_OR_RETURN(prm.scaled, attr(pn, "scaled", false));
+      LMCFG_ASSIGN_OR_RETURN(Parameter prm, read_parameter(pn));
       out.push_back(std::move(prm));
-      param_nodes[li].push_back(pn);
+      nodes.params[li].push_back(pn);
     }
   }
+  return {};
+}
 
-  std::vector<xml_node> curve_nodes;
+// One <param> of a layer.
+Result<Parameter> Reader::read_parameter(xml_node pn) const {
+  LMCFG_TRY(shape(pn, {"upid", "value", "type", "default", "name", "unit", "scaled"}, {}));
+  Parameter prm;
+  LMCFG_ASSIGN_OR_RETURN(auto us, attr(pn, "upid", true));
+  auto upid = detail::parse_upid_hex(us);
+  if (!upid)
+    return err_attr(Errc::parse_error, pn, "upid",
+                    "expected a UPID as 4 hex digits (\"13A2\"), found \"" + us + "\"");
+  prm.upid = *upid;
+  LMCFG_ASSIGN_OR_RETURN(auto v, uint_attr(pn, "value", 0xFFFFFFFFu, "an unsigned 32-bit value"));
+  prm.value = static_cast<std::uint32_t>(v);
+  if (pn.attribute("type")) {
+    LMCFG_ASSIGN_OR_RETURN(auto t, uint_attr(pn, "type", 15, "a type code"));
+    prm.type = static_cast<std::uint8_t>(t);
+  }
+  if (pn.attribute("default")) {
+    LMCFG_ASSIGN_OR_RETURN(auto d,
+                           uint_attr(pn, "default", 0xFFFFFFFFu, "an unsigned 32-bit value"));
+    prm.default_value = static_cast<std::uint32_t>(d);
+  }
+  LMCFG_ASSIGN_OR_RETURN(prm.name, attr(pn, "name", false));
+  LMCFG_ASSIGN_OR_RETURN(prm.unit, attr(pn, "unit", false));
+  LMCFG_ASSIGN_OR_RETURN(prm.scaled, attr(pn, "scaled", false));
+  return prm;
+}
+
+// curves (optional)
+Result<void> Reader::read_curves(xml_node root, std::vector<Curve>& out, Nodes& nodes) const {
   LMCFG_ASSIGN_OR_RETURN(xml_node curves, single(root, "curves", false));
   if (curves) {
     LMCFG_TRY(shape(curves, {}, {"curve"}));
@@ -328,12 +412,16 @@ Result<DriveConfig> Reader::read_v2(xml_node root) {
       LMCFG_ASSIGN_OR_RETURN(xml_node data, single(cn, "data", true));
       LMCFG_ASSIGN_OR_RETURN(c.data, rows(data));
       LMCFG_TRY(single(cn, "decoded", false));  // derived: not read
-      cfg.curves.push_back(std::move(c));
-      curve_nodes.push_back(cn);
+      out.push_back(std::move(c));
+      nodes.curves.push_back(cn);
     }
   }
+  return {};
+}
 
-  std::vector<xml_node> entry_nodes;
+// command table (optional)
+Result<void> Reader::read_command_table(xml_node root, std::vector<CtEntry>& out,
+                                        Nodes& nodes) const {
   LMCFG_ASSIGN_OR_RETURN(xml_node table, single(root, "command_table", false));
   if (table) {
     LMCFG_TRY(shape(table, {}, {"entry"}));
@@ -345,55 +433,11 @@ Result<DriveConfig> Reader::read_v2(xml_node root) {
       LMCFG_ASSIGN_OR_RETURN(xml_node raw, single(en, "raw", true));
       LMCFG_ASSIGN_OR_RETURN(e.raw, rows(raw));
       LMCFG_TRY(single(en, "decoded", false));
-      cfg.ct_entries.push_back(std::move(e));
-      entry_nodes.push_back(en);
+      out.push_back(std::move(e));
+      nodes.entries.push_back(en);
     }
   }
-
-  if (auto is = find_issue(cfg)) {
-    std::string path;
-    switch (is->where) {
-      case Issue::Where::identity: {
-        const std::string base = idn ? node_path(idn) : "/lmcfg/identity";
-        const std::string& f = is->field;
-        if (f.rfind("labels.", 0) == 0) {
-          path = labels_node ? node_path(labels_node) : base + "/labels";
-          for (xml_node l : labels_node.children("label"))
-            if (f.substr(7) == l.attribute("key").value()) path = node_path(l);
-        } else if (auto dot = f.find('.'); dot != std::string::npos) {
-          path = base + "/" + f.substr(0, dot) + "/@" + f.substr(dot + 1);
-        } else {
-          path = base + "/" + f;
-        }
-        break;
-      }
-      case Issue::Where::scope:
-        path = node_path(scope) + "/@" + is->field;
-        break;
-      case Issue::Where::layer: {
-        xml_node ln = layer_nodes[static_cast<std::size_t>(is->layer - 1)];
-        path = ln ? node_path(ln) : node_path(params);
-        break;
-      }
-      case Issue::Where::param:
-        path = node_path(param_nodes[static_cast<std::size_t>(is->layer - 1)].at(is->index)) +
-               "/@" + is->field;
-        break;
-      case Issue::Where::curve: {
-        xml_node cn = curve_nodes.at(is->index);
-        path = is->field == "id" ? node_path(cn) + "/@id" : node_path(cn.child(is->field.c_str()));
-        break;
-      }
-      case Issue::Where::ct_entry: {
-        xml_node en = entry_nodes.at(is->index);
-        path = is->field == "id" ? node_path(en) + "/@id" : node_path(en.child(is->field.c_str()));
-        break;
-      }
-    }
-    return Error(Errc::validation_failed, name_ + ": " + path + ": " + is->message);
-  }
-  canonicalize(cfg);
-  return cfg;
+  return {};
 }
 
 Result<ConfigV1> Reader::read_v1(xml_node root) {

@@ -407,6 +407,13 @@ Result<Database> Database::open_default() {
   return open(path);
 }
 
+Database::Database() noexcept = default;
+
+const Database& Database::empty() noexcept {
+  static const Database none;
+  return none;
+}
+
 Database::Database(std::unique_ptr<Impl> impl) noexcept : impl_(std::move(impl)) {}
 Database::Database(Database&&) noexcept = default;
 Database& Database::operator=(Database&&) noexcept = default;

@@ -13,6 +13,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "common/layers.hpp"
 #include "common/result.hpp"
 #include "db/value.hpp"
 
@@ -28,8 +29,15 @@ inline constexpr std::string_view kDbPathEnv = "LMCFG_UPID_DB";
 // Firmware layers and their UPID ranges (seed 003 §10.2). `Other` holds the
 // UPIDs the seeds name outside the four ranges (6300h, seed 001 §3.7): no
 // layer list, layer default or modified list reaches them.
-enum class Layer { OS, MC, Intf, Appl, Other };
-inline constexpr std::size_t kLayerCount = 5;  // with Other
+// The values are the 0-based view of the layer numbers of common/layers.hpp.
+enum class Layer {
+  OS = layers::kOS - 1,
+  MC = layers::kMC - 1,
+  Intf = layers::kIntf - 1,
+  Appl = layers::kAppl - 1,
+  Other = layers::kCount,
+};
+inline constexpr std::size_t kLayerCount = layers::kCount + 1;  // with Other
 // "OS", "MC", "Intf", "Appl", "Other"
 std::string_view layer_name(Layer l) noexcept;
 std::optional<Layer> layer_from_name(std::string_view name) noexcept;  // case-insensitive
@@ -159,6 +167,12 @@ struct DbInfo {
 // this costs about a millisecond (figures in docs/upid-db.md). A table that
 // cannot be read fails the open. info() has the row counts.
 //
+// Empty database. A default-constructed Database (and empty()) has no rows:
+// every lookup finds nothing, every list is empty, info() is blank. The tools
+// use it when no database file could be loaded, so no function takes a
+// nullable Database; is_empty() tells that case apart where output differs
+// ("values shown raw").
+//
 // Lifetime and identity. Every pointer and reference a Database returns stays
 // valid, and its object unchanged, until the Database is destroyed, also across
 // a move (the moved-to Database owns it). A moved-from Database behaves as an
@@ -185,6 +199,13 @@ class Database {
   // executable's folder given.
   static Result<std::string> find_default_path(const char* env_value,
                                                const std::filesystem::path& exe_dir);
+
+  // A database without rows (see above).
+  Database() noexcept;
+  // One shared empty database, for callers that have none.
+  static const Database& empty() noexcept;
+  // True for a default-constructed or moved-from Database.
+  bool is_empty() const noexcept { return !impl_; }
 
   Database(Database&&) noexcept;
   Database& operator=(Database&&) noexcept;

@@ -44,7 +44,7 @@ void read_line(const LineEntry& line, const ops::LinkOptions& link_in, const Fle
       ops::BackupOptions bo = opt.backup;
       bo.progress = nullptr;
       bo.report = nullptr;
-      auto cfg = ops::backup((*session)->client(), bo, opt.db);
+      auto cfg = ops::backup((*session)->client(), bo, opt.db.get());
       if (!cfg.ok()) {
         r.error = cfg.error();
       } else {
@@ -109,7 +109,7 @@ std::vector<LiveRead> read_all(const Inventory& inv, const FleetOptions& opt) {
 
 // Compares each live read with its archived file at `rev`; sets the status.
 Result<void> compare(const Inventory& inv, const Archive& archive, const std::string& rev,
-                     const db::Database* db, std::vector<LiveRead>& reads) {
+                     const db::Database& db, std::vector<LiveRead>& reads) {
   std::size_t k = 0;
   for (const auto& line : inv.lines) {
     for (const auto& d : line.drives) {
@@ -250,7 +250,7 @@ Result<FleetRun> fleet_backup(const Inventory& inv, Archive& archive, const Flee
   LMCFG_ASSIGN_OR_RETURN(auto run, read_and_compare(inv, archive, opt, reads));
   std::optional<ops::DatabaseCtDecoder> ct_decoder;
   config::WriteOptions wo;
-  if (opt.db) wo.ct_decoder = &ct_decoder.emplace(*opt.db);
+  if (!opt.db.get().is_empty()) wo.ct_decoder = &ct_decoder.emplace(opt.db.get());
   std::vector<std::string> paths;
   std::size_t k = 0;
   for (const auto& line : inv.lines) {

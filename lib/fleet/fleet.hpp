@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "config/model.hpp"
+#include "db/database.hpp"
 #include "fleet/archive.hpp"
 #include "fleet/inventory.hpp"
 #include "ops/backup.hpp"
@@ -40,7 +41,8 @@ const char* status_name(DriveResult::Status s);  // "unchanged", "changed", "new
 
 struct FleetOptions {
   std::vector<ops::LinkOptions> links;  // one per inventory line, same order
-  const db::Database* db = nullptr;
+  // Names, types and decoded views; the empty database when there is none.
+  std::reference_wrapper<const db::Database> db = db::Database::empty();
   ops::BackupOptions backup;  // what to read (progress and report are per drive, ignored)
   std::string rev = "HEAD";   // the archive revision compared against
   // Called as each drive finishes (from the line's worker, one call at a time).
@@ -77,7 +79,7 @@ struct FleetRestore {
   std::string drive;  // position name
   std::string rev = "HEAD";
   ops::LinkOptions link;  // the drive's line (client.id is set from the inventory)
-  const db::Database* db = nullptr;
+  std::reference_wrapper<const db::Database> db = db::Database::empty();
   // Runs the normal restore (plan, confirmation, verify) of the archived file
   // on the open session and returns its outcome.
   std::function<ops::RestoreOutcome(ops::Session&, const config::DriveConfig&,

@@ -19,9 +19,9 @@ std::string utc_now() {
   return buf;
 }
 
-std::string display_value(const db::Database* db, std::uint16_t upid, std::uint32_t value,
+std::string display_value(const db::Database& db, std::uint16_t upid, std::uint32_t value,
                           std::optional<std::uint8_t> type) {
-  const db::Parameter* d = db ? db->find(upid) : nullptr;
+  const db::Parameter* d = db.find(upid);
   db::ValueSpec spec = d ? d->spec : db::ValueSpec{};
   if (!spec.type && type) spec.type = db::type_from_code(*type);
   const bool labelled = std::any_of(
@@ -38,7 +38,7 @@ void annotate(config::DriveConfig& cfg, const db::Database& db) {
     for (auto& p : layer) {
       const db::Parameter* d = db.find(p.upid);
       if (!d) {
-        if (p.type) p.scaled = display_value(&db, p.upid, p.value, p.type);
+        if (p.type) p.scaled = display_value(db, p.upid, p.value, p.type);
         continue;
       }
       p.name = d->name;
@@ -46,7 +46,7 @@ void annotate(config::DriveConfig& cfg, const db::Database& db) {
       if (!p.type && d->spec.type) p.type = static_cast<std::uint8_t>(*d->spec.type);
       if (!p.default_value && d->default_value)
         p.default_value = static_cast<std::uint32_t>(*d->default_value);
-      p.scaled = display_value(&db, p.upid, p.value, p.type);
+      p.scaled = display_value(db, p.upid, p.value, p.type);
     }
   }
 }
@@ -92,7 +92,7 @@ std::optional<std::uint8_t> file_type_code(std::uint16_t drive_type) {
 // Types and defaults of the captured parameters that the database does not
 // know, from the drive (§10 05h 04h / 07h). In a full capture the type came
 // with the UPID list and a UPID outside the modified list holds its default.
-Result<void> describe_from_drive(client::Client& c, const db::Database* db, int layer,
+Result<void> describe_from_drive(client::Client& c, const db::Database& db, int layer,
                                  std::vector<config::Parameter>& params,
                                  const std::set<std::uint16_t>* modified,
                                  const Progress& progress) {
@@ -100,7 +100,7 @@ Result<void> describe_from_drive(client::Client& c, const db::Database* db, int 
   std::size_t n = 0;
   for (auto& p : params) {
     report(progress, phase, ++n, params.size());
-    const db::Parameter* d = db ? db->find(p.upid) : nullptr;
+    const db::Parameter* d = db.find(p.upid);
     if (!p.type && !(d && d->spec.type)) {
       LMCFG_ASSIGN_OR_RETURN(auto t, unless_refused(c.get_type(p.upid)));
       if (t) p.type = file_type_code(*t);
@@ -119,15 +119,15 @@ Result<void> describe_from_drive(client::Client& c, const db::Database* db, int 
 }  // namespace
 
 Result<config::DriveConfig> backup(client::Client& c, const BackupOptions& opt,
-                                   const db::Database* db) {
+                                   const db::Database& db) {
   config::DriveConfig cfg;
   char macid[8];
   std::snprintf(macid, sizeof macid, "0x%02X", c.options().id);
   cfg.identity.macid = macid;
   cfg.identity.tool_version = kToolVersion;
   cfg.identity.captured_at = utc_now();
-  if (db) cfg.identity.upid_db_hash = db->info().content_hash;
-  if (db) cfg.identity.upid_db_version = std::to_string(db->info().schema_version);
+  if (!db.is_empty()) cfg.identity.upid_db_hash = db.info().content_hash;
+  if (!db.is_empty()) cfg.identity.upid_db_version = std::to_string(db.info().schema_version);
   cfg.scope.layers = opt.layers;
   cfg.scope.parameters = opt.full ? config::ParamSet::full : config::ParamSet::modified;
   cfg.scope.curves = opt.curves;
@@ -217,7 +217,7 @@ Result<config::DriveConfig> backup(client::Client& c, const BackupOptions& opt,
     }
     r.notes.insert(r.notes.end(), notes.begin(), notes.end());
   }
-  if (db) annotate(cfg, *db);
+  if (!db.is_empty()) annotate(cfg, db);
   config::canonicalize(cfg);
   return cfg;
 }

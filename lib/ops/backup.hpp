@@ -54,7 +54,7 @@ struct BackupOptions {
 // defaults. A type or default query the drive refuses (C1..C9) leaves that
 // field unknown; a link failure fails the backup.
 Result<config::DriveConfig> backup(client::Client& c, const BackupOptions& opt,
-                                   const db::Database* db);
+                                   const db::Database& db);
 
 // Fills display fields (name, unit, scaled text, type) of every parameter from
 // the database; leaves unknown UPIDs untouched.
@@ -63,7 +63,7 @@ void annotate(config::DriveConfig& cfg, const db::Database& db);
 // A parameter value for people: the database's formatting (scale, unit, enum
 // label) when it knows the type or a label for this value, else formatted by
 // `type` (a type code recorded in a file) when given, else decimal and hex.
-std::string display_value(const db::Database* db, std::uint16_t upid, std::uint32_t value,
+std::string display_value(const db::Database& db, std::uint16_t upid, std::uint32_t value,
                           std::optional<std::uint8_t> type = std::nullopt);
 
 // ISO 8601 UTC of now ("2026-11-22T04:05:06Z").

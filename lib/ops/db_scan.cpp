@@ -165,7 +165,7 @@ Result<void> PartialFileStore::remove() {
 
 // ---------------------------------------------------------------- scan
 
-Result<void> check_scan_profile_id(const std::string& id, const db::Database* db) {
+Result<void> check_scan_profile_id(const std::string& id, const db::Database& db) {
   if (id.empty())
     return Error(Errc::invalid_argument, "a profile id is required (e.g. e1100-fw-x)");
   for (char ch : id) {
@@ -177,8 +177,8 @@ Result<void> check_scan_profile_id(const std::string& id, const db::Database* db
                        "' may only contain letters, digits, '-', '_' and '.' (e.g. e1100-fw-x)");
     }
   }
-  if (db) {
-    if (const auto* p = db->profile(id); p && !is_scanned_source(p->prov.source)) {
+  if (!db.is_empty()) {
+    if (const auto* p = db.profile(id); p && !is_scanned_source(p->prov.source)) {
       return Error(Errc::invalid_argument,
                    "profile '" + id + "' is already defined in the UPID database (" + p->prov.file +
                        ":" + std::to_string(p->prov.line) + ", source \"" + p->prov.source +
@@ -190,16 +190,13 @@ Result<void> check_scan_profile_id(const std::string& id, const db::Database* db
 
 namespace {
 
-bool is_refusal(const Error& e) {
-  return e.code.category() == comm_state_category() ||
-         e.code == make_error_code(Errc::drive_refused);
-}
+bool is_refusal(const Error& e) { return e.code == ErrorClass::drive_refusal; }
 
-ScanRow make_row(const ScannedUpid& s, const db::Database* db, const std::string& names_from) {
+ScanRow make_row(const ScannedUpid& s, const db::Database& db, const std::string& names_from) {
   ScanRow row;
   row.scanned = s;
-  if (!db) return row;
-  const db::Parameter* p = db->find(s.upid, names_from);
+  if (db.is_empty()) return row;
+  const db::Parameter* p = db.find(s.upid, names_from);
   if (!p) return row;
   row.known = true;
   row.name = p->name;
@@ -231,13 +228,13 @@ std::string scale_text(double v) {
 
 }  // namespace
 
-Result<DbScanResult> scan_drive_profile(client::Client& c, const db::Database* db,
+Result<DbScanResult> scan_drive_profile(client::Client& c, const db::Database& db,
                                         const DbScanOptions& opt) {
   LMCFG_TRY(check_scan_profile_id(opt.profile.id, db));
   DbScanResult r;
   r.profile = opt.profile;
-  if (!opt.names_from.empty() && db) {
-    const auto* known = db->profile(opt.names_from);
+  if (!opt.names_from.empty() && !db.is_empty()) {
+    const auto* known = db.profile(opt.names_from);
     if (!known) {
       return Error(Errc::invalid_argument,
                    "--names-from: profile '" + opt.names_from + "' is not in the UPID database");

@@ -136,13 +136,13 @@ struct DbScanResult {
   std::array<std::size_t, 4> per_layer{0, 0, 0, 0};
 };
 
-// Checks a profile id (shape; and, with a database, that it is not a profile
+// Checks a profile id (shape; and, unless the database is empty, that it is not a profile
 // the sources already define other than by an earlier scan).
-Result<void> check_scan_profile_id(const std::string& id, const db::Database* db);
+Result<void> check_scan_profile_id(const std::string& id, const db::Database& db);
 
 // Runs the scan. Errors: invalid_argument (profile id), link errors as the
 // client reports them (the store keeps what was read).
-Result<DbScanResult> scan_drive_profile(client::Client& c, const db::Database* db,
+Result<DbScanResult> scan_drive_profile(client::Client& c, const db::Database& db,
                                         const DbScanOptions& opt);
 
 // The fragment: a parameters.tsv-format file (header + one row per UPID) whose

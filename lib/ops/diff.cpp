@@ -79,7 +79,7 @@ std::string raw_text(std::uint32_t v) {
   return buf;
 }
 
-std::string show(const Effective& e, const db::Database* db, std::uint16_t upid,
+std::string show(const Effective& e, const db::Database& db, std::uint16_t upid,
                  std::optional<std::uint32_t> def, std::optional<std::uint8_t> type,
                  const std::string& invalid) {
   auto fmt = [&](std::uint32_t v) { return display_value(db, upid, v, type); };
@@ -135,7 +135,7 @@ std::string layer_list(const std::array<bool, lmcfg::layers::kCount>& layers) {
 }
 
 void diff_parameters(const config::DriveConfig& a, const config::DriveConfig& b,
-                     const db::Database* db, const DefaultLookup& defaults, const DiffOptions& opt,
+                     const db::Database& db, const DefaultLookup& defaults, const DiffOptions& opt,
                      DiffResult& r) {
   std::size_t from_files = 0, from_lookup = 0;
   for (int layer = 1; layer <= 4; ++layer) {
@@ -160,7 +160,7 @@ void diff_parameters(const config::DriveConfig& a, const config::DriveConfig& b,
     for (const auto& [upid, p] : pa) upids.insert(upid);
     for (const auto& [upid, p] : pb) upids.insert(upid);
     for (auto upid : upids) {
-      const db::Parameter* d = db ? db->find(upid) : nullptr;
+      const db::Parameter* d = db.find(upid);
       if (opt.ignore_unit && is_comm_parameter(db, upid)) continue;
       Effective ea = effective(a, layer, pa, upid), eb = effective(b, layer, pb, upid);
       const Recorded rec = recorded(pa, pb, upid);
@@ -306,10 +306,10 @@ void diff_curves(const config::DriveConfig& a, const config::DriveConfig& b, Dif
   }
 }
 
-std::string ct_changes(const db::Database* db, const config::CtEntry& a, const config::CtEntry& b) {
-  if (!db) return "raw bytes differ";
-  auto da = db::decode_ct_entry(*db, a.raw);
-  auto dbb = db::decode_ct_entry(*db, b.raw);
+std::string ct_changes(const db::Database& db, const config::CtEntry& a, const config::CtEntry& b) {
+  if (db.is_empty()) return "raw bytes differ";
+  auto da = db::decode_ct_entry(db, a.raw);
+  auto dbb = db::decode_ct_entry(db, b.raw);
   if (!da.ok() || !dbb.ok()) return "raw bytes differ";
   std::vector<std::string> parts;
   if (da->header >> 4 != dbb->header >> 4) {
@@ -331,15 +331,15 @@ std::string ct_changes(const db::Database* db, const config::CtEntry& a, const c
   return s;
 }
 
-std::string ct_summary(const db::Database* db, const config::CtEntry& e) {
-  if (db) {
-    auto d = db::decode_ct_entry(*db, e.raw);
+std::string ct_summary(const db::Database& db, const config::CtEntry& e) {
+  if (!db.is_empty()) {
+    auto d = db::decode_ct_entry(db, e.raw);
     if (d.ok()) return d->summary();
   }
   return std::to_string(e.raw.size()) + " bytes";
 }
 
-void diff_ct(const config::DriveConfig& a, const config::DriveConfig& b, const db::Database* db,
+void diff_ct(const config::DriveConfig& a, const config::DriveConfig& b, const db::Database& db,
              DiffResult& r) {
   if (a.scope.command_table != b.scope.command_table) {
     const auto& holder = a.scope.command_table ? a : b;
@@ -425,7 +425,7 @@ std::string describe_scope(const config::Scope& s) {
   return out;
 }
 
-DiffResult diff(const config::DriveConfig& a, const config::DriveConfig& b, const db::Database* db,
+DiffResult diff(const config::DriveConfig& a, const config::DriveConfig& b, const db::Database& db,
                 const DefaultLookup& defaults, const DiffOptions& opt) {
   DiffResult r;
   r.scope_a = a.scope;

@@ -58,7 +58,7 @@ struct DiffResult {
   bool identical() const { return items.empty(); }
 };
 
-DiffResult diff(const config::DriveConfig& a, const config::DriveConfig& b, const db::Database* db,
+DiffResult diff(const config::DriveConfig& a, const config::DriveConfig& b, const db::Database& db,
                 const DefaultLookup& defaults, const DiffOptions& opt);
 
 // Factory state as a configuration: every layer captured, nothing modified, no

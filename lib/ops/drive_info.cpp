@@ -75,7 +75,7 @@ std::vector<std::string> warn_word_bits(std::uint16_t w) {
   return bits(w, kNames);
 }
 
-Result<DriveInfo> read_drive_info(client::Client& c, const db::Database* db, std::size_t max_log) {
+Result<DriveInfo> read_drive_info(client::Client& c, const db::Database& db, std::size_t max_log) {
   DriveInfo i;
   LMCFG_ASSIGN_OR_RETURN(i.response, c.default_response(codec::ResponseRequest::warn_word));
   LMCFG_ASSIGN_OR_RETURN(i.actual_error, c.actual_error_text());
@@ -83,7 +83,7 @@ Result<DriveInfo> read_drive_info(client::Client& c, const db::Database* db, std
   for (std::uint16_t n = 0; n < i.counters.logged && n < max_log; ++n) {
     LMCFG_ASSIGN_OR_RETURN(auto e, c.error_log_entry(n));
     ErrorLogLine l{e.code, e.millis, e.hours, {}};
-    if (const auto* d = db ? db->error("mc", e.code) : nullptr) {
+    if (const auto* d = db.error("mc", e.code)) {
       l.text = d->text;
     } else {
       LMCFG_ASSIGN_OR_RETURN(l.text, c.error_text(e.code));

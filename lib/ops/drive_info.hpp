@@ -50,7 +50,7 @@ Result<ErrorState> read_error_state(client::Client& c);
 std::string render_error_state(const ErrorState& s);
 
 // Reads at most `max_log` newest error log entries.
-Result<DriveInfo> read_drive_info(client::Client& c, const db::Database* db,
+Result<DriveInfo> read_drive_info(client::Client& c, const db::Database& db,
                                   std::size_t max_log = 8);
 std::string render_info(const DriveInfo& i);
 // The same as one JSON object (docs/json-reports.md "info").

@@ -11,7 +11,7 @@
 namespace lmcfg::ops {
 
 Result<DefaultReport> default_drive(client::Client& c, const DefaultOptions& opt,
-                                    const db::Database* db) {
+                                    const db::Database& db) {
   DefaultReport rep;
   bool record_saved = false, mc_stopped = false;
   const std::string record = opt.recovery_path.string();

@@ -46,6 +46,6 @@ struct DefaultReport {
 };
 
 Result<DefaultReport> default_drive(client::Client& c, const DefaultOptions& opt,
-                                    const db::Database* db);
+                                    const db::Database& db);
 
 }  // namespace lmcfg::ops

@@ -8,19 +8,8 @@
 namespace lmcfg::ops {
 
 bool settings_suspect(Session& session, const Error& e) {
-  if (e.code.category() != lmcfg_category()) return false;
-  switch (static_cast<Errc>(e.code.value())) {
-    case Errc::timeout:
-    case Errc::frame_short:
-    case Errc::frame_overlong:
-    case Errc::frame_malformed:
-    case Errc::checksum_mismatch:
-    case Errc::unexpected_response:
-      break;
-    default:
-      return false;
-  }
-  return session.client().stats().answers == 0;
+  // Answers lost or garbled, never one received: the settings may be wrong.
+  return e.code == ErrorClass::bad_answer && session.client().stats().answers == 0;
 }
 
 std::optional<std::string> link_advice(Session& session, const std::string& port) {

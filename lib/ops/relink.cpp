@@ -22,20 +22,20 @@ struct Known {
 // The value a restored layer holds after the restore: the file's, else the
 // factory default (as far as the database knows it). Unknown outside the
 // restored layers: those keep whatever the target had.
-Known value_after(const Plan& plan, const db::Database* db, std::uint16_t upid) {
+Known value_after(const Plan& plan, const db::Database& db, std::uint16_t upid) {
   const int layer = layers::of_upid(upid);
   if (layer == 0 || !plan.expected.scope.layers[static_cast<std::size_t>(layer - 1)]) return {};
   for (const auto& p : plan.expected.layer(layer))
     if (p.upid == upid) return {p.value, false};
-  const db::Parameter* d = db ? db->find(upid) : nullptr;
+  const db::Parameter* d = db.find(upid);
   if (d && d->default_value) return {static_cast<std::uint32_t>(*d->default_value), true};
   return {std::nullopt, true};
 }
 
 // "38400 Baud" -> 38400, when the label starts with one of the §3.2.1 rates.
-std::optional<unsigned> baud_of_label(const db::Database* db, std::uint16_t upid,
+std::optional<unsigned> baud_of_label(const db::Database& db, std::uint16_t upid,
                                       std::uint32_t raw) {
-  const db::Parameter* d = db ? db->find(upid) : nullptr;
+  const db::Parameter* d = db.find(upid);
   if (!d) return std::nullopt;
   for (const auto& l : d->spec.labels) {
     if (l.raw != static_cast<std::int64_t>(raw)) continue;
@@ -58,9 +58,9 @@ std::string describe(const RelinkCandidate& c) {
 
 }  // namespace
 
-ExpectedLink expected_link(const Plan& plan, const db::Database* db) {
+ExpectedLink expected_link(const Plan& plan, const db::Database& db) {
   ExpectedLink out;
-  if (!db)
+  if (db.is_empty())
     out.reasons.push_back(
         "no UPID database: the factory defaults of the LinRS parameters are unknown");
   const Known id_src = value_after(plan, db, kMacidSource);
@@ -181,7 +181,7 @@ Result<RelinkReport> reconnect(Session& session, const ExpectedLink& expected,
     co.read_retries = saved.read_retries;
     client.set_options(co);
     // An error state (C1..C9) is an answer too: the drive hears these settings.
-    if (answer.ok() || answer.error().code.category() == comm_state_category()) {
+    if (answer.ok() || answer.error().code == ErrorClass::drive_refusal) {
       rep.used = cand;
       rep.changed = !(cand.line.baud == before.line.baud && cand.macid == before.macid &&
                       cand.checksum == before.checksum);

@@ -31,7 +31,7 @@ struct ExpectedLink {
 };
 
 // From `plan.expected` (a UPID absent from a restored layer holds its default).
-ExpectedLink expected_link(const Plan& plan, const db::Database* db);
+ExpectedLink expected_link(const Plan& plan, const db::Database& db);
 
 // Settings the user names for after the restore (--reconnect-baud/-id/-checksum);
 // they are tried first.

@@ -170,9 +170,9 @@ struct ParamInfo {
   std::optional<std::uint32_t> def;
 };
 
-ParamInfo param_info(const config::Parameter& p, const db::Database* db) {
+ParamInfo param_info(const config::Parameter& p, const db::Database& db) {
   ParamInfo i;
-  const db::Parameter* d = db ? db->find(p.upid) : nullptr;
+  const db::Parameter* d = db.find(p.upid);
   i.name = d && !d->name.empty() ? d->name : p.name;
   if (d && d->default_value)
     i.def = static_cast<std::uint32_t>(*d->default_value);
@@ -196,12 +196,13 @@ std::string page_head(const std::string& title) {
          html_escape(title) + "</title><style>" + kStyle + "</style></head><body>\n";
 }
 
-std::string meta_line(const ReportOptions& opt, const db::Database* db) {
+std::string meta_line(const ReportOptions& opt, const db::Database& db) {
   std::string s = "<p class=\"meta\">Report";
   if (!opt.tool_version.empty()) s += " by " + html_escape(opt.tool_version);
   if (!opt.generated_at.empty()) s += ", generated " + html_escape(opt.generated_at);
   s += "; UPID database: " +
-       (db ? html_escape(db->info().content_hash) : std::string("none (values shown raw)")) +
+       (!db.is_empty() ? html_escape(db.info().content_hash)
+                       : std::string("none (values shown raw)")) +
        ".</p>\n";
   return s;
 }
@@ -266,7 +267,7 @@ void chunk_break(std::string& rows, std::size_t& n, const char* cls) {
 
 // ------------------------------------------------------------ one configuration
 
-void params_single(std::string& out, const config::DriveConfig& cfg, const db::Database* db) {
+void params_single(std::string& out, const config::DriveConfig& cfg, const db::Database& db) {
   for (int l = 1; l <= lmcfg::layers::kCount; ++l) {
     const auto& ps = cfg.layer(l);
     if (!cfg.scope.layers[static_cast<std::size_t>(l - 1)]) {
@@ -320,7 +321,7 @@ ByUpid by_upid(const config::DriveConfig& c, int l) {
 // A side's value of a parameter that has no DiffItem (the same on both sides,
 // or not compared with --ignore-unit).
 std::string side_value(const config::DriveConfig& c, int l, const config::Parameter* p,
-                       const db::Database* db) {
+                       const db::Database& db) {
   if (p) return display_value(db, p->upid, p->value, p->type);
   if (!c.scope.layers[static_cast<std::size_t>(l - 1)]) return "not captured";
   return c.scope.parameters == config::ParamSet::modified ? "default" : "absent";
@@ -331,7 +332,7 @@ const char* change_class(bool in_a, bool in_b) {
 }
 
 void params_diff(std::string& out, const config::DriveConfig& a, const config::DriveConfig& b,
-                 const DiffResult& r, const db::Database* db) {
+                 const DiffResult& r, const db::Database& db) {
   std::map<std::pair<int, std::uint32_t>, const DiffItem*> items;
   for (const auto& it : r.items)
     if (it.kind == DiffItem::Kind::parameter) items[{it.layer, it.key}] = &it;
@@ -508,7 +509,7 @@ std::string section(const char* id, const char* title) {
 }  // namespace
 
 std::string render_report(const config::DriveConfig& cfg, const std::string& name,
-                          const db::Database* db, const ReportOptions& opt) {
+                          const db::Database& db, const ReportOptions& opt) {
   std::string out;
   out.reserve(4096 + cfg.curves.size() * 12000 +
               200 * (cfg.layers[0].size() + cfg.layers[1].size() + cfg.layers[2].size() +
@@ -539,7 +540,7 @@ std::string render_report(const config::DriveConfig& cfg, const std::string& nam
 
 std::string render_diff_report(const config::DriveConfig& a, const std::string& a_name,
                                const config::DriveConfig& b, const std::string& b_name,
-                               const DiffResult& r, const db::Database* db,
+                               const DiffResult& r, const db::Database& db,
                                const ReportOptions& opt) {
   std::string out;
   out.reserve(8192 + (a.curves.size() + b.curves.size()) * 12000);

@@ -44,12 +44,12 @@ struct ReportOptions {
 
 // One configuration. `name` is where it came from (file name, "drive").
 std::string render_report(const config::DriveConfig& cfg, const std::string& name,
-                          const db::Database* db, const ReportOptions& opt);
+                          const db::Database& db, const ReportOptions& opt);
 
 // Two configurations; `r` is ops::diff(a, b, ...) with the options the caller chose.
 std::string render_diff_report(const config::DriveConfig& a, const std::string& a_name,
                                const config::DriveConfig& b, const std::string& b_name,
-                               const DiffResult& r, const db::Database* db,
+                               const DiffResult& r, const db::Database& db,
                                const ReportOptions& opt);
 
 // HTML text for any bytes: & < > " ' escaped; invalid UTF-8 and control

@@ -23,18 +23,18 @@ struct EntryText {
   int link = kNoLink;
 };
 
-EntryText entry_text(const config::CtEntry& e, const db::Database* db) {
+EntryText entry_text(const config::CtEntry& e, const db::Database& db) {
   EntryText t;
   t.name = config::ct_entry_name(e.raw);
   if (e.raw.size() >= 4) {
     const unsigned link = e.raw[2] | (e.raw[3] << 8);
     if (link != db::kCtNoLink) t.link = static_cast<int>(link);
   }
-  if (!db) {
+  if (db.is_empty()) {
     t.command = "not decoded (no UPID database)";
     return t;
   }
-  auto d = db::decode_ct_entry(*db, e.raw);
+  auto d = db::decode_ct_entry(db, e.raw);
   if (!d.ok()) {
     t.command = "not decoded: " + d.error().message;
     return t;
@@ -99,7 +99,7 @@ std::vector<std::string> chains(const std::map<std::uint32_t, int>& links) {
   return out;
 }
 
-void chains_block(std::string& out, const config::DriveConfig& cfg, const db::Database* db,
+void chains_block(std::string& out, const config::DriveConfig& cfg, const db::Database& db,
                   const char* side) {
   std::map<std::uint32_t, int> links;
   for (const auto& e : cfg.ct_entries) links[e.id] = entry_text(e, db).link;
@@ -120,7 +120,7 @@ std::set<std::uint32_t> ids_of(const config::DriveConfig& c) {
 
 }  // namespace
 
-void ct_section(std::string& out, const config::DriveConfig& cfg, const db::Database* db) {
+void ct_section(std::string& out, const config::DriveConfig& cfg, const db::Database& db) {
   if (!cfg.scope.command_table) {
     out += "<p>The command table was not captured.</p>\n";
     return;
@@ -145,7 +145,7 @@ void ct_section(std::string& out, const config::DriveConfig& cfg, const db::Data
 }
 
 void ct_section_diff(std::string& out, const config::DriveConfig& a, const config::DriveConfig& b,
-                     const DiffResult& r, const db::Database* db) {
+                     const DiffResult& r, const db::Database& db) {
   if (!a.scope.command_table && !b.scope.command_table) {
     out += "<p>The command table was captured on neither side.</p>\n";
     return;

@@ -27,9 +27,9 @@ void curve_figure_diff(std::string& out, const config::Curve* a, const config::C
                        const DiffItem* item);
 
 // The command table of one configuration: chains and a row per entry.
-void ct_section(std::string& out, const config::DriveConfig& cfg, const db::Database* db);
+void ct_section(std::string& out, const config::DriveConfig& cfg, const db::Database& db);
 // Side by side; the entries' DiffItems come from `r`.
 void ct_section_diff(std::string& out, const config::DriveConfig& a, const config::DriveConfig& b,
-                     const DiffResult& r, const db::Database* db);
+                     const DiffResult& r, const db::Database& db);
 
 }  // namespace lmcfg::ops::report_parts

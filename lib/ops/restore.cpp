@@ -11,11 +11,11 @@
 
 namespace lmcfg::ops {
 
-bool is_comm_parameter(const db::Database* db, std::uint16_t upid) {
+bool is_comm_parameter(const db::Database& db, std::uint16_t upid) {
   if (upid == kBaudRateSource || upid == kBaudRateCode || upid == kMacidSource ||
       upid == kMacidValue)
     return true;
-  const db::Parameter* d = db ? db->find(upid) : nullptr;
+  const db::Parameter* d = db.find(upid);
   return d && d->comm;
 }
 

@@ -49,7 +49,7 @@ inline constexpr std::uint16_t kBaudRateSource = 0x200E, kBaudRateCode = 0x2012,
 inline constexpr std::uint32_t kBaudRateByParameter = 2, kMacidByParameter = 3;
 
 // The database's `comm` flag, or one of the four UPIDs above.
-bool is_comm_parameter(const db::Database* db, std::uint16_t upid);
+bool is_comm_parameter(const db::Database& db, std::uint16_t upid);
 
 struct RestoreOptions {
   bool default_first = true;         // --no-default turns it off
@@ -117,7 +117,7 @@ struct Plan {
 };
 
 Result<Plan> plan_restore(client::Client& c, const config::DriveConfig& file,
-                          const db::Database* db, const RestoreOptions& opt);
+                          const db::Database& db, const RestoreOptions& opt);
 std::string render_plan(const Plan& p);
 // The plan as structured items (docs/restore.md "JSON report").
 nlohmann::ordered_json plan_json(const Plan& p);

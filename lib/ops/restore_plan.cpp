@@ -18,9 +18,9 @@ namespace {
 
 using Action = PlanStep::Action;
 
-bool is_comm(const db::Database* db, std::uint16_t upid) { return is_comm_parameter(db, upid); }
+bool is_comm(const db::Database& db, std::uint16_t upid) { return is_comm_parameter(db, upid); }
 
-bool refused(const Error& e) { return e.code.category() == comm_state_category(); }
+bool refused(const Error& e) { return e.code == ErrorClass::drive_refusal; }
 
 std::string range_text(std::optional<std::int64_t> mn, std::optional<std::int64_t> mx) {
   return (mn ? std::to_string(*mn) : std::string("?")) + ".." +
@@ -31,10 +31,10 @@ std::string range_text(std::optional<std::int64_t> mn, std::optional<std::int64_
 // problems (and notes where the database disagrees with the target). Link
 // errors propagate. `listed`: the target's UPID list of the layer (§10.3), read
 // when the database does not know every address usage; else the type is asked.
-Result<void> check_parameter(client::Client& c, const db::Database* db, int layer,
+Result<void> check_parameter(client::Client& c, const db::Database& db, int layer,
                              const config::Parameter& p,
                              const std::map<std::uint16_t, client::UpidInfo>* listed, Plan& plan) {
-  const db::Parameter* d = db ? db->find(p.upid) : nullptr;
+  const db::Parameter* d = db.find(p.upid);
   const std::string label = param_label(layer, p.upid, d, &p);
   std::uint16_t type = 0;
   std::optional<db::AddressUsage> address_usage;
@@ -172,7 +172,7 @@ void check_tables(const config::DriveConfig& file, const RestoreOptions& opt, Pl
 // (power loss) never activates a half-written pair.
 void order_comm_writes_last(std::vector<PlanStep>& steps, std::size_t first,
                             const std::vector<config::Parameter>& final_values,
-                            const db::Database* db) {
+                            const db::Database& db) {
   auto final_of = [&](std::uint16_t upid) -> std::optional<std::uint32_t> {
     for (const auto& p : final_values)
       if (p.upid == upid) return p.value;
@@ -216,7 +216,7 @@ struct Write {
 
 struct Builder {
   client::Client& c;
-  const db::Database* db;
+  const db::Database& db;
   const RestoreOptions& opt;
   Plan& plan;
 
@@ -232,7 +232,7 @@ struct Builder {
     add(std::move(s), telegrams);
   }
   void add_write(int layer, const Write& w) {
-    const db::Parameter* d = db ? db->find(w.p.upid) : nullptr;
+    const db::Parameter* d = db.find(w.p.upid);
     PlanStep s;
     s.action = Action::write_rom;
     s.layer = layer;
@@ -351,244 +351,256 @@ Result<void> plan_curves(Builder& b, const config::DriveConfig& file, bool force
   return {};
 }
 
-}  // namespace
+// Phase 0: what the target says about an earlier run. MC stopped (status word
+// and state var 0 in the default response, §6) means an earlier restore or
+// default stopped half way: RAM tables may hold what flash does not, and ROM
+// values may wait for their reset. A recovery record is left by a restore that
+// did not finish. Either way the tables in scope are saved again and the drive
+// reset, even where RAM matches.
+struct EarlierRun {
+  bool mc_was_stopped = false;
+  std::optional<RecoveryRecord> rec;  // set: recovered from it
+};
 
-Result<Plan> plan_restore(client::Client& c, const config::DriveConfig& file,
-                          const db::Database* db, const RestoreOptions& opt) {
-  Plan plan;
-  plan.expected.identity = file.identity;
-  plan.expected.scope = file.scope;
-  if (file.scope.curves) plan.expected.curves = file.curves;
-  if (file.scope.command_table) plan.expected.ct_entries = file.ct_entries;
-  check_tables(file, opt, plan);
-  Builder b{c, db, opt, plan};
-  // MC stopped (status word and state var 0 in the default response, §6) means
-  // an earlier restore or default stopped half way: RAM tables may hold what
-  // flash does not, and ROM values may wait for their reset. Then the tables
-  // in scope are saved again and the drive reset, even where RAM matches.
+Result<EarlierRun> detect_earlier_run(client::Client& c, const RestoreOptions& opt, Plan& plan) {
+  EarlierRun out;
   LMCFG_ASSIGN_OR_RETURN(auto state, c.default_response());
-  const bool mc_was_stopped =
-      state.status_word.value_or(1) == 0 && state.state_var.value_or(1) == 0;
-  bool recovered = false;
-  std::optional<RecoveryRecord> rec;
+  out.mc_was_stopped = state.status_word.value_or(1) == 0 && state.state_var.value_or(1) == 0;
   if (!opt.recovery_path.empty()) {
-    LMCFG_ASSIGN_OR_RETURN(rec, load_recovery(opt.recovery_path));
-    if (rec) {
-      recovered = true;
+    LMCFG_ASSIGN_OR_RETURN(out.rec, load_recovery(opt.recovery_path));
+    if (out.rec) {
       plan.recovered_from = opt.recovery_path.string();
       plan.notes.push_back("found the recovery record " + opt.recovery_path.string() +
-                           " of a restore that did not finish (" + rec->created +
+                           " of a restore that did not finish (" + out.rec->created +
                            "): the command table and curves in scope are saved to flash again "
                            "and the drive restarted");
     }
   }
-  if (mc_was_stopped)
+  if (out.mc_was_stopped)
     plan.notes.push_back(
         "MC is stopped on the target (an earlier restore or default stopped half way?): the "
         "command table and curves are saved to flash again and the drive restarted");
+  return out;
+}
 
-  struct LayerWork {
-    int layer;
-    std::vector<client::ModifiedParam> target;
-    std::vector<Write> writes;                // differ from the target: checked, written
-    std::vector<config::Parameter> same;      // listed on the target with the file's value
-    std::vector<config::Parameter> keep;      // the target's communication values kept
-    std::vector<config::Parameter> expected;  // what the layer holds afterwards
-    std::vector<const client::ModifiedParam*> leftovers;
-  };
-  std::vector<LayerWork> work;
+// One layer's parameters: the file's against the target's modified list.
+struct LayerWork {
+  int layer;
+  std::vector<client::ModifiedParam> target;
+  std::vector<Write> writes;                // differ from the target: checked, written
+  std::vector<config::Parameter> same;      // listed on the target with the file's value
+  std::vector<config::Parameter> keep;      // the target's communication values kept
+  std::vector<config::Parameter> expected;  // what the layer holds afterwards
+  std::vector<const client::ModifiedParam*> leftovers;  // into `target`
+  std::map<std::uint16_t, std::uint32_t> on_target;     // `target` by UPID
+  std::set<std::uint16_t> restored;                     // UPIDs the file restores
+};
+
+struct CompareProgress {
   std::size_t total = 0, checked = 0;
-  for (int layer = 1; layer <= 4; ++layer)
-    if (file.scope.layers[static_cast<std::size_t>(layer - 1)]) total += file.layer(layer).size();
-  for (int layer = 1; layer <= 4; ++layer) {
-    if (!file.scope.layers[static_cast<std::size_t>(layer - 1)]) continue;
-    LayerWork w{layer, {}, {}, {}, {}, {}, {}};
-    LMCFG_ASSIGN_OR_RETURN(w.target, c.modified_list(layer));
-    std::map<std::uint16_t, std::uint32_t> on_target;
-    for (const auto& m : w.target) on_target[m.upid] = m.value;
-    std::set<std::uint16_t> restored;
-    // Compare first: what the target already holds is not written.
-    for (const auto& p : file.layer(layer)) {
-      const db::Parameter* d = db ? db->find(p.upid) : nullptr;
-      if (is_comm(db, p.upid) && !opt.include_comm) {
-        plan.skipped.push_back(
-            param_label(layer, p.upid, d, &p) +
-            ": communication parameter, the target keeps its own value (use --include-comm)");
-        continue;
-      }
-      restored.insert(p.upid);
-      w.expected.push_back(p);
-      if (opt.progress) opt.progress("plan: comparing parameters", ++checked, total);
-      if (auto it = on_target.find(p.upid); it != on_target.end()) {
-        if (it->second == p.value)
-          w.same.push_back(p);
-        else
-          w.writes.push_back(Write{p, it->second, "", "differs"});
-        continue;
-      }
-      // Not in the target's modified list: its ROM holds its default (§10.2).
-      std::optional<std::uint32_t> def;
-      if (d && d->default_value)
-        def = static_cast<std::uint32_t>(*d->default_value);
-      else if (p.default_value)
-        def = p.default_value;
-      if (def && *def != p.value) {
-        w.writes.push_back(Write{p, *def, " (default)", "differs"});
-        continue;
-      }
-      // The file's value may be the target's default: read it (05h 01h).
-      auto rom = c.read_rom(p.upid);
-      if (!rom.ok()) {
-        if (!refused(rom.error())) return std::move(rom).error();
-        w.writes.push_back(Write{p, std::nullopt, "", "differs"});  // the checks will say why
-        continue;
-      }
-      if (*rom != p.value) w.writes.push_back(Write{p, *rom, "", "differs"});
-    }
-    // The target's communication parameters survive the restore unless --include-comm.
-    for (const auto& m : w.target) {
-      if (restored.count(m.upid)) continue;
-      if (is_comm(db, m.upid) && !opt.include_comm) {
-        config::Parameter k{m.upid, m.value, std::nullopt, std::nullopt, {}, {}, {}};
-        w.keep.push_back(k);
-        w.expected.push_back(k);
-        continue;
-      }
-      w.leftovers.push_back(&m);
-    }
-    // A layer defaulted by the unfinished run no longer lists the values it
-    // kept: the record has them (docs/restore.md).
-    if (rec && !opt.include_comm) {
-      for (const auto& k : rec->keep) {
-        if (lmcfg::layers::of_upid(k.upid) != layer || restored.count(k.upid)) continue;
-        config::Parameter kp{k.upid, k.value, std::nullopt, std::nullopt, {}, {}, {}};
-        auto same = [&](const config::Parameter& x) { return x.upid == k.upid; };
-        std::erase_if(w.keep, same);
-        std::erase_if(w.expected, same);
-        w.expected.push_back(kp);
-        const bool listed = on_target.count(k.upid) && on_target[k.upid] == k.value;
-        if (listed)
-          w.keep.push_back(kp);
-        else
-          w.writes.push_back(Write{kp, std::nullopt, "", "kept communication value"});
-      }
-    }
-    // ROM write access must be known before a write (§10 address usage bit 3).
-    // Where the database does not know it, the target's UPID list tells, with
-    // the type of every UPID, in one walk of the layer.
-    const std::size_t au_unknown = std::count_if(w.writes.begin(), w.writes.end(), [&](auto& x) {
-      const db::Parameter* d = db ? db->find(x.p.upid) : nullptr;
-      return !(d && d->address_usage);
-    });
-    std::optional<std::map<std::uint16_t, client::UpidInfo>> listed;
-    if (au_unknown) {
-      const std::string phase = "plan: " + std::string(lmcfg::layers::name(layer)) + " UPID list";
-      LMCFG_ASSIGN_OR_RETURN(auto list, c.upid_list(layer, [&](std::size_t n) {
-        if (opt.progress) opt.progress(phase, n, 0);
-      }));
-      listed.emplace();
-      for (const auto& u : list) (*listed)[u.upid] = u;
-      plan.notes.push_back(
-          std::string(lmcfg::layers::name(layer)) +
-          ": the UPID database does not know the address usage of " + std::to_string(au_unknown) +
-          " parameter(s); read the target's UPID list (" + std::to_string(list.size()) +
-          " UPIDs, §10.3) to check ROM write access");
-    }
-    for (const auto& x : w.writes)
-      LMCFG_TRY(check_parameter(c, db, layer, x.p, listed ? &*listed : nullptr, plan));
-    if (opt.include_comm) {
-      // Compare the communication values the target uses now (modified list, or
-      // the default when not listed) with those the restore leaves.
-      std::map<std::uint16_t, std::uint32_t> now, after;
-      for (const auto& m : w.target)
-        if (is_comm(db, m.upid)) now[m.upid] = m.value;
-      for (const auto& p : w.expected)
-        if (is_comm(db, p.upid)) after[p.upid] = p.value;
-      for (const auto& x : w.same)
-        if (is_comm(db, x.upid)) after[x.upid] = x.value;
-      plan.link_may_change = plan.link_may_change || now != after;
-    }
-    std::sort(w.expected.begin(), w.expected.end(),
-              [](auto& x, auto& y) { return x.upid < y.upid; });
-    work.push_back(std::move(w));
-  }
-  if (!plan.ok()) return plan;
+};
 
-  const double tel_us = telegram_estimate_us(c);
-  bool rom_changed = false;
-  for (auto& w : work) {
-    const std::size_t first_step = plan.steps.size();
-    const std::string lname(lmcfg::layers::name(w.layer));
-    plan.expected.layer(w.layer) = w.expected;
-    // Leftovers go back to their defaults either by defaulting the layer
-    // (§10.4, > 1 s; then what the target already held must be written again)
-    // or by writing each back to the default the target reports (05h 07h, a
-    // value the target accepts by definition). The cheaper one; same end state.
-    bool use_defaulting = false;
-    if (opt.default_first && !w.leftovers.empty()) {
-      const double cost_writes = 2.0 * static_cast<double>(w.leftovers.size()) * tel_us;
-      const double cost_default = tel_us + kDefaultingEstimateUs +
-                                  static_cast<double>(w.same.size() + w.keep.size()) * tel_us;
-      use_defaulting = cost_default < cost_writes;
+// Phase 1a: compare first, what the target already holds is not written.
+// Sorts the file's parameters of the layer into skipped (communication),
+// same and writes; every restored one is expected afterwards.
+Result<void> compare_parameters(Builder& b, const config::DriveConfig& file, LayerWork& w,
+                                CompareProgress& progress) {
+  const db::Database& db = b.db;
+  const RestoreOptions& opt = b.opt;
+  const int layer = w.layer;
+  for (const auto& p : file.layer(layer)) {
+    const db::Parameter* d = db.find(p.upid);
+    if (is_comm(db, p.upid) && !opt.include_comm) {
+      b.plan.skipped.push_back(
+          param_label(layer, p.upid, d, &p) +
+          ": communication parameter, the target keeps its own value (use --include-comm)");
+      continue;
     }
-    if (use_defaulting) {
-      PlanStep s;
-      s.action = Action::default_layer;
-      s.layer = w.layer;
-      s.text = "default the " + lname + " layer's ROM values (§10.4); " +
-               std::to_string(w.leftovers.size()) + " leftover(s) go back to their defaults";
-      b.add(std::move(s), 1);
-      for (const auto* m : w.leftovers)
-        plan.notes.push_back("leftover " + lname + " " + hex(m->upid, 4, "h") + " = " +
-                             display_value(db, m->upid, m->value) + " goes back to its default");
-      for (const auto& x : w.writes) b.add_write(w.layer, x);
-      for (const auto& p : w.same)
-        b.add_write(w.layer, Write{p, std::nullopt, "", "again after defaulting"});
-      for (const auto& p : w.keep)
-        b.add_write(w.layer, Write{p, p.value, "", "kept communication value"});
-    } else {
-      for (const auto& x : w.writes) b.add_write(w.layer, x);
-      for (const auto* m : w.leftovers) {
-        auto def = c.get_default(m->upid);
-        if (!def.ok()) {
-          if (!refused(def.error())) return std::move(def).error();
-          plan.problems.push_back(
-              param_label(w.layer, m->upid, db ? db->find(m->upid) : nullptr, nullptr) +
-              ": leftover, but the target refused its default query: " + def.error().message);
-          continue;
-        }
-        config::Parameter p{m->upid, *def, std::nullopt, std::nullopt, {}, {}, {}};
-        b.add_write(w.layer, Write{p, m->value, "", "leftover back to its default"});
+    w.restored.insert(p.upid);
+    w.expected.push_back(p);
+    if (opt.progress)
+      opt.progress("plan: comparing parameters", ++progress.checked, progress.total);
+    if (auto it = w.on_target.find(p.upid); it != w.on_target.end()) {
+      if (it->second == p.value)
+        w.same.push_back(p);
+      else
+        w.writes.push_back(Write{p, it->second, "", "differs"});
+      continue;
+    }
+    // Not in the target's modified list: its ROM holds its default (§10.2).
+    std::optional<std::uint32_t> def;
+    if (d && d->default_value)
+      def = static_cast<std::uint32_t>(*d->default_value);
+    else if (p.default_value)
+      def = p.default_value;
+    if (def && *def != p.value) {
+      w.writes.push_back(Write{p, *def, " (default)", "differs"});
+      continue;
+    }
+    // The file's value may be the target's default: read it (05h 01h).
+    auto rom = b.c.read_rom(p.upid);
+    if (!rom.ok()) {
+      if (!refused(rom.error())) return std::move(rom).error();
+      w.writes.push_back(Write{p, std::nullopt, "", "differs"});  // the checks will say why
+      continue;
+    }
+    if (*rom != p.value) w.writes.push_back(Write{p, *rom, "", "differs"});
+  }
+  return {};
+}
+
+// Phase 1b: the target's communication parameters survive the restore unless
+// --include-comm; the rest of its modified list not in the file are leftovers.
+void sort_target_values(const Builder& b, LayerWork& w) {
+  for (const auto& m : w.target) {
+    if (w.restored.count(m.upid)) continue;
+    if (is_comm(b.db, m.upid) && !b.opt.include_comm) {
+      config::Parameter k{m.upid, m.value, std::nullopt, std::nullopt, {}, {}, {}};
+      w.keep.push_back(k);
+      w.expected.push_back(k);
+      continue;
+    }
+    w.leftovers.push_back(&m);
+  }
+}
+
+// Phase 1c: a layer defaulted by the unfinished run no longer lists the values
+// it kept: the record has them (docs/restore.md).
+void keep_recorded_values(const RecoveryRecord& rec, LayerWork& w) {
+  for (const auto& k : rec.keep) {
+    if (lmcfg::layers::of_upid(k.upid) != w.layer || w.restored.count(k.upid)) continue;
+    config::Parameter kp{k.upid, k.value, std::nullopt, std::nullopt, {}, {}, {}};
+    auto same = [&](const config::Parameter& x) { return x.upid == k.upid; };
+    std::erase_if(w.keep, same);
+    std::erase_if(w.expected, same);
+    w.expected.push_back(kp);
+    const auto listed = w.on_target.find(k.upid);
+    if (listed != w.on_target.end() && listed->second == k.value)
+      w.keep.push_back(kp);
+    else
+      w.writes.push_back(Write{kp, std::nullopt, "", "kept communication value"});
+  }
+}
+
+// Phase 1d: every write checked against the target. ROM write access must be
+// known before a write (§10 address usage bit 3). Where the database does not
+// know it, the target's UPID list tells, with the type of every UPID, in one
+// walk of the layer.
+Result<void> check_writes(Builder& b, const LayerWork& w) {
+  const int layer = w.layer;
+  const std::size_t au_unknown = std::count_if(w.writes.begin(), w.writes.end(), [&](auto& x) {
+    const db::Parameter* d = b.db.find(x.p.upid);
+    return !(d && d->address_usage);
+  });
+  std::optional<std::map<std::uint16_t, client::UpidInfo>> listed;
+  if (au_unknown) {
+    const std::string phase = "plan: " + std::string(lmcfg::layers::name(layer)) + " UPID list";
+    LMCFG_ASSIGN_OR_RETURN(auto list, b.c.upid_list(layer, [&](std::size_t n) {
+      if (b.opt.progress) b.opt.progress(phase, n, 0);
+    }));
+    listed.emplace();
+    for (const auto& u : list) (*listed)[u.upid] = u;
+    b.plan.notes.push_back(
+        std::string(lmcfg::layers::name(layer)) +
+        ": the UPID database does not know the address usage of " + std::to_string(au_unknown) +
+        " parameter(s); read the target's UPID list (" + std::to_string(list.size()) +
+        " UPIDs, §10.3) to check ROM write access");
+  }
+  for (const auto& x : w.writes)
+    LMCFG_TRY(check_parameter(b.c, b.db, layer, x.p, listed ? &*listed : nullptr, b.plan));
+  return {};
+}
+
+// Phase 1e (--include-comm): compare the communication values the target uses
+// now (modified list, or the default when not listed) with those the restore
+// leaves.
+void note_link_change(Builder& b, const LayerWork& w) {
+  std::map<std::uint16_t, std::uint32_t> now, after;
+  for (const auto& m : w.target)
+    if (is_comm(b.db, m.upid)) now[m.upid] = m.value;
+  for (const auto& p : w.expected)
+    if (is_comm(b.db, p.upid)) after[p.upid] = p.value;
+  for (const auto& x : w.same)
+    if (is_comm(b.db, x.upid)) after[x.upid] = x.value;
+  b.plan.link_may_change = b.plan.link_may_change || now != after;
+}
+
+// Phase 1: one layer in scope compared with the target and its writes checked.
+Result<void> compare_layer(Builder& b, const config::DriveConfig& file, const EarlierRun& earlier,
+                           CompareProgress& progress, LayerWork& w) {
+  LMCFG_ASSIGN_OR_RETURN(w.target, b.c.modified_list(w.layer));
+  for (const auto& m : w.target) w.on_target[m.upid] = m.value;
+  LMCFG_TRY(compare_parameters(b, file, w, progress));
+  sort_target_values(b, w);
+  if (earlier.rec && !b.opt.include_comm) keep_recorded_values(*earlier.rec, w);
+  LMCFG_TRY(check_writes(b, w));
+  if (b.opt.include_comm) note_link_change(b, w);
+  std::sort(w.expected.begin(), w.expected.end(), [](auto& x, auto& y) { return x.upid < y.upid; });
+  return {};
+}
+
+// Leftovers go back to their defaults either by defaulting the layer (§10.4,
+// > 1 s; then what the target already held must be written again) or by
+// writing each back to the default the target reports (05h 07h, a value the
+// target accepts by definition). The cheaper one; same end state.
+bool defaulting_is_cheaper(const RestoreOptions& opt, const LayerWork& w, double tel_us) {
+  if (!opt.default_first || w.leftovers.empty()) return false;
+  const double cost_writes = 2.0 * static_cast<double>(w.leftovers.size()) * tel_us;
+  const double cost_default =
+      tel_us + kDefaultingEstimateUs + static_cast<double>(w.same.size() + w.keep.size()) * tel_us;
+  return cost_default < cost_writes;
+}
+
+// Phase 2: the ROM steps of one layer, communication writes last. True when
+// it added any.
+Result<bool> schedule_layer(Builder& b, const LayerWork& w, double tel_us) {
+  Plan& plan = b.plan;
+  const std::size_t first_step = plan.steps.size();
+  const std::string lname(lmcfg::layers::name(w.layer));
+  plan.expected.layer(w.layer) = w.expected;
+  if (defaulting_is_cheaper(b.opt, w, tel_us)) {
+    PlanStep s;
+    s.action = Action::default_layer;
+    s.layer = w.layer;
+    s.text = "default the " + lname + " layer's ROM values (§10.4); " +
+             std::to_string(w.leftovers.size()) + " leftover(s) go back to their defaults";
+    b.add(std::move(s), 1);
+    for (const auto* m : w.leftovers)
+      plan.notes.push_back("leftover " + lname + " " + hex(m->upid, 4, "h") + " = " +
+                           display_value(b.db, m->upid, m->value) + " goes back to its default");
+    for (const auto& x : w.writes) b.add_write(w.layer, x);
+    for (const auto& p : w.same)
+      b.add_write(w.layer, Write{p, std::nullopt, "", "again after defaulting"});
+    for (const auto& p : w.keep)
+      b.add_write(w.layer, Write{p, p.value, "", "kept communication value"});
+  } else {
+    for (const auto& x : w.writes) b.add_write(w.layer, x);
+    for (const auto* m : w.leftovers) {
+      auto def = b.c.get_default(m->upid);
+      if (!def.ok()) {
+        if (!refused(def.error())) return std::move(def).error();
+        plan.problems.push_back(
+            param_label(w.layer, m->upid, b.db.find(m->upid), nullptr) +
+            ": leftover, but the target refused its default query: " + def.error().message);
+        continue;
       }
+      config::Parameter p{m->upid, *def, std::nullopt, std::nullopt, {}, {}, {}};
+      b.add_write(w.layer, Write{p, m->value, "", "leftover back to its default"});
     }
-    order_comm_writes_last(plan.steps, first_step, w.expected, db);
-    rom_changed = rom_changed || plan.steps.size() > first_step;
   }
-  if (!plan.ok()) {
-    plan.steps.clear();
-    return plan;
-  }
-  // LinRS cannot read flash (§11, §12), so RAM tables that match the file
-  // prove nothing about flash after an earlier run stopped half way: a drive
-  // reset in the middle reloads RAM from flash, the run writes RAM again and
-  // its flash save is refused (MC runs again). Three signs make the plan save
-  // the tables in scope even where RAM matches: MC stopped, a recovery record
-  // of an unfinished restore, or this plan resetting the drive anyway (one
-  // flash save more, only when ROM values change). docs/restore.md.
-  const bool resets = opt.reset_after && rom_changed;
-  const bool force_save = mc_was_stopped || recovered || resets;
-  if (file.scope.command_table) LMCFG_TRY(plan_command_table(b, file, force_save));
-  if (file.scope.curves) LMCFG_TRY(plan_curves(b, file, force_save));
-  if (mc_was_stopped || recovered) rom_changed = true;  // restart so every ROM value acts
-  if (plan.steps.empty() && !mc_was_stopped && !recovered)
-    return plan;  // nothing to do: MC keeps running
+  order_comm_writes_last(plan.steps, first_step, w.expected, b.db);
+  return plan.steps.size() > first_step;
+}
+
+// Phase 4: stop MC first; at the end the reset (ROM values act) or an MC start.
+void add_stop_and_start(Builder& b, bool rom_changed) {
   PlanStep stop;
   stop.action = Action::stop_mc;
   stop.text =
       "stop MC and application software (§13.3): the axis stops until the end of the restore";
-  plan.steps.insert(plan.steps.begin(), std::move(stop));
-  plan.write_telegrams += 1;
-  if (opt.reset_after && rom_changed) {
+  b.plan.steps.insert(b.plan.steps.begin(), std::move(stop));
+  b.plan.write_telegrams += 1;
+  if (b.opt.reset_after && rom_changed) {
     // The reset restarts the firmware with MC running (§13.1), so a separate MC
     // start before it would only cost its ~3 s (§13.4).
     b.add(Action::reset, 0,
@@ -601,6 +613,67 @@ Result<Plan> plan_restore(client::Client& c, const config::DriveConfig& file,
               (rom_changed ? "; the written ROM values act after the next restart" : ""),
           1);
   }
+}
+
+}  // namespace
+
+Result<Plan> plan_restore(client::Client& c, const config::DriveConfig& file,
+                          const db::Database& db, const RestoreOptions& opt) {
+  Plan plan;
+  plan.expected.identity = file.identity;
+  plan.expected.scope = file.scope;
+  if (file.scope.curves) plan.expected.curves = file.curves;
+  if (file.scope.command_table) plan.expected.ct_entries = file.ct_entries;
+  check_tables(file, opt, plan);
+  Builder b{c, db, opt, plan};
+  LMCFG_ASSIGN_OR_RETURN(const EarlierRun earlier, detect_earlier_run(c, opt, plan));
+  const bool recovered = earlier.rec.has_value();
+
+  // Phase 1: compare and check every layer in scope; nothing is planned
+  // while a problem stands.
+  auto in_scope = [&](int layer) { return file.scope.layers[static_cast<std::size_t>(layer - 1)]; };
+  CompareProgress progress;
+  for (int layer = 1; layer <= 4; ++layer)
+    if (in_scope(layer)) progress.total += file.layer(layer).size();
+  std::vector<LayerWork> work;
+  for (int layer = 1; layer <= 4; ++layer) {
+    if (!in_scope(layer)) continue;
+    LayerWork w{layer, {}, {}, {}, {}, {}, {}, {}, {}};
+    LMCFG_TRY(compare_layer(b, file, earlier, progress, w));
+    work.push_back(std::move(w));
+  }
+  if (!plan.ok()) return plan;
+
+  // Phase 2: the ROM writes, layer by layer.
+  const double tel_us = telegram_estimate_us(c);
+  bool rom_changed = false;
+  for (const auto& w : work) {
+    LMCFG_ASSIGN_OR_RETURN(const bool changed, schedule_layer(b, w, tel_us));
+    rom_changed = rom_changed || changed;
+  }
+  if (!plan.ok()) {
+    plan.steps.clear();
+    return plan;
+  }
+
+  // Phase 3: the tables. LinRS cannot read flash (§11, §12), so RAM tables
+  // that match the file prove nothing about flash after an earlier run
+  // stopped half way: a drive reset in the middle reloads RAM from flash, the
+  // run writes RAM again and its flash save is refused (MC runs again). Three
+  // signs make the plan save the tables in scope even where RAM matches: MC
+  // stopped, a recovery record of an unfinished restore, or this plan
+  // resetting the drive anyway (one flash save more, only when ROM values
+  // change). docs/restore.md.
+  const bool resets = opt.reset_after && rom_changed;
+  const bool force_save = earlier.mc_was_stopped || recovered || resets;
+  if (file.scope.command_table) LMCFG_TRY(plan_command_table(b, file, force_save));
+  if (file.scope.curves) LMCFG_TRY(plan_curves(b, file, force_save));
+  if (earlier.mc_was_stopped || recovered) rom_changed = true;  // restart so every ROM value acts
+  if (plan.steps.empty() && !earlier.mc_was_stopped && !recovered)
+    return plan;  // nothing to do: MC keeps running
+
+  // Phase 4: MC stopped around the writes.
+  add_stop_and_start(b, rom_changed);
   return plan;
 }
 

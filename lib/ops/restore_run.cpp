@@ -24,7 +24,7 @@ const char* stage_name(RestoreOutcome::Stage s) {
 }
 
 RestoreOutcome run_restore(Session& session, const config::DriveConfig& file,
-                           const db::Database* db, const RestoreRunOptions& o) {
+                           const db::Database& db, const RestoreRunOptions& o) {
   using S = RestoreOutcome::Stage;
   RestoreOutcome out;
   auto& client = session.client();

@@ -40,7 +40,7 @@ struct RestoreOutcome {
 };
 
 RestoreOutcome run_restore(Session& session, const config::DriveConfig& file,
-                           const db::Database* db, const RestoreRunOptions& o);
+                           const db::Database& db, const RestoreRunOptions& o);
 
 const char* stage_name(RestoreOutcome::Stage s);  // "restored and verified", ...
 

@@ -20,6 +20,7 @@ using codec::Telegram;
 namespace st = codec::state;
 
 // sim::Layer values are the layer numbers of common/layers.hpp (none = 0).
+static_assert(static_cast<int>(Layer::appl) == layers::kCount);
 Layer layer_of(std::uint16_t upid) { return static_cast<Layer>(layers::of_upid(upid)); }
 
 std::uint16_t layer_base(Layer l) { return layers::base_upid(static_cast<int>(l)); }

@@ -15,13 +15,21 @@
 #include "codec/frame.hpp"
 #include "codec/messages.hpp"
 #include "common/bytes.hpp"
+#include "common/layers.hpp"
 #include "common/types.hpp"
 #include "transport/transport.hpp"
 
 namespace lmcfg::sim {
 
-// Firmware layers and their UPID ranges (seed 003 §10.2).
-enum class Layer : std::uint8_t { none = 0, os = 1, mc = 2, intf = 3, appl = 4 };
+// Firmware layers and their UPID ranges (seed 003 §10.2): the layer numbers
+// of common/layers.hpp as an enum, none = 0 outside every range.
+enum class Layer : std::uint8_t {
+  none = 0,
+  os = layers::kOS,
+  mc = layers::kMC,
+  intf = layers::kIntf,
+  appl = layers::kAppl,
+};
 Layer layer_of(std::uint16_t upid);
 std::uint16_t layer_base(Layer l);  // 0000h, 1000h, 2000h, 3000h
 const char* layer_name(Layer l);    // "OS", "MC", "Intf", "Appl", "none"

@@ -2,6 +2,7 @@
 // Loads tests/golden/seed003-captures.txt (extracted from seed 003 by
 // scripts/extract-golden.py).
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -39,6 +40,23 @@ inline std::vector<Capture> load_seed003_captures() {
     out.push_back(std::move(c));
   }
   return out;
+}
+
+// tests/golden/seed003-inconsistent.txt: seed line -> the decoder's verdict
+// ("frame_short") for the captures that are not self-consistent.
+inline std::map<int, std::string> load_seed003_inconsistent() {
+  std::ifstream in(std::string(LMCFG_SOURCE_DIR) + "/tests/golden/seed003-inconsistent.txt");
+  std::map<int, std::string> m;
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream ss(line);
+    int no = 0;
+    std::string verdict;
+    ss >> no >> verdict;
+    m[no] = verdict;
+  }
+  return m;
 }
 
 }  // namespace lmcfg::test

@@ -14,6 +14,7 @@
 #include "client/client.hpp"
 #include "codec/frame.hpp"
 #include "config/model.hpp"
+#include "db/database.hpp"
 #include "e2e_support.hpp"
 #include "ops/backup.hpp"
 #include "ops/restore.hpp"
@@ -206,7 +207,7 @@ inline ops::RestoreOptions restore_everything() {
 inline RestoreRun run_restore(client::Client& c, const config::DriveConfig& file,
                               const ops::RestoreOptions& ro = restore_everything()) {
   RestoreRun run;
-  auto plan = ops::plan_restore(c, file, nullptr, ro);
+  auto plan = ops::plan_restore(c, file, db::Database::empty(), ro);
   if (!plan.ok()) {
     run.outcome = std::move(plan).error();
     return run;
@@ -229,21 +230,6 @@ inline RestoreRun run_restore(client::Client& c, const config::DriveConfig& file
   return run;
 }
 
-inline bool is_comm_failure(const Error& e) {
-  if (e.code.category() != lmcfg_category()) return false;
-  switch (static_cast<Errc>(e.code.value())) {
-    case Errc::timeout:
-    case Errc::link_closed:
-    case Errc::io_error:
-    case Errc::frame_short:
-    case Errc::frame_overlong:
-    case Errc::frame_malformed:
-    case Errc::checksum_mismatch:
-    case Errc::unexpected_response:
-      return true;
-    default:
-      return false;
-  }
-}
+inline bool is_comm_failure(const Error& e) { return e.code == ErrorClass::link_failure; }
 
 }  // namespace lmcfg::test

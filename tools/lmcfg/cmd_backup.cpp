@@ -50,8 +50,7 @@ int run(BackupCli& o) {
     }
     labels[l.substr(0, eq)] = l.substr(eq + 1);
   }
-  std::optional<db::Database> holder;
-  const db::Database* db = load_database(o.common, holder);
+  const db::Database db = load_database(o.common);
   auto session = open_link(o.common);
   if (!session.ok()) return fail("backup", session.error());
   ops::BackupOptions bo;
@@ -72,7 +71,7 @@ int run(BackupCli& o) {
   cfg->identity.labels = labels;
   config::WriteOptions wo;
   std::optional<ops::DatabaseCtDecoder> ct_decoder;
-  if (db) wo.ct_decoder = &ct_decoder.emplace(*db);
+  if (!db.is_empty()) wo.ct_decoder = &ct_decoder.emplace(db);
   if (to_stdout) {
     auto text = config::write_config_text(*cfg, *format, wo);
     if (!text.ok()) return fail("backup", text.error());

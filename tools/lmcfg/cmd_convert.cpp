@@ -35,11 +35,10 @@ int run(const ConvertCli& o) {
   if (!format.ok()) return fail("convert", format.error());
   auto cfg = config::read_config_file(o.in);
   if (!cfg.ok()) return fail("convert", cfg.error());
-  std::optional<db::Database> holder;
-  const db::Database* db = load_database(o.common, holder);
+  const db::Database db = load_database(o.common);
   config::WriteOptions wo;
   std::optional<ops::DatabaseCtDecoder> ct_decoder;
-  if (db) wo.ct_decoder = &ct_decoder.emplace(*db);
+  if (!db.is_empty()) wo.ct_decoder = &ct_decoder.emplace(db);
   auto text = config::write_config_text(*cfg, *format, wo);
   if (!text.ok()) return fail("convert", text.error());
   if (o.out == "-") {
@@ -62,7 +61,7 @@ int run(const ConvertCli& o) {
                                    {"parameters", params},
                                    {"curves", cfg->curves.size()},
                                    {"ct_entries", cfg->ct_entries.size()},
-                                   {"ct_decoded", db != nullptr}};
+                                   {"ct_decoded", !db.is_empty()}};
     std::printf("%s\n", j.dump().c_str());
   }
   return kOk;

@@ -441,8 +441,7 @@ int run_scan(ScanCli& o) {
     return fail("db scan", Error(Errc::invalid_argument,
                                  "--merge-into '" + o.merge_into + "' is not a directory"));
   }
-  std::optional<db::Database> holder;
-  const db::Database* d = load_database(o.common, holder);
+  const db::Database d = load_database(o.common);
   if (auto ok = ops::check_scan_profile_id(o.profile, d); !ok.ok())
     return fail("db scan", ok.error());
   const std::string partial = o.output + ".partial";

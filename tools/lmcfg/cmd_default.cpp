@@ -22,7 +22,7 @@ struct DefaultCli {
   bool yes = false;
 };
 
-void report_json(const char* outcome, const ops::DefaultReport* rep, const db::Database* db,
+void report_json(const char* outcome, const ops::DefaultReport* rep, const db::Database& db,
                  const std::string& error) {
   nlohmann::ordered_json j;
   j["outcome"] = outcome;
@@ -68,8 +68,7 @@ int run(DefaultCli& o) {
     std::fprintf(stderr, "cancelled; nothing written\n");
     return kOk;
   }
-  std::optional<db::Database> holder;
-  const db::Database* db = load_database(o.common, holder);
+  const db::Database db = load_database(o.common);
   auto lo = link_options(o.common);
   if (!lo.ok()) return fail("default", lo.error());
   auto record = ops::recovery_path("default", o.common.port, lo->client.id);

@@ -11,8 +11,7 @@ namespace lmcfg::cli {
 namespace {
 
 int run(CompareOptions& o) {
-  std::optional<db::Database> holder;
-  const db::Database* db = load_database(o.common, holder);
+  const db::Database db = load_database(o.common);
   Compared c;
   if (int rc = load_and_compare("diff", o, db, c); rc != kOk) return rc;
   const auto& result = *c.result;

@@ -81,9 +81,9 @@ int run_fleet(const FleetCli& o, bool status) {
   if (!inv.ok()) return fail(name, inv.error());
   auto archive = fleet::Archive::open(o.archive, !status);
   if (!archive.ok()) return fail(name, archive.error());
-  std::optional<db::Database> holder;
+  const db::Database db = load_database(o.common);
   fleet::FleetOptions fo;
-  fo.db = load_database(o.common, holder);
+  fo.db = db;
   fo.links = *line_links(*inv, o.common);
   fo.rev = status ? o.since : "HEAD";
   fo.backup.curves = !o.no_curves;
@@ -133,11 +133,11 @@ int run_restore(const FleetCli& o) {
   if (!overrides.ok()) return fail("fleet restore", overrides.error());
   auto archive = fleet::Archive::open(o.archive, false);
   if (!archive.ok()) return fail("fleet restore", archive.error());
-  std::optional<db::Database> holder;
+  const db::Database db = load_database(o.common);
   fleet::FleetRestore fr;
   fr.drive = o.drive;
   fr.rev = o.rev;
-  fr.db = load_database(o.common, holder);
+  fr.db = db;
   const auto links = *line_links(*inv, o.common);
   fr.link = links[static_cast<std::size_t>(line - inv->lines.data())];
   CommonOptions common = o.common;  // the plan's prompt names the drive's port and MACID

@@ -9,8 +9,7 @@ namespace lmcfg::cli {
 namespace {
 
 int run(CommonOptions& o) {
-  std::optional<db::Database> holder;
-  const db::Database* db = load_database(o, holder);
+  const db::Database db = load_database(o);
   auto session = open_link(o);
   if (!session.ok()) return fail("info", session.error());
   auto info = ops::read_drive_info((*session)->client(), db);

@@ -74,7 +74,7 @@ void print_value(const ParamCli& o, std::uint16_t upid, const db::Parameter* d,
 // (a refusal can put MC into its error state, seed 003 §15), as a line for
 // stderr; "" for other errors.
 std::string refusal_state(client::Client& c, const char* cmd, const Error& e) {
-  if (e.code.category() != comm_state_category()) return "";
+  if (e.code != ErrorClass::drive_refusal) return "";
   auto st = ops::read_error_state(c);
   return "lmcfg " + std::string(cmd) + ": after the refusal: " +
          (st.ok() ? ops::render_error_state(*st)
@@ -92,9 +92,8 @@ int fail_with_state(const char* cmd, const Error& e, const std::string& state) {
 int run_get(ParamCli& o) {
   auto upid = parse_upid(o.upid_text);
   if (!upid.ok()) return fail("get", upid.error());
-  std::optional<db::Database> holder;
-  const db::Database* db = load_database(o.common, holder);
-  const db::Parameter* d = db ? db->find(*upid) : nullptr;
+  const db::Database db = load_database(o.common);
+  const db::Parameter* d = db.find(*upid);
   auto session = open_link(o.common);
   if (!session.ok()) return fail("get", session.error());
   auto& c = (*session)->client();
@@ -137,9 +136,8 @@ Result<bool> confirm_stop_mc(const ParamCli& o, std::uint16_t upid) {
 int run_set(ParamCli& o) {
   auto upid = parse_upid(o.upid_text);
   if (!upid.ok()) return fail("set", upid.error());
-  std::optional<db::Database> holder;
-  const db::Database* db = load_database(o.common, holder);
-  const db::Parameter* d = db ? db->find(*upid) : nullptr;
+  const db::Database db = load_database(o.common);
+  const db::Parameter* d = db.find(*upid);
   const bool comm = ops::is_comm_parameter(db, *upid);
   if (comm && !o.include_comm) {
     char hex[8];

@@ -25,8 +25,7 @@ struct ReportCli {
 int run(ReportCli& o) {
   // Checked before a drive is talked to: nothing is read only to be lost.
   if (auto ok = check_output_path(o.output, "-o"); !ok.ok()) return fail("report", ok.error());
-  std::optional<db::Database> holder;
-  const db::Database* db = load_database(o.cmp.common, holder);
+  const db::Database db = load_database(o.cmp.common);
   Compared c;
   if (int rc = load_and_compare("report", o.cmp, db, c); rc != kOk) return rc;
 

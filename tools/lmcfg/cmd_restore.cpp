@@ -21,8 +21,7 @@ int run(RestoreCli& o) {
   // The file first: a bad file never opens the link, so nothing is written.
   auto file = config::read_config_file(o.file);
   if (!file.ok()) return fail("restore", file.error());
-  std::optional<db::Database> holder;
-  const db::Database* db = load_database(o.common, holder);
+  const db::Database db = load_database(o.common);
   auto overrides = relink_overrides(o.flags.reconnect);
   if (!overrides.ok()) return fail("restore", overrides.error());
   auto session = open_link(o.common);

@@ -7,7 +7,7 @@
 
 namespace lmcfg::cli {
 
-int load_and_compare(const char* command, const CompareOptions& o, const db::Database* db,
+int load_and_compare(const char* command, const CompareOptions& o, const db::Database& db,
                      Compared& out) {
   SessionHandle session;
   const bool two = !o.b.empty();

@@ -30,7 +30,7 @@ struct Compared {
 // Loads the sides and, with two, compares them with ops::diff (defaults the
 // database and the files do not know are asked from a connected drive). On
 // failure prints "lmcfg COMMAND: ..." and returns the exit code; else kOk.
-int load_and_compare(const char* command, const CompareOptions& o, const db::Database* db,
+int load_and_compare(const char* command, const CompareOptions& o, const db::Database& db,
                      Compared& out);
 
 // A, B, the link options, --quiet/--db (and --json when `json`),

@@ -210,16 +210,15 @@ Result<SessionHandle> open_link(const CommonOptions& o) {
   return SessionHandle(s.release());
 }
 
-const db::Database* load_database(const CommonOptions& o, std::optional<db::Database>& holder) {
+db::Database load_database(const CommonOptions& o) {
   auto r = o.db_path.empty() ? db::Database::open_default() : db::Database::open(o.db_path);
   if (!r.ok()) {
     if (!o.quiet)
       std::fprintf(stderr, "lmcfg: warning: UPID database not loaded (%s); showing raw values\n",
                    r.error().message.c_str());
-    return nullptr;
+    return db::Database{};
   }
-  holder.emplace(std::move(r).value());
-  return &*holder;
+  return std::move(r).value();
 }
 
 namespace {
@@ -309,36 +308,23 @@ Result<void> check_output_path(const std::string& path, const std::string& optio
 }
 
 int exit_code_for(const Error& e) {
-  if (e.code.category() == comm_state_category()) return kDriveRefused;
-  if (e.code.category() != lmcfg_category()) return kCommFailure;  // OS errors on the link
-  switch (static_cast<Errc>(e.code.value())) {
-    case Errc::ok:
-      return kOk;
-    case Errc::timeout:
-    case Errc::link_closed:
-    case Errc::io_error:
-    case Errc::frame_short:
-    case Errc::frame_overlong:
-    case Errc::frame_malformed:
-    case Errc::checksum_mismatch:
-    case Errc::unexpected_response:
+  // One exit code per error class (common/result.hpp, class_of).
+  const auto c = class_of(e.code);
+  if (!c) return e.code == Errc::ok ? kOk : kInternal;
+  switch (*c) {
+    case ErrorClass::link_failure:
+    case ErrorClass::bad_answer:
+    case ErrorClass::link_down:
       return kCommFailure;
-    case Errc::drive_refused:
+    case ErrorClass::drive_refusal:
       return kDriveRefused;
-    case Errc::invalid_argument:
-    case Errc::parse_error:
-    case Errc::unsupported_version:
-    case Errc::validation_failed:
-    case Errc::not_found:
-    case Errc::file_error:
-    case Errc::cancelled:
-    case Errc::not_supported:
+    case ErrorClass::bad_input:
       return kInvalidInput;
-    case Errc::plan_refused:
+    case ErrorClass::plan_refused:
       return kPlanRefused;
-    case Errc::verify_mismatch:
+    case ErrorClass::verify_mismatch:
       return kVerifyMismatch;
-    case Errc::interrupted:
+    case ErrorClass::interrupted:
       return kInterrupted;
   }
   return kInternal;

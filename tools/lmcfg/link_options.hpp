@@ -48,9 +48,9 @@ struct ForgetOnDelete {
 using SessionHandle = std::unique_ptr<ops::Session, ForgetOnDelete>;
 Result<SessionHandle> open_link(const CommonOptions& o);
 
-// The database, or nullptr with a warning on stderr: a missing database makes
-// output less readable, never wrong.
-const db::Database* load_database(const CommonOptions& o, std::optional<db::Database>& holder);
+// The database, or an empty one (db::Database::is_empty()) with a warning on
+// stderr: a missing database makes output less readable, never wrong.
+db::Database load_database(const CommonOptions& o);
 
 // Progress bar on stderr when it is a terminal and not --quiet; else nothing.
 ops::Progress make_progress(const CommonOptions& o);

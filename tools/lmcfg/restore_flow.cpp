@@ -47,7 +47,7 @@ void add_restore_flags(CLI::App* sub, RestoreFlags& f) {
 int restore_on_session(ops::Session& session, const config::DriveConfig& file,
                        const std::string& file_name, const CommonOptions& common,
                        const RestoreFlags& f, const ops::RelinkOverrides& overrides,
-                       const db::Database* db, ops::RestoreOutcome& out) {
+                       const db::Database& db, ops::RestoreOutcome& out) {
   using S = ops::RestoreOutcome::Stage;
   auto& client = session.client();
   auto copt = client.options();

@@ -1,0 +1,89 @@
+// One error classification (common/result.hpp, ErrorClass): every code's
+// class, and the comparisons the client, the tools' exit codes, db scan and
+// the tests make with it.
+#include <catch2/catch.hpp>
+#include <map>
+#include <system_error>
+
+#include "common/result.hpp"
+
+using namespace lmcfg;
+
+TEST_CASE("error class: every Errc has exactly one class", "[error_class]") {
+  const std::map<Errc, ErrorClass> expected = {
+      {Errc::timeout, ErrorClass::bad_answer},
+      {Errc::link_closed, ErrorClass::link_down},
+      {Errc::io_error, ErrorClass::link_down},
+      {Errc::frame_short, ErrorClass::bad_answer},
+      {Errc::frame_overlong, ErrorClass::bad_answer},
+      {Errc::frame_malformed, ErrorClass::bad_answer},
+      {Errc::checksum_mismatch, ErrorClass::bad_answer},
+      {Errc::unexpected_response, ErrorClass::bad_answer},
+      {Errc::drive_refused, ErrorClass::drive_refusal},
+      {Errc::invalid_argument, ErrorClass::bad_input},
+      {Errc::parse_error, ErrorClass::bad_input},
+      {Errc::unsupported_version, ErrorClass::bad_input},
+      {Errc::validation_failed, ErrorClass::bad_input},
+      {Errc::not_found, ErrorClass::bad_input},
+      {Errc::file_error, ErrorClass::bad_input},
+      {Errc::plan_refused, ErrorClass::plan_refused},
+      {Errc::verify_mismatch, ErrorClass::verify_mismatch},
+      {Errc::cancelled, ErrorClass::bad_input},
+      {Errc::not_supported, ErrorClass::bad_input},
+      {Errc::interrupted, ErrorClass::interrupted},
+  };
+  const ErrorClass classes[] = {ErrorClass::link_failure,    ErrorClass::bad_answer,
+                                ErrorClass::link_down,       ErrorClass::drive_refusal,
+                                ErrorClass::bad_input,       ErrorClass::plan_refused,
+                                ErrorClass::verify_mismatch, ErrorClass::interrupted};
+  // Every value of the enum, from ok to the last one, is in the table above.
+  CHECK_FALSE(class_of(make_error_code(Errc::ok)));
+  for (int v = 1; v <= static_cast<int>(Errc::interrupted); ++v) {
+    const auto e = static_cast<Errc>(v);
+    INFO("Errc " << v << " " << make_error_code(e).message());
+    REQUIRE(expected.count(e) == 1);
+    const ErrorClass want = expected.at(e);
+    CHECK(class_of(make_error_code(e)) == want);
+    for (ErrorClass c : classes) {
+      const bool member =
+          c == want || (c == ErrorClass::link_failure &&
+                        (want == ErrorClass::bad_answer || want == ErrorClass::link_down));
+      CHECK((make_error_code(e) == c) == member);
+    }
+  }
+  CHECK(expected.size() == static_cast<std::size_t>(Errc::interrupted));
+  CHECK_FALSE(class_of(std::error_code(static_cast<int>(Errc::interrupted) + 1, lmcfg_category())));
+}
+
+TEST_CASE("error class: communication states and foreign codes", "[error_class]") {
+  // Every state byte of seed 003 §16.1 and any undocumented one is a refusal.
+  for (unsigned s = 0; s <= 0xFF; ++s) {
+    const auto code = make_comm_state_error(s);
+    CHECK(class_of(code) == ErrorClass::drive_refusal);
+    CHECK(code == ErrorClass::drive_refusal);
+    CHECK_FALSE(code == ErrorClass::link_failure);
+    CHECK_FALSE(code == ErrorClass::bad_answer);
+  }
+  // An OS error on the link is a link that failed, not a lost answer.
+  const auto os = std::make_error_code(std::errc::broken_pipe);
+  CHECK(class_of(os) == ErrorClass::link_down);
+  CHECK(os == ErrorClass::link_failure);
+  CHECK_FALSE(os == ErrorClass::bad_answer);
+  CHECK(make_error_condition(ErrorClass::link_failure).message() == "communication failure");
+}
+
+TEST_CASE("error class: the client repeats only lost or garbled answers", "[error_class]") {
+  // The classifiers that used to be written out: the client's retry set
+  // (bad_answer) leaves out link_closed and io_error, the tests' communication
+  // failure (link_failure) and the exit code 4 include them.
+  CHECK(make_error_code(Errc::timeout) == ErrorClass::bad_answer);
+  CHECK_FALSE(make_error_code(Errc::link_closed) == ErrorClass::bad_answer);
+  CHECK_FALSE(make_error_code(Errc::io_error) == ErrorClass::bad_answer);
+  CHECK(make_error_code(Errc::link_closed) == ErrorClass::link_failure);
+  CHECK(make_error_code(Errc::io_error) == ErrorClass::link_failure);
+  Error refusal(make_comm_state_error(0xC8), "C8h");
+  auto r = unless_refused(Result<int>(refusal));
+  REQUIRE(r.ok());
+  CHECK_FALSE(r->has_value());
+  CHECK_FALSE(unless_refused(Result<int>(Error(Errc::timeout, "lost"))).ok());
+}
