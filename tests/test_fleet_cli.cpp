@@ -270,6 +270,24 @@ TEST_CASE("fleet: --push sends the run's commit to a bare repository", "[fleet][
   REQUIRE(clone.ok());
   CHECK(clone->resolve("HEAD").value()->id == head->id);
   CHECK(clone->read("a.json").value() == local->read("a.json").value());
+
+  // A remote configured in the archive, pushed to by name.
+  REQUIRE(
+      std::system(("git init -q --bare '" + (dir / "named.git").string() + "' && git init -q '" +
+                   (dir / "arch2").string() + "' && git -C '" + (dir / "arch2").string() +
+                   "' remote add central '" + (dir / "named.git").string() + "'")
+                      .c_str()) == 0);
+  auto named = test::run_tool_in(dir, "fleet backup ok.toml --archive arch2 --push central");
+  INFO(named.err);
+  REQUIRE(named.exit_code == 0);
+  auto pushed = fleet::Archive::open((dir / "arch2").string(), false);
+  REQUIRE(pushed.ok());
+  REQUIRE(std::system(("git clone -q '" + (dir / "named.git").string() + "' '" +
+                       (dir / "clone2").string() + "'")
+                          .c_str()) == 0);
+  auto clone2 = fleet::Archive::open((dir / "clone2").string(), false);
+  REQUIRE(clone2.ok());
+  CHECK(clone2->resolve("HEAD").value()->id == pushed->resolve("HEAD").value()->id);
 }
 
 TEST_CASE("fleet: a damaged archived file is drift that the next backup repairs", "[fleet][cli]") {
