@@ -3,15 +3,19 @@
 namespace lmcfg::devicenet {
 namespace {
 
-void put_word(Bytes& out, std::uint16_t w) {
-  out.push_back(static_cast<std::uint8_t>(w & 0xFF));
-  out.push_back(static_cast<std::uint8_t>(w >> 8));
-}
-
+// Words low byte first (common/bytes.hpp), read in order.
 std::uint16_t word_at(ByteView b, std::size_t& at) {
-  const auto w = static_cast<std::uint16_t>(b[at] | (b[at + 1] << 8));
+  const auto w = get_u16le(b, at);
   at += 2;
   return w;
+}
+
+// A poll command or response whose size does not match the configured modules.
+Result<void> check_size(const char* what, std::size_t got, std::size_t want) {
+  if (got == want) return {};
+  return Error(got < want ? Errc::frame_short : Errc::frame_overlong,
+               std::string(what) + " of " + std::to_string(got) +
+                   " byte(s); the configured modules make " + std::to_string(want));
 }
 
 std::size_t master_count(const IoLayout& l) {
@@ -81,31 +85,24 @@ std::size_t IoLayout::response_size() const {
 
 Bytes encode_command(const IoLayout& l, const PollCommand& c) {
   Bytes out;
-  if (l.control_in) put_word(out, c.control);
+  if (l.control_in) put_u16le(out, c.control);
   if (l.addressed_in) {
-    put_word(out, c.addressed.encode());
-    put_word(out, c.addressed_value);
+    put_u16le(out, c.addressed.encode());
+    put_u16le(out, c.addressed_value);
   }
   if (l.direct_in) {
     for (Motor m : kMotors) {
       const auto i = static_cast<std::size_t>(m);
       if (!l.masters[i]) continue;
-      put_word(out, c.direct[i].encode());
-      put_word(out, c.direct_value[i]);
+      put_u16le(out, c.direct[i].encode());
+      put_u16le(out, c.direct_value[i]);
     }
   }
   return out;
 }
 
 Result<PollResponse> decode_response(const IoLayout& l, ByteView bytes) {
-  const std::size_t want = l.response_size();
-  if (bytes.size() != want) {
-    return Error(bytes.size() < want ? Errc::frame_short : Errc::frame_overlong,
-                 "poll response of " + std::to_string(bytes.size()) +
-                     " byte(s); the configured "
-                     "modules make " +
-                     std::to_string(want));
-  }
+  LMCFG_TRY(check_size("poll response", bytes.size(), l.response_size()));
   PollResponse r;
   std::size_t at = 0;
   if (l.status_out) {
@@ -126,13 +123,7 @@ Result<PollResponse> decode_response(const IoLayout& l, ByteView bytes) {
 }
 
 Result<PollCommand> decode_command(const IoLayout& l, ByteView bytes) {
-  if (bytes.size() != l.command_size()) {
-    return Error(bytes.size() < l.command_size() ? Errc::frame_short : Errc::frame_overlong,
-                 "poll command of " + std::to_string(bytes.size()) +
-                     " byte(s); the configured "
-                     "modules make " +
-                     std::to_string(l.command_size()));
-  }
+  LMCFG_TRY(check_size("poll command", bytes.size(), l.command_size()));
   PollCommand c;
   std::size_t at = 0;
   if (l.control_in) c.control = word_at(bytes, at);
@@ -154,18 +145,18 @@ Result<PollCommand> decode_command(const IoLayout& l, ByteView bytes) {
 Bytes encode_response(const IoLayout& l, const PollResponse& r) {
   Bytes out;
   if (l.status_out) {
-    put_word(out, r.status.low);
-    put_word(out, r.status.high);
+    put_u16le(out, r.status.low);
+    put_u16le(out, r.status.high);
   }
   if (l.addressed_out) {
-    put_word(out, r.addressed_echo.encode());
-    put_word(out, r.addressed_value);
+    put_u16le(out, r.addressed_echo.encode());
+    put_u16le(out, r.addressed_value);
   }
   for (Motor m : kMotors) {
     const auto i = static_cast<std::size_t>(m);
     if (!l.masters[i]) continue;
-    if (l.direct_out1) put_word(out, r.direct_out1[i]);
-    if (l.direct_out2) put_word(out, r.direct_out2[i]);
+    if (l.direct_out1) put_u16le(out, r.direct_out1[i]);
+    if (l.direct_out2) put_u16le(out, r.direct_out2[i]);
   }
   return out;
 }

@@ -27,10 +27,8 @@ Result<std::optional<can::Frame>> Master::wait_for(std::uint32_t id, transport::
 
 Result<void> Master::check_own_mac() {
   Bytes data{0x00};  // request, physical port 0
-  data.push_back(static_cast<std::uint8_t>(opt_.vendor_id & 0xFF));
-  data.push_back(static_cast<std::uint8_t>(opt_.vendor_id >> 8));
-  for (int i = 0; i < 4; ++i)
-    data.push_back(static_cast<std::uint8_t>(opt_.serial_number >> (8 * i)));
+  put_u16le(data, opt_.vendor_id);
+  put_u32le(data, opt_.serial_number);
   const auto id = group2_id(opt_.own_mac, Group2::duplicate_mac_check);
   for (int round = 0; round < 2; ++round) {
     LMCFG_TRY(link_.send(can::Frame::standard(id, data)));
@@ -74,14 +72,13 @@ Result<void> Master::connect() {
     return std::move(data).error();
   }
   connected_ = true;
-  const std::uint8_t rate[] = {static_cast<std::uint8_t>(opt_.expected_packet_rate_ms & 0xFF),
-                               static_cast<std::uint8_t>(opt_.expected_packet_rate_ms >> 8)};
+  Bytes rate;
+  put_u16le(rate, opt_.expected_packet_rate_ms);
   const auto set =
       set_attribute(opt_.own_mac, kConnectionClass, kPolledConnection, kExpectedPacketRate, rate);
   LMCFG_ASSIGN_OR_RETURN(auto set_answer, explicit_request(Group2::master_explicit_request, set));
   LMCFG_ASSIGN_OR_RETURN(auto granted, response_data(set, set_answer));
-  granted_rate_ = granted.size() >= 2 ? static_cast<std::uint16_t>(granted[0] | granted[1] << 8)
-                                      : opt_.expected_packet_rate_ms;
+  granted_rate_ = granted.size() >= 2 ? get_u16le(granted, 0) : opt_.expected_packet_rate_ms;
   return {};
 }
 

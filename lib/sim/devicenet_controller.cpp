@@ -117,10 +117,10 @@ void DeviceNetController::explicit_message(const can::Frame& f, bool unconnected
              d[0] == devicenet::kConnectionClass && d[1] == devicenet::kPolledConnection &&
              d[2] == devicenet::kExpectedPacketRate) {
     // Rounded up to the controller's 10 ms timer, as slaves report the rate they use.
-    const auto asked = static_cast<std::uint16_t>(d[3] | d[4] << 8);
+    const auto asked = get_u16le(d, 3);
     packet_rate_ = static_cast<std::uint16_t>((asked + 9) / 10 * 10);
-    answer.data = {static_cast<std::uint8_t>(packet_rate_ & 0xFF),
-                   static_cast<std::uint8_t>(packet_rate_ >> 8)};
+    answer.data.clear();
+    put_u16le(answer.data, packet_rate_);
   } else {
     refuse(0x08, 0xFF);  // service not supported
   }
