@@ -60,10 +60,6 @@ class SlcanLink final : public Link {
   }
 
  private:
-  static ByteView as_bytes(std::string_view s) {
-    return ByteView(reinterpret_cast<const std::uint8_t*>(s.data()), s.size());
-  }
-
   Result<void> command(const std::string& line) {
     LMCFG_TRY(serial_->write(as_bytes(line)));
     return await_ack(line.substr(0, line.size() - 1), opt_.ack_timeout, false);

@@ -12,6 +12,11 @@ namespace lmcfg {
 using Bytes = std::vector<std::uint8_t>;
 using ByteView = std::span<const std::uint8_t>;
 
+// The characters of `s` as bytes (ASCII protocols such as slcan).
+inline ByteView as_bytes(std::string_view s) {
+  return ByteView(reinterpret_cast<const std::uint8_t*>(s.data()), s.size());
+}
+
 inline std::uint16_t get_u16le(ByteView b, std::size_t off) {
   return static_cast<std::uint16_t>(b[off] | (b[off + 1] << 8));
 }

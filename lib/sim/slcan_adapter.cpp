@@ -5,14 +5,6 @@
 #include "can/frame.hpp"
 
 namespace lmcfg::sim {
-namespace {
-
-ByteView text(const std::string& s) {
-  return ByteView(reinterpret_cast<const std::uint8_t*>(s.data()), s.size());
-}
-
-}  // namespace
-
 Result<void> serve_slcan(can::VirtualBus& bus, transport::Transport& serial,
                          const SlcanAdapterOptions& opt) {
   auto endpoint = bus.open("slcan adapter");
@@ -52,7 +44,7 @@ Result<void> serve_slcan(can::VirtualBus& bus, transport::Transport& serial,
       if (!f) break;
       if (open) out += can::slcan::encode(*f);
     }
-    if (!out.empty()) LMCFG_TRY(serial.write(text(out)));
+    if (!out.empty()) LMCFG_TRY(serial.write(as_bytes(out)));
   }
   return {};
 }

@@ -441,6 +441,22 @@ Result<void> save_state(const DriveState& s, const std::string& path) {
   return {};
 }
 
+Result<std::vector<DriveState>> load_line(const std::vector<std::string>& paths) {
+  std::vector<DriveState> states;
+  for (const auto& path : paths) {
+    LMCFG_ASSIGN_OR_RETURN(auto state, load_state(path));
+    for (std::size_t i = 0; i < states.size(); ++i) {
+      if (states[i].macid == state.macid) {
+        return Error(Errc::invalid_argument, path + ": MACID " + hex(state.macid, 2, "h") +
+                                                 " is already used by " + paths[i] +
+                                                 " on this line");
+      }
+    }
+    states.push_back(std::move(state));
+  }
+  return states;
+}
+
 transport::LinkFactory state_file_link_factory() {
   return [](const transport::LinkRequest& req) -> Result<transport::OpenedLink> {
     std::vector<std::string> paths;
@@ -450,18 +466,9 @@ transport::LinkFactory state_file_link_factory() {
       if (comma == std::string::npos) break;
       from = comma + 1;
     }
+    LMCFG_ASSIGN_OR_RETURN(auto states, load_line(paths));
     std::vector<std::shared_ptr<Drive>> drives;
-    for (const auto& path : paths) {
-      LMCFG_ASSIGN_OR_RETURN(auto state, load_state(path));
-      for (std::size_t i = 0; i < drives.size(); ++i) {
-        if (drives[i]->state().macid == state.macid) {
-          return Error(Errc::invalid_argument, path + ": MACID " + hex(state.macid, 2, "h") +
-                                                   " is already used by " + paths[i] +
-                                                   " on this line");
-        }
-      }
-      drives.push_back(std::make_shared<Drive>(std::move(state)));
-    }
+    for (auto& state : states) drives.push_back(std::make_shared<Drive>(std::move(state)));
     // The line runs at the first drive's settings; a drive at other settings
     // hears nothing until the master switches to them.
     transport::SerialSettings line;

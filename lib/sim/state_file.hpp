@@ -3,6 +3,7 @@
 // fixtures in tests/fixtures/sim/). Format id "lmcfg-sim-state", version 1.
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "common/result.hpp"
 #include "sim/drive.hpp"
@@ -18,6 +19,9 @@ nlohmann::json to_json(const DriveState& s);
 Result<DriveState> from_json(const nlohmann::json& j);
 
 Result<DriveState> load_state(const std::string& path);
+// The states of the drives on one RS485 line, in the order given; two with
+// the same MACID are refused (Errc::invalid_argument naming both files).
+Result<std::vector<DriveState>> load_line(const std::vector<std::string>& paths);
 // Written to `path`.tmp, then renamed over `path`.
 Result<void> save_state(const DriveState& s, const std::string& path);
 

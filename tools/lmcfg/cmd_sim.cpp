@@ -5,7 +5,6 @@
 #include <unistd.h>
 
 #include <cstdio>
-#include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -92,17 +91,8 @@ Result<std::vector<std::unique_ptr<sim::Drive>>> load_drives(
     drives.push_back(std::make_unique<sim::Drive>(std::move(st)));
     return drives;
   }
-  std::map<std::uint8_t, std::string> seen;
-  for (const auto& path : states) {
-    LMCFG_ASSIGN_OR_RETURN(auto st, sim::load_state(path));
-    auto [it, fresh] = seen.emplace(st.macid, path);
-    if (!fresh) {
-      return Error(Errc::invalid_argument, path + ": MACID " + hex(st.macid, 2, "h") +
-                                               " is already used by " + it->second +
-                                               " on this line");
-    }
-    drives.push_back(std::make_unique<sim::Drive>(std::move(st)));
-  }
+  LMCFG_ASSIGN_OR_RETURN(auto line, sim::load_line(states));
+  for (auto& st : line) drives.push_back(std::make_unique<sim::Drive>(std::move(st)));
   return drives;
 }
 
