@@ -180,6 +180,12 @@ Ptr issue_pointer(const Issue& is, const LayerIndex& layer_index) {
     case Issue::Where::ct_entry:
       p = p / "command_table" / is.index / is.field;
       break;
+    case Issue::Where::devicenet:
+      p = p / "devicenet" / is.field;
+      break;
+    case Issue::Where::devicenet_value:
+      p = p / "devicenet" / (is.live ? "live" : "values") / is.index / is.field;
+      break;
   }
   return p;
 }

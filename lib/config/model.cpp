@@ -154,6 +154,14 @@ void canonicalize(DriveConfig& cfg) {
                    [](const auto& a, const auto& b) { return a.id < b.id; });
   std::stable_sort(cfg.ct_entries.begin(), cfg.ct_entries.end(),
                    [](const auto& a, const auto& b) { return a.id < b.id; });
+  if (cfg.devicenet) {
+    const auto by_target = [](const DevicenetValue& a, const DevicenetValue& b) {
+      return std::pair(a.motor, a.command) < std::pair(b.motor, b.command);
+    };
+    std::stable_sort(cfg.devicenet->values.begin(), cfg.devicenet->values.end(), by_target);
+    std::stable_sort(cfg.devicenet->live.begin(), cfg.devicenet->live.end(), by_target);
+    std::sort(cfg.devicenet->motors.begin(), cfg.devicenet->motors.end());
+  }
 }
 
 bool is_clean_text(std::string_view s) noexcept {
@@ -191,6 +199,72 @@ bool is_clean_text(std::string_view s) noexcept {
   }
   return true;
 }
+
+namespace {
+
+std::string motor_text(int motor) {
+  return motor == kDevicenetController ? std::string("the controller")
+                                       : std::string("motor ") + static_cast<char>('A' + motor);
+}
+
+std::optional<Issue> find_devicenet_issue(const DriveConfig& cfg) {
+  const auto& dn = *cfg.devicenet;
+  const auto section = [](std::string field, std::string message) {
+    return Issue{Issue::Where::devicenet, 0, 0, std::move(field), std::move(message)};
+  };
+  if (std::any_of(cfg.scope.layers.begin(), cfg.scope.layers.end(), [](bool b) { return b; }) ||
+      cfg.scope.curves || cfg.scope.command_table)
+    return Issue{Issue::Where::scope, 0, 0, "layers",
+                 "a DeviceNet capture has no parameter layers, curves or command table: its "
+                 "scope must name none"};
+  for (int l = 1; l <= lmcfg::layers::kCount; ++l)
+    if (!cfg.layer(l).empty())
+      return Issue{Issue::Where::layer, l, 0, "", "a DeviceNet capture has no UPID parameters"};
+  if (dn.can_bitrate != 125000 && dn.can_bitrate != 250000 && dn.can_bitrate != 500000)
+    return section("can_bitrate", "CAN bit rate " + std::to_string(dn.can_bitrate) +
+                                      " is not a DeviceNet rate (125000, 250000, 500000)");
+  for (const auto& m : dn.io_modules)
+    if (m.empty() || !is_clean_text(m))
+      return section("io_modules", "expected module names of UTF-8 text, not empty");
+  std::set<int> motors;
+  for (int m : dn.motors)
+    if (m < 0 || m > 3 || !motors.insert(m).second)
+      return section("motors", "expected motors A..D, each once");
+  for (const bool live : {false, true}) {
+    const auto& list = live ? dn.live : dn.values;
+    std::set<std::pair<int, int>> seen;
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      const auto& v = list[i];
+      const auto at = [&](std::string field, std::string message) {
+        Issue is{Issue::Where::devicenet_value, 0, i, std::move(field), std::move(message)};
+        is.live = live;
+        return is;
+      };
+      if (v.motor != kDevicenetController && (v.motor < 0 || v.motor > 3))
+        return at("motor", "expected the controller or a motor A..D");
+      if (v.motor != kDevicenetController && !motors.count(v.motor))
+        return at("motor", motor_text(v.motor) + " is not among the section's motors");
+      if (v.command > 0x7F)
+        return at("command", "command ID " + hex(v.command, 2) + "h is outside 00h..7Fh");
+      if (!live && (v.command & 1))
+        return at("command", "command ID " + hex(v.command, 2) +
+                                 "h is a Set command; values are recorded under their Get "
+                                 "command (an even ID)");
+      if (!seen.insert({v.motor, v.command}).second)
+        return at("command",
+                  "duplicate command " + hex(v.command, 2) + "h for " + motor_text(v.motor));
+      for (const auto& [field, value] :
+           {std::pair<const char*, const std::string*>{"name", &v.name},
+            {"unit", &v.unit},
+            {"scaled", &v.scaled}})
+        if (!is_clean_text(*value))
+          return at(field, "expected UTF-8 text without control characters");
+    }
+  }
+  return std::nullopt;
+}
+
+}  // namespace
 
 std::optional<Issue> find_issue(const DriveConfig& cfg) {
   {
@@ -292,6 +366,7 @@ std::optional<Issue> find_issue(const DriveConfig& cfg) {
       return Issue{Issue::Where::ct_entry, 0, i, "raw",
                    "command table entry " + std::to_string(e.id) + " has no bytes"};
   }
+  if (cfg.devicenet) return find_devicenet_issue(cfg);
   return std::nullopt;
 }
 
@@ -317,6 +392,13 @@ Result<void> validate(const DriveConfig& cfg) {
       break;
     case Issue::Where::ct_entry:
       where = "command table entry #" + std::to_string(is->index + 1);
+      break;
+    case Issue::Where::devicenet:
+      where = "devicenet " + is->field;
+      break;
+    case Issue::Where::devicenet_value:
+      where = std::string("devicenet ") + (is->live ? "live" : "values") + " #" +
+              std::to_string(is->index + 1);
       break;
   }
   return Error(Errc::validation_failed, "invalid configuration: " + where + ": " + is->message);

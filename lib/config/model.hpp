@@ -163,12 +163,51 @@ class CtEntryDecoder {
 };
 
 // ---------------------------------------------------------------------------
+// DeviceNet controllers of seed 000 (the `devicenet` section, format version
+// 3): runtime values read with the general-purpose commands of §5.2 Table 5-1
+// over the Addressed In/Out modules. They are runtime values: the persistent
+// configuration of these controllers is made with the vendor's PC software
+// (seed 000 §1.1), so a restore re-applies them until the next power cycle.
+// docs/devicenet.md.
+inline constexpr int kDevicenetController = -1;  // DevicenetValue::motor: no motor bit set
+
+struct DevicenetValue {
+  int motor = kDevicenetController;  // -1: the controller, 0..3: motor A..D
+  std::uint8_t command = 0;          // the Get command ID (Table 5-1); its Set is command + 1
+  std::uint16_t raw = 0;             // the response value word as read (§5.2 word 2)
+  // Display only, filled from the database; empty = unknown.
+  std::string name;    // "Controller P"
+  std::string unit;    // "A/mm"
+  std::string scaled;  // "2.3438"
+  bool operator==(const DevicenetValue&) const = default;
+};
+
+struct DevicenetSection {
+  std::uint32_t can_bitrate = 125000;  // 125000, 250000 or 500000
+  // The controller's IO modules as configured with LinTalk (§5.1), by name:
+  // "control-in", "addressed-in", "direct-in:A".., "status-out",
+  // "addressed-out", "direct-out-1:A".., "direct-out-2:A"..
+  // (devicenet::IoLayout's text form).
+  std::vector<std::string> io_modules;
+  std::vector<int> motors;  // motors configured on the controller, 0..3 = A..D, ascending
+  // Settable values (a Get with a Set of Table 5-1): compared and restored.
+  std::vector<DevicenetValue> values;
+  // Informational (status words, actual position, setpoints, IO): recorded
+  // when read, never restored, compared only when asked.
+  std::vector<DevicenetValue> live;
+  bool operator==(const DevicenetSection&) const = default;
+};
+
+// ---------------------------------------------------------------------------
 struct DriveConfig {
   Identity identity;
   Scope scope;
   std::array<std::vector<Parameter>, lmcfg::layers::kCount> layers;  // index = layer - 1
   std::vector<Curve> curves;
   std::vector<CtEntry> ct_entries;
+  // Present for DeviceNet controllers (seed 000) only; such a capture has no
+  // layers, curves or command table in its scope.
+  std::optional<DevicenetSection> devicenet;
 
   std::vector<Parameter>& layer(int number) {
     return layers.at(static_cast<std::size_t>(number - 1));
@@ -191,13 +230,14 @@ void canonicalize(DriveConfig& cfg);
 // A semantic problem, located in model terms so each reader can turn it into
 // its own location (JSON pointer -> line:column, XML path).
 struct Issue {
-  enum class Where { identity, scope, layer, param, curve, ct_entry };
+  enum class Where { identity, scope, layer, param, curve, ct_entry, devicenet, devicenet_value };
   Where where = Where::scope;
   int layer = 0;          // 1..4 for layer/param
-  std::size_t index = 0;  // position within the layer / curves / ct_entries vector
+  std::size_t index = 0;  // position within the layer / curves / ct_entries / devicenet values
   std::string field;      // "upid", "value", "id", "info", "data", "raw", "" (identity: "macid",
                           // "link.port", "labels.<key>", ...)
   std::string message;    // what was expected
+  bool live = false;      // devicenet_value: in `live`, not `values`
 };
 // Text fields (identity, labels, display fields) must be valid UTF-8 without
 // control characters, so that both formats carry them losslessly.

@@ -92,6 +92,10 @@ std::string issue_path(const Issue& is, const Nodes& nodes) {
       path = is.field == "id" ? node_path(en) + "/@id" : node_path(en.child(is.field.c_str()));
       break;
     }
+    case Issue::Where::devicenet:
+    case Issue::Where::devicenet_value:
+      path = "/lmcfg-drive-config/devicenet";  // TODO(#17): element paths once the XML form exists
+      break;
   }
   return path;
 }
