@@ -15,8 +15,9 @@ ALLOWED = {  # as lib/CMakeLists.txt declares, with the layer itself
     "can": {"can", "transport", "common"},
     "devicenet": {"devicenet", "can", "transport", "common"},
     "sim": {"sim", "devicenet", "can", "codec", "transport", "common"},
-    "ops": {"ops", "client", "config", "db", "codec", "transport", "common"},
-    "fleet": {"fleet", "ops", "client", "config", "db", "codec", "transport", "common"},
+    "ops": {"ops", "client", "config", "db", "devicenet", "can", "codec", "transport", "common"},
+    "fleet": {"fleet", "ops", "client", "config", "db", "devicenet", "can", "codec", "transport",
+              "common"},
 }
 build, source = sys.argv[1], sys.argv[2]
 commands = json.load(open(os.path.join(build, "compile_commands.json")))

@@ -61,9 +61,16 @@ constexpr std::size_t kLongestLine = 1 + 8 + 1 + 16 + 4;  // T, ID, L, data, tim
 
 }  // namespace
 
+namespace {
+constexpr unsigned kRates[] = {10000, 20000, 50000, 100000, 125000, 250000, 500000, 800000, 1000000};
+}
+
+std::optional<unsigned> bitrate_of(char digit) {
+  if (digit < '0' || digit > '8') return std::nullopt;
+  return kRates[digit - '0'];
+}
+
 Result<std::string> bitrate_command(unsigned bitrate) {
-  constexpr unsigned kRates[] = {10000,  20000,  50000,  100000, 125000,
-                                 250000, 500000, 800000, 1000000};
   for (unsigned i = 0; i < std::size(kRates); ++i) {
     if (kRates[i] == bitrate) return "S" + std::to_string(i) + "\r";
   }

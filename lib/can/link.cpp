@@ -1,5 +1,7 @@
 #include "can/link.hpp"
 
+#include <cctype>
+
 #include <linux/can.h>
 #include <linux/can/raw.h>
 #include <net/if.h>
@@ -53,6 +55,27 @@ class SlcanLink final : public Link {
     Frame f = frames_.front();
     frames_.pop_front();
     return std::optional<Frame>(f);
+  }
+
+  Result<std::optional<std::uint8_t>> status_flags() override {
+    last_unknown_.clear();
+    bells_ = 0;
+    LMCFG_TRY(serial_->write(as_bytes(slcan::kReadStatus)));
+    const auto until = Clock::now() + opt_.ack_timeout;
+    const auto is_flags = [](const std::string& l) {
+      return l.size() == 3 && l[0] == 'F' && std::isxdigit(static_cast<unsigned char>(l[1])) &&
+             std::isxdigit(static_cast<unsigned char>(l[2]));
+    };
+    while (!is_flags(last_unknown_)) {
+      const auto left = std::chrono::duration_cast<transport::Millis>(until - Clock::now());
+      if (left.count() <= 0 || bells_ > 0) {
+        bells_ = 0;
+        return std::optional<std::uint8_t>();  // an adapter without "F"
+      }
+      LMCFG_TRY(pump(left));
+    }
+    const auto flags = std::stoul(last_unknown_.substr(1), nullptr, 16);
+    return std::optional<std::uint8_t>(static_cast<std::uint8_t>(flags));
   }
 
   std::string describe() const override {

@@ -24,6 +24,10 @@ class Link {
   // The next frame from the bus, waiting at most `timeout`; nullopt on timeout.
   virtual Result<std::optional<Frame>> receive(transport::Millis timeout) = 0;
   virtual std::string describe() const = 0;
+  // The adapter's error flags since the last call (slcan "F"), nonzero after
+  // bus errors, e.g. frames no node acknowledged (a wrong bit rate, a bus
+  // without the device); nullopt where the adapter cannot tell.
+  virtual Result<std::optional<std::uint8_t>> status_flags() { return std::optional<std::uint8_t>(); }
 };
 
 struct SlcanOptions {
@@ -56,6 +60,7 @@ class TraceLink final : public Link {
   Result<void> send(const Frame& f) override;
   Result<std::optional<Frame>> receive(transport::Millis timeout) override;
   std::string describe() const override { return inner_->describe(); }
+  Result<std::optional<std::uint8_t>> status_flags() override { return inner_->status_flags(); }
 
  private:
   void trace(const Frame& f, bool tx);

@@ -49,13 +49,33 @@ Result<Explicit> Master::explicit_request(Group2 port, const Explicit& request) 
       auto answer,
       wait_for(group2_id(opt_.slave_mac, Group2::slave_explicit_response), opt_.timeout));
   if (!answer) {
-    return Error(Errc::timeout, "no answer from " + mac_name(opt_.slave_mac) + " to " +
-                                    std::string(service_name(request.service)) + " within " +
-                                    std::to_string(opt_.timeout.count()) + " ms on " +
-                                    link_.describe() +
-                                    " (check the MAC ID, the bit rate and the cabling)");
+    return silence(std::string(service_name(request.service)) + " within " +
+                   std::to_string(opt_.timeout.count()) + " ms");
   }
   return Explicit::decode(answer->payload());
+}
+
+// Silence has two usual causes the tool can tell apart by the adapter's error
+// flags: at a wrong bit rate no node acknowledges our frames (bus errors); at
+// the right rate with a wrong MAC ID the controller acknowledges them on the
+// CAN level but does not answer.
+Error Master::silence(const std::string& what) {
+  std::string text = "no answer from " + mac_name(opt_.slave_mac) + " to " + what + " on " +
+                     link_.describe();
+  auto flags = link_.status_flags();
+  if (flags.ok() && *flags && **flags != 0) {
+    text += ": the adapter reports CAN bus errors (status flags " + hex(**flags, 2, "h") +
+            "): no node acknowledged the frames, so the bit rate is probably wrong: check "
+            "--can-bitrate (125000, 250000 or 500000, the controller's DeviceNet\\Baudrate) and "
+            "that the adapter is connected to the DeviceNet bus";
+  } else if (flags.ok() && *flags) {
+    text += ": the bus carried the frames without errors, so the bit rate fits; check "
+            "--devicenet-macid (the controller's MAC ID switches) and that the controller is "
+            "powered";
+  } else {
+    text += ": check --can-bitrate (125000, 250000 or 500000), --devicenet-macid and the cabling";
+  }
+  return Error(Errc::timeout, text);
 }
 
 Result<void> Master::connect() {
@@ -79,7 +99,38 @@ Result<void> Master::connect() {
   LMCFG_ASSIGN_OR_RETURN(auto set_answer, explicit_request(Group2::master_explicit_request, set));
   LMCFG_ASSIGN_OR_RETURN(auto granted, response_data(set, set_answer));
   granted_rate_ = granted.size() >= 2 ? get_u16le(granted, 0) : opt_.expected_packet_rate_ms;
-  return {};
+  return check_connection_sizes();
+}
+
+Result<void> Master::check_connection_sizes() {
+  std::uint16_t sizes[2] = {};
+  const std::uint8_t attributes[2] = {kConsumedConnectionSize, kProducedConnectionSize};
+  for (int i = 0; i < 2; ++i) {
+    const auto get = get_attribute(opt_.own_mac, kConnectionClass, kPolledConnection, attributes[i]);
+    LMCFG_ASSIGN_OR_RETURN(auto answer, explicit_request(Group2::master_explicit_request, get));
+    auto data = response_data(get, answer);
+    if (!data.ok() || data->size() < 2) return {};  // not told: the layout given is trusted
+    sizes[i] = get_u16le(*data, 0);
+  }
+  consumed_size_ = sizes[0];
+  produced_size_ = sizes[1];
+  const auto& l = opt_.layout;
+  if (consumed_size_ == l.command_size() && produced_size_ == l.response_size()) return {};
+  std::string text = mac_name(opt_.slave_mac) + "'s polled connection takes " +
+                     std::to_string(consumed_size_) + " byte(s) and gives " +
+                     std::to_string(produced_size_) + ", but the IO layout " +
+                     std::to_string(l.command_size()) + "/" + std::to_string(l.response_size()) +
+                     " was expected";
+  if (consumed_size_ < 4 || produced_size_ < 4) {
+    text += ": it cannot hold the Addressed In and Addressed Out modules the configuration "
+            "commands need (seed 000 §5.1, §5.2). Configure the controller's IO setup with "
+            "LinTalk to include Addressed In and Addressed Out (the default: Control In + "
+            "Addressed In, Status Out + Addressed Out), then run again";
+  } else {
+    text += ": give the controller's modules with --io-modules (e.g. "
+            "control-in,addressed-in,status-out,addressed-out), as set up with LinTalk (§5.1)";
+  }
+  return Error(Errc::not_supported, text);
 }
 
 Result<void> Master::release() {
@@ -127,6 +178,7 @@ Result<std::uint16_t> Master::command(std::array<bool, 4> motors, std::uint8_t i
     return Error(Errc::not_supported,
                  "the controller's module layout has no Addressed In/Out: commands need both");
   }
+  last_coded_error_ = 0;
   if (!have_toggle_) {
     LMCFG_ASSIGN_OR_RETURN(auto first, poll(last_command_));
     toggle_ = first.addressed_echo.toggle;
@@ -147,6 +199,8 @@ Result<std::uint16_t> Master::command(std::array<bool, 4> motors, std::uint8_t i
     if (r.status.error_pending() && !error_before && id != 0x0A) {
       auto coded = command({}, 0x0A, 0);
       const std::uint16_t code = coded.ok() ? *coded : 0;
+      if (coded.ok()) LMCFG_TRY(command({}, 0x0B, 0));
+      last_coded_error_ = code;
       std::string text = "command " + hex(id, 2, "h") + " to " + mac_name(opt_.slave_mac) +
                          ": the controller reports an error";
       if (coded.ok()) {

@@ -38,9 +38,15 @@ class Master {
   // duplicate_check_wait of listening. A response means another node has
   // this MAC ID: Errc::invalid_argument naming it.
   Result<void> check_own_mac();
-  // Allocate explicit + polled, then the expected packet rate. "Another
-  // master owns the connection" (seed 000 §2.6: one explicit connection, one
-  // master at a time) is named when the slave answers Allocate with an error.
+  // Allocate explicit + polled, then the expected packet rate, then the
+  // polled connection's produced/consumed sizes, checked against the layout.
+  // "Another master owns the connection" (seed 000 §2.6: one explicit
+  // connection, one master at a time) is named when the slave answers
+  // Allocate with an error. No answer at all: the message names the bit rate
+  // and the MAC ID, and the adapter's bus errors when it reports some. Sizes
+  // that do not fit the layout: Errc::not_supported naming the IO setup the
+  // commands need (a controller refusing the size query is trusted to have
+  // the layout given).
   Result<void> connect();
   Result<void> release();
   bool connected() const { return connected_; }
@@ -53,10 +59,16 @@ class Master {
   // inverted, polls until the Addressed Out echo shows the same ID, motors
   // and toggle, and returns the response value. A command after which the
   // controller reports ERROR Pending is followed by Get Coded Error (0Ah) and
-  // fails with Errc::drive_refused naming the code and its text.
+  // Reset Coded Error (0Bh: the error is this command's, and the next command
+  // must not be blamed for it), and fails with Errc::drive_refused naming the
+  // code and its text; coded_error() then holds the code.
   Result<std::uint16_t> command(std::array<bool, 4> motors, std::uint8_t id, std::uint16_t value);
 
   const Status& last_status() const { return status_; }
+  std::uint16_t last_coded_error() const { return last_coded_error_; }
+  // The polled connection's sizes as the controller reported them (0: not asked or refused).
+  std::uint16_t produced_size() const { return produced_size_; }
+  std::uint16_t consumed_size() const { return consumed_size_; }
   std::uint16_t granted_packet_rate() const { return granted_rate_; }
 
  private:
@@ -69,7 +81,12 @@ class Master {
   bool have_toggle_ = false;
   bool toggle_ = false;
   Status status_;
+  Result<void> check_connection_sizes();
+  Error silence(const std::string& what);
+
   std::uint16_t granted_rate_ = 0;
+  std::uint16_t last_coded_error_ = 0;
+  std::uint16_t produced_size_ = 0, consumed_size_ = 0;
   PollCommand last_command_;
 };
 

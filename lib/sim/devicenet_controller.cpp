@@ -1,5 +1,7 @@
 #include "sim/devicenet_controller.hpp"
 
+#include "devicenet/catalogue.hpp"
+
 namespace lmcfg::sim {
 namespace {
 
@@ -8,27 +10,37 @@ using devicenet::Motor;
 
 int key_of(std::optional<Motor> m) { return m ? static_cast<int>(*m) : -1; }
 
-// Table 5-1 pairs a Get command with the Set command one above it
-// (24h/25h curve number, 28h/29h curve offset, ...). Ranges the seed gives
-// for the pairs the simulator checks (others are accepted as sent).
-struct Pair {
+// The ranges this firmware checks on Set (Table 5-1 where it gives one; a
+// real controller's firmware is the truth, the database describes the seed).
+// Commands without an entry accept any value.
+struct Range {
   std::uint8_t get;
   std::int32_t min, max;
 };
-constexpr Pair kPairs[] = {
-    {0x10, -32256, 32256}, {0x24, 0, 63},   {0x26, 0, 63},         {0x28, -32256, 32256},
-    {0x2A, 0, 4096},       {0x2C, 0, 4096}, {0x30, -32768, 32767},
+constexpr Range kRanges[] = {
+    {0x10, -32256, 32256}, {0x24, 0, 63},     {0x26, 0, 63},     {0x28, -32256, 32256},
+    {0x2A, 0, 4096},       {0x2C, 0, 4096},   {0x34, 0, 32640},  {0x36, 0, 32640},
+    {0x38, 0, 32640},      {0x3A, 0, 255},    {0x40, -32256, 32256}, {0x42, -32256, 32256},
+    {0x48, 2, 511},        {0x4A, 2, 511},    {0x4C, 4, 511},    {0x4E, 4, 511},
+    {0x50, 6, 24576},      {0x52, 6, 1536},   {0x70, 0, 7},      {0x72, 0, 7},
 };
 
-const Pair* pair_of_set(std::uint8_t id) {
-  for (const auto& p : kPairs)
-    if (p.get + 1 == id) return &p;
+const Range* range_of(std::uint8_t get) {
+  for (const auto& r : kRanges)
+    if (r.get == get) return &r;
   return nullptr;
 }
-const Pair* pair_of_get(std::uint8_t id) {
-  for (const auto& p : kPairs)
-    if (p.get == id) return &p;
-  return nullptr;
+
+// The Table 5-1 entry behind a command ID: a Get, or the Set one above it.
+// Warn/Error State exist for the controller and per motor: `motor_given` picks.
+const devicenet::ValueCommand* entry_of(std::uint8_t id, bool motor_given) {
+  const auto get = static_cast<std::uint8_t>(id & 0x7E);
+  const devicenet::ValueCommand* found = nullptr;
+  for (const auto& c : devicenet::value_commands()) {
+    if (c.get != get || (id != get && !c.settable)) continue;
+    if (!found || c.per_motor == motor_given) found = &c;
+  }
+  return found;
 }
 
 }  // namespace
@@ -121,6 +133,16 @@ void DeviceNetController::explicit_message(const can::Frame& f, bool unconnected
     packet_rate_ = static_cast<std::uint16_t>((asked + 9) / 10 * 10);
     answer.data.clear();
     put_u16le(answer.data, packet_rate_);
+  } else if (!unconnected && request->service == devicenet::kGetAttributeSingle &&
+             d.size() >= 3 && d[0] == devicenet::kConnectionClass &&
+             d[1] == devicenet::kPolledConnection &&
+             (d[2] == devicenet::kProducedConnectionSize ||
+              d[2] == devicenet::kConsumedConnectionSize)) {
+    answer.data.clear();
+    put_u16le(answer.data,
+              static_cast<std::uint16_t>(d[2] == devicenet::kProducedConnectionSize
+                                             ? opt_.layout.response_size()
+                                             : opt_.layout.command_size()));
   } else {
     refuse(0x08, 0xFF);  // service not supported
   }
@@ -156,28 +178,37 @@ std::uint16_t DeviceNetController::execute(const devicenet::CommandWord& w, std:
       status_.low &= static_cast<std::uint16_t>(~0x0040);
       return 0;
   }
-  const Pair* get = pair_of_get(w.id);
-  const Pair* set = pair_of_set(w.id);
-  if (!get && !set) {
+  const auto* entry = entry_of(w.id, selected > 0);
+  if (!entry) {
     coded_error(0x8108);  // Unknown command
     return 0;
   }
-  if (selected != 1) {
-    coded_error(0x8110);  // Drive not specified
+  if (entry->needs_module && !opt_.encoder_module) {
+    coded_error(0x8120);  // Encoder not exists
     return 0;
   }
-  if (!opt_.motors[static_cast<int>(*motor)]) {
-    coded_error(0x8111);  // Drive not master
-    return 0;
+  if (entry->per_motor) {
+    if (selected != 1) {
+      coded_error(0x8110);  // Drive not specified
+      return 0;
+    }
+    if (!opt_.motors[static_cast<int>(*motor)]) {
+      coded_error(0x8111);  // Drive not master
+      return 0;
+    }
+  } else {
+    motor.reset();
   }
-  if (get) return value(motor, get->get);
-  const auto signed_value =
-      set->min < 0 ? static_cast<std::int16_t>(v) : static_cast<std::int32_t>(v);
-  if (signed_value < set->min || signed_value > set->max) {
-    coded_error(0x8118);  // Range error
-    return 0;
+  if (w.id == entry->get) return value(motor, entry->get);
+  if (const auto* r = range_of(entry->get)) {
+    const auto signed_value =
+        r->min < 0 ? static_cast<std::int16_t>(v) : static_cast<std::int32_t>(v);
+    if (signed_value < r->min || signed_value > r->max) {
+      coded_error(0x8118);  // Range error
+      return 0;
+    }
   }
-  set_value(motor, set->get, v);
+  set_value(motor, entry->get, v);
   return v;
 }
 

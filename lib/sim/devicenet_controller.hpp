@@ -21,6 +21,7 @@ struct DeviceNetControllerOptions {
   std::uint8_t mac = 0x3F;
   devicenet::IoLayout layout;
   std::array<bool, 4> motors{true, false, false, false};  // present (master drives)
+  bool encoder_module = false;  // a master encoder module: commands 60h..6Bh work
 };
 
 class DeviceNetController {

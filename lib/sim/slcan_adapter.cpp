@@ -10,6 +10,8 @@ Result<void> serve_slcan(can::VirtualBus& bus, transport::Transport& serial,
   auto endpoint = bus.open("slcan adapter");
   can::slcan::Decoder decoder;
   bool open = false;
+  unsigned bitrate = 0;  // none set yet
+  bool bus_errors = false;
   while (!(opt.should_stop && opt.should_stop())) {
     LMCFG_ASSIGN_OR_RETURN(auto bytes, serial.read_some(opt.poll));
     std::string out;
@@ -20,6 +22,10 @@ Result<void> serve_slcan(can::VirtualBus& bus, transport::Transport& serial,
           continue;
         }
         if (opt.transmit_ack) out += f->extended ? "Z\r" : "z\r";
+        if (bitrate != opt.bus_bitrate) {
+          bus_errors = true;  // no node can acknowledge a frame at the wrong rate
+          continue;
+        }
         LMCFG_TRY(endpoint->send(*f));
       } else if (auto* u = std::get_if<can::slcan::Unknown>(&e)) {
         const std::string& line = u->line;
@@ -30,7 +36,12 @@ Result<void> serve_slcan(can::VirtualBus& bus, transport::Transport& serial,
           out += open ? "\r" : "\a";
           open = false;
         } else if (line.size() == 2 && line[0] == 'S' && line[1] >= '0' && line[1] <= '8') {
+          auto rate = can::slcan::bitrate_of(line[1]);
+          if (!open && rate) bitrate = *rate;
           out += open ? "\a" : "\r";
+        } else if (line == "F") {
+          out += bus_errors ? "FA0\r" : "F00\r";
+          bus_errors = false;  // reading the flags clears them
         } else {
           out += '\a';
         }
@@ -42,7 +53,7 @@ Result<void> serve_slcan(can::VirtualBus& bus, transport::Transport& serial,
     for (;;) {
       LMCFG_ASSIGN_OR_RETURN(auto f, endpoint->receive(transport::Millis(0)));
       if (!f) break;
-      if (open) out += can::slcan::encode(*f);
+      if (open && bitrate == opt.bus_bitrate) out += can::slcan::encode(*f);
     }
     if (!out.empty()) LMCFG_TRY(serial.write(as_bytes(out)));
   }

@@ -14,6 +14,11 @@ struct SlcanAdapterOptions {
   transport::Millis poll{20};
   std::function<bool()> should_stop;  // nullptr: until the transport fails
   bool transmit_ack = true;           // "z\r" after each transmitted frame
+  // The bus's bit rate. An adapter opened at another rate ("Sn") hears nothing
+  // and its frames are never acknowledged: it counts bus errors, which "F"
+  // (read status flags) reports as bit 7 (bus error) and bit 5 (error
+  // passive), as a Lawicel adapter does.
+  unsigned bus_bitrate = 125000;
 };
 
 // Serves until should_stop() (ok) or the transport fails (its error). Before

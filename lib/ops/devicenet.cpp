@@ -1,0 +1,299 @@
+#include "ops/devicenet.hpp"
+
+#include <algorithm>
+#include <map>
+
+#include "common/version.hpp"
+#include "db/database.hpp"
+#include "devicenet/catalogue.hpp"
+
+namespace lmcfg::ops {
+namespace {
+
+using devicenet::Master;
+using devicenet::Motor;
+
+std::array<bool, 4> select(int motor) {
+  std::array<bool, 4> s{};
+  if (motor != config::kDevicenetController) s[static_cast<std::size_t>(motor)] = true;
+  return s;
+}
+
+std::optional<Motor> motor_of(int motor) {
+  if (motor == config::kDevicenetController) return std::nullopt;
+  return static_cast<Motor>(motor);
+}
+
+bool refused(const Error& e) { return e.code == ErrorClass::drive_refusal; }
+
+// Table 5-1 words are 16 bits; a range that goes below zero makes them signed.
+bool is_signed(const db::DevicenetCommand* c) {
+  return c && c->spec.min && *c->spec.min < 0;
+}
+std::int64_t word_value(const db::DevicenetCommand* c, std::uint16_t raw) {
+  return is_signed(c) ? static_cast<std::int16_t>(raw) : static_cast<std::int64_t>(raw);
+}
+
+std::string command_hex(std::uint8_t id) { return hex(id, 2, "h"); }
+
+// The database names the Get command ("Get Controller P"); the value is
+// "Controller P".
+std::string value_name(const db::Database& db, std::uint8_t get) {
+  const auto* c = db.devicenet_command(get);
+  if (!c) return {};
+  std::string n = c->name;
+  if (n.rfind("Get ", 0) == 0) n.erase(0, 4);
+  return n;
+}
+
+std::size_t read_count(const std::vector<int>& motors, bool live) {
+  std::size_t n = 0;
+  for (const auto& vc : devicenet::value_commands()) {
+    if ((vc.live && !live) || (!vc.live && !vc.settable)) continue;
+    n += vc.per_motor ? motors.size() : 1;
+  }
+  return n;
+}
+
+Result<void> check_coded_error(Master& m, bool reset, std::vector<std::string>* notes) {
+  LMCFG_ASSIGN_OR_RETURN(const std::uint16_t pending, m.command({}, 0x0A, 0));
+  if (pending == 0) return {};
+  std::string what = "coded error " + hex(pending, 4, "h");
+  if (auto t = devicenet::coded_error_text(pending); !t.empty()) what += " " + std::string(t);
+  if (!reset) {
+    return Error(Errc::drive_refused,
+                 "the controller reports " + what +
+                     " from before this run; values read now could not be told from refused "
+                     "reads: clear it (the PLC, or --reset-coded-error to reset it here) and run "
+                     "again");
+  }
+  LMCFG_TRY(m.command({}, 0x0B, 0));
+  if (notes) notes->push_back("reset the controller's pending " + what);
+  return {};
+}
+
+Result<std::vector<int>> configured_motors(Master& m) {
+  std::vector<int> motors;
+  for (Motor mo : devicenet::kMotors) {
+    const int i = static_cast<int>(mo);
+    auto r = m.command(select(i), 0x24, 0);
+    if (r.ok()) {
+      motors.push_back(i);
+      continue;
+    }
+    const auto code = m.last_coded_error();
+    if (refused(r.error()) && (code == 0x8111 || code == 0x8110)) continue;
+    return std::move(r).error();
+  }
+  return motors;
+}
+
+}  // namespace
+
+bool is_can_port(const std::string& port) {
+  if (port.rfind("slcan:", 0) == 0) return true;
+  // SocketCAN interfaces: can0, vcan0, slcan0 (a kernel slcan line discipline)...
+  for (const char* prefix : {"can", "vcan", "slcan"}) {
+    const std::string p = prefix;
+    if (port.size() > p.size() && port.rfind(p, 0) == 0 &&
+        std::all_of(port.begin() + static_cast<std::ptrdiff_t>(p.size()), port.end(),
+                    [](char c) { return c >= '0' && c <= '9'; }))
+      return true;
+  }
+  return false;
+}
+
+Result<std::unique_ptr<DevicenetSession>> DevicenetSession::open(const DevicenetLinkOptions& o) {
+  auto s = std::unique_ptr<DevicenetSession>(new DevicenetSession);
+  s->opt_ = o;
+  can::SlcanOptions so;
+  so.bitrate = o.can_bitrate;
+  LMCFG_ASSIGN_OR_RETURN(s->link_, can::open_link(o.port, so));
+  if (o.trace) {
+    s->link_ = std::make_unique<can::TraceLink>(
+        std::move(s->link_), o.trace,
+        [](const can::Frame& f, bool) { return devicenet::describe_identifier(f.id); });
+  }
+  s->master_ = std::make_unique<Master>(*s->link_, o.master);
+  if (o.check_own_mac) LMCFG_TRY(s->master_->check_own_mac());
+  LMCFG_TRY(s->master_->connect());
+  return s;
+}
+
+config::LinkSettings DevicenetSession::link_settings() const {
+  config::LinkSettings l;
+  l.port = opt_.port;
+  l.baud = std::to_string(opt_.can_bitrate);
+  return l;
+}
+
+Result<void> DevicenetSession::close() {
+  if (!master_ || !master_->connected()) return {};
+  return master_->release();
+}
+
+std::string devicenet_value_name(const db::Database& db, int motor, std::uint8_t get,
+                                 const std::string& file_name) {
+  std::string n = value_name(db, get);
+  if (n.empty()) n = file_name;
+  if (n.empty()) n = "command";
+  return devicenet::target_name(motor_of(motor)) + ": " + n + " (" + command_hex(get) + ")";
+}
+
+std::string devicenet_value_text(const db::Database& db, std::uint8_t get, std::uint16_t raw) {
+  const auto* c = db.devicenet_command(get);
+  const auto v = word_value(c, raw);
+  if (!c || !c->spec.scale || c->spec.unit.empty()) return std::to_string(v);
+  return db::format_scaled(v, *c->spec.scale) + " " + c->spec.unit + " (raw " + std::to_string(v) +
+         ")";
+}
+
+void annotate_devicenet(config::DevicenetSection& s, const db::Database& db) {
+  for (auto* list : {&s.values, &s.live}) {
+    for (auto& v : *list) {
+      const auto* c = db.devicenet_command(v.command);
+      if (!c) continue;
+      v.name = value_name(db, v.command);
+      v.unit = c->spec.unit;
+      v.scaled = c->spec.scale ? db::format_scaled(word_value(c, v.raw), *c->spec.scale) : "";
+    }
+  }
+}
+
+Result<config::DriveConfig> devicenet_backup(Master& m, const DevicenetBackupOptions& opt,
+                                             const db::Database& db) {
+  config::DriveConfig cfg;
+  cfg.scope.layers = {false, false, false, false};
+  cfg.scope.curves = false;
+  cfg.scope.command_table = false;
+  cfg.identity.tool_version = kToolVersion;
+  cfg.identity.captured_at = utc_now();
+  if (!db.is_empty()) cfg.identity.upid_db_hash = db.info().content_hash;
+  if (!db.is_empty()) cfg.identity.upid_db_version = std::to_string(db.info().schema_version);
+  LMCFG_TRY(check_coded_error(m, opt.reset_coded_error, opt.notes));
+  auto& s = cfg.devicenet.emplace();
+  LMCFG_ASSIGN_OR_RETURN(s.motors, configured_motors(m));
+  const std::size_t total = read_count(s.motors, opt.live);
+  std::size_t done = 0;
+  const std::vector<int> controller{config::kDevicenetController};
+  for (const auto& vc : devicenet::value_commands()) {
+    if ((vc.live && !opt.live) || (!vc.live && !vc.settable)) continue;
+    for (int target : vc.per_motor ? s.motors : controller) {
+      if (opt.progress) opt.progress("devicenet", done++, total);
+      auto r = m.command(select(target), vc.get, 0);
+      if (!r.ok()) {
+        if (!refused(r.error())) return std::move(r).error();
+        // A refused read is data about this controller (no encoder module,
+        // a firmware without the command), not a failed backup.
+        if (opt.notes)
+          opt.notes->push_back("not read: " + devicenet_value_name(db, target, vc.get) + ": " +
+                               r.error().message);
+        continue;
+      }
+      auto& list = vc.live ? s.live : s.values;
+      list.push_back({target, vc.get, *r, {}, {}, {}});
+    }
+  }
+  if (opt.progress) opt.progress("devicenet", total, total);
+  annotate_devicenet(s, db);
+  return cfg;
+}
+
+DevicenetPlan plan_devicenet_restore(const config::DriveConfig& file,
+                                     const config::DriveConfig& current, const db::Database& db) {
+  DevicenetPlan p;
+  if (!file.devicenet) {
+    p.problems.push_back("the file is a LinRS drive capture, not a DeviceNet controller's");
+    return p;
+  }
+  const auto& want = *file.devicenet;
+  const std::vector<int> none;
+  const auto& have_motors = current.devicenet ? current.devicenet->motors : none;
+  std::map<std::pair<int, int>, std::uint16_t> have;
+  if (current.devicenet)
+    for (const auto& v : current.devicenet->values) have[{v.motor, v.command}] = v.raw;
+  for (int motor : want.motors)
+    if (std::find(have_motors.begin(), have_motors.end(), motor) == have_motors.end())
+      p.problems.push_back(devicenet::target_name(motor_of(motor)) +
+                           " is in the file but not configured on the controller (it refuses "
+                           "commands to it)");
+  for (const auto& v : want.values) {
+    const std::string name = devicenet_value_name(db, v.motor, v.command, v.name);
+    const auto* vc = devicenet::value_command(v.command);
+    if (!vc || !vc->settable || vc->live) {
+      p.problems.push_back(name + ": Table 5-1 has no Set command for it");
+      continue;
+    }
+    const auto* c = db.devicenet_command(static_cast<std::uint8_t>(v.command + 1));
+    const auto value = word_value(c, v.raw);
+    if (c && ((c->spec.min && value < *c->spec.min) || (c->spec.max && value > *c->spec.max))) {
+      p.problems.push_back(name + ": " + devicenet_value_text(db, v.command, v.raw) +
+                           " is outside Table 5-1's range " + c->range_text +
+                           (c->unit_text.empty() || c->unit_text == "-"
+                                ? std::string()
+                                : " (unit " + c->unit_text + ")"));
+      continue;
+    }
+    auto it = have.find({v.motor, v.command});
+    if (it == have.end()) {
+      if (std::find(have_motors.begin(), have_motors.end(), v.motor) != have_motors.end() ||
+          v.motor == config::kDevicenetController)
+        p.problems.push_back(name + ": the controller did not let it be read (see the notes)");
+      continue;
+    }
+    if (it->second == v.raw) {
+      ++p.unchanged;
+      continue;
+    }
+    p.writes.push_back({v.motor, v.command, it->second, v.raw,
+                        name + ": " + devicenet_value_text(db, v.command, it->second) + " -> " +
+                            devicenet_value_text(db, v.command, v.raw)});
+  }
+  return p;
+}
+
+std::string render_devicenet_plan(const DevicenetPlan& p, const std::string& file_name) {
+  std::string out;
+  if (p.refused()) {
+    out += "restore plan for " + file_name + ": REFUSED, nothing written:\n";
+    for (const auto& s : p.problems) out += "  problem: " + s + "\n";
+    return out;
+  }
+  out += "restore plan for " + file_name + ": " + std::to_string(p.writes.size()) +
+         " Set command(s), " + std::to_string(p.unchanged) + " value(s) already equal\n";
+  for (const auto& w : p.writes)
+    out += "  set " + command_hex(static_cast<std::uint8_t>(w.get + 1)) + " " + w.what + "\n";
+  out += "note: " + std::string(kRuntimeNote) + ".\n";
+  return out;
+}
+
+Result<std::vector<std::string>> execute_devicenet_plan(Master& m, const DevicenetPlan& p,
+                                                        const config::DriveConfig& file,
+                                                        const db::Database& db,
+                                                        const Progress& progress) {
+  std::size_t done = 0;
+  const std::size_t total = p.writes.size() + file.devicenet->values.size();
+  for (const auto& w : p.writes) {
+    if (progress) progress("write", done++, total);
+    auto r = m.command(select(w.motor), static_cast<std::uint8_t>(w.get + 1), w.to);
+    if (!r.ok()) {
+      return Error(r.error().code, r.error().message + " (writing " + w.what + "; " +
+                                       std::to_string(&w - p.writes.data()) + " of " +
+                                       std::to_string(p.writes.size()) +
+                                       " Set command(s) done before it, the others not sent)");
+    }
+  }
+  std::vector<std::string> mismatches;
+  for (const auto& v : file.devicenet->values) {
+    if (progress) progress("verify", done++, total);
+    LMCFG_ASSIGN_OR_RETURN(const auto now, m.command(select(v.motor), v.command, 0));
+    if (now != v.raw)
+      mismatches.push_back(devicenet_value_name(db, v.motor, v.command, v.name) + ": file " +
+                           devicenet_value_text(db, v.command, v.raw) + ", controller " +
+                           devicenet_value_text(db, v.command, now));
+  }
+  if (progress) progress("verify", total, total);
+  return mismatches;
+}
+
+}  // namespace lmcfg::ops

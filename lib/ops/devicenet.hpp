@@ -1,0 +1,113 @@
+#pragma once
+// Backup, restore plan, write and verify for the DeviceNet LinMot controllers
+// of seed 000, over a devicenet::Master. What is read: for the controller and
+// each configured motor, every Get command of §5.2 Table 5-1 that has a Set
+// (devicenet::value_commands), into config::DevicenetSection::values, and the
+// live values (status words, positions, IO) into `live`. These are runtime
+// values: the persistent configuration is made with the vendor's PC software
+// (seed 000 §1.1), so a restore re-applies them until the next power cycle
+// unless the machine's PLC keeps them (kRuntimeNote). docs/devicenet.md.
+#include <array>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "can/link.hpp"
+#include "config/model.hpp"
+#include "devicenet/master.hpp"
+#include "ops/backup.hpp"
+
+namespace lmcfg::db {
+class Database;
+}
+
+namespace lmcfg::ops {
+
+inline constexpr const char* kRuntimeNote =
+    "DeviceNet controller values are runtime values: the controller's persistent "
+    "configuration is made with the vendor's PC software (seed 000 §1.1), so values written "
+    "here act until the next power cycle unless the machine's PLC sets them again";
+
+// A port names a CAN link ("can0", "vcan0", "slcan:/dev/ttyACM0").
+bool is_can_port(const std::string& port);
+
+struct DevicenetLinkOptions {
+  std::string port;
+  unsigned can_bitrate = 125000;
+  devicenet::MasterOptions master;
+  bool check_own_mac = true;  // the duplicate MAC ID check (two rounds of listening)
+  can::TraceLink::Sink trace;  // frames with their DeviceNet meaning; nullptr: none
+};
+
+// The CAN link and the connected master; releases the connection set when
+// closed or destroyed (also after an interrupt).
+class DevicenetSession {
+ public:
+  static Result<std::unique_ptr<DevicenetSession>> open(const DevicenetLinkOptions& o);
+  devicenet::Master& master() { return *master_; }
+  config::LinkSettings link_settings() const;
+  std::uint8_t macid() const { return opt_.master.slave_mac; }
+  Result<void> close();
+
+ private:
+  DevicenetLinkOptions opt_;
+  std::unique_ptr<can::Link> link_;
+  std::unique_ptr<devicenet::Master> master_;
+};
+
+struct DevicenetBackupOptions {
+  bool live = true;                // read the informational values too
+  bool reset_coded_error = false;  // a coded error pending before the backup is reset, not refused
+  Progress progress;
+  std::vector<std::string>* notes = nullptr;  // what was skipped and why, for people
+};
+
+// Which motors are configured: a motor the controller refuses with 8111h
+// "Drive not master" (or 8110h) for Get (Rise) Curve Number is not. The
+// controller's coded error pending before the backup refuses it (the reads
+// could not be told from refusals) unless reset_coded_error.
+Result<config::DriveConfig> devicenet_backup(devicenet::Master& m,
+                                             const DevicenetBackupOptions& opt,
+                                             const db::Database& db);
+
+// Display fields of every value from the database (name without "Get ",
+// unit, scaled text).
+void annotate_devicenet(config::DevicenetSection& s, const db::Database& db);
+// "2.3438 A/mm (raw 120)", or "120" when the database has no scale.
+std::string devicenet_value_text(const db::Database& db, std::uint8_t get, std::uint16_t raw);
+// "motor A: Controller P (34h)".
+std::string devicenet_value_name(const db::Database& db, int motor, std::uint8_t get,
+                                 const std::string& file_name = {});
+
+struct DevicenetWrite {
+  int motor = config::kDevicenetController;
+  std::uint8_t get = 0;  // the Set command sent is get + 1
+  std::uint16_t from = 0, to = 0;
+  std::string what;  // "motor A: Controller P (34h): 2.3438 A/mm (raw 1000) -> ..."
+};
+struct DevicenetPlan {
+  std::vector<DevicenetWrite> writes;
+  std::vector<std::string> problems;  // any: refused, nothing written
+  std::size_t unchanged = 0;
+  bool refused() const { return !problems.empty(); }
+};
+
+// Compares the file's values with the controller's (a fresh backup) and the
+// database's Table 5-1 ranges: a value outside its range, a motor the
+// controller does not have, a command Table 5-1 cannot set are problems.
+DevicenetPlan plan_devicenet_restore(const config::DriveConfig& file,
+                                     const config::DriveConfig& current, const db::Database& db);
+std::string render_devicenet_plan(const DevicenetPlan& p, const std::string& file_name);
+
+// Sends each Set command (a refusal names the controller's coded error and
+// stops: the values before it were written, the rest not), then reads every
+// value of the file back. Mismatches are returned as text ("" = verified).
+Result<std::vector<std::string>> execute_devicenet_plan(devicenet::Master& m,
+                                                        const DevicenetPlan& p,
+                                                        const config::DriveConfig& file,
+                                                        const db::Database& db,
+                                                        const Progress& progress);
+
+}  // namespace lmcfg::ops
