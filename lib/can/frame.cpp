@@ -62,7 +62,8 @@ constexpr std::size_t kLongestLine = 1 + 8 + 1 + 16 + 4;  // T, ID, L, data, tim
 }  // namespace
 
 namespace {
-constexpr unsigned kRates[] = {10000, 20000, 50000, 100000, 125000, 250000, 500000, 800000, 1000000};
+constexpr unsigned kRates[] = {10000,  20000,  50000,  100000, 125000,
+                               250000, 500000, 800000, 1000000};
 }
 
 std::optional<unsigned> bitrate_of(char digit) {

@@ -39,7 +39,7 @@ namespace slcan {
 // S3 100k, S4 125k, S5 250k, S6 500k, S7 800k, S8 1M. DeviceNet uses 125,
 // 250 and 500 kbit/s (seed 000 §3 "Baud Rate").
 Result<std::string> bitrate_command(unsigned bitrate);  // "S4\r"
-std::optional<unsigned> bitrate_of(char digit);          // '4' -> 125000
+std::optional<unsigned> bitrate_of(char digit);         // '4' -> 125000
 // "F": read status flags; the answer "Fxx\r" (hex). Lawicel's CAN232/CANUSB
 // give bit 5 error passive and bit 7 bus error; other adapters map the bits
 // to their CAN controller's status register, so only "not zero" (an error

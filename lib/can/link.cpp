@@ -1,7 +1,5 @@
 #include "can/link.hpp"
 
-#include <cctype>
-
 #include <linux/can.h>
 #include <linux/can/raw.h>
 #include <net/if.h>
@@ -11,6 +9,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cstring>
 

@@ -27,7 +27,9 @@ class Link {
   // The adapter's error flags since the last call (slcan "F"), nonzero after
   // bus errors, e.g. frames no node acknowledged (a wrong bit rate, a bus
   // without the device); nullopt where the adapter cannot tell.
-  virtual Result<std::optional<std::uint8_t>> status_flags() { return std::optional<std::uint8_t>(); }
+  virtual Result<std::optional<std::uint8_t>> status_flags() {
+    return std::optional<std::uint8_t>();
+  }
 };
 
 struct SlcanOptions {

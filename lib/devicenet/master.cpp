@@ -60,8 +60,8 @@ Result<Explicit> Master::explicit_request(Group2 port, const Explicit& request) 
 // the right rate with a wrong MAC ID the controller acknowledges them on the
 // CAN level but does not answer.
 Error Master::silence(const std::string& what) {
-  std::string text = "no answer from " + mac_name(opt_.slave_mac) + " to " + what + " on " +
-                     link_.describe();
+  std::string text =
+      "no answer from " + mac_name(opt_.slave_mac) + " to " + what + " on " + link_.describe();
   auto flags = link_.status_flags();
   if (flags.ok() && *flags && **flags != 0) {
     text += ": the adapter reports CAN bus errors (status flags " + hex(**flags, 2, "h") +
@@ -69,9 +69,10 @@ Error Master::silence(const std::string& what) {
             "--can-bitrate (125000, 250000 or 500000, the controller's DeviceNet\\Baudrate) and "
             "that the adapter is connected to the DeviceNet bus";
   } else if (flags.ok() && *flags) {
-    text += ": the bus carried the frames without errors, so the bit rate fits; check "
-            "--devicenet-macid (the controller's MAC ID switches) and that the controller is "
-            "powered";
+    text +=
+        ": the bus carried the frames without errors, so the bit rate fits; check "
+        "--devicenet-macid (the controller's MAC ID switches) and that the controller is "
+        "powered";
   } else {
     text += ": check --can-bitrate (125000, 250000 or 500000), --devicenet-macid and the cabling";
   }
@@ -106,7 +107,8 @@ Result<void> Master::check_connection_sizes() {
   std::uint16_t sizes[2] = {};
   const std::uint8_t attributes[2] = {kConsumedConnectionSize, kProducedConnectionSize};
   for (int i = 0; i < 2; ++i) {
-    const auto get = get_attribute(opt_.own_mac, kConnectionClass, kPolledConnection, attributes[i]);
+    const auto get =
+        get_attribute(opt_.own_mac, kConnectionClass, kPolledConnection, attributes[i]);
     LMCFG_ASSIGN_OR_RETURN(auto answer, explicit_request(Group2::master_explicit_request, get));
     auto data = response_data(get, answer);
     if (!data.ok() || data->size() < 2) return {};  // not told: the layout given is trusted
@@ -116,19 +118,20 @@ Result<void> Master::check_connection_sizes() {
   produced_size_ = sizes[1];
   const auto& l = opt_.layout;
   if (consumed_size_ == l.command_size() && produced_size_ == l.response_size()) return {};
-  std::string text = mac_name(opt_.slave_mac) + "'s polled connection takes " +
-                     std::to_string(consumed_size_) + " byte(s) and gives " +
-                     std::to_string(produced_size_) + ", but the IO layout " +
-                     std::to_string(l.command_size()) + "/" + std::to_string(l.response_size()) +
-                     " was expected";
+  std::string text =
+      mac_name(opt_.slave_mac) + "'s polled connection takes " + std::to_string(consumed_size_) +
+      " byte(s) and gives " + std::to_string(produced_size_) + ", but the IO layout " +
+      std::to_string(l.command_size()) + "/" + std::to_string(l.response_size()) + " was expected";
   if (consumed_size_ < 4 || produced_size_ < 4) {
-    text += ": it cannot hold the Addressed In and Addressed Out modules the configuration "
-            "commands need (seed 000 §5.1, §5.2). Configure the controller's IO setup with "
-            "LinTalk to include Addressed In and Addressed Out (the default: Control In + "
-            "Addressed In, Status Out + Addressed Out), then run again";
+    text +=
+        ": it cannot hold the Addressed In and Addressed Out modules the configuration "
+        "commands need (seed 000 §5.1, §5.2). Configure the controller's IO setup with "
+        "LinTalk to include Addressed In and Addressed Out (the default: Control In + "
+        "Addressed In, Status Out + Addressed Out), then run again";
   } else {
-    text += ": give the controller's modules with --io-modules (e.g. "
-            "control-in,addressed-in,status-out,addressed-out), as set up with LinTalk (§5.1)";
+    text +=
+        ": give the controller's modules with --io-modules (e.g. "
+        "control-in,addressed-in,status-out,addressed-out), as set up with LinTalk (§5.1)";
   }
   return Error(Errc::not_supported, text);
 }
@@ -143,6 +146,8 @@ Result<void> Master::release() {
 }
 
 Result<PollResponse> Master::poll(const PollCommand& c) {
+  if (opt_.cancel && opt_.cancel->load())
+    return Error(Errc::interrupted, "interrupted between two polls of " + mac_name(opt_.slave_mac));
   const Bytes command = encode_command(opt_.layout, c);
   const bool fragmented_answer = opt_.layout.response_size() > 8;
   const auto poll_id = group2_id(opt_.slave_mac, Group2::master_io_poll);

@@ -6,6 +6,7 @@
 // polled I/O with the controller's module layout (seed 000 §5.1), the §5.2
 // command exchange on the Addressed modules, Release. docs/can.md.
 #include <array>
+#include <atomic>
 #include <cstdint>
 #include <optional>
 
@@ -25,6 +26,9 @@ struct MasterOptions {
   transport::Millis duplicate_check_wait{1000};  // after each of the two checks
   std::uint16_t vendor_id = 0;
   std::uint32_t serial_number = 0x4C4D4346;  // "LMCF"
+  // Checked before each poll: set (by a signal handler) -> Errc::interrupted,
+  // so the caller can still release the connection.
+  const std::atomic<bool>* cancel = nullptr;
 };
 
 class Master {

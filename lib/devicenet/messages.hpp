@@ -47,8 +47,8 @@ inline constexpr std::uint8_t kAllocate = 0x4B;
 inline constexpr std::uint8_t kRelease = 0x4C;
 inline constexpr std::uint8_t kDeviceNetClass = 0x03;
 inline constexpr std::uint8_t kConnectionClass = 0x05;
-inline constexpr std::uint8_t kPolledConnection = 0x02;    // Connection instance 2
-inline constexpr std::uint8_t kExpectedPacketRate = 0x09;  // Connection attribute 9 (UINT, ms)
+inline constexpr std::uint8_t kPolledConnection = 0x02;        // Connection instance 2
+inline constexpr std::uint8_t kExpectedPacketRate = 0x09;      // Connection attribute 9 (UINT, ms)
 inline constexpr std::uint8_t kProducedConnectionSize = 0x07;  // attribute 7 (UINT, bytes)
 inline constexpr std::uint8_t kConsumedConnectionSize = 0x08;  // attribute 8 (UINT, bytes)
 

@@ -27,9 +27,7 @@ std::optional<Motor> motor_of(int motor) {
 bool refused(const Error& e) { return e.code == ErrorClass::drive_refusal; }
 
 // Table 5-1 words are 16 bits; a range that goes below zero makes them signed.
-bool is_signed(const db::DevicenetCommand* c) {
-  return c && c->spec.min && *c->spec.min < 0;
-}
+bool is_signed(const db::DevicenetCommand* c) { return c && c->spec.min && *c->spec.min < 0; }
 std::int64_t word_value(const db::DevicenetCommand* c, std::uint16_t raw) {
   return is_signed(c) ? static_cast<std::int16_t>(raw) : static_cast<std::int64_t>(raw);
 }
@@ -185,9 +183,17 @@ Result<config::DriveConfig> devicenet_backup(Master& m, const DevicenetBackupOpt
         if (!refused(r.error())) return std::move(r).error();
         // A refused read is data about this controller (no encoder module,
         // a firmware without the command), not a failed backup.
-        if (opt.notes)
+        if (opt.notes) {
+          const auto code = m.last_coded_error();
+          std::string why = r.error().message;
+          if (code != 0) {
+            why = "refused with coded error " + hex(code, 4, "h");
+            if (auto t = devicenet::coded_error_text(code); !t.empty()) why += " " + std::string(t);
+          }
+          if (vc.needs_module) why += " (it needs a master encoder or IO module)";
           opt.notes->push_back("not read: " + devicenet_value_name(db, target, vc.get) + ": " +
-                               r.error().message);
+                               why);
+        }
         continue;
       }
       auto& list = vc.live ? s.live : s.values;

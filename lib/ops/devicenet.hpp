@@ -37,7 +37,7 @@ struct DevicenetLinkOptions {
   std::string port;
   unsigned can_bitrate = 125000;
   devicenet::MasterOptions master;
-  bool check_own_mac = true;  // the duplicate MAC ID check (two rounds of listening)
+  bool check_own_mac = true;   // the duplicate MAC ID check (two rounds of listening)
   can::TraceLink::Sink trace;  // frames with their DeviceNet meaning; nullptr: none
 };
 

@@ -18,11 +18,11 @@ struct Range {
   std::int32_t min, max;
 };
 constexpr Range kRanges[] = {
-    {0x10, -32256, 32256}, {0x24, 0, 63},     {0x26, 0, 63},     {0x28, -32256, 32256},
-    {0x2A, 0, 4096},       {0x2C, 0, 4096},   {0x34, 0, 32640},  {0x36, 0, 32640},
-    {0x38, 0, 32640},      {0x3A, 0, 255},    {0x40, -32256, 32256}, {0x42, -32256, 32256},
-    {0x48, 2, 511},        {0x4A, 2, 511},    {0x4C, 4, 511},    {0x4E, 4, 511},
-    {0x50, 6, 24576},      {0x52, 6, 1536},   {0x70, 0, 7},      {0x72, 0, 7},
+    {0x10, -32256, 32256}, {0x24, 0, 63},   {0x26, 0, 63},         {0x28, -32256, 32256},
+    {0x2A, 0, 4096},       {0x2C, 0, 4096}, {0x34, 0, 32640},      {0x36, 0, 32640},
+    {0x38, 0, 32640},      {0x3A, 0, 255},  {0x40, -32256, 32256}, {0x42, -32256, 32256},
+    {0x48, 2, 511},        {0x4A, 2, 511},  {0x4C, 4, 511},        {0x4E, 4, 511},
+    {0x50, 6, 24576},      {0x52, 6, 1536}, {0x70, 0, 7},          {0x72, 0, 7},
 };
 
 const Range* range_of(std::uint8_t get) {
@@ -57,6 +57,21 @@ std::uint16_t DeviceNetController::value(std::optional<Motor> motor, std::uint8_
 void DeviceNetController::set_value(std::optional<Motor> motor, std::uint8_t get_id,
                                     std::uint16_t v) {
   values_[{key_of(motor), get_id}] = v;
+}
+
+void DeviceNetController::commission() {
+  int n = 0;
+  for (const auto& c : devicenet::value_commands()) {
+    if (!c.settable || c.live) continue;
+    for (int m = c.per_motor ? 0 : -1; m < (c.per_motor ? 4 : 0); ++m) {
+      if (m >= 0 && !opt_.motors[static_cast<std::size_t>(m)]) continue;
+      const auto* r = range_of(c.get);
+      const std::int32_t lo = r ? r->min : 0, hi = r ? r->max : 1000;
+      const std::int32_t v = lo + (37 * ++n + 11 * (m + 1)) % (hi - lo + 1);
+      set_value(m < 0 ? std::nullopt : std::optional<Motor>(static_cast<Motor>(m)), c.get,
+                static_cast<std::uint16_t>(v));
+    }
+  }
 }
 
 void DeviceNetController::reset() {
@@ -133,16 +148,14 @@ void DeviceNetController::explicit_message(const can::Frame& f, bool unconnected
     packet_rate_ = static_cast<std::uint16_t>((asked + 9) / 10 * 10);
     answer.data.clear();
     put_u16le(answer.data, packet_rate_);
-  } else if (!unconnected && request->service == devicenet::kGetAttributeSingle &&
-             d.size() >= 3 && d[0] == devicenet::kConnectionClass &&
-             d[1] == devicenet::kPolledConnection &&
+  } else if (!unconnected && request->service == devicenet::kGetAttributeSingle && d.size() >= 3 &&
+             d[0] == devicenet::kConnectionClass && d[1] == devicenet::kPolledConnection &&
              (d[2] == devicenet::kProducedConnectionSize ||
               d[2] == devicenet::kConsumedConnectionSize)) {
     answer.data.clear();
-    put_u16le(answer.data,
-              static_cast<std::uint16_t>(d[2] == devicenet::kProducedConnectionSize
-                                             ? opt_.layout.response_size()
-                                             : opt_.layout.command_size()));
+    put_u16le(answer.data, static_cast<std::uint16_t>(d[2] == devicenet::kProducedConnectionSize
+                                                          ? opt_.layout.response_size()
+                                                          : opt_.layout.command_size()));
   } else {
     refuse(0x08, 0xFF);  // service not supported
   }
@@ -236,7 +249,17 @@ void DeviceNetController::poll(const can::Frame& f, can::VirtualBus& bus) {
   status_.low |= 0x0003;  // INIT Done, RUN State
   if (drop_polls_ > 0) {
     --drop_polls_;
+    ++lost_;
     return;
+  }
+  if (opt_.lose_poll_responses > 0) {
+    rng_ ^= rng_ << 13;  // xorshift32: deterministic per seed
+    rng_ ^= rng_ >> 17;
+    rng_ ^= rng_ << 5;
+    if (static_cast<double>(rng_) / 4294967296.0 < opt_.lose_poll_responses) {
+      ++lost_;
+      return;
+    }
   }
   devicenet::PollResponse r;
   r.status = status_;

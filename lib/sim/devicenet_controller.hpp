@@ -22,11 +22,15 @@ struct DeviceNetControllerOptions {
   devicenet::IoLayout layout;
   std::array<bool, 4> motors{true, false, false, false};  // present (master drives)
   bool encoder_module = false;  // a master encoder module: commands 60h..6Bh work
+  // Fault: each poll response is lost with this probability (the command it
+  // answers has still executed, as when the frame is lost on the bus).
+  double lose_poll_responses = 0;
+  std::uint32_t seed = 1;
 };
 
 class DeviceNetController {
  public:
-  explicit DeviceNetController(DeviceNetControllerOptions o) : opt_(o) {}
+  explicit DeviceNetController(DeviceNetControllerOptions o) : opt_(o), rng_(o.seed | 1u) {}
   // Serves on `bus` from now on (the bus keeps a callback to this object).
   void attach(can::VirtualBus& bus);
 
@@ -34,6 +38,10 @@ class DeviceNetController {
   // for the controller when motor is nullopt.
   std::uint16_t value(std::optional<devicenet::Motor> motor, std::uint8_t get_id) const;
   void set_value(std::optional<devicenet::Motor> motor, std::uint8_t get_id, std::uint16_t v);
+  // A commissioned controller: every settable value of each present motor
+  // (and of the controller) set to a plausible value inside this firmware's
+  // range, different per motor; deterministic.
+  void commission();
 
   // Fault hooks.
   void hold_for_other_master(std::uint8_t mac) { allocated_by_ = mac; }
@@ -43,6 +51,7 @@ class DeviceNetController {
   std::optional<std::uint8_t> allocated_by() const { return allocated_by_; }
   std::uint16_t expected_packet_rate() const { return packet_rate_; }
   std::uint64_t commands_executed() const { return executed_; }
+  std::uint64_t poll_responses_lost() const { return lost_; }
 
  private:
   void on_frame(const can::Frame& f, can::VirtualBus& bus);
@@ -65,6 +74,8 @@ class DeviceNetController {
   std::map<std::pair<int, std::uint8_t>, std::uint16_t> values_;
   devicenet::IoReassembler reassembler_;
   std::uint64_t executed_ = 0;
+  std::uint64_t lost_ = 0;
+  std::uint32_t rng_;
 };
 
 }  // namespace lmcfg::sim

@@ -5,6 +5,7 @@
 
 #include "command.hpp"
 #include "config/config_io.hpp"
+#include "devicenet_flow.hpp"
 #include "link_options.hpp"
 
 namespace lmcfg::cli {
@@ -20,7 +21,43 @@ struct BackupCli {
   bool full = false;
   bool no_describe = false;
   std::vector<std::string> labels;
+  bool reset_coded_error = false;
 };
+
+// The file (or stdout) and, for a DeviceNet controller, the summary.
+int write_backup(const BackupCli& o, const config::DriveConfig& cfg,
+                 std::optional<config::FileFormat> format, const db::Database& db) {
+  const bool to_stdout = o.output == "-";
+  config::WriteOptions wo;
+  std::optional<ops::DatabaseCtDecoder> ct_decoder;
+  if (!db.is_empty()) wo.ct_decoder = &ct_decoder.emplace(db);
+  if (to_stdout) {
+    auto text = config::write_config_text(cfg, *format, wo);
+    if (!text.ok()) return fail("backup", text.error());
+    if (std::fwrite(text->data(), 1, text->size(), stdout) != text->size() ||
+        std::fflush(stdout) != 0)
+      return fail("backup", Error(Errc::file_error, "-o -: cannot write to stdout"));
+  } else {
+    auto w = config::write_config_file(cfg, o.output, format, wo);
+    if (!w.ok()) return fail("backup", w.error());
+  }
+  if (!cfg.devicenet) return kOk;
+  const auto& dn = *cfg.devicenet;
+  if (o.common.json) {
+    const nlohmann::ordered_json j{
+        {"file", o.output},           {"devicenet_macid", cfg.identity.macid},
+        {"motors", dn.motors.size()}, {"values", dn.values.size()},
+        {"live", dn.live.size()},     {"runtime_note", ops::kRuntimeNote}};
+    std::printf("%s\n", j.dump().c_str());
+  } else if (!o.common.quiet) {
+    std::fprintf(stderr,
+                 "backup: DeviceNet MAC ID %s: %zu motor(s), %zu value(s), %zu live value(s) -> "
+                 "%s\nbackup: note: %s\n",
+                 cfg.identity.macid.c_str(), dn.motors.size(), dn.values.size(), dn.live.size(),
+                 o.output.c_str(), ops::kRuntimeNote);
+  }
+  return kOk;
+}
 
 int run(BackupCli& o) {
   // The output is checked before the drive is talked to.
@@ -51,6 +88,12 @@ int run(BackupCli& o) {
     labels[l.substr(0, eq)] = l.substr(eq + 1);
   }
   const db::Database db = load_database(o.common);
+  if (is_devicenet(o.common)) {
+    auto cfg = devicenet_capture(o.common, db, {true, o.reset_coded_error});
+    if (!cfg.ok()) return fail("backup", cfg.error());
+    cfg->identity.labels = labels;
+    return write_backup(o, *cfg, format, db);
+  }
   auto session = open_link(o.common);
   if (!session.ok()) return fail("backup", session.error());
   ops::BackupOptions bo;
@@ -69,19 +112,7 @@ int run(BackupCli& o) {
   if (!closed.ok()) return fail("backup", closed.error());
   cfg->identity.link = (*session)->link_settings();
   cfg->identity.labels = labels;
-  config::WriteOptions wo;
-  std::optional<ops::DatabaseCtDecoder> ct_decoder;
-  if (!db.is_empty()) wo.ct_decoder = &ct_decoder.emplace(db);
-  if (to_stdout) {
-    auto text = config::write_config_text(*cfg, *format, wo);
-    if (!text.ok()) return fail("backup", text.error());
-    if (std::fwrite(text->data(), 1, text->size(), stdout) != text->size() ||
-        std::fflush(stdout) != 0)
-      return fail("backup", Error(Errc::file_error, "-o -: cannot write to stdout"));
-  } else {
-    auto w = config::write_config_file(*cfg, o.output, format, wo);
-    if (!w.ok()) return fail("backup", w.error());
-  }
+  if (int code = write_backup(o, *cfg, format, db); code != kOk) return code;
   std::size_t params = 0;
   for (const auto& l : cfg->layers) params += l.size();
   const auto& st = (*session)->client().stats();
@@ -135,6 +166,9 @@ void add_backup(CLI::App& app, int& exit_code) {
       "--no-describe", o->no_describe,
       "do not ask the drive for types and defaults the UPID database lacks (fewer telegrams)");
   sub->add_option("--label", o->labels, "KEY=VALUE stored in the file (machine, axis, ...)");
+  sub->add_flag("--reset-coded-error", o->reset_coded_error,
+                "DeviceNet: reset a coded error the controller reports from before the backup "
+                "instead of refusing to read");
   sub->callback([o, &exit_code] { exit_code = run(*o); });
 }
 }  // namespace lmcfg::cli

@@ -1,6 +1,7 @@
 // lmcfg restore FILE: plan (checks, no writes), execute, verify.
 #include "command.hpp"
 #include "config/config_io.hpp"
+#include "devicenet_flow.hpp"
 #include "link_options.hpp"
 #include "ops/interrupt.hpp"
 #include "restore_flow.hpp"
@@ -22,6 +23,7 @@ int run(RestoreCli& o) {
   auto file = config::read_config_file(o.file);
   if (!file.ok()) return fail("restore", file.error());
   const db::Database db = load_database(o.common);
+  if (is_devicenet(o.common)) return restore_devicenet(*file, o.file, o.common, o.flags, db);
   auto overrides = relink_overrides(o.flags.reconnect);
   if (!overrides.ok()) return fail("restore", overrides.error());
   auto session = open_link(o.common);

@@ -10,15 +10,13 @@
 #include <string>
 #include <vector>
 
-#include "can/virtual_bus.hpp"
 #include "command.hpp"
 #include "common/bytes.hpp"
 #include "ops/session.hpp"
-#include "sim/devicenet_controller.hpp"
 #include "sim/drive.hpp"
 #include "sim/server.hpp"
-#include "sim/slcan_adapter.hpp"
 #include "sim/state_file.hpp"
+#include "sim_devicenet.hpp"
 #include "transport/pty.hpp"
 
 namespace lmcfg::cli {
@@ -45,7 +43,7 @@ struct SimArgs {
   bool fast = false;
   bool verbose = false;
   bool devicenet = false;
-  std::string devicenet_macid = "63";
+  DevicenetSimArgs dn;
 };
 
 bool stdin_at_eof() {
@@ -96,46 +94,16 @@ Result<std::vector<std::unique_ptr<sim::Drive>>> load_drives(
   return drives;
 }
 
-// --devicenet: a simulated DeviceNet LinMot controller (seed 000) behind a
-// simulated slcan adapter on a pty.
-int run_devicenet(const SimArgs& a) {
-  const auto mac = parse_number(a.devicenet_macid, false);
-  if (!mac || *mac > 63) {
-    std::fprintf(stderr, "lmcfg sim: --devicenet-macid '%s' is not a DeviceNet MAC ID 0..63\n",
-                 a.devicenet_macid.c_str());
-    return kInvalidInput;
-  }
-  if (!a.tcp.empty() || !a.states.empty()) {
-    std::fprintf(stderr, "lmcfg sim: --devicenet serves on a pty, without --tcp or --state\n");
-    return kInvalidInput;
-  }
-  install_stop_handlers();
-  auto bus = std::make_shared<can::VirtualBus>();
-  sim::DeviceNetController controller(
-      {static_cast<std::uint8_t>(*mac), {}, {true, false, false, false}});
-  controller.attach(*bus);
-  auto p = transport::open_pty();
-  if (!p.ok()) {
-    std::fprintf(stderr, "lmcfg sim: %s\n", p.error().message.c_str());
-    return kCommFailure;
-  }
-  std::printf("%s\n", p->slave_path.c_str());
-  std::printf("link options: --port slcan:%s --can-bitrate 125000 --devicenet-macid %u\n",
-              p->slave_path.c_str(), static_cast<unsigned>(*mac));
-  std::fflush(stdout);
-  transport::FdTransport t(std::move(p->master), "pty " + p->slave_path);
-  sim::SlcanAdapterOptions o;
-  o.should_stop = [&] { return g_stop != 0 || (a.until_stdin_eof && stdin_at_eof()); };
-  auto r = sim::serve_slcan(*bus, t, o);
-  if (!r.ok()) {
-    std::fprintf(stderr, "lmcfg sim: %s\n", r.error().message.c_str());
-    return kCommFailure;
-  }
-  return kOk;
-}
-
 int run(const SimArgs& a) {
-  if (a.devicenet) return run_devicenet(a);
+  if (a.devicenet) {
+    if (!a.tcp.empty() || !a.states.empty()) {
+      std::fprintf(stderr, "lmcfg sim: --devicenet serves on a pty, without --tcp or --state\n");
+      return kInvalidInput;
+    }
+    install_stop_handlers();
+    return run_devicenet_sim(a.dn,
+                             [&] { return g_stop != 0 || (a.until_stdin_eof && stdin_at_eof()); });
+  }
   if (a.states.empty() && a.save_on_exit) {
     std::fprintf(stderr, "lmcfg sim: --save-on-exit needs --state FILE to save to\n");
     return kInvalidInput;
@@ -261,9 +229,7 @@ void add_sim(CLI::App& app, int& exit_code) {
   cmd->add_flag("--devicenet", args->devicenet,
                 "Serve a simulated DeviceNet LinMot controller (seed 000) behind a simulated "
                 "slcan CAN adapter on a pty");
-  cmd->add_option("--devicenet-macid", args->devicenet_macid,
-                  "with --devicenet: the controller's MAC ID (0..63)")
-      ->capture_default_str();
+  add_devicenet_sim_options(cmd, args->dn);
   cmd->callback([args, &exit_code] { exit_code = run(*args); });
 }
 }  // namespace lmcfg::cli

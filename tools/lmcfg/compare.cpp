@@ -4,6 +4,7 @@
 
 #include "command.hpp"
 #include "config/config_io.hpp"
+#include "devicenet_flow.hpp"
 
 namespace lmcfg::cli {
 
@@ -12,7 +13,8 @@ int load_and_compare(const char* command, const CompareOptions& o, const db::Dat
   SessionHandle session;
   const bool two = !o.b.empty();
   const bool needs_drive = o.a == "drive" || o.b == "drive";
-  if (needs_drive || !o.common.port.empty()) {
+  const bool devicenet = is_devicenet(o.common);
+  if (!devicenet && (needs_drive || !o.common.port.empty())) {
     auto s = open_link(o.common);
     if (!s.ok()) return fail(command, s.error());
     session = std::move(*s);
@@ -22,6 +24,7 @@ int load_and_compare(const char* command, const CompareOptions& o, const db::Dat
                                "A and B are both standard input ('-'); at most one side can be"));
   auto load = [&](const std::string& what) -> Result<config::DriveConfig> {
     if (what == "defaults") return ops::factory_defaults_config();
+    if (what == "drive" && devicenet) return devicenet_capture(o.common, db, {});
     if (what == "drive") {
       ops::BackupOptions bo;
       bo.full = o.full;

@@ -10,6 +10,7 @@
 
 #include "command.hpp"
 #include "common/layers.hpp"
+#include "ops/devicenet.hpp"
 #include "ops/link_advice.hpp"
 
 namespace lmcfg::cli {
@@ -48,9 +49,26 @@ void add_link_options(CLI::App* sub, CommonOptions& o) {
   sub->add_option("--long-timeout-s", o.long_timeout_s,
                   "deadline of each long operation (defaulting a layer, flash save, reset, MC "
                   "start) in seconds; default: defaulting 60, flash save 30, reset and MC start 6");
-  sub->add_option("--trace", o.trace, "write every telegram as timestamped hex to FILE");
+  sub->add_option("--trace", o.trace,
+                  "write every telegram (CAN: every frame, with its DeviceNet meaning) as "
+                  "timestamped hex to FILE");
   sub->add_flag("--verbose", o.verbose,
                 "link errors: the protocol detail too, after the advice on what to change");
+  sub->add_option("--can-bitrate", o.can_bitrate,
+                  "DeviceNet (--port can0 or slcan:/dev/ttyACM0): 125000, 250000 or 500000")
+      ->capture_default_str();
+  sub->add_option("--devicenet-macid", o.devicenet_macid,
+                  "DeviceNet: the controller's MAC ID, 0..63 (seed 000 controllers)");
+  sub->add_option("--devicenet-own-macid", o.devicenet_own_macid,
+                  "DeviceNet: this tool's MAC ID on the bus, checked for duplicates first")
+      ->capture_default_str();
+  sub->add_option("--io-modules", o.io_modules,
+                  "DeviceNet: the controller's IO modules as set up in LinTalk, e.g. "
+                  "control-in,addressed-in,status-out,addressed-out (the default)");
+}
+
+bool is_devicenet(const CommonOptions& o) {
+  return ops::is_can_port(o.port) || !o.devicenet_macid.empty();
 }
 
 void add_output_options(CLI::App* sub, CommonOptions& o) {
@@ -201,6 +219,12 @@ void ForgetOnDelete::operator()(ops::Session* s) const {
 }
 
 Result<SessionHandle> open_link(const CommonOptions& o) {
+  if (is_devicenet(o)) {
+    return Error(Errc::not_supported,
+                 "--port " + o.port +
+                     " with --devicenet-macid names a DeviceNet controller: backup, diff and "
+                     "restore support those; this command is for LinRS drives");
+  }
   LMCFG_ASSIGN_OR_RETURN(auto l, link_options(o));
   LMCFG_ASSIGN_OR_RETURN(auto s, ops::open_session(l));
   // A USB adapter whose latency timer stays above 2 ms: said once, with the fix.

@@ -31,11 +31,18 @@ struct CommonOptions {
   bool json = false;
   bool verbose = false;  // link errors keep their protocol detail
   std::string db_path;
+  // DeviceNet controllers (seed 000) behind a CAN link (--port can0 / slcan:DEV).
+  unsigned can_bitrate = 125000;
+  std::string devicenet_macid;  // "" = not given
+  unsigned devicenet_own_macid = 62;
+  std::string io_modules;  // "" = the default layout
 };
 
 // --port, --baud, --parity, --stop-bits, --id, --checksum, --checksum-coverage,
 // --timeout-ms, --settle-ms, --retries, --long-timeout-s, --trace, --verbose.
 void add_link_options(CLI::App* sub, CommonOptions& o);
+// True when the options name a DeviceNet controller: a CAN port or --devicenet-macid.
+bool is_devicenet(const CommonOptions& o);
 // --quiet, --json, --db.
 void add_output_options(CLI::App* sub, CommonOptions& o);
 

@@ -1,0 +1,176 @@
+// The DeviceNet flows of backup, diff and restore.
+#include "devicenet_flow.hpp"
+
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <memory>
+
+#include "command.hpp"
+#include "devicenet/catalogue.hpp"
+#include "ops/confirm.hpp"
+#include "ops/interrupt.hpp"
+
+namespace lmcfg::cli {
+namespace {
+
+can::TraceLink::Sink file_trace(const std::string& path) {
+  auto out = std::make_shared<std::ofstream>(path, std::ios::trunc);
+  if (!*out) return nullptr;
+  const auto start = std::chrono::steady_clock::now();
+  return [out, start](const std::string& line) {
+    const std::chrono::duration<double> t = std::chrono::steady_clock::now() - start;
+    char stamp[32];
+    std::snprintf(stamp, sizeof stamp, "%.6f ", t.count());
+    *out << stamp << line << '\n' << std::flush;
+  };
+}
+
+void print_notes(const CommonOptions& o, const char* command,
+                 const std::vector<std::string>& notes) {
+  if (o.quiet) return;
+  for (const auto& n : notes) std::fprintf(stderr, "%s: %s\n", command, n.c_str());
+}
+
+// Every command polls until its echo shows up: a signal stops between two.
+Result<void> interrupted_check() {
+  if (ops::interrupt_flag().load())
+    return Error(Errc::interrupted, "interrupted: the connection was released");
+  return {};
+}
+
+}  // namespace
+
+Result<ops::DevicenetLinkOptions> devicenet_link_options(const CommonOptions& o) {
+  if (!ops::is_can_port(o.port)) {
+    return Error(Errc::invalid_argument,
+                 "--devicenet-macid needs a CAN port: --port can0 (SocketCAN) or --port "
+                 "slcan:/dev/ttyACM0 (serial CAN adapter), not '" +
+                     o.port + "'");
+  }
+  if (o.devicenet_macid.empty())
+    return Error(Errc::invalid_argument,
+                 "--port " + o.port + " is a CAN link: give the controller's --devicenet-macid");
+  const auto mac = parse_number(o.devicenet_macid, false);
+  if (!mac || *mac > 63)
+    return Error(Errc::invalid_argument,
+                 "--devicenet-macid '" + o.devicenet_macid + "' is not a DeviceNet MAC ID 0..63");
+  if (o.devicenet_own_macid > 63 || o.devicenet_own_macid == *mac)
+    return Error(Errc::invalid_argument,
+                 "--devicenet-own-macid " + std::to_string(o.devicenet_own_macid) +
+                     " must be 0..63 and differ from the controller's MAC ID");
+  if (o.can_bitrate != 125000 && o.can_bitrate != 250000 && o.can_bitrate != 500000)
+    return Error(Errc::invalid_argument, "--can-bitrate " + std::to_string(o.can_bitrate) +
+                                             " is not a DeviceNet bit rate (125000, 250000, "
+                                             "500000)");
+  ops::DevicenetLinkOptions l;
+  l.port = o.port;
+  l.can_bitrate = o.can_bitrate;
+  l.master.slave_mac = static_cast<std::uint8_t>(*mac);
+  l.master.own_mac = static_cast<std::uint8_t>(o.devicenet_own_macid);
+  l.master.timeout = transport::Millis(o.timeout_ms);
+  l.master.retries = o.retries;
+  // Ctrl-C stops between two polls; the session then releases the connection.
+  ops::install_interrupt_handlers();
+  l.master.cancel = &ops::interrupt_flag();
+  if (!o.io_modules.empty()) {
+    LMCFG_ASSIGN_OR_RETURN(l.master.layout, devicenet::parse_modules(o.io_modules));
+  }
+  if (!o.trace.empty()) {
+    l.trace = file_trace(o.trace);
+    if (!l.trace) return Error(Errc::file_error, "cannot open trace file '" + o.trace + "'");
+  }
+  return l;
+}
+
+Result<config::DriveConfig> devicenet_capture(const CommonOptions& o, const db::Database& db,
+                                              const DevicenetCapture& c) {
+  LMCFG_ASSIGN_OR_RETURN(auto l, devicenet_link_options(o));
+  LMCFG_ASSIGN_OR_RETURN(auto session, ops::DevicenetSession::open(l));
+  std::vector<std::string> notes;
+  ops::DevicenetBackupOptions bo;
+  bo.live = c.live;
+  bo.reset_coded_error = c.reset_coded_error;
+  bo.notes = &notes;
+  bo.progress = make_progress(o);
+  auto cfg = ops::devicenet_backup(session->master(), bo, db);
+  end_progress(o);
+  auto closed = session->close();
+  print_notes(o, "devicenet", notes);
+  LMCFG_TRY(cfg);
+  LMCFG_TRY(closed);
+  cfg->identity.macid = std::to_string(session->macid());
+  cfg->identity.link = session->link_settings();
+  cfg->devicenet->can_bitrate = l.can_bitrate;
+  cfg->devicenet->io_modules = devicenet::module_names(l.master.layout);
+  return cfg;
+}
+
+int restore_devicenet(const config::DriveConfig& file, const std::string& file_name,
+                      const CommonOptions& common, const RestoreFlags& f,
+                      const db::Database& db) {
+  if (f.include_comm || f.no_default || f.no_reset || !f.reconnect.baud.empty() ||
+      !f.reconnect.id.empty() || !f.reconnect.checksum.empty())
+    return fail("restore", Error(Errc::invalid_argument,
+                                 "--include-comm, --no-default, --no-reset and --reconnect-* are "
+                                 "LinRS options; a DeviceNet restore writes only the values that "
+                                 "differ"));
+  auto l = devicenet_link_options(common);
+  if (!l.ok()) return fail("restore", l.error());
+  auto session = ops::DevicenetSession::open(*l);
+  if (!session.ok()) return fail("restore", session.error());
+  auto& m = (*session)->master();
+  std::vector<std::string> notes;
+  ops::DevicenetBackupOptions bo;
+  bo.live = false;
+  bo.notes = &notes;
+  auto current = ops::devicenet_backup(m, bo, db);
+  print_notes(common, "restore", notes);
+  if (!current.ok()) return fail("restore", current.error());
+  if (auto i = interrupted_check(); !i.ok()) return fail("restore", i.error());
+  const auto plan = ops::plan_devicenet_restore(file, *current, db);
+  const std::string text = ops::render_devicenet_plan(plan, file_name);
+  if (plan.refused()) {
+    std::fputs(text.c_str(), stderr);
+    return kPlanRefused;
+  }
+  if (f.dry_run || plan.writes.empty()) {
+    if (!common.quiet || f.dry_run) std::fputs(text.c_str(), stdout);
+    if (plan.writes.empty() && !common.quiet)
+      std::printf("nothing to do: the controller already matches %s\n", file_name.c_str());
+    return kOk;
+  }
+  if (!f.yes) std::fputs(text.c_str(), stdout);
+  std::fflush(stdout);
+  auto consent = ops::confirm("Write these values to DeviceNet MAC ID " + common.devicenet_macid +
+                                  " on " + common.port + "?",
+                              "restore " + file_name + " onto a controller", f.yes);
+  if (!consent.ok()) return fail("restore", consent.error());
+  if (*consent == ops::Consent::declined) {
+    std::fprintf(stderr, "cancelled; nothing written\n");
+    return kOk;
+  }
+  if (auto i = interrupted_check(); !i.ok()) return fail("restore", i.error());
+  auto mismatches = ops::execute_devicenet_plan(m, plan, file, db, make_progress(common));
+  end_progress(common);
+  if (!mismatches.ok()) {
+    std::fprintf(stderr, "lmcfg restore: the controller is partially restored: %s\n",
+                 mismatches.error().message.c_str());
+    return exit_code_for(mismatches.error());
+  }
+  if (auto c = (*session)->close(); !c.ok()) return fail("restore", c.error());
+  if (!mismatches->empty()) {
+    std::fprintf(stderr, "lmcfg restore: verification found %zu mismatch(es):\n",
+                 mismatches->size());
+    for (const auto& s : *mismatches) std::fprintf(stderr, "  %s\n", s.c_str());
+    return kVerifyMismatch;
+  }
+  if (!common.quiet)
+    std::fprintf(stderr,
+                 "restore: %zu Set command(s) sent, verified: the controller matches %s\n"
+                 "restore: note: %s\n",
+                 plan.writes.size(), file_name.c_str(), ops::kRuntimeNote);
+  return kOk;
+}
+
+}  // namespace lmcfg::cli

@@ -1,0 +1,113 @@
+#include "sim_devicenet.hpp"
+
+#include <cstdio>
+#include <memory>
+
+#include "can/virtual_bus.hpp"
+#include "command.hpp"
+#include "common/bytes.hpp"
+#include "devicenet/catalogue.hpp"
+#include "sim/devicenet_controller.hpp"
+#include "sim/slcan_adapter.hpp"
+#include "transport/pty.hpp"
+
+namespace lmcfg::cli {
+namespace {
+
+Result<sim::DeviceNetControllerOptions> controller_options(const DevicenetSimArgs& a) {
+  sim::DeviceNetControllerOptions o;
+  const auto mac = parse_number(a.macid, false);
+  if (!mac || *mac > 63)
+    return Error(Errc::invalid_argument,
+                 "--devicenet-macid '" + a.macid + "' is not a DeviceNet MAC ID 0..63");
+  o.mac = static_cast<std::uint8_t>(*mac);
+  o.motors = {};
+  for (char c : a.motors) {
+    if (c == ',') continue;
+    if (c < 'A' || c > 'D')
+      return Error(Errc::invalid_argument,
+                   "--devicenet-motors '" + a.motors + "': expected motors A..D, e.g. A,B");
+    o.motors[static_cast<std::size_t>(c - 'A')] = true;
+  }
+  if (!a.io_modules.empty()) {
+    LMCFG_ASSIGN_OR_RETURN(o.layout, devicenet::parse_modules(a.io_modules));
+  }
+  o.encoder_module = a.encoder_module;
+  if (a.lose_polls < 0 || a.lose_polls >= 1)
+    return Error(Errc::invalid_argument, "--lose-polls must be a probability in 0..1 (e.g. 0.05)");
+  o.lose_poll_responses = a.lose_polls;
+  o.seed = a.seed;
+  return o;
+}
+
+}  // namespace
+
+void add_devicenet_sim_options(CLI::App* sim, DevicenetSimArgs& a) {
+  sim->add_option("--devicenet-macid", a.macid, "with --devicenet: the controller's MAC ID (0..63)")
+      ->capture_default_str();
+  sim->add_option("--devicenet-motors", a.motors,
+                  "with --devicenet: the motors configured on the controller, e.g. A,B")
+      ->capture_default_str();
+  sim->add_option("--can-bitrate", a.bus_bitrate,
+                  "with --devicenet: the bus's bit rate; an adapter opened at another rate "
+                  "hears nothing and reports bus errors")
+      ->capture_default_str();
+  sim->add_option("--io-modules", a.io_modules,
+                  "with --devicenet: the controller's IO modules (default "
+                  "control-in,addressed-in,status-out,addressed-out)");
+  sim->add_flag("--encoder-module", a.encoder_module,
+                "with --devicenet: a master encoder module is fitted (commands 60h..6Bh)");
+  sim->add_flag("--factory", a.factory,
+                "with --devicenet: values at zero or their range's low end (default: a "
+                "commissioned controller)");
+  sim->add_option("--lose-polls", a.lose_polls,
+                  "with --devicenet: probability that a poll response is lost (fault injection)");
+  sim->add_option("--seed", a.seed, "with --lose-polls: the fault sequence's seed")
+      ->capture_default_str();
+  sim->add_option("--held-by", a.held_by,
+                  "with --devicenet: another master (this MAC ID) holds the connection set");
+}
+
+int run_devicenet_sim(const DevicenetSimArgs& a, const std::function<bool()>& should_stop) {
+  auto opt = controller_options(a);
+  if (!opt.ok()) {
+    std::fprintf(stderr, "lmcfg sim: %s\n", opt.error().message.c_str());
+    return kInvalidInput;
+  }
+  auto bus = std::make_shared<can::VirtualBus>();
+  sim::DeviceNetController controller(*opt);
+  if (!a.factory) controller.commission();
+  if (!a.held_by.empty()) {
+    const auto other = parse_number(a.held_by, false);
+    if (!other || *other > 63) {
+      std::fprintf(stderr, "lmcfg sim: --held-by '%s' is not a MAC ID 0..63\n", a.held_by.c_str());
+      return kInvalidInput;
+    }
+    controller.hold_for_other_master(static_cast<std::uint8_t>(*other));
+  }
+  controller.attach(*bus);
+  auto p = transport::open_pty();
+  if (!p.ok()) {
+    std::fprintf(stderr, "lmcfg sim: %s\n", p.error().message.c_str());
+    return kCommFailure;
+  }
+  std::printf("%s\n", p->slave_path.c_str());
+  std::printf("link options: --port slcan:%s --can-bitrate %u --devicenet-macid %u\n",
+              p->slave_path.c_str(), a.bus_bitrate, static_cast<unsigned>(opt->mac));
+  std::fflush(stdout);
+  transport::FdTransport t(std::move(p->master), "pty " + p->slave_path);
+  sim::SlcanAdapterOptions o;
+  o.should_stop = should_stop;
+  o.bus_bitrate = a.bus_bitrate;
+  auto r = sim::serve_slcan(*bus, t, o);
+  std::fprintf(stderr, "lmcfg sim: %llu command(s) executed, %llu poll response(s) lost\n",
+               static_cast<unsigned long long>(controller.commands_executed()),
+               static_cast<unsigned long long>(controller.poll_responses_lost()));
+  if (!r.ok()) {
+    std::fprintf(stderr, "lmcfg sim: %s\n", r.error().message.c_str());
+    return kCommFailure;
+  }
+  return kOk;
+}
+
+}  // namespace lmcfg::cli

@@ -1,0 +1,28 @@
+#pragma once
+// `lmcfg sim --devicenet`: a simulated DeviceNet LinMot controller (seed 000)
+// behind a simulated slcan adapter on a pseudo-terminal, with its fault
+// options. docs/devicenet.md.
+#include <CLI/CLI.hpp>
+#include <functional>
+#include <string>
+
+namespace lmcfg::cli {
+
+struct DevicenetSimArgs {
+  std::string macid = "63";
+  std::string motors = "A";
+  unsigned bus_bitrate = 125000;
+  std::string io_modules;  // "" = the default layout
+  bool encoder_module = false;
+  bool factory = false;  // not commissioned: every value at zero or its range's low end
+  double lose_polls = 0;
+  unsigned seed = 1;
+  std::string held_by;  // another master's MAC ID holding the connection
+};
+
+// The --devicenet-* options of `lmcfg sim`.
+void add_devicenet_sim_options(CLI::App* sim, DevicenetSimArgs& a);
+// Serves until should_stop(); the documented exit code.
+int run_devicenet_sim(const DevicenetSimArgs& a, const std::function<bool()>& should_stop);
+
+}  // namespace lmcfg::cli
