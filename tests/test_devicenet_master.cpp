@@ -100,8 +100,15 @@ TEST_CASE("devicenet master: a value out of Table 5-1's range is the controller'
   CHECK(r.error().message ==
         "command 25h to DeviceNet MAC ID 63: the controller reports an error, coded error 8118h "
         "Range error");
-  auto b = rig.master.command({false, true, false, false}, 0x24, 0);  // motor B is not a master
-  REQUIRE(b.ok());  // ERROR Pending was already set: no new error is attributed to this command
+  CHECK(rig.master.last_coded_error() == 0x8118);
+  // The master reset the error it caused (0Bh), so the next command's own
+  // error is told apart: motor B is not a master drive of this controller.
+  auto b = rig.master.command({false, true, false, false}, 0x24, 0);
+  REQUIRE_FALSE(b.ok());
+  CHECK(b.error().message ==
+        "command 24h to DeviceNet MAC ID 63: the controller reports an error, coded error 8111h "
+        "Drive not master");
+  CHECK(rig.master.command(kMotorA, 0x24, 0).ok());
 }
 
 TEST_CASE(
@@ -147,7 +154,8 @@ TEST_CASE(
     CHECK(r.error().code == make_error_code(Errc::timeout));
     CHECK(r.error().message ==
           "no answer from DeviceNet MAC ID 5 to Allocate_Master/Slave_Connection_Set within 20 "
-          "ms on virtual CAN master (check the MAC ID, the bit rate and the cabling)");
+          "ms on virtual CAN master: check --can-bitrate (125000, 250000 or 500000), "
+          "--devicenet-macid and the cabling");
   }
   {
     auto bus = std::make_shared<can::VirtualBus>();

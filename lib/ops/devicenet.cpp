@@ -174,6 +174,7 @@ Result<config::DriveConfig> devicenet_backup(Master& m, const DevicenetBackupOpt
   const std::size_t total = read_count(s.motors, opt.live);
   std::size_t done = 0;
   const std::vector<int> controller{config::kDevicenetController};
+  std::vector<std::string> no_module;
   for (const auto& vc : devicenet::value_commands()) {
     if ((vc.live && !opt.live) || (!vc.live && !vc.settable)) continue;
     for (int target : vc.per_motor ? s.motors : controller) {
@@ -183,14 +184,15 @@ Result<config::DriveConfig> devicenet_backup(Master& m, const DevicenetBackupOpt
         if (!refused(r.error())) return std::move(r).error();
         // A refused read is data about this controller (no encoder module,
         // a firmware without the command), not a failed backup.
-        if (opt.notes) {
-          const auto code = m.last_coded_error();
+        const auto code = m.last_coded_error();
+        if (vc.needs_module && code == 0x8120) {
+          no_module.push_back(devicenet_value_name(db, target, vc.get));
+        } else if (opt.notes) {
           std::string why = r.error().message;
           if (code != 0) {
             why = "refused with coded error " + hex(code, 4, "h");
             if (auto t = devicenet::coded_error_text(code); !t.empty()) why += " " + std::string(t);
           }
-          if (vc.needs_module) why += " (it needs a master encoder or IO module)";
           opt.notes->push_back("not read: " + devicenet_value_name(db, target, vc.get) + ": " +
                                why);
         }
@@ -201,6 +203,13 @@ Result<config::DriveConfig> devicenet_backup(Master& m, const DevicenetBackupOpt
     }
   }
   if (opt.progress) opt.progress("devicenet", total, total);
+  if (opt.notes && !no_module.empty()) {
+    std::string n =
+        "no master encoder or IO module (coded error 8120h Encoder not exists), so "
+        "not read: ";
+    for (std::size_t i = 0; i < no_module.size(); ++i) n += (i ? ", " : "") + no_module[i];
+    opt.notes->push_back(n);
+  }
   annotate_devicenet(s, db);
   return cfg;
 }

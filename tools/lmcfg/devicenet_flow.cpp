@@ -1,6 +1,7 @@
 // The DeviceNet flows of backup, diff and restore.
 #include "devicenet_flow.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <fstream>
@@ -70,6 +71,7 @@ Result<ops::DevicenetLinkOptions> devicenet_link_options(const CommonOptions& o)
   l.master.own_mac = static_cast<std::uint8_t>(o.devicenet_own_macid);
   l.master.timeout = transport::Millis(o.timeout_ms);
   l.master.retries = o.retries;
+  l.master.duplicate_check_wait = transport::Millis(std::max(o.devicenet_listen_ms, 0));
   // Ctrl-C stops between two polls; the session then releases the connection.
   ops::install_interrupt_handlers();
   l.master.cancel = &ops::interrupt_flag();
@@ -107,8 +109,7 @@ Result<config::DriveConfig> devicenet_capture(const CommonOptions& o, const db::
 }
 
 int restore_devicenet(const config::DriveConfig& file, const std::string& file_name,
-                      const CommonOptions& common, const RestoreFlags& f,
-                      const db::Database& db) {
+                      const CommonOptions& common, const RestoreFlags& f, const db::Database& db) {
   if (f.include_comm || f.no_default || f.no_reset || !f.reconnect.baud.empty() ||
       !f.reconnect.id.empty() || !f.reconnect.checksum.empty())
     return fail("restore", Error(Errc::invalid_argument,

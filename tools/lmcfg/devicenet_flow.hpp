@@ -26,7 +26,6 @@ Result<config::DriveConfig> devicenet_capture(const CommonOptions& o, const db::
 
 // `lmcfg restore FILE` for a DeviceNet capture; the documented exit code.
 int restore_devicenet(const config::DriveConfig& file, const std::string& file_name,
-                      const CommonOptions& common, const RestoreFlags& f,
-                      const db::Database& db);
+                      const CommonOptions& common, const RestoreFlags& f, const db::Database& db);
 
 }  // namespace lmcfg::cli

@@ -62,6 +62,10 @@ void add_link_options(CLI::App* sub, CommonOptions& o) {
   sub->add_option("--devicenet-own-macid", o.devicenet_own_macid,
                   "DeviceNet: this tool's MAC ID on the bus, checked for duplicates first")
       ->capture_default_str();
+  sub->add_option("--devicenet-listen-ms", o.devicenet_listen_ms,
+                  "DeviceNet: how long to listen for another node with this tool's MAC ID after "
+                  "each of the two duplicate MAC ID checks (DeviceNet: 1 s)")
+      ->capture_default_str();
   sub->add_option("--io-modules", o.io_modules,
                   "DeviceNet: the controller's IO modules as set up in LinTalk, e.g. "
                   "control-in,addressed-in,status-out,addressed-out (the default)");

@@ -35,7 +35,8 @@ struct CommonOptions {
   unsigned can_bitrate = 125000;
   std::string devicenet_macid;  // "" = not given
   unsigned devicenet_own_macid = 62;
-  std::string io_modules;  // "" = the default layout
+  int devicenet_listen_ms = 1000;  // after each duplicate MAC ID check request
+  std::string io_modules;          // "" = the default layout
 };
 
 // --port, --baud, --parity, --stop-bits, --id, --checksum, --checksum-coverage,

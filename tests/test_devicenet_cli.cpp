@@ -1,0 +1,208 @@
+// DeviceNet controllers (seed 000) end to end: `lmcfg backup`, `diff` and
+// `restore` through a real pseudo-terminal to `lmcfg sim --devicenet` (a
+// simulated slcan adapter in front of a simulated controller), with poll
+// responses lost on the way; and the bad inputs of issue 17, each with its
+// message and exit code.
+#include <catch2/catch.hpp>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+
+#include "can/link.hpp"
+#include "config/config_io.hpp"
+#include "devicenet/master.hpp"
+#include "files.hpp"
+#include "subprocess.hpp"
+
+using namespace lmcfg;
+namespace fs = std::filesystem;
+
+namespace {
+
+struct DnSim {
+  std::unique_ptr<test::Child> child;
+  std::string pty;
+  explicit DnSim(std::vector<std::string> extra = {}) {
+    std::vector<std::string> argv{LMCFG_TOOL_PATH, "sim",         "--devicenet", "--devicenet-macid",
+                                  "5",             "--devicenet-motors", "A,B"};
+    argv.insert(argv.end(), extra.begin(), extra.end());
+    child = std::make_unique<test::Child>(argv);
+    pty = child->read_line();
+    (void)child->read_line();  // the link options line
+  }
+  std::string link() const {
+    return "--port slcan:" + pty + " --devicenet-macid 5 --devicenet-listen-ms 20 --timeout-ms 100";
+  }
+};
+
+fs::path fresh_dir(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("lmcfg-dn-" + name + "-" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+std::size_t count(const std::string& text, const std::string& what) {
+  std::size_t n = 0;
+  for (auto at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+  return n;
+}
+
+// Another tool on the same controller between two runs of lmcfg (a PLC, a
+// technician with LinTalk): sets two values with the library's master.
+void change_two_values(const std::string& pty) {
+  auto link = can::open_link("slcan:" + pty, {125000, true, transport::Millis(1000)});
+  REQUIRE(link.ok());
+  devicenet::MasterOptions o;
+  o.slave_mac = 5;
+  o.own_mac = 61;
+  o.timeout = transport::Millis(100);
+  o.retries = 5;
+  devicenet::Master m(**link, o);
+  REQUIRE(m.connect().ok());
+  REQUIRE(m.command({true, false, false, false}, 0x35, 2000).ok());  // Set Controller P, motor A
+  REQUIRE(m.command({false, true, false, false}, 0x51, 5243).ok());  // Set Filter Max Speed, B
+  REQUIRE(m.release().ok());
+}
+
+}  // namespace
+
+TEST_CASE(
+    "devicenet (issue 17): backup, diff, change two values, diff, restore exactly two, over "
+    "slcan on a pty with lost poll responses",
+    "[devicenet][cli][pty]") {
+  DnSim sim({"--lose-polls", "0.05", "--seed", "7"});
+  REQUIRE(sim.pty.rfind("/dev/", 0) == 0);
+  const auto dir = fresh_dir("e2e");
+
+  auto backup = test::run_tool_in(dir, "backup " + sim.link() + " -o ctl.json");
+  INFO(backup.err);
+  REQUIRE(backup.exit_code == 0);
+  CHECK(backup.err.find("backup: DeviceNet MAC ID 5: 2 motor(s), ") != std::string::npos);
+  CHECK(backup.err.find("runtime values") != std::string::npos);
+  auto file = config::read_config_file((dir / "ctl.json").string());
+  REQUIRE(file.ok());
+  REQUIRE(file->devicenet);
+  CHECK(file->devicenet->motors == std::vector<int>{0, 1});
+  CHECK(file->devicenet->values.size() > 40);
+
+  auto same = test::run_tool_in(dir, "diff ctl.json drive " + sim.link());
+  INFO(same.out << same.err);
+  CHECK(same.exit_code == 0);
+
+  change_two_values(sim.pty);
+  auto changed = test::run_tool_in(dir, "diff ctl.json drive " + sim.link() + " --json");
+  INFO(changed.out << changed.err);
+  CHECK(changed.exit_code == 1);
+  const auto j = nlohmann::json::parse(changed.out);
+  std::vector<std::string> names;
+  for (const auto& item : j["items"])
+    if (item["kind"] == "devicenet") names.push_back(item["name"]);
+  CHECK(names == std::vector<std::string>{"motor A: Controller P (34h)",
+                                          "motor B: Filter Maximal Speed (50h)"});
+  CHECK(j["items"].size() == 2);
+  CHECK(changed.out.find("A/mm") != std::string::npos);
+  CHECK(changed.out.find("mm/s") != std::string::npos);
+
+  auto restore = test::run_tool_in(dir, "restore ctl.json --yes " + sim.link() + " --retries 4");
+  INFO(restore.out << restore.err);
+  REQUIRE(restore.exit_code == 0);
+  CHECK(count(restore.out, "  set ") == 2);
+  CHECK(restore.out.find("  set 35h motor A: Controller P (34h): ") != std::string::npos);
+  CHECK(restore.out.find("  set 51h motor B: Filter Maximal Speed (50h): ") != std::string::npos);
+  CHECK(restore.err.find("restore: 2 Set command(s) sent, verified") != std::string::npos);
+
+  auto again = test::run_tool_in(dir, "diff ctl.json drive " + sim.link());
+  INFO(again.out << again.err);
+  CHECK(again.exit_code == 0);
+  auto nothing = test::run_tool_in(dir, "restore ctl.json --yes " + sim.link());
+  CHECK(nothing.exit_code == 0);
+  CHECK(nothing.out.find("nothing to do: the controller already matches ctl.json") !=
+        std::string::npos);
+  fs::remove_all(dir);
+}
+
+TEST_CASE("devicenet (issue 17): a wrong bit rate, a wrong MAC ID, a second master",
+          "[devicenet][cli][pty]") {
+  const auto dir = fresh_dir("link");
+  {
+    DnSim sim;
+    auto r = test::run_tool_in(dir, "backup " + sim.link() + " --can-bitrate 250000 -o x.json");
+    CHECK(r.exit_code == 4);
+    CHECK(r.err ==
+          "lmcfg backup: no answer from DeviceNet MAC ID 5 to Allocate_Master/Slave_Connection_Set "
+          "within 100 ms on slcan serial " +
+              sim.pty +
+              " 115200 8N1 250 kbit/s: the adapter reports CAN bus errors (status flags A0h): no "
+              "node acknowledged the frames, so the bit rate is probably wrong: check "
+              "--can-bitrate (125000, 250000 or 500000, the controller's DeviceNet\\Baudrate) and "
+              "that the adapter is connected to the DeviceNet bus\n");
+    CHECK(!fs::exists(dir / "x.json"));
+  }
+  {
+    DnSim sim;
+    auto r = test::run_tool_in(
+        dir, "backup --port slcan:" + sim.pty +
+                 " --devicenet-macid 6 --devicenet-listen-ms 20 --timeout-ms 100 -o x.json");
+    CHECK(r.exit_code == 4);
+    CHECK(r.err.find("no answer from DeviceNet MAC ID 6") != std::string::npos);
+    CHECK(r.err.find("the bus carried the frames without errors, so the bit rate fits; check "
+                     "--devicenet-macid") != std::string::npos);
+  }
+  {
+    DnSim sim({"--held-by", "2"});
+    auto r = test::run_tool_in(dir, "backup " + sim.link() + " -o x.json");
+    CHECK(r.exit_code == 5);
+    CHECK(r.err ==
+          "lmcfg backup: DeviceNet MAC ID 5 refused the connection: error response to "
+          "Allocate_Master/Slave_Connection_Set 4Bh: general error 0Ch object state conflict, "
+          "additional 01h; another master (a PLC's scanner) probably holds it: the controller "
+          "serves one master at a time (seed 000 §2.6)\n");
+  }
+  {
+    auto r = test::run_tool_in(dir, "backup --port slcan:/dev/null --devicenet-macid 64 -o x.json");
+    CHECK(r.exit_code == 2);
+    CHECK(r.err == "lmcfg backup: --devicenet-macid '64' is not a DeviceNet MAC ID 0..63\n");
+    r = test::run_tool_in(dir, "backup --port slcan:/dev/null -o x.json");
+    CHECK(r.exit_code == 2);
+    CHECK(r.err == "lmcfg backup: --port slcan:/dev/null is a CAN link: give the controller's "
+                   "--devicenet-macid\n");
+    r = test::run_tool_in(dir, "backup --port slcan:/dev/null --devicenet-macid 5 --can-bitrate "
+                               "100000 -o x.json");
+    CHECK(r.exit_code == 2);
+    CHECK(r.err == "lmcfg backup: --can-bitrate 100000 is not a DeviceNet bit rate (125000, "
+                   "250000, 500000)\n");
+  }
+  CHECK(!fs::exists(dir / "x.json"));
+  fs::remove_all(dir);
+}
+
+TEST_CASE(
+    "devicenet (issue 17): a controller without the Addressed modules, an out-of-range value in "
+    "a file",
+    "[devicenet][cli][pty]") {
+  const auto dir = fresh_dir("input");
+  {
+    DnSim sim({"--io-modules", "control-in,status-out"});
+    auto r = test::run_tool_in(dir, "backup " + sim.link() + " -o x.json");
+    CHECK(r.exit_code == 2);
+    CHECK(r.err ==
+          "lmcfg backup: DeviceNet MAC ID 5's polled connection takes 2 byte(s) and gives 4, but "
+          "the IO layout 6/8 was expected: it cannot hold the Addressed In and Addressed Out "
+          "modules the configuration commands need (seed 000 §5.1, §5.2). Configure the "
+          "controller's IO setup with LinTalk to include Addressed In and Addressed Out (the "
+          "default: Control In + Addressed In, Status Out + Addressed Out), then run again\n");
+  }
+  DnSim sim;
+  REQUIRE(test::run_tool_in(dir, "backup " + sim.link() + " -q -o ctl.json").exit_code == 0);
+  auto file = config::read_config_file((dir / "ctl.json").string());
+  REQUIRE(file.ok());
+  for (auto& v : file->devicenet->values)
+    if (v.motor == 1 && v.command == 0x48) v.raw = 600;  // In Position Low Limit: 2 to 511
+  REQUIRE(config::write_config_file(*file, (dir / "bad.json").string()).ok());
+  auto r = test::run_tool_in(dir, "restore bad.json --yes " + sim.link());
+  CHECK(r.exit_code == 3);
+  CHECK(r.err.find("restore plan for bad.json: REFUSED, nothing written:\n  problem: motor B: In "
+                   "Position Low Limit (48h): 11.71875 mm (raw 600) is outside Table 5-1's range "
+                   "2 to 511 (unit 0.01953 mm)\n") != std::string::npos);
+  fs::remove_all(dir);
+}
