@@ -22,8 +22,9 @@ struct DnSim {
   std::unique_ptr<test::Child> child;
   std::string pty;
   explicit DnSim(std::vector<std::string> extra = {}) {
-    std::vector<std::string> argv{LMCFG_TOOL_PATH, "sim",         "--devicenet", "--devicenet-macid",
-                                  "5",             "--devicenet-motors", "A,B"};
+    std::vector<std::string> argv{
+        LMCFG_TOOL_PATH,      "sim", "--devicenet", "--devicenet-macid", "5",
+        "--devicenet-motors", "A,B"};
     argv.insert(argv.end(), extra.begin(), extra.end());
     child = std::make_unique<test::Child>(argv);
     pty = child->read_line();
@@ -35,7 +36,8 @@ struct DnSim {
 };
 
 fs::path fresh_dir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("lmcfg-dn-" + name + "-" + std::to_string(::getpid()));
+  const fs::path dir =
+      fs::temp_directory_path() / ("lmcfg-dn-" + name + "-" + std::to_string(::getpid()));
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir;
@@ -164,13 +166,16 @@ TEST_CASE("devicenet (issue 17): a wrong bit rate, a wrong MAC ID, a second mast
     CHECK(r.err == "lmcfg backup: --devicenet-macid '64' is not a DeviceNet MAC ID 0..63\n");
     r = test::run_tool_in(dir, "backup --port slcan:/dev/null -o x.json");
     CHECK(r.exit_code == 2);
-    CHECK(r.err == "lmcfg backup: --port slcan:/dev/null is a CAN link: give the controller's "
-                   "--devicenet-macid\n");
-    r = test::run_tool_in(dir, "backup --port slcan:/dev/null --devicenet-macid 5 --can-bitrate "
-                               "100000 -o x.json");
+    CHECK(r.err ==
+          "lmcfg backup: --port slcan:/dev/null is a CAN link: give the controller's "
+          "--devicenet-macid\n");
+    r = test::run_tool_in(dir,
+                          "backup --port slcan:/dev/null --devicenet-macid 5 --can-bitrate "
+                          "100000 -o x.json");
     CHECK(r.exit_code == 2);
-    CHECK(r.err == "lmcfg backup: --can-bitrate 100000 is not a DeviceNet bit rate (125000, "
-                   "250000, 500000)\n");
+    CHECK(r.err ==
+          "lmcfg backup: --can-bitrate 100000 is not a DeviceNet bit rate (125000, "
+          "250000, 500000)\n");
   }
   CHECK(!fs::exists(dir / "x.json"));
   fs::remove_all(dir);
@@ -204,5 +209,26 @@ TEST_CASE(
   CHECK(r.err.find("restore plan for bad.json: REFUSED, nothing written:\n  problem: motor B: In "
                    "Position Low Limit (48h): 11.71875 mm (raw 600) is outside Table 5-1's range "
                    "2 to 511 (unit 0.01953 mm)\n") != std::string::npos);
+  fs::remove_all(dir);
+}
+
+TEST_CASE(
+    "devicenet (issue 17): a firmware whose refusals stop RUN is told so; --devicenet-motors and "
+    "--no-module-values avoid the probes",
+    "[devicenet][cli][pty]") {
+  const auto dir = fresh_dir("run");
+  DnSim sim({"--error-leaves-run"});
+  auto probed = test::run_tool_in(dir, "backup " + sim.link() + " -o probed.json");
+  CHECK(probed.exit_code == 0);
+  CHECK(probed.err.find("devicenet: the controller left RUN state during the backup (status "
+                        "0005h), after refusing a read; seed 000 §5.2: RUN Request must be "
+                        "released and set again (the PLC's Control Word). --devicenet-motors and "
+                        "--no-module-values avoid the probes\n") != std::string::npos);
+  DnSim fresh({"--error-leaves-run"});
+  auto quiet = test::run_tool_in(
+      dir, "backup " + fresh.link() + " --devicenet-motors A,B --no-module-values -o x.json");
+  CHECK(quiet.exit_code == 0);
+  CHECK(quiet.err.find("left RUN") == std::string::npos);
+  CHECK(quiet.err.find("not read") == std::string::npos);
   fs::remove_all(dir);
 }

@@ -44,10 +44,11 @@ std::string value_name(const db::Database& db, std::uint8_t get) {
   return n;
 }
 
-std::size_t read_count(const std::vector<int>& motors, bool live) {
+std::size_t read_count(const std::vector<int>& motors, bool live, bool module_values) {
   std::size_t n = 0;
   for (const auto& vc : devicenet::value_commands()) {
-    if ((vc.live && !live) || (!vc.live && !vc.settable)) continue;
+    if ((vc.live && !live) || (!vc.live && !vc.settable) || (vc.needs_module && !module_values))
+      continue;
     n += vc.per_motor ? motors.size() : 1;
   }
   return n;
@@ -169,14 +170,20 @@ Result<config::DriveConfig> devicenet_backup(Master& m, const DevicenetBackupOpt
   if (!db.is_empty()) cfg.identity.upid_db_hash = db.info().content_hash;
   if (!db.is_empty()) cfg.identity.upid_db_version = std::to_string(db.info().schema_version);
   LMCFG_TRY(check_coded_error(m, opt.reset_coded_error, opt.notes));
+  const bool was_running = m.last_status().run_state();
   auto& s = cfg.devicenet.emplace();
-  LMCFG_ASSIGN_OR_RETURN(s.motors, configured_motors(m));
-  const std::size_t total = read_count(s.motors, opt.live);
+  if (opt.motors) {
+    s.motors = *opt.motors;
+  } else {
+    LMCFG_ASSIGN_OR_RETURN(s.motors, configured_motors(m));
+  }
+  const std::size_t total = read_count(s.motors, opt.live, opt.module_values);
   std::size_t done = 0;
   const std::vector<int> controller{config::kDevicenetController};
   std::vector<std::string> no_module;
   for (const auto& vc : devicenet::value_commands()) {
     if ((vc.live && !opt.live) || (!vc.live && !vc.settable)) continue;
+    if (vc.needs_module && !opt.module_values) continue;
     for (int target : vc.per_motor ? s.motors : controller) {
       if (opt.progress) opt.progress("devicenet", done++, total);
       auto r = m.command(select(target), vc.get, 0);
@@ -210,6 +217,12 @@ Result<config::DriveConfig> devicenet_backup(Master& m, const DevicenetBackupOpt
     for (std::size_t i = 0; i < no_module.size(); ++i) n += (i ? ", " : "") + no_module[i];
     opt.notes->push_back(n);
   }
+  if (opt.notes && was_running && !m.last_status().run_state())
+    opt.notes->push_back(
+        "the controller left RUN state during the backup (status " +
+        hex(m.last_status().low, 4, "h") +
+        "), after refusing a read; seed 000 §5.2: RUN Request must be released and set again (the "
+        "PLC's Control Word). --devicenet-motors and --no-module-values avoid the probes");
   annotate_devicenet(s, db);
   return cfg;
 }

@@ -58,16 +58,25 @@ class DevicenetSession {
 };
 
 struct DevicenetBackupOptions {
-  bool live = true;                // read the informational values too
+  bool live = true;  // read the informational values too
+  // The motors to read; nullopt: detected by probing each of A..D (seed 000
+  // does not say whether a refused probe moves the controller out of RUN;
+  // the backup reports it when it does, and this avoids the probes).
+  std::optional<std::vector<int>> motors;
+  // Read the commands that need a master encoder or IO module (60h..6Bh);
+  // without one the controller refuses each with coded error 8120h.
+  bool module_values = true;
   bool reset_coded_error = false;  // a coded error pending before the backup is reset, not refused
   Progress progress;
   std::vector<std::string>* notes = nullptr;  // what was skipped and why, for people
 };
 
-// Which motors are configured: a motor the controller refuses with 8111h
-// "Drive not master" (or 8110h) for Get (Rise) Curve Number is not. The
-// controller's coded error pending before the backup refuses it (the reads
-// could not be told from refusals) unless reset_coded_error.
+// Which motors are configured (unless given): a motor the controller refuses
+// with 8111h "Drive not master" (or 8110h) for Get (Rise) Curve Number is not.
+// The controller's coded error pending before the backup refuses it (the
+// reads could not be told from refusals) unless reset_coded_error. A
+// controller that was in RUN state and is not after the reads (a refusal may
+// have taken it out) is named in a note with what to do.
 Result<config::DriveConfig> devicenet_backup(devicenet::Master& m,
                                              const DevicenetBackupOptions& opt,
                                              const db::Database& db);

@@ -83,6 +83,7 @@ void DeviceNetController::reset() {
   echo_value_ = 0;
   coded_error_ = 0;
   seen_command_ = false;
+  stopped_by_error_ = false;
   reassembler_ = {};
 }
 
@@ -166,6 +167,7 @@ void DeviceNetController::explicit_message(const can::Frame& f, bool unconnected
 void DeviceNetController::coded_error(std::uint16_t code) {
   coded_error_ = code;
   status_.low |= 0x0040;  // ERROR Pending
+  if (opt_.error_leaves_run) stopped_by_error_ = true;
 }
 
 std::uint16_t DeviceNetController::execute(const devicenet::CommandWord& w, std::uint16_t v) {
@@ -246,7 +248,12 @@ void DeviceNetController::poll(const can::Frame& f, can::VirtualBus& bus) {
     seen_command_ = true;
     last_toggle_ = w.toggle;
   }
-  status_.low |= 0x0003;  // INIT Done, RUN State
+  status_.low |= 0x0001;  // INIT Done
+  if (stopped_by_error_) {
+    status_.low = static_cast<std::uint16_t>((status_.low & ~0x0002) | 0x0004);  // ERROR State
+  } else {
+    status_.low |= 0x0002;  // RUN State
+  }
   if (drop_polls_ > 0) {
     --drop_polls_;
     ++lost_;

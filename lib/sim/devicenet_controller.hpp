@@ -25,6 +25,9 @@ struct DeviceNetControllerOptions {
   // Fault: each poll response is lost with this probability (the command it
   // answers has still executed, as when the frame is lost on the bus).
   double lose_poll_responses = 0;
+  // Firmware variant (seed 000 leaves it open): a coded error also takes the
+  // controller out of RUN into ERROR State until it is reset.
+  bool error_leaves_run = false;
   std::uint32_t seed = 1;
 };
 
@@ -67,6 +70,7 @@ class DeviceNetController {
   int drop_polls_ = 0;
   bool last_toggle_ = false;
   bool seen_command_ = false;
+  bool stopped_by_error_ = false;
   devicenet::Status status_;
   devicenet::CommandWord echo_;
   std::uint16_t echo_value_ = 0;

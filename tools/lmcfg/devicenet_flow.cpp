@@ -85,12 +85,30 @@ Result<ops::DevicenetLinkOptions> devicenet_link_options(const CommonOptions& o)
   return l;
 }
 
+Result<ops::DevicenetBackupOptions> devicenet_read_options(const CommonOptions& o) {
+  ops::DevicenetBackupOptions bo;
+  bo.module_values = !o.no_module_values;
+  if (o.devicenet_motors.empty()) return bo;
+  std::vector<int> motors;
+  for (char c : o.devicenet_motors) {
+    if (c == ',') continue;
+    const int m = c - 'A';
+    if (m < 0 || m > 3 || std::find(motors.begin(), motors.end(), m) != motors.end())
+      return Error(Errc::invalid_argument, "--devicenet-motors '" + o.devicenet_motors +
+                                               "': expected motors A..D, each once, e.g. A,B");
+    motors.push_back(m);
+  }
+  std::sort(motors.begin(), motors.end());
+  bo.motors = motors;
+  return bo;
+}
+
 Result<config::DriveConfig> devicenet_capture(const CommonOptions& o, const db::Database& db,
                                               const DevicenetCapture& c) {
   LMCFG_ASSIGN_OR_RETURN(auto l, devicenet_link_options(o));
+  LMCFG_ASSIGN_OR_RETURN(auto bo, devicenet_read_options(o));
   LMCFG_ASSIGN_OR_RETURN(auto session, ops::DevicenetSession::open(l));
   std::vector<std::string> notes;
-  ops::DevicenetBackupOptions bo;
   bo.live = c.live;
   bo.reset_coded_error = c.reset_coded_error;
   bo.notes = &notes;
@@ -118,14 +136,15 @@ int restore_devicenet(const config::DriveConfig& file, const std::string& file_n
                                  "differ"));
   auto l = devicenet_link_options(common);
   if (!l.ok()) return fail("restore", l.error());
+  auto read = devicenet_read_options(common);
+  if (!read.ok()) return fail("restore", read.error());
   auto session = ops::DevicenetSession::open(*l);
   if (!session.ok()) return fail("restore", session.error());
   auto& m = (*session)->master();
   std::vector<std::string> notes;
-  ops::DevicenetBackupOptions bo;
-  bo.live = false;
-  bo.notes = &notes;
-  auto current = ops::devicenet_backup(m, bo, db);
+  read->live = false;
+  read->notes = &notes;
+  auto current = ops::devicenet_backup(m, *read, db);
   print_notes(common, "restore", notes);
   if (!current.ok()) return fail("restore", current.error());
   if (auto i = interrupted_check(); !i.ok()) return fail("restore", i.error());

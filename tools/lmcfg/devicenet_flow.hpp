@@ -14,6 +14,8 @@
 namespace lmcfg::cli {
 
 Result<ops::DevicenetLinkOptions> devicenet_link_options(const CommonOptions& o);
+// --devicenet-motors and --no-module-values into the backup's options.
+Result<ops::DevicenetBackupOptions> devicenet_read_options(const CommonOptions& o);
 
 struct DevicenetCapture {
   bool live = true;

@@ -66,6 +66,12 @@ void add_link_options(CLI::App* sub, CommonOptions& o) {
                   "DeviceNet: how long to listen for another node with this tool's MAC ID after "
                   "each of the two duplicate MAC ID checks (DeviceNet: 1 s)")
       ->capture_default_str();
+  sub->add_option("--devicenet-motors", o.devicenet_motors,
+                  "DeviceNet: the controller's motors, e.g. A,B (default: found by probing "
+                  "A..D; the controller refuses absent ones with a coded error)");
+  sub->add_flag("--no-module-values", o.no_module_values,
+                "DeviceNet: do not read the encoder and CAM values (60h..6Bh) that need a master "
+                "encoder or IO module");
   sub->add_option("--io-modules", o.io_modules,
                   "DeviceNet: the controller's IO modules as set up in LinTalk, e.g. "
                   "control-in,addressed-in,status-out,addressed-out (the default)");

@@ -37,6 +37,8 @@ struct CommonOptions {
   unsigned devicenet_own_macid = 62;
   int devicenet_listen_ms = 1000;  // after each duplicate MAC ID check request
   std::string io_modules;          // "" = the default layout
+  std::string devicenet_motors;    // "" = detect by probing A..D
+  bool no_module_values = false;
 };
 
 // --port, --baud, --parity, --stop-bits, --id, --checksum, --checksum-coverage,

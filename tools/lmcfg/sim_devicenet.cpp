@@ -37,6 +37,7 @@ Result<sim::DeviceNetControllerOptions> controller_options(const DevicenetSimArg
     return Error(Errc::invalid_argument, "--lose-polls must be a probability in 0..1 (e.g. 0.05)");
   o.lose_poll_responses = a.lose_polls;
   o.seed = a.seed;
+  o.error_leaves_run = a.error_leaves_run;
   return o;
 }
 
@@ -64,6 +65,9 @@ void add_devicenet_sim_options(CLI::App* sim, DevicenetSimArgs& a) {
                   "with --devicenet: probability that a poll response is lost (fault injection)");
   sim->add_option("--seed", a.seed, "with --lose-polls: the fault sequence's seed")
       ->capture_default_str();
+  sim->add_flag("--error-leaves-run", a.error_leaves_run,
+                "with --devicenet: a coded error also takes the controller out of RUN (a "
+                "firmware variant seed 000 leaves open)");
   sim->add_option("--held-by", a.held_by,
                   "with --devicenet: another master (this MAC ID) holds the connection set");
 }

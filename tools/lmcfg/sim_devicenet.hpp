@@ -18,6 +18,7 @@ struct DevicenetSimArgs {
   double lose_polls = 0;
   unsigned seed = 1;
   std::string held_by;  // another master's MAC ID holding the connection
+  bool error_leaves_run = false;
 };
 
 // The --devicenet-* options of `lmcfg sim`.
