@@ -232,3 +232,26 @@ TEST_CASE(
   CHECK(quiet.err.find("not read") == std::string::npos);
   fs::remove_all(dir);
 }
+
+TEST_CASE(
+    "devicenet (issue 17): a controller reset in the middle of a restore is reported as partial; "
+    "the rerun converges",
+    "[devicenet][cli][pty]") {
+  const auto dir = fresh_dir("reset");
+  DnSim sim({"--reset-after-sets", "3"});  // the two sets below, then the restore's first
+  REQUIRE(test::run_tool_in(dir, "backup " + sim.link() + " -q -o ctl.json").exit_code == 0);
+  change_two_values(sim.pty);
+  auto partial = test::run_tool_in(dir, "restore ctl.json --yes " + sim.link());
+  INFO(partial.out << partial.err);
+  CHECK(partial.exit_code == 4);
+  CHECK(partial.err.find("lmcfg restore: the controller is partially restored: ") !=
+        std::string::npos);
+  CHECK(partial.err.find("0 of 2 Set command(s) done before it, the rest not sent: run the "
+                         "restore again)") != std::string::npos);
+  auto rerun = test::run_tool_in(dir, "restore ctl.json --yes " + sim.link());
+  INFO(rerun.out << rerun.err);
+  CHECK(rerun.exit_code == 0);
+  CHECK(count(rerun.out, "  set ") == 1);  // the first Set had executed before the reset
+  CHECK(test::run_tool_in(dir, "diff ctl.json drive " + sim.link()).exit_code == 0);
+  fs::remove_all(dir);
+}

@@ -305,10 +305,13 @@ Result<std::vector<std::string>> execute_devicenet_plan(Master& m, const Devicen
     if (progress) progress("write", done++, total);
     auto r = m.command(select(w.motor), static_cast<std::uint8_t>(w.get + 1), w.to);
     if (!r.ok()) {
-      return Error(r.error().code, r.error().message + " (writing " + w.what + "; " +
-                                       std::to_string(&w - p.writes.data()) + " of " +
-                                       std::to_string(p.writes.size()) +
-                                       " Set command(s) done before it, the others not sent)");
+      // The Set may have executed with its echo lost: the rerun's plan reads it.
+      return Error(r.error().code,
+                   r.error().message + " (writing " + w.what +
+                       ", which the controller may or may not have executed; " +
+                       std::to_string(&w - p.writes.data()) + " of " +
+                       std::to_string(p.writes.size()) +
+                       " Set command(s) done before it, the rest not sent: run the restore again)");
     }
   }
   std::vector<std::string> mismatches;

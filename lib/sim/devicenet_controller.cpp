@@ -224,6 +224,7 @@ std::uint16_t DeviceNetController::execute(const devicenet::CommandWord& w, std:
     }
   }
   set_value(motor, entry->get, v);
+  ++sets_;
   return v;
 }
 
@@ -238,6 +239,11 @@ void DeviceNetController::poll(const can::Frame& f, can::VirtualBus& bus) {
     // selected motors' Command Toggle bits then report the toggle.
     if (!seen_command_ || w.toggle != last_toggle_) {
       echo_value_ = execute(w, command->addressed_value);
+      if (opt_.reset_after_sets != 0 && sets_ == opt_.reset_after_sets) {
+        opt_.reset_after_sets = 0;
+        reset();
+        return;
+      }
       echo_ = w;
       for (Motor m : devicenet::kMotors) {
         if (!w.motors[static_cast<int>(m)]) continue;

@@ -29,6 +29,9 @@ struct DeviceNetControllerOptions {
   // controller out of RUN into ERROR State until it is reset.
   bool error_leaves_run = false;
   std::uint32_t seed = 1;
+  // Fault: a controller reset (power dip) right after this many executed Set
+  // commands, once; 0 = never. The connection is gone, values are kept.
+  std::uint64_t reset_after_sets = 0;
 };
 
 class DeviceNetController {
@@ -79,6 +82,7 @@ class DeviceNetController {
   devicenet::IoReassembler reassembler_;
   std::uint64_t executed_ = 0;
   std::uint64_t lost_ = 0;
+  std::uint64_t sets_ = 0;
   std::uint32_t rng_;
 };
 

@@ -38,6 +38,7 @@ Result<sim::DeviceNetControllerOptions> controller_options(const DevicenetSimArg
   o.lose_poll_responses = a.lose_polls;
   o.seed = a.seed;
   o.error_leaves_run = a.error_leaves_run;
+  o.reset_after_sets = a.reset_after;
   return o;
 }
 
@@ -68,6 +69,9 @@ void add_devicenet_sim_options(CLI::App* sim, DevicenetSimArgs& a) {
   sim->add_flag("--error-leaves-run", a.error_leaves_run,
                 "with --devicenet: a coded error also takes the controller out of RUN (a "
                 "firmware variant seed 000 leaves open)");
+  sim->add_option("--reset-after-sets", a.reset_after,
+                  "with --devicenet: the controller resets once right after this many Set commands "
+                  "(the connection is dropped mid-session)");
   sim->add_option("--held-by", a.held_by,
                   "with --devicenet: another master (this MAC ID) holds the connection set");
 }

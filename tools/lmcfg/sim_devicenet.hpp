@@ -19,6 +19,7 @@ struct DevicenetSimArgs {
   unsigned seed = 1;
   std::string held_by;  // another master's MAC ID holding the connection
   bool error_leaves_run = false;
+  unsigned reset_after = 0;
 };
 
 // The --devicenet-* options of `lmcfg sim`.
