@@ -255,3 +255,17 @@ TEST_CASE(
   CHECK(test::run_tool_in(dir, "diff ctl.json drive " + sim.link()).exit_code == 0);
   fs::remove_all(dir);
 }
+
+TEST_CASE("devicenet (issue 17): Ctrl-C during a backup releases the connection (exit 130)",
+          "[devicenet][cli][pty]") {
+  const auto dir = fresh_dir("sigint");
+  DnSim sim({"--lose-polls", "0.3"});  // a slow line: the signal lands mid-backup
+  test::Child backup({LMCFG_TOOL_PATH, "backup", "--port", "slcan:" + sim.pty,
+                      "--devicenet-macid", "5", "--devicenet-listen-ms", "20", "--timeout-ms",
+                      "100", "--retries", "9", "-q", "-o", (dir / "x.json").string()});
+  ::usleep(600 * 1000);
+  CHECK(backup.stop() == 130);
+  CHECK(!fs::exists(dir / "x.json"));
+  change_two_values(sim.pty);  // another master gets the connection: it was released
+  fs::remove_all(dir);
+}
