@@ -260,9 +260,9 @@ TEST_CASE("devicenet (issue 17): Ctrl-C during a backup releases the connection 
           "[devicenet][cli][pty]") {
   const auto dir = fresh_dir("sigint");
   DnSim sim({"--lose-polls", "0.3"});  // a slow line: the signal lands mid-backup
-  test::Child backup({LMCFG_TOOL_PATH, "backup", "--port", "slcan:" + sim.pty,
-                      "--devicenet-macid", "5", "--devicenet-listen-ms", "20", "--timeout-ms",
-                      "100", "--retries", "9", "-q", "-o", (dir / "x.json").string()});
+  test::Child backup({LMCFG_TOOL_PATH, "backup", "--port", "slcan:" + sim.pty, "--devicenet-macid",
+                      "5", "--devicenet-listen-ms", "20", "--timeout-ms", "100", "--retries", "9",
+                      "-q", "-o", (dir / "x.json").string()});
   ::usleep(600 * 1000);
   CHECK(backup.stop() == 130);
   CHECK(!fs::exists(dir / "x.json"));

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <array>
 
+#include "devicenet/messages.hpp"
+
 namespace lmcfg::devicenet {
 namespace {
 
@@ -126,6 +128,52 @@ Result<IoLayout> parse_modules(std::string_view comma_separated) {
     at = comma + 1;
   }
   return parse_modules(names);
+}
+
+namespace {
+
+std::string command_text(const CommandWord& w) {
+  std::string motors;
+  for (Motor m : kMotors)
+    if (w.motors[static_cast<std::size_t>(m)]) motors += motor_letter(m);
+  return "command " + hex(w.id, 2, "h") + (motors.empty() ? "" : " motor " + motors) + " toggle " +
+         (w.toggle ? "1" : "0");
+}
+
+std::string poll_text(const can::Frame& f, const IoLayout& l, bool response) {
+  const ByteView body = f.payload();
+  if (response ? body.size() != l.response_size() : body.size() != l.command_size())
+    return " (fragment or another layout)";
+  if (response) {
+    auto r = decode_response(l, body);
+    if (!r.ok()) return {};
+    return ": status " + hex(r->status.low, 4, "h") + " " + hex(r->status.high, 4, "h") +
+           ", echo " + command_text(r->addressed_echo) + " value " +
+           hex(r->addressed_value, 4, "h");
+  }
+  auto c = decode_command(l, body);
+  if (!c.ok()) return {};
+  return ": " + command_text(c->addressed) + " value " + hex(c->addressed_value, 4, "h");
+}
+
+}  // namespace
+
+std::string describe_frame(const can::Frame& f, const IoLayout& layout) {
+  std::string text = describe_identifier(f.id);
+  if (f.extended || f.rtr || f.id >= 0x600) return text;
+  if (f.id >= 0x400) {
+    const auto message = static_cast<Group2>(f.id & 7);
+    if (message == Group2::master_io_poll) return text + poll_text(f, layout, false);
+    if (message == Group2::duplicate_mac_check) return text;
+    auto e = Explicit::decode(f.payload());
+    if (!e.ok()) return text;
+    std::string s = text + ": " + std::string(service_name(e->service)) +
+                    (e->response ? " response" : " request");
+    for (auto b : e->data) s += " " + hex(b, 2);
+    return s;
+  }
+  if (((f.id >> 6) & 0xF) == kSlavePollResponse) return text + poll_text(f, layout, true);
+  return text;
 }
 
 std::string target_name(std::optional<Motor> m) {

@@ -12,6 +12,7 @@
 #include <string_view>
 #include <vector>
 
+#include "can/frame.hpp"
 #include "common/result.hpp"
 #include "devicenet/command.hpp"
 
@@ -41,6 +42,11 @@ std::vector<std::string> module_names(const IoLayout& l);
 // Errc::invalid_argument naming an unknown module.
 Result<IoLayout> parse_modules(const std::vector<std::string>& names);
 Result<IoLayout> parse_modules(std::string_view comma_separated);
+
+// A frame's DeviceNet meaning for traces: the identifier's group, MAC ID and
+// message, then for explicit messages the service (and a response's data),
+// for polls of `layout` the Addressed command word, value, status and echo.
+std::string describe_frame(const can::Frame& f, const IoLayout& layout);
 
 // "motor A" / "the controller".
 std::string target_name(std::optional<Motor> m);

@@ -110,8 +110,9 @@ Result<std::unique_ptr<DevicenetSession>> DevicenetSession::open(const Devicenet
   LMCFG_ASSIGN_OR_RETURN(s->link_, can::open_link(o.port, so));
   if (o.trace) {
     s->link_ = std::make_unique<can::TraceLink>(
-        std::move(s->link_), o.trace,
-        [](const can::Frame& f, bool) { return devicenet::describe_identifier(f.id); });
+        std::move(s->link_), o.trace, [layout = o.master.layout](const can::Frame& f, bool) {
+          return devicenet::describe_frame(f, layout);
+        });
   }
   s->master_ = std::make_unique<Master>(*s->link_, o.master);
   if (o.check_own_mac) LMCFG_TRY(s->master_->check_own_mac());
