@@ -42,7 +42,7 @@ for c in "${commands[@]}"; do
   # shellcheck disable=SC2086
   expect "lmcfg $c -<TAB>" "$("$lmcfg" $c --help | options | sort)" "$(complete_words lmcfg $c -)"
 done
-expect "lmcfg backup --port /dev/ttyUSB0 --no-<TAB>" "$(printf -- '--no-ct\n--no-curves\n--no-describe')" \
+expect "lmcfg backup --port /dev/ttyUSB0 --no-<TAB>" "$(printf -- '--no-ct\n--no-curves\n--no-describe\n--no-module-values')" \
   "$(complete_words lmcfg backup --port /dev/ttyUSB0 --no-)"
 ((fail == 0)) && echo "man page and completion cover ${#commands[@]} (sub)commands"
 exit $fail
