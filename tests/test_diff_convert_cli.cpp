@@ -293,6 +293,18 @@ TEST_CASE("reports: diff and convert --json validate against their documented sh
   CHECK(r.out.find("\"kind\": \"scope\"") != std::string::npos);
   CHECK(valid_report(d, "report-diff.schema.json", r.out));
   CHECK_FALSE(valid_report(d, "report-diff.schema.json", "{\"a\": 1}"));  // the schema bites
+  // DeviceNet values, live values included.
+  auto dn = devicenet_capture();
+  dn.devicenet->values[0].raw = 7;
+  dn.devicenet->live[0].raw = 9;
+  const auto fd = d.path / "dn.json";
+  REQUIRE(write_config_file(dn, fd).ok());
+  auto n =
+      tool(d, "diff --quiet --json --live " + q(fixture_dir() / "devicenet.json") + " " + q(fd));
+  CHECK(n.rc == 1);
+  CHECK(n.out.find("\"kind\": \"devicenet\"") != std::string::npos);
+  CHECK(n.out.find("\"live\": true") != std::string::npos);
+  CHECK(valid_report(d, "report-diff.schema.json", n.out));
   auto c = tool(d, "convert --quiet --json " + q(fixture_dir() / "everything.json") + " " +
                        q(d.path / "e.xml"));
   CHECK(c.rc == 0);
