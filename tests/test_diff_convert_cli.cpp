@@ -310,6 +310,11 @@ TEST_CASE("reports: diff and convert --json validate against their documented sh
   CHECK(c.rc == 0);
   CHECK(c.out.find("\"format\":\"xml\"") != std::string::npos);
   CHECK(valid_report(d, "report-convert.schema.json", c.out));
+  auto cd = tool(d, "convert --quiet --json " + q(fixture_dir() / "devicenet.xml") + " " +
+                        q(d.path / "dn.json"));
+  CHECK(cd.rc == 0);
+  CHECK(cd.out.find("\"devicenet_values\":4,\"devicenet_live\":2}") != std::string::npos);
+  CHECK(valid_report(d, "report-convert.schema.json", cd.out));
 }
 
 TEST_CASE(

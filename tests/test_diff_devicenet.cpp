@@ -10,6 +10,7 @@
 #include "config/config_io.hpp"
 #include "db/database.hpp"
 #include "ops/diff.hpp"
+#include "ops/report.hpp"
 #include "test_config_support.hpp"
 
 using namespace lmcfg;
@@ -325,4 +326,26 @@ TEST_CASE("lmcfg diff: DeviceNet files, --live, defaults and LinRS", "[diff][dev
   REQUIRE(tool(d, "convert --quiet '" + x.string() + "' '" + j.string() + "'").rc == 0);
   CHECK(slurp(j) == slurp(a));
   CHECK(*read_config_file(x) == devicenet_capture());
+}
+
+TEST_CASE("report: a DeviceNet capture's values, alone and against another",
+          "[report][devicenet]") {
+  const auto one = ops::render_report(devicenet_capture(), "dn.json", real_db(), {});
+  CHECK(one.find("<section class=\"page\" id=\"devicenet\"><h2>DeviceNet values</h2>") !=
+        std::string::npos);
+  CHECK(one.find("<tr><th>motors</th><td>A, B</td></tr>") != std::string::npos);
+  CHECK(one.find("<tr><td>motor A: Controller P (34h)</td><td>2.3438 A/mm (raw 1000)</td><td>"
+                 "</td></tr>") != std::string::npos);
+  CHECK(one.find("<tr><td>controller: Status Low Word (02h)</td><td>3</td><td>live (not "
+                 "restored)</td></tr>") != std::string::npos);
+  CHECK(ops::render_report(golden_sinrise(), "rs.json", real_db(), {}).find("DeviceNet") ==
+        std::string::npos);
+  const auto a = devicenet_capture();
+  const auto b = changed();
+  const auto r = ops::diff(a, b, real_db(), {}, {});
+  const auto two = ops::render_diff_report(a, "a.json", b, "b.json", r, real_db(), {});
+  CHECK(two.find("<tr data-summary=\"devicenet\"><td>DeviceNet values</td><td class=\"num\">2"
+                 "</td>") != std::string::npos);
+  CHECK(two.find("<tr class=\"diff changed\" data-kind=\"devicenet\" data-key=\"A/34\"><td>motor "
+                 "A: Controller P (34h)</td>") != std::string::npos);
 }

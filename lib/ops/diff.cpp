@@ -434,18 +434,14 @@ void diff_dn_values(const std::vector<config::DevicenetValue>& a,
     const auto [va, vb] = sides;
     // Raw words are the truth; display fields may come from another database.
     if (va && vb && va->raw == vb->raw) continue;
-    const db::DevicenetCommand* c = db.devicenet_command(key.second);
-    const std::string name = dn_command_name(c, va ? *va : *vb);
     DiffItem it;
     it.kind = DiffItem::Kind::devicenet;
     it.key = key.second;
     it.motor = key.first;
     it.live = live;
-    it.name = motor_label(key.first) + ": " +
-              (name.empty() ? "command " + hex(key.second, 2, "h")
-                            : name + " (" + hex(key.second, 2, "h") + ")");
-    it.a = va ? dn_value_text(c, *va) : "absent";
-    it.b = vb ? dn_value_text(c, *vb) : "absent";
+    it.name = devicenet_value_name(db, va ? *va : *vb);
+    it.a = va ? devicenet_value_text(db, *va) : "absent";
+    it.b = vb ? devicenet_value_text(db, *vb) : "absent";
     r.items.push_back(std::move(it));
   }
 }
@@ -537,6 +533,17 @@ config::DriveConfig factory_defaults_config(const config::Scope& scope) {
   c.scope = scope;
   c.scope.parameters = config::ParamSet::modified;
   return c;
+}
+
+std::string devicenet_value_name(const db::Database& db, const config::DevicenetValue& v) {
+  const std::string name = dn_command_name(db.devicenet_command(v.command), v);
+  return motor_label(v.motor) + ": " +
+         (name.empty() ? "command " + hex(v.command, 2, "h")
+                       : name + " (" + hex(v.command, 2, "h") + ")");
+}
+
+std::string devicenet_value_text(const db::Database& db, const config::DevicenetValue& v) {
+  return dn_value_text(db.devicenet_command(v.command), v);
 }
 
 std::string describe_scope(const config::Scope& s) {

@@ -533,6 +533,33 @@ void devicenet_diff(std::string& out, const DiffResult& r) {
       rows + "</tbody></table>\n";
 }
 
+// A DeviceNet capture's section: its bit rate, IO modules and motors, then
+// every value (live values marked: informational, never restored).
+void devicenet_single(std::string& out, const config::DevicenetSection& dn,
+                      const db::Database& db) {
+  std::string motors, modules;
+  for (int m : dn.motors)
+    motors += (motors.empty() ? "" : ", ") + std::string(1, static_cast<char>('A' + m));
+  for (const auto& m : dn.io_modules) modules += (modules.empty() ? "" : ", ") + m;
+  out += "<table class=\"identity\"><tbody>\n<tr><th>CAN bit rate</th><td>" +
+         std::to_string(dn.can_bitrate) + "</td></tr>\n<tr><th>IO modules</th><td>" +
+         value_or_none(modules) + "</td></tr>\n<tr><th>motors</th><td>" + value_or_none(motors) +
+         "</td></tr>\n</tbody></table>\n";
+  if (dn.values.empty() && dn.live.empty()) {
+    out += "<p>No values.</p>\n";
+    return;
+  }
+  out +=
+      "<table class=\"devicenet\"><thead><tr><th>value</th><th>read</th><th></th></tr></thead>"
+      "<tbody>\n";
+  for (const bool live : {false, true})
+    for (const auto& v : live ? dn.live : dn.values)
+      out += "<tr><td>" + html_escape(devicenet_value_name(db, v)) + "</td><td>" +
+             html_escape(devicenet_value_text(db, v)) + "</td><td>" +
+             (live ? "live (not restored)" : "") + "</td></tr>\n";
+  out += "</tbody></table>\n";
+}
+
 std::string section(const char* id, const char* title) {
   return std::string("<section class=\"page\" id=\"") + id + "\"><h2>" + title + "</h2>\n";
 }
@@ -565,7 +592,13 @@ std::string render_report(const config::DriveConfig& cfg, const std::string& nam
   for (const auto& c : cfg.curves) curve_figure(out, c);
   out += "</section>\n" + section("command-table", "Command table");
   ct_section(out, cfg, db);
-  out += "</section>\n</main></body></html>\n";
+  out += "</section>\n";
+  if (cfg.devicenet) {
+    out += section("devicenet", "DeviceNet values");
+    devicenet_single(out, *cfg.devicenet, db);
+    out += "</section>\n";
+  }
+  out += "</main></body></html>\n";
   return out;
 }
 
