@@ -38,7 +38,7 @@ DevicenetValue& value_of(DriveConfig& c, int motor, std::uint8_t command) {
 DriveConfig changed() {
   auto b = devicenet_capture();
   value_of(b, 0, 0x34).raw = 1100;
-  value_of(b, 0, 0x34).scaled = "2.5782";
+  value_of(b, 0, 0x34).scaled = "2.57818";
   value_of(b, 1, 0x24).raw = 5;
   return b;
 }
@@ -173,7 +173,7 @@ TEST_CASE("diff: DeviceNet signed words, names and scales without the database",
   REQUIRE(e.items.size() == 2);
   CHECK(e.items[0].name == "motor A: Controller P (34h)");
   CHECK(e.items[0].a == "2.3438 A/mm (raw 1000)");
-  CHECK(e.items[0].b == "2.5782 A/mm (raw 1100)");
+  CHECK(e.items[0].b == "2.57818 A/mm (raw 1100)");
   CHECK(e.items[1].name == "motor B: (Rise) Curve Number (24h)");  // A's name
   auto d = devicenet_capture();
   value_of(d, 1, 0x24).name.clear();

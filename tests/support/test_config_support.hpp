@@ -128,7 +128,7 @@ inline DriveConfig devicenet_capture() {
   // motor, Get command, raw word, name, unit, scaled
   dn.values = {{0, 0x34, 1000, "Get Controller P", "A/mm", "2.3438"},
                {0, 0x40, 0xFE00, "Get Minimal Position", "mm", "-10"},
-               {1, 0x34, 1200, "Get Controller P", "A/mm", "2.8126"},
+               {1, 0x34, 1200, "Get Controller P", "A/mm", "2.81256"},
                {1, 0x24, 3, "Get (Rise) Curve Number", "", ""}};
   dn.live = {{kDevicenetController, 0x02, 3, "Get Status Low Word", "", ""},
              {0, 0x18, 512, "Get Actual Position", "mm", "10"}};
