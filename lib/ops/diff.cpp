@@ -482,8 +482,8 @@ void devicenet_mismatch(const config::DriveConfig& a, const config::DriveConfig&
   const char* dn_side = dn_a ? "A" : "B";
   const auto& dn = dn_a ? *a.devicenet : *b.devicenet;
   if (dn_a ? opt.b_is_defaults : opt.a_is_defaults) {
-    // Seed 000 gives no factory values for these runtime settings: nothing
-    // is invented in their place.
+    // The database records no factory value for a Table 5-1 command: none is
+    // invented in its place.
     r.items.push_back(make_item(
         DiffItem::Kind::scope, "devicenet values", dn_a ? "captured" : "no factory defaults",
         dn_a ? "no factory defaults" : "captured",
