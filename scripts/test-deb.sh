@@ -16,8 +16,8 @@ step "cpack -G DEB"
 deb="$(ls "$build"/lmcfg_*.deb)"
 step "$deb: $(dpkg-deb -f "$deb" Depends)"
 dpkg -c "$deb" >"$build/deb-contents.txt"
-for f in ./usr/bin/lmcfg ./usr/share/lmcfg/lmcfg-upid.sqlite ./usr/share/lmcfg/schemas/lmcfg-config-v2.schema.json \
-  ./usr/share/lmcfg/schemas/lmcfg-config-v2.xsd ./usr/share/man/man1/lmcfg.1 \
+for f in ./usr/bin/lmcfg ./usr/share/lmcfg/lmcfg-upid.sqlite ./usr/share/lmcfg/schemas/lmcfg-config-v3.schema.json \
+  ./usr/share/lmcfg/schemas/lmcfg-config-v3.xsd ./usr/share/man/man1/lmcfg.1 \
   ./usr/share/bash-completion/completions/lmcfg; do
   grep -q " $f\$" "$build/deb-contents.txt" || { echo "test-deb: $f not in $deb"; exit 1; }
 done

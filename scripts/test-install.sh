@@ -13,8 +13,8 @@ step() { echo "test-install: $*"; }
 cmake --install "$build" --prefix "$prefix" >/dev/null
 cd /
 unset LMCFG_UPID_DB
-for f in bin/lmcfg share/lmcfg/lmcfg-upid.sqlite share/lmcfg/schemas/lmcfg-config-v2.schema.json \
-  share/lmcfg/schemas/lmcfg-config-v2.xsd share/man/man1/lmcfg.1 share/bash-completion/completions/lmcfg \
+for f in bin/lmcfg share/lmcfg/lmcfg-upid.sqlite share/lmcfg/schemas/lmcfg-config-v3.schema.json \
+  share/lmcfg/schemas/lmcfg-config-v3.xsd share/man/man1/lmcfg.1 share/bash-completion/completions/lmcfg \
   lib/liblmcfg_ops.a lib/liblmcfg_sim.a include/lmcfg/ops/backup.hpp include/lmcfg/common/version.hpp lib/cmake/lmcfg/lmcfgConfig.cmake; do
   [[ -e "$prefix/$f" ]] || { echo "test-install: $f not installed"; exit 1; }
 done

@@ -1,11 +1,11 @@
 #!/usr/bin/env bash
-# Validates lmcfg JSON configuration files against schemas/lmcfg-config-v2.schema.json
+# Validates lmcfg JSON configuration files against schemas/lmcfg-config-v3.schema.json
 # with ajv (JSON Schema draft 2020-12). Exit 0 when every file is valid, 1 when
 # one is not, 2 on usage or setup errors. Installs ajv on first use.
 #   scripts/validate-json.sh FILE.json...
 set -uo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-schema="$root/schemas/lmcfg-config-v2.schema.json"
+schema="$root/schemas/lmcfg-config-v3.schema.json"
 ajv="$root/tools/node/node_modules/.bin/ajv"
 if [[ $# -eq 0 ]]; then
   echo "usage: $0 FILE.json..." >&2

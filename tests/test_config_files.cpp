@@ -111,11 +111,11 @@ TEST_CASE("config: lmcfg convert", "[config]") {
   const auto t = d.path / "explicit.cfg";
   REQUIRE(run(tool + " convert " + golden + " " + t.string() + " --to xml") == 0);
   CHECK(slurp(t) == slurp(x));
-  // v1 in, v2 out.
+  // v1 in, v3 out.
   const auto m = d.path / "migrated.json";
   REQUIRE(run(tool + " convert " + (fixture_dir() / "v1-sinrise.xml").string() + " " +
               m.string()) == 0);
-  CHECK(slurp(m).find("\"format_version\": 2") != std::string::npos);
+  CHECK(slurp(m).find("\"format_version\": 3") != std::string::npos);
   // Invalid input: exit 2, nothing written.
   const auto none = d.path / "none.json";
   CHECK(run(tool + " convert " + (fixture_dir() / "bad" / "json-dup-upid.json").string() + " " +

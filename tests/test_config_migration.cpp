@@ -21,7 +21,7 @@ DriveConfig expected_from_v1() {
 }
 }  // namespace
 
-TEST_CASE("config: version 1 files are migrated to version 2", "[config]") {
+TEST_CASE("config: version 1 files are migrated to the current version", "[config]") {
   for (const char* name : {"v1-sinrise.json", "v1-sinrise.xml"}) {
     INFO(name);
     auto r = read_config_file(fixture_dir() / name);
@@ -29,10 +29,10 @@ TEST_CASE("config: version 1 files are migrated to version 2", "[config]") {
     REQUIRE(r.ok());
     CHECK(*r == expected_from_v1());
     CHECK(r->scope == Scope{});  // v1 captured modified parameters of every layer, curves and CT
-    // Written again, it is a version 2 file.
+    // Written again, it is a version 3 file.
     auto j = write_json(*r);
     REQUIRE(j.ok());
-    CHECK(j->find("\"format_version\": 2") != std::string::npos);
+    CHECK(j->find("\"format_version\": 3") != std::string::npos);
     CHECK(*read_json(*j, "j") == *r);
   }
 }
@@ -105,15 +105,15 @@ TEST_CASE("config: version 1 errors carry v1 locations", "[config]") {
 }
 
 TEST_CASE("config: format version checks", "[config]") {
-  auto r = read_json("{\"format\": \"lmcfg-drive-config\", \"format_version\": 3}", "new.json");
+  auto r = read_json("{\"format\": \"lmcfg-drive-config\", \"format_version\": 4}", "new.json");
   REQUIRE_FALSE(r.ok());
   CHECK(r.error().code == make_error_code(Errc::unsupported_version));
   CHECK(r.error().message ==
-        "new.json: file format_version 3 is newer than this lmcfg supports (2); update lmcfg");
+        "new.json: file format_version 4 is newer than this lmcfg supports (3); update lmcfg");
   auto r0 = read_json("{\"format\": \"lmcfg-drive-config\", \"format_version\": 0}", "z.json");
   CHECK(r0.error().message ==
-        "z.json:1:52: /format_version: expected format_version 1..2, found 0");
+        "z.json:1:52: /format_version: expected format_version 1..3, found 0");
   auto x = read_xml("<lmcfg format=\"lmcfg-drive-config\" format_version=\"7\"/>", "new.xml");
   CHECK(x.error().message ==
-        "new.xml: file format_version 7 is newer than this lmcfg supports (2); update lmcfg");
+        "new.xml: file format_version 7 is newer than this lmcfg supports (3); update lmcfg");
 }

@@ -206,14 +206,14 @@ TEST_CASE(
       CHECK(slurp(x2) == slurp(x1));
       // The command table's decoded views survive (name, and the command
       // through the UPID database).
-      if (slurp(j1).find("\"raw\"") != std::string::npos) {
+      if (slurp(j1).find("\"raw\": [") != std::string::npos) {
         CHECK(slurp(j2).find("\"summary\"") != std::string::npos);
         CHECK(slurp(x2).find("summary=") != std::string::npos);
       }
     }
     ++n;
   }
-  CHECK(n == 6);
+  CHECK(n == 8);
 }
 
 TEST_CASE("convert and diff read standard input ('-'), format from the content",
@@ -223,7 +223,7 @@ TEST_CASE("convert and diff read standard input ('-'), format from the content",
   const auto out = d.path / "from-stdin.json";
   auto c = tool(d, "convert --quiet - " + q(out) + " < " + q(golden));
   REQUIRE(c.rc == 0);
-  CHECK(slurp(out).find("\"format_version\": 2") != std::string::npos);
+  CHECK(slurp(out).find("\"format_version\": 3") != std::string::npos);
   auto same =
       tool(d, "diff --quiet - " + q(fixture_dir() / "golden-sinrise.json") + " < " + q(golden));
   CHECK(same.rc == 0);
@@ -293,11 +293,28 @@ TEST_CASE("reports: diff and convert --json validate against their documented sh
   CHECK(r.out.find("\"kind\": \"scope\"") != std::string::npos);
   CHECK(valid_report(d, "report-diff.schema.json", r.out));
   CHECK_FALSE(valid_report(d, "report-diff.schema.json", "{\"a\": 1}"));  // the schema bites
+  // DeviceNet values, live values included.
+  auto dn = devicenet_capture();
+  dn.devicenet->values[0].raw = 7;
+  dn.devicenet->live[0].raw = 9;
+  const auto fd = d.path / "dn.json";
+  REQUIRE(write_config_file(dn, fd).ok());
+  auto n =
+      tool(d, "diff --quiet --json --live " + q(fixture_dir() / "devicenet.json") + " " + q(fd));
+  CHECK(n.rc == 1);
+  CHECK(n.out.find("\"kind\": \"devicenet\"") != std::string::npos);
+  CHECK(n.out.find("\"live\": true") != std::string::npos);
+  CHECK(valid_report(d, "report-diff.schema.json", n.out));
   auto c = tool(d, "convert --quiet --json " + q(fixture_dir() / "everything.json") + " " +
                        q(d.path / "e.xml"));
   CHECK(c.rc == 0);
   CHECK(c.out.find("\"format\":\"xml\"") != std::string::npos);
   CHECK(valid_report(d, "report-convert.schema.json", c.out));
+  auto cd = tool(d, "convert --quiet --json " + q(fixture_dir() / "devicenet.xml") + " " +
+                        q(d.path / "dn.json"));
+  CHECK(cd.rc == 0);
+  CHECK(cd.out.find("\"devicenet_values\":4,\"devicenet_live\":2}") != std::string::npos);
+  CHECK(valid_report(d, "report-convert.schema.json", cd.out));
 }
 
 TEST_CASE(

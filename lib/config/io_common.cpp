@@ -34,6 +34,30 @@ std::optional<std::uint16_t> parse_upid_hex(std::string_view s) noexcept {
   return static_cast<std::uint16_t>(v);
 }
 
+std::string devicenet_motor_text(int motor) {
+  if (motor == kDevicenetController) return "controller";
+  return std::string(1, static_cast<char>('A' + motor));
+}
+
+std::optional<int> parse_motor_letter(std::string_view s) noexcept {
+  if (s.size() != 1 || s[0] < 'A' || s[0] > 'D') return std::nullopt;
+  return s[0] - 'A';
+}
+
+std::optional<int> parse_devicenet_motor(std::string_view s) noexcept {
+  if (s == "controller") return kDevicenetController;
+  return parse_motor_letter(s);
+}
+
+std::string command_hex(std::uint8_t id) { return upid_hex(id).substr(2); }
+
+std::optional<std::uint8_t> parse_command_hex(std::string_view s) noexcept {
+  if (s.size() != 2) return std::nullopt;
+  const int hi = hexval(s[0]), lo = hexval(s[1]);
+  if (hi < 0 || lo < 0) return std::nullopt;
+  return static_cast<std::uint8_t>(hi << 4 | lo);
+}
+
 std::vector<std::string> block_rows(ByteView b) {
   std::vector<std::string> rows;
   rows.reserve((b.size() + kBytesPerRow - 1) / kBytesPerRow);

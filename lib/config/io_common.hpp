@@ -26,6 +26,15 @@ std::optional<std::uint64_t> parse_decimal(std::string_view s) noexcept;
 // Signed decimal ("-5", "7"), within int64.
 std::optional<std::int64_t> parse_signed_decimal(std::string_view s) noexcept;
 
+// DeviceNet section: a value's motor as written, "controller" or "A".."D"
+// (model: kDevicenetController, 0..3), and a command ID as 2 upper-case hex
+// digits ("34"), read in either case.
+std::string devicenet_motor_text(int motor);
+std::optional<int> parse_devicenet_motor(std::string_view s) noexcept;  // "A".."D" or "controller"
+std::optional<int> parse_motor_letter(std::string_view s) noexcept;     // "A".."D" only
+std::string command_hex(std::uint8_t id);
+std::optional<std::uint8_t> parse_command_hex(std::string_view s) noexcept;
+
 // format / format_version check shared by both readers. `where` prefixes the
 // message ("f.json:2:13: /format" or "f.xml: /lmcfg/@format").
 Result<void> check_format_id(std::string_view format, const std::string& where);

@@ -313,13 +313,16 @@ class Reader {
 
  private:
   // The phases of read_v2: one member of the document each.
-  Result<DriveConfig> read_v2(const json& doc);
+  Result<DriveConfig> read_v2(const json& doc, std::int64_t version);
   Result<void> read_identity(const json& idj, Identity& id) const;
   Result<void> read_scope(const json& doc, Scope& scope) const;
   Result<void> read_parameters(const json& doc, DriveConfig& cfg, LayerIndex& layer_index) const;
   Result<Parameter> read_parameter(const json& q, const Ptr& pp) const;
   Result<void> read_curves(const json& doc, std::vector<Curve>& out) const;
   Result<void> read_command_table(const json& doc, std::vector<CtEntry>& out) const;
+  Result<void> read_devicenet(const json& doc, std::optional<DevicenetSection>& out) const;
+  Result<void> read_devicenet_values(const json& dn, const Ptr& p, const char* key,
+                                     std::vector<DevicenetValue>& out) const;
   Result<ConfigV1> read_v1(const json& doc);
 
   std::string_view text_;
@@ -340,14 +343,20 @@ Result<DriveConfig> Reader::read_document(const json& doc) {
     LMCFG_ASSIGN_OR_RETURN(auto v1, read_v1(doc));
     return migrate_v1_to_v2(v1);
   }
-  return read_v2(doc);
+  return read_v2(doc, version);
 }
 
-Result<DriveConfig> Reader::read_v2(const json& doc) {
+// Versions 2 and 3: a version 2 file is a version 3 file without `devicenet`.
+Result<DriveConfig> Reader::read_v2(const json& doc, std::int64_t version) {
   const Ptr root;
-  LMCFG_TRY(keys(
-      doc, root,
-      {"format", "format_version", "identity", "scope", "parameters", "curves", "command_table"}));
+  if (version < 3 && doc.contains("devicenet"))
+    return err(Errc::parse_error, root / "devicenet",
+               "unexpected member; the devicenet section is new in format_version 3, this file "
+               "says " +
+                   std::to_string(version));
+  LMCFG_TRY(keys(doc, root,
+                 {"format", "format_version", "identity", "scope", "parameters", "curves",
+                  "command_table", "devicenet"}));
   DriveConfig cfg;
   LMCFG_ASSIGN_OR_RETURN(const json* idj, member(doc, root, "identity", false));
   if (idj) LMCFG_TRY(read_identity(*idj, cfg.identity));
@@ -356,6 +365,7 @@ Result<DriveConfig> Reader::read_v2(const json& doc) {
   LMCFG_TRY(read_parameters(doc, cfg, layer_index));
   LMCFG_TRY(read_curves(doc, cfg.curves));
   LMCFG_TRY(read_command_table(doc, cfg.ct_entries));
+  LMCFG_TRY(read_devicenet(doc, cfg.devicenet));
   if (auto is = find_issue(cfg))
     return err(Errc::validation_failed, issue_pointer(*is, layer_index), is->message);
   canonicalize(cfg);
@@ -544,6 +554,81 @@ Result<void> Reader::read_command_table(const json& doc, std::vector<CtEntry>& o
                        out.push_back(std::move(entry));
                        return {};
                      });
+}
+
+// devicenet (optional, format_version 3)
+Result<void> Reader::read_devicenet(const json& doc, std::optional<DevicenetSection>& out) const {
+  const Ptr root;
+  const Ptr p = root / "devicenet";
+  LMCFG_ASSIGN_OR_RETURN(const json* dj, member(doc, root, "devicenet", false));
+  if (!dj) return {};
+  LMCFG_TRY(object(*dj, p));
+  LMCFG_TRY(keys(*dj, p, {"can_bitrate", "io_modules", "motors", "values", "live"}));
+  DevicenetSection dn;
+  LMCFG_ASSIGN_OR_RETURN(const json* bj, member(*dj, p, "can_bitrate", true));
+  LMCFG_ASSIGN_OR_RETURN(auto rate,
+                         unsigned_int(*bj, p / "can_bitrate", 0xFFFFFFFFu, "a CAN bit rate"));
+  dn.can_bitrate = static_cast<std::uint32_t>(rate);
+  LMCFG_ASSIGN_OR_RETURN(const json* ij, member(*dj, p, "io_modules", false));
+  if (ij) {
+    LMCFG_TRY(array(*ij, p / "io_modules"));
+    for (std::size_t i = 0; i < ij->size(); ++i) {
+      LMCFG_ASSIGN_OR_RETURN(auto m, string((*ij)[i], p / "io_modules" / i));
+      dn.io_modules.push_back(std::move(m));
+    }
+  }
+  LMCFG_ASSIGN_OR_RETURN(const json* mj, member(*dj, p, "motors", true));
+  LMCFG_TRY(array(*mj, p / "motors"));
+  for (std::size_t i = 0; i < mj->size(); ++i) {
+    const json& m = (*mj)[i];
+    const auto motor =
+        m.is_string() ? detail::parse_motor_letter(m.get<std::string>()) : std::nullopt;
+    if (!motor)
+      return err(Errc::parse_error, p / "motors" / i,
+                 "expected a motor \"A\"..\"D\", found " + describe(m));
+    dn.motors.push_back(*motor);
+  }
+  LMCFG_TRY(read_devicenet_values(*dj, p, "values", dn.values));
+  LMCFG_TRY(read_devicenet_values(*dj, p, "live", dn.live));
+  out = std::move(dn);
+  return {};
+}
+
+// devicenet/values or devicenet/live (optional)
+Result<void> Reader::read_devicenet_values(const json& dn, const Ptr& p, const char* key,
+                                           std::vector<DevicenetValue>& out) const {
+  LMCFG_ASSIGN_OR_RETURN(const json* arr, member(dn, p, key, false));
+  if (!arr) return {};
+  LMCFG_TRY(array(*arr, p / key));
+  for (std::size_t i = 0; i < arr->size(); ++i) {
+    const Ptr vp = p / key / i;
+    const json& vj = (*arr)[i];
+    LMCFG_TRY(object(vj, vp));
+    LMCFG_TRY(keys(vj, vp, {"motor", "command", "raw", "name", "scaled", "unit"}));
+    DevicenetValue v;
+    LMCFG_ASSIGN_OR_RETURN(const json* mj, member(vj, vp, "motor", true));
+    const auto motor =
+        mj->is_string() ? detail::parse_devicenet_motor(mj->get<std::string>()) : std::nullopt;
+    if (!motor)
+      return err(Errc::parse_error, vp / "motor",
+                 "expected \"controller\" or a motor \"A\"..\"D\", found " + describe(*mj));
+    v.motor = *motor;
+    LMCFG_ASSIGN_OR_RETURN(const json* cj, member(vj, vp, "command", true));
+    const auto command =
+        cj->is_string() ? detail::parse_command_hex(cj->get<std::string>()) : std::nullopt;
+    if (!command)
+      return err(Errc::parse_error, vp / "command",
+                 "expected a command ID as 2 hex digits (\"34\"), found " + describe(*cj));
+    v.command = *command;
+    LMCFG_ASSIGN_OR_RETURN(const json* rj, member(vj, vp, "raw", true));
+    LMCFG_ASSIGN_OR_RETURN(auto raw, unsigned_int(*rj, vp / "raw", 0xFFFF, "a 16-bit word"));
+    v.raw = static_cast<std::uint16_t>(raw);
+    LMCFG_TRY(opt_string(vj, vp, "name", v.name));
+    LMCFG_TRY(opt_string(vj, vp, "scaled", v.scaled));
+    LMCFG_TRY(opt_string(vj, vp, "unit", v.unit));
+    out.push_back(std::move(v));
+  }
+  return {};
 }
 
 Result<ConfigV1> Reader::read_v1(const json& doc) {

@@ -1,6 +1,6 @@
 #pragma once
 // JSON form of the drive configuration (docs/config-files.md,
-// schemas/lmcfg-config-v2.schema.json). See config_io.hpp for the
+// schemas/lmcfg-config-v3.schema.json). See config_io.hpp for the
 // format-independent entry points.
 #include <filesystem>
 #include <string>

@@ -18,6 +18,33 @@ ojson rows_json(ByteView b) {
   return a;
 }
 
+ojson devicenet_values_json(const std::vector<DevicenetValue>& values) {
+  ojson a = ojson::array();
+  for (const auto& v : values) {
+    ojson j;
+    j["motor"] = detail::devicenet_motor_text(v.motor);
+    j["command"] = detail::command_hex(v.command);
+    j["raw"] = v.raw;
+    if (!v.name.empty()) j["name"] = v.name;
+    if (!v.scaled.empty()) j["scaled"] = v.scaled;
+    if (!v.unit.empty()) j["unit"] = v.unit;
+    a.push_back(std::move(j));
+  }
+  return a;
+}
+
+ojson devicenet_json(const DevicenetSection& dn) {
+  ojson d;
+  d["can_bitrate"] = dn.can_bitrate;
+  d["io_modules"] = dn.io_modules;
+  ojson motors = ojson::array();
+  for (int m : dn.motors) motors.push_back(detail::devicenet_motor_text(m));
+  d["motors"] = std::move(motors);
+  d["values"] = devicenet_values_json(dn.values);
+  d["live"] = devicenet_values_json(dn.live);
+  return d;
+}
+
 }  // namespace
 
 Result<std::string> write_json(const DriveConfig& in, const WriteOptions& opts) {
@@ -139,6 +166,7 @@ Result<std::string> write_json(const DriveConfig& in, const WriteOptions& opts) 
     }
     doc["command_table"] = std::move(table);
   }
+  if (cfg.devicenet) doc["devicenet"] = devicenet_json(*cfg.devicenet);
   try {
     return doc.dump(2, ' ', false, ojson::error_handler_t::strict) + "\n";
   } catch (const ojson::exception& e) {

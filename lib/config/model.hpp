@@ -23,7 +23,7 @@
 namespace lmcfg::config {
 
 inline constexpr std::string_view kFormatId = "lmcfg-drive-config";
-inline constexpr int kFormatVersion = 2;        // what the writers produce
+inline constexpr int kFormatVersion = 3;        // what the writers produce
 inline constexpr int kOldestFormatVersion = 1;  // oldest the readers migrate
 
 // ---------------------------------------------------------------------------

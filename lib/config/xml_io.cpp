@@ -21,7 +21,8 @@ constexpr unsigned kParseFlags =
 
 bool is_repeated(std::string_view name) {
   return name == "layer" || name == "param" || name == "curve" || name == "entry" ||
-         name == "row" || name == "label" || name == "setpoint";
+         name == "row" || name == "label" || name == "setpoint" || name == "module" ||
+         name == "value";
 }
 
 std::string node_path(xml_node n) {
@@ -50,6 +51,8 @@ struct Nodes {
   std::array<xml_node, lmcfg::layers::kCount> layers{};
   std::array<std::vector<xml_node>, lmcfg::layers::kCount> params;  // <param> per layer
   std::vector<xml_node> curves, entries;
+  xml_node devicenet;
+  std::vector<xml_node> dn_values, dn_live;  // <value> of <values> / <live>
 };
 
 // The XPath-like location of a validation issue of the model.
@@ -92,9 +95,14 @@ std::string issue_path(const Issue& is, const Nodes& nodes) {
       path = is.field == "id" ? node_path(en) + "/@id" : node_path(en.child(is.field.c_str()));
       break;
     }
-    case Issue::Where::devicenet:
+    case Issue::Where::devicenet: {
+      xml_node modules = nodes.devicenet.child("io_modules");
+      path = is.field == "io_modules" ? node_path(modules ? modules : nodes.devicenet)
+                                      : node_path(nodes.devicenet) + "/@" + is.field;
+      break;
+    }
     case Issue::Where::devicenet_value:
-      path = "/lmcfg-drive-config/devicenet";  // TODO(#17): element paths once the XML form exists
+      path = node_path((is.live ? nodes.dn_live : nodes.dn_values).at(is.index)) + "/@" + is.field;
       break;
   }
   return path;
@@ -232,13 +240,17 @@ class Reader {
 
  private:
   // The phases of read_v2: one element of the document each.
-  Result<DriveConfig> read_v2(xml_node root);
+  Result<DriveConfig> read_v2(xml_node root, std::int64_t version);
   Result<void> read_identity(xml_node root, Identity& id, Nodes& nodes) const;
   Result<void> read_scope(xml_node root, Scope& scope_out, Nodes& nodes) const;
   Result<void> read_parameters(xml_node root, DriveConfig& cfg, Nodes& nodes) const;
   Result<Parameter> read_parameter(xml_node pn) const;
   Result<void> read_curves(xml_node root, std::vector<Curve>& out, Nodes& nodes) const;
   Result<void> read_command_table(xml_node root, std::vector<CtEntry>& out, Nodes& nodes) const;
+  Result<void> read_devicenet(xml_node root, std::optional<DevicenetSection>& out,
+                              Nodes& nodes) const;
+  Result<void> read_devicenet_values(xml_node list, std::vector<DevicenetValue>& out,
+                                     std::vector<xml_node>& nodes) const;
   Result<ConfigV1> read_v1(xml_node root);
   std::string name_;
 };
@@ -257,12 +269,18 @@ Result<DriveConfig> Reader::read_document(const pugi::xml_document& doc) {
     LMCFG_ASSIGN_OR_RETURN(auto v1, read_v1(root));
     return migrate_v1_to_v2(v1);
   }
-  return read_v2(root);
+  return read_v2(root, version);
 }
 
-Result<DriveConfig> Reader::read_v2(xml_node root) {
+// Versions 2 and 3: a version 2 file is a version 3 file without <devicenet>.
+Result<DriveConfig> Reader::read_v2(xml_node root, std::int64_t version) {
+  if (xml_node dn = root.child("devicenet"); dn && version < 3)
+    return err(Errc::parse_error, dn,
+               "unexpected element; the devicenet section is new in format_version 3, this file "
+               "says " +
+                   std::to_string(version));
   LMCFG_TRY(shape(root, {"format", "format_version"},
-                  {"identity", "scope", "parameters", "curves", "command_table"}));
+                  {"identity", "scope", "parameters", "curves", "command_table", "devicenet"}));
   DriveConfig cfg;
   Nodes nodes;
   LMCFG_TRY(read_identity(root, cfg.identity, nodes));
@@ -270,6 +288,7 @@ Result<DriveConfig> Reader::read_v2(xml_node root) {
   LMCFG_TRY(read_parameters(root, cfg, nodes));
   LMCFG_TRY(read_curves(root, cfg.curves, nodes));
   LMCFG_TRY(read_command_table(root, cfg.ct_entries, nodes));
+  LMCFG_TRY(read_devicenet(root, cfg.devicenet, nodes));
   if (auto is = find_issue(cfg))
     return Error(Errc::validation_failed,
                  name_ + ": " + issue_path(*is, nodes) + ": " + is->message);
@@ -444,6 +463,72 @@ Result<void> Reader::read_command_table(xml_node root, std::vector<CtEntry>& out
   return {};
 }
 
+// devicenet (optional, format_version 3)
+Result<void> Reader::read_devicenet(xml_node root, std::optional<DevicenetSection>& out,
+                                    Nodes& nodes) const {
+  LMCFG_ASSIGN_OR_RETURN(nodes.devicenet, single(root, "devicenet", false));
+  const xml_node dnn = nodes.devicenet;
+  if (!dnn) return {};
+  LMCFG_TRY(shape(dnn, {"can_bitrate", "motors"}, {"io_modules", "values", "live"}));
+  DevicenetSection dn;
+  LMCFG_ASSIGN_OR_RETURN(auto rate, uint_attr(dnn, "can_bitrate", 0xFFFFFFFFu, "a CAN bit rate"));
+  dn.can_bitrate = static_cast<std::uint32_t>(rate);
+  LMCFG_ASSIGN_OR_RETURN(auto motors, attr(dnn, "motors", true));
+  std::istringstream ms(motors);
+  std::string tok;
+  while (ms >> tok) {
+    const auto m = detail::parse_motor_letter(tok);
+    if (!m)
+      return err_attr(Errc::parse_error, dnn, "motors",
+                      "expected motors A..D separated by spaces, found \"" + motors + "\"");
+    dn.motors.push_back(*m);
+  }
+  LMCFG_ASSIGN_OR_RETURN(xml_node modules, single(dnn, "io_modules", false));
+  if (modules) {
+    LMCFG_TRY(shape(modules, {}, {"module"}));
+    for (xml_node mn : modules.children("module")) {
+      LMCFG_ASSIGN_OR_RETURN(auto m, text(mn));
+      dn.io_modules.push_back(std::move(m));
+    }
+  }
+  LMCFG_ASSIGN_OR_RETURN(xml_node values, single(dnn, "values", false));
+  if (values) LMCFG_TRY(read_devicenet_values(values, dn.values, nodes.dn_values));
+  LMCFG_ASSIGN_OR_RETURN(xml_node live, single(dnn, "live", false));
+  if (live) LMCFG_TRY(read_devicenet_values(live, dn.live, nodes.dn_live));
+  out = std::move(dn);
+  return {};
+}
+
+// The <value> elements of <values> or <live>.
+Result<void> Reader::read_devicenet_values(xml_node list, std::vector<DevicenetValue>& out,
+                                           std::vector<xml_node>& nodes) const {
+  LMCFG_TRY(shape(list, {}, {"value"}));
+  for (xml_node vn : list.children("value")) {
+    LMCFG_TRY(shape(vn, {"motor", "command", "raw", "name", "scaled", "unit"}, {}));
+    DevicenetValue v;
+    LMCFG_ASSIGN_OR_RETURN(auto ms, attr(vn, "motor", true));
+    const auto motor = detail::parse_devicenet_motor(ms);
+    if (!motor)
+      return err_attr(Errc::parse_error, vn, "motor",
+                      "expected \"controller\" or a motor \"A\"..\"D\", found \"" + ms + "\"");
+    v.motor = *motor;
+    LMCFG_ASSIGN_OR_RETURN(auto cs, attr(vn, "command", true));
+    const auto command = detail::parse_command_hex(cs);
+    if (!command)
+      return err_attr(Errc::parse_error, vn, "command",
+                      "expected a command ID as 2 hex digits (\"34\"), found \"" + cs + "\"");
+    v.command = *command;
+    LMCFG_ASSIGN_OR_RETURN(auto raw, uint_attr(vn, "raw", 0xFFFF, "a 16-bit word"));
+    v.raw = static_cast<std::uint16_t>(raw);
+    LMCFG_ASSIGN_OR_RETURN(v.name, attr(vn, "name", false));
+    LMCFG_ASSIGN_OR_RETURN(v.scaled, attr(vn, "scaled", false));
+    LMCFG_ASSIGN_OR_RETURN(v.unit, attr(vn, "unit", false));
+    out.push_back(std::move(v));
+    nodes.push_back(vn);
+  }
+  return {};
+}
+
 Result<ConfigV1> Reader::read_v1(xml_node root) {
   LMCFG_TRY(shape(root, {"format", "format_version"},
                   {"drive", "parameters", "curves", "command_table"}));
@@ -516,6 +601,32 @@ void add_rows(xml_node parent, const char* name, ByteView b) {
 void text_child(xml_node parent, const char* name, const std::string& value) {
   xml_node n = parent.append_child(name);
   if (!value.empty()) n.text().set(value.c_str());
+}
+
+void add_devicenet_values(xml_node parent, const char* name,
+                          const std::vector<DevicenetValue>& values) {
+  xml_node list = parent.append_child(name);
+  for (const auto& v : values) {
+    xml_node vn = list.append_child("value");
+    vn.append_attribute("motor") = detail::devicenet_motor_text(v.motor).c_str();
+    vn.append_attribute("command") = detail::command_hex(v.command).c_str();
+    vn.append_attribute("raw") = static_cast<unsigned>(v.raw);
+    if (!v.name.empty()) vn.append_attribute("name") = v.name.c_str();
+    if (!v.scaled.empty()) vn.append_attribute("scaled") = v.scaled.c_str();
+    if (!v.unit.empty()) vn.append_attribute("unit") = v.unit.c_str();
+  }
+}
+
+void add_devicenet(xml_node root, const DevicenetSection& dn) {
+  xml_node n = root.append_child("devicenet");
+  n.append_attribute("can_bitrate") = dn.can_bitrate;
+  std::string motors;
+  for (int m : dn.motors) motors += (motors.empty() ? "" : " ") + detail::devicenet_motor_text(m);
+  n.append_attribute("motors") = motors.c_str();
+  xml_node modules = n.append_child("io_modules");
+  for (const auto& m : dn.io_modules) modules.append_child("module").text().set(m.c_str());
+  add_devicenet_values(n, "values", dn.values);
+  add_devicenet_values(n, "live", dn.live);
 }
 
 struct StringWriter : pugi::xml_writer {
@@ -662,6 +773,7 @@ Result<std::string> write_xml(const DriveConfig& in, const WriteOptions& opts) {
       }
     }
   }
+  if (cfg.devicenet) add_devicenet(root, *cfg.devicenet);
   StringWriter w;
   doc.save(w, "  ", pugi::format_indent, pugi::encoding_utf8);
   return std::move(w.out);

@@ -1,6 +1,6 @@
 #pragma once
 // XML form of the drive configuration (docs/config-files.md,
-// schemas/lmcfg-config-v2.xsd). See config_io.hpp for the format-independent
+// schemas/lmcfg-config-v3.xsd). See config_io.hpp for the format-independent
 // entry points.
 #include <filesystem>
 #include <string>

@@ -168,7 +168,7 @@ std::string counts_line(const DriveResult& r) {
   std::string s = plural(r.count(K::parameter), "parameter", "parameters") + ", " +
                   plural(r.count(K::curve), "curve", "curves") + ", " +
                   plural(r.count(K::ct_entry), "CT entry", "CT entries");
-  if (auto other = r.count(K::metadata) + r.count(K::scope))
+  if (auto other = r.count(K::metadata) + r.count(K::scope) + r.count(K::devicenet))
     s += ", " + plural(other, "other difference", "other differences");
   return s;
 }
@@ -188,6 +188,7 @@ std::string item_line(const ops::DiffItem& it) {
       break;
     case K::metadata:
     case K::scope:
+    case K::devicenet:
       what = ops::kind_name(it.kind);
       break;
   }

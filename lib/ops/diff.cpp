@@ -8,6 +8,7 @@
 #include "common/layers.hpp"
 #include "db/ct_entry.hpp"
 #include "db/database.hpp"
+#include "db/value.hpp"
 #include "ops/backup.hpp"
 #include "ops/restore.hpp"
 
@@ -386,6 +387,121 @@ void diff_metadata(const config::Identity& a, const config::Identity& b, const D
   }
 }
 
+// ---------------------------------------------------------------------------
+// DeviceNet controllers (seed 000).
+
+std::string motor_label(int motor) {
+  return motor == config::kDevicenetController
+             ? std::string("controller")
+             : std::string("motor ") + static_cast<char>('A' + motor);
+}
+
+// "Controller P": the database's name, else the capture's, without the "Get "
+// every recorded command carries (the Get/Set pair is one setting).
+std::string dn_command_name(const db::DevicenetCommand* c, const config::DevicenetValue& v) {
+  std::string n = c && !c->name.empty() ? c->name : v.name;
+  if (n.rfind("Get ", 0) == 0) n.erase(0, 4);
+  return n;
+}
+
+// "2.3438 A/mm (raw 1000)" with a known scale (the database's, else the text
+// the capture recorded), else the raw word.
+std::string dn_value_text(const db::DevicenetCommand* c, const config::DevicenetValue& v) {
+  const std::string raw = std::to_string(v.raw);
+  if (c && c->spec.scale) {
+    // Table 5-1 gives signed ranges ("-32256 to +32256") for positions: the
+    // word is two's complement there.
+    const bool is_signed = (c->spec.min && *c->spec.min < 0) || c->range_text.rfind('-', 0) == 0;
+    const std::int64_t n =
+        is_signed ? std::int64_t{static_cast<std::int16_t>(v.raw)} : std::int64_t{v.raw};
+    std::string s = db::format_scaled(n, *c->spec.scale);
+    if (!c->spec.unit.empty()) s += " " + c->spec.unit;
+    return s + " (raw " + raw + ")";
+  }
+  if (!v.scaled.empty())
+    return v.scaled + (v.unit.empty() ? "" : " " + v.unit) + " (raw " + raw + ")";
+  return raw;
+}
+
+void diff_dn_values(const std::vector<config::DevicenetValue>& a,
+                    const std::vector<config::DevicenetValue>& b, bool live, const db::Database& db,
+                    DiffResult& r) {
+  using Key = std::pair<int, std::uint8_t>;
+  std::map<Key, std::pair<const config::DevicenetValue*, const config::DevicenetValue*>> m;
+  for (const auto& v : a) m[{v.motor, v.command}].first = &v;
+  for (const auto& v : b) m[{v.motor, v.command}].second = &v;
+  for (const auto& [key, sides] : m) {
+    const auto [va, vb] = sides;
+    // Raw words are the truth; display fields may come from another database.
+    if (va && vb && va->raw == vb->raw) continue;
+    DiffItem it;
+    it.kind = DiffItem::Kind::devicenet;
+    it.key = key.second;
+    it.motor = key.first;
+    it.live = live;
+    it.name = devicenet_value_name(db, va ? *va : *vb);
+    it.a = va ? devicenet_value_text(db, *va) : "absent";
+    it.b = vb ? devicenet_value_text(db, *vb) : "absent";
+    r.items.push_back(std::move(it));
+  }
+}
+
+std::string motor_list(const std::vector<int>& motors) {
+  std::string s;
+  for (int m : motors) s += (s.empty() ? "" : ", ") + std::string(1, static_cast<char>('A' + m));
+  return s;
+}
+
+std::string joined(const std::vector<std::string>& v) {
+  std::string s;
+  for (const auto& x : v) s += (s.empty() ? "" : ", ") + x;
+  return s;
+}
+
+void diff_devicenet(const config::DevicenetSection& a, const config::DevicenetSection& b,
+                    const db::Database& db, const DiffOptions& opt, DiffResult& r) {
+  if (!opt.ignore_metadata) {
+    auto cmp = [&](const char* field, const std::string& x, const std::string& y) {
+      if (x != y) r.items.push_back(make_item(DiffItem::Kind::metadata, field, x, y, {}));
+    };
+    // The bit rate is the unit's place on its network, like its MAC ID.
+    if (!opt.ignore_unit)
+      cmp("devicenet can_bitrate", std::to_string(a.can_bitrate), std::to_string(b.can_bitrate));
+    cmp("devicenet io_modules", joined(a.io_modules), joined(b.io_modules));
+    cmp("devicenet motors", motor_list(a.motors), motor_list(b.motors));
+  }
+  diff_dn_values(a.values, b.values, false, db, r);
+  if (opt.include_live) diff_dn_values(a.live, b.live, true, db, r);
+}
+
+// One side is a DeviceNet capture, the other is not: nothing to compare value
+// by value. Says why in one scope item and a note.
+void devicenet_mismatch(const config::DriveConfig& a, const config::DriveConfig& b,
+                        const DiffOptions& opt, DiffResult& r) {
+  const bool dn_a = a.devicenet.has_value();
+  const char* dn_side = dn_a ? "A" : "B";
+  const auto& dn = dn_a ? *a.devicenet : *b.devicenet;
+  if (dn_a ? opt.b_is_defaults : opt.a_is_defaults) {
+    // The database records no factory value for a Table 5-1 command: none is
+    // invented in its place.
+    r.items.push_back(make_item(
+        DiffItem::Kind::scope, "devicenet values", dn_a ? "captured" : "no factory defaults",
+        dn_a ? "no factory defaults" : "captured",
+        std::to_string(dn.values.size()) + " value(s) on the " + dn_side + " side not compared"));
+    r.notes.push_back(std::string(dn_side) +
+                      " is a DeviceNet controller capture: lmcfg knows no factory defaults of "
+                      "its values, so there is nothing to compare it with");
+    return;
+  }
+  r.items.push_back(make_item(DiffItem::Kind::scope, "controller",
+                              dn_a ? "DeviceNet controller" : "LinRS drive",
+                              dn_a ? "LinRS drive" : "DeviceNet controller", "not comparable"));
+  r.notes.push_back(dn_a ? "A is a DeviceNet controller capture, B a LinRS drive capture: not "
+                           "comparable"
+                         : "A is a LinRS drive capture, B a DeviceNet controller capture: not "
+                           "comparable");
+}
+
 }  // namespace
 
 const char* kind_name(DiffItem::Kind k) {
@@ -400,6 +516,8 @@ const char* kind_name(DiffItem::Kind k) {
       return "ct_entry";
     case DiffItem::Kind::scope:
       return "scope";
+    case DiffItem::Kind::devicenet:
+      return "devicenet";
   }
   return "";
 }
@@ -415,6 +533,17 @@ config::DriveConfig factory_defaults_config(const config::Scope& scope) {
   c.scope = scope;
   c.scope.parameters = config::ParamSet::modified;
   return c;
+}
+
+std::string devicenet_value_name(const db::Database& db, const config::DevicenetValue& v) {
+  const std::string name = dn_command_name(db.devicenet_command(v.command), v);
+  return motor_label(v.motor) + ": " +
+         (name.empty() ? "command " + hex(v.command, 2, "h")
+                       : name + " (" + hex(v.command, 2, "h") + ")");
+}
+
+std::string devicenet_value_text(const db::Database& db, const config::DevicenetValue& v) {
+  return dn_value_text(db.devicenet_command(v.command), v);
 }
 
 std::string describe_scope(const config::Scope& s) {
@@ -438,17 +567,33 @@ DiffResult diff(const config::DriveConfig& a, const config::DriveConfig& b, cons
           : config::ParamSet::modified;
   r.compared.curves = a.scope.curves && b.scope.curves;
   r.compared.command_table = a.scope.command_table && b.scope.command_table;
+  r.devicenet_a = a.devicenet.has_value();
+  r.devicenet_b = b.devicenet.has_value();
+  if (r.devicenet_a != r.devicenet_b) {
+    devicenet_mismatch(a, b, opt, r);
+    return r;
+  }
   if (!opt.ignore_metadata) diff_metadata(a.identity, b.identity, opt, r);
   diff_parameters(a, b, db, defaults, opt, r);
   diff_curves(a, b, r);
   diff_ct(a, b, db, r);
+  if (a.devicenet) {
+    r.live_compared = opt.include_live;
+    diff_devicenet(*a.devicenet, *b.devicenet, db, opt, r);
+  }
   return r;
 }
 
 std::string render_text(const DiffResult& r, const std::string& an, const std::string& bn) {
-  std::string out = "--- " + an + " (" + describe_scope(r.scope_a) + ")\n+++ " + bn + " (" +
-                    describe_scope(r.scope_b) + ")\n";
-  if (!(r.scope_a == r.scope_b)) out += "compared: " + describe_scope(r.compared) + "\n";
+  // A DeviceNet capture has no layers, curves or command table to describe.
+  const auto side = [&](bool dn, const config::Scope& s) {
+    if (!dn) return describe_scope(s);
+    return std::string("DeviceNet controller values") + (r.live_compared ? " and live values" : "");
+  };
+  std::string out = "--- " + an + " (" + side(r.devicenet_a, r.scope_a) + ")\n+++ " + bn + " (" +
+                    side(r.devicenet_b, r.scope_b) + ")\n";
+  if (!(r.scope_a == r.scope_b) && r.devicenet_a == r.devicenet_b)
+    out += "compared: " + describe_scope(r.compared) + "\n";
   std::string section;
   auto head = [&](const std::string& s) {
     if (s != section) {
@@ -483,6 +628,10 @@ std::string render_text(const DiffResult& r, const std::string& an, const std::s
         out += "  entry " + std::to_string(it.key) + (it.name.empty() ? "" : " '" + it.name + "'") +
                ": " + (it.detail.empty() ? it.a + " -> " + it.b : it.detail) + "\n";
         break;
+      case DiffItem::Kind::devicenet:
+        head(it.live ? "devicenet live" : "devicenet");
+        out += "  " + it.name + ": " + it.a + " -> " + it.b + "\n";
+        break;
     }
   }
   for (const auto& n : r.notes) out += "note: " + n + "\n";
@@ -512,6 +661,8 @@ std::string render_json(const DiffResult& r, const std::string& an, const std::s
   j["scope"] = {{"a", scope_json(r.scope_a)},
                 {"b", scope_json(r.scope_b)},
                 {"compared", scope_json(r.compared)}};
+  if (r.devicenet_a || r.devicenet_b)
+    j["devicenet"] = {{"a", r.devicenet_a}, {"b", r.devicenet_b}, {"live", r.live_compared}};
   j["differences"] = nlohmann::ordered_json::array();
   for (const auto& it : r.items) {
     nlohmann::ordered_json d;
@@ -521,6 +672,12 @@ std::string render_json(const DiffResult& r, const std::string& an, const std::s
       d["upid"] = hex(it.key, 4, "h").substr(0, 4);
     } else if (it.kind == DiffItem::Kind::curve || it.kind == DiffItem::Kind::ct_entry) {
       d["id"] = it.key;
+    } else if (it.kind == DiffItem::Kind::devicenet) {
+      d["motor"] = it.motor == config::kDevicenetController
+                       ? std::string("controller")
+                       : std::string(1, static_cast<char>('A' + it.motor));
+      d["command"] = hex(it.key, 2);
+      if (it.live) d["live"] = true;
     }
     d["name"] = it.name;
     d["a"] = it.a;

@@ -10,6 +10,11 @@
 // cannot say what it holds), and the header states each side's scope and what
 // was compared. Curves and command table entries are compared by raw
 // content, with a decoded summary of what changed.
+//
+// DeviceNet captures (the `devicenet` section, seed 000) are compared value by
+// value (motor, Get command ID); their informational `live` values only when
+// asked. A DeviceNet capture and a LinRS capture are not comparable: the
+// result says so (one scope item and a note) and compares nothing else.
 #include <functional>
 #include <optional>
 #include <string>
@@ -25,7 +30,13 @@ namespace lmcfg::ops {
 
 struct DiffOptions {
   bool ignore_metadata = false;  // identity (MACID, firmware, fingerprint, labels)
-  bool ignore_unit = false;      // per-unit data: communication parameters and the MACID
+  bool ignore_unit = false;      // per-unit data: communication parameters, the MACID and the
+                                 // DeviceNet CAN bit rate
+  bool include_live = false;     // DeviceNet: compare the `live` values too
+  // The side is factory_defaults_config(): a DeviceNet capture on the other
+  // side has no factory defaults to compare with (a scope item and a note).
+  bool a_is_defaults = false;
+  bool b_is_defaults = false;
 };
 
 // Default value of a UPID when the configuration does not list it; nullopt if
@@ -34,10 +45,10 @@ struct DiffOptions {
 using DefaultLookup = std::function<std::optional<std::uint32_t>(std::uint16_t upid)>;
 
 struct DiffItem {
-  enum class Kind { metadata, parameter, curve, ct_entry, scope };
+  enum class Kind { metadata, parameter, curve, ct_entry, scope, devicenet };
   Kind kind = Kind::parameter;
   int layer = 0;          // parameters: 1..4
-  std::uint32_t key = 0;  // UPID, curve ID or CT entry ID
+  std::uint32_t key = 0;  // UPID, curve ID, CT entry ID or DeviceNet Get command ID
   std::string name;       // parameter name, curve name, entry name, or metadata field
   std::string a;          // value on side A as text ("16", "default 15", "absent")
   std::string b;
@@ -46,15 +57,22 @@ struct DiffItem {
   // each side was shown by ("" = unknown).
   std::string a_invalid, b_invalid;
   std::string a_type, b_type;
+  // devicenet: whose value (config::kDevicenetController or motor 0..3 = A..D)
+  // and whether it is one of the `live` values.
+  int motor = config::kDevicenetController;
+  bool live = false;
 };
-// "metadata", "parameter", "curve", "ct_entry", "scope": the `kind` of diff --json.
+// "metadata", "parameter", "curve", "ct_entry", "scope", "devicenet": the
+// `kind` of diff --json.
 const char* kind_name(DiffItem::Kind k);
 
 struct DiffResult {
   config::Scope scope_a, scope_b;
   config::Scope compared;  // what both sides captured (parameters: "full" only if both are)
   std::vector<DiffItem> items;
-  std::vector<std::string> notes;  // what could not be compared, and why
+  std::vector<std::string> notes;                 // what could not be compared, and why
+  bool devicenet_a = false, devicenet_b = false;  // the side is a DeviceNet capture
+  bool live_compared = false;                     // DeviceNet `live` values were compared
   bool identical() const { return items.empty(); }
 };
 
@@ -70,6 +88,15 @@ config::DriveConfig factory_defaults_config(const config::Scope& scope);
 
 // "modified parameters of OS, MC, Intf, Appl; curves; command table"
 std::string describe_scope(const config::Scope& s);
+
+// A DeviceNet value for people, as diff shows it. Name: "motor A: Controller
+// P (34h)" (the database's name, else the capture's, without "Get "; else
+// "motor A: command 34h"; the controller's values "controller: ...").
+// Text: "2.3438 A/mm (raw 1000)" with the database's scale (signed where
+// Table 5-1 gives a signed range), else the capture's scaled text and unit,
+// else the raw word ("3").
+std::string devicenet_value_name(const db::Database& db, const config::DevicenetValue& v);
+std::string devicenet_value_text(const db::Database& db, const config::DevicenetValue& v);
 
 std::string render_text(const DiffResult& r, const std::string& a_name, const std::string& b_name);
 std::string render_json(const DiffResult& r, const std::string& a_name, const std::string& b_name);

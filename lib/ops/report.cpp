@@ -88,6 +88,12 @@ std::string diff_key(const DiffItem& it) {
     case DiffItem::Kind::ct_entry:
       key = std::to_string(it.key);
       break;
+    case DiffItem::Kind::devicenet:
+      key = (it.motor == config::kDevicenetController
+                 ? std::string("controller")
+                 : std::string(1, static_cast<char>('A' + it.motor))) +
+            "/" + hex(it.key, 2) + (it.live ? "/live" : "");
+      break;
     default:
       key = html_escape(it.name);
   }
@@ -435,6 +441,8 @@ void summary(std::string& out, const config::DriveConfig& a, const config::Drive
       in_a = a.find_curve(it.key), in_b = b.find_curve(it.key);
     } else if (it.kind == DiffItem::Kind::ct_entry) {
       in_a = a.find_ct_entry(it.key), in_b = b.find_ct_entry(it.key);
+    } else if (it.kind == DiffItem::Kind::devicenet) {
+      in_a = it.a != "absent", in_b = it.b != "absent";
     }
     ++n[ops::kind_name(it.kind)][in_a && in_b ? 0 : in_b ? 1 : 2];
   }
@@ -446,8 +454,10 @@ void summary(std::string& out, const config::DriveConfig& a, const config::Drive
                                                        {"scope", "scope (captured on one side)"},
                                                        {"parameter", "parameters"},
                                                        {"curve", "curves"},
-                                                       {"ct_entry", "command table entries"}};
+                                                       {"ct_entry", "command table entries"},
+                                                       {"devicenet", "DeviceNet values"}};
   for (const auto& [k, label] : kinds) {
+    if (std::string_view(k) == "devicenet" && !r.devicenet_a && !r.devicenet_b) continue;
     const auto c = n[k];
     out += "<tr data-summary=\"" + std::string(k) + "\"><td>" + label + "</td>";
     for (auto v : c) out += "<td class=\"num\">" + std::to_string(v) + "</td>";
@@ -502,6 +512,54 @@ void curves_diff(std::string& out, const config::DriveConfig& a, const config::D
   }
 }
 
+// The DeviceNet values that differ (seed 000 captures have no layers, curves
+// or command table for the sections above to show).
+void devicenet_diff(std::string& out, const DiffResult& r) {
+  std::string rows;
+  for (const auto& it : r.items)
+    if (it.kind == DiffItem::Kind::devicenet)
+      rows += std::string("<tr class=\"diff ") + change_class(it.a != "absent", it.b != "absent") +
+              "\"" + diff_key(it) + "><td>" + html_escape(it.name) + (it.live ? " (live)" : "") +
+              "</td><td class=\"old\">" + html_escape(it.a) +
+              "</td><td class=\"arrow\">\xE2\x86\x92</td><td class=\"new\">" + html_escape(it.b) +
+              "</td></tr>\n";
+  if (rows.empty()) {
+    out += "<p>No DeviceNet value differs.</p>\n";
+    return;
+  }
+  out +=
+      "<table class=\"devicenet\"><thead><tr><th>value</th><th>A</th><th></th><th>B</th></tr>"
+      "</thead><tbody>\n" +
+      rows + "</tbody></table>\n";
+}
+
+// A DeviceNet capture's section: its bit rate, IO modules and motors, then
+// every value (live values marked: informational, never restored).
+void devicenet_single(std::string& out, const config::DevicenetSection& dn,
+                      const db::Database& db) {
+  std::string motors, modules;
+  for (int m : dn.motors)
+    motors += (motors.empty() ? "" : ", ") + std::string(1, static_cast<char>('A' + m));
+  for (const auto& m : dn.io_modules) modules += (modules.empty() ? "" : ", ") + m;
+  out += "<table class=\"identity\"><tbody>\n<tr><th>CAN bit rate</th><td>" +
+         std::to_string(dn.can_bitrate) + "</td></tr>\n<tr><th>IO modules</th><td>" +
+         value_or_none(modules) + "</td></tr>\n<tr><th>motors</th><td>" + value_or_none(motors) +
+         "</td></tr>\n</tbody></table>\n";
+  if (dn.values.empty() && dn.live.empty()) {
+    out += "<p>No values.</p>\n";
+    return;
+  }
+  out +=
+      "<table class=\"devicenet\"><thead><tr><th>value</th><th>read</th><th></th></tr></thead>"
+      "<tbody>\n";
+  for (const bool live : {false, true})
+    for (const auto& v : live ? dn.live : dn.values)
+      out += "<tr><td>" + html_escape(devicenet_value_name(db, v)) + "</td><td>" +
+             html_escape(devicenet_value_text(db, v)) + "</td><td>" +
+             (live ? "live (not restored)" : "") + "</td></tr>\n";
+  out += "</tbody></table>\n";
+}
+
 std::string section(const char* id, const char* title) {
   return std::string("<section class=\"page\" id=\"") + id + "\"><h2>" + title + "</h2>\n";
 }
@@ -534,7 +592,13 @@ std::string render_report(const config::DriveConfig& cfg, const std::string& nam
   for (const auto& c : cfg.curves) curve_figure(out, c);
   out += "</section>\n" + section("command-table", "Command table");
   ct_section(out, cfg, db);
-  out += "</section>\n</main></body></html>\n";
+  out += "</section>\n";
+  if (cfg.devicenet) {
+    out += section("devicenet", "DeviceNet values");
+    devicenet_single(out, *cfg.devicenet, db);
+    out += "</section>\n";
+  }
+  out += "</main></body></html>\n";
   return out;
 }
 
@@ -562,7 +626,13 @@ std::string render_diff_report(const config::DriveConfig& a, const std::string& 
   curves_diff(out, a, b, r);
   out += "</section>\n" + section("command-table", "Command table");
   ct_section_diff(out, a, b, r, db);
-  out += "</section>\n</main></body></html>\n";
+  out += "</section>\n";
+  if (r.devicenet_a || r.devicenet_b) {
+    out += section("devicenet", "DeviceNet values");
+    devicenet_diff(out, r);
+    out += "</section>\n";
+  }
+  out += "</main></body></html>\n";
   return out;
 }
 

@@ -107,6 +107,36 @@ inline DriveConfig everything() {
   return c;
 }
 
+// The configuration of tests/fixtures/config/devicenet.{json,xml}: a DeviceNet
+// controller (seed 000) with motors A and B, values by Get command ID.
+inline DriveConfig devicenet_capture() {
+  DriveConfig c;
+  c.scope.layers = {false, false, false, false};
+  c.scope.curves = false;
+  c.scope.command_table = false;
+  auto& id = c.identity;
+  id.macid = "5";
+  id.link.port = "slcan:/dev/ttyACM0";
+  id.link.baud = "125000";
+  id.tool_version = "0.1.0";
+  id.captured_at = "2024-01-01T00:00:00Z";
+  id.labels = {{"machine", "press 2"}};
+  DevicenetSection dn;
+  dn.can_bitrate = 125000;
+  dn.io_modules = {"control-in", "addressed-in", "status-out", "addressed-out"};
+  dn.motors = {0, 1};
+  // motor, Get command, raw word, name, unit, scaled
+  dn.values = {{0, 0x34, 1000, "Get Controller P", "A/mm", "2.3438"},
+               {0, 0x40, 0xFE00, "Get Minimal Position", "mm", "-10"},
+               {1, 0x34, 1200, "Get Controller P", "A/mm", "2.81256"},
+               {1, 0x24, 3, "Get (Rise) Curve Number", "", ""}};
+  dn.live = {{kDevicenetController, 0x02, 3, "Get Status Low Word", "", ""},
+             {0, 0x18, 512, "Get Actual Position", "mm", "10"}};
+  c.devicenet = std::move(dn);
+  canonicalize(c);
+  return c;
+}
+
 inline int run(const std::string& cmd) {
   int rc = std::system((cmd + " >/dev/null 2>&1").c_str());
   if (rc == -1) return -1;

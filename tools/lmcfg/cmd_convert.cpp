@@ -53,15 +53,19 @@ int run(const ConvertCli& o) {
   if (o.common.json) {
     std::size_t params = 0;
     for (const auto& l : cfg->layers) params += l.size();
-    const nlohmann::ordered_json j{{"input", config::input_name(o.in)},
-                                   {"output", o.out},
-                                   {"format", std::string(config::to_string(*format))},
-                                   {"format_version", config::kFormatVersion},
-                                   {"bytes", text->size()},
-                                   {"parameters", params},
-                                   {"curves", cfg->curves.size()},
-                                   {"ct_entries", cfg->ct_entries.size()},
-                                   {"ct_decoded", !db.is_empty()}};
+    nlohmann::ordered_json j{{"input", config::input_name(o.in)},
+                             {"output", o.out},
+                             {"format", std::string(config::to_string(*format))},
+                             {"format_version", config::kFormatVersion},
+                             {"bytes", text->size()},
+                             {"parameters", params},
+                             {"curves", cfg->curves.size()},
+                             {"ct_entries", cfg->ct_entries.size()},
+                             {"ct_decoded", !db.is_empty()}};
+    if (cfg->devicenet) {
+      j["devicenet_values"] = cfg->devicenet->values.size();
+      j["devicenet_live"] = cfg->devicenet->live.size();
+    }
     std::printf("%s\n", j.dump().c_str());
   }
   return kOk;

@@ -35,6 +35,8 @@ void add_diff(CLI::App& app, int& exit_code) {
       "A side that captured a layer, the curves or the command table the other did not is a "
       "difference\n"
       "(scope); values that do not fit their type or range are flagged INVALID on their side.\n"
+      "DeviceNet controller captures (seed 000) are compared value by value per motor; their\n"
+      "live values only with --live. A DeviceNet and a LinRS capture are not comparable.\n"
       "Examples:\n"
       "  lmcfg diff axis1.json axis2.json\n"
       "  lmcfg diff defaults axis1.json\n"

@@ -67,6 +67,9 @@ int load_and_compare(const char* command, const CompareOptions& o, const db::Dat
   opt.ignore_metadata = o.ignore_metadata || o.a == "defaults" || o.b == "defaults" ||
                         o.a == "drive" || o.b == "drive";
   opt.ignore_unit = o.ignore_unit;
+  opt.include_live = o.live;
+  opt.a_is_defaults = o.a == "defaults";
+  opt.b_is_defaults = o.b == "defaults";
   out.result = ops::diff(*a, *b, db, defaults, opt);
   if (session) {
     if (auto c = session->close(); !c.ok()) return fail(command, c.error());
@@ -90,6 +93,9 @@ void add_compare_options(CLI::App* sub, CompareOptions& o, bool b_required, bool
   sub->add_flag("--ignore-unit", o.ignore_unit,
                 "do not compare per-unit data (communication parameters, MACID)");
   sub->add_flag("--full", o.full, "when reading a drive, read every ROM-writable UPID");
+  sub->add_flag("--live", o.live,
+                "DeviceNet captures: also compare the informational live values (status words, "
+                "actual position, ...)");
 }
 
 }  // namespace lmcfg::cli

@@ -18,6 +18,7 @@ struct CompareOptions {
   bool ignore_metadata = false;
   bool ignore_unit = false;
   bool full = false;
+  bool live = false;  // DeviceNet: compare the informational `live` values too
 };
 
 struct Compared {
@@ -34,8 +35,8 @@ int load_and_compare(const char* command, const CompareOptions& o, const db::Dat
                      Compared& out);
 
 // A, B, the link options, --quiet/--db (and --json when `json`),
-// --ignore-metadata, --ignore-unit and --full, with the help texts both
-// commands share.
+// --ignore-metadata, --ignore-unit, --full and --live, with the help texts
+// both commands share.
 void add_compare_options(CLI::App* sub, CompareOptions& o, bool b_required, bool json);
 
 }  // namespace lmcfg::cli
