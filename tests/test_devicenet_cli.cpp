@@ -97,11 +97,11 @@ TEST_CASE(
   CHECK(changed.exit_code == 1);
   const auto j = nlohmann::json::parse(changed.out);
   std::vector<std::string> names;
-  for (const auto& item : j["items"])
+  for (const auto& item : j["differences"])
     if (item["kind"] == "devicenet") names.push_back(item["name"]);
   CHECK(names == std::vector<std::string>{"motor A: Controller P (34h)",
                                           "motor B: Filter Maximal Speed (50h)"});
-  CHECK(j["items"].size() == 2);
+  CHECK(j["differences"].size() == 2);
   CHECK(changed.out.find("A/mm") != std::string::npos);
   CHECK(changed.out.find("mm/s") != std::string::npos);
 

@@ -26,22 +26,24 @@ std::optional<Motor> motor_of(int motor) {
 
 bool refused(const Error& e) { return e.code == ErrorClass::drive_refusal; }
 
-// Table 5-1 words are 16 bits; a range that goes below zero makes them signed.
-bool is_signed(const db::DevicenetCommand* c) { return c && c->spec.min && *c->spec.min < 0; }
-std::int64_t word_value(const db::DevicenetCommand* c, std::uint16_t raw) {
-  return is_signed(c) ? static_cast<std::int16_t>(raw) : static_cast<std::int64_t>(raw);
-}
-
 std::string command_hex(std::uint8_t id) { return hex(id, 2, "h"); }
 
-// The database names the Get command ("Get Controller P"); the value is
-// "Controller P".
-std::string value_name(const db::Database& db, std::uint8_t get) {
-  const auto* c = db.devicenet_command(get);
-  if (!c) return {};
-  std::string n = c->name;
+std::string motor_label(int motor) {
+  return motor == config::kDevicenetController
+             ? std::string("controller")
+             : std::string("motor ") + static_cast<char>('A' + motor);
+}
+
+// "Controller P": the database's name, else the capture's, without the "Get "
+// every recorded command carries (the Get/Set pair is one setting).
+std::string command_name(const db::DevicenetCommand* c, const config::DevicenetValue& v) {
+  std::string n = c && !c->name.empty() ? c->name : v.name;
   if (n.rfind("Get ", 0) == 0) n.erase(0, 4);
   return n;
+}
+
+config::DevicenetValue value_of(int motor, std::uint8_t get, std::uint16_t raw = 0) {
+  return {motor, get, raw, {}, {}, {}};
 }
 
 std::size_t read_count(const std::vector<int>& motors, bool live, bool module_values) {
@@ -132,20 +134,32 @@ Result<void> DevicenetSession::close() {
   return master_->release();
 }
 
-std::string devicenet_value_name(const db::Database& db, int motor, std::uint8_t get,
-                                 const std::string& file_name) {
-  std::string n = value_name(db, get);
-  if (n.empty()) n = file_name;
-  if (n.empty()) n = "command";
-  return devicenet::target_name(motor_of(motor)) + ": " + n + " (" + command_hex(get) + ")";
+std::int64_t devicenet_word(const db::DevicenetCommand* c, std::uint16_t raw) {
+  // Table 5-1 gives signed ranges ("-32256 to +32256") for positions: the
+  // word is two's complement there.
+  const bool is_signed =
+      c && ((c->spec.min && *c->spec.min < 0) || c->range_text.rfind('-', 0) == 0);
+  return is_signed ? std::int64_t{static_cast<std::int16_t>(raw)} : std::int64_t{raw};
 }
 
-std::string devicenet_value_text(const db::Database& db, std::uint8_t get, std::uint16_t raw) {
-  const auto* c = db.devicenet_command(get);
-  const auto v = word_value(c, raw);
-  if (!c || !c->spec.scale || c->spec.unit.empty()) return std::to_string(v);
-  return db::format_scaled(v, *c->spec.scale) + " " + c->spec.unit + " (raw " + std::to_string(v) +
-         ")";
+std::string devicenet_value_name(const db::Database& db, const config::DevicenetValue& v) {
+  const std::string name = command_name(db.devicenet_command(v.command), v);
+  return motor_label(v.motor) + ": " +
+         (name.empty() ? "command " + command_hex(v.command)
+                       : name + " (" + command_hex(v.command) + ")");
+}
+
+std::string devicenet_value_text(const db::Database& db, const config::DevicenetValue& v) {
+  const auto* c = db.devicenet_command(v.command);
+  const std::string raw = std::to_string(v.raw);
+  if (c && c->spec.scale) {
+    std::string s = db::format_scaled(devicenet_word(c, v.raw), *c->spec.scale);
+    if (!c->spec.unit.empty()) s += " " + c->spec.unit;
+    return s + " (raw " + raw + ")";
+  }
+  if (!v.scaled.empty())
+    return v.scaled + (v.unit.empty() ? "" : " " + v.unit) + " (raw " + raw + ")";
+  return raw;
 }
 
 void annotate_devicenet(config::DevicenetSection& s, const db::Database& db) {
@@ -153,9 +167,9 @@ void annotate_devicenet(config::DevicenetSection& s, const db::Database& db) {
     for (auto& v : *list) {
       const auto* c = db.devicenet_command(v.command);
       if (!c) continue;
-      v.name = value_name(db, v.command);
+      v.name = c->name;
       v.unit = c->spec.unit;
-      v.scaled = c->spec.scale ? db::format_scaled(word_value(c, v.raw), *c->spec.scale) : "";
+      v.scaled = c->spec.scale ? db::format_scaled(devicenet_word(c, v.raw), *c->spec.scale) : "";
     }
   }
 }
@@ -194,15 +208,15 @@ Result<config::DriveConfig> devicenet_backup(Master& m, const DevicenetBackupOpt
         // a firmware without the command), not a failed backup.
         const auto code = m.last_coded_error();
         if (vc.needs_module && code == 0x8120) {
-          no_module.push_back(devicenet_value_name(db, target, vc.get));
+          no_module.push_back(devicenet_value_name(db, value_of(target, vc.get)));
         } else if (opt.notes) {
           std::string why = r.error().message;
           if (code != 0) {
             why = "refused with coded error " + hex(code, 4, "h");
             if (auto t = devicenet::coded_error_text(code); !t.empty()) why += " " + std::string(t);
           }
-          opt.notes->push_back("not read: " + devicenet_value_name(db, target, vc.get) + ": " +
-                               why);
+          opt.notes->push_back("not read: " + devicenet_value_name(db, value_of(target, vc.get)) +
+                               ": " + why);
         }
         continue;
       }
@@ -247,16 +261,16 @@ DevicenetPlan plan_devicenet_restore(const config::DriveConfig& file,
                            " is in the file but not configured on the controller (it refuses "
                            "commands to it)");
   for (const auto& v : want.values) {
-    const std::string name = devicenet_value_name(db, v.motor, v.command, v.name);
+    const std::string name = devicenet_value_name(db, v);
     const auto* vc = devicenet::value_command(v.command);
     if (!vc || !vc->settable || vc->live) {
       p.problems.push_back(name + ": Table 5-1 has no Set command for it");
       continue;
     }
     const auto* c = db.devicenet_command(static_cast<std::uint8_t>(v.command + 1));
-    const auto value = word_value(c, v.raw);
+    const auto value = devicenet_word(c, v.raw);
     if (c && ((c->spec.min && value < *c->spec.min) || (c->spec.max && value > *c->spec.max))) {
-      p.problems.push_back(name + ": " + devicenet_value_text(db, v.command, v.raw) +
+      p.problems.push_back(name + ": " + devicenet_value_text(db, v) +
                            " is outside Table 5-1's range " + c->range_text +
                            (c->unit_text.empty() || c->unit_text == "-"
                                 ? std::string()
@@ -275,8 +289,9 @@ DevicenetPlan plan_devicenet_restore(const config::DriveConfig& file,
       continue;
     }
     p.writes.push_back({v.motor, v.command, it->second, v.raw,
-                        name + ": " + devicenet_value_text(db, v.command, it->second) + " -> " +
-                            devicenet_value_text(db, v.command, v.raw)});
+                        name + ": " +
+                            devicenet_value_text(db, value_of(v.motor, v.command, it->second)) +
+                            " -> " + devicenet_value_text(db, v)});
   }
   return p;
 }
@@ -320,9 +335,9 @@ Result<std::vector<std::string>> execute_devicenet_plan(Master& m, const Devicen
     if (progress) progress("verify", done++, total);
     LMCFG_ASSIGN_OR_RETURN(const auto now, m.command(select(v.motor), v.command, 0));
     if (now != v.raw)
-      mismatches.push_back(devicenet_value_name(db, v.motor, v.command, v.name) + ": file " +
-                           devicenet_value_text(db, v.command, v.raw) + ", controller " +
-                           devicenet_value_text(db, v.command, now));
+      mismatches.push_back(devicenet_value_name(db, v) + ": file " + devicenet_value_text(db, v) +
+                           ", controller " +
+                           devicenet_value_text(db, value_of(v.motor, v.command, now)));
   }
   if (progress) progress("verify", total, total);
   return mismatches;

@@ -21,7 +21,8 @@
 
 namespace lmcfg::db {
 class Database;
-}
+struct DevicenetCommand;
+}  // namespace lmcfg::db
 
 namespace lmcfg::ops {
 
@@ -84,11 +85,16 @@ Result<config::DriveConfig> devicenet_backup(devicenet::Master& m,
 // Display fields of every value from the database (name without "Get ",
 // unit, scaled text).
 void annotate_devicenet(config::DevicenetSection& s, const db::Database& db);
-// "2.3438 A/mm (raw 120)", or "120" when the database has no scale.
-std::string devicenet_value_text(const db::Database& db, std::uint8_t get, std::uint16_t raw);
-// "motor A: Controller P (34h)".
-std::string devicenet_value_name(const db::Database& db, int motor, std::uint8_t get,
-                                 const std::string& file_name = {});
+// A DeviceNet value for people, as diff, report and restore show it. Name:
+// "motor A: Controller P (34h)" (the database's name, else the capture's,
+// without "Get "; else "motor A: command 34h"; the controller's values
+// "controller: ..."). Text: "2.3438 A/mm (raw 1000)" with the database's
+// scale (signed where Table 5-1 gives a signed range), else the capture's
+// scaled text and unit, else the raw word ("3").
+std::string devicenet_value_name(const db::Database& db, const config::DevicenetValue& v);
+std::string devicenet_value_text(const db::Database& db, const config::DevicenetValue& v);
+// The word as a number: two's complement where Table 5-1's range is signed.
+std::int64_t devicenet_word(const db::DevicenetCommand* c, std::uint16_t raw);
 
 struct DevicenetWrite {
   int motor = config::kDevicenetController;

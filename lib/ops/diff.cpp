@@ -10,6 +10,7 @@
 #include "db/database.hpp"
 #include "db/value.hpp"
 #include "ops/backup.hpp"
+#include "ops/devicenet.hpp"
 #include "ops/restore.hpp"
 
 namespace lmcfg::ops {
@@ -390,39 +391,6 @@ void diff_metadata(const config::Identity& a, const config::Identity& b, const D
 // ---------------------------------------------------------------------------
 // DeviceNet controllers (seed 000).
 
-std::string motor_label(int motor) {
-  return motor == config::kDevicenetController
-             ? std::string("controller")
-             : std::string("motor ") + static_cast<char>('A' + motor);
-}
-
-// "Controller P": the database's name, else the capture's, without the "Get "
-// every recorded command carries (the Get/Set pair is one setting).
-std::string dn_command_name(const db::DevicenetCommand* c, const config::DevicenetValue& v) {
-  std::string n = c && !c->name.empty() ? c->name : v.name;
-  if (n.rfind("Get ", 0) == 0) n.erase(0, 4);
-  return n;
-}
-
-// "2.3438 A/mm (raw 1000)" with a known scale (the database's, else the text
-// the capture recorded), else the raw word.
-std::string dn_value_text(const db::DevicenetCommand* c, const config::DevicenetValue& v) {
-  const std::string raw = std::to_string(v.raw);
-  if (c && c->spec.scale) {
-    // Table 5-1 gives signed ranges ("-32256 to +32256") for positions: the
-    // word is two's complement there.
-    const bool is_signed = (c->spec.min && *c->spec.min < 0) || c->range_text.rfind('-', 0) == 0;
-    const std::int64_t n =
-        is_signed ? std::int64_t{static_cast<std::int16_t>(v.raw)} : std::int64_t{v.raw};
-    std::string s = db::format_scaled(n, *c->spec.scale);
-    if (!c->spec.unit.empty()) s += " " + c->spec.unit;
-    return s + " (raw " + raw + ")";
-  }
-  if (!v.scaled.empty())
-    return v.scaled + (v.unit.empty() ? "" : " " + v.unit) + " (raw " + raw + ")";
-  return raw;
-}
-
 void diff_dn_values(const std::vector<config::DevicenetValue>& a,
                     const std::vector<config::DevicenetValue>& b, bool live, const db::Database& db,
                     DiffResult& r) {
@@ -533,17 +501,6 @@ config::DriveConfig factory_defaults_config(const config::Scope& scope) {
   c.scope = scope;
   c.scope.parameters = config::ParamSet::modified;
   return c;
-}
-
-std::string devicenet_value_name(const db::Database& db, const config::DevicenetValue& v) {
-  const std::string name = dn_command_name(db.devicenet_command(v.command), v);
-  return motor_label(v.motor) + ": " +
-         (name.empty() ? "command " + hex(v.command, 2, "h")
-                       : name + " (" + hex(v.command, 2, "h") + ")");
-}
-
-std::string devicenet_value_text(const db::Database& db, const config::DevicenetValue& v) {
-  return dn_value_text(db.devicenet_command(v.command), v);
 }
 
 std::string describe_scope(const config::Scope& s) {

@@ -89,15 +89,6 @@ config::DriveConfig factory_defaults_config(const config::Scope& scope);
 // "modified parameters of OS, MC, Intf, Appl; curves; command table"
 std::string describe_scope(const config::Scope& s);
 
-// A DeviceNet value for people, as diff shows it. Name: "motor A: Controller
-// P (34h)" (the database's name, else the capture's, without "Get "; else
-// "motor A: command 34h"; the controller's values "controller: ...").
-// Text: "2.3438 A/mm (raw 1000)" with the database's scale (signed where
-// Table 5-1 gives a signed range), else the capture's scaled text and unit,
-// else the raw word ("3").
-std::string devicenet_value_name(const db::Database& db, const config::DevicenetValue& v);
-std::string devicenet_value_text(const db::Database& db, const config::DevicenetValue& v);
-
 std::string render_text(const DiffResult& r, const std::string& a_name, const std::string& b_name);
 std::string render_json(const DiffResult& r, const std::string& a_name, const std::string& b_name);
 

@@ -12,6 +12,7 @@
 #include "db/database.hpp"
 #include "db/value.hpp"
 #include "ops/backup.hpp"
+#include "ops/devicenet.hpp"
 #include "ops/report_parts.hpp"
 
 namespace lmcfg::ops {

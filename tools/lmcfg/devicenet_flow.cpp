@@ -160,7 +160,9 @@ int restore_devicenet(const config::DriveConfig& file, const std::string& file_n
       std::printf("nothing to do: the controller already matches %s\n", file_name.c_str());
     return kOk;
   }
-  if (!f.yes) std::fputs(text.c_str(), stdout);
+  // Printed with --yes too: the Set commands are few, and a log of a scripted
+  // restore should say what was written.
+  if (!common.quiet) std::fputs(text.c_str(), stdout);
   std::fflush(stdout);
   auto consent = ops::confirm("Write these values to DeviceNet MAC ID " + common.devicenet_macid +
                                   " on " + common.port + "?",
