@@ -123,11 +123,15 @@ Result<void> Client::block_pass(const Telegram& chunk_req, std::uint8_t chunk_su
   std::size_t first_hole = chunks;
   std::optional<Error> problem;
   bool end_confirmed = false;
-  const auto known = votes.known(agreeing_reads());
+  const int need = agreeing_reads();
+  const auto known = votes.known(need);
   // A pass after the first may stop at the last undecided position when its
   // reads check out (checked_prefix): the next telegram is a setup telegram.
+  // Not where one read is not trusted (need > 1): there every further read of
+  // a decided position is one more chance to see two identical bit flips
+  // disagree, and stopping early saved no time (docs/reliability.md).
   std::optional<std::size_t> stop_at;
-  if (votes.passes++ > 0 && votes.stop_early_allowed) {
+  if (votes.passes++ > 0 && votes.stop_early_allowed && need == 1) {
     for (std::size_t i = chunks; i-- > 0;) {
       if (known[i]) continue;
       if (i + 1 < chunks) stop_at = i;
@@ -149,7 +153,7 @@ Result<void> Client::block_pass(const Telegram& chunk_req, std::uint8_t chunk_su
     const std::uint8_t want = last_chunk ? state::ok : state::more_data;
     if (r->state != want) {
       // The drive's cursor is not where ours is (a lost request, a reset, a
-      // flipped state bit): only the checked reads before the first hole count.
+      // flipped state bit): only reads before the first hole count (checked).
       problem = Error(Errc::unexpected_response,
                       std::string(what) + ": chunk " + std::to_string(i + 1) + " of " +
                           std::to_string(chunks) + " has state " + hexid("%02Xh", r->state) +
@@ -164,8 +168,13 @@ Result<void> Client::block_pass(const Telegram& chunk_req, std::uint8_t chunk_su
       break;
     }
   }
-  const std::size_t certain =
-      end_confirmed || stopped ? chunks : BlockVotes::checked_prefix(known, got, first_hole);
+  // Where one read decides (need 1), a read that no end state confirms must
+  // check out; where reads must agree, one shifted read cannot decide alone.
+  std::size_t certain = first_hole;
+  if (end_confirmed || stopped)
+    certain = chunks;
+  else if (need == 1)
+    certain = BlockVotes::checked_prefix(known, got, first_hole);
   for (std::size_t i = 0; i < certain; ++i)
     if (got[i]) votes.add(i, *got[i]);
   if (problem) return std::move(*problem);
