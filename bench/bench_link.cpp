@@ -6,7 +6,11 @@
 // said so), how many produced a file that differs from a clean backup (must be
 // 0), and the mean virtual time against a clean line's backup (goal < 1.5x).
 //
-//   build/bench/lmcfg_bench_link [--runs N] [--seed S] [--no-db]
+//   build/bench/lmcfg_bench_link [--runs N] [--seed S] [--no-db] [--profile]
+//
+// --profile: per row, telegrams and virtual time per request kind (lists,
+// single values, curve and command table setup and chunk telegrams), clean
+// against the noisy mean: where the extra time goes.
 //
 // Exit status 1 when any file is wrong or fewer than 95 % of backups completed.
 #include <cstdio>
@@ -36,7 +40,41 @@ struct Setting {
       true;  // adaptive deadline and settle (the tools' default), capped by timeout/settle
 };
 
+// Telegrams and link time per request kind; the time until the next request
+// belongs to the request in flight.
+struct Profile {
+  static constexpr int kKinds = 9;
+  static constexpr const char* kNames[kKinds] = {
+      "lists (05h 08h-0Bh)", "values (05h, 03h)",   "curve sizes (04h 08h)",
+      "curve info chunks",   "curve data chunks",   "CT list (08h 07h)",
+      "CT setup read",       "CT chunks (08h 06h)", "other"};
+  std::uint64_t telegrams[kKinds] = {};
+  double seconds[kKinds] = {};
+  int current = -1;
+  std::int64_t since_ns = 0;
+
+  static int kind_of(ByteView req) {
+    if (req.size() < 6) return 8;
+    const std::uint8_t sub = req[4], main = req[5];
+    if (main == 0x05) return sub >= 0x08 && sub <= 0x0B ? 0 : 1;
+    if (main == 0x03) return 1;
+    if (main == 0x04) return sub == 0x08 ? 2 : sub == 0x09 ? 3 : sub == 0x0A ? 4 : 8;
+    if (main == 0x08) return sub == 0x07 ? 5 : sub == 0x05 ? 6 : sub == 0x06 ? 7 : 8;
+    return 8;
+  }
+  void request(ByteView req, std::int64_t now_ns) {
+    finish(now_ns);
+    current = kind_of(req);
+    ++telegrams[current];
+  }
+  void finish(std::int64_t now_ns) {
+    if (current >= 0) seconds[current] += static_cast<double>(now_ns - since_ns) / 1e9;
+    since_ns = now_ns;
+  }
+};
+
 struct Outcome {
+  Profile clean_profile, noisy_profile;
   int complete = 0, failed = 0, wrong = 0;
   double clean_s = 0, mean_s = 0;
   std::uint64_t clean_telegrams = 0, telegrams = 0, flips = 0, lost = 0, third_reads = 0;
@@ -67,9 +105,14 @@ Outcome run(sim::DriveState s, const Setting& set, int runs, std::uint32_t seed,
   config::DriveConfig want;
   {
     auto link = std::make_shared<sim::SimLink>(std::make_shared<sim::Drive>(s));
+    link->faults().set_callback([&](std::size_t, ByteView req) -> std::vector<sim::Fault> {
+      out.clean_profile.request(req, link->clock().now_ns());
+      return {};
+    });
     client::Client c(*link, options_for(s, set));
     const auto t0 = link->clock().now_ns();
     auto b = ops::backup(c, ops::BackupOptions{}, db);
+    out.clean_profile.finish(link->clock().now_ns());
     if (!b.ok()) {
       std::fprintf(stderr, "lmcfg_bench_link: clean backup failed: %s\n",
                    b.error().message.c_str());
@@ -83,7 +126,9 @@ Outcome run(sim::DriveState s, const Setting& set, int runs, std::uint32_t seed,
   double total_s = 0;
   for (int i = 0; i < runs; ++i) {
     auto link = std::make_shared<sim::SimLink>(std::make_shared<sim::Drive>(s));
-    link->faults().set_callback([&](std::size_t, ByteView) -> std::vector<sim::Fault> {
+    out.noisy_profile.current = -1;
+    link->faults().set_callback([&](std::size_t, ByteView req) -> std::vector<sim::Fault> {
+      out.noisy_profile.request(req, link->clock().now_ns());
       const double x = std::uniform_real_distribution<double>(0, 1)(rng);
       if (x < 0.03) {
         ++out.flips;
@@ -100,6 +145,7 @@ Outcome run(sim::DriveState s, const Setting& set, int runs, std::uint32_t seed,
     const auto t0 = link->clock().now_ns();
     auto b = ops::backup(c, ops::BackupOptions{}, db);
     total_s += static_cast<double>(link->clock().now_ns() - t0) / 1e9;
+    out.noisy_profile.finish(link->clock().now_ns());
     out.telegrams += link->stats().request_telegrams;
     out.third_reads += c.stats().third_reads;
     out.timeouts += c.stats().timeouts;
@@ -117,12 +163,25 @@ Outcome run(sim::DriveState s, const Setting& set, int runs, std::uint32_t seed,
   return out;
 }
 
+void print_profile(const Outcome& o, int runs) {
+  std::printf("    %-24s %9s %9s %9s %9s %10s\n", "request kind", "clean tg", "noisy tg", "clean s",
+              "noisy s", "extra s");
+  for (int k = 0; k < Profile::kKinds; ++k) {
+    const double noisy_tg = static_cast<double>(o.noisy_profile.telegrams[k]) / runs;
+    const double noisy_s = o.noisy_profile.seconds[k] / runs;
+    std::printf("    %-24s %9llu %9.1f %9.3f %9.3f %+10.3f\n", Profile::kNames[k],
+                static_cast<unsigned long long>(o.clean_profile.telegrams[k]), noisy_tg,
+                o.clean_profile.seconds[k], noisy_s, noisy_s - o.clean_profile.seconds[k]);
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   int runs = 200;
   std::uint32_t seed = 20261123u;
   bool use_db = true;
+  bool profile = false;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--runs") && i + 1 < argc)
       runs = std::max(1, std::atoi(argv[++i]));
@@ -130,8 +189,10 @@ int main(int argc, char** argv) {
       seed = static_cast<std::uint32_t>(std::strtoul(argv[++i], nullptr, 10));
     else if (!std::strcmp(argv[i], "--no-db"))
       use_db = false;
+    else if (!std::strcmp(argv[i], "--profile"))
+      profile = true;
     else {
-      std::fprintf(stderr, "usage: %s [--runs N] [--seed S] [--no-db]\n", argv[0]);
+      std::fprintf(stderr, "usage: %s [--runs N] [--seed S] [--no-db] [--profile]\n", argv[0]);
       return 2;
     }
   }
@@ -172,6 +233,7 @@ int main(int argc, char** argv) {
                 static_cast<unsigned long long>(o.third_reads),
                 static_cast<unsigned long long>(o.timeouts),
                 static_cast<double>(o.max_deadline_us) / 1000.0);
+    if (profile) print_profile(o, runs);
     std::fflush(stdout);
     // The "2 reads only" row shows what the third read costs and buys: not judged.
     if (set.noisy_reads > 2 && (o.wrong > 0 || o.complete * 100 < runs * 95)) bad = true;

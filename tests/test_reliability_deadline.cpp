@@ -125,6 +125,21 @@ TEST_CASE("adaptive deadline: wire-time floor, adapted to measured round trips, 
     // the retry's answer is not timed (Karn's rule), the next read's is.
     REQUIRE(c.read_rom(values[2].first).ok());
     CHECK(c.answer_deadline_us(req) == floor);
+    // An answer that fails its CRC: retried after a short quiet time (latency
+    // + margin + 2 byte times, whole ms), not a whole deadline.
+    const auto before_crc = c.stats();
+    rig.sim->faults().schedule(rig.sim->stats().write_calls, sim::Fault::corrupt());
+    const auto t2 = rig.now_ns();
+    r = c.read_rom(values[3].first);
+    REQUIRE(r.ok());
+    CHECK(*r == values[3].second);
+    const auto garbled_us = (rig.now_ns() - t2) / 1000;
+    INFO("a read with one corrupted answer: " << garbled_us << " us of virtual time");
+    CHECK(c.stats().bad_frames == before_crc.bad_frames + 1);
+    CHECK(c.stats().timeouts == before_crc.timeouts);
+    CHECK(c.corrupt_answer_quiet_us() < 3'000);
+    CHECK(garbled_us < 2 * exchange_us + c.corrupt_answer_quiet_us() + 1000);
+    WARN("a read with one corrupted answer (CRC) " << garbled_us << " us");
   }
 
   SECTION("slow answers (30 ms, as through a gateway): no timeouts once timed") {

@@ -4,9 +4,12 @@
 // backup equals the drive, checked against the simulator's own state); every
 // run that fails must have said so. Zero silent failures. A failed restore is
 // run again without faults and must converge.
+// LMCFG_SEED=N draws the cycles from seed N instead of 20261122.
 #include <catch2/catch.hpp>
 #include <chrono>
+#include <cstdlib>
 #include <random>
+#include <string>
 
 #include "db/database.hpp"
 #include "test_reliability_support.hpp"
@@ -80,7 +83,10 @@ TEST_CASE("soak: 1000 backup/restore cycles with random faults, zero silent fail
     REQUIRE(b.ok());
     all = std::move(b).value();
   }
-  std::mt19937 rng(20261122);
+  std::uint32_t seed = 20261122u;
+  if (const char* seed_env = std::getenv("LMCFG_SEED"))
+    seed = static_cast<std::uint32_t>(std::stoul(seed_env));
+  std::mt19937 rng(seed);
   constexpr int kCycles = 1000;
   std::size_t faults = 0, restore_ok = 0, restore_failed = 0, backup_ok = 0, backup_failed = 0,
               silent = 0, reruns_converged = 0, telegrams = 0;
@@ -160,13 +166,14 @@ TEST_CASE("soak: 1000 backup/restore cycles with random faults, zero silent fail
   }
   const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   std::printf(
-      "soak: %d cycles (%d restores + %d backups), %zu telegrams, %zu faults injected; restores: "
+      "soak (seed %u): %d cycles (%d restores + %d backups), %zu telegrams, %zu faults injected; "
+      "restores: "
       "%zu "
       "verified, %zu reported failures (%zu reruns converged); backups: %zu verified, %zu reported "
       "failures; "
       "silent failures: %zu; %.1f s\n",
-      kCycles, kCycles, kCycles, telegrams, faults, restore_ok, restore_failed, reruns_converged,
-      backup_ok, backup_failed, silent, secs);
+      seed, kCycles, kCycles, kCycles, telegrams, faults, restore_ok, restore_failed,
+      reruns_converged, backup_ok, backup_failed, silent, secs);
   CHECK(silent == 0);
   CHECK(restore_ok + restore_failed == kCycles);
   CHECK(backup_ok + backup_failed == kCycles);

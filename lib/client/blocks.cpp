@@ -5,17 +5,21 @@
 // way to ask for a chunk by position, so a lost chunk answer is a hole: the
 // pass goes on assuming the drive's cursor moved on (the answer, not the
 // request, was lost) and the drive's state at the last chunk (00h exactly
-// there) confirms it; if it does not, only the chunks before the first hole
-// count. Each chunk position collects the values read for it; it is decided
-// when agreeing_reads() reads agree (a further read breaks a tie). Passes go on
-// while they decide more positions (RestartBudget), so a long curve survives a
-// line that loses answers without restarting from zero each time.
+// there) confirms it; if it does not, only the reads before the first hole
+// that check out count (BlockVotes::checked_prefix). Each chunk position
+// collects the values read for it; it is decided when agreeing_reads() reads
+// agree (a further read breaks a tie). Passes go on while they decide more
+// positions (RestartBudget), so a long curve survives a line that loses
+// answers without restarting from zero each time. A pass after the first may
+// stop at the last position still undecided when its reads check out the same
+// way: its next telegram is a setup telegram.
 //
 // Block writes go in passes too: setup (add / setup write), then every chunk
 // once. A lost chunk answer is not resent; when a pass lost any answer, the
 // block is read back and compared, and a mismatch restarts the object's write
 // from its setup telegram (a curve is deleted and added again).
 #include <cstdio>
+#include <set>
 
 #include "client/client.hpp"
 #include "client/internal.hpp"
@@ -33,6 +37,8 @@ struct Client::BlockVotes {
     int n = 0;
   };
   std::vector<std::vector<Count>> at;  // per chunk position
+  int passes = 0;
+  bool stop_early_allowed = true;
   explicit BlockVotes(std::size_t chunks) : at(chunks) {}
   void add(std::size_t i, std::uint32_t v) {
     for (auto& c : at[i]) {
@@ -79,6 +85,36 @@ struct Client::BlockVotes {
       if (a.size() > 1) return true;
     return false;
   }
+
+  // Values decided before a pass (nullopt: undecided).
+  std::vector<std::optional<std::uint32_t>> known(int need) const {
+    std::vector<std::optional<std::uint32_t>> k(at.size());
+    for (std::size_t i = 0; i < at.size(); ++i) k[i] = decided(i, need);
+    return k;
+  }
+
+  // How many of the pass's first reads `got[0..upto)` may count when no end
+  // state (00h exactly at the last chunk) confirms where the drive's cursor
+  // was. Nothing positions a block read (§11, §12): a drive that restarted its
+  // cursor (a reset) answers chunks from before the ones asked for, with state
+  // 04h; only the end state shows it. Counted: the reads up to the first hole,
+  // the first decided position that read another value than its decided one,
+  // or the first undecided position that read a value an earlier position
+  // holds (decided, or read in this pass). The first answer from behind the
+  // cursor at an undecided position repeats an earlier value, so it and
+  // everything after it are left out; answers from behind at decided
+  // positions that still matched add nothing wrong.
+  static std::size_t checked_prefix(const std::vector<std::optional<std::uint32_t>>& known,
+                                    const std::vector<std::optional<std::uint32_t>>& got,
+                                    std::size_t upto) {
+    std::set<std::uint32_t> before;
+    for (std::size_t i = 0; i < upto; ++i) {
+      if (!got[i]) return i;
+      if (known[i] ? *got[i] != *known[i] : before.count(*got[i]) > 0) return i;
+      before.insert(*got[i]);
+    }
+    return upto;
+  }
 };
 
 Result<void> Client::block_pass(const Telegram& chunk_req, std::uint8_t chunk_sub,
@@ -87,6 +123,22 @@ Result<void> Client::block_pass(const Telegram& chunk_req, std::uint8_t chunk_su
   std::size_t first_hole = chunks;
   std::optional<Error> problem;
   bool end_confirmed = false;
+  const int need = agreeing_reads();
+  const auto known = votes.known(need);
+  // A pass after the first may stop at the last undecided position when its
+  // reads check out (checked_prefix): the next telegram is a setup telegram.
+  // Not where one read is not trusted (need > 1): there every further read of
+  // a decided position is one more chance to see two identical bit flips
+  // disagree, and stopping early saved no time (docs/reliability.md).
+  std::optional<std::size_t> stop_at;
+  if (votes.passes++ > 0 && votes.stop_early_allowed && need == 1) {
+    for (std::size_t i = chunks; i-- > 0;) {
+      if (known[i]) continue;
+      if (i + 1 < chunks) stop_at = i;
+      break;
+    }
+  }
+  bool stopped = false;
   for (std::size_t i = 0; i < chunks; ++i) {
     auto r = id_value(chunk_req, chunk_sub, false, opt_.timeout);
     const bool last_chunk = i + 1 == chunks;
@@ -101,7 +153,7 @@ Result<void> Client::block_pass(const Telegram& chunk_req, std::uint8_t chunk_su
     const std::uint8_t want = last_chunk ? state::ok : state::more_data;
     if (r->state != want) {
       // The drive's cursor is not where ours is (a lost request, a reset, a
-      // flipped state bit): only what came before the first hole counts.
+      // flipped state bit): only reads before the first hole count (checked).
       problem = Error(Errc::unexpected_response,
                       std::string(what) + ": chunk " + std::to_string(i + 1) + " of " +
                           std::to_string(chunks) + " has state " + hexid("%02Xh", r->state) +
@@ -111,8 +163,18 @@ Result<void> Client::block_pass(const Telegram& chunk_req, std::uint8_t chunk_su
     }
     got[i] = r->value;
     if (last_chunk) end_confirmed = true;
+    if (stop_at && i == *stop_at && BlockVotes::checked_prefix(known, got, i + 1) == i + 1) {
+      stopped = true;
+      break;
+    }
   }
-  const std::size_t certain = end_confirmed ? chunks : first_hole;
+  // Where one read decides (need 1), a read that no end state confirms must
+  // check out; where reads must agree, one shifted read cannot decide alone.
+  std::size_t certain = first_hole;
+  if (end_confirmed || stopped)
+    certain = chunks;
+  else if (need == 1)
+    certain = BlockVotes::checked_prefix(known, got, first_hole);
   for (std::size_t i = 0; i < certain; ++i)
     if (got[i]) votes.add(i, *got[i]);
   if (problem) return std::move(*problem);
@@ -124,6 +186,11 @@ Result<Bytes> Client::read_block(const Telegram& setup, std::uint8_t setup_sub,
                                  std::size_t size, const char* what) {
   const std::size_t chunks = (size + 3) / 4;
   BlockVotes votes(chunks);
+  // A curve's data block is read right after its info block without a setup
+  // telegram (§11.1): the info block's passes read to its end, so that a
+  // drive with one block cursor is where the data block starts.
+  votes.stop_early_allowed = !(chunk_req.main == static_cast<std::uint8_t>(Main::curve) &&
+                               chunk_req.sub == static_cast<std::uint8_t>(CurveOp::read_info));
   RestartBudget budget(opt_.read_retries + 1, opt_.transfer_deadline);
   Error last(Errc::timeout, "");
   for (bool first = true;; first = false) {

@@ -86,6 +86,11 @@ std::int64_t Client::answer_deadline_us(const Telegram& req) const {
   return std::min(cap, static_cast<std::int64_t>(us + 0.5));
 }
 
+std::int64_t Client::corrupt_answer_quiet_us() const {
+  const double us = 1000.0 * (link_.receive_latency_ms() + opt_.deadline_margin_ms) + wire_us(2);
+  return static_cast<std::int64_t>(us + 0.5);
+}
+
 void Client::rtt_sample(double excess_us) {
   excess_us = std::max(0.0, excess_us);
   ++stats_.rtt_samples;
@@ -297,6 +302,11 @@ Error Client::attempt_failed(Exchange& x, std::int64_t deadline_us) {
   // seen (adaptive_settle; settle_line caps it at `settle`).
   if (!x.garbled)
     settle_quiet_us_ = std::max(deadline_us, static_cast<std::int64_t>(2.0 * max_rtt_us_));
+  // A complete frame that failed its checksum was this request's answer (the
+  // drive sends one answer per request, §4): the line needs to stay quiet only
+  // for the adapter's delivery latency and the margin, not a whole deadline.
+  else if (x.corrupt_frame && x.ordinary && opt_.adaptive_deadline)
+    settle_quiet_us_ = std::min(settle_quiet_us_, corrupt_answer_quiet_us());
   if (x.garbled) {
     noise_seen_ = true;
     return Error(x.garbled->code, "no valid answer from drive " + hexid("%02Xh", opt_.id) + " to " +

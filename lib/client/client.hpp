@@ -74,8 +74,8 @@ struct ClientOptions {
   // later request whose answer carries no key (list get-next, block chunks).
   // On a TCP gateway (jitter unbounded) and without `adaptive_settle`: always
   // `settle`. With adaptive_deadline, a read whose answer arrived complete but
-  // failed its checksum is retried at once (after the settle), without
-  // waiting out its deadline.
+  // failed its checksum is retried at once, without waiting out its deadline,
+  // after a shorter settle (corrupt_answer_quiet_us: the answer has come).
   Millis settle{500};
   bool adaptive_settle = false;
   // A modified list that ends at once with C6 for a UPID outside the layer is
@@ -198,6 +198,10 @@ class Client {
   // else options().timeout), in microseconds, and its floor (no measurement).
   std::int64_t answer_deadline_us(const codec::Telegram& req) const;
   std::int64_t deadline_floor_us(const codec::Telegram& req) const;
+  // Quiet time after an ordinary read's answer that arrived complete but
+  // failed its checksum (adaptive timing): the link's receive latency + the
+  // deadline margin + 2 byte times.
+  std::int64_t corrupt_answer_quiet_us() const;
   // Smoothed excess round trip (answer time minus wire time) and its variation,
   // microseconds; srtt < 0 until the first answer has been timed.
   double srtt_us() const { return srtt_us_; }
