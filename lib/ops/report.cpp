@@ -224,8 +224,9 @@ std::vector<std::pair<std::string, std::string>> identity_rows(const config::Ide
       {"firmware", id.firmware},
       {"upid_fingerprint", id.upid_fingerprint},
       {"captured_at", id.captured_at},
-      {"link", id.link.port.empty()
-                   ? ""
+      {"link", id.link.port.empty() ? ""
+               : is_can_port(id.link.port)
+                   ? id.link.port + " (CAN) " + id.link.baud + " bit/s"
                    : id.link.port + " " + id.link.baud + " Bd, parity " + id.link.parity +
                          ", stop bits " + id.link.stop_bits + ", checksum " + id.link.checksum},
       {"tool_version", id.tool_version},
@@ -551,7 +552,7 @@ void devicenet_single(std::string& out, const config::DevicenetSection& dn,
     return;
   }
   out +=
-      "<table class=\"devicenet\"><thead><tr><th>value</th><th>read</th><th></th></tr></thead>"
+      "<table class=\"devicenet\"><thead><tr><th>value</th><th>read</th><th>kind</th></tr></thead>"
       "<tbody>\n";
   for (const bool live : {false, true})
     for (const auto& v : live ? dn.live : dn.values)
