@@ -80,9 +80,9 @@ struct ClientOptions {
   bool adaptive_settle = false;
   // A modified list that ends at once with C6 for a UPID outside the layer is
   // an empty list, or a drive that reset between "start" and "get next" (it
-  // forgot the list). true: read such a list twice (2 more telegrams per empty
-  // layer) and accept it only if both agree. Lists with entries are always
-  // confirmed this way when their C6 carries a UPID outside the layer.
+  // forgot the list). true: read such a list three times (4 more telegrams per
+  // empty layer) and accept it only if all agree. Lists with entries are
+  // confirmed by a second pass when their C6 carries a UPID outside the layer.
   bool confirm_empty_lists = true;
   bool pad_ct_list = true;  // §12 example pads the defined-list request (erratum 3)
   bool skip_echo = true;    // 2-wire RS485 adapters may echo our own request
