@@ -226,10 +226,11 @@ void add_sim(CLI::App& app, int& exit_code) {
                 "Also stop when stdin reaches end of file");
   cmd->add_flag("--fast", args->fast, "Answer at once instead of after the modelled delays");
   cmd->add_flag("-v,--verbose", args->verbose, "Trace every chunk to stderr");
-  cmd->add_flag("--devicenet", args->devicenet,
-                "Serve a simulated DeviceNet LinMot controller (seed 000) behind a simulated "
-                "slcan CAN adapter on a pty");
-  add_devicenet_sim_options(cmd, args->dn);
+  auto* devicenet =
+      cmd->add_flag("--devicenet", args->devicenet,
+                    "Serve a simulated DeviceNet LinMot controller (seed 000) behind a simulated "
+                    "slcan CAN adapter on a pty");
+  add_devicenet_sim_options(cmd, devicenet, args->dn);
   cmd->callback([args, &exit_code] { exit_code = run(*args); });
 }
 }  // namespace lmcfg::cli

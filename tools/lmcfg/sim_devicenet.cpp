@@ -44,7 +44,7 @@ Result<sim::DeviceNetControllerOptions> controller_options(const DevicenetSimArg
 
 }  // namespace
 
-void add_devicenet_sim_options(CLI::App* sim, DevicenetSimArgs& a) {
+void add_devicenet_sim_options(CLI::App* sim, CLI::Option* devicenet_flag, DevicenetSimArgs& a) {
   sim->add_option("--devicenet-macid", a.macid, "with --devicenet: the controller's MAC ID (0..63)")
       ->capture_default_str();
   sim->add_option("--devicenet-motors", a.motors,
@@ -74,6 +74,10 @@ void add_devicenet_sim_options(CLI::App* sim, DevicenetSimArgs& a) {
                   "(the connection is dropped mid-session)");
   sim->add_option("--held-by", a.held_by,
                   "with --devicenet: another master (this MAC ID) holds the connection set");
+  for (const char* name : {"--devicenet-macid", "--devicenet-motors", "--can-bitrate",
+                           "--io-modules", "--encoder-module", "--factory", "--lose-polls",
+                           "--seed", "--error-leaves-run", "--reset-after-sets", "--held-by"})
+    sim->get_option(name)->needs(devicenet_flag);
 }
 
 int run_devicenet_sim(const DevicenetSimArgs& a, const std::function<bool()>& should_stop) {

@@ -22,8 +22,8 @@ struct DevicenetSimArgs {
   unsigned reset_after = 0;
 };
 
-// The --devicenet-* options of `lmcfg sim`.
-void add_devicenet_sim_options(CLI::App* sim, DevicenetSimArgs& a);
+// The options of `lmcfg sim --devicenet`; each needs `devicenet_flag`.
+void add_devicenet_sim_options(CLI::App* sim, CLI::Option* devicenet_flag, DevicenetSimArgs& a);
 // Serves until should_stop(); the documented exit code.
 int run_devicenet_sim(const DevicenetSimArgs& a, const std::function<bool()>& should_stop);
 
