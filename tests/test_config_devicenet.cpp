@@ -14,17 +14,6 @@ using namespace lmcfg::config::testing;
 
 namespace {
 
-std::string must(Result<std::string> r) {
-  INFO((r.ok() ? std::string() : r.error().message));
-  REQUIRE(r.ok());
-  return std::move(r).value();
-}
-DriveConfig must(Result<DriveConfig> r) {
-  INFO((r.ok() ? std::string() : r.error().message));
-  REQUIRE(r.ok());
-  return std::move(r).value();
-}
-
 std::string replaced(std::string s, const std::string& from, const std::string& to) {
   const auto at = s.find(from);
   REQUIRE(at != std::string::npos);

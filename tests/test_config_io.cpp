@@ -21,17 +21,6 @@ struct FakeCtDecoder : CtEntryDecoder {
   }
 };
 
-std::string must(Result<std::string> r) {
-  INFO((r.ok() ? std::string() : r.error().message));
-  REQUIRE(r.ok());
-  return std::move(r).value();
-}
-DriveConfig must(Result<DriveConfig> r) {
-  INFO((r.ok() ? std::string() : r.error().message));
-  REQUIRE(r.ok());
-  return std::move(r).value();
-}
-
 // Golden files: compared byte for byte; LMCFG_UPDATE_GOLDEN=1 rewrites them.
 void check_golden(const fs::path& path, const std::string& text) {
   if (std::getenv("LMCFG_UPDATE_GOLDEN")) spit(path, text);

@@ -35,14 +35,6 @@ struct DnSim {
   }
 };
 
-fs::path fresh_dir(const std::string& name) {
-  const fs::path dir =
-      fs::temp_directory_path() / ("lmcfg-dn-" + name + "-" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
-
 std::size_t count(const std::string& text, const std::string& what) {
   std::size_t n = 0;
   for (auto at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
@@ -74,7 +66,7 @@ TEST_CASE(
     "[devicenet][cli][pty]") {
   DnSim sim({"--lose-polls", "0.05", "--seed", "7"});
   REQUIRE(sim.pty.rfind("/dev/", 0) == 0);
-  const auto dir = fresh_dir("e2e");
+  const auto dir = test::temp_dir("dn-e2e");
 
   auto backup = test::run_tool_in(dir, "backup " + sim.link() + " -o ctl.json");
   INFO(backup.err);
@@ -125,7 +117,7 @@ TEST_CASE(
 
 TEST_CASE("devicenet (issue 17): a wrong bit rate, a wrong MAC ID, a second master",
           "[devicenet][cli][pty]") {
-  const auto dir = fresh_dir("link");
+  const auto dir = test::temp_dir("dn-link");
   {
     DnSim sim;
     auto r = test::run_tool_in(dir, "backup " + sim.link() + " --can-bitrate 250000 -o x.json");
@@ -185,7 +177,7 @@ TEST_CASE(
     "devicenet (issue 17): a controller without the Addressed modules, an out-of-range value in "
     "a file",
     "[devicenet][cli][pty]") {
-  const auto dir = fresh_dir("input");
+  const auto dir = test::temp_dir("dn-input");
   {
     DnSim sim({"--io-modules", "control-in,status-out"});
     auto r = test::run_tool_in(dir, "backup " + sim.link() + " -o x.json");
@@ -216,7 +208,7 @@ TEST_CASE(
     "devicenet (issue 17): a firmware whose refusals stop RUN is told so; --devicenet-motors and "
     "--no-module-values avoid the probes",
     "[devicenet][cli][pty]") {
-  const auto dir = fresh_dir("run");
+  const auto dir = test::temp_dir("dn-run");
   DnSim sim({"--error-leaves-run"});
   auto probed = test::run_tool_in(dir, "backup " + sim.link() + " -o probed.json");
   CHECK(probed.exit_code == 0);
@@ -237,7 +229,7 @@ TEST_CASE(
     "devicenet (issue 17): a controller reset in the middle of a restore is reported as partial; "
     "the rerun converges",
     "[devicenet][cli][pty]") {
-  const auto dir = fresh_dir("reset");
+  const auto dir = test::temp_dir("dn-reset");
   DnSim sim({"--reset-after-sets", "3"});  // the two sets below, then the restore's first
   REQUIRE(test::run_tool_in(dir, "backup " + sim.link() + " -q -o ctl.json").exit_code == 0);
   change_two_values(sim.pty);
@@ -258,7 +250,7 @@ TEST_CASE(
 
 TEST_CASE("devicenet (issue 17): Ctrl-C during a backup releases the connection (exit 130)",
           "[devicenet][cli][pty]") {
-  const auto dir = fresh_dir("sigint");
+  const auto dir = test::temp_dir("dn-sigint");
   DnSim sim({"--lose-polls", "0.3"});  // a slow line: the signal lands mid-backup
   test::Child backup({LMCFG_TOOL_PATH, "backup", "--port", "slcan:" + sim.pty, "--devicenet-macid",
                       "5", "--devicenet-listen-ms", "20", "--timeout-ms", "100", "--retries", "9",

@@ -25,19 +25,9 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct Dir {
-  fs::path path;
-  Dir() {
-    static int n = 0;
-    path = fs::temp_directory_path() /
-           ("lmcfg-diffcli-" + std::to_string(::getpid()) + "-" + std::to_string(n++));
-    fs::remove_all(path);
-    fs::create_directories(path);
-  }
-  ~Dir() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
+// A scratch directory of this file's tests.
+struct Dir : test::ScratchDir {
+  Dir() : test::ScratchDir("diffcli") {}
 };
 
 struct Out {
@@ -56,11 +46,6 @@ Out tool(const Dir& d, const std::string& args) {
   r.out = slurp(o);
   r.err = slurp(e);
   return r;
-}
-
-std::string must(Result<std::string> r) {
-  REQUIRE(r.ok());
-  return *r;
 }
 
 std::string q(const fs::path& p) { return "'" + p.string() + "'"; }

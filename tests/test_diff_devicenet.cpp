@@ -11,6 +11,7 @@
 #include "db/database.hpp"
 #include "ops/diff.hpp"
 #include "ops/report.hpp"
+#include "subprocess.hpp"
 #include "test_config_support.hpp"
 
 using namespace lmcfg;
@@ -41,32 +42,6 @@ DriveConfig changed() {
   value_of(b, 0, 0x34).scaled = "2.57818";
   value_of(b, 1, 0x24).raw = 5;
   return b;
-}
-
-struct Dir {
-  fs::path path;
-  Dir() {
-    static int n = 0;
-    path = fs::temp_directory_path() /
-           ("lmcfg-diffdn-" + std::to_string(::getpid()) + "-" + std::to_string(n++));
-    fs::remove_all(path);
-    fs::create_directories(path);
-  }
-  ~Dir() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
-};
-
-struct Out {
-  int rc = -1;
-  std::string out;
-};
-Out tool(const Dir& d, const std::string& args) {
-  const auto o = d.path / "stdout.txt";
-  const int rc = std::system(
-      (std::string(LMCFG_TOOL_PATH) + " " + args + " >'" + o.string() + "' 2>/dev/null").c_str());
-  return {WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, slurp(o)};
 }
 
 }  // namespace
@@ -289,7 +264,7 @@ TEST_CASE("diff: a DeviceNet capture has no factory defaults to compare with",
 }
 
 TEST_CASE("lmcfg diff: DeviceNet files, --live, defaults and LinRS", "[diff][devicenet][cli]") {
-  Dir d;
+  test::ScratchDir d("diffdn");
   const auto a = d.path / "a.json", b = d.path / "b.xml", c = d.path / "c.json";
   REQUIRE(write_config_file(devicenet_capture(), a).ok());
   REQUIRE(write_config_file(changed(), b).ok());
@@ -298,32 +273,34 @@ TEST_CASE("lmcfg diff: DeviceNet files, --live, defaults and LinRS", "[diff][dev
   REQUIRE(write_config_file(live, c).ok());
   const std::string fa = "'" + a.string() + "'", fb = "'" + b.string() + "'",
                     fc = "'" + c.string() + "'";
-  auto same = tool(d, "diff --quiet " + fa + " " + fa);
-  CHECK(same.rc == 0);
+  auto same = test::run_tool_in(d.path, "diff --quiet " + fa + " " + fa);
+  CHECK(same.exit_code == 0);
   CHECK(same.out.find("\nidentical\n") != std::string::npos);
-  auto two = tool(d, "diff --quiet " + fa + " " + fb);
-  CHECK(two.rc == 1);
+  auto two = test::run_tool_in(d.path, "diff --quiet " + fa + " " + fb);
+  CHECK(two.exit_code == 1);
   CHECK(two.out.find("  motor A: Controller P (34h): 2.3438 A/mm (raw 1000) -> 2.57818 A/mm "
                      "(raw 1100)\n") != std::string::npos);
-  CHECK(tool(d, "diff --quiet " + fa + " " + fc).rc == 0);
-  auto with_live = tool(d, "diff --quiet --live " + fa + " " + fc);
-  CHECK(with_live.rc == 1);
+  CHECK(test::run_tool_in(d.path, "diff --quiet " + fa + " " + fc).exit_code == 0);
+  auto with_live = test::run_tool_in(d.path, "diff --quiet --live " + fa + " " + fc);
+  CHECK(with_live.exit_code == 1);
   CHECK(with_live.out.find("devicenet live:\n  motor A: Actual Position (18h): 10 mm (raw 512) "
                            "-> 11.71875 mm (raw 600)\n") != std::string::npos);
-  auto defaults = tool(d, "diff --quiet defaults " + fa);
-  CHECK(defaults.rc == 1);
+  auto defaults = test::run_tool_in(d.path, "diff --quiet defaults " + fa);
+  CHECK(defaults.exit_code == 1);
   CHECK(defaults.out.find("note: B is a DeviceNet controller capture: lmcfg knows no factory "
                           "defaults of its values, so there is nothing to compare it with\n") !=
         std::string::npos);
   const auto rs = (fixture_dir() / "golden-sinrise.json").string();
-  auto linrs = tool(d, "diff --quiet " + fa + " '" + rs + "' --json");
-  CHECK(linrs.rc == 1);
+  auto linrs = test::run_tool_in(d.path, "diff --quiet " + fa + " '" + rs + "' --json");
+  CHECK(linrs.exit_code == 1);
   CHECK(linrs.out.find("\"A is a DeviceNet controller capture, B a LinRS drive capture: not "
                        "comparable\"") != std::string::npos);
   // convert is lossless for the section.
   const auto x = d.path / "a.xml", j = d.path / "back.json";
-  REQUIRE(tool(d, "convert --quiet " + fa + " '" + x.string() + "'").rc == 0);
-  REQUIRE(tool(d, "convert --quiet '" + x.string() + "' '" + j.string() + "'").rc == 0);
+  REQUIRE(test::run_tool_in(d.path, "convert --quiet " + fa + " '" + x.string() + "'").exit_code ==
+          0);
+  REQUIRE(test::run_tool_in(d.path, "convert --quiet '" + x.string() + "' '" + j.string() + "'")
+              .exit_code == 0);
   CHECK(slurp(j) == slurp(a));
   CHECK(*read_config_file(x) == devicenet_capture());
 }

@@ -3,6 +3,7 @@
 // small file helpers.
 #include <sys/wait.h>
 
+#include <catch2/catch.hpp>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -135,6 +136,14 @@ inline DriveConfig devicenet_capture() {
   c.devicenet = std::move(dn);
   canonicalize(c);
   return c;
+}
+
+// The value of a result the test needs, or the test stops with its message.
+template <typename T>
+T must(Result<T> r) {
+  INFO((r.ok() ? std::string() : r.error().message));
+  REQUIRE(r.ok());
+  return std::move(r).value();
 }
 
 inline int run(const std::string& cmd) {
