@@ -176,6 +176,29 @@ std::string describe_frame(const can::Frame& f, const IoLayout& layout) {
   return text;
 }
 
+Result<std::uint8_t> parse_mac_id(std::string_view option, std::string_view text) {
+  const auto mac = parse_number(text, false);
+  if (!mac || *mac > 63) {
+    return Error(Errc::invalid_argument, std::string(option) + " '" + std::string(text) +
+                                             "' is not a DeviceNet MAC ID 0..63");
+  }
+  return static_cast<std::uint8_t>(*mac);
+}
+
+Result<std::array<bool, 4>> parse_motor_list(std::string_view option, std::string_view text) {
+  std::array<bool, 4> motors{};
+  for (char c : text) {
+    if (c == ',') continue;
+    const int m = c - 'A';
+    if (m < 0 || m > 3 || motors[static_cast<std::size_t>(m)]) {
+      return Error(Errc::invalid_argument, std::string(option) + " '" + std::string(text) +
+                                               "': expected motors A..D, each once, e.g. A,B");
+    }
+    motors[static_cast<std::size_t>(m)] = true;
+  }
+  return motors;
+}
+
 std::string target_name(std::optional<Motor> m) {
   return m ? std::string("motor ") + motor_letter(*m) : std::string("the controller");
 }

@@ -5,6 +5,7 @@
 // and which are live values (status, positions, IO) rather than settings.
 // Names, ranges and units are the UPID database's (devicenet_commands); this
 // table holds only what the database does not say. docs/devicenet.md.
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <span>
@@ -47,6 +48,12 @@ Result<IoLayout> parse_modules(std::string_view comma_separated);
 // message, then for explicit messages the service (and a response's data),
 // for polls of `layout` the Addressed command word, value, status and echo.
 std::string describe_frame(const can::Frame& f, const IoLayout& layout);
+
+// Option values, named by `option` in the message (Errc::invalid_argument):
+// a MAC ID 0..63 (decimal, or hex with 0x/h), and a motor list "A,B" (commas
+// optional, each motor once).
+Result<std::uint8_t> parse_mac_id(std::string_view option, std::string_view text);
+Result<std::array<bool, 4>> parse_motor_list(std::string_view option, std::string_view text);
 
 // "motor A" / "the controller".
 std::string target_name(std::optional<Motor> m);

@@ -52,11 +52,9 @@ Result<ops::DevicenetLinkOptions> devicenet_link_options(const CommonOptions& o)
   if (o.devicenet_macid.empty())
     return Error(Errc::invalid_argument,
                  "--port " + o.port + " is a CAN link: give the controller's --devicenet-macid");
-  const auto mac = parse_number(o.devicenet_macid, false);
-  if (!mac || *mac > 63)
-    return Error(Errc::invalid_argument,
-                 "--devicenet-macid '" + o.devicenet_macid + "' is not a DeviceNet MAC ID 0..63");
-  if (o.devicenet_own_macid > 63 || o.devicenet_own_macid == *mac)
+  LMCFG_ASSIGN_OR_RETURN(const auto mac,
+                         devicenet::parse_mac_id("--devicenet-macid", o.devicenet_macid));
+  if (o.devicenet_own_macid > 63 || o.devicenet_own_macid == mac)
     return Error(Errc::invalid_argument,
                  "--devicenet-own-macid " + std::to_string(o.devicenet_own_macid) +
                      " must be 0..63 and differ from the controller's MAC ID");
@@ -67,7 +65,7 @@ Result<ops::DevicenetLinkOptions> devicenet_link_options(const CommonOptions& o)
   ops::DevicenetLinkOptions l;
   l.port = o.port;
   l.can_bitrate = o.can_bitrate;
-  l.master.slave_mac = static_cast<std::uint8_t>(*mac);
+  l.master.slave_mac = mac;
   l.master.own_mac = static_cast<std::uint8_t>(o.devicenet_own_macid);
   l.master.timeout = transport::Millis(o.timeout_ms);
   l.master.retries = o.retries;
@@ -89,16 +87,11 @@ Result<ops::DevicenetBackupOptions> devicenet_read_options(const CommonOptions& 
   ops::DevicenetBackupOptions bo;
   bo.module_values = !o.no_module_values;
   if (o.devicenet_motors.empty()) return bo;
+  LMCFG_ASSIGN_OR_RETURN(const auto selected,
+                         devicenet::parse_motor_list("--devicenet-motors", o.devicenet_motors));
   std::vector<int> motors;
-  for (char c : o.devicenet_motors) {
-    if (c == ',') continue;
-    const int m = c - 'A';
-    if (m < 0 || m > 3 || std::find(motors.begin(), motors.end(), m) != motors.end())
-      return Error(Errc::invalid_argument, "--devicenet-motors '" + o.devicenet_motors +
-                                               "': expected motors A..D, each once, e.g. A,B");
-    motors.push_back(m);
-  }
-  std::sort(motors.begin(), motors.end());
+  for (int m = 0; m < 4; ++m)
+    if (selected[static_cast<std::size_t>(m)]) motors.push_back(m);
   bo.motors = motors;
   return bo;
 }

@@ -16,19 +16,8 @@ namespace {
 
 Result<sim::DeviceNetControllerOptions> controller_options(const DevicenetSimArgs& a) {
   sim::DeviceNetControllerOptions o;
-  const auto mac = parse_number(a.macid, false);
-  if (!mac || *mac > 63)
-    return Error(Errc::invalid_argument,
-                 "--devicenet-macid '" + a.macid + "' is not a DeviceNet MAC ID 0..63");
-  o.mac = static_cast<std::uint8_t>(*mac);
-  o.motors = {};
-  for (char c : a.motors) {
-    if (c == ',') continue;
-    if (c < 'A' || c > 'D')
-      return Error(Errc::invalid_argument,
-                   "--devicenet-motors '" + a.motors + "': expected motors A..D, e.g. A,B");
-    o.motors[static_cast<std::size_t>(c - 'A')] = true;
-  }
+  LMCFG_ASSIGN_OR_RETURN(o.mac, devicenet::parse_mac_id("--devicenet-macid", a.macid));
+  LMCFG_ASSIGN_OR_RETURN(o.motors, devicenet::parse_motor_list("--devicenet-motors", a.motors));
   if (!a.io_modules.empty()) {
     LMCFG_ASSIGN_OR_RETURN(o.layout, devicenet::parse_modules(a.io_modules));
   }
@@ -90,12 +79,12 @@ int run_devicenet_sim(const DevicenetSimArgs& a, const std::function<bool()>& sh
   sim::DeviceNetController controller(*opt);
   if (!a.factory) controller.commission();
   if (!a.held_by.empty()) {
-    const auto other = parse_number(a.held_by, false);
-    if (!other || *other > 63) {
-      std::fprintf(stderr, "lmcfg sim: --held-by '%s' is not a MAC ID 0..63\n", a.held_by.c_str());
+    const auto other = devicenet::parse_mac_id("--held-by", a.held_by);
+    if (!other.ok()) {
+      std::fprintf(stderr, "lmcfg sim: %s\n", other.error().message.c_str());
       return kInvalidInput;
     }
-    controller.hold_for_other_master(static_cast<std::uint8_t>(*other));
+    controller.hold_for_other_master(*other);
   }
   controller.attach(*bus);
   auto p = transport::open_pty();
