@@ -40,17 +40,10 @@ Result<void> validate(const Frame& f) {
 namespace slcan {
 namespace {
 
-int hex_digit(char c) {
-  if (c >= '0' && c <= '9') return c - '0';
-  if (c >= 'A' && c <= 'F') return c - 'A' + 10;
-  if (c >= 'a' && c <= 'f') return c - 'a' + 10;
-  return -1;
-}
-
 std::optional<std::uint32_t> hex_field(std::string_view s) {
   std::uint32_t v = 0;
   for (char c : s) {
-    const int d = hex_digit(c);
+    const int d = hex_digit_value(c);
     if (d < 0) return std::nullopt;
     v = v * 16 + static_cast<std::uint32_t>(d);
   }
@@ -100,7 +93,7 @@ std::optional<Frame> parse_frame_line(std::string_view line) {
   const std::size_t id_len = f.extended ? 8 : 3;
   if (line.size() < 1 + id_len + 1) return std::nullopt;
   auto id = hex_field(line.substr(1, id_len));
-  const int len = hex_digit(line[1 + id_len]);
+  const int len = hex_digit_value(line[1 + id_len]);
   if (!id || len < 0 || len > 8) return std::nullopt;
   f.id = *id;
   f.len = static_cast<std::uint8_t>(len);

@@ -38,14 +38,12 @@ bool iequals(std::string_view a, std::string_view b) noexcept {
   return true;
 }
 
-namespace {
-int hex_value(char c) {
+int hex_digit_value(char c) noexcept {
   if (c >= '0' && c <= '9') return c - '0';
   if (c >= 'a' && c <= 'f') return c - 'a' + 10;
   if (c >= 'A' && c <= 'F') return c - 'A' + 10;
   return -1;
 }
-}  // namespace
 
 std::optional<Bytes> from_hex(std::string_view text) {
   Bytes out;
@@ -55,7 +53,7 @@ std::optional<Bytes> from_hex(std::string_view text) {
       if (pending >= 0) return std::nullopt;  // a lone nibble before a separator
       continue;
     }
-    int v = hex_value(c);
+    int v = hex_digit_value(c);
     if (v < 0) return std::nullopt;
     if (pending < 0) {
       pending = v;
@@ -80,7 +78,7 @@ std::optional<std::uint32_t> parse_number(std::string_view t, bool hex_default) 
   if (t.empty() || t.size() > (hex ? 8u : 10u)) return std::nullopt;
   std::uint64_t v = 0;
   for (char c : t) {
-    int d = hex ? hex_value(c) : (std::isdigit(static_cast<unsigned char>(c)) ? c - '0' : -1);
+    int d = hex ? hex_digit_value(c) : (std::isdigit(static_cast<unsigned char>(c)) ? c - '0' : -1);
     if (d < 0) return std::nullopt;
     v = v * (hex ? 16u : 10u) + static_cast<unsigned>(d);
   }

@@ -39,6 +39,8 @@ std::string to_hex(ByteView b, char sep = ' ');
 // `suffix`: hex(0x13A2, 4) == "13A2", hex(0x11, 2, "h") == "11h" (the manuals'
 // notation). The one hex formatter of lmcfg.
 std::string hex(std::uint32_t v, int digits, std::string_view suffix = {});
+// The value of one hex digit (either case), -1 for any other character.
+int hex_digit_value(char c) noexcept;
 // Accepts hex digits with optional spaces/colons between byte pairs; nullopt on odd count or
 // non-hex.
 std::optional<Bytes> from_hex(std::string_view text);

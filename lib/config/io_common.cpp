@@ -14,20 +14,11 @@ std::string upid_hex(std::uint32_t upid) {
   return s;
 }
 
-namespace {
-int hexval(char c) noexcept {
-  if (c >= '0' && c <= '9') return c - '0';
-  if (c >= 'a' && c <= 'f') return c - 'a' + 10;
-  if (c >= 'A' && c <= 'F') return c - 'A' + 10;
-  return -1;
-}
-}  // namespace
-
 std::optional<std::uint16_t> parse_upid_hex(std::string_view s) noexcept {
   if (s.size() != 4) return std::nullopt;
   unsigned v = 0;
   for (char c : s) {
-    int d = hexval(c);
+    int d = hex_digit_value(c);
     if (d < 0) return std::nullopt;
     v = v << 4 | static_cast<unsigned>(d);
   }
@@ -53,7 +44,7 @@ std::string command_hex(std::uint8_t id) { return upid_hex(id).substr(2); }
 
 std::optional<std::uint8_t> parse_command_hex(std::string_view s) noexcept {
   if (s.size() != 2) return std::nullopt;
-  const int hi = hexval(s[0]), lo = hexval(s[1]);
+  const int hi = hex_digit_value(s[0]), lo = hex_digit_value(s[1]);
   if (hi < 0 || lo < 0) return std::nullopt;
   return static_cast<std::uint8_t>(hi << 4 | lo);
 }
@@ -73,8 +64,8 @@ std::optional<Bytes> parse_row(std::string_view s) {
   Bytes out;
   out.reserve((s.size() + 1) / 3);
   for (std::size_t i = 0; i < s.size(); i += 3) {
-    int hi = hexval(s[i]);
-    int lo = hexval(s[i + 1]);
+    int hi = hex_digit_value(s[i]);
+    int lo = hex_digit_value(s[i + 1]);
     if (hi < 0 || lo < 0) return std::nullopt;
     if (i + 2 < s.size() && s[i + 2] != ' ') return std::nullopt;
     out.push_back(static_cast<std::uint8_t>(hi << 4 | lo));
