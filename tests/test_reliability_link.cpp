@@ -248,6 +248,70 @@ TEST_CASE(
   }
 }
 
+// The third agreeing read guards against the same single flipped bit in two
+// answers. "No curve here" (zero sizes, or a refusal state, C1h and above) is
+// two or more flips away from a curve's answer (state 00h, both sizes
+// non-zero), so two agreeing reads decide it even on a corrupting line
+// (docs/reliability.md).
+TEST_CASE(
+    "seed003 §11 §16.1 on a line that corrupts, an empty curve ID takes two agreeing reads, a "
+    "curve's sizes three",
+    "[reliability][link]") {
+  const auto s = axis_state();  // no checksum, no parity
+  FaultRig rig(std::make_shared<sim::Drive>(s), automatic());
+  // The line shows corruption: the first answer to a ROM read of 13A2h has a
+  // flipped value bit (answer byte 9 is the value's low byte).
+  test::aim(rig, test::request(0x05, 0x00), 1, sim::Fault::corrupt(9, 0x01));
+  REQUIRE(rig.client->read_rom(0x13A2).ok());
+  REQUIRE(rig.client->agreeing_reads() == 3);
+  rig.sim->faults().set_callback(nullptr);
+  const auto before = rig.sim->stats().request_telegrams;
+  const auto telegrams = [&] { return rig.sim->stats().request_telegrams - before; };
+
+  SECTION("an empty curve ID: two reads") {
+    auto c = rig.client->curve_sizes(50);
+    REQUIRE(c.ok());
+    CHECK_FALSE(c->has_value());
+    CHECK(telegrams() == 2);
+  }
+  SECTION("a curve's sizes: three reads") {
+    auto c = rig.client->curve_sizes(1);
+    REQUIRE(c.ok());
+    REQUIRE(c->has_value());
+    CHECK((*c)->info == s.curves_flash.at(1).info.size());
+    CHECK(telegrams() == 3);
+  }
+  SECTION("the drive's error-state form: two reads") {
+    auto v = s;
+    v.options.missing_curve_zero_sizes = false;  // C8h, three bits away from 00h
+    FaultRig r2(std::make_shared<sim::Drive>(v), automatic());
+    test::aim(r2, test::request(0x05, 0x00), 1, sim::Fault::corrupt(9, 0x01));
+    REQUIRE(r2.client->read_rom(0x13A2).ok());
+    r2.sim->faults().set_callback(nullptr);
+    const auto b2 = r2.sim->stats().request_telegrams;
+    auto c = r2.client->curve_sizes(50);
+    REQUIRE(c.ok());
+    CHECK_FALSE(c->has_value());
+    CHECK(r2.sim->stats().request_telegrams - b2 == 2);
+  }
+  SECTION("a curve's sizes with the same flipped bit in two answers: the third read decides") {
+    // Answer byte 9 is the info block size's low byte.
+    int n = 0;
+    rig.sim->faults().set_callback([&](std::size_t, ByteView req) -> std::vector<sim::Fault> {
+      auto t = codec::decode(req, s.checksum);
+      if (t.ok() && t->main == 0x04 && t->sub == 0x08 && ++n <= 2)
+        return {sim::Fault::corrupt(9, 0x01)};
+      return {};
+    });
+    auto c = rig.client->curve_sizes(1);
+    REQUIRE(c.ok());
+    REQUIRE(c->has_value());
+    CHECK((*c)->info == s.curves_flash.at(1).info.size());
+    CHECK((*c)->data == s.curves_flash.at(1).data.size());
+    CHECK(telegrams() == 5);
+  }
+}
+
 // Two agreeing reads are defeated when the same bit flips in two answers to
 // the same request in a row (one of 112 bit positions per corrupted answer:
 // about once in 150,000 reads, 1-2 wrong files in 200 backups on seeds 1-3).

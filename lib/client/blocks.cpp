@@ -245,15 +245,27 @@ bool probe_refusal(const Error& e) {
 }  // namespace
 
 Result<std::optional<CurveSizes>> Client::curve_sizes(std::uint16_t curve) {
-  auto sizes = agreed<std::uint32_t>([&]() -> Result<std::uint32_t> {
-    LMCFG_ASSIGN_OR_RETURN(auto r, id_value(make_curve(opt_.id, CurveOp::read_sizes, curve), 0x40,
-                                            true, opt_.timeout));
-    if (r.key != curve) {
-      return Error(Errc::unexpected_response, "curve size query for ID " + std::to_string(curve) +
-                                                  " answered for ID " + std::to_string(r.key));
-    }
-    return r.value;
-  });
+  auto sizes = agreed<std::uint32_t>(
+      [&]() -> Result<std::uint32_t> {
+        LMCFG_ASSIGN_OR_RETURN(auto r, id_value(make_curve(opt_.id, CurveOp::read_sizes, curve),
+                                                0x40, true, opt_.timeout));
+        if (r.key != curve) {
+          return Error(Errc::unexpected_response, "curve size query for ID " +
+                                                      std::to_string(curve) + " answered for ID " +
+                                                      std::to_string(r.key));
+        }
+        return r.value;
+      },
+      [&](const Result<std::uint32_t>& r) {
+        // "Nothing here" (zero sizes, or a refusal: a state of C1h or above, at
+        // least three bits from 00h) is two or more flipped bits away from a
+        // curve's answer (state 00h, info and data block sizes both non-zero,
+        // §11): the same single flip in two answers, which a third read guards
+        // against on a corrupting line, cannot make a curve look absent. Two
+        // agreeing reads stay required.
+        const bool nothing_here = r.ok() ? *r == 0 : probe_refusal(r.error());
+        return nothing_here ? std::min(agreeing_reads(), 2) : agreeing_reads();
+      });
   if (!sizes.ok()) {
     if (!probe_refusal(sizes.error())) return std::move(sizes).error();
     // An error state for a probe: no curve under this ID (§11 leaves the answer open).

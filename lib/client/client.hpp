@@ -304,6 +304,11 @@ class Client {
   // Reads until agreeing_reads() answers agree (refusals count as answers).
   template <class T, class F>
   Result<T> agreed(F&& read);
+  // The same with the number of agreeing reads an answer needs given by
+  // `need_for(answer)` (an answer a single flipped bit cannot produce from
+  // another plausible one needs fewer).
+  template <class T, class F, class N>
+  Result<T> agreed(F&& read, N&& need_for);
   Result<std::vector<ModifiedParam>> modified_list_once(int layer);
   Result<std::vector<UpidInfo>> upid_list_once(int layer,
                                                const std::function<void(std::size_t)>& progress);

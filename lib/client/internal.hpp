@@ -74,6 +74,11 @@ namespace lmcfg::client {
 // read required this is just `read()`.
 template <class T, class F>
 Result<T> Client::agreed(F&& read) {
+  return agreed<T>(std::forward<F>(read), [this](const Result<T>&) { return agreeing_reads(); });
+}
+
+template <class T, class F, class N>
+Result<T> Client::agreed(F&& read, N&& need_for) {
   std::vector<Result<T>> seen;
   int link_failures = 0;
   // The limit grows by one if the line shows corruption during this value.
@@ -95,7 +100,7 @@ Result<T> Client::agreed(F&& read) {
       else
         noise_seen_ = true;  // reads of one value disagreed: the line flips bits
     }
-    const int need = agreeing_reads();
+    const int need = need_for(r);
     if (count >= need) {
       if (static_cast<int>(seen.size()) + 1 > need) ++stats_.disagreements;
       return r;
