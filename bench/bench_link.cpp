@@ -6,11 +6,13 @@
 // said so), how many produced a file that differs from a clean backup (must be
 // 0), and the mean virtual time against a clean line's backup (goal < 1.5x).
 //
-//   build/bench/lmcfg_bench_link [--runs N] [--seed S] [--no-db] [--profile]
+//   build/bench/lmcfg_bench_link [--runs N] [--seed S] [--no-db] [--profile] [--show-wrong]
 //
 // --profile: per row, telegrams and virtual time per request kind (lists,
 // single values, curve and command table setup and chunk telegrams), clean
 // against the noisy mean: where the extra time goes.
+// --show-wrong: for each wrong file, the lines of its JSON that differ from
+// the clean backup's (which values the same flip in agreeing reads got past).
 //
 // Exit status 1 when any file is wrong or fewer than 95 % of backups completed.
 #include <cstdio>
@@ -20,8 +22,10 @@
 #include <optional>
 #include <random>
 #include <string>
+#include <vector>
 
 #include "client/client.hpp"
+#include "config/json_io.hpp"
 #include "db/database.hpp"
 #include "ops/backup.hpp"
 #include "sim/link.hpp"
@@ -98,6 +102,30 @@ bool same_content(config::DriveConfig a, const config::DriveConfig& b) {
   return a == b;
 }
 
+bool g_show_wrong = false;
+
+// --show-wrong: the JSON lines of a wrong file that differ from the clean backup's.
+void show_wrong(config::DriveConfig got, const config::DriveConfig& want, int run) {
+  got.identity.captured_at = want.identity.captured_at;
+  const auto a = config::write_json(want), b = config::write_json(got);
+  if (!a.ok() || !b.ok()) return;
+  const auto lines = [](const std::string& s) {
+    std::vector<std::string> out;
+    std::size_t at = 0;
+    for (std::size_t nl; (nl = s.find('\n', at)) != std::string::npos; at = nl + 1)
+      out.push_back(s.substr(at, nl - at));
+    return out;
+  };
+  const auto la = lines(*a), lb = lines(*b);
+  std::printf("  wrong file, run %d:\n", run);
+  for (std::size_t i = 0; i < std::max(la.size(), lb.size()); ++i) {
+    const std::string x = i < la.size() ? la[i] : "", y = i < lb.size() ? lb[i] : "";
+    if (x != y)
+      std::printf("    line %zu: want %s\n    line %zu: got  %s\n", i + 1, x.c_str(), i + 1,
+                  y.c_str());
+  }
+}
+
 Outcome run(sim::DriveState s, const Setting& set, int runs, std::uint32_t seed,
             const db::Database& db) {
   s.checksum.mode = set.mode;
@@ -156,8 +184,10 @@ Outcome run(sim::DriveState s, const Setting& set, int runs, std::uint32_t seed,
       ++out.failed;
     else if (same_content(*b, want))
       ++out.complete;
-    else
+    else {
       ++out.wrong;
+      if (g_show_wrong) show_wrong(*b, want, i);
+    }
   }
   out.mean_s = total_s / runs;
   return out;
@@ -191,8 +221,11 @@ int main(int argc, char** argv) {
       use_db = false;
     else if (!std::strcmp(argv[i], "--profile"))
       profile = true;
+    else if (!std::strcmp(argv[i], "--show-wrong"))
+      g_show_wrong = true;
     else {
-      std::fprintf(stderr, "usage: %s [--runs N] [--seed S] [--no-db] [--profile]\n", argv[0]);
+      std::fprintf(stderr, "usage: %s [--runs N] [--seed S] [--no-db] [--profile] [--show-wrong]\n",
+                   argv[0]);
       return 2;
     }
   }
@@ -217,7 +250,7 @@ int main(int argc, char** argv) {
   const transport::Millis t200(200), t500(500), t20(20);
   const Setting settings[] = {
       {"none, adaptive <= 200/500 (defaults)", codec::ChecksumMode::none, t200, t500},
-      {"none, adaptive, 2 reads only", codec::ChecksumMode::none, t200, t500, 2},
+      {"none, --agreeing-reads 2", codec::ChecksumMode::none, t200, t500, 2},
       {"crc, adaptive <= 200/500 (defaults)", codec::ChecksumMode::crc_ccitt, t200, t500},
       {"none, fixed 200/500 ms (before)", codec::ChecksumMode::none, t200, t500, 3, false},
       {"crc, fixed 200/500 ms (before)", codec::ChecksumMode::crc_ccitt, t200, t500, 3, false},

@@ -203,6 +203,10 @@ TEST_CASE("cli: absurd option values are refused with exit 2 and nothing on the 
       {"backup --port sim:spare.json --settle-ms 0 -o out.json",
        "--settle-ms 0 is outside 1..60000"},
       {"backup --port sim:spare.json --retries 99 -o out.json", "--retries 99 is outside 0..10"},
+      {"backup --port sim:spare.json --agreeing-reads 0 -o out.json",
+       "--agreeing-reads '0' is not auto or 1..5"},
+      {"backup --port sim:spare.json --agreeing-reads twice -o out.json",
+       "--agreeing-reads 'twice' is not auto or 1..5"},
       {"backup --port sim:spare.json --checksum sha1 -o out.json",
        "checksum 'sha1' is not one of none, add, crc, crc-ffff, crc-0000"},
       {"backup --port sim:spare.json --parity maybe -o out.json",
@@ -269,6 +273,49 @@ TEST_CASE("cli: a backup that fails midway leaves the existing file byte-identic
   auto t = tool(d.path, "backup --port sim:axis.json --id 0x22 --timeout-ms 5 -o good.json");
   CHECK(t.exit_code == 4);
   CHECK(slurp(d.path / "good.json") == old);
+}
+
+// docs/reliability.md: auto reads each value twice on a link without checksum
+// (three once it corrupted an answer); --agreeing-reads N fixes N.
+TEST_CASE("cli: --agreeing-reads fixes the reads per value, and the backup says so",
+          "[reliability][cli]") {
+  TempDir d;
+  const auto telegrams = [&](const char* trace) {
+    std::size_t n = 0;
+    std::istringstream in(slurp(d.path / trace));
+    for (std::string line; std::getline(in, line);) n += line.find(" TX ") != std::string::npos;
+    return n;
+  };
+  auto two = tool(d.path, "backup --port sim:axis.json -o two.json --trace two.trace");
+  INFO(two.err);
+  REQUIRE(two.exit_code == 0);
+  CHECK(two.err.find("backup: no checksum on this link: each value read twice; enable CRC on the "
+                     "drive (§15) to halve backup time\n") != std::string::npos);
+  auto three = tool(d.path,
+                    "backup --port sim:axis.json -o three.json --trace three.trace "
+                    "--agreeing-reads 3");
+  INFO(three.err);
+  REQUIRE(three.exit_code == 0);
+  CHECK(three.err.find("backup: no checksum on this link: each value read until 3 reads agreed "
+                       "(--agreeing-reads 3)\n") != std::string::npos);
+  auto one = tool(d.path,
+                  "backup --port sim:axis.json -o one.json --trace one.trace "
+                  "--agreeing-reads 1");
+  INFO(one.err);
+  REQUIRE(one.exit_code == 0);
+  CHECK(one.err.find("backup: no checksum on this link and --agreeing-reads 1: a flipped bit in a "
+                     "value goes into the file undetected; enable CRC on the drive (§15)\n") !=
+        std::string::npos);
+  // The same configuration each time; the reads follow the option. Empty
+  // curve IDs take min(N, 2) reads (two flips away from a curve's answer), an
+  // empty modified list at least two passes whatever N.
+  CHECK(tool(d.path, "diff two.json three.json").exit_code == 0);
+  CHECK(tool(d.path, "diff two.json one.json").exit_code == 0);
+  const std::size_t t1 = telegrams("one.trace"), t2 = telegrams("two.trace"),
+                    t3 = telegrams("three.trace");
+  CHECK(t2 >= 2 * t1);
+  CHECK(t3 > t2);
+  CHECK(t3 < 3 * t1);
 }
 
 TEST_CASE("cli: restore never modifies its input file", "[reliability][cli]") {

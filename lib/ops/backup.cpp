@@ -201,14 +201,33 @@ Result<config::DriveConfig> backup(client::Client& c, const BackupOptions& opt,
     r.reads_per_value = c.agreeing_reads();
     r.empty_curve_form = c.probe_forms().empty_curve;
     r.empty_ct_form = c.probe_forms().empty_ct_entry;
-    if (r.reads_per_value == 2) {
+    const bool detects_flips =
+        c.options().checksum.mode != codec::ChecksumMode::none || c.options().link_has_parity;
+    const bool fixed = c.options().agreeing_reads > 0;
+    const std::string n = std::to_string(r.reads_per_value);
+    if (detects_flips) {
+      if (r.reads_per_value > 1)
+        r.notes.push_back("each value read until " + n + " reads agreed (--agreeing-reads " + n +
+                          ")");
+    } else if (r.reads_per_value == 1) {
+      r.notes.push_back(
+          "no checksum on this link and --agreeing-reads 1: a flipped bit in a value goes into "
+          "the file undetected; enable CRC on the drive (§15)");
+    } else if (fixed) {
+      r.notes.push_back(
+          "no checksum on this link: each value read until " + n +
+          " reads agreed (--agreeing-reads " + n + ")" +
+          (c.noise_seen() && r.reads_per_value == 2
+               ? "; the line corrupted answers, and the same flipped bit in two answers goes "
+                 "unnoticed (auto reads 3 here)"
+               : ""));
+    } else if (r.reads_per_value == 2) {
       r.notes.push_back(
           "no checksum on this link: each value read twice; enable CRC on the drive (§15) to halve "
           "backup time");
-    } else if (r.reads_per_value > 2) {
+    } else {
       r.notes.push_back(
-          "no checksum on this link, and it corrupted answers: each value read until " +
-          std::to_string(r.reads_per_value) +
+          "no checksum on this link, and it corrupted answers: each value read until " + n +
           " reads agreed; enable CRC on the drive (§15) to read each value once");
     }
     if (r.empty_curve_form && *r.empty_curve_form != 0) {

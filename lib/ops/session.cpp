@@ -203,8 +203,9 @@ Result<std::unique_ptr<Session>> open_session(const LinkOptions& opt_in) {
   // With parity the UART detects a flipped bit; without it and without a
   // checksum each value is read twice (Client::agreeing_reads).
   opt.client.link_has_parity = opt.serial.parity != transport::Parity::none;
-  opt.client.agreeing_reads =
-      0;  // automatic: two agreeing reads when nothing detects a flipped bit
+  // Automatic unless fixed: two agreeing reads when nothing detects a flipped
+  // bit, three once the line has corrupted an answer.
+  opt.client.agreeing_reads = opt.agreeing_reads;
   // Deadlines from the wire time and the measured round trips, capped by
   // --timeout-ms; the settle after a lost answer as long as its deadline.
   opt.client.adaptive_deadline = true;

@@ -27,6 +27,9 @@ struct LinkOptions {
   // client.timeout) and, unless fixed_settle, the adaptive settle (capped by
   // client.settle). fixed_settle: every settle waits client.settle (--settle-ms).
   bool fixed_settle = false;
+  // client.agreeing_reads for the session: 0 = automatic (ClientOptions), N =
+  // exactly N agreeing reads per value whatever the link (--agreeing-reads).
+  int agreeing_reads = 0;
 };
 
 // "none", "add", "crc" (0xFFFF init), "crc-ffff", "crc-0000", "crc-kermit"

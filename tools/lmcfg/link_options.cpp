@@ -49,6 +49,11 @@ void add_link_options(CLI::App* sub, CommonOptions& o) {
   sub->add_option("--long-timeout-s", o.long_timeout_s,
                   "deadline of each long operation (defaulting a layer, flash save, reset, MC "
                   "start) in seconds; default: defaulting 60, flash save 30, reset and MC start 6");
+  sub->add_option("--agreeing-reads", o.agreeing_reads,
+                  "reads of each value that must agree: auto (1 with a checksum or parity; "
+                  "without, 2, and 3 once the line has corrupted an answer) or 1..5 for every "
+                  "value (docs/reliability.md: 2 is faster on a noisy line, 3 safer)")
+      ->capture_default_str();
   sub->add_option("--trace", o.trace,
                   "write every telegram (CAN: every frame, with its DeviceNet meaning) as "
                   "timestamped hex to FILE");
@@ -170,6 +175,13 @@ Result<ops::LinkOptions> link_options(const CommonOptions& o) {
   if (o.long_timeout_s > 0) {
     const transport::Millis t(1000LL * o.long_timeout_s);
     l.client.defaulting_timeout = l.client.flash_timeout = l.client.reset_timeout = t;
+  }
+  if (o.agreeing_reads != "auto") {
+    auto n = parse_number(o.agreeing_reads, false);
+    if (!n || *n < 1 || *n > 5)
+      return Error(Errc::invalid_argument,
+                   "--agreeing-reads '" + o.agreeing_reads + "' is not auto or 1..5");
+    l.agreeing_reads = static_cast<int>(*n);
   }
   if (!o.quiet && !o.json) l.client.on_long_wait = long_wait_reporter(l.client);
   return l;

@@ -26,6 +26,7 @@ struct CommonOptions {
   int settle_ms = -1;  // -1: adaptive (the failed exchange's deadline, at most 500 ms)
   int retries = 2;
   int long_timeout_s = 0;  // 0: the client's defaults (defaulting 60 s, flash 30 s, reset 6 s)
+  std::string agreeing_reads = "auto";  // or 1..5 (ops::LinkOptions::agreeing_reads)
   std::string trace;
   bool quiet = false;
   bool json = false;
@@ -42,7 +43,8 @@ struct CommonOptions {
 };
 
 // --port, --baud, --parity, --stop-bits, --id, --checksum, --checksum-coverage,
-// --timeout-ms, --settle-ms, --retries, --long-timeout-s, --trace, --verbose.
+// --timeout-ms, --settle-ms, --retries, --long-timeout-s, --agreeing-reads, --trace,
+// --verbose.
 void add_link_options(CLI::App* sub, CommonOptions& o);
 // True when the options name a DeviceNet controller: a CAN port or --devicenet-macid.
 bool is_devicenet(const CommonOptions& o);
