@@ -216,6 +216,14 @@ TEST_CASE("fleet: bad inventories and archives give positioned errors and write 
   CHECK(baud.exit_code == 2);
   CHECK(baud.err.rfind("lmcfg fleet check: baud.toml:1:1: line 'l': ", 0) == 0);
 
+  test::spit(dir / "reads.toml",
+             "[[line]]\nname = \"l\"\nport = \"sim:s1.json\"\nagreeing_reads = 9\n[[line.drive]]\n"
+             "name = \"a\"\nid = 0x11\n");
+  auto reads = test::run_tool_in(dir, "fleet check reads.toml");
+  CHECK(reads.exit_code == 2);
+  CHECK(reads.err ==
+        "lmcfg fleet check: reads.toml:1:1: line 'l': --agreeing-reads '9' is not auto or 1..5\n");
+
   test::spit(dir / "usb.toml",
              "[[line]]\nname = \"usb\"\nport = \"/dev/lmcfg-no-adapter\"\n[[line.drive]]\nname "
              "= \"a\"\nid = 0x11\n");

@@ -71,9 +71,18 @@ class Checker {
 };
 
 constexpr std::string_view kRootKeys[] = {"line"};
-constexpr std::string_view kLineKeys[] = {
-    "name",       "port",    "baud",      "parity", "stop_bits", "checksum", "checksum_coverage",
-    "timeout_ms", "retries", "settle_ms", "drive"};
+constexpr std::string_view kLineKeys[] = {"name",
+                                          "port",
+                                          "baud",
+                                          "parity",
+                                          "stop_bits",
+                                          "checksum",
+                                          "checksum_coverage",
+                                          "timeout_ms",
+                                          "retries",
+                                          "settle_ms",
+                                          "agreeing_reads",
+                                          "drive"};
 constexpr std::string_view kDriveKeys[] = {"name", "id", "labels"};
 
 void read_drive(Checker& c, const toml::table& t, LineEntry& line) {
@@ -126,6 +135,7 @@ void read_line(Checker& c, const toml::table& t, std::size_t index, Inventory& i
   line.timeout_ms = c.integer(t, "timeout_ms");
   line.retries = c.integer(t, "retries");
   line.settle_ms = c.integer(t, "settle_ms");
+  line.agreeing_reads = c.integer(t, "agreeing_reads");
   line.parity = c.string(t, "parity", "", false);
   line.checksum = c.string(t, "checksum", "", false);
   line.checksum_coverage = c.string(t, "checksum_coverage", "", false);

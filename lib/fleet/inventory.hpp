@@ -46,7 +46,7 @@ struct DriveEntry {
 struct LineEntry {
   std::string name;
   std::string port;
-  std::optional<std::int64_t> baud, stop_bits, timeout_ms, retries, settle_ms;
+  std::optional<std::int64_t> baud, stop_bits, timeout_ms, retries, settle_ms, agreeing_reads;
   std::optional<std::string> parity, checksum, checksum_coverage;
   std::vector<DriveEntry> drives;
   Position at;

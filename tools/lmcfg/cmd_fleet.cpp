@@ -38,6 +38,7 @@ Result<std::vector<ops::LinkOptions>> line_links(const fleet::Inventory& inv,
     set_int(l.timeout_ms, c.timeout_ms);
     set_int(l.retries, c.retries);
     set_int(l.settle_ms, c.settle_ms);
+    if (l.agreeing_reads) c.agreeing_reads = std::to_string(*l.agreeing_reads);
     if (l.parity) c.parity = *l.parity;
     if (l.checksum) c.checksum = *l.checksum;
     if (l.checksum_coverage) c.checksum_coverage = *l.checksum_coverage;
