@@ -310,6 +310,8 @@ TEST_CASE("report: a DeviceNet capture's values, alone and against another",
   const auto one = ops::render_report(devicenet_capture(), "dn.json", real_db(), {});
   CHECK(one.find("<section class=\"page\" id=\"devicenet\"><h2>DeviceNet values</h2>") !=
         std::string::npos);
+  CHECK(one.find("<a href=\"#command-table\">Command table</a><a href=\"#devicenet\">DeviceNet "
+                 "values</a></nav>") != std::string::npos);
   CHECK(one.find("<tr><th>motors</th><td>A, B</td></tr>") != std::string::npos);
   CHECK(one.find("<tr><td>motor A: Controller P (34h)</td><td>2.3438 A/mm (raw 1000)</td><td>"
                  "</td></tr>") != std::string::npos);
@@ -321,6 +323,7 @@ TEST_CASE("report: a DeviceNet capture's values, alone and against another",
   const auto b = changed();
   const auto r = ops::diff(a, b, real_db(), {}, {});
   const auto two = ops::render_diff_report(a, "a.json", b, "b.json", r, real_db(), {});
+  CHECK(two.find("<a href=\"#devicenet\">DeviceNet values</a></nav>") != std::string::npos);
   CHECK(two.find("<tr data-summary=\"devicenet\"><td>DeviceNet values</td><td class=\"num\">2"
                  "</td>") != std::string::npos);
   CHECK(two.find("<tr class=\"diff changed\" data-kind=\"devicenet\" data-key=\"A/34\"><td>motor "

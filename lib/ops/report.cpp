@@ -247,11 +247,13 @@ std::set<std::string> label_keys(const config::Identity& a, const config::Identi
   return k;
 }
 
-std::string nav(bool diff) {
+std::string nav(bool diff, bool devicenet) {
   std::string s = "<nav><a href=\"#identity\">Identity</a>";
   if (diff) s += "<a href=\"#summary\">Summary</a>";
   s += "<a href=\"#parameters\">Parameters</a><a href=\"#curves\">Curves</a>"
-       "<a href=\"#command-table\">Command table</a></nav>\n";
+       "<a href=\"#command-table\">Command table</a>";
+  if (devicenet) s += "<a href=\"#devicenet\">DeviceNet values</a>";
+  s += "</nav>\n";
   return s;
 }
 
@@ -577,7 +579,7 @@ std::string render_report(const config::DriveConfig& cfg, const std::string& nam
   out += page_head("lmcfg report: " + name);
   out += curve_defs();
   out += "<h1>Drive configuration: " + html_escape(name) + "</h1>\n" + meta_line(opt, db) +
-         nav(false) + "<main>\n";
+         nav(false, cfg.devicenet.has_value()) + "<main>\n";
   out += section("identity", "Identity");
   out += "<table class=\"identity\"><tbody>\n";
   for (const auto& [k, v] : identity_rows(cfg.identity, label_keys(cfg.identity, nullptr)))
@@ -614,7 +616,7 @@ std::string render_diff_report(const config::DriveConfig& a, const std::string& 
   out += curve_defs();
   out += "<h1>Configuration diff: <span class=\"ka\">A</span> " + html_escape(a_name) +
          " \xE2\x86\x92 <span class=\"kb\">B</span> " + html_escape(b_name) + "</h1>\n" +
-         meta_line(opt, db) + nav(true) +
+         meta_line(opt, db) + nav(true, r.devicenet_a || r.devicenet_b) +
          "<input class=\"toggle\" type=\"checkbox\" id=\"only-diff\"><label class=\"toggle\" "
          "for=\"only-diff\"> show only the differences</label>\n<main>\n";
   out += section("summary", "Summary");
