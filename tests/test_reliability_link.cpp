@@ -312,6 +312,38 @@ TEST_CASE(
   }
 }
 
+TEST_CASE("seed003 §15 the backup's note on a line without checksum that corrupted an answer",
+          "[reliability][link]") {
+  const auto s = axis_state();  // no checksum, no parity
+  for (int fixed : {0, 2}) {
+    client::ClientOptions o = automatic();
+    o.agreeing_reads = fixed;
+    FaultRig rig(std::make_shared<sim::Drive>(s), o);
+    // The first "get next" of a modified list answers with a flipped value bit
+    // (answer byte 9): the two passes of that list disagree.
+    test::aim(rig, test::request(0x05, 0x09), 1, sim::Fault::corrupt(9, 0x01));
+    ops::BackupReport rep;
+    ops::BackupOptions bo;
+    bo.report = &rep;
+    auto b = ops::backup(*rig.client, bo, db::Database::empty());
+    REQUIRE(b.ok());
+    CHECK(rig.client->noise_seen());
+    REQUIRE_FALSE(rep.notes.empty());
+    if (fixed == 0) {
+      CHECK(rep.reads_per_value == 3);
+      CHECK(rep.notes[0] ==
+            "no checksum on this link, and it corrupted answers: each value read until 3 reads "
+            "agreed; enable CRC on the drive (§15) to read each value once");
+    } else {
+      CHECK(rep.reads_per_value == 2);
+      CHECK(rep.notes[0] ==
+            "no checksum on this link: each value read until 2 reads agreed (--agreeing-reads 2); "
+            "the line corrupted answers, and the same flipped bit in two answers goes unnoticed "
+            "(auto reads 3 here)");
+    }
+  }
+}
+
 // Two agreeing reads are defeated when the same bit flips in two answers to
 // the same request in a row (one of 112 bit positions per corrupted answer:
 // about once in 150,000 reads, 1-2 wrong files in 200 backups on seeds 1-3).
