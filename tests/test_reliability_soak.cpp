@@ -5,6 +5,9 @@
 // run that fails must have said so. Zero silent failures. A failed restore is
 // run again without faults and must converge.
 // LMCFG_SEED=N draws the cycles from seed N instead of 20261122.
+// Twice: with CRC-CCITT (one read decides) and without a checksum, the
+// factory setting, where the client's automatic agreeing reads must keep
+// flipped value bits out (docs/reliability.md).
 #include <catch2/catch.hpp>
 #include <chrono>
 #include <cstdlib>
@@ -71,14 +74,19 @@ config::DriveConfig random_config(const config::DriveConfig& all, std::mt19937& 
 
 TEST_CASE("soak: 1000 backup/restore cycles with random faults, zero silent failures",
           "[reliability][soak]") {
+  const bool crc = GENERATE(true, false);
   const auto t0 = std::chrono::steady_clock::now();
   auto source = test::load_sim_drive("commissioned-axis.json")->state();
   auto spare = test::load_sim_drive("used-spare.json")->state();
+  // With CRC corrupted bytes are detectable and one read decides; without,
+  // the tools' automatic mode reads until 2 (3 on a corrupting line) agree.
   source.checksum.mode = spare.checksum.mode =
-      codec::ChecksumMode::crc_ccitt;  // corrupted bytes are detectable
+      crc ? codec::ChecksumMode::crc_ccitt : codec::ChecksumMode::none;
+  client::ClientOptions copt;
+  copt.agreeing_reads = crc ? 1 : 0;
   config::DriveConfig all;
   {
-    FaultRig rig(std::make_shared<sim::Drive>(source));
+    FaultRig rig(std::make_shared<sim::Drive>(source), copt);
     auto b = ops::backup(*rig.client, ops::BackupOptions{}, db::Database::empty());
     REQUIRE(b.ok());
     all = std::move(b).value();
@@ -112,7 +120,7 @@ TEST_CASE("soak: 1000 backup/restore cycles with random faults, zero silent fail
     std::int64_t t_end = 0;
     test::forget_restore_record();  // a new drive
     {
-      FaultRig rig(drive);
+      FaultRig rig(drive, copt);
       install(rig);
       auto run = test::run_restore(*rig.client, file, ro);
       faults += rig.sim->faults().counters().total();
@@ -133,7 +141,7 @@ TEST_CASE("soak: 1000 backup/restore cycles with random faults, zero silent fail
     }
     if (restore_failed + restore_ok > 0 && !test::drive_vs_file(*drive, file).empty()) {
       // The failed restore, run again on a quiet fresh link, converges.
-      FaultRig again(drive, {}, t_end + 10'000'000'000);
+      FaultRig again(drive, copt, t_end + 10'000'000'000);
       auto second = test::run_restore(*again.client, file, ro);
       telegrams += again.sim->stats().write_calls;
       INFO((second.ok() ? std::string() : second.outcome.error().message));
@@ -144,7 +152,7 @@ TEST_CASE("soak: 1000 backup/restore cycles with random faults, zero silent fail
     }
     // Backup of the restored drive under faults.
     {
-      FaultRig rig(drive, {}, t_end + 10'000'000'000);
+      FaultRig rig(drive, copt, t_end + 10'000'000'000);
       install(rig);
       auto b = ops::backup(*rig.client, bo, db::Database::empty());
       faults += rig.sim->faults().counters().total();
@@ -166,14 +174,15 @@ TEST_CASE("soak: 1000 backup/restore cycles with random faults, zero silent fail
   }
   const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   std::printf(
-      "soak (seed %u): %d cycles (%d restores + %d backups), %zu telegrams, %zu faults injected; "
+      "soak (%s, seed %u): %d cycles (%d restores + %d backups), %zu telegrams, %zu faults "
+      "injected; "
       "restores: "
       "%zu "
       "verified, %zu reported failures (%zu reruns converged); backups: %zu verified, %zu reported "
       "failures; "
       "silent failures: %zu; %.1f s\n",
-      seed, kCycles, kCycles, kCycles, telegrams, faults, restore_ok, restore_failed,
-      reruns_converged, backup_ok, backup_failed, silent, secs);
+      crc ? "crc" : "no checksum", seed, kCycles, kCycles, kCycles, telegrams, faults, restore_ok,
+      restore_failed, reruns_converged, backup_ok, backup_failed, silent, secs);
   CHECK(silent == 0);
   CHECK(restore_ok + restore_failed == kCycles);
   CHECK(backup_ok + backup_failed == kCycles);
