@@ -281,10 +281,7 @@ TEST_CASE("cli: --agreeing-reads fixes the reads per value, and the backup says 
           "[reliability][cli]") {
   TempDir d;
   const auto telegrams = [&](const char* trace) {
-    std::size_t n = 0;
-    std::istringstream in(slurp(d.path / trace));
-    for (std::string line; std::getline(in, line);) n += line.find(" TX ") != std::string::npos;
-    return n;
+    return test::traced_requests(d.path / trace).size();
   };
   auto two = tool(d.path, "backup --port sim:axis.json -o two.json --trace two.trace");
   INFO(two.err);

@@ -258,13 +258,16 @@ TEST_CASE(
     "curve's sizes three",
     "[reliability][link]") {
   const auto s = axis_state();  // no checksum, no parity
-  FaultRig rig(std::make_shared<sim::Drive>(s), automatic());
   // The line shows corruption: the first answer to a ROM read of 13A2h has a
   // flipped value bit (answer byte 9 is the value's low byte).
-  test::aim(rig, test::request(0x05, 0x00), 1, sim::Fault::corrupt(9, 0x01));
-  REQUIRE(rig.client->read_rom(0x13A2).ok());
-  REQUIRE(rig.client->agreeing_reads() == 3);
-  rig.sim->faults().set_callback(nullptr);
+  const auto show_corruption = [](FaultRig& r) {
+    test::aim(r, test::request(0x05, 0x00), 1, sim::Fault::corrupt(9, 0x01));
+    REQUIRE(r.client->read_rom(0x13A2).ok());
+    REQUIRE(r.client->agreeing_reads() == 3);
+    r.sim->faults().set_callback(nullptr);
+  };
+  FaultRig rig(std::make_shared<sim::Drive>(s), automatic());
+  show_corruption(rig);
   const auto before = rig.sim->stats().request_telegrams;
   const auto telegrams = [&] { return rig.sim->stats().request_telegrams - before; };
 
@@ -285,9 +288,7 @@ TEST_CASE(
     auto v = s;
     v.options.missing_curve_zero_sizes = false;  // C8h, three bits away from 00h
     FaultRig r2(std::make_shared<sim::Drive>(v), automatic());
-    test::aim(r2, test::request(0x05, 0x00), 1, sim::Fault::corrupt(9, 0x01));
-    REQUIRE(r2.client->read_rom(0x13A2).ok());
-    r2.sim->faults().set_callback(nullptr);
+    show_corruption(r2);
     const auto b2 = r2.sim->stats().request_telegrams;
     auto c = r2.client->curve_sizes(50);
     REQUIRE(c.ok());
