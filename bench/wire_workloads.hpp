@@ -1,6 +1,6 @@
 #pragma once
 // Workloads and the protocol-minimum model for lmcfg_bench_wire and
-// tests/test_perf_telegrams.cpp (header-only so both can use it).
+// tests/ops/test_perf_telegrams.cpp (header-only so both can use it).
 //
 // The minimum of an operation is the set of telegrams the operation cannot
 // avoid on the LinRS protocol (seed 003), each costed exactly as the simulator's

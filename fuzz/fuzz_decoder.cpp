@@ -1,5 +1,5 @@
 // libFuzzer target; the entry point lives in fuzz_entries.hpp (shared with
-// tests/test_reliability_regressions.cpp).
+// tests/config/test_reliability_regressions.cpp).
 #include "fuzz_entries.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

@@ -1,6 +1,6 @@
 #pragma once
 // Entry points shared by the libFuzzer targets (fuzz/fuzz_*.cpp) and the
-// regression test (tests/test_reliability_regressions.cpp), so every input a
+// regression test (tests/config/test_reliability_regressions.cpp), so every input a
 // fuzzer ever crashed on is replayed by the normal test suite with gcc.
 // Each entry must return normally for any input; an invariant violation calls
 // fuzz_fail(), which aborts: a crash for libFuzzer, and a loudly failed test

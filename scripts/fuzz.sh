@@ -3,7 +3,7 @@
 # seconds (default 60) on a corpus kept in build-fuzz/corpus/<target>/, seeded
 # from the test fixtures. Fails when a target crashes; the crashing input is
 # copied to tests/fixtures/fuzz-regressions/<target>/ so the regular test suite
-# (tests/test_reliability_regressions.cpp) replays it from then on.
+# (tests/config/test_reliability_regressions.cpp) replays it from then on.
 #   scripts/fuzz.sh [SECONDS] [TARGET...]
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"

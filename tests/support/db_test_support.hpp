@@ -1,5 +1,5 @@
 #pragma once
-// Shared helpers of the tests/test_db_*.cpp files.
+// Shared helpers of the tests/db/test_db_*.cpp files.
 #include <unistd.h>
 
 #include <filesystem>

@@ -1,5 +1,5 @@
 #pragma once
-// Shared by tests/test_config_*.cpp: the seed 003 example configuration and
+// Shared by tests/config/test_config_*.cpp: the seed 003 example configuration and
 // small file helpers.
 #include <sys/wait.h>
 

@@ -1,5 +1,5 @@
 #pragma once
-// Helpers for the docs/reliability.md reliability tests (tests/test_reliability_*.cpp):
+// Helpers for the docs/reliability.md reliability tests (tests/*/test_reliability_*.cpp):
 // a simulated drive behind a fault-injecting link, faults aimed at the n-th
 // telegram of a kind, and checks that a drive holds exactly a configuration.
 #include <unistd.h>

@@ -1,5 +1,5 @@
 #pragma once
-// Shared helpers of the tests/test_sim_*.cpp files.
+// Shared helpers of the tests/sim/test_sim_*.cpp files.
 #include <catch2/catch.hpp>
 #include <fstream>
 #include <memory>

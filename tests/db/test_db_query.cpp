@@ -282,7 +282,7 @@ TEST_CASE("open errors say what and where", "[db]") {
   ::setenv("LMCFG_UPID_DB", "/tmp/somewhere/else.sqlite", 1);
   CHECK(Database::default_path().value() == "/tmp/somewhere/else.sqlite");
   ::unsetenv("LMCFG_UPID_DB");
-  // The lookup without $LMCFG_UPID_DB: tests/test_install.cpp.
+  // The lookup without $LMCFG_UPID_DB: tests/tools/test_install.cpp.
 }
 
 TEST_CASE("lookups: find returns the rows of the whole table, not copies", "[db]") {
