@@ -2,25 +2,36 @@
 # Installs everything lmcfg needs to build and test, from Debian's packages and
 # the npm registry. Idempotent: installs only what is missing. Run as root (or
 # with sudo available).
+#   install-deps.sh          build + test + CI (browser, packaging, fuzzing)
+#   install-deps.sh --demo   only what building `lmcfg` and its database needs
+#                            (scripts/demo.sh)
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+mode=all
+[[ "${1:-}" == --demo ]] && mode=demo
 
-packages=(
-  build-essential cmake pkg-config git            # toolchain
+build_packages=(
+  build-essential cmake pkg-config git ccache     # toolchain (ccache: scripts/build.sh uses it when present)
   libsqlite3-dev sqlite3                          # UPID database
   libpugixml-dev nlohmann-json3-dev               # XML and JSON files
   libgit2-dev libtomlplusplus-dev                 # fleet: git archive, TOML inventory
-  catch2 libcli11-dev                             # tests (Catch2 v2) and command line
+  libcli11-dev                                    # command line
+  help2man                                        # man page, generated from --help at build time
+)
+test_packages=(
+  catch2                                          # tests (Catch2 v2)
   libbenchmark-dev                                # CPU benchmarks
   libxml2-utils                                   # xmllint: validates the XSD in tests
   nodejs npm                                      # ajv-cli: validates the JSON Schema in tests
   clang libclang-rt-14-dev                        # libFuzzer targets with sanitizers
   clang-format                                    # scripts/check-format.sh (CI)
-  help2man man-db groff-base bsdextrautils        # man page: generate, render (man -l), col -b
+  man-db groff-base bsdextrautils                 # man page: render (man -l), col -b
   bash-completion                                 # completion test
   dpkg-dev file debootstrap                       # cpack -G DEB (dpkg-shlibdeps), scripts/test-deb.sh
   chromium                                        # headless browser: tests load every lmcfg report page
 )
+packages=("${build_packages[@]}")
+[[ $mode == all ]] && packages+=("${test_packages[@]}")
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
@@ -38,4 +49,5 @@ if ((${#missing[@]})); then
   $sudo_cmd apt-get update -qq
   DEBIAN_FRONTEND=noninteractive $sudo_cmd apt-get install -y -qq --no-install-recommends "${missing[@]}"
 fi
-"$root/scripts/install-node-deps.sh"
+[[ $mode == all ]] && "$root/scripts/install-node-deps.sh"
+exit 0

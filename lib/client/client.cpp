@@ -201,7 +201,13 @@ std::optional<Telegram> Client::match_answer(Exchange& x) {
                                                        hexid("%02Xh", x.want_sub));
       continue;
     }
-    if (x.want_key && t.sub == x.want_sub && t.data.size() >= 3) {
+    // The state byte decides a refusal: LinRS marks the key and value of
+    // several answers "No meaning" (§11 transcripts), and a drive may fill
+    // them with zeros or anything else when it refuses. A frame that passed
+    // its checksum (or reads that agreed) with an error state is the drive's
+    // refusal of this request, whatever its key field holds.
+    const bool refusal = !t.data.empty() && state::is_error(t.data[0]);
+    if (x.want_key && t.sub == x.want_sub && t.data.size() >= 3 && !refusal) {
       const auto key = static_cast<std::uint16_t>(t.data[1] | t.data[2] << 8);
       if (key != *x.want_key) {
         ++stats_.stale_answers;

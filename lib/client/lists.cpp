@@ -108,9 +108,10 @@ Result<std::vector<ModifiedParam>> Client::modified_list(int layer) {
       if (pass.odd_end && (!pass.params.empty() || opt_.confirm_empty_lists))
         need = std::max(need, 2);
       // An empty list and a drive that reset between "start" and the first
-      // "get next" answer alike (C6 with a UPID outside the layer); two resets
-      // at that point in a row confirmed a wrong empty list in the soak
-      // (seed 3, cycle 501). A third pass makes that three in a row.
+      // "get next" answer alike (C6 with a UPID outside the layer), and two
+      // resets at that point in a row are rare but happen on a line with
+      // power dips (docs/reliability.md, soak): a third pass makes the wrong
+      // empty list need three in a row.
       if (pass.odd_end && pass.params.empty() && opt_.confirm_empty_lists) need = std::max(need, 3);
       int count = 1;
       for (const auto& c : complete) {

@@ -183,6 +183,23 @@ Telegram Drive::default_response(std::uint8_t comm_state,
 
 Telegram Drive::id_value(std::uint8_t sub, std::uint8_t state, std::uint16_t key,
                          std::uint32_t value) const {
+  // LinRS §11 marks the key and value of several answers "No meaning": a
+  // drive may fill them with anything when it refuses. The bytes chosen for
+  // `arbitrary` depend on the request only, so a repeated read agrees.
+  if (codec::state::is_error(state)) {
+    switch (s_.options.refusal_fields) {
+      case RefusalFields::echo:
+        break;
+      case RefusalFields::zeros:
+        key = 0;
+        value = 0;
+        break;
+      case RefusalFields::arbitrary:
+        key = static_cast<std::uint16_t>(key * 0x9E37u + sub * 0x3Bu + 0x5A5Au);
+        value = 0xA5C3'0F96u ^ (std::uint32_t{key} << 8) ^ sub;
+        break;
+    }
+  }
   return codec::make_id_value(s_.macid, sub, state, key, value);
 }
 

@@ -97,6 +97,11 @@ struct Timing {
   friend bool operator==(const Timing&, const Timing&) = default;
 };
 
+// What a refusal (an answer with an error state) carries in the fields LinRS
+// marks "No meaning" for it (the §11 curve transcripts): the request's key and
+// a zero value, zeros in both, or arbitrary bytes.
+enum class RefusalFields : std::uint8_t { echo, zeros, arbitrary };
+
 // What to do with a write the parameter's min/max or address usage forbids.
 enum class WritePolicy : std::uint8_t {
   reject,  // no change; answer with Options::reject_state (default C9)
@@ -139,6 +144,8 @@ struct Options {
   // §10.2 empty modified list: the C6 answer carries the get-next request's
   // UPID field (the layer base the client sends) instead of empty_list_upid.
   bool empty_list_echo_upid = false;
+  // The key and value fields of an answer with an error state (C1..C9 but C6).
+  RefusalFields refusal_fields = RefusalFields::echo;
   friend bool operator==(const Options&, const Options&) = default;
 
   static std::map<std::uint32_t, unsigned> default_baud_codes() {

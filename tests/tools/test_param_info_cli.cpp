@@ -95,6 +95,21 @@ TEST_CASE("seed003 §10 §13.3 set --rom: MC must be stopped: --stop-mc, else re
   CHECK(slurp(r.dir / "drive.json").find("\"mc_running\": true") != std::string::npos);
 }
 
+TEST_CASE("seed003 §10 set --rom --yes in a script: stops MC, writes and starts it, as --stop-mc",
+          "[cli][param]") {
+  Rig r;
+  auto ok = r.tool("set 13A2 16 --rom --yes");
+  REQUIRE(ok.rc == 0);
+  CHECK(ok.err == "lmcfg set: MC was stopped for the ROM write and started again\n");
+  auto back = r.tool("get 0x13A2 --rom --json");
+  CHECK(back.out.find("\"raw\":16,") != std::string::npos);
+  CHECK(slurp(r.dir / "drive.json").find("\"mc_running\": true") != std::string::npos);
+  // -y too; a RAM write with --yes asks nothing either.
+  CHECK(r.tool("set 13A2 17 --rom -y").rc == 0);
+  CHECK(r.tool("set 13A2 18 --yes").rc == 0);
+  CHECK(r.tool("get 0x13A2 --rom --json").out.find("\"raw\":17,") != std::string::npos);
+}
+
 TEST_CASE("get and info --json validate against their documented shapes", "[cli][param][schema]") {
   Rig r;
   auto g = r.tool("get 13A2 --json");

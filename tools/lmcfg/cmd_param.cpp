@@ -21,6 +21,7 @@ struct ParamCli {
   bool ram = false;
   bool rom = false;
   bool stop_mc = false;
+  bool yes = false;  // --yes: for --rom, what --stop-mc means
   bool include_comm = false;
 };
 
@@ -114,7 +115,7 @@ int run_get(ParamCli& o) {
 // tells whether it runs: `set --rom` stops it (--stop-mc, or asked on a
 // terminal), writes, and starts it again; otherwise it refuses with that advice.
 Result<bool> confirm_stop_mc(const ParamCli& o, std::uint16_t upid) {
-  if (!o.rom || o.stop_mc) return o.rom;
+  if (!o.rom || o.stop_mc || o.yes) return o.rom;
   if (!::isatty(STDIN_FILENO))
     return Error(Errc::invalid_argument,
                  "writing ROM needs the MC software stopped (seed 003 §10); add --stop-mc to stop "
@@ -220,6 +221,9 @@ void add_set(CLI::App& app, int& exit_code) {
                 "terminal, else needs --stop-mc");
   sub->add_flag("--stop-mc", o->stop_mc,
                 "with --rom: stop MC before the write and start it again after (§13.3, §13.4)");
+  sub->add_flag("--yes,-y", o->yes,
+                "do not ask for confirmation; with --rom: stop MC, write and start it again "
+                "(as --stop-mc)");
   sub->add_flag("--include-comm", o->include_comm,
                 "allow writing a communication parameter (baud rate, MACID, checksum, parity)");
   sub->callback([o, &exit_code] { exit_code = run_set(*o); });

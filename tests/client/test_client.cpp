@@ -1,0 +1,114 @@
+// Client (lib/client/client.cpp): how an answer is classified. The state byte
+// decides a refusal; the key and value fields LinRS marks "No meaning" for
+// such answers (the §11 curve transcripts) may hold the request's key, zeros
+// or anything else, and the outcome is the same: the drive's refusal
+// (Errc from the state, exit 5 in the tools), never a garbled answer.
+#include <catch2/catch.hpp>
+
+#include "client/client.hpp"
+#include "codec/messages.hpp"
+#include "common/result.hpp"
+#include "sim/drive.hpp"
+#include "sim/link.hpp"
+#include "test_sim_harness.hpp"
+
+using namespace lmcfg;
+
+namespace {
+
+struct Rig {
+  std::shared_ptr<sim::Drive> drive;
+  sim::SimLink link;
+  client::Client client;
+  Rig(sim::RefusalFields fields, bool mc_running)
+      : drive(std::make_shared<sim::Drive>([&] {
+          auto s = test::load_fixture("commissioned-axis.json");
+          s.options.refusal_fields = fields;
+          s.options.missing_curve_zero_sizes = false;    // C8 for an empty curve ID
+          s.options.missing_ct_entry_zero_size = false;  // C8 for an undefined CT entry
+          s.mc_running = mc_running;
+          return s;
+        }())),
+        link(drive),
+        client(link, client::ClientOptions{}) {}
+};
+
+// The refusal of one request, as the client reports it.
+template <class F>
+Error refusal_of(F&& request) {
+  auto r = request();
+  REQUIRE_FALSE(r.ok());
+  return r.error();
+}
+
+const char* fields_name(sim::RefusalFields f) {
+  switch (f) {
+    case sim::RefusalFields::echo:
+      return "the request's key";
+    case sim::RefusalFields::zeros:
+      return "zeros";
+    case sim::RefusalFields::arbitrary:
+      return "arbitrary bytes";
+  }
+  return "?";
+}
+
+}  // namespace
+
+TEST_CASE("LinRS §10 §11 §12 a refusal is the drive's whatever its No-meaning fields hold",
+          "[client][refusal]") {
+  const auto fields =
+      GENERATE(sim::RefusalFields::echo, sim::RefusalFields::zeros, sim::RefusalFields::arbitrary);
+  INFO("refusal fields: " << fields_name(fields));
+  Rig rig(fields, true);
+  auto& c = rig.client;
+  const auto stale_before = c.stats().stale_answers;
+
+  struct Case {
+    const char* what;
+    std::function<Result<void>()> request;
+    std::string message;
+  };
+  const std::vector<Case> cases = {
+      {"§10 ROM read of an unknown UPID", [&]() -> Result<void> { return c.read_rom(0x9999).error(); },
+       "drive 11h refused 05h 01h (ROM read) of UPID 9999h: C8h unknown UPID"},
+      {"§10 type of an unknown UPID", [&]() -> Result<void> { return c.get_type(0x9999).error(); },
+       "drive 11h refused 05h 04h (get type) of UPID 9999h: C8h unknown UPID"},
+      {"§10 default of an unknown UPID",
+       [&]() -> Result<void> { return c.get_default(0x9999).error(); },
+       "drive 11h refused 05h 07h (get default) of UPID 9999h: C8h unknown UPID"},
+      {"§11 curve info of a missing curve",
+       [&]() -> Result<void> { return c.read_curve_info(77, 70).error(); },
+       "drive 11h refused 04h 06h (read curve info setup) of curve 77: C8h unknown UPID"},
+      {"§11 save curves while MC runs", [&]() -> Result<void> { return c.save_curves(); },
+       "drive 11h refused 04h 01h (save curves to flash): C4h sub ID not supported"},
+      {"§12 CT entry of an undefined entry",
+       [&]() -> Result<void> { return c.read_ct_entry(200).error(); },
+       "drive 11h refused 08h 05h (CT setup read) of entry 200: C8h unknown UPID"},
+      {"§12 save the CT while MC runs", [&]() -> Result<void> { return c.save_ct(); },
+       "drive 11h refused 08h 01h (save CT to flash): C4h sub ID not supported"},
+  };
+  for (const auto& k : cases) {
+    INFO(k.what);
+    const Error e = refusal_of(k.request);
+    CHECK(e.message == k.message);
+    CHECK(e.code == ErrorClass::drive_refusal);
+  }
+  // No answer was taken for another request's (the key check did not apply).
+  CHECK(c.stats().stale_answers == stale_before);
+  CHECK(c.stats().retries == 0);
+}
+
+TEST_CASE("LinRS §11 §12 an empty curve ID or CT entry answered C8 with zeroed fields is empty",
+          "[client][refusal]") {
+  const auto fields =
+      GENERATE(sim::RefusalFields::echo, sim::RefusalFields::zeros, sim::RefusalFields::arbitrary);
+  INFO("refusal fields: " << fields_name(fields));
+  Rig rig(fields, true);
+  auto sizes = rig.client.curve_sizes(77);
+  REQUIRE(sizes.ok());
+  CHECK_FALSE(sizes->has_value());
+  auto entry = rig.client.probe_ct_entry(200);
+  REQUIRE(entry.ok());
+  CHECK_FALSE(entry->has_value());
+}
