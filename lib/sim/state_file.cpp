@@ -201,7 +201,8 @@ json to_json(const DriveState& s) {
   j["options"]["missing_ct_entry_zero_size"] = O.missing_ct_entry_zero_size;
   j["options"]["empty_list_echo_upid"] = O.empty_list_echo_upid;
   if (O.refusal_fields != RefusalFields::echo)
-    j["options"]["refusal_fields"] = O.refusal_fields == RefusalFields::zeros ? "zeros" : "arbitrary";
+    j["options"]["refusal_fields"] =
+        O.refusal_fields == RefusalFields::zeros ? "zeros" : "arbitrary";
   if (O.baud_codes != Options::default_baud_codes()) {
     json codes = json::object();
     for (const auto& [code, rate] : O.baud_codes) codes[std::to_string(code)] = rate;
@@ -342,10 +343,10 @@ Result<DriveState> from_json(const json& j) {
       O.missing_ct_entry_zero_size =
           bool_or(*it, "missing_ct_entry_zero_size", O.missing_ct_entry_zero_size);
       O.empty_list_echo_upid = bool_or(*it, "empty_list_echo_upid", O.empty_list_echo_upid);
-      O.refusal_fields = enum_of(*it, "refusal_fields", O.refusal_fields,
-                                 {std::pair{"echo", RefusalFields::echo},
-                                  std::pair{"zeros", RefusalFields::zeros},
-                                  std::pair{"arbitrary", RefusalFields::arbitrary}});
+      O.refusal_fields =
+          enum_of(*it, "refusal_fields", O.refusal_fields,
+                  {std::pair{"echo", RefusalFields::echo}, std::pair{"zeros", RefusalFields::zeros},
+                   std::pair{"arbitrary", RefusalFields::arbitrary}});
       if (auto bc = it->find("baud_codes"); bc != it->end()) {
         if (!bc->is_object())
           throw BadField("options.baud_codes: expected an object of code -> baud rate");

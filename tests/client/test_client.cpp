@@ -69,24 +69,47 @@ TEST_CASE("LinRS §10 §11 §12 a refusal is the drive's whatever its No-meaning
     std::function<Result<void>()> request;
     std::string message;
   };
+  // A keyed request sent as it is (transact), for the groups whose typed call
+  // treats a refusal as "nothing there" (curve sizes, CT setup read).
+  auto raw = [&](codec::Telegram t) -> Result<void> {
+    auto r = c.transact(t, transport::Millis(200), true);
+    if (!r.ok()) return r.error();
+    return {};
+  };
   const std::vector<Case> cases = {
-      {"§10 ROM read of an unknown UPID", [&]() -> Result<void> { return c.read_rom(0x9999).error(); },
-       "drive 11h refused 05h 01h (ROM read) of UPID 9999h: C8h unknown UPID"},
+      {"§10 ROM read of an unknown UPID",
+       [&]() -> Result<void> { return c.read_rom(0x9999).error(); },
+       "drive 11h refused ID 11h parameter configuration (main 05h sub 00h), 2 data byte(s) for "
+       "UPID 9999h: C8h parameter unknown UPID"},
       {"§10 type of an unknown UPID", [&]() -> Result<void> { return c.get_type(0x9999).error(); },
-       "drive 11h refused 05h 04h (get type) of UPID 9999h: C8h unknown UPID"},
+       "drive 11h refused ID 11h parameter configuration (main 05h sub 04h), 2 data byte(s) for "
+       "UPID 9999h: C8h parameter unknown UPID"},
       {"§10 default of an unknown UPID",
        [&]() -> Result<void> { return c.get_default(0x9999).error(); },
-       "drive 11h refused 05h 07h (get default) of UPID 9999h: C8h unknown UPID"},
+       "drive 11h refused ID 11h parameter configuration (main 05h sub 07h), 2 data byte(s) for "
+       "UPID 9999h: C8h parameter unknown UPID"},
       {"§11 curve info of a missing curve",
        [&]() -> Result<void> { return c.read_curve_info(77, 70).error(); },
-       "drive 11h refused 04h 06h (read curve info setup) of curve 77: C8h unknown UPID"},
+       "drive 11h refused ID 11h curve (main 04h sub 09h), 2 data byte(s) for curve 77: C8h "
+       "parameter unknown UPID"},
+      {"§11 curve data of a missing curve",
+       [&] { return raw(codec::make_curve(0x11, codec::CurveOp::read_data, 77)); },
+       "drive 11h refused ID 11h curve (main 04h sub 0Ah), 2 data byte(s) for curve 77: C8h "
+       "parameter unknown UPID"},
       {"§11 save curves while MC runs", [&]() -> Result<void> { return c.save_curves(); },
-       "drive 11h refused 04h 01h (save curves to flash): C4h sub ID not supported"},
-      {"§12 CT entry of an undefined entry",
-       [&]() -> Result<void> { return c.read_ct_entry(200).error(); },
-       "drive 11h refused 08h 05h (CT setup read) of entry 200: C8h unknown UPID"},
+       "drive 11h refused ID 11h curve (main 04h sub 00h), 0 data byte(s): C4h undefined "
+       "message sub ID"},
+      {"§12 setup read of an undefined entry",
+       [&] { return raw(codec::make_ct(0x11, codec::CtOp::setup_read, 200)); },
+       "drive 11h refused ID 11h command table (main 08h sub 05h), 2 data byte(s) for entry 200: "
+       "C8h parameter unknown UPID"},
+      {"§12 data of an undefined entry",
+       [&] { return raw(codec::make_ct(0x11, codec::CtOp::read_data, 200)); },
+       "drive 11h refused ID 11h command table (main 08h sub 06h), 2 data byte(s) for entry 200: "
+       "C8h parameter unknown UPID"},
       {"§12 save the CT while MC runs", [&]() -> Result<void> { return c.save_ct(); },
-       "drive 11h refused 08h 01h (save CT to flash): C4h sub ID not supported"},
+       "drive 11h refused ID 11h command table (main 08h sub 00h), 0 data byte(s): C4h "
+       "undefined message sub ID"},
   };
   for (const auto& k : cases) {
     INFO(k.what);

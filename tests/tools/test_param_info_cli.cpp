@@ -110,6 +110,23 @@ TEST_CASE("seed003 §10 set --rom --yes in a script: stops MC, writes and starts
   CHECK(r.tool("get 0x13A2 --rom --json").out.find("\"raw\":17,") != std::string::npos);
 }
 
+TEST_CASE("LinRS §10 a refusal with zeroed No-meaning fields is the drive's: exit 5, its reason",
+          "[cli][param][refusal]") {
+  Rig r;
+  // The simulated drive fills the key and value of its refusals with zeros.
+  std::string state = slurp(r.dir / "drive.json");
+  const auto at = state.find('{');
+  state.insert(at + 1, "\"options\": {\"refusal_fields\": \"zeros\"},");
+  spit(r.dir / "drive.json", state);
+  auto g = r.tool("get 9999 --rom");
+  CHECK(g.rc == 5);
+  CHECK(g.err ==
+        "lmcfg get: drive 11h refused ID 11h parameter configuration (main 05h sub 00h), 2 data "
+        "byte(s) for UPID 9999h: C8h parameter unknown UPID\n"
+        "lmcfg get: after the refusal: drive state: 8 Operation Enabled (state var 08C2h), status "
+        "word 4C37h; actual error: No Error\n");
+}
+
 TEST_CASE("get and info --json validate against their documented shapes", "[cli][param][schema]") {
   Rig r;
   auto g = r.tool("get 13A2 --json");
