@@ -37,10 +37,16 @@ def import_from(site, cwd):
 @pytest.mark.parametrize("prefix, site", [
     ("/usr", "lib/python3/dist-packages"),
     ("/opt/lmcfg", f"lib/python{sys.version_info.major}.{sys.version_info.minor}/dist-packages"),
+    # As cpack builds the Debian package: prefix STAGING/usr, no DESTDIR.
+    ("staging", "lib/python3/dist-packages"),
 ])
 def test_installed_package_imports_and_finds_the_installed_database(prefix, site, tmp_path):
     root = tmp_path / "root"
-    install(prefix, destdir=root)
+    if prefix == "staging":
+        root, prefix = tmp_path, "/root/lmcfg-0.1.0-Linux/usr"
+        install(tmp_path / prefix.lstrip("/"))
+    else:
+        install(prefix, destdir=root)
     pkg = root / prefix.lstrip("/") / site / "lmcfg"
     assert sorted(p.name for p in pkg.iterdir() if not p.name.startswith("_lmcfg")) == [
         "__init__.py", "__init__.pyi", "py.typed"]
