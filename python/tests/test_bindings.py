@@ -3,7 +3,9 @@ program: every result is checked against what the program does with the same
 drive or file."""
 
 import json
+import signal
 import subprocess
+import sys
 import threading
 import time
 from pathlib import Path
@@ -330,3 +332,29 @@ def test_gil_released_during_drive_io(sim_copy, sim_server):
     assert took > 0.05  # the wire took time
     # The other thread ran during the backup: the GIL was released.
     assert spun > 1000, (spun, took)
+
+
+def test_ctrl_c_interrupts_a_backup_between_two_telegrams(sim_copy, sim_server, tmp_path):
+    # A real-time drive on a pty; SIGINT to the Python process while it reads.
+    server = sim_server([sim_copy("commissioned-axis.json")], fast=False)
+    script = tmp_path / "read.py"
+    script.write_text(
+        "import sys, lmcfg\n"
+        "with lmcfg.Link(sys.argv[1]).open() as drive:\n"
+        "    print('reading', flush=True)\n"
+        "    try:\n"
+        "        drive.backup()\n"
+        "    except KeyboardInterrupt:\n"
+        "        print('interrupted', drive.telegrams, flush=True)\n"
+        "        sys.exit(130)\n"
+        "print('finished', flush=True)\n")
+    proc = subprocess.Popen([sys.executable, str(script), server.port], stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True)
+    assert proc.stdout.readline().strip() == "reading"
+    time.sleep(1.0)
+    sent = time.monotonic()
+    proc.send_signal(signal.SIGINT)
+    out, err = proc.communicate(timeout=30)
+    assert proc.returncode == 130, (out, err)
+    assert out.startswith("interrupted"), (out, err)
+    assert time.monotonic() - sent < 5.0
