@@ -19,7 +19,9 @@ write_basic_package_version_file(${PROJECT_BINARY_DIR}/lmcfgConfigVersion.cmake
 install(FILES ${PROJECT_BINARY_DIR}/lmcfgConfig.cmake ${PROJECT_BINARY_DIR}/lmcfgConfigVersion.cmake
         DESTINATION ${LMCFG_CMAKE_DIR} COMPONENT development)
 
-# Debian package: everything in one package, lmcfg_VERSION-1_ARCH.deb.
+# Debian package: everything in one package, lmcfg_VERSION-1_ARCH.deb, with
+# the Python package (component python, python/CMakeLists.txt) in
+# /usr/lib/python3/dist-packages/lmcfg/ when the bindings are built.
 set(CPACK_GENERATOR DEB)
 set(CPACK_PACKAGE_NAME lmcfg)
 set(CPACK_PACKAGE_VENDOR "lmcfg")
@@ -33,4 +35,9 @@ set(CPACK_DEBIAN_PACKAGE_SECTION utils)
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
 # For the installed CMake package (headers and static library): what lmcfgConfig.cmake finds.
 set(CPACK_DEBIAN_PACKAGE_SUGGESTS "libsqlite3-dev, libpugixml-dev, libgit2-dev, libtomlplusplus-dev, nlohmann-json3-dev, pkg-config, bash-completion")
+# The Python module is built for one interpreter's ABI (python3.X of the build
+# machine): recommended when the package ships it (the program does not need it).
+if(LMCFG_PYTHON_DEB_RECOMMENDS)
+  set(CPACK_DEBIAN_PACKAGE_RECOMMENDS "${LMCFG_PYTHON_DEB_RECOMMENDS}")
+endif()
 include(CPack)

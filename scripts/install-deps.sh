@@ -29,6 +29,7 @@ test_packages=(
   bash-completion                                 # completion test
   dpkg-dev file debootstrap                       # cpack -G DEB (dpkg-shlibdeps), scripts/test-deb.sh
   chromium                                        # headless browser: tests load every lmcfg report page
+  python3-dev pybind11-dev python3-pytest         # Python bindings (docs/python.md) and their tests
 )
 packages=("${build_packages[@]}")
 [[ $mode == all ]] && packages+=("${test_packages[@]}")

@@ -116,6 +116,9 @@ struct Plan {
   bool nothing_to_do() const { return ok() && steps.empty(); }
 };
 
+// "stop_mc", "write_rom", ...: a step's `action` in plan_json.
+const char* action_name(PlanStep::Action a);
+
 Result<Plan> plan_restore(client::Client& c, const config::DriveConfig& file,
                           const db::Database& db, const RestoreOptions& opt);
 std::string render_plan(const Plan& p);

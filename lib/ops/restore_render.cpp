@@ -7,8 +7,6 @@
 
 namespace lmcfg::ops {
 
-namespace {
-
 const char* action_name(PlanStep::Action a) {
   using A = PlanStep::Action;
   switch (a) {
@@ -41,8 +39,6 @@ const char* action_name(PlanStep::Action a) {
   }
   return "?";
 }
-
-}  // namespace
 
 std::string render_plan(const Plan& p) {
   std::string out;
