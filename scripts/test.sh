@@ -6,7 +6,8 @@ root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 "$root/scripts/install-deps.sh"
 if [[ "${LMCFG_SANITIZE:-0}" == 1 ]]; then
   export LMCFG_BUILD_DIR="${LMCFG_BUILD_DIR:-$root/build-asan}"
-  "$root/scripts/build.sh" -DLMCFG_SANITIZE=ON -DLMCFG_BUILD_BENCH=OFF
+  # No Python module: CPython would load it without the sanitizer runtime.
+  "$root/scripts/build.sh" -DLMCFG_SANITIZE=ON -DLMCFG_BUILD_BENCH=OFF -DLMCFG_PYTHON=OFF
 else
   export LMCFG_BUILD_DIR="${LMCFG_BUILD_DIR:-$root/build}"
   "$root/scripts/build.sh"
