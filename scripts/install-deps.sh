@@ -20,6 +20,7 @@ packages=(
   bash-completion                                 # completion test
   dpkg-dev file debootstrap                       # cpack -G DEB (dpkg-shlibdeps), scripts/test-deb.sh
   chromium                                        # headless browser: tests load every lmcfg report page
+  ser2net                                         # RFC 2217 transport tests and bench against the real server
 )
 missing=()
 for p in "${packages[@]}"; do
