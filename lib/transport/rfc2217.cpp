@@ -41,6 +41,24 @@ std::string command_name(std::uint8_t client_code) {
 }
 
 void Decoder::feed(ByteView in, Bytes& data, std::vector<Event>& events) {
+  // The byte after an IAC.
+  const auto command = [&](std::uint8_t b) {
+    // RFC 856: "IAC followed by IAC ... stands for the 8 bit binary data with
+    // the decimal value 255".
+    if (b == kIAC) {
+      data.push_back(b);
+      state_ = State::data;
+    } else if (b >= kWILL && b <= kDONT) {
+      verb_ = b;
+      state_ = State::option;
+    } else if (b == kSB) {
+      state_ = State::sb_option;
+    } else {
+      // NOP, DM, BRK, IP, AO, AYT, EC, EL, GA and a stray SE: two bytes, no data.
+      events.push_back(Event{Event::Kind::command, b, 0, {}});
+      state_ = State::data;
+    }
+  };
   for (const std::uint8_t b : in) {
     switch (state_) {
       case State::data:
@@ -50,21 +68,7 @@ void Decoder::feed(ByteView in, Bytes& data, std::vector<Event>& events) {
           data.push_back(b);
         break;
       case State::iac:
-        // RFC 856: "IAC followed by IAC ... stands for the 8 bit binary data
-        // with the decimal value 255".
-        if (b == kIAC) {
-          data.push_back(b);
-          state_ = State::data;
-        } else if (b >= kWILL && b <= kDONT) {
-          verb_ = b;
-          state_ = State::option;
-        } else if (b == kSB) {
-          state_ = State::sb_option;
-        } else {
-          // NOP, DM, BRK, IP, AO, AYT, EC, EL, GA and a stray SE: two bytes, no data.
-          events.push_back(Event{Event::Kind::command, b, 0, {}});
-          state_ = State::data;
-        }
+        command(b);
         break;
       case State::option:
         events.push_back(Event{Event::Kind::negotiation, verb_, b, {}});
@@ -86,14 +90,15 @@ void Decoder::feed(ByteView in, Bytes& data, std::vector<Event>& events) {
         if (b == kIAC) {
           sb_.payload.push_back(b);
           state_ = State::sb;
-        } else {
-          // IAC SE ends it; any other command inside a subnegotiation is not
-          // allowed, so it ends the subnegotiation as well rather than
-          // swallowing the data that follows.
-          events.push_back(std::move(sb_));
-          sb_ = Event{};
-          state_ = State::data;
+          break;
         }
+        events.push_back(std::move(sb_));
+        sb_ = Event{};
+        state_ = State::data;
+        // Any command but SE inside a subnegotiation is not allowed: it ends
+        // the subnegotiation and is taken as the command it is, rather than
+        // swallowing the data that follows.
+        if (b != kSE) command(b);
         break;
     }
   }
