@@ -545,5 +545,7 @@ TEST_CASE("rfc2217: through ser2net at a rate no drive listens at, the client ti
   auto v = c.read_rom(0x13A2);
   REQUIRE_FALSE(v.ok());
   CHECK(v.error().code == make_error_code(Errc::timeout));
-  CHECK(v.error().message == "no answer from drive 11h within 150 ms to read ROM 13A2h");
+  CHECK(v.error().message ==
+        "no answer from drive 11h within 150 ms to ID 11h parameter configuration (main 05h sub "
+        "00h), 2 data byte(s) (after 2 attempts)");
 }
