@@ -7,7 +7,10 @@
 // the pty's slave, then with open_rfc2217 through ser2net serving that slave.
 // Round trip = write() of the request to the last byte of a complete answer.
 //
-//   build/bench/lmcfg_bench_rfc2217 [--count N]
+//   build/bench/lmcfg_bench_rfc2217 [--count N] [--no-chardelay]
+//
+// --no-chardelay: ser2net's "chardelay: false" (it otherwise waits for a gap of
+// a few character times on the serial side before sending what it read).
 //
 // Without ser2net (Debian package ser2net; $LMCFG_SER2NET names another
 // binary) it prints why and exits 0. Exit status 1 when an exchange fails.
@@ -87,11 +90,14 @@ void print(const char* name, const Figures& f) {
 
 int main(int argc, char** argv) {
   int count = 1000;
+  std::string options;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--count") && i + 1 < argc) {
       count = std::atoi(argv[++i]);
+    } else if (!std::strcmp(argv[i], "--no-chardelay")) {
+      options = "    chardelay: false\n";
     } else {
-      std::fprintf(stderr, "usage: %s [--count N]\n", argv[0]);
+      std::fprintf(stderr, "usage: %s [--count N] [--no-chardelay]\n", argv[0]);
       return 2;
     }
   }
@@ -132,8 +138,8 @@ int main(int argc, char** argv) {
 
   std::printf(
       "lmcfg_bench_rfc2217: %d read-RAM exchanges (seed 003 §9.1) with a simulated drive in real "
-      "time at 57600 8N1, %u hardware threads\n",
-      count, std::thread::hardware_concurrency());
+      "time at 57600 8N1, %u hardware threads, ser2net chardelay %s\n",
+      count, std::thread::hardware_concurrency(), options.empty() ? "on (default)" : "off");
   int rc = 0;
   std::vector<double> direct, via;
   {
@@ -146,7 +152,7 @@ int main(int argc, char** argv) {
     }
   }
   if (rc == 0 && !direct.empty()) {
-    test::Ser2netRig rig(slave, 9600);
+    test::Ser2netRig rig(slave, 9600, options);
     if (!rig.ok()) {
       std::fprintf(stderr, "lmcfg_bench_rfc2217: %s\n", rig.error.c_str());
       rc = 1;

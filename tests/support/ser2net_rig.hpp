@@ -83,7 +83,8 @@ struct Ser2netRig {
 
   // Serves `device` (a pty slave) at `baud`n81 ("local": no modem lines) with
   // a telnet(rfc2217) accepter on 127.0.0.1; waits up to 5 s until it listens.
-  Ser2netRig(const std::string& device, unsigned baud) {
+  // `options`: more lines of the connection's options map ("    chardelay: false\n").
+  Ser2netRig(const std::string& device, unsigned baud, const std::string& options = "") {
     port = free_loopback_port();
     if (port == 0) {
       error = "no free loopback port";
@@ -93,7 +94,7 @@ struct Ser2netRig {
     spit(config, "%YAML 1.1\n---\nconnection: &line\n  accepter: telnet(rfc2217),tcp,127.0.0.1," +
                      std::to_string(port) + "\n  connector: serialdev," + device + "," +
                      std::to_string(baud) +
-                     "n81,local\n  options:\n    kickolduser: true\n    mdns: false\n");
+                     "n81,local\n  options:\n    kickolduser: true\n    mdns: false\n" + options);
     // exec: the child's pid is ser2net's own, so SIGTERM reaches it. stderr to
     // a log file (ser2net prints "Unable to start mdns" on hosts without avahi).
     process = std::make_unique<Child>(
