@@ -30,6 +30,7 @@ test_packages=(
   dpkg-dev file debootstrap                       # cpack -G DEB (dpkg-shlibdeps), scripts/test-deb.sh
   chromium                                        # headless browser: tests load every lmcfg report page
   python3-dev pybind11-dev python3-pytest         # Python bindings (docs/python.md) and their tests
+  ser2net                                         # RFC 2217 transport tests and bench against the real server
 )
 packages=("${build_packages[@]}")
 [[ $mode == all ]] && packages+=("${test_packages[@]}")

@@ -15,6 +15,7 @@ fi
 cd "$LMCFG_BUILD_DIR"
 # install-deps.sh installed Chromium: the report pages' browser checks must run, not skip.
 export LMCFG_REQUIRE_BROWSER=1
+export LMCFG_REQUIRE_SER2NET=1  # the RFC 2217 tests run against the real ser2net
 # The golden-vector counts, printed for the record.
 ./tests/lmcfg_tests "[codec][golden]" | grep "seed003 golden"
 ctest --output-on-failure -j"$(nproc)" --timeout 600

@@ -94,6 +94,18 @@ class FdTransport : public Transport {
   bool is_socket_ = false;
 };
 
+// A connected TCP socket (non-blocking, TCP_NODELAY, SO_KEEPALIVE) and
+// "host:port" as messages name it ("[::1]:4001" for IPv6).
+struct TcpConnection {
+  UniqueFd fd;
+  std::string where;
+};
+// Resolves `host` and connects within `connect_timeout`; errors start with
+// "`scheme` host:port: " ("tcp 10.0.0.5:4001: connect timed out after 2000 ms").
+// Shared by open_tcp and open_rfc2217.
+Result<TcpConnection> connect_tcp(const std::string& host, std::uint16_t port,
+                                  Millis connect_timeout, const std::string& scheme);
+
 struct PtyPair {
   UniqueFd master;         // raw mode, O_NONBLOCK, close-on-exec
   UniqueFd slave;          // kept open so the master does not see a hang-up while no

@@ -59,16 +59,16 @@ int connect_one(const addrinfo& ai, Clock::time_point deadline, UniqueFd& out) {
 
 }  // namespace
 
-Result<std::unique_ptr<Transport>> open_tcp(const std::string& host, std::uint16_t port,
-                                            Millis connect_timeout) {
-  if (host.empty()) return Error(Errc::invalid_argument, "tcp: host is empty");
+Result<TcpConnection> connect_tcp(const std::string& host, std::uint16_t port,
+                                  Millis connect_timeout, const std::string& scheme) {
+  if (host.empty()) return Error(Errc::invalid_argument, scheme + ": host is empty");
   // "[::1]" is accepted as well as "::1".
   std::string name = host;
   if (name.size() >= 2 && name.front() == '[' && name.back() == ']')
     name = name.substr(1, name.size() - 2);
   const std::string where = host_port(name, port);
   if (port == 0)
-    return Error(Errc::invalid_argument, "tcp " + where + ": port 0 is not a valid port");
+    return Error(Errc::invalid_argument, scheme + " " + where + ": port 0 is not a valid port");
 
   addrinfo hints{};
   hints.ai_family = AF_UNSPEC;
@@ -84,7 +84,7 @@ Result<std::unique_ptr<Transport>> open_tcp(const std::string& host, std::uint16
   }
   if (rc != 0) {
     const std::string why = rc == EAI_SYSTEM ? std::strerror(errno) : ::gai_strerror(rc);
-    return Error(Errc::not_found, "tcp " + where + ": cannot resolve host: " + why);
+    return Error(Errc::not_found, scheme + " " + where + ": cannot resolve host: " + why);
   }
   std::unique_ptr<addrinfo, decltype(&::freeaddrinfo)> list(res, &::freeaddrinfo);
 
@@ -93,17 +93,21 @@ Result<std::unique_ptr<Transport>> open_tcp(const std::string& host, std::uint16
   for (const addrinfo* ai = list.get(); ai != nullptr; ai = ai->ai_next) {
     UniqueFd fd;
     last = connect_one(*ai, deadline, fd);
-    if (last == 0) {
-      return std::unique_ptr<Transport>(
-          std::make_unique<FdTransport>(std::move(fd), "tcp " + where));
-    }
+    if (last == 0) return TcpConnection{std::move(fd), where};
     if (last == ETIMEDOUT) break;
   }
   if (last == ETIMEDOUT) {
-    return Error(Errc::timeout, "tcp " + where + ": connect timed out after " +
+    return Error(Errc::timeout, scheme + " " + where + ": connect timed out after " +
                                     std::to_string(connect_timeout.count()) + " ms");
   }
-  return Error(Errc::io_error, "tcp " + where + ": cannot connect: " + std::strerror(last));
+  return Error(Errc::io_error, scheme + " " + where + ": cannot connect: " + std::strerror(last));
+}
+
+Result<std::unique_ptr<Transport>> open_tcp(const std::string& host, std::uint16_t port,
+                                            Millis connect_timeout) {
+  LMCFG_ASSIGN_OR_RETURN(auto c, connect_tcp(host, port, connect_timeout, "tcp"));
+  return std::unique_ptr<Transport>(
+      std::make_unique<FdTransport>(std::move(c.fd), "tcp " + c.where));
 }
 
 }  // namespace lmcfg::transport
