@@ -10,6 +10,7 @@ packages=(
   libsqlite3-dev sqlite3                          # UPID database
   libpugixml-dev nlohmann-json3-dev               # XML and JSON files
   libgit2-dev libtomlplusplus-dev                 # fleet: git archive, TOML inventory
+  libcpp-httplib-dev libssl-dev prometheus        # serve: HTTP server/client; promtool checks /metrics
   catch2 libcli11-dev                             # tests (Catch2 v2) and command line
   libbenchmark-dev                                # CPU benchmarks
   libxml2-utils                                   # xmllint: validates the XSD in tests
