@@ -1,5 +1,6 @@
 #include "serve/service.hpp"
 
+#include <charconv>
 #include <condition_variable>
 #include <ctime>
 #include <deque>
@@ -39,6 +40,7 @@ struct Job {
   std::size_t total = 0, done = 0, lines_left = 0;
   std::size_t changed = 0, unchanged = 0, added = 0, failed = 0;
   std::vector<std::string> commits, errors;
+  bool started = false;  // a line's worker has taken it up
   std::optional<TimePoint> finished;
 };
 
@@ -98,7 +100,7 @@ struct Service::Impl {
   std::condition_variable cv;
   std::map<std::string, DriveState> states;  // by position name
   std::vector<LineMetrics> line_metrics;
-  std::map<std::string, std::shared_ptr<Job>> jobs;
+  std::map<std::uint64_t, std::shared_ptr<Job>> jobs;  // by number: begin() is the oldest
   std::uint64_t next_job = 1;
   std::vector<std::deque<Task>> queues;  // one per line
   std::vector<bool> busy;
@@ -116,11 +118,12 @@ struct Service::Impl {
 
   std::shared_ptr<Job> new_job(Kind kind, std::string scope) {
     auto j = std::make_shared<Job>();
-    j->id = std::to_string(next_job++);
+    const std::uint64_t number = next_job++;
+    j->id = std::to_string(number);
     j->kind = kind;
     j->scope = std::move(scope);
     j->created = opt.clock();
-    jobs[j->id] = j;
+    jobs[number] = j;
     // The newest 1000 jobs are kept for GET /jobs/{id}.
     while (jobs.size() > 1000) jobs.erase(jobs.begin());
     return j;
@@ -292,6 +295,7 @@ struct Service::Impl {
       Task task = std::move(queues[line].front());
       queues[line].pop_front();
       busy[line] = true;
+      task.job->started = true;
       lock.unlock();
       run_task(line, task);
       lock.lock();
@@ -304,7 +308,7 @@ struct Service::Impl {
     Json out{{"id", j.id},
              {"kind", kind_name(j.kind)},
              {"scope", j.scope},
-             {"state", j.finished ? "done" : (j.done == 0 ? "queued" : "running")},
+             {"state", j.finished ? "done" : (j.started ? "running" : "queued")},
              {"created", iso_time(j.created)},
              {"finished", j.finished ? Json(iso_time(*j.finished)) : Json(nullptr)},
              {"drives", j.total},
@@ -443,7 +447,10 @@ Result<std::string> Service::backup_line(const std::string& name) {
 
 Result<Json> Service::job(const std::string& id) const {
   std::lock_guard<std::mutex> lock(impl_->mu);
-  auto it = impl_->jobs.find(id);
+  std::uint64_t number = 0;
+  const auto [end, ec] = std::from_chars(id.data(), id.data() + id.size(), number);
+  auto it = ec == std::errc() && end == id.data() + id.size() ? impl_->jobs.find(number)
+                                                              : impl_->jobs.end();
   if (it == impl_->jobs.end()) return Error(Errc::not_found, "no job " + id);
   return impl_->job_json(*it->second);
 }
