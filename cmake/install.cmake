@@ -7,6 +7,12 @@ install(DIRECTORY ${PROJECT_SOURCE_DIR}/schemas/ DESTINATION ${CMAKE_INSTALL_DAT
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/tests/fixtures/sim/ DESTINATION ${CMAKE_INSTALL_DATADIR}/lmcfg/sim
         COMPONENT runtime)
 
+# lmcfg serve as a systemd service (docs/serve.md), with the installed lmcfg's path.
+configure_file(${PROJECT_SOURCE_DIR}/packaging/lmcfg-serve.service.in
+               ${PROJECT_BINARY_DIR}/lmcfg-serve.service @ONLY)
+install(FILES ${PROJECT_BINARY_DIR}/lmcfg-serve.service DESTINATION lib/systemd/system
+        COMPONENT runtime)
+
 # find_package(lmcfg) -> lmcfg::lmcfg
 include(CMakePackageConfigHelpers)
 set(LMCFG_CMAKE_DIR ${CMAKE_INSTALL_LIBDIR}/cmake/lmcfg)

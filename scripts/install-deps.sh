@@ -16,10 +16,12 @@ build_packages=(
   libpugixml-dev nlohmann-json3-dev               # XML and JSON files
   libgit2-dev libtomlplusplus-dev                 # fleet: git archive, TOML inventory
   libcli11-dev                                    # command line
+  libcpp-httplib-dev libssl-dev                   # lmcfg serve: HTTP server and webhook client
   help2man                                        # man page, generated from --help at build time
 )
 test_packages=(
   catch2                                          # tests (Catch2 v2)
+  prometheus                                      # promtool checks lmcfg serve's /metrics
   libbenchmark-dev                                # CPU benchmarks
   libxml2-utils                                   # xmllint: validates the XSD in tests
   nodejs npm                                      # ajv-cli: validates the JSON Schema in tests

@@ -35,6 +35,17 @@ using Index = Owned<git_index, git_index_free>;
 using Signature = Owned<git_signature, git_signature_free>;
 using Reference = Owned<git_reference, git_reference_free>;
 using Remote = Owned<git_remote, git_remote_free>;
+using Walk = Owned<git_revwalk, git_revwalk_free>;
+using Entry = Owned<git_tree_entry, git_tree_entry_free>;
+
+// The blob id of `path` in `c`'s tree; nullopt when the tree has no such file.
+std::optional<git_oid> blob_at(const git_commit* c, const std::string& path) {
+  Tree tree;
+  if (git_commit_tree(&tree.p, c) != 0) return std::nullopt;
+  Entry e;
+  if (git_tree_entry_bypath(&e.p, tree.p, path.c_str()) != 0) return std::nullopt;
+  return *git_tree_entry_id(e.p);
+}
 
 std::string oid_hex(const git_oid& oid) {
   char buf[GIT_OID_HEXSZ + 1];
@@ -167,6 +178,39 @@ Result<std::optional<CommitInfo>> Archive::commit(const std::vector<std::string>
   Commit made;
   if (git_commit_lookup(&made.p, repo_, &id) != 0) return git_failure(Errc::file_error, where);
   return std::optional<CommitInfo>(info_of(made.p));
+}
+
+Result<std::vector<HistoryEntry>> Archive::history(const std::string& path,
+                                                   std::size_t limit) const {
+  std::vector<HistoryEntry> out;
+  if (unborn(repo_)) return out;
+  const std::string where = "archive " + dir_ + ": history of " + path;
+  Walk walk;
+  if (git_revwalk_new(&walk.p, repo_) != 0 || git_revwalk_push_head(walk.p) != 0)
+    return git_failure(Errc::file_error, where);
+  git_revwalk_sorting(walk.p, GIT_SORT_TIME);
+  git_oid id;
+  while (out.size() < limit && git_revwalk_next(&id, walk.p) == 0) {
+    Commit c;
+    if (git_commit_lookup(&c.p, repo_, &id) != 0) return git_failure(Errc::file_error, where);
+    const auto mine = blob_at(c.p, path);
+    bool changed = true;
+    if (git_commit_parentcount(c.p) > 0) {
+      Commit parent;
+      if (git_commit_parent(&parent.p, c.p, 0) != 0) return git_failure(Errc::file_error, where);
+      const auto theirs = blob_at(parent.p, path);
+      changed =
+          mine.has_value() != theirs.has_value() || (mine && git_oid_cmp(&*mine, &*theirs) != 0);
+    } else {
+      changed = mine.has_value();
+    }
+    if (!changed) continue;
+    const git_signature* a = git_commit_author(c.p);
+    out.push_back(HistoryEntry{
+        info_of(c.p), static_cast<std::int64_t>(git_commit_time(c.p)),
+        std::string(a->name ? a->name : "") + " <" + (a->email ? a->email : "") + ">"});
+  }
+  return out;
 }
 
 Result<void> Archive::push(const std::string& remote_name) {

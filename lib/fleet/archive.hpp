@@ -2,6 +2,7 @@
 // The fleet archive: an ordinary git repository (libgit2) holding one
 // configuration file per drive position, <name>.json. Each fleet run is one
 // commit; history, review and replication are git's (docs/fleet.md).
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <string>
@@ -17,6 +18,13 @@ struct CommitInfo {
   std::string id;       // full hex object id
   std::string summary;  // first line of the message
   std::string message;  // the whole message
+};
+
+// One entry of a file's history (git log -- FILE).
+struct HistoryEntry {
+  CommitInfo commit;
+  std::int64_t time = 0;  // committer time, seconds since the epoch (UTC)
+  std::string author;     // "Name <email>"
 };
 
 class Archive {
@@ -39,6 +47,9 @@ class Archive {
   // when that revision has no such file (or there is no commit yet).
   Result<std::optional<std::string>> read(const std::string& path,
                                           const std::string& rev = "HEAD") const;
+  // The commits reachable from HEAD that changed `path` (added, modified or
+  // removed it), newest first, at most `limit`. Empty without commits.
+  Result<std::vector<HistoryEntry>> history(const std::string& path, std::size_t limit = 100) const;
   // Stages `paths` (files the caller wrote in the work tree) and commits them
   // with `message`. nullopt, and no commit, when the tree equals HEAD's,
   // unless allow_empty (a record such as "restored press3/z-axis").

@@ -1,5 +1,6 @@
 #include "fleet/fleet.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <mutex>
@@ -18,143 +19,28 @@ double seconds_since(Clock::time_point t) {
   return std::chrono::duration<double>(Clock::now() - t).count();
 }
 
-struct LiveRead {
-  DriveResult result;
-  std::optional<config::DriveConfig> config;
-};
-
-// One line's worker: one session, the drives in inventory order.
-void read_line(const LineEntry& line, const ops::LinkOptions& link_in, const FleetOptions& opt,
-               std::mutex& report_lock, std::vector<LiveRead>& out) {
-  ops::LinkOptions link = link_in;
-  link.client.id = line.drives.front().id;
-  auto session = ops::open_session(link);
-  std::size_t done = 0;
-  for (std::size_t i = 0; i < line.drives.size(); ++i) {
-    const auto& d = line.drives[i];
-    auto& r = out[i].result;
-    const auto start = Clock::now();
-    if (!session.ok()) {
-      r.error = Error(session.error().code,
-                      "line '" + line.name + "' (" + line.port + "): " + session.error().message);
-    } else if (auto relinked = (*session)->relink((*session)->line(), d.id, link.client.checksum);
-               !relinked.ok()) {
-      r.error = relinked.error();
-    } else {
-      ops::BackupOptions bo = opt.backup;
-      bo.progress = nullptr;
-      bo.report = nullptr;
-      auto cfg = ops::backup((*session)->client(), bo, opt.db.get());
-      if (!cfg.ok()) {
-        r.error = cfg.error();
-      } else {
-        cfg->identity.link = (*session)->link_settings();
-        cfg->identity.labels = d.labels;
-        for (const auto& l : cfg->layers) r.parameters += l.size();
-        r.curves = cfg->curves.size();
-        r.ct_entries = cfg->ct_entries.size();
-        out[i].config = std::move(cfg).value();
-      }
-    }
-    r.seconds = seconds_since(start);
-    if (opt.on_drive) {
-      std::lock_guard<std::mutex> lock(report_lock);
-      opt.on_drive(r, ++done, line.drives.size());
-    }
-  }
-  if (session.ok()) {
-    // A simulated line saves its drives here; a real one has nothing to save.
-    if (auto closed = (*session)->close(); !closed.ok()) {
-      for (auto& o : out) {
-        if (!o.result.error) {
-          o.result.error = closed.error();
-          o.config.reset();
-        }
-      }
-    }
-  }
-}
-
-// Every drive of the inventory, read live: one thread per line.
-std::vector<LiveRead> read_all(const Inventory& inv, const FleetOptions& opt) {
-  std::vector<std::vector<LiveRead>> per_line(inv.lines.size());
-  std::mutex report_lock;
+// Every line read live: one thread per line (read_line never throws).
+std::vector<LineRun> read_all(const Inventory& inv, const FleetOptions& opt) {
+  std::vector<LineRun> per_line(inv.lines.size());
   std::vector<std::thread> workers;
-  for (std::size_t l = 0; l < inv.lines.size(); ++l) {
-    per_line[l].resize(inv.lines[l].drives.size());
-    for (std::size_t i = 0; i < inv.lines[l].drives.size(); ++i) {
-      auto& r = per_line[l][i].result;
-      r.line = inv.lines[l].name;
-      r.name = inv.lines[l].drives[i].name;
-      r.id = inv.lines[l].drives[i].id;
-    }
-    workers.emplace_back([&, l] {
-      try {
-        read_line(inv.lines[l], opt.links[l], opt, report_lock, per_line[l]);
-      } catch (const std::exception& e) {
-        // A worker never takes the process down: its unread drives fail, named.
-        for (auto& r : per_line[l]) {
-          if (!r.config && !r.result.error)
-            r.result.error = Error(Errc::io_error, std::string("fleet worker: ") + e.what());
-        }
-      }
-    });
-  }
+  for (std::size_t l = 0; l < inv.lines.size(); ++l)
+    workers.emplace_back([&, l] { per_line[l] = read_line(inv.lines[l], opt.links[l], opt); });
   for (auto& w : workers) w.join();
-  std::vector<LiveRead> all;
-  for (auto& line : per_line)
-    for (auto& r : line) all.push_back(std::move(r));
-  return all;
-}
-
-// Compares each live read with its archived file at `rev`; sets the status.
-Result<void> compare(const Inventory& inv, const Archive& archive, const std::string& rev,
-                     const db::Database& db, std::vector<LiveRead>& reads) {
-  std::size_t k = 0;
-  for (const auto& line : inv.lines) {
-    for (const auto& d : line.drives) {
-      auto& live = reads[k++];
-      auto& r = live.result;
-      if (!live.config) {
-        r.status = DriveResult::Status::failed;
-        continue;
-      }
-      LMCFG_ASSIGN_OR_RETURN(auto text, archive.read(archive_path(d), rev));
-      if (!text) {
-        r.status = DriveResult::Status::added;
-        continue;
-      }
-      auto archived =
-          config::read_config_text(*text, archive_path(d) + " at " + rev, config::FileFormat::json);
-      if (!archived.ok()) {
-        // A hand-edited or damaged archive file is a difference, not a failure
-        // of the drive: backup replaces it with what the drive holds.
-        ops::DiffItem it;
-        it.kind = ops::DiffItem::Kind::metadata;
-        it.name = "archived file";
-        it.a = "unreadable (" + archived.error().message + ")";
-        it.b = "read from the drive";
-        r.diff.items.push_back(std::move(it));
-        r.status = DriveResult::Status::changed;
-        continue;
-      }
-      r.diff = ops::diff(*archived, *live.config, db, nullptr, ops::DiffOptions{});
-      r.status = r.diff.identical() ? DriveResult::Status::unchanged : DriveResult::Status::changed;
-    }
-  }
-  return {};
+  return per_line;
 }
 
 Result<FleetRun> read_and_compare(const Inventory& inv, const Archive& archive,
-                                  const FleetOptions& opt, std::vector<LiveRead>& reads) {
+                                  const FleetOptions& opt, std::vector<LineRun>& reads) {
   if (opt.links.size() != inv.lines.size())
     return Error(Errc::invalid_argument, "fleet: one link per inventory line is needed");
   FleetRun run;
   LMCFG_ASSIGN_OR_RETURN(run.compared_to, archive.resolve(opt.rev));
   const auto start = Clock::now();
   reads = read_all(inv, opt);
-  LMCFG_TRY(compare(inv, archive, opt.rev, opt.db, reads));
-  for (auto& r : reads) run.drives.push_back(r.result);
+  for (std::size_t l = 0; l < inv.lines.size(); ++l) {
+    LMCFG_TRY(compare_line(inv.lines[l], archive, opt.rev, opt.db, reads[l]));
+    for (const auto& r : reads[l].drives) run.drives.push_back(r);
+  }
   run.seconds = seconds_since(start);
   return run;
 }
@@ -162,6 +48,26 @@ Result<FleetRun> read_and_compare(const Inventory& inv, const Archive& archive,
 std::string plural(std::size_t n, const char* one, const char* many) {
   return std::to_string(n) + " " + (n == 1 ? one : many);
 }
+
+std::string where(const DriveResult& r) {
+  return r.name + " (line " + r.line + ", MACID " + hex(r.id, 2, "h") + ")";
+}
+
+constexpr std::size_t kItemsPerDrive = 20;  // in a commit message; the diff has them all
+
+void append_items(std::string& s, const DriveResult& r, const char* indent) {
+  std::size_t n = 0;
+  for (const auto& it : r.diff.items) {
+    if (n++ == kItemsPerDrive) {
+      s += indent + std::string("... and ") + std::to_string(r.diff.items.size() - kItemsPerDrive) +
+           " more\n";
+      break;
+    }
+    s += indent + item_line(it) + "\n";
+  }
+}
+
+}  // namespace
 
 std::string counts_line(const DriveResult& r) {
   using K = ops::DiffItem::Kind;
@@ -198,25 +104,142 @@ std::string item_line(const ops::DiffItem& it) {
   return what;
 }
 
-std::string where(const DriveResult& r) {
-  return r.name + " (line " + r.line + ", MACID " + hex(r.id, 2, "h") + ")";
-}
-
-constexpr std::size_t kItemsPerDrive = 20;  // in a commit message; the diff has them all
-
-void append_items(std::string& s, const DriveResult& r, const char* indent) {
-  std::size_t n = 0;
-  for (const auto& it : r.diff.items) {
-    if (n++ == kItemsPerDrive) {
-      s += indent + std::string("... and ") + std::to_string(r.diff.items.size() - kItemsPerDrive) +
-           " more\n";
-      break;
-    }
-    s += indent + item_line(it) + "\n";
+LineRun read_line(const LineEntry& line, const ops::LinkOptions& link_in, const FleetOptions& opt,
+                  const std::vector<std::string>& only) {
+  LineRun run;
+  for (const auto& d : line.drives) {
+    if (!only.empty() && std::find(only.begin(), only.end(), d.name) == only.end()) continue;
+    run.entries.push_back(&d);
+    DriveResult r;
+    r.line = line.name;
+    r.name = d.name;
+    r.id = d.id;
+    run.drives.push_back(std::move(r));
   }
+  run.configs.resize(run.entries.size());
+  if (run.entries.empty()) return run;
+  const auto line_start = Clock::now();
+  try {
+    ops::LinkOptions link = link_in;
+    link.client.id = run.entries.front()->id;
+    auto session = ops::open_session(link);
+    std::size_t done = 0;
+    for (std::size_t i = 0; i < run.entries.size(); ++i) {
+      const auto& d = *run.entries[i];
+      auto& r = run.drives[i];
+      const auto start = Clock::now();
+      if (!session.ok()) {
+        r.error = Error(session.error().code,
+                        "line '" + line.name + "' (" + line.port + "): " + session.error().message);
+      } else if (auto relinked = (*session)->relink((*session)->line(), d.id, link.client.checksum);
+                 !relinked.ok()) {
+        r.error = relinked.error();
+      } else {
+        ops::BackupOptions bo = opt.backup;
+        bo.progress = nullptr;
+        bo.report = nullptr;
+        auto cfg = ops::backup((*session)->client(), bo, opt.db.get());
+        if (!cfg.ok()) {
+          r.error = cfg.error();
+        } else {
+          cfg->identity.link = (*session)->link_settings();
+          cfg->identity.labels = d.labels;
+          for (const auto& l : cfg->layers) r.parameters += l.size();
+          r.curves = cfg->curves.size();
+          r.ct_entries = cfg->ct_entries.size();
+          run.configs[i] = std::move(cfg).value();
+        }
+      }
+      r.seconds = seconds_since(start);
+      if (opt.on_drive) {
+        // One call at a time across the lines' workers.
+        static std::mutex report_lock;
+        std::lock_guard<std::mutex> lock(report_lock);
+        opt.on_drive(r, ++done, run.entries.size());
+      }
+    }
+    if (session.ok()) {
+      run.stats = (*session)->client().stats();
+      // A simulated line saves its drives here; a real one has nothing to save.
+      if (auto closed = (*session)->close(); !closed.ok()) {
+        for (std::size_t i = 0; i < run.drives.size(); ++i) {
+          if (!run.drives[i].error) {
+            run.drives[i].error = closed.error();
+            run.configs[i].reset();
+          }
+        }
+      }
+    }
+  } catch (const std::exception& e) {
+    // A worker never takes the process down: its unread drives fail, named.
+    for (std::size_t i = 0; i < run.drives.size(); ++i) {
+      if (!run.configs[i] && !run.drives[i].error)
+        run.drives[i].error = Error(Errc::io_error, std::string("fleet worker: ") + e.what());
+    }
+  }
+  run.seconds = seconds_since(line_start);
+  return run;
 }
 
-}  // namespace
+Result<void> compare_line(const LineEntry& line, const Archive& archive, const std::string& rev,
+                          const db::Database& db, LineRun& run) {
+  for (std::size_t i = 0; i < run.entries.size(); ++i) {
+    const auto& d = *run.entries[i];
+    auto& r = run.drives[i];
+    if (!run.configs[i]) {
+      r.status = DriveResult::Status::failed;
+      continue;
+    }
+    LMCFG_ASSIGN_OR_RETURN(auto text, archive.read(archive_path(d), rev));
+    if (!text) {
+      r.status = DriveResult::Status::added;
+      continue;
+    }
+    auto archived =
+        config::read_config_text(*text, archive_path(d) + " at " + rev, config::FileFormat::json);
+    if (!archived.ok()) {
+      // A hand-edited or damaged archive file is a difference, not a failure
+      // of the drive: backup replaces it with what the drive holds.
+      ops::DiffItem it;
+      it.kind = ops::DiffItem::Kind::metadata;
+      it.name = "archived file";
+      it.a = "unreadable (" + archived.error().message + ")";
+      it.b = "read from the drive";
+      r.diff.items.push_back(std::move(it));
+      r.status = DriveResult::Status::changed;
+      continue;
+    }
+    r.diff = ops::diff(*archived, *run.configs[i], db, nullptr, ops::DiffOptions{});
+    // Live and volatile values the inventory names are never a difference.
+    const auto ignored = ignored_upids(line, d);
+    std::erase_if(r.diff.items, [&](const ops::DiffItem& it) {
+      return it.kind == ops::DiffItem::Kind::parameter &&
+             std::find(ignored.begin(), ignored.end(), it.key) != ignored.end();
+    });
+    r.status = r.diff.items.empty() ? DriveResult::Status::unchanged : DriveResult::Status::changed;
+  }
+  return {};
+}
+
+Result<std::vector<std::string>> write_line(Archive& archive, const db::Database& db,
+                                            const LineRun& run) {
+  std::optional<ops::DatabaseCtDecoder> ct_decoder;
+  config::WriteOptions wo;
+  if (!db.is_empty()) wo.ct_decoder = &ct_decoder.emplace(db);
+  std::vector<std::string> paths;
+  for (std::size_t i = 0; i < run.entries.size(); ++i) {
+    using S = DriveResult::Status;
+    if (run.drives[i].status != S::changed && run.drives[i].status != S::added) continue;
+    const auto& d = *run.entries[i];
+    const std::filesystem::path file = std::filesystem::path(archive.dir()) / archive_path(d);
+    std::error_code ec;
+    std::filesystem::create_directories(file.parent_path(), ec);
+    if (ec) return Error(Errc::file_error, file.parent_path().string() + ": " + ec.message());
+    LMCFG_TRY(config::write_config_file(*run.configs[i], file, config::FileFormat::json, wo));
+    paths.push_back(archive_path(d));
+  }
+  return paths;
+}
 
 std::size_t DriveResult::count(ops::DiffItem::Kind kind) const {
   std::size_t n = 0;
@@ -247,25 +270,12 @@ std::size_t FleetRun::count(DriveResult::Status s) const {
 std::string archive_path(const DriveEntry& d) { return d.name + ".json"; }
 
 Result<FleetRun> fleet_backup(const Inventory& inv, Archive& archive, const FleetOptions& opt) {
-  std::vector<LiveRead> reads;
+  std::vector<LineRun> reads;
   LMCFG_ASSIGN_OR_RETURN(auto run, read_and_compare(inv, archive, opt, reads));
-  std::optional<ops::DatabaseCtDecoder> ct_decoder;
-  config::WriteOptions wo;
-  if (!opt.db.get().is_empty()) wo.ct_decoder = &ct_decoder.emplace(opt.db.get());
   std::vector<std::string> paths;
-  std::size_t k = 0;
-  for (const auto& line : inv.lines) {
-    for (const auto& d : line.drives) {
-      auto& live = reads[k++];
-      using S = DriveResult::Status;
-      if (live.result.status != S::changed && live.result.status != S::added) continue;
-      const std::filesystem::path file = std::filesystem::path(archive.dir()) / archive_path(d);
-      std::error_code ec;
-      std::filesystem::create_directories(file.parent_path(), ec);
-      if (ec) return Error(Errc::file_error, file.parent_path().string() + ": " + ec.message());
-      LMCFG_TRY(config::write_config_file(*live.config, file, config::FileFormat::json, wo));
-      paths.push_back(archive_path(d));
-    }
+  for (const auto& line : reads) {
+    LMCFG_ASSIGN_OR_RETURN(auto written, write_line(archive, opt.db, line));
+    paths.insert(paths.end(), written.begin(), written.end());
   }
   LMCFG_ASSIGN_OR_RETURN(run.commit, archive.commit(paths, commit_message(run)));
   return run;
@@ -273,7 +283,7 @@ Result<FleetRun> fleet_backup(const Inventory& inv, Archive& archive, const Flee
 
 Result<FleetRun> fleet_status(const Inventory& inv, const Archive& archive,
                               const FleetOptions& opt) {
-  std::vector<LiveRead> reads;
+  std::vector<LineRun> reads;
   return read_and_compare(inv, archive, opt, reads);
 }
 

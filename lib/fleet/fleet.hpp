@@ -57,6 +57,29 @@ struct FleetRun {
   std::size_t count(DriveResult::Status s) const;
 };
 
+// One line's part of a run: the worker body shared by fleet_backup,
+// fleet_status and lmcfg serve (one worker per line, drives in sequence).
+struct LineRun {
+  std::vector<const DriveEntry*> entries;                   // the drives read, inventory order
+  std::vector<DriveResult> drives;                          // one per entry
+  std::vector<std::optional<config::DriveConfig>> configs;  // live reads; nullopt = failed
+  client::Stats stats;                                      // the line session's telegrams
+  double seconds = 0;
+};
+// Reads the drives of `line` (those named in `only`, else all) over one session
+// opened with `link` (ops::open_session, the port path of every fleet command).
+// Never throws: a failure is the drives' error.
+LineRun read_line(const LineEntry& line, const ops::LinkOptions& link, const FleetOptions& opt,
+                  const std::vector<std::string>& only = {});
+// Compares each read of `run` with its archived file at `rev`, leaving out the
+// drive's ignored UPIDs (ignored_upids); sets each drive's status.
+Result<void> compare_line(const LineEntry& line, const Archive& archive, const std::string& rev,
+                          const db::Database& db, LineRun& run);
+// Writes the files of the changed and new drives of `run` into the archive's
+// work tree; returns their archive paths (to commit).
+Result<std::vector<std::string>> write_line(Archive& archive, const db::Database& db,
+                                            const LineRun& run);
+
 // Backs up every drive: writes <archive>/<name>.json for new and changed ones
 // (canonical JSON), keeps a failed drive's file, commits once with
 // commit_message(). A run where nothing changed makes no commit.
@@ -73,6 +96,10 @@ std::string render_text(const FleetRun& run, bool status);
 std::string render_json(const FleetRun& run, bool status);
 
 // The archive path of a position: "<name>.json".
+// A difference by kind for messages and JSON: "2 parameters, 0 curves, 0 CT entries".
+std::string counts_line(const DriveResult& r);
+// One difference as the commit message says it: "MC 13A2h P Gain ...: 40 -> 1234".
+std::string item_line(const ops::DiffItem& it);
 std::string archive_path(const DriveEntry& d);
 
 struct FleetRestore {

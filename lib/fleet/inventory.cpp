@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "common/bytes.hpp"
+#include "config/io_common.hpp"
 
 namespace lmcfg::fleet {
 namespace {
@@ -65,12 +66,60 @@ class Checker {
     return std::nullopt;
   }
 
+  // `ignore = ["1037h", "13A2"]`: UPIDs as 4 hex digits, an 'h' after them optional.
+  std::vector<std::uint16_t> upids(const toml::table& t, std::string_view key) {
+    std::vector<std::uint16_t> out;
+    const toml::node* n = t.get(key);
+    if (!n) return out;
+    const toml::array* a = n->as_array();
+    if (!a) {
+      problem(n->source(),
+              "'" + std::string(key) + "' must be an array of UPIDs, e.g. [\"1037h\"]");
+      return out;
+    }
+    for (const auto& e : *a) {
+      auto s = e.value<std::string>();
+      std::optional<std::uint16_t> upid;
+      if (s && e.is_string()) {
+        std::string_view v = *s;
+        if (!v.empty() && (v.back() == 'h' || v.back() == 'H')) v.remove_suffix(1);
+        upid = config::detail::parse_upid_hex(v);
+      }
+      if (!upid) {
+        problem(e.source(), "'" + std::string(key) + "': " +
+                                (s && e.is_string() ? "'" + *s + "'" : std::string("a value")) +
+                                " is not a UPID (4 hex digits, e.g. \"1037h\")");
+        continue;
+      }
+      out.push_back(*upid);
+    }
+    return out;
+  }
+
+  std::optional<std::chrono::seconds> duration(const toml::table& t, std::string_view key) {
+    const toml::node* n = t.get(key);
+    if (!n) return std::nullopt;
+    auto s = n->value<std::string>();
+    if (!s || !n->is_string()) {
+      problem(n->source(), "'" + std::string(key) + "' must be a string such as \"6h\"");
+      return std::nullopt;
+    }
+    auto d = parse_duration(*s);
+    if (!d.ok()) {
+      problem(n->source(), "'" + std::string(key) + "': " + d.error().message);
+      return std::nullopt;
+    }
+    return *d;
+  }
+
  private:
   std::string file_;
   std::vector<std::string> problems_;
 };
 
-constexpr std::string_view kRootKeys[] = {"line"};
+constexpr std::string_view kRootKeys[] = {"line", "schedule", "notify"};
+constexpr std::string_view kScheduleKeys[] = {"backup_every", "status_every"};
+constexpr std::string_view kNotifyKeys[] = {"webhook", "command"};
 constexpr std::string_view kLineKeys[] = {"name",
                                           "port",
                                           "baud",
@@ -82,8 +131,9 @@ constexpr std::string_view kLineKeys[] = {"name",
                                           "retries",
                                           "settle_ms",
                                           "agreeing_reads",
+                                          "ignore",
                                           "drive"};
-constexpr std::string_view kDriveKeys[] = {"name", "id", "labels"};
+constexpr std::string_view kDriveKeys[] = {"name", "id", "labels", "ignore"};
 
 void read_drive(Checker& c, const toml::table& t, LineEntry& line) {
   const std::string where = "drive of line '" + line.name + "'";
@@ -120,6 +170,7 @@ void read_drive(Checker& c, const toml::table& t, LineEntry& line) {
       }
     }
   }
+  d.ignore = c.upids(t, "ignore");
   line.drives.push_back(std::move(d));
 }
 
@@ -139,6 +190,7 @@ void read_line(Checker& c, const toml::table& t, std::size_t index, Inventory& i
   line.parity = c.string(t, "parity", "", false);
   line.checksum = c.string(t, "checksum", "", false);
   line.checksum_coverage = c.string(t, "checksum_coverage", "", false);
+  line.ignore = c.upids(t, "ignore");
   if (const toml::node* drives = t.get("drive")) {
     const toml::array* a = drives->as_array();
     if (!a || !a->is_array_of_tables()) {
@@ -151,6 +203,39 @@ void read_line(Checker& c, const toml::table& t, std::size_t index, Inventory& i
     c.problem(t.source(), "line '" + line.name + "' has no drives ([[line.drive]])");
   }
   inv.lines.push_back(std::move(line));
+}
+
+// [schedule] and [notify] (docs/serve.md).
+void read_service_tables(Checker& c, const toml::table& root, Inventory& inv) {
+  if (const toml::node* n = root.get("schedule")) {
+    if (!n->is_table()) {
+      c.problem(n->source(), "'schedule' must be a table ([schedule])");
+    } else {
+      c.known_keys(*n->as_table(), kScheduleKeys, "[schedule]");
+      inv.schedule.backup_every = c.duration(*n->as_table(), "backup_every");
+      inv.schedule.status_every = c.duration(*n->as_table(), "status_every");
+    }
+  }
+  if (const toml::node* n = root.get("notify")) {
+    if (!n->is_table()) {
+      c.problem(n->source(), "'notify' must be a table ([notify])");
+      return;
+    }
+    const toml::table& t = *n->as_table();
+    c.known_keys(t, kNotifyKeys, "[notify]");
+    if (auto w = c.string(t, "webhook", "[notify]", false)) {
+      if (w->rfind("http://", 0) != 0 && w->rfind("https://", 0) != 0)
+        c.problem(t.get("webhook")->source(),
+                  "'webhook' must be an http:// or https:// URL, not '" + *w + "'");
+      inv.notify.webhook = *w;
+    }
+    if (auto cmd = c.string(t, "command", "[notify]", false)) {
+      if (cmd->empty() || cmd->front() != '/')
+        c.problem(t.get("command")->source(),
+                  "'command' must be an absolute path to a program, not '" + *cmd + "'");
+      inv.notify.command = *cmd;
+    }
+  }
 }
 
 void check_unique(Checker& c, const Inventory& inv) {
@@ -197,6 +282,42 @@ const DriveEntry* Inventory::find_drive(std::string_view name, const LineEntry**
     }
   }
   return nullptr;
+}
+
+Result<std::chrono::seconds> parse_duration(std::string_view text) {
+  const std::string expected =
+      "'" + std::string(text) +
+      "' is not a duration (a whole number > 0 and a unit s, m, h or d, e.g. \"15m\", \"6h\")";
+  if (text.size() < 2) return Error(Errc::invalid_argument, expected);
+  const auto digits = text.substr(0, text.size() - 1);
+  if (digits.size() > 9 || digits.find_first_not_of("0123456789") != std::string_view::npos)
+    return Error(Errc::invalid_argument, expected);
+  const std::int64_t n = std::stoll(std::string(digits));
+  std::int64_t unit = 0;
+  switch (text.back()) {
+    case 's':
+      unit = 1;
+      break;
+    case 'm':
+      unit = 60;
+      break;
+    case 'h':
+      unit = 3600;
+      break;
+    case 'd':
+      unit = 86400;
+      break;
+    default:
+      return Error(Errc::invalid_argument, expected);
+  }
+  if (n == 0) return Error(Errc::invalid_argument, expected);
+  return std::chrono::seconds(n * unit);
+}
+
+std::vector<std::uint16_t> ignored_upids(const LineEntry& line, const DriveEntry& d) {
+  std::vector<std::uint16_t> all = line.ignore;
+  all.insert(all.end(), d.ignore.begin(), d.ignore.end());
+  return all;
 }
 
 Result<void> check_position_name(std::string_view name) {
@@ -261,6 +382,7 @@ Result<Inventory> parse_inventory(std::string_view text, std::string path) {
   Inventory inv;
   inv.path = path;
   c.known_keys(root, kRootKeys, "the inventory");
+  read_service_tables(c, root, inv);
   const toml::node* lines = root.get("line");
   const toml::array* a = lines ? lines->as_array() : nullptr;
   if (!lines) {

@@ -16,6 +16,7 @@
 // unknown keys, wrong value types, names that are not archive paths,
 // duplicate drive names in the plant, duplicate line names, duplicate MACIDs
 // on a line. Every problem is reported as "FILE:LINE:COLUMN: what".
+#include <chrono>
 #include <cstdint>
 #include <map>
 #include <optional>
@@ -37,6 +38,9 @@ struct DriveEntry {
   std::string name;  // position in the machine; the archive file is <name>.json
   std::uint8_t id = 0x11;
   std::map<std::string, std::string> labels;
+  // UPIDs never compared (live or volatile values): `ignore = ["1037h"]`, with
+  // the line's list added.
+  std::vector<std::uint16_t> ignore;
   Position at;
 };
 
@@ -48,13 +52,28 @@ struct LineEntry {
   std::string port;
   std::optional<std::int64_t> baud, stop_bits, timeout_ms, retries, settle_ms, agreeing_reads;
   std::optional<std::string> parity, checksum, checksum_coverage;
+  std::vector<std::uint16_t> ignore;  // for every drive of the line
   std::vector<DriveEntry> drives;
   Position at;
+};
+
+// [schedule] (lmcfg serve, docs/serve.md): how often the service backs up and
+// checks for drift; unset = never by schedule (the API can still ask).
+struct Schedule {
+  std::optional<std::chrono::seconds> backup_every, status_every;
+};
+
+// [notify] (lmcfg serve): where state changes go. Empty = nowhere.
+struct Notify {
+  std::string webhook;  // http:// or https:// URL, POSTed a JSON object
+  std::string command;  // a program run with the JSON object on stdin
 };
 
 struct Inventory {
   std::string path;
   std::vector<LineEntry> lines;
+  Schedule schedule;
+  Notify notify;
   std::size_t drive_count() const;
   // nullptr when no drive has that name.
   const DriveEntry* find_drive(std::string_view name, const LineEntry** line = nullptr) const;
@@ -72,6 +91,13 @@ Result<Inventory> load_inventory(const std::string& path);
 // gateway that does not answer fails its line's drives at run time.
 // Errc::validation_failed with every problem and its position.
 Result<void> check_ports(const Inventory& inv);
+
+// "15m", "6h", "1d", "30s": a whole number > 0 and one unit of s, m, h, d.
+// Errc::invalid_argument saying what is expected.
+Result<std::chrono::seconds> parse_duration(std::string_view text);
+
+// The UPIDs a drive's comparison skips: its own `ignore` and its line's.
+std::vector<std::uint16_t> ignored_upids(const LineEntry& line, const DriveEntry& d);
 
 // Whether `name` can be a position name: segments of [A-Za-z0-9._-] separated
 // by '/', none empty, "." or "..". The message says what is wrong.

@@ -6,6 +6,7 @@
 
 #include "command.hpp"
 #include "fleet/fleet.hpp"
+#include "fleet_cli.hpp"
 #include "link_options.hpp"
 #include "ops/interrupt.hpp"
 #include "restore_flow.hpp"
@@ -20,44 +21,8 @@ struct FleetCli {
   RestoreFlags flags;
 };
 
-// The line's link settings, checked as the command-line options are; a bad
-// value is reported at the line's position in the inventory.
-Result<std::vector<ops::LinkOptions>> line_links(const fleet::Inventory& inv,
-                                                 const CommonOptions& base) {
-  std::vector<ops::LinkOptions> links;
-  for (const auto& l : inv.lines) {
-    CommonOptions c = base;
-    c.port = l.port;
-    auto set_int = [&](const std::optional<std::int64_t>& v, auto& field) {
-      if (v)
-        field = static_cast<std::remove_reference_t<decltype(field)>>(
-            std::clamp<std::int64_t>(*v, -1, 100'000'000));
-    };
-    set_int(l.baud, c.baud);
-    set_int(l.stop_bits, c.stop_bits);
-    set_int(l.timeout_ms, c.timeout_ms);
-    set_int(l.retries, c.retries);
-    set_int(l.settle_ms, c.settle_ms);
-    if (l.agreeing_reads) c.agreeing_reads = std::to_string(*l.agreeing_reads);
-    if (l.parity) c.parity = *l.parity;
-    if (l.checksum) c.checksum = *l.checksum;
-    if (l.checksum_coverage) c.checksum_coverage = *l.checksum_coverage;
-    auto opt = link_options(c);
-    if (!opt.ok()) {
-      return Error(opt.error().code,
-                   l.at.str() + ": line '" + l.name + "': " + opt.error().message);
-    }
-    opt->client.on_long_wait = nullptr;  // lines run in parallel: no shared progress line
-    links.push_back(std::move(opt).value());
-  }
-  return links;
-}
-
 Result<fleet::Inventory> load_checked(const FleetCli& o) {
-  LMCFG_ASSIGN_OR_RETURN(auto inv, fleet::load_inventory(o.inventory));
-  LMCFG_TRY(line_links(inv, o.common));
-  LMCFG_TRY(fleet::check_ports(inv));
-  return inv;
+  return load_checked_inventory(o.inventory, o.common);
 }
 
 int run_check(const FleetCli& o) {
@@ -166,6 +131,47 @@ CLI::App* add_part(CLI::App* fleet, const char* name, const char* help, FleetCli
 }
 
 }  // namespace
+
+// The line's link settings, checked as the command-line options are; a bad
+// value is reported at the line's position in the inventory.
+Result<std::vector<ops::LinkOptions>> line_links(const fleet::Inventory& inv,
+                                                 const CommonOptions& base) {
+  std::vector<ops::LinkOptions> links;
+  for (const auto& l : inv.lines) {
+    CommonOptions c = base;
+    c.port = l.port;
+    auto set_int = [&](const std::optional<std::int64_t>& v, auto& field) {
+      if (v)
+        field = static_cast<std::remove_reference_t<decltype(field)>>(
+            std::clamp<std::int64_t>(*v, -1, 100'000'000));
+    };
+    set_int(l.baud, c.baud);
+    set_int(l.stop_bits, c.stop_bits);
+    set_int(l.timeout_ms, c.timeout_ms);
+    set_int(l.retries, c.retries);
+    set_int(l.settle_ms, c.settle_ms);
+    if (l.agreeing_reads) c.agreeing_reads = std::to_string(*l.agreeing_reads);
+    if (l.parity) c.parity = *l.parity;
+    if (l.checksum) c.checksum = *l.checksum;
+    if (l.checksum_coverage) c.checksum_coverage = *l.checksum_coverage;
+    auto opt = link_options(c);
+    if (!opt.ok()) {
+      return Error(opt.error().code,
+                   l.at.str() + ": line '" + l.name + "': " + opt.error().message);
+    }
+    opt->client.on_long_wait = nullptr;  // lines run in parallel: no shared progress line
+    links.push_back(std::move(opt).value());
+  }
+  return links;
+}
+
+Result<fleet::Inventory> load_checked_inventory(const std::string& path,
+                                                const CommonOptions& base) {
+  LMCFG_ASSIGN_OR_RETURN(auto inv, fleet::load_inventory(path));
+  LMCFG_TRY(line_links(inv, base));
+  LMCFG_TRY(fleet::check_ports(inv));
+  return inv;
+}
 
 void add_fleet(CLI::App& app, int& exit_code) {
   auto o = std::make_shared<FleetCli>();

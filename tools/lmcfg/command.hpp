@@ -36,5 +36,6 @@ void add_convert(CLI::App& app, int& exit_code);
 void add_scan(CLI::App& app, int& exit_code);
 void add_sim(CLI::App& app, int& exit_code);
 void add_fleet(CLI::App& app, int& exit_code);
+void add_serve(CLI::App& app, int& exit_code);
 
 }  // namespace lmcfg::cli

@@ -1,0 +1,159 @@
+#include "serve/http.hpp"
+
+#include <httplib.h>
+
+namespace lmcfg::serve {
+
+Result<ListenAddress> parse_listen(const std::string& text) {
+  const std::string expected =
+      "--listen '" + text + "' is not HOST:PORT (e.g. 127.0.0.1:8470, [::1]:8470; PORT 0..65535)";
+  ListenAddress a;
+  const auto colon = text.rfind(':');
+  if (colon == std::string::npos || colon == 0) return Error(Errc::invalid_argument, expected);
+  a.host = text.substr(0, colon);
+  if (a.host.size() >= 2 && a.host.front() == '[' && a.host.back() == ']')
+    a.host = a.host.substr(1, a.host.size() - 2);
+  const std::string digits = text.substr(colon + 1);
+  if (digits.empty() || digits.size() > 5 ||
+      digits.find_first_not_of("0123456789") != std::string::npos || std::stoi(digits) > 65535)
+    return Error(Errc::invalid_argument, expected);
+  a.port = std::stoi(digits);
+  return a;
+}
+
+bool is_loopback(const std::string& host) {
+  return host == "localhost" || host == "::1" || host.rfind("127.", 0) == 0;
+}
+
+struct HttpServer::Impl {
+  Service& service;
+  HttpOptions opt;
+  httplib::Server server;
+  Impl(Service& s, HttpOptions o) : service(s), opt(std::move(o)) {}
+
+  void log(const std::string& s) const {
+    if (opt.log) opt.log(s);
+  }
+
+  static int status_of(const Error& e) {
+    if (e.code == Errc::not_found) return 404;
+    if (e.code == Errc::interrupted) return 503;  // the service is stopping
+    if (e.code == Errc::invalid_argument) return 400;
+    return 500;
+  }
+  // {"error": message, "exit_code": N}: N is the CLI's exit code for the same error.
+  static void error(httplib::Response& res, int status, const std::string& message, int exit_code) {
+    res.status = status;
+    res.set_content(Json{{"error", message}, {"exit_code", exit_code}}.dump() + "\n",
+                    "application/json");
+  }
+  void error(httplib::Response& res, const Error& e) const {
+    error(res, status_of(e), e.message, opt.exit_code ? opt.exit_code(e) : 70);
+  }
+  static void json(httplib::Response& res, const Json& j, int status = 200) {
+    res.status = status;
+    res.set_content(j.dump(2) + "\n", "application/json");
+  }
+
+  // true: allowed; false: the 401 or 403 answer is written.
+  bool authorized(const httplib::Request& req, httplib::Response& res) const {
+    if (!opt.tokens) return true;
+    const auto header = req.get_header_value("Authorization");
+    constexpr std::string_view kBearer = "Bearer ";
+    if (header.rfind(kBearer, 0) != 0) {
+      res.set_header("WWW-Authenticate", "Bearer");
+      error(res, 401, "a bearer token is needed (Authorization: Bearer TOKEN)", 2);
+      return false;
+    }
+    const TokenEntry* who =
+        find_token(*opt.tokens, std::string_view(header).substr(kBearer.size()));
+    if (!who) {
+      res.set_header("WWW-Authenticate", "Bearer error=\"invalid_token\"");
+      error(res, 401, "the bearer token is not in the tokens file", 2);
+      return false;
+    }
+    if (req.method != "GET" && req.method != "HEAD" && who->role != Role::operator_) {
+      error(res, 403,
+            "token '" + who->name + "' has role viewer: " + req.method + " needs role operator", 2);
+      return false;
+    }
+    return true;
+  }
+
+  void routes() {
+    auto guard = [this](auto handler) {
+      return [this, handler](const httplib::Request& req, httplib::Response& res) {
+        if (authorized(req, res)) handler(req, res);
+      };
+    };
+    server.Get("/metrics", guard([this](const httplib::Request&, httplib::Response& res) {
+                 res.set_content(service.metrics(), "text/plain; version=0.0.4; charset=utf-8");
+               }));
+    server.Get("/api/v1/drives", guard([this](const httplib::Request&, httplib::Response& res) {
+                 json(res, service.drives());
+               }));
+    // Drive names contain '/', so {name} is the rest of the path; the
+    // /history and /backup endpoints are the same path with a suffix.
+    server.Get(R"(/api/v1/drives/(.+)/history)",
+               guard([this](const httplib::Request& req, httplib::Response& res) {
+                 auto h = service.history(req.matches[1]);
+                 h.ok() ? json(res, *h) : error(res, h.error());
+               }));
+    server.Get(R"(/api/v1/drives/(.+))",
+               guard([this](const httplib::Request& req, httplib::Response& res) {
+                 auto d = service.drive(req.matches[1]);
+                 d.ok() ? json(res, *d) : error(res, d.error());
+               }));
+    server.Post(R"(/api/v1/drives/(.+)/backup)",
+                guard([this](const httplib::Request& req, httplib::Response& res) {
+                  auto id = service.backup_drive(req.matches[1]);
+                  id.ok() ? json(res, Json{{"job", *id}}, 202) : error(res, id.error());
+                }));
+    server.Post(R"(/api/v1/lines/(.+)/backup)",
+                guard([this](const httplib::Request& req, httplib::Response& res) {
+                  auto id = service.backup_line(req.matches[1]);
+                  id.ok() ? json(res, Json{{"job", *id}}, 202) : error(res, id.error());
+                }));
+    server.Get(R"(/api/v1/jobs/([0-9]+))",
+               guard([this](const httplib::Request& req, httplib::Response& res) {
+                 auto j = service.job(req.matches[1]);
+                 j.ok() ? json(res, *j) : error(res, j.error());
+               }));
+    server.set_error_handler([](const httplib::Request& req, httplib::Response& res) {
+      if (!res.body.empty()) return;  // a handler's own answer
+      if (res.status == 413) {
+        error(res, 413, "request body too large", 2);
+      } else if (res.status == 404) {
+        error(res, 404, "no such resource: " + req.method + " " + req.path, 2);
+      } else {
+        error(res, res.status, "HTTP " + std::to_string(res.status), 2);
+      }
+    });
+    server.set_logger([this](const httplib::Request& req, const httplib::Response& res) {
+      log("http " + req.remote_addr + " " + req.method + " " + req.path + " " +
+          std::to_string(res.status));
+    });
+    server.set_payload_max_length(opt.max_body);
+  }
+};
+
+HttpServer::HttpServer(Service& service, HttpOptions opt)
+    : impl_(std::make_unique<Impl>(service, std::move(opt))) {
+  impl_->routes();
+}
+HttpServer::~HttpServer() = default;
+
+Result<int> HttpServer::bind() {
+  const auto& a = impl_->opt.listen;
+  const int port = a.port == 0 ? impl_->server.bind_to_any_port(a.host.c_str())
+                               : (impl_->server.bind_to_port(a.host.c_str(), a.port) ? a.port : -1);
+  if (port < 0)
+    return Error(Errc::io_error, "cannot listen on " + a.host + ":" + std::to_string(a.port) +
+                                     " (address in use or not on this host)");
+  return port;
+}
+
+void HttpServer::serve() { impl_->server.listen_after_bind(); }
+void HttpServer::stop() { impl_->server.stop(); }
+
+}  // namespace lmcfg::serve

@@ -1,0 +1,53 @@
+#pragma once
+// The HTTP side of lmcfg serve (docs/serve.md "API"): cpp-httplib's server,
+// a thin adapter from routes to Service calls. Authorization: with tokens, a
+// bearer token is required (viewer: GET, operator: also POST); without, every
+// client is an operator, which only a loopback address makes acceptable (the
+// tool refuses anything else).
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "common/result.hpp"
+#include "serve/service.hpp"
+#include "serve/tokens.hpp"
+
+namespace lmcfg::serve {
+
+struct ListenAddress {
+  std::string host;
+  int port = 8470;
+};
+// "127.0.0.1:8470", "[::1]:8470", "localhost:0" (0: any free port).
+// Errc::invalid_argument saying what is expected.
+Result<ListenAddress> parse_listen(const std::string& text);
+// 127.0.0.0/8, ::1 and "localhost".
+bool is_loopback(const std::string& host);
+
+struct HttpOptions {
+  ListenAddress listen;
+  std::optional<std::vector<TokenEntry>> tokens;  // nullopt: no authorization
+  std::size_t max_body = 4096;                    // request bodies above are refused (413)
+  std::function<void(const std::string&)> log;
+  std::function<int(const Error&)> exit_code;  // the CLI's exit code of an error (for "exit_code")
+};
+
+class HttpServer {
+ public:
+  HttpServer(Service& service, HttpOptions opt);
+  ~HttpServer();
+  // Binds the address; the port bound (the free one chosen for port 0).
+  // Errc::io_error naming the address when it cannot be bound.
+  Result<int> bind();
+  // Serves until stop() (from another thread).
+  void serve();
+  void stop();
+
+  struct Impl;
+
+ private:
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace lmcfg::serve

@@ -1,0 +1,140 @@
+#include "serve/notify.hpp"
+
+#include <httplib.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <chrono>
+#include <cstring>
+
+namespace lmcfg::serve {
+
+Result<void> run_with_stdin(const std::string& program, const std::string& input) {
+  int fds[2];
+  if (::pipe2(fds, O_CLOEXEC) != 0)
+    return Error(Errc::io_error, "notify command " + program + ": pipe: " + std::strerror(errno));
+  const pid_t pid = ::fork();
+  if (pid < 0) {
+    ::close(fds[0]);
+    ::close(fds[1]);
+    return Error(Errc::io_error, "notify command " + program + ": fork: " + std::strerror(errno));
+  }
+  if (pid == 0) {
+    ::dup2(fds[0], STDIN_FILENO);
+    char* argv[] = {const_cast<char*>(program.c_str()), nullptr};
+    ::execv(program.c_str(), argv);
+    ::_exit(127);
+  }
+  ::close(fds[0]);
+  // A command that exits without reading must not end the service (SIGPIPE).
+  ::signal(SIGPIPE, SIG_IGN);
+  std::size_t off = 0;
+  while (off < input.size()) {
+    const auto n = ::write(fds[1], input.data() + off, input.size() - off);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) break;
+    off += static_cast<std::size_t>(n);
+  }
+  ::close(fds[1]);
+  int status = 0;
+  while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  }
+  if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return {};
+  if (WIFEXITED(status) && WEXITSTATUS(status) == 127)
+    return Error(Errc::io_error, "notify command " + program + " could not be run (exit 127)");
+  return Error(Errc::io_error,
+               "notify command " + program + " failed (" +
+                   (WIFEXITED(status) ? "exit " + std::to_string(WEXITSTATUS(status))
+                                      : "signal " + std::to_string(WTERMSIG(status))) +
+                   ")");
+}
+
+Result<void> post_json(const std::string& url, const std::string& json) {
+  // scheme://host[:port]/path: httplib's Client takes the first part, Post the path.
+  const auto scheme_end = url.find("://");
+  const auto path_at = url.find('/', scheme_end == std::string::npos ? 0 : scheme_end + 3);
+  const std::string base = url.substr(0, path_at);
+  const std::string path = path_at == std::string::npos ? "/" : url.substr(path_at);
+  httplib::Client client(base);
+  client.set_connection_timeout(5);
+  client.set_read_timeout(10);
+  client.set_write_timeout(10);
+  auto res = client.Post(path.c_str(), json, "application/json");
+  if (!res) return Error(Errc::io_error, "webhook " + url + ": " + httplib::to_string(res.error()));
+  if (res->status < 200 || res->status > 299)
+    return Error(Errc::io_error, "webhook " + url + ": HTTP " + std::to_string(res->status));
+  return {};
+}
+
+Notifier::Notifier(NotifyOptions opt) : opt_(std::move(opt)), thread_([this] { run(); }) {}
+
+Notifier::~Notifier() {
+  {
+    std::lock_guard<std::mutex> lock(mu_);
+    stopping_ = true;
+  }
+  cv_.notify_all();
+  thread_.join();
+}
+
+void Notifier::send(std::string json) {
+  {
+    std::lock_guard<std::mutex> lock(mu_);
+    queue_.push_back(std::move(json));
+  }
+  cv_.notify_all();
+}
+
+void Notifier::flush() {
+  std::unique_lock<std::mutex> lock(mu_);
+  cv_.wait(lock, [this] { return queue_.empty() && !busy_; });
+}
+
+void Notifier::run() {
+  auto log = [this](const std::string& s) {
+    if (opt_.log) opt_.log(s);
+  };
+  std::unique_lock<std::mutex> lock(mu_);
+  for (;;) {
+    cv_.wait(lock, [this] { return stopping_ || !queue_.empty(); });
+    if (queue_.empty()) return;  // stopping and nothing left
+    std::string json = std::move(queue_.front());
+    queue_.pop_front();
+    busy_ = true;
+    lock.unlock();
+    if (!opt_.command.empty()) {
+      if (auto ran = run_with_stdin(opt_.command, json + "\n"); !ran.ok()) log(ran.error().message);
+    }
+    if (!opt_.webhook.empty()) {
+      int wait_ms = opt_.backoff_ms;
+      for (int attempt = 1; attempt <= opt_.attempts; ++attempt) {
+        auto posted = post_json(opt_.webhook, json);
+        if (posted.ok()) break;
+        if (attempt == opt_.attempts) {
+          log(posted.error().message + "; gave up after " + std::to_string(attempt) +
+              " attempt(s), event dropped: " + json);
+          break;
+        }
+        log(posted.error().message + "; attempt " + std::to_string(attempt) + " of " +
+            std::to_string(opt_.attempts) + ", next in " + std::to_string(wait_ms) + " ms");
+        // Waits for the back-off, or less when the service stops.
+        std::unique_lock<std::mutex> w(mu_);
+        if (cv_.wait_for(w, std::chrono::milliseconds(wait_ms), [this] { return stopping_; })) {
+          w.unlock();
+          // Stopping: one last try without waiting, then give up.
+          if (!post_json(opt_.webhook, json).ok())
+            log("webhook " + opt_.webhook + ": stopping, event dropped: " + json);
+          break;
+        }
+        wait_ms *= 2;
+      }
+    }
+    lock.lock();
+    busy_ = false;
+    cv_.notify_all();
+  }
+}
+
+}  // namespace lmcfg::serve

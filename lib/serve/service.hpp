@@ -1,0 +1,86 @@
+#pragma once
+// lmcfg serve (docs/serve.md): the plant service over a fleet inventory and
+// its archive. Scheduled backups (commit only on change) and drift checks,
+// one worker per line (a line's drives in sequence, through lib/fleet's
+// read_line/compare_line/write_line, the same functions as `fleet backup` and
+// `fleet status`), a state per position with notifications on changes only,
+// the numbers /metrics shows and the answers of the REST API.
+//
+// The clock is the caller's: tick(now) queues the jobs due at `now`, so tests
+// drive the schedule without sleeping. The HTTP server (serve/http.hpp) is a
+// thin adapter over the public calls here.
+#include <chrono>
+#include <functional>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "common/result.hpp"
+#include "db/database.hpp"
+#include "fleet/fleet.hpp"
+#include "fleet/inventory.hpp"
+#include "ops/backup.hpp"
+#include "ops/session.hpp"
+
+namespace lmcfg::serve {
+
+using Clock = std::chrono::system_clock;
+using TimePoint = Clock::time_point;
+using Json = nlohmann::ordered_json;
+
+struct ServiceOptions {
+  fleet::Inventory inventory;
+  std::string archive;                  // the archive's directory (created when new or empty)
+  std::vector<ops::LinkOptions> links;  // one per inventory line, same order
+  std::reference_wrapper<const db::Database> db = db::Database::empty();
+  ops::BackupOptions backup;  // what to read
+  // The CLI's exit code for an error (README "Exit codes"): events and API
+  // errors carry it as their category.
+  std::function<int(const Error&)> exit_code;
+  std::function<void(const std::string&)> log;                     // one line per event, no newline
+  std::function<void(const Json&)> notify;                         // each state change (event JSON)
+  std::function<TimePoint()> clock = [] { return Clock::now(); };  // times in states and events
+};
+
+// "2026-11-24T17:20:15Z"
+std::string iso_time(TimePoint t);
+
+class Service {
+ public:
+  static Result<std::unique_ptr<Service>> create(ServiceOptions opt);
+  ~Service();  // stop() and wait for the workers
+  Service(const Service&) = delete;
+  Service& operator=(const Service&) = delete;
+
+  // Queues the scheduled jobs due at `now` on the lines' workers; the first
+  // tick runs both (a backup, then a drift check), later ones every
+  // backup_every / status_every after the previous due time.
+  void tick(TimePoint now);
+  // When a job kind is next due; nullopt when the inventory schedules none.
+  std::optional<TimePoint> next_backup() const;
+  std::optional<TimePoint> next_status() const;
+
+  // API: Errc::not_found for a name not in the inventory. The job's id.
+  Result<std::string> backup_drive(const std::string& name);
+  Result<std::string> backup_line(const std::string& line);
+  Result<Json> job(const std::string& id) const;
+  Json drives() const;
+  Result<Json> drive(const std::string& name) const;
+  Result<Json> history(const std::string& name) const;
+  // Prometheus text exposition format (version 0.0.4).
+  std::string metrics() const;
+
+  // Until every queued job has finished.
+  void wait_idle();
+  // No new jobs; each worker finishes the drive in hand (with links whose
+  // client.cancel is set, the telegram in flight) and stops.
+  void stop();
+
+  struct Impl;
+
+ private:
+  explicit Service(std::unique_ptr<Impl> impl);
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace lmcfg::serve

@@ -1,0 +1,87 @@
+#include "serve/tokens.hpp"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+
+#include "common/bytes.hpp"
+#include "serve/sha256.hpp"
+
+namespace lmcfg::serve {
+
+const char* role_name(Role r) { return r == Role::operator_ ? "operator" : "viewer"; }
+
+Result<Role> parse_role(std::string_view text) {
+  if (text == "viewer") return Role::viewer;
+  if (text == "operator") return Role::operator_;
+  return Error(Errc::invalid_argument,
+               "role '" + std::string(text) + "' is not one of viewer, operator");
+}
+
+Result<std::vector<TokenEntry>> load_tokens(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) return Error(Errc::file_error, path + ": cannot open the tokens file");
+  std::vector<TokenEntry> out;
+  std::string line;
+  for (int n = 1; std::getline(in, line); ++n) {
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream words(line);
+    TokenEntry e;
+    std::string role, extra;
+    words >> e.name >> role >> e.hash;
+    auto r = parse_role(role);
+    if (e.hash.size() != 64 || (words >> extra) || !r.ok()) {
+      return Error(Errc::parse_error, path + ":" + std::to_string(n) +
+                                          ": expected NAME ROLE SHA256 (written by lmcfg serve "
+                                          "token add)");
+    }
+    e.role = *r;
+    out.push_back(std::move(e));
+  }
+  return out;
+}
+
+Result<std::string> add_token(const std::string& path, const std::string& name, Role role) {
+  if (name.empty() || name.find_first_of(" \t\r\n#") != std::string::npos)
+    return Error(Errc::invalid_argument,
+                 "token name '" + name + "' must be one word without blanks or '#'");
+  if (::access(path.c_str(), F_OK) == 0) {
+    LMCFG_ASSIGN_OR_RETURN(auto existing, load_tokens(path));
+    for (const auto& e : existing)
+      if (e.name == name)
+        return Error(Errc::invalid_argument,
+                     path + ": a token named '" + name + "' exists already");
+  }
+  std::uint8_t raw[32];
+  std::ifstream rnd("/dev/urandom", std::ios::binary);
+  if (!rnd.read(reinterpret_cast<char*>(raw), sizeof raw))
+    return Error(Errc::io_error, "/dev/urandom: cannot read random bytes for the token");
+  std::string token = to_hex(ByteView(raw, sizeof raw), '\0');
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0600);
+  if (fd < 0) return Error(Errc::file_error, path + ": " + std::strerror(errno));
+  const std::string line = name + " " + role_name(role) + " " + sha256_hex(token) + "\n";
+  const bool ok = ::write(fd, line.data(), line.size()) == static_cast<ssize_t>(line.size());
+  const int saved = errno;
+  ::close(fd);
+  if (!ok) return Error(Errc::file_error, path + ": " + std::strerror(saved));
+  return token;
+}
+
+const TokenEntry* find_token(const std::vector<TokenEntry>& tokens, std::string_view token) {
+  const std::string hash = sha256_hex(token);
+  const TokenEntry* found = nullptr;
+  for (const auto& e : tokens) {
+    // Every entry compared in full: the time taken says nothing about which matched.
+    unsigned diff = e.hash.size() == hash.size() ? 0u : 1u;
+    for (std::size_t i = 0; i < hash.size() && i < e.hash.size(); ++i)
+      diff |= static_cast<unsigned>(e.hash[i] ^ hash[i]);
+    if (diff == 0) found = &e;
+  }
+  return found;
+}
+
+}  // namespace lmcfg::serve

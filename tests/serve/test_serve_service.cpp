@@ -1,0 +1,433 @@
+// lmcfg serve's service over a simulated RS485 line (sim:A.json,B.json state
+// files changed behind its back): the schedule with an injected clock, events
+// on state changes only, the REST API over real HTTP on 127.0.0.1, bearer
+// tokens, /metrics through promtool and a webhook receiver.
+#include <httplib.h>
+
+#include <catch2/catch.hpp>
+#include <cstdlib>
+#include <mutex>
+#include <nlohmann/json.hpp>
+#include <thread>
+
+#include "files.hpp"
+#include "ops/session.hpp"
+#include "serve/http.hpp"
+#include "serve/notify.hpp"
+#include "serve/service.hpp"
+#include "serve/tokens.hpp"
+#include "sim/state_file.hpp"
+
+using namespace lmcfg;
+namespace fs = std::filesystem;
+using namespace std::chrono_literals;
+
+namespace {
+
+const std::string kFixtures = std::string(LMCFG_SOURCE_DIR) + "/tests/fixtures/sim/";
+
+// The commissioned axis at MACID `id`, with UPID `upid` set to `value` (ROM and RAM).
+void write_axis(const fs::path& path, int id, const std::string& upid = "", int value = 0) {
+  auto j = nlohmann::json::parse(test::slurp(kFixtures + "commissioned-axis.json"));
+  j["macid"] = id;
+  for (auto& p : j["parameters"])
+    if (p["upid"] == upid) p["rom"] = p["ram"] = value;
+  test::spit(path, j.dump(1));
+}
+
+struct Rig {
+  test::ScratchDir dir{"serve"};
+  serve::TimePoint now = serve::Clock::from_time_t(1'800'000'000);
+  std::mutex mu;
+  std::vector<nlohmann::json> events;
+  std::unique_ptr<serve::Service> service;
+
+  explicit Rig(const std::string& extra_toml = "") {
+    ops::register_link_scheme("sim", sim::state_file_link_factory());
+    write_axis(dir.path / "a.json", 0x11);
+    write_axis(dir.path / "b.json", 0x12);
+    const std::string text =
+        "[schedule]\nbackup_every = \"6h\"\nstatus_every = \"15m\"\n" + extra_toml +
+        "[[line]]\nname = \"line1\"\nport = \"sim:" + (dir.path / "a.json").string() + "," +
+        (dir.path / "b.json").string() +
+        "\"\nignore = [\"0020h\"]\n"
+        "[[line.drive]]\nname = \"press3/z\"\nid = 0x11\n"
+        "[[line.drive]]\nname = \"press3/x\"\nid = 0x12\n";
+    auto inv = fleet::parse_inventory(text, "plant.toml");
+    REQUIRE(inv.ok());
+    serve::ServiceOptions o;
+    o.inventory = *inv;
+    o.archive = (dir.path / "archive").string();
+    ops::LinkOptions link;
+    link.port = inv->lines[0].port;
+    o.links = {link};
+    o.exit_code = [](const Error& e) { return e.code == Errc::not_found ? 2 : 4; };
+    o.clock = [this] { return now; };
+    o.notify = [this](const serve::Json& e) {
+      std::lock_guard<std::mutex> lock(mu);
+      events.push_back(nlohmann::json::parse(e.dump()));
+    };
+    auto s = serve::Service::create(std::move(o));
+    REQUIRE(s.ok());
+    service = std::move(s).value();
+  }
+  void at(serve::TimePoint t) {
+    now = t;
+    service->tick(t);
+    service->wait_idle();
+  }
+  std::vector<nlohmann::json> take_events() {
+    std::lock_guard<std::mutex> lock(mu);
+    return std::exchange(events, {});
+  }
+};
+
+}  // namespace
+
+TEST_CASE(
+    "serve: the schedule is due at start, then every period; drift notified once, "
+    "recovered once",
+    "[serve][service]") {
+  Rig rig;
+  const auto t0 = rig.now;
+  rig.at(t0);  // first tick: a backup (the archive's first commit), then a drift check
+  CHECK(rig.service->next_backup() == t0 + 6h);
+  CHECK(rig.service->next_status() == t0 + 15min);
+  CHECK(rig.take_events().empty());  // new positions, archived: no state change to report
+  auto drives = rig.service->drives();
+  REQUIRE(drives.size() == 2);
+  CHECK(drives[0]["status"] == "ok");
+  CHECK(drives[0]["last_backup"] == "2027-01-15T08:00:00Z");
+  CHECK(drives[1]["last_attempt"]["job"] == "status");
+  REQUIRE(rig.service->job("1").ok());
+  CHECK((*rig.service->job("1"))["commits"].size() == 1);
+  CHECK((*rig.service->job("2"))["kind"] == "status");
+
+  rig.at(t0 + 14min);  // nothing due
+  CHECK_FALSE(rig.service->job("3").ok());
+  CHECK(rig.service->next_status() == t0 + 15min);
+
+  // Behind the service's back: a tuned parameter on press3/x, and an ignored
+  // (volatile) UPID on press3/z.
+  write_axis(rig.dir.path / "b.json", 0x12, "0010", 7);
+  write_axis(rig.dir.path / "a.json", 0x11, "0020", 2000);
+  rig.at(t0 + 15min);
+  auto events = rig.take_events();
+  REQUIRE(events.size() == 1);
+  CHECK(events[0]["event"] == "drift");
+  CHECK(events[0]["drive"] == "press3/x");
+  CHECK(events[0]["line"] == "line1");
+  CHECK(events[0]["time"] == "2027-01-15T08:15:00Z");
+  CHECK(events[0]["job"] == "status");
+  CHECK(events[0]["parameters"] == 1);
+  CHECK(events[0]["differences"] == 1);
+  REQUIRE(events[0]["upids"].size() == 1);
+  CHECK(events[0]["upids"][0]["upid"] == "0010h");
+  CHECK(events[0]["upids"][0]["archived"] == "5");
+  CHECK(events[0]["upids"][0]["live"] == "7");
+  CHECK((*rig.service->drive("press3/x"))["status"] == "drift");
+  CHECK((*rig.service->drive("press3/x"))["differences"] == 1);
+  CHECK((*rig.service->drive("press3/z"))["status"] == "ok");
+  CHECK(rig.service->next_status() == t0 + 30min);
+
+  rig.at(t0 + 30min);  // still drifted: the same state is not notified twice
+  CHECK(rig.take_events().empty());
+  CHECK((*rig.service->drive("press3/x"))["status"] == "drift");
+
+  write_axis(rig.dir.path / "b.json", 0x12);  // put back
+  rig.at(t0 + 45min);
+  events = rig.take_events();
+  REQUIRE(events.size() == 1);
+  CHECK(events[0]["event"] == "recovered");
+  CHECK(events[0]["drive"] == "press3/x");
+  CHECK(events[0]["previous"] == "drift");
+  rig.at(t0 + 60min);
+  CHECK(rig.take_events().empty());
+
+  // A line that cannot be opened: backup_failed once, with the CLI's exit category.
+  fs::remove(rig.dir.path / "b.json");
+  rig.at(t0 + 75min);
+  rig.at(t0 + 90min);
+  events = rig.take_events();
+  REQUIRE(events.size() == 2);  // both drives of the line, once each
+  CHECK(events[0]["event"] == "backup_failed");
+  CHECK(events[0]["job"] == "status");
+  CHECK(events[0]["exit_code"] == 4);
+  CHECK(events[0]["reason"].get<std::string>().find("line 'line1'") == 0);
+  CHECK((*rig.service->drive("press3/z"))["status"] == "failed");
+  write_axis(rig.dir.path / "b.json", 0x12);
+  rig.at(t0 + 105min);
+  events = rig.take_events();
+  REQUIRE(events.size() == 2);
+  CHECK(events[0]["event"] == "recovered");
+  CHECK(events[0]["previous"] == "failed");
+}
+
+TEST_CASE("serve: a backup that finds a change commits it and says so once", "[serve][service]") {
+  Rig rig;
+  rig.at(rig.now);
+  write_axis(rig.dir.path / "a.json", 0x11, "0010", 9);
+  auto job = rig.service->backup_drive("press3/z");
+  REQUIRE(job.ok());
+  rig.service->wait_idle();
+  auto events = rig.take_events();
+  REQUIRE(events.size() == 1);
+  CHECK(events[0]["event"] == "drift");
+  CHECK(events[0]["job"] == "backup");
+  const auto j = *rig.service->job(*job);
+  CHECK(j["state"] == "done");
+  CHECK(j["scope"] == "drive press3/z");
+  CHECK(j["drives"] == 1);
+  CHECK(j["counts"]["changed"] == 1);
+  REQUIRE(j["commits"].size() == 1);
+  CHECK(events[0]["committed"] == j["commits"][0]);
+  CHECK((*rig.service->drive("press3/z"))["status"] == "ok");
+  auto history = rig.service->history("press3/z");
+  REQUIRE(history.ok());
+  REQUIRE(history->size() == 2);  // the first backup and this one
+  CHECK((*history)[0]["commit"] == j["commits"][0]);
+  CHECK((*history)[0]["message"].get<std::string>().rfind("fleet backup: 1 changed, 0 unchanged",
+                                                          0) == 0);
+  CHECK((*history)[0]["author"].get<std::string>().find('<') != std::string::npos);
+  CHECK(rig.service->history("press3/x")->size() == 1);
+  CHECK(rig.service->backup_drive("press9/q").error().message ==
+        "no drive named 'press9/q' in the inventory");
+  CHECK(rig.service->backup_line("line9").error().message ==
+        "no line named 'line9' in the inventory");
+}
+
+namespace {
+
+struct Server {
+  std::unique_ptr<serve::HttpServer> http;
+  std::thread thread;
+  int port = 0;
+  Server(serve::Service& s, std::optional<std::vector<serve::TokenEntry>> tokens = std::nullopt) {
+    serve::HttpOptions o;
+    o.listen = {"127.0.0.1", 0};
+    o.tokens = std::move(tokens);
+    o.exit_code = [](const Error& e) { return e.code == Errc::not_found ? 2 : 70; };
+    http = std::make_unique<serve::HttpServer>(s, o);
+    auto p = http->bind();
+    REQUIRE(p.ok());
+    port = *p;
+    thread = std::thread([this] { http->serve(); });
+  }
+  ~Server() {
+    http->stop();
+    thread.join();
+  }
+};
+
+}  // namespace
+
+TEST_CASE("serve: the REST API over HTTP on 127.0.0.1", "[serve][http]") {
+  Rig rig;
+  rig.at(rig.now);
+  Server server(*rig.service);
+  httplib::Client c("127.0.0.1", server.port);
+
+  auto res = c.Get("/api/v1/drives");
+  REQUIRE(res);
+  CHECK(res->status == 200);
+  auto all = nlohmann::json::parse(res->body);
+  REQUIRE(all.size() == 2);
+  CHECK(all[0]["name"] == "press3/z");
+  CHECK(all[0]["line"] == "line1");
+  CHECK(all[0]["status"] == "ok");
+  CHECK(all[0]["message"] == "matches the archive");
+  CHECK(all[0]["differences"] == 0);
+
+  res = c.Get("/api/v1/drives/press3/x");
+  REQUIRE(res);
+  CHECK(res->status == 200);
+  CHECK(nlohmann::json::parse(res->body)["name"] == "press3/x");
+
+  res = c.Get("/api/v1/drives/press3/x/history");
+  REQUIRE(res);
+  CHECK(res->status == 200);
+  CHECK(nlohmann::json::parse(res->body).size() == 1);
+
+  res = c.Get("/api/v1/drives/press9/q");
+  REQUIRE(res);
+  CHECK(res->status == 404);
+  CHECK(nlohmann::json::parse(res->body) ==
+        nlohmann::json{{"error", "no drive named 'press9/q' in the inventory"}, {"exit_code", 2}});
+
+  res = c.Post("/api/v1/lines/line1/backup", "", "application/json");
+  REQUIRE(res);
+  CHECK(res->status == 202);
+  const std::string id = nlohmann::json::parse(res->body)["job"];
+  rig.service->wait_idle();
+  res = c.Get(("/api/v1/jobs/" + id).c_str());
+  REQUIRE(res);
+  auto job = nlohmann::json::parse(res->body);
+  CHECK(job["state"] == "done");
+  CHECK(job["drives"] == 2);
+  CHECK(job["done"] == 2);
+  CHECK(job["counts"]["unchanged"] == 2);
+
+  res = c.Post("/api/v1/drives/press3/z/backup", "", "application/json");
+  REQUIRE(res);
+  CHECK(res->status == 202);
+  rig.service->wait_idle();
+
+  res = c.Get("/api/v1/jobs/999");
+  REQUIRE(res);
+  CHECK(res->status == 404);
+  CHECK(nlohmann::json::parse(res->body)["error"] == "no job 999");
+  res = c.Get("/api/v2/nothing");
+  REQUIRE(res);
+  CHECK(res->status == 404);
+  CHECK(nlohmann::json::parse(res->body)["error"] == "no such resource: GET /api/v2/nothing");
+  res = c.Post("/api/v1/lines/line1/backup", std::string(10000, 'x'), "application/json");
+  REQUIRE(res);
+  CHECK(res->status == 413);
+}
+
+TEST_CASE("serve: bearer tokens: 401 without or with a bad token, 403 for a viewer's POST",
+          "[serve][http]") {
+  Rig rig;
+  const std::string file = (rig.dir.path / "tokens").string();
+  const auto viewer = *serve::add_token(file, "grafana", serve::Role::viewer);
+  const auto op = *serve::add_token(file, "ops", serve::Role::operator_);
+  Server server(*rig.service, *serve::load_tokens(file));
+  httplib::Client c("127.0.0.1", server.port);
+
+  auto res = c.Get("/api/v1/drives");
+  REQUIRE(res);
+  CHECK(res->status == 401);
+  CHECK(nlohmann::json::parse(res->body)["error"] ==
+        "a bearer token is needed (Authorization: Bearer TOKEN)");
+  res = c.Get("/metrics", {{"Authorization", "Bearer " + std::string(64, '0')}});
+  REQUIRE(res);
+  CHECK(res->status == 401);
+  CHECK(nlohmann::json::parse(res->body)["error"] == "the bearer token is not in the tokens file");
+  res = c.Get("/api/v1/drives", {{"Authorization", "Bearer " + viewer}});
+  REQUIRE(res);
+  CHECK(res->status == 200);
+  res = c.Post("/api/v1/lines/line1/backup", {{"Authorization", "Bearer " + viewer}}, "",
+               "application/json");
+  REQUIRE(res);
+  CHECK(res->status == 403);
+  CHECK(nlohmann::json::parse(res->body) ==
+        nlohmann::json{{"error", "token 'grafana' has role viewer: POST needs role operator"},
+                       {"exit_code", 2}});
+  res = c.Post("/api/v1/lines/line1/backup", {{"Authorization", "Bearer " + op}}, "",
+               "application/json");
+  REQUIRE(res);
+  CHECK(res->status == 202);
+  rig.service->wait_idle();
+}
+
+TEST_CASE("serve: /metrics passes promtool check metrics", "[serve][metrics]") {
+  Rig rig;
+  rig.at(rig.now);
+  write_axis(rig.dir.path / "b.json", 0x12, "0010", 7);
+  rig.at(rig.now + 15min);
+  Server server(*rig.service);
+  httplib::Client c("127.0.0.1", server.port);
+  auto res = c.Get("/metrics");
+  REQUIRE(res);
+  CHECK(res->status == 200);
+  const std::string& text = res->body;
+  CHECK(text.find("lmcfg_drive_drift{drive=\"press3/x\",line=\"line1\"} 1\n") != std::string::npos);
+  CHECK(text.find("lmcfg_drive_drift{drive=\"press3/z\",line=\"line1\"} 0\n") != std::string::npos);
+  CHECK(text.find("lmcfg_drive_differences{drive=\"press3/x\",line=\"line1\"} 1\n") !=
+        std::string::npos);
+  CHECK(text.find("lmcfg_drive_last_attempt_success{drive=\"press3/x\",line=\"line1\"} 1\n") !=
+        std::string::npos);
+  CHECK(text.find("lmcfg_drive_last_backup_timestamp_seconds{drive=\"press3/x\",line=\"line1\"} "
+                  "1800000000\n") != std::string::npos);
+  CHECK(text.find("lmcfg_line_runs_total{line=\"line1\"} 3\n") != std::string::npos);
+  CHECK(text.find("lmcfg_serve_uptime_seconds 900\n") != std::string::npos);
+  CHECK(text.find("lmcfg_line_telegrams_total{line=\"line1\"} 0\n") == std::string::npos);
+
+  const bool have = std::system("command -v promtool >/dev/null 2>&1") == 0;
+  const char* require = std::getenv("LMCFG_REQUIRE_PROMTOOL");
+  if (!have && !(require && std::string(require) == "1")) {
+    WARN(
+        "SKIP: promtool not found (Debian package prometheus); set LMCFG_REQUIRE_PROMTOOL=1 to "
+        "fail instead");
+    return;
+  }
+  REQUIRE(have);
+  test::spit(rig.dir.path / "metrics.txt", text);
+  const std::string cmd = "promtool check metrics < '" + (rig.dir.path / "metrics.txt").string() +
+                          "' > '" + (rig.dir.path / "promtool.txt").string() + "' 2>&1";
+  const int rc = std::system(cmd.c_str());
+  INFO(test::slurp(rig.dir.path / "promtool.txt"));
+  CHECK(rc == 0);
+  CHECK(test::slurp(rig.dir.path / "promtool.txt").empty());
+}
+
+TEST_CASE("serve: a webhook receives the event JSON; a dead one is retried, then given up",
+          "[serve][notify]") {
+  httplib::Server receiver;
+  std::mutex mu;
+  std::vector<nlohmann::json> got;
+  receiver.Post("/hook", [&](const httplib::Request& req, httplib::Response& res) {
+    std::lock_guard<std::mutex> lock(mu);
+    got.push_back(nlohmann::json::parse(req.body));
+    res.status = 204;
+  });
+  const int port = receiver.bind_to_any_port("127.0.0.1");
+  REQUIRE(port > 0);
+  std::thread t([&] { receiver.listen_after_bind(); });
+
+  {
+    Rig rig;
+    serve::NotifyOptions no;
+    no.webhook = "http://127.0.0.1:" + std::to_string(port) + "/hook";
+    std::vector<std::string> log;
+    no.log = [&](const std::string& s) { log.push_back(s); };
+    serve::Notifier notifier(no);
+    rig.at(rig.now);
+    // The service's events go to the notifier as the tool wires them.
+    write_axis(rig.dir.path / "b.json", 0x12, "0010", 7);
+    rig.at(rig.now + 15min);
+    for (auto& e : rig.take_events()) notifier.send(e.dump());
+    notifier.flush();
+    CHECK(log.empty());
+  }
+  {
+    std::lock_guard<std::mutex> lock(mu);
+    REQUIRE(got.size() == 1);
+    CHECK(got[0]["event"] == "drift");
+    CHECK(got[0]["drive"] == "press3/x");
+    CHECK(got[0]["upids"][0]["upid"] == "0010h");
+  }
+  receiver.stop();
+  t.join();
+
+  // Nobody listening any more: three attempts (10 ms, 20 ms apart), then given up and logged.
+  serve::NotifyOptions dead;
+  dead.webhook = "http://127.0.0.1:" + std::to_string(port) + "/hook";
+  dead.attempts = 3;
+  dead.backoff_ms = 10;
+  std::vector<std::string> log;
+  dead.log = [&](const std::string& s) { log.push_back(s); };
+  serve::Notifier notifier(dead);
+  notifier.send(R"({"event":"drift"})");
+  notifier.flush();
+  REQUIRE(log.size() == 3);
+  CHECK(log[0].find("; attempt 1 of 3, next in 10 ms") != std::string::npos);
+  CHECK(log[1].find("; attempt 2 of 3, next in 20 ms") != std::string::npos);
+  CHECK(log[2].find("; gave up after 3 attempt(s), event dropped: {\"event\":\"drift\"}") !=
+        std::string::npos);
+}
+
+TEST_CASE("serve: the notify command gets the event JSON on stdin", "[serve][notify]") {
+  test::ScratchDir d("serve-command");
+  const auto script = d.path / "hook.sh";
+  test::spit(script, "#!/bin/sh\ncat > '" + (d.path / "got.json").string() + "'\n");
+  fs::permissions(script, fs::perms::owner_all);
+  REQUIRE(serve::run_with_stdin(script.string(), "{\"event\":\"recovered\"}\n").ok());
+  CHECK(test::slurp(d.path / "got.json") == "{\"event\":\"recovered\"}\n");
+  test::spit(d.path / "fail.sh", "#!/bin/sh\nexit 3\n");
+  fs::permissions(d.path / "fail.sh", fs::perms::owner_all);
+  auto failed = serve::run_with_stdin((d.path / "fail.sh").string(), "{}");
+  REQUIRE_FALSE(failed.ok());
+  CHECK(failed.error().message ==
+        "notify command " + (d.path / "fail.sh").string() + " failed (exit 3)");
+}

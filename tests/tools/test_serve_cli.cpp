@@ -1,0 +1,98 @@
+// lmcfg serve as a process: the loopback-only refusal, token add, and a real
+// service on an ephemeral port queried with curl, stopped by SIGTERM (exit 0).
+#include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
+#include <thread>
+
+#include "files.hpp"
+#include "subprocess.hpp"
+
+using namespace lmcfg;
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string curl(const fs::path& dir, const std::string& args) {
+  const std::string cmd = "cd '" + dir.string() + "' && curl -s " + args + " > curl.txt";
+  if (std::system(cmd.c_str()) != 0) return "curl failed";
+  return test::slurp(dir / "curl.txt");
+}
+
+// A plant of one simulated drive (the commissioned axis) named press/a on line l1.
+void write_plant(const fs::path& dir, const std::string& tables = "") {
+  fs::copy_file(std::string(LMCFG_SOURCE_DIR) + "/tests/fixtures/sim/commissioned-axis.json",
+                dir / "a.json");
+  test::spit(dir / "plant.toml",
+             tables + "[[line]]\nname = \"l1\"\nport = \"sim:" + (dir / "a.json").string() +
+                 "\"\n[[line.drive]]\nname = \"press/a\"\nid = 0x11\n");
+}
+
+}  // namespace
+
+TEST_CASE("serve cli: refuses a non-loopback --listen, bad roles; token add prints a token once",
+          "[serve][cli]") {
+  test::ScratchDir d("serve-cli");
+  write_plant(d.path);
+  auto r = test::run_tool_in(d.path, "serve plant.toml --archive arch --listen 0.0.0.0:8470");
+  CHECK(r.exit_code == 2);
+  CHECK(r.err ==
+        "lmcfg serve: --listen 0.0.0.0:8470 is not a loopback address: serving other hosts needs "
+        "TLS (--tls-cert/--tls-key), which is not built yet; listen on 127.0.0.1 and put a TLS "
+        "reverse proxy in front (docs/serve.md \"Security\")\n");
+  CHECK_FALSE(fs::exists(d.path / "arch"));
+  // Tokens do not make another address acceptable while there is no TLS.
+  r = test::run_tool_in(d.path,
+                        "serve plant.toml --archive arch --listen 10.0.0.5:8470 --tokens tokens");
+  CHECK(r.exit_code == 2);
+  CHECK(r.err.find("--listen 10.0.0.5:8470 is not a loopback address") != std::string::npos);
+  r = test::run_tool_in(d.path, "serve plant.toml --archive arch --listen 127.0.0.1");
+  CHECK(r.exit_code == 2);
+  CHECK(r.err ==
+        "lmcfg serve: --listen '127.0.0.1' is not HOST:PORT (e.g. 127.0.0.1:8470, [::1]:8470; "
+        "PORT 0..65535)\n");
+  r = test::run_tool_in(d.path, "serve --archive arch");
+  CHECK(r.exit_code == 2);
+  CHECK(r.err == "lmcfg serve: INVENTORY and --archive DIR are needed (see lmcfg serve --help)\n");
+  r = test::run_tool_in(d.path, "serve token add ops --role admin --tokens tokens");
+  CHECK(r.exit_code == 2);
+  CHECK(r.err == "lmcfg serve token add: role 'admin' is not one of viewer, operator\n");
+  CHECK_FALSE(fs::exists(d.path / "tokens"));
+  r = test::run_tool_in(d.path, "serve token add ops --role operator --tokens tokens");
+  CHECK(r.exit_code == 0);
+  REQUIRE(r.out.size() == 65);
+  CHECK(test::slurp(d.path / "tokens").find(r.out.substr(0, 64)) == std::string::npos);
+  CHECK(test::slurp(d.path / "tokens").rfind("ops operator ", 0) == 0);
+}
+
+TEST_CASE("serve cli: a running service answers curl with a token and stops on SIGTERM with 0",
+          "[serve][cli]") {
+  test::ScratchDir d("serve-run");
+  write_plant(d.path, "[schedule]\nbackup_every = \"1d\"\n");
+  auto tok = test::run_tool_in(d.path, "serve token add ops --role operator --tokens tokens");
+  REQUIRE(tok.exit_code == 0);
+  const std::string token = tok.out.substr(0, 64);
+  test::Child serve({LMCFG_TOOL_PATH, "serve", (d.path / "plant.toml").string(), "--archive",
+                     (d.path / "arch").string(), "--listen", "127.0.0.1:0", "--tokens",
+                     (d.path / "tokens").string(), "--db", LMCFG_DB_PATH});
+  const std::string url = serve.read_line();
+  REQUIRE(url.rfind("http://127.0.0.1:", 0) == 0);
+  CHECK(curl(d.path, "-o /dev/null -w '%{http_code}' " + url + "/api/v1/drives") == "401");
+  // The first scheduled backup runs at start: wait (bounded) for it.
+  nlohmann::json drive;
+  for (int i = 0; i < 100; ++i) {
+    drive = nlohmann::json::parse(
+        curl(d.path, "-H 'Authorization: Bearer " + token + "' " + url + "/api/v1/drives/press/a"));
+    if (drive["status"] != "unknown") break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  CHECK(drive["status"] == "ok");
+  CHECK(drive["line"] == "l1");
+  CHECK(fs::exists(d.path / "arch" / "press" / "a.json"));
+  const auto history =
+      nlohmann::json::parse(curl(d.path, "-H 'Authorization: Bearer " + token + "' " + url +
+                                             "/api/v1/drives/press/a/history"));
+  REQUIRE(history.size() == 1);
+  CHECK(history[0]["message"].get<std::string>().rfind(
+            "fleet backup: 0 changed, 0 unchanged, 1 new", 0) == 0);
+  CHECK(serve.stop() == 0);
+}

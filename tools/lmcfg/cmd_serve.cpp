@@ -1,0 +1,162 @@
+// lmcfg serve INVENTORY --archive DIR: the plant service (docs/serve.md), a
+// thin main over lib/serve: scheduled backups and drift checks, events, the
+// REST API and /metrics. lmcfg serve token add: a bearer token for the API.
+#include <chrono>
+#include <cstdio>
+#include <mutex>
+#include <thread>
+
+#include "command.hpp"
+#include "fleet_cli.hpp"
+#include "ops/interrupt.hpp"
+#include "serve/http.hpp"
+#include "serve/notify.hpp"
+#include "serve/service.hpp"
+#include "serve/tokens.hpp"
+
+namespace lmcfg::cli {
+namespace {
+
+struct ServeCli {
+  CommonOptions common;  // --db, --quiet; link settings come per line from the inventory
+  std::string inventory, archive, listen = "127.0.0.1:8470", tokens;
+  bool no_curves = false, no_ct = false, full = false;
+  std::string token_name, role;
+};
+
+// One line per event on stderr, with the time (several threads log).
+void log_line(const std::string& what) {
+  static std::mutex mu;
+  std::lock_guard<std::mutex> lock(mu);
+  std::fprintf(stderr, "%s lmcfg serve: %s\n", serve::iso_time(serve::Clock::now()).c_str(),
+               what.c_str());
+}
+
+int run_serve(const ServeCli& o) {
+  if (o.inventory.empty() || o.archive.empty())
+    return fail("serve", Error(Errc::invalid_argument,
+                               "INVENTORY and --archive DIR are needed (see lmcfg serve --help)"));
+  auto listen = serve::parse_listen(o.listen);
+  if (!listen.ok()) return fail("serve", listen.error());
+  if (!serve::is_loopback(listen->host)) {
+    return fail("serve",
+                Error(Errc::invalid_argument,
+                      "--listen " + o.listen +
+                          " is not a loopback address: serving other hosts needs TLS "
+                          "(--tls-cert/--tls-key), which is not built yet; listen on 127.0.0.1 "
+                          "and put a TLS reverse proxy in front (docs/serve.md \"Security\")"));
+  }
+  serve::HttpOptions http;
+  http.listen = *listen;
+  http.log = log_line;
+  http.exit_code = exit_code_for;
+  if (!o.tokens.empty()) {
+    auto tokens = serve::load_tokens(o.tokens);
+    if (!tokens.ok()) return fail("serve", tokens.error());
+    if (tokens->empty())
+      return fail("serve", Error(Errc::invalid_argument,
+                                 o.tokens + ": no tokens (add one with lmcfg serve token add)"));
+    http.tokens = std::move(tokens).value();
+  }
+  auto inv = load_checked_inventory(o.inventory, o.common);
+  if (!inv.ok()) return fail("serve", inv.error());
+  ops::install_interrupt_handlers();
+  serve::ServiceOptions so;
+  so.inventory = *inv;
+  so.archive = o.archive;
+  so.links = *line_links(*inv, o.common);
+  // SIGTERM/SIGINT: the telegram in flight completes, the line stops there.
+  for (auto& l : so.links) l.client.cancel = &ops::interrupt_flag();
+  const db::Database db = load_database(o.common);
+  so.db = db;
+  so.backup.curves = !o.no_curves;
+  so.backup.command_table = !o.no_ct;
+  so.backup.full = o.full;
+  so.exit_code = exit_code_for;
+  so.log = log_line;
+  serve::NotifyOptions no;
+  no.webhook = inv->notify.webhook;
+  no.command = inv->notify.command;
+  no.log = log_line;
+  serve::Notifier notifier(no);
+  so.notify = [&notifier](const serve::Json& event) { notifier.send(event.dump()); };
+  auto service = serve::Service::create(std::move(so));
+  if (!service.ok()) return fail("serve", service.error());
+  serve::HttpServer server(**service, http);
+  auto port = server.bind();
+  if (!port.ok()) return fail("serve", port.error());
+  const std::string host =
+      listen->host.find(':') != std::string::npos ? "[" + listen->host + "]" : listen->host;
+  // The address on stdout (scripts and tests started with port 0 read it), the rest on stderr.
+  std::printf("http://%s:%d\n", host.c_str(), *port);
+  std::fflush(stdout);
+  log_line("listening on http://" + host + ":" + std::to_string(*port) + " for " + o.inventory +
+           " (" + std::to_string(inv->lines.size()) + " line(s), " +
+           std::to_string(inv->drive_count()) + " drive(s)), archive " + o.archive);
+  if (!http.tokens)
+    log_line("no --tokens: every local user is an operator (GET and POST); loopback only");
+  std::thread http_thread([&server] { server.serve(); });
+  while (!ops::interrupt_flag().load()) {
+    (*service)->tick(serve::Clock::now());
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  }
+  log_line("stopping: finishing the telegram in flight on each line");
+  server.stop();
+  http_thread.join();
+  (*service)->stop();
+  service->reset();  // waits for the lines' workers
+  log_line("stopped");
+  return kOk;
+}
+
+int run_token_add(const ServeCli& o) {
+  auto role = serve::parse_role(o.role);
+  if (!role.ok()) return fail("serve token add", role.error());
+  auto token = serve::add_token(o.tokens, o.token_name, *role);
+  if (!token.ok()) return fail("serve token add", token.error());
+  std::printf("%s\n", token->c_str());
+  std::fprintf(stderr,
+               "lmcfg serve token add: token '%s' (%s) added to %s; it is shown only now, "
+               "the file keeps its SHA-256\n",
+               o.token_name.c_str(), o.role.c_str(), o.tokens.c_str());
+  return kOk;
+}
+
+}  // namespace
+
+void add_serve(CLI::App& app, int& exit_code) {
+  auto o = std::make_shared<ServeCli>();
+  auto* serve = app.add_subcommand(
+      "serve",
+      "Run the plant service: scheduled fleet backups and drift checks, REST API, metrics");
+  serve->add_option("INVENTORY", o->inventory,
+                    "inventory file (TOML, docs/fleet.md, docs/serve.md)");
+  serve->add_option("--archive", o->archive, "the archive: a git repository (created when new)");
+  serve->add_option("--listen", o->listen, "HOST:PORT to serve HTTP on (loopback only for now)")
+      ->capture_default_str();
+  serve->add_option("--tokens", o->tokens, "bearer tokens file (lmcfg serve token add)");
+  serve->add_flag("--no-curves", o->no_curves, "do not read curves");
+  serve->add_flag("--no-ct", o->no_ct, "do not read the command table");
+  serve->add_flag("--full", o->full, "read every ROM-writable UPID");
+  serve->add_option("--db", o->common.db_path, "UPID database (default: the installed one)");
+  serve->footer(
+      "Examples:\n"
+      "  lmcfg serve plant.toml --archive /var/lib/lmcfg/plant\n"
+      "  curl -s http://127.0.0.1:8470/api/v1/drives\n"
+      "  lmcfg serve token add grafana --role viewer --tokens /etc/lmcfg/tokens\n"
+      "The schedule and notifications come from the inventory's [schedule] and [notify];\n"
+      "docs/serve.md has the API, the events, the metrics and the security model.");
+  auto* token = serve->add_subcommand("token", "Manage the API's bearer tokens");
+  token->require_subcommand(1);
+  auto* add = token->add_subcommand("add", "Add a token: prints it once, stores its SHA-256");
+  add->add_option("NAME", o->token_name, "the token's name (who uses it)")->required();
+  add->add_option("--role", o->role, "viewer (GET) or operator (GET and POST)")->required();
+  add->add_option("--tokens", o->tokens, "the tokens file (created with mode 0600)")->required();
+  add->callback([o, &exit_code] { exit_code = run_token_add(*o); });
+  serve->callback([o, &exit_code, serve] {
+    if (serve->got_subcommand("token")) return;
+    exit_code = run_serve(*o);
+  });
+}
+
+}  // namespace lmcfg::cli
