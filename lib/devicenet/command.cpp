@@ -73,6 +73,18 @@ bool command_done(const Status& s, Motor m, bool sent_toggle) {
   return s.command_toggle(m) == sent_toggle;
 }
 
+bool toggle_command(std::uint8_t id) {
+  switch (id & 0x7F) {
+    case 0x13:
+    case 0x15:
+    case 0x19:
+    case 0x20:
+    case 0x22:
+      return true;
+  }
+  return false;
+}
+
 std::size_t IoLayout::command_size() const {
   return 2 * ((control_in ? 1 : 0) + (addressed_in ? 2 : 0) +
               (direct_in ? 2 * master_count(*this) : 0));

@@ -66,6 +66,15 @@ struct Status {
 bool toggle_to_send(const Status& s, Motor m);
 bool command_done(const Status& s, Motor m, bool sent_toggle);
 
+// The commands whose bit 7 §5.2 draws as the toggle ("Toggle" or "T") and
+// which say "For the execution of this command the toggle bit T in the
+// command ID has to be the inverse to the Motor x Command Toggle bit of the
+// specified drive in the status High word": Increment Position Setpoint 13h,
+// Move Home Position 15h, Set Actual Position 19h, Start Curve 20h, Start
+// Curve Incremental 22h. Every other command draws bit 7 as "X". These move
+// a drive or its position reference: never sent twice.
+bool toggle_command(std::uint8_t id);
+
 // The modules a controller is configured with (LinTalk, §5.1) and the master
 // drives that have Direct modules. The default: Control In + Addressed In
 // (6 bytes to the slave), Status Out + Addressed Out (8 bytes back).

@@ -2,12 +2,42 @@
 
 #include <chrono>
 
+#include "devicenet/catalogue.hpp"
+
 namespace lmcfg::devicenet {
 namespace {
 
 using Clock = std::chrono::steady_clock;
 
 std::string mac_name(std::uint8_t mac) { return "DeviceNet MAC ID " + std::to_string(mac); }
+
+std::optional<Motor> first_motor(const std::array<bool, 4>& motors) {
+  for (Motor m : kMotors)
+    if (motors[static_cast<std::size_t>(m)]) return m;
+  return std::nullopt;
+}
+
+// The echo shows the command, and each selected motor's Command Toggle
+// reports the toggle sent (§5.1 "Motor X Command Toggle: Actual state of the
+// command toggle bit").
+bool ran(const PollResponse& r, const CommandWord& sent) {
+  if (!(r.addressed_echo == sent)) return false;
+  for (Motor m : kMotors)
+    if (sent.motors[static_cast<std::size_t>(m)] && !command_done(r.status, m, sent.toggle))
+      return false;
+  return true;
+}
+
+// Commands that may run twice without harm: No Command, a Get, the Set of a
+// value (Table 5-1's Get + 1), the resets of the warn, error and coded error
+// states. Never the toggle commands that move a drive or its reference.
+bool may_repeat(std::uint8_t id) {
+  if (toggle_command(id)) return false;
+  if (id == 0x00 || id == 0x07 || id == 0x09 || id == 0x0B) return true;
+  const auto get = static_cast<std::uint8_t>(id & 0x7E);
+  const auto* v = value_command(get);
+  return v && (id == get || v->settable);
+}
 
 }  // namespace
 
@@ -93,6 +123,13 @@ Result<void> Master::connect() {
     return std::move(data).error();
   }
   connected_ = true;
+  // A new connection may meet a controller that restarted or served another
+  // master: the toggles are learned again, and the first poll carries No
+  // Command (harmless should it run) rather than this master's last command.
+  have_status_ = false;
+  controller_toggle_.reset();
+  last_command_.addressed = {};
+  last_command_.addressed_value = 0;
   Bytes rate;
   put_u16le(rate, opt_.expected_packet_rate_ms);
   const auto set =
@@ -167,6 +204,9 @@ Result<PollResponse> Master::poll(const PollCommand& c) {
     if (response) {
       LMCFG_ASSIGN_OR_RETURN(auto r, decode_response(opt_.layout, *response));
       status_ = r.status;
+      echo_ = r.addressed_echo;
+      have_status_ = true;
+      if (first_motor(echo_.motors) == std::nullopt) controller_toggle_ = echo_.toggle;
       return r;
     }
     if (attempt >= opt_.retries) {
@@ -184,23 +224,40 @@ Result<std::uint16_t> Master::command(std::array<bool, 4> motors, std::uint8_t i
                  "the controller's module layout has no Addressed In/Out: commands need both");
   }
   last_coded_error_ = 0;
-  if (!have_toggle_) {
-    LMCFG_ASSIGN_OR_RETURN(auto first, poll(last_command_));
-    toggle_ = first.addressed_echo.toggle;
-    have_toggle_ = true;
-  }
+  if (!have_status_) LMCFG_TRY(poll(last_command_));
+  const auto target = first_motor(motors);
   const bool error_before = status_.error_pending();
+  const CommandWord previous = echo_;
   PollCommand c = last_command_;
-  c.addressed = CommandWord{motors, !toggle_, static_cast<std::uint8_t>(id & 0x7F)};
+  // Seed 000 §5.2 (Start Curve 20h): "the toggle bit T in the command ID has
+  // to be the inverse to the Motor x Command Toggle bit of the specified drive
+  // in the status High word". The status has no toggle for the controller, so
+  // a controller-level command takes the inverse of the last controller-level
+  // echo (unknown: 1, corrected by the resend below).
+  const bool toggle = target ? toggle_to_send(status_, *target)
+                             : !(controller_toggle_ ? *controller_toggle_ : false);
+  c.addressed = CommandWord{motors, toggle, static_cast<std::uint8_t>(id & 0x7F)};
   c.addressed_value = value;
-  last_command_ = c;
-  toggle_ = c.addressed.toggle;
-  // The command executes on the toggle's change; repeating the same poll
-  // does not execute it again, so polling until the echo matches is safe.
-  constexpr int kPollsForEcho = 50;
+  // A repeated poll carries the same toggle, which the controller has already
+  // taken, so polling until the echo matches never executes a command twice.
+  bool resent = false;
+  int stale = 0;
   for (int i = 0; i < kPollsForEcho; ++i) {
+    last_command_ = c;
     LMCFG_ASSIGN_OR_RETURN(auto r, poll(c));
-    if (!(r.addressed_echo == c.addressed)) continue;
+    if (!ran(r, c.addressed)) {
+      stale = r.addressed_echo == previous ? stale + 1 : 0;
+      if (stale >= kStalePolls && !resent && may_repeat(id)) {
+        // Not taken: this controller compares the toggle with something
+        // else (one toggle for the whole module, a controller-level toggle
+        // this master has not seen). Once more with the other toggle; a Get
+        // or a Set of a value is harmless should both run.
+        c.addressed.toggle = !c.addressed.toggle;
+        resent = true;
+      }
+      continue;
+    }
+    if (!target) controller_toggle_ = c.addressed.toggle;
     if (r.status.error_pending() && !error_before && id != 0x0A) {
       auto coded = command({}, 0x0A, 0);
       const std::uint16_t code = coded.ok() ? *coded : 0;

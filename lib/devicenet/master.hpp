@@ -59,14 +59,25 @@ class Master {
   // beyond 8), the response checked against layout().response_size().
   Result<PollResponse> poll(const PollCommand& c);
 
-  // One §5.2 command on the Addressed In module: sends it with the toggle
-  // inverted, polls until the Addressed Out echo shows the same ID, motors
-  // and toggle, and returns the response value. A command after which the
-  // controller reports ERROR Pending is followed by Get Coded Error (0Ah) and
-  // Reset Coded Error (0Bh: the error is this command's, and the next command
-  // must not be blamed for it), and fails with Errc::drive_refused naming the
-  // code and its text; coded_error() then holds the code.
+  // One §5.2 command on the Addressed In module. The toggle follows seed
+  // 000's rule (docs/devicenet.md "The command toggle"): a command to a motor
+  // carries the inverse of that motor's Command Toggle in the latest status
+  // high word (one poll first when no status has been seen); a command to the
+  // controller (no motor bit) carries the inverse of the toggle of the last
+  // controller-level command the Addressed Out echo showed. It has run when
+  // the echo shows its ID, motors and toggle and, for a motor command, the
+  // motor's Command Toggle reports the toggle sent. A Get or value-Set whose
+  // echo still shows the previous command after kStalePolls good polls is
+  // sent once more with the toggle flipped (a controller whose rule differs);
+  // the toggle commands of toggle_command() never are. A command after which
+  // the controller reports ERROR Pending is followed by Get Coded Error (0Ah)
+  // and Reset Coded Error (0Bh: the error is this command's, and the next
+  // command must not be blamed for it), and fails with Errc::drive_refused
+  // naming the code and its text; coded_error() then holds the code.
   Result<std::uint16_t> command(std::array<bool, 4> motors, std::uint8_t id, std::uint16_t value);
+
+  static constexpr int kPollsForEcho = 50;
+  static constexpr int kStalePolls = 5;
 
   const Status& last_status() const { return status_; }
   std::uint16_t last_coded_error() const { return last_coded_error_; }
@@ -82,9 +93,12 @@ class Master {
   can::Link& link_;
   MasterOptions opt_;
   bool connected_ = false;
-  bool have_toggle_ = false;
-  bool toggle_ = false;
+  bool have_status_ = false;
+  // The toggle of the last controller-level command an echo showed; none
+  // seen yet: unknown.
+  std::optional<bool> controller_toggle_;
   Status status_;
+  CommandWord echo_;
   Result<void> check_connection_sizes();
   Error silence(const std::string& what);
 

@@ -48,6 +48,13 @@ const devicenet::ValueCommand* entry_of(std::uint8_t id, bool motor_given) {
 
 }  // namespace
 
+std::optional<ToggleRule> parse_toggle_rule(std::string_view name) {
+  if (name == "seed") return ToggleRule::seed;
+  if (name == "get-set-ignore") return ToggleRule::get_set_ignore_toggle;
+  if (name == "module") return ToggleRule::module_wide;
+  return std::nullopt;
+}
+
 void DeviceNetController::attach(can::VirtualBus& bus) {
   bus.attach([this](const can::Frame& f, can::VirtualBus& b) { on_frame(f, b); });
 }
@@ -86,6 +93,9 @@ void DeviceNetController::reset() {
   echo_value_ = 0;
   coded_error_ = 0;
   seen_command_ = false;
+  last_toggle_ = false;
+  controller_toggle_ = false;
+  last_word_ = last_value_ = 0;
   stopped_by_error_ = false;
   reassembler_ = {};
 }
@@ -182,6 +192,19 @@ std::uint16_t DeviceNetController::execute(const devicenet::CommandWord& w, std:
     ++selected;
     motor = m;
   }
+  // A command to one drive: 8110h unless exactly one motor is selected,
+  // 8111h unless it is a master drive of this controller.
+  const auto one_master_drive = [&] {
+    if (selected != 1) {
+      coded_error(0x8110);  // Drive not specified
+      return false;
+    }
+    if (!opt_.motors[static_cast<int>(*motor)]) {
+      coded_error(0x8111);  // Drive not master
+      return false;
+    }
+    return true;
+  };
   switch (w.id) {
     case 0x00:
       return 0;
@@ -195,6 +218,15 @@ std::uint16_t DeviceNetController::execute(const devicenet::CommandWord& w, std:
       coded_error_ = 0;
       status_.low &= static_cast<std::uint16_t>(~0x0040);
       return 0;
+    case 0x20:  // Start Curve
+    case 0x22:  // Start Curve Incremental: nothing moves here, the start is counted
+      if (!one_master_drive()) return 0;
+      if (v > 63) {
+        coded_error(0x8118);  // Range error: curves 0 to 63 (Table 5-1)
+        return 0;
+      }
+      ++curves_started_;
+      return v;
   }
   const auto* entry = entry_of(w.id, selected > 0);
   if (!entry) {
@@ -206,14 +238,7 @@ std::uint16_t DeviceNetController::execute(const devicenet::CommandWord& w, std:
     return 0;
   }
   if (entry->per_motor) {
-    if (selected != 1) {
-      coded_error(0x8110);  // Drive not specified
-      return 0;
-    }
-    if (!opt_.motors[static_cast<int>(*motor)]) {
-      coded_error(0x8111);  // Drive not master
-      return 0;
-    }
+    if (!one_master_drive()) return 0;
   } else {
     motor.reset();
   }
@@ -231,6 +256,37 @@ std::uint16_t DeviceNetController::execute(const devicenet::CommandWord& w, std:
   return v;
 }
 
+bool DeviceNetController::takes(const devicenet::CommandWord& w, std::uint16_t value) const {
+  // Seed 000 §5.2 (Start Curve 20h): "the toggle bit T in the command ID has
+  // to be the inverse to the Motor x Command Toggle bit of the specified
+  // drive in the status High word". With several motors selected, the
+  // inverse of any one's is taken. The status has no toggle for the
+  // controller (§5.1 lists "Motor X Command Toggle" only), so this firmware
+  // keeps one inside, reported only by the Addressed Out echo.
+  const auto by_seed = [&] {
+    bool any_motor = false;
+    for (Motor m : devicenet::kMotors) {
+      if (!w.motors[static_cast<int>(m)]) continue;
+      any_motor = true;
+      if (status_.command_toggle(m) != w.toggle) return true;
+    }
+    return !any_motor && w.toggle != controller_toggle_;
+  };
+  switch (opt_.toggle_rule) {
+    case ToggleRule::seed:
+      return by_seed();
+    case ToggleRule::get_set_ignore_toggle:
+      // Bit 7 is "X" (don't care) for these: a firmware that does not look at
+      // it still must not run a command again on every poll, so it takes a
+      // new one when the words change, as a PLC writes a new command.
+      if (devicenet::toggle_command(w.id)) return by_seed();
+      return w.encode() != last_word_ || value != last_value_;
+    case ToggleRule::module_wide:
+      return !seen_command_ || w.toggle != last_toggle_;
+  }
+  return false;
+}
+
 void DeviceNetController::poll(const can::Frame& f, can::VirtualBus& bus) {
   auto whole = reassembler_.feed(f.payload(), opt_.layout.command_size() > 8);
   if (!whole.ok() || !*whole) return;
@@ -238,9 +294,7 @@ void DeviceNetController::poll(const can::Frame& f, can::VirtualBus& bus) {
   if (!command.ok()) return;
   if (opt_.layout.addressed_in) {
     const auto& w = command->addressed;
-    // §5.2: a command executes on a change of its toggle bit; the echo and the
-    // selected motors' Command Toggle bits then report the toggle.
-    if (!seen_command_ || w.toggle != last_toggle_) {
+    if (takes(w, command->addressed_value)) {
       echo_value_ = execute(w, command->addressed_value);
       if (opt_.reset_after_sets != 0 && sets_ == opt_.reset_after_sets) {
         opt_.reset_after_sets = 0;
@@ -248,14 +302,21 @@ void DeviceNetController::poll(const can::Frame& f, can::VirtualBus& bus) {
         return;
       }
       echo_ = w;
+      // §5.1 "Motor X Command Toggle: Actual state of the command toggle
+      // bit": the toggle of the command the motor last took.
+      bool any_motor = false;
       for (Motor m : devicenet::kMotors) {
         if (!w.motors[static_cast<int>(m)]) continue;
+        any_motor = true;
         const auto bit = static_cast<std::uint16_t>(0x8u << (4 * static_cast<int>(m)));
         status_.high = w.toggle ? (status_.high | bit) : (status_.high & ~bit);
       }
+      if (!any_motor) controller_toggle_ = w.toggle;
     }
     seen_command_ = true;
     last_toggle_ = w.toggle;
+    last_word_ = w.encode();
+    last_value_ = command->addressed_value;
   }
   status_.low |= 0x0001;  // INIT Done
   if (stopped_by_error_) {

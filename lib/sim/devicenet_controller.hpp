@@ -10,12 +10,33 @@
 #include <cstdint>
 #include <map>
 #include <optional>
+#include <string_view>
 
 #include "can/virtual_bus.hpp"
 #include "devicenet/command.hpp"
 #include "devicenet/messages.hpp"
 
 namespace lmcfg::sim {
+
+// When an Addressed command executes. Seed 000 §5.2 gives the rule for the
+// toggle commands only ("the toggle bit T in the command ID has to be the
+// inverse to the Motor x Command Toggle bit of the specified drive in the
+// status High word") and draws bit 7 of every other command as "X"; the
+// readings a firmware may have made of that (docs/devicenet.md):
+enum class ToggleRule {
+  // Every motor command by its motors' Command Toggle, every controller-level
+  // command by a controller toggle of its own (the default).
+  seed,
+  // Only the toggle commands (devicenet::toggle_command) follow the seed's
+  // rule; any other command executes whenever the Addressed In words differ
+  // from the previous poll's, whatever its toggle.
+  get_set_ignore_toggle,
+  // One toggle for the whole module: any command executes on a change of
+  // bit 7 from the previous poll (and the first command after power-up).
+  module_wide,
+};
+// "seed", "get-set-ignore", "module"; nullopt for anything else.
+std::optional<ToggleRule> parse_toggle_rule(std::string_view name);
 
 struct DeviceNetControllerOptions {
   std::uint8_t mac = 0x3F;
@@ -32,6 +53,7 @@ struct DeviceNetControllerOptions {
   // Fault: a controller reset (power dip) right after this many executed Set
   // commands, once; 0 = never. The connection is gone, values are kept.
   std::uint64_t reset_after_sets = 0;
+  ToggleRule toggle_rule = ToggleRule::seed;
 };
 
 class DeviceNetController {
@@ -58,6 +80,7 @@ class DeviceNetController {
   std::uint16_t expected_packet_rate() const { return packet_rate_; }
   std::uint64_t commands_executed() const { return executed_; }
   std::uint64_t poll_responses_lost() const { return lost_; }
+  std::uint64_t curves_started() const { return curves_started_; }
 
  private:
   void on_frame(const can::Frame& f, can::VirtualBus& bus);
@@ -65,14 +88,18 @@ class DeviceNetController {
   void poll(const can::Frame& f, can::VirtualBus& bus);
   std::uint16_t execute(const devicenet::CommandWord& w, std::uint16_t value);
   void coded_error(std::uint16_t code);
+  // Whether this poll's Addressed In command executes, by opt_.toggle_rule.
+  bool takes(const devicenet::CommandWord& w, std::uint16_t value) const;
 
   DeviceNetControllerOptions opt_;
   std::optional<std::uint8_t> allocated_by_;
   std::uint8_t allocation_ = 0;
   std::uint16_t packet_rate_ = 0;
   int drop_polls_ = 0;
-  bool last_toggle_ = false;
+  bool last_toggle_ = false;  // module_wide: bit 7 of the previous poll
   bool seen_command_ = false;
+  bool controller_toggle_ = false;  // seed: the last controller-level command's toggle
+  std::uint16_t last_word_ = 0, last_value_ = 0;  // the previous poll's Addressed In
   bool stopped_by_error_ = false;
   devicenet::Status status_;
   devicenet::CommandWord echo_;
@@ -83,6 +110,7 @@ class DeviceNetController {
   std::uint64_t executed_ = 0;
   std::uint64_t lost_ = 0;
   std::uint64_t sets_ = 0;
+  std::uint64_t curves_started_ = 0;
   std::uint32_t rng_;
 };
 

@@ -57,6 +57,25 @@ TEST_CASE(
   CHECK(devicenet::toggle_to_send(after, Motor::C));  // C's toggle clear: send 1
 }
 
+TEST_CASE(
+    "seed000 §5.2 bit definitions: bit 7 is the toggle for 13h, 15h, 19h, 20h and 22h, X for the "
+    "others",
+    "[devicenet][toggle]") {
+  // Drawn "Toggle" (Increment Position Setpoint 13h) or "T" (Move Home 15h,
+  // Set Actual Position 19h, Start Curve 20h, Start Curve Incremental 22h).
+  for (int id : {0x13, 0x15, 0x19, 0x20, 0x22}) {
+    INFO(id);
+    CHECK(devicenet::toggle_command(static_cast<std::uint8_t>(id)));
+  }
+  // Drawn "X": No Command, Get Coded Error, Reset Coded Error, the position
+  // setpoints, Get Actual Position, Start Curve (Incremental) Waiting for
+  // Trigger, the curve number Get/Set.
+  for (int id : {0x00, 0x0A, 0x0B, 0x10, 0x11, 0x12, 0x14, 0x18, 0x21, 0x23, 0x24, 0x25}) {
+    INFO(id);
+    CHECK_FALSE(devicenet::toggle_command(static_cast<std::uint8_t>(id)));
+  }
+}
+
 TEST_CASE("seed000 §5.1 example 1: four master drives, every module", "[devicenet]") {
   devicenet::IoLayout l;
   l.direct_in = l.direct_out1 = l.direct_out2 = true;

@@ -1,7 +1,8 @@
 // The DeviceNet master (lib/devicenet/master) against the simulated DeviceNet
 // LinMot controller (lib/sim/devicenet_controller) on an in-process CAN bus:
 // duplicate MAC ID check, allocation, the expected packet rate, the §5.2
-// command exchange with its toggle, coded errors, lost poll responses,
+// command exchange with its toggle under each reading of the seed's toggle
+// rule the simulator plays, coded errors, lost poll responses,
 // another master holding the connection, fragmented I/O, Release.
 #include <catch2/catch.hpp>
 
@@ -31,9 +32,20 @@ struct Rig {
     o.duplicate_check_wait = transport::Millis(10);
     return o;
   }
+  static sim::DeviceNetControllerOptions controller_options(const devicenet::IoLayout& layout,
+                                                            std::array<bool, 4> motors,
+                                                            sim::ToggleRule rule) {
+    sim::DeviceNetControllerOptions o;
+    o.mac = 0x3F;
+    o.layout = layout;
+    o.motors = motors;
+    o.toggle_rule = rule;
+    return o;
+  }
   explicit Rig(devicenet::IoLayout layout = {},
-               std::array<bool, 4> motors = {true, false, false, false})
-      : controller({0x3F, layout, motors}),
+               std::array<bool, 4> motors = {true, false, false, false},
+               sim::ToggleRule rule = sim::ToggleRule::seed)
+      : controller(controller_options(layout, motors, rule)),
         link(bus->open("master")),
         traced(std::make_unique<can::TraceLink>(
             std::move(link), [this](const std::string& l) { trace.push_back(l); },
@@ -61,7 +73,9 @@ TEST_CASE("devicenet master: connect, set and read back a curve number, release"
   auto get = rig.master.command(kMotorA, 0x24, 0);  // Get (Rise) Curve Number
   REQUIRE(get.ok());
   CHECK(*get == 7);
-  CHECK(rig.controller.commands_executed() == 3);  // the first poll's No Command, set, get
+  // Set and get: the first poll's No Command carries toggle 0, which the
+  // controller toggle already is after power-up, so it does not run.
+  CHECK(rig.controller.commands_executed() == 2);
   REQUIRE(rig.master.release().ok());
   CHECK_FALSE(rig.controller.allocated_by());
   // The trace names each frame's DeviceNet meaning.
@@ -201,4 +215,135 @@ TEST_CASE("devicenet master: seed 000 §5.1 example 1 layout needs fragmented I/
   auto status = rig.master.command({}, 0x02, 0);  // Get Status Low Word
   REQUIRE(status.ok());
   CHECK((*status & 0x0003) == 0x0003);  // INIT Done, RUN State
+}
+
+namespace {
+
+constexpr std::array<bool, 4> kMotorB{false, true, false, false};
+
+// The polls (Group 2 master I/O poll to MAC 3Fh, identifier 5FDh) whose
+// Addressed In word 1 is `word`: the default layout sends the Control Word
+// and then word 1 low byte first.
+std::size_t polls_with(const std::vector<std::string>& trace, std::uint16_t word) {
+  char prefix[40];
+  std::snprintf(prefix, sizeof prefix, "TX 5FD [6] 00 00 %02X %02X ", word & 0xFF, word >> 8);
+  std::size_t n = 0;
+  for (const auto& line : trace)
+    if (line.rfind(prefix, 0) == 0) ++n;
+  return n;
+}
+
+}  // namespace
+
+TEST_CASE(
+    "devicenet master: seed 000 §5.2 toggle rule: Get Coded Error, then a Get to motor A, then to "
+    "motor B, each executed exactly once under each toggle reading",
+    "[devicenet][master][toggle]") {
+  for (const char* name : {"seed", "get-set-ignore", "module"}) {
+    INFO("toggle rule " << name);
+    Rig rig({}, {true, true, false, false}, *sim::parse_toggle_rule(name));
+    rig.controller.set_value(Motor::A, 0x24, 11);
+    rig.controller.set_value(Motor::B, 0x24, 22);
+    REQUIRE(rig.master.connect().ok());
+    REQUIRE(rig.master.poll({}).ok());  // the status first, so each count below is one command
+    auto executed = rig.controller.commands_executed();
+    auto coded = rig.master.command({}, 0x0A, 0);  // Get Coded Error
+    REQUIRE(coded.ok());
+    CHECK(*coded == 0);
+    CHECK(rig.controller.commands_executed() == executed + 1);
+    executed = rig.controller.commands_executed();
+    auto a = rig.master.command(kMotorA, 0x24, 0);  // Get (Rise) Curve Number
+    REQUIRE(a.ok());
+    CHECK(*a == 11);
+    CHECK(rig.controller.commands_executed() == executed + 1);
+    executed = rig.controller.commands_executed();
+    auto b = rig.master.command(kMotorB, 0x24, 0);
+    REQUIRE(b.ok());
+    CHECK(*b == 22);
+    CHECK(rig.controller.commands_executed() == executed + 1);
+    executed = rig.controller.commands_executed();
+    auto again = rig.master.command(kMotorA, 0x24, 0);  // the same Get once more runs again
+    REQUIRE(again.ok());
+    CHECK(*again == 11);
+    CHECK(rig.controller.commands_executed() == executed + 1);
+  }
+}
+
+TEST_CASE(
+    "devicenet master: seed 000 §5.2 toggle rule: a motor command carries the inverse of that "
+    "motor's Command Toggle, whatever the controller-level toggle",
+    "[devicenet][master][toggle]") {
+  Rig rig({}, {true, true, false, false});
+  REQUIRE(rig.master.connect().ok());
+  REQUIRE(rig.master.command({}, 0x0A, 0).ok());  // controller toggle now 1
+  REQUIRE(rig.master.command(kMotorA, 0x25, 5).ok());
+  REQUIRE(rig.master.command(kMotorA, 0x25, 6).ok());  // motor A's toggle back to 0
+  REQUIRE(rig.master.command(kMotorB, 0x25, 7).ok());
+  CHECK(rig.controller.value(Motor::A, 0x24) == 6);
+  CHECK(rig.controller.value(Motor::B, 0x24) == 7);
+  // 0Ah with toggle 1; 25h to A with 1 (A's Command Toggle was 0), then 0;
+  // 25h to B with 1 (B's was 0). Each in one poll: none was taken for a repeat.
+  CHECK(polls_with(rig.trace, 0x008A) == 1);
+  CHECK(polls_with(rig.trace, 0x10A5) == 1);
+  CHECK(polls_with(rig.trace, 0x1025) == 1);
+  CHECK(polls_with(rig.trace, 0x20A5) == 1);
+  CHECK_FALSE(rig.master.last_status().command_toggle(Motor::A));
+  CHECK(rig.master.last_status().command_toggle(Motor::B));
+}
+
+TEST_CASE(
+    "devicenet master: a Get whose echo stays stale is sent once more with the toggle flipped",
+    "[devicenet][master][toggle]") {
+  // One toggle for the whole module: after 0Ah with toggle 1, the Get to
+  // motor A carries 1 too (A's Command Toggle is 0), which this controller
+  // takes for a repeat.
+  Rig rig({}, {true, true, false, false}, sim::ToggleRule::module_wide);
+  rig.controller.set_value(Motor::A, 0x24, 42);
+  REQUIRE(rig.master.connect().ok());
+  REQUIRE(rig.master.command({}, 0x0A, 0).ok());
+  const auto executed = rig.controller.commands_executed();
+  auto r = rig.master.command(kMotorA, 0x24, 0);
+  REQUIRE(r.ok());
+  CHECK(*r == 42);
+  CHECK(rig.controller.commands_executed() == executed + 1);
+  CHECK(polls_with(rig.trace, 0x10A4) == devicenet::Master::kStalePolls);
+  CHECK(polls_with(rig.trace, 0x1024) == 1);
+  CHECK_FALSE(rig.master.last_status().command_toggle(Motor::A));
+}
+
+TEST_CASE("devicenet master: a motion command whose echo stays stale is never sent again",
+          "[devicenet][master][toggle]") {
+  Rig rig({}, {true, true, false, false}, sim::ToggleRule::module_wide);
+  REQUIRE(rig.master.connect().ok());
+  REQUIRE(rig.master.command({}, 0x0A, 0).ok());
+  const auto executed = rig.controller.commands_executed();
+  auto r = rig.master.command(kMotorA, 0x20, 3);  // Start Curve 3 on motor A
+  REQUIRE_FALSE(r.ok());
+  CHECK(r.error().code == make_error_code(Errc::timeout));
+  CHECK(r.error().message ==
+        "command 20h to DeviceNet MAC ID 63: the Addressed Out echo did not show it after 50 "
+        "polls");
+  CHECK(polls_with(rig.trace, 0x10A0) == 50);
+  CHECK(polls_with(rig.trace, 0x1020) == 0);
+  CHECK(rig.controller.commands_executed() == executed);
+  CHECK(rig.controller.curves_started() == 0);
+}
+
+TEST_CASE(
+    "devicenet master: seed 000 §5.2 Start Curve runs once per command under the seed's rule, "
+    "with or without Get/Set ignoring the toggle",
+    "[devicenet][master][toggle]") {
+  for (const char* name : {"seed", "get-set-ignore"}) {
+    INFO("toggle rule " << name);
+    Rig rig({}, {true, true, false, false}, *sim::parse_toggle_rule(name));
+    REQUIRE(rig.master.connect().ok());
+    REQUIRE(rig.master.command({}, 0x0A, 0).ok());
+    rig.controller.drop_poll_responses(2);  // a lost response: the same poll again
+    REQUIRE(rig.master.command(kMotorB, 0x20, 3).ok());
+    CHECK(rig.controller.curves_started() == 1);
+    REQUIRE(rig.master.command(kMotorB, 0x20, 3).ok());  // the same curve again: a new start
+    CHECK(rig.controller.curves_started() == 2);
+    REQUIRE(rig.master.command(kMotorA, 0x22, 4).ok());
+    CHECK(rig.controller.curves_started() == 3);
+  }
 }

@@ -58,15 +58,13 @@ void change_two_values(const std::string& pty) {
   REQUIRE(m.release().ok());
 }
 
-}  // namespace
-
-TEST_CASE(
-    "devicenet (issue 17): backup, diff, change two values, diff, restore exactly two, over "
-    "slcan on a pty with lost poll responses",
-    "[devicenet][cli][pty]") {
-  DnSim sim({"--lose-polls", "0.05", "--seed", "7"});
+// Backup, diff (identical), two values changed by another master, diff
+// (exactly those two), restore (exactly two Set commands, verified), diff
+// again identical, a second restore with nothing to do.
+void backup_change_restore(const DnSim& sim, const std::string& dir_name,
+                           const std::string& restore_options) {
   REQUIRE(sim.pty.rfind("/dev/", 0) == 0);
-  const auto dir = test::temp_dir("dn-e2e");
+  const auto dir = test::temp_dir(dir_name);
 
   auto backup = test::run_tool_in(dir, "backup " + sim.link() + " -o ctl.json");
   INFO(backup.err);
@@ -97,7 +95,8 @@ TEST_CASE(
   CHECK(changed.out.find("A/mm") != std::string::npos);
   CHECK(changed.out.find("mm/s") != std::string::npos);
 
-  auto restore = test::run_tool_in(dir, "restore ctl.json --yes " + sim.link() + " --retries 4");
+  auto restore =
+      test::run_tool_in(dir, "restore ctl.json --yes " + sim.link() + " " + restore_options);
   INFO(restore.out << restore.err);
   REQUIRE(restore.exit_code == 0);
   CHECK(count(restore.out, "  set ") == 2);
@@ -113,6 +112,16 @@ TEST_CASE(
   CHECK(nothing.out.find("nothing to do: the controller already matches ctl.json") !=
         std::string::npos);
   fs::remove_all(dir);
+}
+
+}  // namespace
+
+TEST_CASE(
+    "devicenet (issue 17): backup, diff, change two values, diff, restore exactly two, over "
+    "slcan on a pty with lost poll responses",
+    "[devicenet][cli][pty]") {
+  DnSim sim({"--lose-polls", "0.05", "--seed", "7"});
+  backup_change_restore(sim, "dn-e2e", "--retries 4");
 }
 
 TEST_CASE("devicenet (issue 17): a wrong bit rate, a wrong MAC ID, a second master",
@@ -259,5 +268,28 @@ TEST_CASE("devicenet (issue 17): Ctrl-C during a backup releases the connection 
   CHECK(backup.stop() == 130);
   CHECK(!fs::exists(dir / "x.json"));
   change_two_values(sim.pty);  // another master gets the connection: it was released
+  fs::remove_all(dir);
+}
+
+TEST_CASE(
+    "devicenet: backup, diff, change, restore and verify against each reading of seed 000 §5.2's "
+    "toggle rule",
+    "[devicenet][cli][pty][toggle]") {
+  for (const std::string rule : {"seed", "get-set-ignore", "module"}) {
+    INFO("--devicenet-toggle " << rule);
+    DnSim sim({"--devicenet-toggle", rule});
+    backup_change_restore(sim, "dn-toggle", "");
+  }
+}
+
+TEST_CASE("devicenet: lmcfg sim refuses an unknown --devicenet-toggle",
+          "[devicenet][cli][toggle]") {
+  const auto dir = test::temp_dir("dn-toggle-bad");
+  auto r = test::run_tool_in(dir, "sim --devicenet --devicenet-toggle always");
+  CHECK(r.exit_code == 2);
+  CHECK(r.err ==
+        "lmcfg sim: --devicenet-toggle 'always' is not one of seed, get-set-ignore, "
+        "module\n");
+  CHECK(r.out.empty());
   fs::remove_all(dir);
 }

@@ -28,6 +28,12 @@ Result<sim::DeviceNetControllerOptions> controller_options(const DevicenetSimArg
   o.seed = a.seed;
   o.error_leaves_run = a.error_leaves_run;
   o.reset_after_sets = a.reset_after;
+  const auto rule = sim::parse_toggle_rule(a.toggle);
+  if (!rule) {
+    return Error(Errc::invalid_argument, "--devicenet-toggle '" + a.toggle +
+                                             "' is not one of seed, get-set-ignore, module");
+  }
+  o.toggle_rule = *rule;
   return o;
 }
 
@@ -63,9 +69,17 @@ void add_devicenet_sim_options(CLI::App* sim, CLI::Option* devicenet_flag, Devic
                   "(the connection is dropped mid-session)");
   sim->add_option("--held-by", a.held_by,
                   "with --devicenet: another master (this MAC ID) holds the connection set");
-  for (const char* name : {"--devicenet-macid", "--devicenet-motors", "--can-bitrate",
-                           "--io-modules", "--encoder-module", "--factory", "--lose-polls",
-                           "--seed", "--error-leaves-run", "--reset-after-sets", "--held-by"})
+  sim->add_option("--devicenet-toggle", a.toggle,
+                  "with --devicenet: when a command executes (seed 000 leaves it open for all "
+                  "but the motion commands): seed (each motor's Command Toggle, a controller "
+                  "toggle for controller-level commands), get-set-ignore (Get/Set commands "
+                  "run on any change of the Addressed In words), module (one toggle for the "
+                  "whole module)")
+      ->capture_default_str();
+  for (const char* name :
+       {"--devicenet-macid", "--devicenet-motors", "--can-bitrate", "--io-modules",
+        "--encoder-module", "--factory", "--lose-polls", "--seed", "--error-leaves-run",
+        "--reset-after-sets", "--held-by", "--devicenet-toggle"})
     sim->get_option(name)->needs(devicenet_flag);
 }
 

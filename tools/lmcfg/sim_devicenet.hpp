@@ -20,6 +20,7 @@ struct DevicenetSimArgs {
   std::string held_by;  // another master's MAC ID holding the connection
   bool error_leaves_run = false;
   unsigned reset_after = 0;
+  std::string toggle = "seed";  // seed | get-set-ignore | module
 };
 
 // The options of `lmcfg sim --devicenet`; each needs `devicenet_flag`.
