@@ -1,7 +1,7 @@
 // DeviceNet controllers (seed 000) end to end: `lmcfg backup`, `diff` and
 // `restore` through a real pseudo-terminal to `lmcfg sim --devicenet` (a
 // simulated slcan adapter in front of a simulated controller), with poll
-// responses lost on the way; and the bad inputs of issue 17, each with its
+// responses lost on the way; and the bad inputs (wrong bit rate, MAC ID, a second master, bad values), each with its
 // message and exit code.
 #include <catch2/catch.hpp>
 #include <filesystem>
@@ -117,14 +117,14 @@ void backup_change_restore(const DnSim& sim, const std::string& dir_name,
 }  // namespace
 
 TEST_CASE(
-    "devicenet (issue 17): backup, diff, change two values, diff, restore exactly two, over "
+    "DeviceNet §5.2 backup, diff, change two values, diff, restore exactly two, over "
     "slcan on a pty with lost poll responses",
     "[devicenet][cli][pty]") {
   DnSim sim({"--lose-polls", "0.05", "--seed", "7"});
   backup_change_restore(sim, "dn-e2e", "--retries 4");
 }
 
-TEST_CASE("devicenet (issue 17): a wrong bit rate, a wrong MAC ID, a second master",
+TEST_CASE("DeviceNet §5.2 a wrong bit rate, a wrong MAC ID, a second master",
           "[devicenet][cli][pty]") {
   const auto dir = test::temp_dir("dn-link");
   {
@@ -183,7 +183,7 @@ TEST_CASE("devicenet (issue 17): a wrong bit rate, a wrong MAC ID, a second mast
 }
 
 TEST_CASE(
-    "devicenet (issue 17): a controller without the Addressed modules, an out-of-range value in "
+    "DeviceNet §5.2 a controller without the Addressed modules, an out-of-range value in "
     "a file",
     "[devicenet][cli][pty]") {
   const auto dir = test::temp_dir("dn-input");
@@ -214,7 +214,7 @@ TEST_CASE(
 }
 
 TEST_CASE(
-    "devicenet (issue 17): a firmware whose refusals stop RUN is told so; --devicenet-motors and "
+    "DeviceNet §5.2 a firmware whose refusals stop RUN is told so; --devicenet-motors and "
     "--no-module-values avoid the probes",
     "[devicenet][cli][pty]") {
   const auto dir = test::temp_dir("dn-run");
@@ -235,7 +235,7 @@ TEST_CASE(
 }
 
 TEST_CASE(
-    "devicenet (issue 17): a controller reset in the middle of a restore is reported as partial; "
+    "DeviceNet §5.2 a controller reset in the middle of a restore is reported as partial; "
     "the rerun converges",
     "[devicenet][cli][pty]") {
   const auto dir = test::temp_dir("dn-reset");
@@ -257,7 +257,7 @@ TEST_CASE(
   fs::remove_all(dir);
 }
 
-TEST_CASE("devicenet (issue 17): Ctrl-C during a backup releases the connection (exit 130)",
+TEST_CASE("DeviceNet §5.2 Ctrl-C during a backup releases the connection (exit 130)",
           "[devicenet][cli][pty]") {
   const auto dir = test::temp_dir("dn-sigint");
   DnSim sim({"--lose-polls", "0.3"});  // a slow line: the signal lands mid-backup
