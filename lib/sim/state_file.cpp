@@ -200,6 +200,8 @@ json to_json(const DriveState& s) {
                   {"ignore_while_busy", O.ignore_while_busy}};
   j["options"]["missing_ct_entry_zero_size"] = O.missing_ct_entry_zero_size;
   j["options"]["empty_list_echo_upid"] = O.empty_list_echo_upid;
+  j["options"]["refuse_config_while_mc_runs"] = O.refuse_config_while_mc_runs;
+  j["options"]["config_refused_state"] = hex8(O.config_refused_state);
   if (O.baud_codes != Options::default_baud_codes()) {
     json codes = json::object();
     for (const auto& [code, rate] : O.baud_codes) codes[std::to_string(code)] = rate;
@@ -340,6 +342,9 @@ Result<DriveState> from_json(const json& j) {
       O.missing_ct_entry_zero_size =
           bool_or(*it, "missing_ct_entry_zero_size", O.missing_ct_entry_zero_size);
       O.empty_list_echo_upid = bool_or(*it, "empty_list_echo_upid", O.empty_list_echo_upid);
+      O.refuse_config_while_mc_runs =
+          bool_or(*it, "refuse_config_while_mc_runs", O.refuse_config_while_mc_runs);
+      O.config_refused_state = u8_or("config_refused_state", O.config_refused_state);
       if (auto bc = it->find("baud_codes"); bc != it->end()) {
         if (!bc->is_object())
           throw BadField("options.baud_codes: expected an object of code -> baud rate");
