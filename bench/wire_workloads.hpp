@@ -474,9 +474,9 @@ inline RestoreCost min_restore(const sim::DriveState& t, const config::DriveConf
         changes += w.id_value(codec::make_ct_write(w.id(), 0, {0, 0, 0, 0}));
       any = true;
     }
-    // The plan saves the tables in scope whenever it resets the drive anyway
-    // (RAM that matches proves nothing about flash, ops/restore_plan.cpp).
-    if (any || (opt.reset_after && rom_changed))
+    // A table is saved only when an entry of it is written or deleted
+    // (ops/restore_plan.cpp; a flash that differs is caught by the verify).
+    if (any)
       changes +=
           w.id_value(codec::make_ct(w.id(), codec::CtOp::save_to_flash), t.timing.flash_save_us);
   }
@@ -511,7 +511,7 @@ inline RestoreCost min_restore(const sim::DriveState& t, const config::DriveConf
             codec::make_curve_write(w.id(), codec::CurveOp::write_data, 0, {0, 0, 0, 0}));
       any = true;
     }
-    if (any || (opt.reset_after && rom_changed))
+    if (any)
       changes += w.id_value(codec::make_curve(w.id(), codec::CurveOp::save_to_flash),
                             t.timing.flash_save_us);
   }

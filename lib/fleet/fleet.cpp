@@ -390,6 +390,14 @@ std::string render_json(const FleetRun& run, bool status) {
   return j.dump(2) + "\n";
 }
 
+namespace {
+// The values --skip-incompatible left out, for the commit message.
+std::string skipped_lines(const ops::Plan& p) {
+  const std::string s = ops::render_skipped_incompatible(p);
+  return s.empty() ? s : "\n" + s;
+}
+}  // namespace
+
 Result<FleetRestoreResult> fleet_restore(const Inventory& inv, Archive& archive,
                                          const FleetRestore& opt) {
   const LineEntry* line = nullptr;
@@ -419,9 +427,10 @@ Result<FleetRestoreResult> fleet_restore(const Inventory& inv, Archive& archive,
   if (res.outcome.written) {
     const std::string message = "fleet restore: " + d->name + " <- " + path + " at " +
                                 source->id.substr(0, 12) + " (" + opt.rev +
-                                "): " + ops::stage_name(res.outcome.stage) + "\n\nline " +
-                                line->name + " (" + line->port + "), MACID " + hex(d->id, 2, "h") +
-                                ", " + std::to_string(res.outcome.plan.steps.size()) + " step(s)\n";
+                                "): " + ops::outcome_name(res.outcome) + "\n\nline " + line->name +
+                                " (" + line->port + "), MACID " + hex(d->id, 2, "h") + ", " +
+                                std::to_string(res.outcome.plan.steps.size()) + " step(s)\n" +
+                                skipped_lines(res.outcome.plan);
     LMCFG_ASSIGN_OR_RETURN(res.record, archive.commit({}, message, true));
   }
   if (!closed.ok()) return closed.error();

@@ -11,12 +11,16 @@
 // the *target* reports (05h 05h/06h); the database supplies names, units and
 // labels, and where its range disagrees with the target's the plan says so.
 // Leftovers go back to the default the target reports (05h 07h). Any problem
-// refuses the whole restore before a single write telegram.
+// refuses the whole restore before a single write telegram. A value the target
+// cannot take (Incompatibility) is a problem too, unless `skip_incompatible`:
+// then the plan lists it in Plan::skipped_incompatible and handles it as if the
+// file did not hold it.
 //
 // execute_plan (restore_execute.cpp): stop MC (only when something is
 // written); per layer default it (§10.4) when that is cheaper than writing its
 // leftovers back, then write what differs; delete / write the command table
-// entries and curves that differ and save each table to flash once; reset so
+// entries and curves that differ and save each table whose entries it writes
+// or deletes to flash once; reset so
 // ROM values act (or start MC when only tables changed). Communication
 // parameters keep the target's values unless `include_comm`. On failure or
 // interruption (Errc::interrupted) the error names the step and says the drive
@@ -54,6 +58,7 @@ bool is_comm_parameter(const db::Database& db, std::uint16_t upid);
 struct RestoreOptions {
   bool default_first = true;         // --no-default turns it off
   bool include_comm = false;         // --include-comm
+  bool skip_incompatible = false;    // --skip-incompatible
   bool reset_after = true;           // reset so ROM values become active (§9.2)
   std::uint16_t max_curve_id = 100;  // storage limit of 100 curves (facts note)
   std::size_t curve_memory = 65280;  // 70 B per curve + 4 B per setpoint (facts note)
@@ -95,11 +100,41 @@ struct PlanStep {
   std::string old_display, new_display, name, why;
 };
 
+// Why the target cannot take a value of the file (a firmware other than the
+// source's). Without skip_incompatible each one is a problem; other problems (a
+// file that is not a LinRS configuration, a refused query) always refuse.
+enum class Incompatibility {
+  upid_absent,       // the target's firmware lacks the UPID
+  type_differs,      // the target's type differs from the file's
+  out_of_range,      // outside the target's min/max or its type's range
+  not_rom_writable,  // the target's address usage has no ROM write bit
+  curve_id_limit,    // curve ID outside 1..max_curve_id
+  curve_memory,      // the curves do not fit the curve memory
+  ct_entry_id,       // command table entry ID outside 0..255
+  ct_entry_size,     // command table entry size differs from the target's
+};
+const char* reason_code(Incompatibility r);  // "upid_absent", ...
+
+// A value of the file the target cannot take.
+struct SkippedValue {
+  enum class Kind { parameter, curve, ct_entry };
+  Kind kind = Kind::parameter;
+  int layer = 0;          // parameter: its layer
+  std::uint32_t key = 0;  // UPID, curve ID or command table entry ID
+  std::string name;       // from the database, the file's record or the info block
+  Incompatibility reason = Incompatibility::upid_absent;
+  std::string why;   // "UPID does not exist on the target (...)"
+  std::string text;  // the label and `why`: the problem's message without the option
+};
+
 struct Plan {
   std::vector<std::string> problems;  // any problem refuses the restore
   std::vector<PlanStep> steps;
   std::vector<std::string> skipped;  // items deliberately not written, with why
-  std::vector<std::string> notes;    // what the steps will also change (leftovers, defaults)
+  // skip_incompatible: the file's values the target cannot take, not written
+  // and not expected by verify (each one a problem without the option).
+  std::vector<SkippedValue> skipped_incompatible;
+  std::vector<std::string> notes;  // what the steps will also change (leftovers, defaults)
   // Expected state after the restore, for verify.
   config::DriveConfig expected;
   std::size_t write_telegrams = 0;  // estimate of write telegrams the steps send
@@ -122,6 +157,9 @@ const char* action_name(PlanStep::Action a);
 Result<Plan> plan_restore(client::Client& c, const config::DriveConfig& file,
                           const db::Database& db, const RestoreOptions& opt);
 std::string render_plan(const Plan& p);
+// "skipped (the target cannot take them):" and one line per skipped value;
+// "" when none.
+std::string render_skipped_incompatible(const Plan& p);
 // The plan as structured items (docs/restore.md "JSON report").
 nlohmann::ordered_json plan_json(const Plan& p);
 
@@ -129,8 +167,17 @@ Result<void> execute_plan(client::Client& c, const Plan& p, const RestoreOptions
 
 struct VerifyReport {
   std::vector<std::string> mismatches;
+  bool ct_differs = false, curves_differ = false;  // a mismatch in that table
   bool ok() const { return mismatches.empty(); }
 };
 Result<VerifyReport> verify_restore(client::Client& c, const Plan& p, const RestoreOptions& opt);
+
+// The second pass after a verify that found a table differing although the
+// plan did not write it (the reset or MC start reloaded RAM from a flash that
+// held another table, which LinRS cannot read): stop MC, write the table's
+// entries that differ, save it to flash, start MC. Tables the plan `done`
+// saved already are left alone (no step: nothing to do).
+Result<Plan> plan_table_pass(client::Client& c, const Plan& done, const VerifyReport& v,
+                             const RestoreOptions& opt);
 
 }  // namespace lmcfg::ops

@@ -14,6 +14,28 @@ namespace lmcfg::ops {
 
 using namespace detail;
 
+const char* reason_code(Incompatibility r) {
+  switch (r) {
+    case Incompatibility::upid_absent:
+      return "upid_absent";
+    case Incompatibility::type_differs:
+      return "type_differs";
+    case Incompatibility::out_of_range:
+      return "out_of_range";
+    case Incompatibility::not_rom_writable:
+      return "not_rom_writable";
+    case Incompatibility::curve_id_limit:
+      return "curve_id_limit";
+    case Incompatibility::curve_memory:
+      return "curve_memory";
+    case Incompatibility::ct_entry_id:
+      return "ct_entry_id";
+    case Incompatibility::ct_entry_size:
+      return "ct_entry_size";
+  }
+  return "?";
+}
+
 namespace {
 
 using Action = PlanStep::Action;
@@ -27,15 +49,44 @@ std::string range_text(std::optional<std::int64_t> mn, std::optional<std::int64_
          (mx ? std::to_string(*mx) : std::string("?"));
 }
 
+// A value of the file the target cannot take: a problem (its message as
+// `text`), or with skip_incompatible a skipped value.
+void incompatible(Plan& plan, const RestoreOptions& opt, SkippedValue v) {
+  if (opt.skip_incompatible)
+    plan.skipped_incompatible.push_back(std::move(v));
+  else
+    plan.problems.push_back(v.text);
+}
+
+SkippedValue skipped_value(SkippedValue::Kind kind, int layer, std::uint32_t key, std::string name,
+                           std::string label, Incompatibility reason, std::string why) {
+  SkippedValue v;
+  v.kind = kind;
+  v.layer = layer;
+  v.key = key;
+  v.name = std::move(name);
+  v.reason = reason;
+  v.text = std::move(label) + ": " + why;
+  v.why = std::move(why);
+  return v;
+}
+
 // Checks one parameter the restore will write against the target; appends
-// problems (and notes where the database disagrees with the target). Link
-// errors propagate. `listed`: the target's UPID list of the layer (§10.3), read
-// when the database does not know every address usage; else the type is asked.
-Result<void> check_parameter(client::Client& c, const db::Database& db, int layer,
-                             const config::Parameter& p,
+// problems or incompatible values (and notes where the database disagrees
+// with the target). True when the target can take it. Link errors propagate.
+// `listed`: the target's UPID list of the layer (§10.3), read when the
+// database does not know every address usage; else the type is asked.
+Result<bool> check_parameter(client::Client& c, const db::Database& db, const RestoreOptions& opt,
+                             int layer, const config::Parameter& p,
                              const std::map<std::uint16_t, client::UpidInfo>* listed, Plan& plan) {
   const db::Parameter* d = db.find(p.upid);
   const std::string label = param_label(layer, p.upid, d, &p);
+  auto cannot = [&](Incompatibility r, std::string why) {
+    incompatible(plan, opt,
+                 skipped_value(SkippedValue::Kind::parameter, layer, p.upid,
+                               param_name(p.upid, d, &p), label, r, std::move(why)));
+    return false;
+  };
   std::uint16_t type = 0;
   std::optional<db::AddressUsage> address_usage;
   const char* au_source = "the UPID database's";
@@ -43,9 +94,9 @@ Result<void> check_parameter(client::Client& c, const db::Database& db, int laye
   if (listed) {
     auto it = listed->find(p.upid);
     if (it == listed->end()) {
-      plan.problems.push_back(label + ": UPID does not exist on the target (not in its " +
-                              std::string(lmcfg::layers::name(layer)) + " UPID list, §10.3)");
-      return {};
+      return cannot(Incompatibility::upid_absent, "UPID does not exist on the target (not in its " +
+                                                      std::string(lmcfg::layers::name(layer)) +
+                                                      " UPID list, §10.3)");
     }
     type = it->second.type;
     if (!address_usage) {
@@ -56,14 +107,13 @@ Result<void> check_parameter(client::Client& c, const db::Database& db, int laye
     auto asked = c.get_type(p.upid);
     if (!asked.ok()) {
       if (asked.error().code == make_comm_state_error(0xC8)) {
-        plan.problems.push_back(
-            label + ": UPID does not exist on the target (type query answered C8h unknown UPID)");
-        return {};
+        return cannot(Incompatibility::upid_absent,
+                      "UPID does not exist on the target (type query answered C8h unknown UPID)");
       }
       if (refused(asked.error())) {
         plan.problems.push_back(label +
                                 ": the target refused the type query: " + asked.error().message);
-        return {};
+        return false;
       }
       return std::move(asked).error();
     }
@@ -73,13 +123,13 @@ Result<void> check_parameter(client::Client& c, const db::Database& db, int laye
   if (!code) {
     plan.problems.push_back(label + ": the target reports type code " + hex(type, 4, "h") +
                             ", which seed 003 §10 does not define");
-    return {};
+    return false;
   }
   if (p.type && *p.type != type) {
-    plan.problems.push_back(label + ": type differs: the file has " +
-                            std::string(db::type_name(static_cast<db::TypeCode>(*p.type))) +
-                            ", the target has " + std::string(db::type_name(*code)));
-    return {};
+    return cannot(Incompatibility::type_differs,
+                  "type differs: the file has " +
+                      std::string(db::type_name(static_cast<db::TypeCode>(*p.type))) +
+                      ", the target has " + std::string(db::type_name(*code)));
   }
   if (d && d->spec.type && *d->spec.type != *code) {
     plan.notes.push_back(label + ": the target's type " + std::string(db::type_name(*code)) +
@@ -87,15 +137,15 @@ Result<void> check_parameter(client::Client& c, const db::Database& db, int laye
                          std::string(db::type_name(*d->spec.type)) + "; the target's applies");
   }
   if (address_usage && !address_usage->rom_write()) {
-    plan.problems.push_back(label + ": read-only on the target (" + au_source + " address usage " +
-                            hex(address_usage->raw, 4, "h") + " has no ROM write bit)");
-    return {};
+    return cannot(Incompatibility::not_rom_writable,
+                  "read-only on the target (" + std::string(au_source) + " address usage " +
+                      hex(address_usage->raw, 4, "h") + " has no ROM write bit)");
   }
   auto value = db::field_integer(*code, p.value);
   if (!value) {
-    plan.problems.push_back(label + ": value " + hex(p.value, 4, "h") + " does not fit type " +
-                            std::string(db::type_name(*code)));
-    return {};
+    return cannot(Incompatibility::out_of_range, "value " + hex(p.value, 4, "h") +
+                                                     " does not fit type " +
+                                                     std::string(db::type_name(*code)));
   }
   db::ValueSpec spec = d ? d->spec : db::ValueSpec{};
   spec.type = *code;
@@ -108,7 +158,7 @@ Result<void> check_parameter(client::Client& c, const db::Database& db, int laye
       Error e = !mn.ok() ? std::move(mn).error() : std::move(mx).error();
       if (!refused(e)) return e;
       plan.problems.push_back(label + ": the target refused the min/max query: " + e.message);
-      return {};
+      return false;
     }
     const auto tmin = db::field_integer(*code, *mn), tmax = db::field_integer(*code, *mx);
     if (d && (d->spec.min || d->spec.max) && (d->spec.min != tmin || d->spec.max != tmax)) {
@@ -120,24 +170,38 @@ Result<void> check_parameter(client::Client& c, const db::Database& db, int laye
     spec.max = tmax;
   }
   if (auto r = db::check_range(spec, *value); !r.ok()) {
-    plan.problems.push_back(label + ": " + r.error().message +
-                            " (as the target reports it, §10 05h 05h/06h)");
+    return cannot(Incompatibility::out_of_range,
+                  r.error().message + " (as the target reports it, §10 05h 05h/06h)");
   }
-  return {};
+  return true;
 }
 
-void check_tables(const config::DriveConfig& file, const RestoreOptions& opt, Plan& plan) {
-  std::size_t memory = 0;
+// The file's curves and command table entries against the drive's limits.
+// Returns what the restore writes: the file, less (with skip_incompatible) the
+// curves and entries the target cannot take.
+config::DriveConfig check_tables(const config::DriveConfig& file, const RestoreOptions& opt,
+                                 Plan& plan) {
+  config::DriveConfig kept = file;
+  using Kind = SkippedValue::Kind;
+  auto cannot = [&](Kind kind, std::uint32_t id, std::string name, Incompatibility r,
+                    std::string why) {
+    const std::string label =
+        (kind == Kind::curve ? "curve " : "command table entry ") + std::to_string(id);
+    incompatible(plan, opt, skipped_value(kind, 0, id, std::move(name), label, r, std::move(why)));
+  };
   if (file.scope.curves) {
-    if (file.curves.size() > opt.max_curve_id) {
+    if (file.curves.size() > opt.max_curve_id && !opt.skip_incompatible) {
       plan.problems.push_back("the file holds " + std::to_string(file.curves.size()) +
                               " curves; the drive stores at most " +
                               std::to_string(opt.max_curve_id));
     }
+    std::set<std::uint32_t> skip;
     for (const auto& cv : file.curves) {
       const std::string label = "curve " + std::to_string(cv.id);
       if (cv.id < 1 || cv.id > opt.max_curve_id) {
-        plan.problems.push_back(label + ": ID outside 1.." + std::to_string(opt.max_curve_id));
+        cannot(Kind::curve, cv.id, curve_name(cv.info), Incompatibility::curve_id_limit,
+               "ID outside 1.." + std::to_string(opt.max_curve_id));
+        skip.insert(cv.id);
       }
       if (auto r = config::check_curve_blocks(cv); !r.ok())
         plan.problems.push_back(label + ": " + r.error().message);
@@ -145,24 +209,50 @@ void check_tables(const config::DriveConfig& file, const RestoreOptions& opt, Pl
         plan.problems.push_back(label +
                                 ": a block exceeds the 16-bit size field of §11 (65535 bytes)");
       }
-      memory += cv.info.size() + cv.data.size();
     }
-    if (memory > opt.curve_memory) {
+    std::erase_if(kept.curves, [&](const config::Curve& cv) { return skip.count(cv.id) > 0; });
+    auto memory_of = [](const std::vector<config::Curve>& curves) {
+      std::size_t m = 0;
+      for (const auto& cv : curves) m += cv.info.size() + cv.data.size();
+      return m;
+    };
+    const std::size_t memory = memory_of(kept.curves);
+    if (memory > opt.curve_memory && !opt.skip_incompatible) {
       plan.problems.push_back("curves need " + std::to_string(memory) +
                               " bytes of curve memory; the drive has " +
                               std::to_string(opt.curve_memory));
-    }
-  }
-  if (file.scope.command_table) {
-    for (const auto& e : file.ct_entries) {
-      const std::string label = "command table entry " + std::to_string(e.id);
-      if (e.id > config::kMaxCtEntryId) plan.problems.push_back(label + ": ID outside 0..255");
-      if (e.raw.size() != opt.ct_entry_size) {
-        plan.problems.push_back(label + ": " + std::to_string(e.raw.size()) + " bytes, expected " +
-                                std::to_string(opt.ct_entry_size));
+    } else if (memory > opt.curve_memory) {
+      // Which curves to leave out is a choice: the highest IDs, until the rest fits.
+      std::sort(kept.curves.begin(), kept.curves.end(),
+                [](const config::Curve& x, const config::Curve& y) { return x.id < y.id; });
+      while (!kept.curves.empty() && memory_of(kept.curves) > opt.curve_memory) {
+        const config::Curve& last = kept.curves.back();
+        cannot(Kind::curve, last.id, curve_name(last.info), Incompatibility::curve_memory,
+               "the file's curves need " + std::to_string(memory) +
+                   " bytes of curve memory, the drive has " + std::to_string(opt.curve_memory) +
+                   "; left out from the highest ID down until the rest fits");
+        kept.curves.pop_back();
       }
     }
   }
+  if (file.scope.command_table) {
+    std::set<std::uint32_t> skip;
+    for (const auto& e : file.ct_entries) {
+      if (e.id > config::kMaxCtEntryId) {
+        cannot(Kind::ct_entry, e.id, config::ct_entry_name(e.raw), Incompatibility::ct_entry_id,
+               "ID outside 0..255");
+        skip.insert(e.id);
+      }
+      if (e.raw.size() != opt.ct_entry_size) {
+        cannot(
+            Kind::ct_entry, e.id, config::ct_entry_name(e.raw), Incompatibility::ct_entry_size,
+            std::to_string(e.raw.size()) + " bytes, expected " + std::to_string(opt.ct_entry_size));
+        skip.insert(e.id);
+      }
+    }
+    std::erase_if(kept.ct_entries, [&](const config::CtEntry& e) { return skip.count(e.id) > 0; });
+  }
+  return kept;
 }
 
 // Communication parameters last: a restore interrupted before them leaves the
@@ -251,7 +341,8 @@ struct Builder {
 };
 
 // The target's command table against the file's: entries that differ or are
-// missing are written, entries only on the target deleted, one flash save.
+// missing are written, entries only on the target deleted, one flash save when
+// any is.
 Result<void> plan_command_table(Builder& b, const config::DriveConfig& file, bool force_save) {
   LMCFG_ASSIGN_OR_RETURN(auto ids, b.c.ct_defined_entries());
   std::map<std::uint32_t, Bytes> target;
@@ -301,8 +392,9 @@ Result<void> plan_command_table(Builder& b, const config::DriveConfig& file, boo
 // The target's curves against the file's (IDs 1..max_curve_id): a curve is
 // compared by sizes, then info block, then data block, reading only as far as
 // needed; its name comes from the info block. Curves that differ are deleted
-// and written again, curves only on the target deleted, one flash save (§11
-// has per-curve delete and add, but saving always covers every curve).
+// and written again, curves only on the target deleted, one flash save when
+// any is (§11 has per-curve delete and add, but saving always covers every
+// curve).
 Result<void> plan_curves(Builder& b, const config::DriveConfig& file, bool force_save) {
   std::vector<const config::Curve*> writes;
   std::vector<std::pair<std::uint32_t, std::string>> deletes;
@@ -485,8 +577,8 @@ void keep_recorded_values(const RecoveryRecord& rec, LayerWork& w) {
 // Phase 1d: every write checked against the target. ROM write access must be
 // known before a write (§10 address usage bit 3). Where the database does not
 // know it, the target's UPID list tells, with the type of every UPID, in one
-// walk of the layer.
-Result<void> check_writes(Builder& b, const LayerWork& w) {
+// walk of the layer. Returns the UPIDs the target cannot take.
+Result<std::set<std::uint16_t>> check_writes(Builder& b, const LayerWork& w) {
   const int layer = w.layer;
   const std::size_t au_unknown = std::count_if(w.writes.begin(), w.writes.end(), [&](auto& x) {
     const db::Parameter* d = b.db.find(x.p.upid);
@@ -506,9 +598,33 @@ Result<void> check_writes(Builder& b, const LayerWork& w) {
         " parameter(s); read the target's UPID list (" + std::to_string(list.size()) +
         " UPIDs, §10.3) to check ROM write access");
   }
-  for (const auto& x : w.writes)
-    LMCFG_TRY(check_parameter(b.c, b.db, layer, x.p, listed ? &*listed : nullptr, b.plan));
-  return {};
+  std::set<std::uint16_t> cannot;
+  for (const auto& x : w.writes) {
+    LMCFG_ASSIGN_OR_RETURN(const bool fits, check_parameter(b.c, b.db, b.opt, layer, x.p,
+                                                            listed ? &*listed : nullptr, b.plan));
+    if (!fits) cannot.insert(x.p.upid);
+  }
+  return cannot;
+}
+
+// Phase 1d' (--skip-incompatible): a value the target cannot take is handled
+// as if the file did not hold it: not written, not expected; the target's own
+// value, if modified, is a leftover (a communication value is kept).
+void drop_incompatible(const Builder& b, const std::set<std::uint16_t>& cannot, LayerWork& w) {
+  auto dropped = [&](std::uint16_t upid) { return cannot.count(upid) > 0; };
+  std::erase_if(w.writes, [&](const Write& x) { return dropped(x.p.upid); });
+  std::erase_if(w.expected, [&](const config::Parameter& p) { return dropped(p.upid); });
+  for (auto upid : cannot) w.restored.erase(upid);
+  for (const auto& m : w.target) {
+    if (!dropped(m.upid)) continue;
+    if (is_comm(b.db, m.upid)) {
+      config::Parameter k{m.upid, m.value, std::nullopt, std::nullopt, {}, {}, {}};
+      w.keep.push_back(k);
+      w.expected.push_back(k);
+    } else {
+      w.leftovers.push_back(&m);
+    }
+  }
 }
 
 // Phase 1e (--include-comm): compare the communication values the target uses
@@ -533,7 +649,8 @@ Result<void> compare_layer(Builder& b, const config::DriveConfig& file, const Ea
   LMCFG_TRY(compare_parameters(b, file, w, progress));
   sort_target_values(b, w);
   if (earlier.rec && !b.opt.include_comm) keep_recorded_values(*earlier.rec, w);
-  LMCFG_TRY(check_writes(b, w));
+  LMCFG_ASSIGN_OR_RETURN(const auto cannot, check_writes(b, w));
+  if (b.opt.skip_incompatible && !cannot.empty()) drop_incompatible(b, cannot, w);
   if (b.opt.include_comm) note_link_change(b, w);
   std::sort(w.expected.begin(), w.expected.end(), [](auto& x, auto& y) { return x.upid < y.upid; });
   return {};
@@ -622,9 +739,10 @@ Result<Plan> plan_restore(client::Client& c, const config::DriveConfig& file,
   Plan plan;
   plan.expected.identity = file.identity;
   plan.expected.scope = file.scope;
-  if (file.scope.curves) plan.expected.curves = file.curves;
-  if (file.scope.command_table) plan.expected.ct_entries = file.ct_entries;
-  check_tables(file, opt, plan);
+  // The tables the restore writes: the file's, less what the target cannot take.
+  const config::DriveConfig tables = check_tables(file, opt, plan);
+  if (file.scope.curves) plan.expected.curves = tables.curves;
+  if (file.scope.command_table) plan.expected.ct_entries = tables.ct_entries;
   Builder b{c, db, opt, plan};
   LMCFG_ASSIGN_OR_RETURN(const EarlierRun earlier, detect_earlier_run(c, opt, plan));
   const bool recovered = earlier.rec.has_value();
@@ -656,18 +774,18 @@ Result<Plan> plan_restore(client::Client& c, const config::DriveConfig& file,
     return plan;
   }
 
-  // Phase 3: the tables. LinRS cannot read flash (§11, §12), so RAM tables
-  // that match the file prove nothing about flash after an earlier run
-  // stopped half way: a drive reset in the middle reloads RAM from flash, the
-  // run writes RAM again and its flash save is refused (MC runs again). Three
-  // signs make the plan save the tables in scope even where RAM matches: MC
-  // stopped, a recovery record of an unfinished restore, or this plan
-  // resetting the drive anyway (one flash save more, only when ROM values
-  // change). docs/restore.md.
-  const bool resets = opt.reset_after && rom_changed;
-  const bool force_save = earlier.mc_was_stopped || recovered || resets;
-  if (file.scope.command_table) LMCFG_TRY(plan_command_table(b, file, force_save));
-  if (file.scope.curves) LMCFG_TRY(plan_curves(b, file, force_save));
+  // Phase 3: the tables, each saved to flash only when an entry of it is
+  // written or deleted (a save takes up to 10 s and wears the flash). LinRS
+  // cannot read flash (§11, §12), so RAM tables that match the file prove
+  // nothing about flash after an earlier run stopped half way. Two signs make
+  // the plan save the tables in scope even where RAM matches: MC stopped, or a
+  // recovery record of an unfinished restore. Otherwise the reset (or MC
+  // start) reloads RAM from flash and the verify after it finds a flash that
+  // held another table: plan_table_pass writes and saves it then.
+  // docs/restore.md.
+  const bool force_save = earlier.mc_was_stopped || recovered;
+  if (file.scope.command_table) LMCFG_TRY(plan_command_table(b, tables, force_save));
+  if (file.scope.curves) LMCFG_TRY(plan_curves(b, tables, force_save));
   if (earlier.mc_was_stopped || recovered) rom_changed = true;  // restart so every ROM value acts
   if (plan.steps.empty() && !earlier.mc_was_stopped && !recovered)
     return plan;  // nothing to do: MC keeps running
@@ -675,6 +793,26 @@ Result<Plan> plan_restore(client::Client& c, const config::DriveConfig& file,
   // Phase 4: MC stopped around the writes.
   add_stop_and_start(b, rom_changed);
   return plan;
+}
+
+Result<Plan> plan_table_pass(client::Client& c, const Plan& done, const VerifyReport& v,
+                             const RestoreOptions& opt) {
+  Plan pass;
+  pass.expected = done.expected;
+  pass.skipped_incompatible = done.skipped_incompatible;
+  Builder b{c, db::Database::empty(), opt, pass};  // the pass writes no parameter
+  auto saved = [&](Action a) {
+    return std::any_of(done.steps.begin(), done.steps.end(),
+                       [&](const PlanStep& s) { return s.action == a; });
+  };
+  const config::DriveConfig& want = done.expected;
+  if (v.ct_differs && want.scope.command_table && !saved(Action::save_ct))
+    LMCFG_TRY(plan_command_table(b, want, false));
+  if (v.curves_differ && want.scope.curves && !saved(Action::save_curves))
+    LMCFG_TRY(plan_curves(b, want, false));
+  if (pass.steps.empty()) return pass;
+  add_stop_and_start(b, false);
+  return pass;
 }
 
 }  // namespace lmcfg::ops

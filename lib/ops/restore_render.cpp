@@ -40,15 +40,50 @@ const char* action_name(PlanStep::Action a) {
   return "?";
 }
 
+namespace {
+
+nlohmann::ordered_json skipped_json(const SkippedValue& v) {
+  nlohmann::ordered_json o;
+  switch (v.kind) {
+    case SkippedValue::Kind::parameter:
+      o["layer"] = std::string(lmcfg::layers::name(v.layer));
+      o["upid"] = hex(v.key, 4);
+      break;
+    case SkippedValue::Kind::curve:
+      o["curve"] = v.key;
+      break;
+    case SkippedValue::Kind::ct_entry:
+      o["ct_entry"] = v.key;
+      break;
+  }
+  o["name"] = v.name;
+  o["reason_code"] = reason_code(v.reason);
+  o["reason"] = v.why;
+  return o;
+}
+
+}  // namespace
+
+std::string render_skipped_incompatible(const Plan& p) {
+  if (p.skipped_incompatible.empty()) return {};
+  std::string out = "skipped (the target cannot take them):\n";
+  for (const auto& v : p.skipped_incompatible) out += "  " + v.text + "\n";
+  return out;
+}
+
 std::string render_plan(const Plan& p) {
   std::string out;
   if (!p.ok()) {
     out +=
         "restore refused: " + std::to_string(p.problems.size()) + " problem(s), nothing written:\n";
     for (const auto& s : p.problems) out += "  problem: " + s + "\n";
-    return out;
+    return out + render_skipped_incompatible(p);
   }
-  if (p.nothing_to_do()) {
+  if (p.nothing_to_do() && !p.skipped_incompatible.empty()) {
+    out +=
+        "plan: nothing to do: the target already matches the file except the skipped values "
+        "(no write, MC keeps running)\n";
+  } else if (p.nothing_to_do()) {
     out +=
         "plan: nothing to do: the target already matches the file (no write, MC keeps running)\n";
   } else {
@@ -60,6 +95,7 @@ std::string render_plan(const Plan& p) {
   for (const auto& s : p.losses) out += "  the target loses: " + s + "\n";
   for (const auto& s : p.skipped) out += "  skip: " + s + "\n";
   for (const auto& s : p.notes) out += "  note: " + s + "\n";
+  out += render_skipped_incompatible(p);
   return out;
 }
 
@@ -103,6 +139,9 @@ nlohmann::ordered_json plan_json(const Plan& p) {
   j["steps"] = std::move(steps);
   j["losses"] = p.losses;
   j["skipped"] = p.skipped;
+  nlohmann::ordered_json incompatible = nlohmann::ordered_json::array();
+  for (const auto& v : p.skipped_incompatible) incompatible.push_back(skipped_json(v));
+  j["skipped_incompatible"] = std::move(incompatible);
   j["notes"] = p.notes;
   return j;
 }

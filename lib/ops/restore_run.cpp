@@ -23,6 +23,15 @@ const char* stage_name(RestoreOutcome::Stage s) {
   return "?";
 }
 
+std::string outcome_name(const RestoreOutcome& out) {
+  using S = RestoreOutcome::Stage;
+  if (out.skipped_any() && out.stage == S::restored)
+    return "restored except the listed values, verified";
+  if (out.skipped_any() && out.stage == S::nothing_to_do)
+    return "nothing to do except the listed values";
+  return stage_name(out.stage);
+}
+
 RestoreOutcome run_restore(Session& session, const config::DriveConfig& file,
                            const db::Database& db, const RestoreRunOptions& o) {
   using S = RestoreOutcome::Stage;
@@ -80,6 +89,30 @@ RestoreOutcome run_restore(Session& session, const config::DriveConfig& file,
     return fail(Error(
         verify.error().code,
         "written, but verification could not read the drive back: " + verify.error().message));
+  }
+  if (verify->ct_differs || verify->curves_differ) {
+    auto pass = plan_table_pass(client, out.plan, *verify, o.restore);
+    if (!pass.ok()) {
+      return fail(Error(pass.error().code,
+                        "written, but reading the tables for a second pass "
+                        "failed: " +
+                            pass.error().message));
+    }
+    if (!pass->steps.empty()) {
+      out.second_pass = std::move(pass).value();
+      if (auto r = execute_plan(client, *out.second_pass, o.restore); !r.ok()) {
+        Error e = std::move(r).error();
+        e.message = "second pass (a table differed after the reset): " + e.message;
+        return fail(std::move(e));
+      }
+      verify = verify_restore(client, out.plan, o.restore);
+      if (!verify.ok()) {
+        return fail(Error(verify.error().code,
+                          "written, but verification could not read the drive back after the "
+                          "second pass: " +
+                              verify.error().message));
+      }
+    }
   }
   out.mismatches = std::move(verify->mismatches);
   out.stage = out.mismatches.empty() ? S::restored : S::verify_mismatch;

@@ -37,11 +37,20 @@ struct RestoreOutcome {
   std::optional<RelinkReport> relink;
   std::vector<std::string> mismatches;
   bool written = false;  // execute_plan ran (some steps may have been sent)
+  // The verify found a table the plan did not write differing (RAM reloaded
+  // from another flash content at the reset or MC start): the second pass
+  // that wrote and saved it, verified again. At most one.
+  std::optional<Plan> second_pass;
+  // --skip-incompatible left values out (Plan::skipped_incompatible).
+  bool skipped_any() const { return !plan.skipped_incompatible.empty(); }
 };
 
 RestoreOutcome run_restore(Session& session, const config::DriveConfig& file,
                            const db::Database& db, const RestoreRunOptions& o);
 
 const char* stage_name(RestoreOutcome::Stage s);  // "restored and verified", ...
+// stage_name, except where values were skipped: "restored except the listed
+// values, verified", "nothing to do except the listed values".
+std::string outcome_name(const RestoreOutcome& out);
 
 }  // namespace lmcfg::ops

@@ -41,6 +41,7 @@ Result<VerifyReport> verify_restore(client::Client& c, const Plan& p, const Rest
     LMCFG_ASSIGN_OR_RETURN(auto ids, c.ct_defined_entries());
     std::vector<std::uint16_t> expected_ids;
     for (const auto& e : want.ct_entries) expected_ids.push_back(static_cast<std::uint16_t>(e.id));
+    const std::size_t before = rep.mismatches.size();
     if (ids != expected_ids) {
       rep.mismatches.push_back("command table: drive defines " + std::to_string(ids.size()) +
                                " entries, the file " + std::to_string(expected_ids.size()));
@@ -52,8 +53,10 @@ Result<VerifyReport> verify_restore(client::Client& c, const Plan& p, const Rest
       if (raw != e->raw)
         rep.mismatches.push_back("command table entry " + std::to_string(id) + ": bytes differ");
     }
+    rep.ct_differs = rep.mismatches.size() > before;
   }
   if (want.scope.curves) {
+    const std::size_t before = rep.mismatches.size();
     for (std::uint16_t id = 1; id <= opt.max_curve_id; ++id) {
       if (opt.progress) opt.progress("verify curves", id, opt.max_curve_id);
       auto read = c.read_curve(id);
@@ -70,6 +73,7 @@ Result<VerifyReport> verify_restore(client::Client& c, const Plan& p, const Rest
         rep.mismatches.push_back("curve " + std::to_string(id) + ": blocks differ");
       }
     }
+    rep.curves_differ = rep.mismatches.size() > before;
   }
   return rep;
 }

@@ -281,8 +281,13 @@ std::optional<Answer> Drive::on_response_request(const Telegram& t, std::int64_t
 
 // ---- parameters (§9, §10) ----------------------------------------------------
 
+bool Drive::refuses_configuration() const {
+  return s_.options.refuse_config_while_mc_runs && s_.mc_running;
+}
+
 std::uint8_t Drive::write_value(Parameter& p, bool ram, bool rom, std::uint32_t value) {
   const auto& o = s_.options;
+  if (rom && refuses_configuration()) return o.config_refused_state;
   if (o.write_policy != WritePolicy::accept) {
     const bool au_ok =
         (!ram || (p.address_usage & au::ram_write)) && (!rom || (p.address_usage & au::rom_write));
@@ -314,6 +319,8 @@ void Drive::load_ram_from_rom() {
 
 std::optional<Answer> Drive::on_parameter(const Telegram& t, std::int64_t now) {
   if (t.sub >= codec::kParamDefaultLayerFirst && t.sub <= codec::kParamDefaultLayerLast) {
+    if (refuses_configuration())
+      return finish(default_response(s_.options.config_refused_state), 0, now);
     default_layer(static_cast<Layer>(t.sub - codec::kParamDefaultLayerFirst + 1));
     return finish(default_response(st::ok), s_.timing.defaulting_us, now);
   }
@@ -349,8 +356,10 @@ std::optional<Answer> Drive::on_param_config(const Telegram& t, std::int64_t now
   if (op >= CfgOp::default_os && op <= CfgOp::default_appl) {
     const auto layer =
         static_cast<std::uint8_t>(t.sub - static_cast<std::uint8_t>(CfgOp::default_os) + 1);
-    default_layer(static_cast<Layer>(layer));
     const std::uint16_t key = t.data.size() >= 2 ? get_u16le(t.data, 0) : 0;
+    if (refuses_configuration())
+      return finish(id_value(sub, o.config_refused_state, key, layer), 0, now);
+    default_layer(static_cast<Layer>(layer));
     return finish(id_value(sub, st::ok, key, layer), s_.timing.defaulting_us, now);
   }
   // 09h/0Bh: the UPID field is ignored (erratum 4, §10.3 "not used").

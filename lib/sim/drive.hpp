@@ -122,6 +122,13 @@ struct Options {
   std::uint8_t reject_state = codec::state::wrong_type;  // C9
   // Flash save of curves / CT while MC runs (§11, §12 "MC SW has to be stopped").
   std::uint8_t flash_refused_state = codec::state::bad_sub_id;  // C4
+  // ROM writes (§9 write ROM, write RAM+ROM; §10 write ROM) and layer defaulting (§10.4)
+  // while MC runs. LinRS §10: "For configuring it is needed to stop the MC-SW
+  // of the servo controller first", yet the §9.2 capture writes a ROM value
+  // with MC running and gets state 00 ("it is recommended to change the ROM
+  // values only in the stopped MC-SW mode"): both readings, accept by default.
+  bool refuse_config_while_mc_runs = false;
+  std::uint8_t config_refused_state = codec::state::bad_sub_id;  // C4, as flash saves
   // Block transfer to/from a curve or CT entry that does not exist.
   std::uint8_t missing_object_state = codec::state::unknown_upid;  // C8
   // "Respond On Msg With Error" (§15, factory: both on).
@@ -285,7 +292,10 @@ class Drive {
   std::optional<Answer> on_program(const codec::Telegram& t, std::int64_t now);
   std::optional<Answer> on_error_info(const codec::Telegram& t, std::int64_t now);
 
-  // Write with the policy; returns the state (00 or reject_state).
+  // Options::refuse_config_while_mc_runs and MC running.
+  bool refuses_configuration() const;
+  // Write with the policy; returns the state (00, reject_state or
+  // config_refused_state).
   std::uint8_t write_value(Parameter& p, bool ram, bool rom, std::uint32_t value);
   void default_layer(Layer l);
   void load_ram_from_rom();

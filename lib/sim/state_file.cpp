@@ -203,6 +203,8 @@ json to_json(const DriveState& s) {
   if (O.refusal_fields != RefusalFields::echo)
     j["options"]["refusal_fields"] =
         O.refusal_fields == RefusalFields::zeros ? "zeros" : "arbitrary";
+  j["options"]["refuse_config_while_mc_runs"] = O.refuse_config_while_mc_runs;
+  j["options"]["config_refused_state"] = hex8(O.config_refused_state);
   if (O.baud_codes != Options::default_baud_codes()) {
     json codes = json::object();
     for (const auto& [code, rate] : O.baud_codes) codes[std::to_string(code)] = rate;
@@ -347,6 +349,9 @@ Result<DriveState> from_json(const json& j) {
           enum_of(*it, "refusal_fields", O.refusal_fields,
                   {std::pair{"echo", RefusalFields::echo}, std::pair{"zeros", RefusalFields::zeros},
                    std::pair{"arbitrary", RefusalFields::arbitrary}});
+      O.refuse_config_while_mc_runs =
+          bool_or(*it, "refuse_config_while_mc_runs", O.refuse_config_while_mc_runs);
+      O.config_refused_state = u8_or("config_refused_state", O.config_refused_state);
       if (auto bc = it->find("baud_codes"); bc != it->end()) {
         if (!bc->is_object())
           throw BadField("options.baud_codes: expected an object of code -> baud rate");

@@ -468,3 +468,38 @@ TEST_CASE("sim: state file round trip and fixtures", "[sim]") {
   REQUIRE_FALSE(bad2.ok());
   CHECK(bad2.error().code == make_error_code(Errc::parse_error));
 }
+
+TEST_CASE(
+    "sim: refuse_config_while_mc_runs refuses ROM writes and defaulting while MC runs, not after "
+    "the stop (LinRS §10)",
+    "[sim][mc-stopped]") {
+  // LinRS §10: "For configuring it is needed to stop the MC-SW of the servo
+  // controller first"; the §9.2 capture writes ROM with MC running: an option.
+  auto s = load_fixture("commissioned-axis.json");
+  {
+    SimHarness accepting(s);  // the default plays the §9.2 capture
+    CHECK(dr(accepting.ask(make_param_write(kId, ParamOp::write_rom, 0x13A2, 12))).comm_state ==
+          0x00);
+  }
+  s.options.refuse_config_while_mc_runs = true;
+  SimHarness h(s);
+  CHECK(dr(h.ask(make_param_write(kId, ParamOp::write_rom, 0x13A2, 12))).comm_state == 0xC4);
+  CHECK(dr(h.ask(make_param_write(kId, ParamOp::write_ram_rom, 0x13A2, 12))).comm_state == 0xC4);
+  CHECK(h.ask_iv(make_cfg_write(kId, 0x13A2, 12), 0x51).state == 0xC4);
+  CHECK(dr(h.ask(make_param_default_layer(kId, 2))).comm_state == 0xC4);
+  CHECK(h.ask_iv(make_cfg_default_layer(kId, 2), 0x5D).state == 0xC4);
+  CHECK(h.drive->rom(0x13A2) == 40u);  // nothing changed
+  // RAM is not configuration: written while MC runs.
+  CHECK(dr(h.ask(make_param_write(kId, ParamOp::write_ram, 0x13A2, 11))).comm_state == 0x00);
+  CHECK(h.drive->ram(0x13A2) == 11u);
+  CHECK(dr(h.ask(make_program(kId, ProgramOp::stop_mc))).status_word == 0);
+  CHECK(h.ask_iv(make_cfg_write(kId, 0x13A2, 12), 0x51).state == 0x00);
+  CHECK(h.drive->rom(0x13A2) == 12u);
+  // The option survives the state file.
+  const auto j = sim::to_json(h.drive->state());
+  CHECK(j["options"]["refuse_config_while_mc_runs"] == true);
+  CHECK(j["options"]["config_refused_state"] == "C4");
+  auto back = sim::from_json(j);
+  REQUIRE(back.ok());
+  CHECK(back->options.refuse_config_while_mc_runs);
+}

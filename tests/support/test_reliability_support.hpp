@@ -225,6 +225,26 @@ inline RestoreRun run_restore(client::Client& c, const config::DriveConfig& file
     run.outcome = std::move(v).error();
     return run;
   }
+  // As ops::run_restore: one second pass for a table the reset reloaded from
+  // a flash that held another one.
+  if (v->ct_differs || v->curves_differ) {
+    auto pass = ops::plan_table_pass(c, *plan, *v, ro);
+    if (!pass.ok()) {
+      run.outcome = std::move(pass).error();
+      return run;
+    }
+    if (!pass->steps.empty()) {
+      if (auto r = ops::execute_plan(c, *pass, ro); !r.ok()) {
+        run.outcome = std::move(r).error();
+        return run;
+      }
+      v = ops::verify_restore(c, *plan, ro);
+      if (!v.ok()) {
+        run.outcome = std::move(v).error();
+        return run;
+      }
+    }
+  }
   run.mismatches = v->mismatches.size();
   if (!v->ok()) run.outcome = Error(Errc::verify_mismatch, v->mismatches.front());
   return run;

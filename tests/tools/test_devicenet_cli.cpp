@@ -111,6 +111,11 @@ void backup_change_restore(const DnSim& sim, const std::string& dir_name,
   CHECK(nothing.exit_code == 0);
   CHECK(nothing.out.find("nothing to do: the controller already matches ctl.json") !=
         std::string::npos);
+  auto skip = test::run_tool_in(dir, "restore ctl.json --yes --skip-incompatible " + sim.link());
+  CHECK(skip.exit_code == 2);
+  CHECK(skip.err ==
+        "lmcfg restore: --skip-incompatible is a LinRS option; a DeviceNet restore plans against "
+        "Table 5-1's ranges and refuses any value outside\n");
   fs::remove_all(dir);
 }
 

@@ -17,6 +17,7 @@ enum Exit : int {
   kCommFailure = 4,     // no answer, link lost, garbled telegrams
   kDriveRefused = 5,    // the drive answered with an error state (C1..C9) or refused
   kVerifyMismatch = 6,  // written, but reading back differs from the file
+  kRestoredExcept = 7,  // restore --skip-incompatible: restored except the listed values, verified
   kInternal = 70,       // a bug: please report with --trace
   kInterrupted = 130,   // SIGINT/SIGTERM: stopped between two telegrams (128 + SIGINT)
 };

@@ -127,6 +127,10 @@ int restore_devicenet(const config::DriveConfig& file, const std::string& file_n
                                  "--include-comm, --no-default, --no-reset and --reconnect-* are "
                                  "LinRS options; a DeviceNet restore writes only the values that "
                                  "differ"));
+  if (f.skip_incompatible)
+    return fail("restore", Error(Errc::invalid_argument,
+                                 "--skip-incompatible is a LinRS option; a DeviceNet restore "
+                                 "plans against Table 5-1's ranges and refuses any value outside"));
   auto l = devicenet_link_options(common);
   if (!l.ok()) return fail("restore", l.error());
   auto read = devicenet_read_options(common);

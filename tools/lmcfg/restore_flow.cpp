@@ -14,13 +14,14 @@ namespace {
 void report_json(const ops::RestoreOutcome& out, const std::string& file) {
   nlohmann::ordered_json j;
   j["file"] = file;
-  j["outcome"] = ops::stage_name(out.stage);
+  j["outcome"] = ops::outcome_name(out);
   if (out.relink)
     j["link_after"] = {{"changed", out.relink->changed},
                        {"summary", out.relink->summary},
                        {"reasons", out.relink->reasons}};
   const auto plan = ops::plan_json(out.plan);  // alive while its items are copied
   for (const auto& [k, v] : plan.items()) j[k] = v;
+  if (out.second_pass) j["second_pass"] = ops::plan_json(*out.second_pass)["steps"];
   j["mismatches"] = out.mismatches;
   if (out.error) j["error"] = out.error->message;
   std::printf("%s\n", j.dump(2).c_str());
@@ -42,6 +43,10 @@ void add_restore_flags(CLI::App* sub, RestoreFlags& f) {
                 "do not ask for confirmation (needed when stdin is not a terminal)");
   sub->add_flag("--no-reset", f.no_reset,
                 "do not reset the drive at the end (ROM values act after the next restart)");
+  sub->add_flag("--skip-incompatible", f.skip_incompatible,
+                "restore what the target can take and list the values it cannot (UPID absent, "
+                "type, range, read-only, curve/command table limits); exit 7 when any was "
+                "skipped");
 }
 
 int restore_on_session(ops::Session& session, const config::DriveConfig& file,
@@ -62,6 +67,7 @@ int restore_on_session(ops::Session& session, const config::DriveConfig& file,
   ro.restore.default_first = !f.no_default;
   ro.restore.include_comm = f.include_comm;
   ro.restore.reset_after = !f.no_reset;
+  ro.restore.skip_incompatible = f.skip_incompatible;
   ro.restore.progress = make_progress(common);
   ro.dry_run = f.dry_run;
   ro.overrides = overrides;
@@ -96,13 +102,20 @@ int restore_on_session(ops::Session& session, const config::DriveConfig& file,
     case S::nothing_to_do:
       if (text && !common.quiet) {
         for (const auto& s : out.plan.skipped) std::fprintf(stderr, "skip: %s\n", s.c_str());
-        std::printf("nothing to do: the drive already matches %s\n", file_name.c_str());
+        if (out.skipped_any())
+          std::printf("nothing to do: the drive already matches %s except the skipped values\n",
+                      file_name.c_str());
+        else
+          std::printf("nothing to do: the drive already matches %s\n", file_name.c_str());
       }
+      if (text) std::fputs(ops::render_skipped_incompatible(out.plan).c_str(), stdout);
+      if (out.skipped_any()) code = kRestoredExcept;
       break;
     case S::verify_mismatch:
       if (text) {
-        std::fprintf(stderr, "lmcfg restore: verification found %zu mismatch(es):\n",
-                     out.mismatches.size());
+        std::fprintf(stderr, "lmcfg restore: verification found %zu mismatch(es)%s:\n",
+                     out.mismatches.size(),
+                     out.second_pass ? " after a second pass that wrote the tables again" : "");
         for (const auto& m : out.mismatches) std::fprintf(stderr, "  %s\n", m.c_str());
       }
       code = kVerifyMismatch;
@@ -118,12 +131,21 @@ int restore_on_session(ops::Session& session, const config::DriveConfig& file,
                        "restore: the restored link settings are active: %s; use them from now "
                        "on\n",
                        out.relink->summary.c_str());
+        if (out.second_pass)
+          std::fprintf(stderr,
+                       "restore: after the restart a table differed from the file (its flash "
+                       "held another one): second pass, %zu step(s) (write, save to flash, start "
+                       "MC)\n",
+                       out.second_pass->steps.size());
         std::fprintf(stderr,
-                     "restore: %zu step(s) done, verified: the drive matches %s (%llu "
+                     "restore: %zu step(s) done, verified: the drive matches %s%s (%llu "
                      "telegrams)\n",
                      out.plan.steps.size(), file_name.c_str(),
+                     out.skipped_any() ? " except the skipped values" : "",
                      static_cast<unsigned long long>(client.stats().requests));
       }
+      if (text) std::fputs(ops::render_skipped_incompatible(out.plan).c_str(), stdout);
+      if (out.skipped_any()) code = kRestoredExcept;
       break;
   }
   return code;

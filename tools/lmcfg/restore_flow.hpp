@@ -16,11 +16,13 @@ struct RestoreFlags {
   bool no_default = false;
   bool include_comm = false;
   bool no_reset = false;
+  bool skip_incompatible = false;
   bool yes = false;
   ReconnectOptions reconnect;
 };
 
-// --dry-run, --no-default, --include-comm, --reconnect-*, --yes, --no-reset.
+// --dry-run, --no-default, --include-comm, --reconnect-*, --yes, --no-reset,
+// --skip-incompatible.
 void add_restore_flags(CLI::App* sub, RestoreFlags& f);
 
 // Restores `file` (called `file_name` in messages) over `session` as `lmcfg
