@@ -223,6 +223,10 @@ Result<transport::OpenedLink> open_byte_link(const PortSpec& spec, const OpenReq
 }
 
 Result<std::unique_ptr<can::Link>> open_can_link(const PortSpec& spec, const OpenRequest& req) {
+  // SocketCAN interfaces may have any name (ip link set ... name press3can):
+  // where a CAN link is wanted, a plain name that is no device path is one.
+  if (spec.scheme_name() == "serial" && spec.address.find('/') == std::string::npos)
+    return open_socketcan_row(spec, req);
   if (!spec.scheme->open_can)
     return Error(
         Errc::invalid_argument,

@@ -96,7 +96,9 @@ bool is_can_port(std::string_view port);
 // Opens a byte link (serial, tcp, sim ...). A CAN port gives
 // Errc::invalid_argument naming it.
 Result<transport::OpenedLink> open_byte_link(const PortSpec& spec, const OpenRequest& req);
-// Opens a CAN link (slcan:, SocketCAN). A byte port gives Errc::invalid_argument.
+// Opens a CAN link (slcan:, SocketCAN). A plain name without '/' that no row
+// claims is taken as a SocketCAN interface (interfaces may be renamed); other
+// byte ports give Errc::invalid_argument.
 Result<std::unique_ptr<can::Link>> open_can_link(const PortSpec& spec, const OpenRequest& req);
 // parse_port + open_can_link.
 Result<std::unique_ptr<can::Link>> open_can_link(std::string_view port,
