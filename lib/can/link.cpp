@@ -217,17 +217,6 @@ Result<std::unique_ptr<Link>> open_socketcan(const std::string& interface) {
   return std::unique_ptr<Link>(std::make_unique<SocketCanLink>(std::move(fd), interface));
 }
 
-Result<std::unique_ptr<Link>> open_link(const std::string& port, const SlcanOptions& opt) {
-  if (port.rfind("slcan:", 0) == 0) {
-    transport::SerialSettings s;
-    s.device = port.substr(6);
-    s.baud = 115200;
-    LMCFG_ASSIGN_OR_RETURN(auto serial, transport::open_serial(s));
-    return open_slcan(std::move(serial), opt);
-  }
-  return open_socketcan(port);
-}
-
 void TraceLink::trace(const Frame& f, bool tx) {
   std::string line = std::string(tx ? "TX " : "RX ") + can::describe(f);
   if (annotate_) {

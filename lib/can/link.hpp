@@ -1,8 +1,8 @@
 #pragma once
 // One small frame interface for CAN adapters (docs/can.md), next to the byte
 // transports: CAN carries frames, not a byte stream.
-//   can0, vcan0            SocketCAN network interface (Linux)
-//   slcan:/dev/ttyACM0     serial-line adapter speaking slcan (Lawicel ASCII)
+//   can0, vcan0            SocketCAN network interface (Linux): open_socketcan
+//   slcan:/dev/ttyACM0     serial-line adapter speaking slcan (Lawicel ASCII): open_slcan
 // Framing of the application protocol (DeviceNet) stays above this layer.
 #include <deque>
 #include <functional>
@@ -47,9 +47,8 @@ Result<std::unique_ptr<Link>> open_slcan(std::unique_ptr<transport::Transport> s
 // SocketCAN interface by name; its bit rate is the interface's (ip link set
 // can0 type can bitrate 125000).
 Result<std::unique_ptr<Link>> open_socketcan(const std::string& interface);
-// "slcan:/dev/ttyACM0" (serial 115200 8N1; USB adapters ignore it) or an
-// interface name.
-Result<std::unique_ptr<Link>> open_link(const std::string& port, const SlcanOptions& opt);
+// Ports ("slcan:/dev/ttyACM0", "can0") are opened through the table of port
+// schemes: link::open_can_link (link/port.hpp).
 
 // Writes each frame as a line ("TX 123 [2] AA BB" plus what `annotate` says of
 // it, e.g. its DeviceNet meaning) to `sink`, then passes it on.

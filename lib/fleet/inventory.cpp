@@ -10,6 +10,7 @@
 
 #include "common/bytes.hpp"
 #include "config/io_common.hpp"
+#include "link/port.hpp"
 
 namespace lmcfg::fleet {
 namespace {
@@ -352,18 +353,17 @@ Result<void> check_ports(const Inventory& inv) {
     problems += (problems.empty() ? "" : "\n") + l.at.str() + ": line '" + l.name + "': " + what;
   };
   for (const auto& l : inv.lines) {
-    if (l.port.rfind("tcp://", 0) == 0) {
-      const auto rest = l.port.substr(6);
-      const auto colon = rest.rfind(':');
-      const auto digits = colon == std::string::npos ? std::string() : rest.substr(colon + 1);
-      const bool numeric = !digits.empty() && digits.size() <= 5 &&
-                           digits.find_first_not_of("0123456789") == std::string::npos;
-      if (colon == 0 || !numeric || std::stoul(digits) < 1 || std::stoul(digits) > 65535)
-        problem(l, "port '" + l.port + "' is not tcp://HOST:PORT with PORT 1..65535");
-    } else if (!l.port.empty() && l.port.front() == '/') {
-      std::error_code ec;
-      if (!std::filesystem::exists(l.port, ec))
-        problem(l, "port " + l.port + " does not exist (is the adapter plugged in?)");
+    // The table of port schemes checks the form; its row says whether there
+    // is something to find before the run (a device path).
+    auto spec = link::parse_port(l.port);
+    if (!spec.ok()) {
+      problem(l, spec.error().message);
+    } else if (spec->kind() != link::Kind::byte_link) {
+      problem(l, "port '" + l.port +
+                     "' is a CAN link (DeviceNet controllers); a fleet line is a LinRS line");
+    } else if (spec->scheme->check_present) {
+      if (auto present = spec->scheme->check_present(*spec); !present.ok())
+        problem(l, present.error().message);
     }
   }
   if (!problems.empty()) return Error(Errc::validation_failed, problems);

@@ -85,10 +85,11 @@ Result<Inventory> parse_inventory(std::string_view text, std::string path);
 // Errc::file_error when the file cannot be read.
 Result<Inventory> load_inventory(const std::string& path);
 
-// Whether each line's port can be reached before any drive is talked to: a
-// device path ("/dev/ttyUSB0") exists, "tcp://HOST:PORT" has a port 1..65535.
-// Other "SCHEME:ADDRESS" ports are their scheme's to check when opened; a
-// gateway that does not answer fails its line's drives at run time.
+// Whether each line's port can be reached before any drive is talked to,
+// through the table of port schemes (link/port.hpp): its form ("tcp://HOST:PORT"
+// has a port 1..65535), a LinRS link (not CAN), a device path ("/dev/ttyUSB0")
+// exists. Registered "SCHEME:ADDRESS" ports are their scheme's to check when
+// opened; a gateway that does not answer fails its line's drives at run time.
 // Errc::validation_failed with every problem and its position.
 Result<void> check_ports(const Inventory& inv);
 

@@ -6,6 +6,7 @@
 #include "common/version.hpp"
 #include "db/database.hpp"
 #include "devicenet/catalogue.hpp"
+#include "link/port.hpp"
 
 namespace lmcfg::ops {
 namespace {
@@ -91,25 +92,14 @@ Result<std::vector<int>> configured_motors(Master& m) {
 
 }  // namespace
 
-bool is_can_port(const std::string& port) {
-  if (port.rfind("slcan:", 0) == 0) return true;
-  // SocketCAN interfaces: can0, vcan0, slcan0 (a kernel slcan line discipline)...
-  for (const char* prefix : {"can", "vcan", "slcan"}) {
-    const std::string p = prefix;
-    if (port.size() > p.size() && port.rfind(p, 0) == 0 &&
-        std::all_of(port.begin() + static_cast<std::ptrdiff_t>(p.size()), port.end(),
-                    [](char c) { return c >= '0' && c <= '9'; }))
-      return true;
-  }
-  return false;
-}
+bool is_can_port(const std::string& port) { return link::is_can_port(port); }
 
 Result<std::unique_ptr<DevicenetSession>> DevicenetSession::open(const DevicenetLinkOptions& o) {
   auto s = std::unique_ptr<DevicenetSession>(new DevicenetSession);
   s->opt_ = o;
   can::SlcanOptions so;
   so.bitrate = o.can_bitrate;
-  LMCFG_ASSIGN_OR_RETURN(s->link_, can::open_link(o.port, so));
+  LMCFG_ASSIGN_OR_RETURN(s->link_, link::open_can_link(o.port, so, o.holder));
   if (o.trace) {
     s->link_ = std::make_unique<can::TraceLink>(
         std::move(s->link_), o.trace, [layout = o.master.layout](const can::Frame& f, bool) {

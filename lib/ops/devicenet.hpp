@@ -40,6 +40,7 @@ struct DevicenetLinkOptions {
   devicenet::MasterOptions master;
   bool check_own_mac = true;   // the duplicate MAC ID check (two rounds of listening)
   can::TraceLink::Sink trace;  // frames with their DeviceNet meaning; nullptr: none
+  std::string holder;          // who opens the port, recorded in its lock (slcan:)
 };
 
 // The CAN link and the connected master; releases the connection set when

@@ -1,8 +1,8 @@
 #include "ops/session.hpp"
 
-#include <filesystem>
-#include <map>
 #include <optional>
+
+#include "link/port.hpp"
 
 namespace lmcfg::ops {
 
@@ -91,15 +91,8 @@ Result<transport::Parity> parse_parity(std::string_view t) {
                "parity '" + std::string(t) + "' is not one of none, even, odd");
 }
 
-namespace {
-std::map<std::string, transport::LinkFactory, std::less<>>& link_schemes() {
-  static std::map<std::string, transport::LinkFactory, std::less<>> schemes;
-  return schemes;
-}
-}  // namespace
-
 void register_link_scheme(std::string scheme, transport::LinkFactory factory) {
-  link_schemes()[std::move(scheme)] = std::move(factory);
+  link::register_scheme(std::move(scheme), std::move(factory));
 }
 
 Session::Session(LinkOptions opt, transport::OpenedLink link,
@@ -153,48 +146,21 @@ Result<std::unique_ptr<Session>> open_session(const LinkOptions& opt_in) {
   if (opt.port.empty())
     return Error(Errc::invalid_argument,
                  "no --port given (a serial device, tcp://host:port or sim:FILE)");
-  transport::OpenedLink opened;
-  auto& link = opened.link;
-  std::optional<transport::LowLatencyReport> latency;
-  const auto scheme_end = opt.port.find(':');
-  const auto scheme = scheme_end == std::string::npos
-                          ? link_schemes().end()
-                          : link_schemes().find(opt.port.substr(0, scheme_end));
-  if (scheme != link_schemes().end()) {
-    LMCFG_ASSIGN_OR_RETURN(opened, scheme->second(transport::LinkRequest{
-                                       opt.port.substr(scheme_end + 1), opt.real_time_sim}));
-    if (opened.line) {
-      opt.serial.baud = opened.line->baud;
-      opt.serial.parity = opened.line->parity;
-      opt.serial.stop_bits = opened.line->stop_bits;
-    }
-  } else if (opt.port.rfind("tcp://", 0) == 0) {
-    const std::string hp = opt.port.substr(6);
-    const auto colon = hp.rfind(':');
-    if (colon == std::string::npos || colon == 0 || colon + 1 == hp.size()) {
-      return Error(Errc::invalid_argument, "port '" + opt.port + "': expected tcp://host:port");
-    }
-    auto port = parse_number(hp.substr(colon + 1), false);
-    if (!port || *port == 0 || *port > 65535) {
-      return Error(Errc::invalid_argument, "port '" + opt.port + "': TCP port must be 1..65535");
-    }
-    std::string host = hp.substr(0, colon);
-    if (host.size() > 2 && host.front() == '[' && host.back() == ']')
-      host = host.substr(1, host.size() - 2);
-    LMCFG_ASSIGN_OR_RETURN(link, transport::open_tcp(host, static_cast<std::uint16_t>(*port),
-                                                     transport::Millis(3000)));
-  } else {
-    opt.serial.device = opt.port;
-    LMCFG_TRY(transport::validate(opt.serial));
-    std::error_code ec;
-    if (std::filesystem::is_directory(opt.port, ec)) {
-      return Error(Errc::invalid_argument,
-                   "port '" + opt.port + "' is a directory, not a serial device");
-    }
-    transport::LowLatencyReport report;
-    LMCFG_ASSIGN_OR_RETURN(link, transport::open_serial(opt.serial, &report));
-    latency = std::move(report);
+  LMCFG_ASSIGN_OR_RETURN(const auto spec, link::parse_port(opt.port));
+  link::OpenRequest req;
+  req.line = opt.serial;
+  req.holder = opt.holder;
+  req.real_time_peer = opt.real_time_sim;
+  LMCFG_ASSIGN_OR_RETURN(auto opened, link::open_byte_link(spec, req));
+  if (spec.scheme_name() == "serial") opt.serial.device = spec.address;
+  // A simulated drive is wired at its own settings: the session talks with those.
+  if (opened.line) {
+    opt.serial.baud = opened.line->baud;
+    opt.serial.parity = opened.line->parity;
+    opt.serial.stop_bits = opened.line->stop_bits;
   }
+  auto& link = opened.link;
+  auto latency = std::move(opened.latency);
   if (!opt.trace_path.empty()) {
     std::shared_ptr<transport::TraceSink> sink = transport::make_file_trace(opt.trace_path);
     if (!sink) return Error(Errc::file_error, "cannot open trace file '" + opt.trace_path + "'");

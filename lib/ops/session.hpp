@@ -1,13 +1,11 @@
 #pragma once
 // A session with one drive: the link the user named, the optional wire trace,
-// and the drive client. Ports:
-//   /dev/ttyUSB0        real serial port (termios)
-//   tcp://host:port     serial-to-Ethernet gateway
-//   SCHEME:ADDRESS      a scheme registered with register_link_scheme(); the
-//                       tools register sim:STATE.json, the built-in simulated
-//                       drive, in-process; its state is loaded from and saved
-//                       back to STATE.json on close(), so a sequence of
-//                       commands acts on one persistent drive.
+// and the drive client. Ports are the byte-link rows of the one table of port
+// schemes (link/port.hpp): a serial device, tcp://host:port (gateway),
+// rfc2217://host:port, and SCHEME:ADDRESS registered with
+// register_link_scheme(); the tools register sim:STATE.json, the built-in
+// simulated drive, in-process; its state is loaded from and saved back to
+// STATE.json on close(), so a sequence of commands acts on one persistent drive.
 #include <memory>
 #include <string>
 
@@ -23,6 +21,9 @@ struct LinkOptions {
   client::ClientOptions client;      // MACID, checksum, timeouts, retries
   std::string trace_path;            // "" = no trace
   bool real_time_sim = false;        // a simulated peer sleeps for the modelled wire time
+  // Who opens the port ("lmcfg backup"), recorded in its lock so that a
+  // second program is told who has it (transport::PortClaim).
+  std::string holder;
   // open_session switches the client's adaptive answer deadline on (capped by
   // client.timeout) and, unless fixed_settle, the adaptive settle (capped by
   // client.settle). fixed_settle: every settle waits client.settle (--settle-ms).
@@ -48,7 +49,8 @@ std::string checksum_options(const codec::ChecksumConfig& c);
 Result<transport::Parity> parse_parity(std::string_view text);
 
 // Registers the factory for ports "SCHEME:..." (scheme without the colon, e.g.
-// "sim"), replacing an earlier one. Not thread-safe: register at start-up.
+// "sim"), replacing an earlier one: link::register_scheme. Not thread-safe:
+// register at start-up.
 void register_link_scheme(std::string scheme, transport::LinkFactory factory);
 
 // One open link to one drive, with its client. Closing saves what the link's

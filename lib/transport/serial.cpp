@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "transport/port_lock.hpp"
 #include "transport/pty.hpp"
 
 namespace lmcfg::transport {
@@ -206,10 +207,11 @@ Result<void> apply_line_settings(int f, const SerialSettings& s, const std::stri
 // open of the same device (also by this process) is not refused.
 class SerialTransport final : public FdTransport {
  public:
-  SerialTransport(UniqueFd fd, SerialSettings s)
+  SerialTransport(UniqueFd fd, SerialSettings s, std::unique_ptr<PortLock> lock)
       : FdTransport(std::move(fd), serial_description(s),
                     1e6 * bits_per_byte(s) / static_cast<double>(s.baud)),
-        settings_(std::move(s)) {}
+        settings_(std::move(s)),
+        lock_(std::move(lock)) {}
   void set_receive_latency_ms(double ms) { latency_ms_ = ms; }
   double receive_latency_ms() const override { return latency_ms_; }
   ~SerialTransport() override {
@@ -230,11 +232,15 @@ class SerialTransport final : public FdTransport {
  private:
   SerialSettings settings_;
   double latency_ms_ = 0.0;
+  // Destroyed before the descriptor closes: the lock-info file goes first,
+  // then close(2) releases the flock.
+  std::unique_ptr<PortLock> lock_;
 };
 
 }  // namespace
 
-Result<std::unique_ptr<Transport>> open_serial(const SerialSettings& s, LowLatencyReport* report) {
+Result<std::unique_ptr<Transport>> open_serial(const SerialSettings& s, LowLatencyReport* report,
+                                               const PortClaim& claim) {
   if (s.device.empty()) return Error(Errc::invalid_argument, "serial device path is empty");
   LMCFG_TRY(validate(s));
   // O_NONBLOCK so the open does not wait for carrier; it stays set (reads poll).
@@ -253,6 +259,10 @@ Result<std::unique_ptr<Transport>> open_serial(const SerialSettings& s, LowLaten
                        s.device +
                        " (usually dialout: sudo usermod -aG dialout $USER, then log "
                        "in again)");
+    // TIOCEXCL of another opener refuses the open (except to root): say who,
+    // when that opener recorded itself.
+    if (err == EBUSY && port_holder(s.device))
+      return Error(Errc::io_error, port_in_use_message(s.device));
     if (err == EBUSY)
       return Error(Errc::io_error,
                    "cannot open serial port " + s.device + ": " + std::strerror(err) +
@@ -262,12 +272,15 @@ Result<std::unique_ptr<Transport>> open_serial(const SerialSettings& s, LowLaten
   if (::isatty(fd.get()) != 1)
     return Error(Errc::invalid_argument,
                  "cannot use " + s.device + " as a serial port: not a terminal device");
+  // The lock before TIOCEXCL and before any setting: a port in use is left
+  // exactly as its holder set it, and nothing is sent on it.
+  LMCFG_ASSIGN_OR_RETURN(auto lock, PortLock::take(fd.get(), s.device, claim));
   if (::ioctl(fd.get(), TIOCEXCL) != 0)
     return Error(Errc::io_error,
                  serial_description(s) +
                      ": cannot get exclusive access (TIOCEXCL): " + std::strerror(errno));
   // From here on the fd is owned by the transport, whose destructor clears TIOCEXCL.
-  auto t = std::make_unique<SerialTransport>(std::move(fd), s);
+  auto t = std::make_unique<SerialTransport>(std::move(fd), s, std::move(lock));
   LMCFG_TRY(apply_line_settings(t->fd(), s, serial_description(s)));
   LowLatencyReport lat = request_low_latency(t->fd(), s.device);
   if (lat.latency_timer_ms) t->set_receive_latency_ms(*lat.latency_timer_ms);

@@ -106,11 +106,39 @@ inline constexpr std::array<unsigned, 6> kSerialBaudRates{4800, 9600, 19200, 384
 // "57600 8N1", "19200 8E2" (no device).
 std::string format_settings(const SerialSettings& s);
 
+// One program per port (docs/transport.md): who opens a serial device, as the
+// caller describes itself ("lmcfg backup", "lmcfg serve"). The open takes
+// flock(LOCK_EX|LOCK_NB) on the device and records the holder and this
+// process's PID in a lock-info file (port_lock_dirs()) until the port closes,
+// so that a second opener can say who has it. An empty holder locks the port
+// but records nothing: others then see "another program".
+struct PortClaim {
+  std::string holder;
+};
+// Who holds a port, from its lock-info file; only a file whose PID is alive.
+struct PortHolder {
+  std::string holder;  // "lmcfg backup"
+  long pid = 0;
+};
+// The lock-info file of `device` (keyed by its canonical path) in the first
+// of port_lock_dirs() that has one of a living process; nullopt otherwise.
+std::optional<PortHolder> port_holder(const std::string& device);
+// Where lock-info files are written (the first usable) and looked for (all):
+// /run/lock/lmcfg, $XDG_RUNTIME_DIR/lmcfg, /tmp/lmcfg-lock.
+std::vector<std::string> port_lock_dirs();
+// "port /dev/ttyUSB0 is in use by lmcfg backup (PID 4242)", or "... by another
+// program" when no living holder is recorded.
+std::string port_in_use_message(const std::string& device);
+
 // POSIX termios, raw mode, 8 data bits. Works on ttys and pseudo-terminals.
 // Asks for low latency (request_low_latency); `report`, when given, receives
 // what that found, and receive_latency_ms() of the link is the adapter's timer.
+// The port is locked for `claim` while the transport lives; a port locked by
+// another opener (also in this process) gives Errc::io_error with
+// port_in_use_message() before a byte is sent.
 Result<std::unique_ptr<Transport>> open_serial(const SerialSettings& s,
-                                               LowLatencyReport* report = nullptr);
+                                               LowLatencyReport* report = nullptr,
+                                               const PortClaim& claim = {});
 
 // TCP client for serial-to-Ethernet gateways ("host:port").
 Result<std::unique_ptr<Transport>> open_tcp(const std::string& host, std::uint16_t port,
@@ -163,10 +191,15 @@ struct OpenedLink {
   std::optional<SerialSettings> line;
   // Run by a clean close (a simulated drive saves its state); may be empty.
   std::function<Result<void>()> on_close;
+  // What opening a serial port found about its receive latency; nullopt for
+  // other links.
+  std::optional<LowLatencyReport> latency{};
 };
 struct LinkRequest {
   std::string address;          // the port without its scheme: "axis.json" of "sim:axis.json"
   bool real_time_peer = false;  // a simulated peer sleeps for the modelled wire time
+  SerialSettings line{};        // the line settings asked for (device empty)
+  std::string holder{};         // who opens the port (PortClaim::holder)
 };
 using LinkFactory = std::function<Result<OpenedLink>(const LinkRequest&)>;
 

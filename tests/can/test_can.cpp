@@ -9,6 +9,7 @@
 #include <thread>
 
 #include "can/link.hpp"
+#include "link/port.hpp"
 #include "transport/pty.hpp"
 
 using namespace lmcfg;
@@ -200,7 +201,7 @@ TEST_CASE("can: an adapter that refuses the bit rate or says nothing is named", 
 }
 
 TEST_CASE("can: SocketCAN names a missing interface; a vcan loopback when one is given", "[can]") {
-  auto missing = can::open_link("lmcfgnone0", {});
+  auto missing = link::open_can_link("lmcfgnone0", {});
   REQUIRE_FALSE(missing.ok());
   CHECK(missing.error().message.rfind("CAN interface lmcfgnone0: ", 0) == 0);
   CHECK(missing.error().message.find("slcan:/dev/ttyACM0") != std::string::npos);

@@ -6,6 +6,7 @@
 #include <fstream>
 
 #include "common/bytes.hpp"
+#include "link/port.hpp"
 #include "ops/session.hpp"
 #include "sim/state_file.hpp"
 
@@ -64,4 +65,97 @@ TEST_CASE("hex: the one formatter pads, never truncates, and appends the suffix"
   CHECK(hex(0, 1) == "0");
   CHECK(hex(0x12345, 4) == "12345");
   CHECK(hex(0xFFFFFFFFu, 8, "h") == "FFFFFFFFh");
+}
+
+TEST_CASE("port schemes: one row per kind of port, each with its parser, kind and line rate",
+          "[session][link]") {
+  REQUIRE(kSimPortsRegistered);
+  struct Row {
+    const char* port;
+    const char* scheme;
+    link::Kind kind;
+    bool line_rate;
+    const char* address;
+  };
+  const Row rows[] = {
+      {"/dev/ttyUSB0", "serial", link::Kind::byte_link, true, "/dev/ttyUSB0"},
+      {"tcp://10.0.0.5:4001", "tcp", link::Kind::byte_link, false, "10.0.0.5:4001"},
+      {"rfc2217://gw:2217", "rfc2217", link::Kind::byte_link, true, "gw:2217"},
+      {"sim:axis.json", "sim", link::Kind::byte_link, true, "axis.json"},
+      {"slcan:/dev/ttyACM0", "slcan", link::Kind::can_link, false, "/dev/ttyACM0"},
+      {"can0", "socketcan", link::Kind::can_link, false, "can0"},
+      {"vcan12", "socketcan", link::Kind::can_link, false, "vcan12"},
+      {"canopen", "serial", link::Kind::byte_link, true, "canopen"},
+  };
+  for (const auto& r : rows) {
+    INFO(r.port);
+    auto spec = link::parse_port(r.port);
+    REQUIRE(spec.ok());
+    CHECK(spec->scheme_name() == r.scheme);
+    CHECK(spec->kind() == r.kind);
+    CHECK(spec->sets_line_rate() == r.line_rate);
+    CHECK(spec->address == r.address);
+    CHECK(link::is_can_port(r.port) == (r.kind == link::Kind::can_link));
+  }
+  auto v6 = link::parse_port("tcp://[::1]:4001");
+  REQUIRE(v6.ok());
+  CHECK(v6->host == "::1");
+  CHECK(v6->tcp_port == 4001);
+  for (const char* bad :
+       {"tcp://10.0.0.5", "tcp://:4001", "tcp://h:0", "tcp://h:65536", "tcp://h:x"})
+    CHECK(link::parse_port(bad).error().message ==
+          "port '" + std::string(bad) + "' is not tcp://HOST:PORT with PORT 1..65535");
+  CHECK(link::parse_port("rfc2217://gw").error().message ==
+        "port 'rfc2217://gw' is not rfc2217://HOST:PORT with PORT 1..65535");
+  CHECK(link::parse_port("slcan:").error().message == "port 'slcan:' is not slcan:DEVICE");
+}
+
+TEST_CASE("port schemes: the session opens byte links only; rfc2217 is not built in yet",
+          "[session][link]") {
+  ops::LinkOptions lo;
+  lo.port = "rfc2217://127.0.0.1:2217";
+  auto rfc = ops::open_session(lo);
+  REQUIRE_FALSE(rfc.ok());
+  CHECK(rfc.error().code == Errc::not_supported);
+  CHECK(rfc.error().message == "rfc2217:// is not built in yet");
+  lo.port = "can0";
+  auto can = ops::open_session(lo);
+  REQUIRE_FALSE(can.ok());
+  CHECK(can.error().code == Errc::invalid_argument);
+  CHECK(can.error().message ==
+        "port 'can0' is a CAN link (DeviceNet controllers), not a LinRS serial line");
+  lo.port = "tcp://127.0.0.1:0";
+  CHECK(ops::open_session(lo).error().message ==
+        "port 'tcp://127.0.0.1:0' is not tcp://HOST:PORT with PORT 1..65535");
+}
+
+TEST_CASE("port schemes: a registered factory gets the line settings and the holder",
+          "[session][link]") {
+  transport::LinkRequest seen;
+  ops::register_link_scheme(
+      "probe", [&](const transport::LinkRequest& req) -> Result<transport::OpenedLink> {
+        seen = req;
+        return Error(Errc::not_supported, "probe: recorded");
+      });
+  ops::LinkOptions lo;
+  lo.port = "probe:x";
+  lo.serial.baud = 19200;
+  lo.serial.parity = transport::Parity::even;
+  lo.holder = "lmcfg backup";
+  CHECK(ops::open_session(lo).error().message == "probe: recorded");
+  CHECK(seen.address == "x");
+  CHECK(seen.line.baud == 19200);
+  CHECK(seen.line.parity == transport::Parity::even);
+  CHECK(seen.holder == "lmcfg backup");
+}
+
+TEST_CASE("port schemes: HOST:PORT splits at the last colon", "[link]") {
+  auto hp = link::split_host_port("127.0.0.1:0");
+  REQUIRE(hp);
+  CHECK(hp->host == "127.0.0.1");
+  CHECK(hp->port == 0);
+  CHECK(link::split_host_port("[::1]:80")->host == "::1");
+  CHECK_FALSE(link::split_host_port("localhost"));
+  CHECK_FALSE(link::split_host_port("h:70000"));
+  CHECK_FALSE(link::split_host_port("h:"));
 }

@@ -11,6 +11,7 @@
 #include "config/config_io.hpp"
 #include "devicenet/master.hpp"
 #include "files.hpp"
+#include "link/port.hpp"
 #include "subprocess.hpp"
 
 using namespace lmcfg;
@@ -44,7 +45,7 @@ std::size_t count(const std::string& text, const std::string& what) {
 // Another tool on the same controller between two runs of lmcfg (a PLC, a
 // technician with LinTalk): sets two values with the library's master.
 void change_two_values(const std::string& pty) {
-  auto link = can::open_link("slcan:" + pty, {125000, true, transport::Millis(1000)});
+  auto link = link::open_can_link("slcan:" + pty, {125000, true, transport::Millis(1000)});
   REQUIRE(link.ok());
   devicenet::MasterOptions o;
   o.slave_mac = 5;

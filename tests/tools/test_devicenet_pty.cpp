@@ -6,6 +6,7 @@
 
 #include "can/link.hpp"
 #include "devicenet/master.hpp"
+#include "link/port.hpp"
 #include "subprocess.hpp"
 
 using namespace lmcfg;
@@ -17,7 +18,7 @@ TEST_CASE("devicenet: master -> slcan on a pty -> lmcfg sim --devicenet", "[devi
   CHECK(sim.read_line() ==
         "link options: --port slcan:" + path + " --can-bitrate 125000 --devicenet-macid 10");
   std::vector<std::string> trace;
-  auto link = can::open_link("slcan:" + path, {125000, true, transport::Millis(1000)});
+  auto link = link::open_can_link("slcan:" + path, {125000, true, transport::Millis(1000)});
   REQUIRE(link.ok());
   can::TraceLink traced(std::move(link).value(), [&](const std::string& l) { trace.push_back(l); });
   devicenet::MasterOptions o;

@@ -12,6 +12,7 @@
 
 #include "command.hpp"
 #include "common/bytes.hpp"
+#include "link/port.hpp"
 #include "ops/session.hpp"
 #include "sim/drive.hpp"
 #include "sim/server.hpp"
@@ -130,16 +131,15 @@ int run(const SimArgs& a) {
 
   int rc = kOk;
   if (!a.tcp.empty()) {
-    const auto colon = a.tcp.rfind(':');
-    const std::string host = colon == std::string::npos ? "127.0.0.1" : a.tcp.substr(0, colon);
-    const auto port =
-        parse_number(colon == std::string::npos ? a.tcp : a.tcp.substr(colon + 1), false);
-    if (!port || *port > 65535) {
+    // HOST:PORT as tcp:// ports are written (port 0: any); a bare PORT is on 127.0.0.1.
+    auto hp =
+        link::split_host_port(a.tcp.find(':') == std::string::npos ? "127.0.0.1:" + a.tcp : a.tcp);
+    if (!hp) {
       std::fprintf(stderr, "lmcfg sim: --tcp expects HOST:PORT, got '%s'\n", a.tcp.c_str());
       return kInvalidInput;
     }
     std::uint16_t bound = 0;
-    auto lfd = sim::listen_tcp(host, static_cast<std::uint16_t>(*port), bound);
+    auto lfd = sim::listen_tcp(hp->host, hp->port, bound);
     if (!lfd.ok()) {
       std::fprintf(stderr, "lmcfg sim: %s\n", lfd.error().message.c_str());
       return kCommFailure;

@@ -64,6 +64,7 @@ Result<ops::DevicenetLinkOptions> devicenet_link_options(const CommonOptions& o)
                                              "500000)");
   ops::DevicenetLinkOptions l;
   l.port = o.port;
+  l.holder = o.holder;
   l.can_bitrate = o.can_bitrate;
   l.master.slave_mac = mac;
   l.master.own_mac = static_cast<std::uint8_t>(o.devicenet_own_macid);

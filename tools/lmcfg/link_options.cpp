@@ -10,12 +10,27 @@
 
 #include "command.hpp"
 #include "common/layers.hpp"
+#include "link/port.hpp"
 #include "ops/devicenet.hpp"
 #include "ops/link_advice.hpp"
 
 namespace lmcfg::cli {
 
+namespace {
+// "lmcfg fleet backup": the subcommand's name and its parents', set when the
+// subcommand is parsed (one CommonOptions may serve several subcommands).
+void name_holder(CLI::App* sub, CommonOptions& o) {
+  sub->preparse_callback([sub, &o](std::size_t) {
+    std::string name;
+    for (const CLI::App* a = sub; a && a->get_parent(); a = a->get_parent())
+      name = a->get_name() + (name.empty() ? "" : " ") + name;
+    o.holder = "lmcfg " + name;
+  });
+}
+}  // namespace
+
 void add_link_options(CLI::App* sub, CommonOptions& o) {
+  name_holder(sub, o);
   sub->add_option(
          "--port", o.port,
          "/dev/ttyUSB0, tcp://host:port (serial gateway) or sim:STATE.json (simulated drive)")
@@ -83,10 +98,11 @@ void add_link_options(CLI::App* sub, CommonOptions& o) {
 }
 
 bool is_devicenet(const CommonOptions& o) {
-  return ops::is_can_port(o.port) || !o.devicenet_macid.empty();
+  return link::is_can_port(o.port) || !o.devicenet_macid.empty();
 }
 
 void add_output_options(CLI::App* sub, CommonOptions& o) {
+  name_holder(sub, o);
   sub->add_flag("--quiet,-q", o.quiet, "no progress output");
   sub->add_flag("--json", o.json, "machine-readable report on stdout");
   sub->add_option(
@@ -129,8 +145,8 @@ Result<ops::LinkOptions> link_options(const CommonOptions& o) {
   // Line settings are checked for every kind of port: a gateway or the
   // simulated drive is configured with them too, and an absurd value is a
   // mistake wherever it is typed.
-  const bool serial = o.port.rfind("sim:", 0) != 0 && o.port.rfind("tcp://", 0) != 0;
-  if (serial) l.serial.device = o.port;
+  if (link::scheme_of(o.port).name == "serial") l.serial.device = o.port;
+  l.holder = o.holder;
   LMCFG_TRY(transport::validate(l.serial));
   auto id = parse_number(o.id, false);
   if (!id || *id > 0xFF) {

@@ -40,6 +40,9 @@ struct CommonOptions {
   std::string io_modules;          // "" = the default layout
   std::string devicenet_motors;    // "" = detect by probing A..D
   bool no_module_values = false;
+  // Who opens the port, recorded in its lock: "lmcfg <subcommand>", set when
+  // the subcommand is parsed (add_link_options, add_output_options).
+  std::string holder = "lmcfg";
 };
 
 // --port, --baud, --parity, --stop-bits, --id, --checksum, --checksum-coverage,
