@@ -1,5 +1,7 @@
 #include "link/port.hpp"
 
+#include "transport/rfc2217.hpp"
+
 #include <algorithm>
 #include <deque>
 #include <filesystem>
@@ -69,12 +71,15 @@ Result<transport::OpenedLink> open_tcp_row(const PortSpec& spec, const OpenReque
   return opened;
 }
 
-// Where rfc2217:// plugs in: transport::open_rfc2217 (lib/transport/rfc2217.*)
-// opens the gateway and sets req.line through it (RFC 2217 SET-BAUDRATE,
-// SET-PARITY, SET-STOPSIZE). Until it is built in, the row parses its ports
-// (so inventories and options are checked) and refuses to open them.
-Result<transport::OpenedLink> open_rfc2217_row(const PortSpec&, const OpenRequest&) {
-  return Error(Errc::not_supported, "rfc2217:// is not built in yet");
+// rfc2217://: the gateway's serial side is set from the client (RFC 2217
+// SET-BAUDRATE, SET-DATASIZE, SET-PARITY, SET-STOPSIZE, each confirmed), so
+// the line settings of the options reach the drive's line as on a local port,
+// and reconfigure() follows a drive to another rate.
+Result<transport::OpenedLink> open_rfc2217_row(const PortSpec& spec, const OpenRequest& req) {
+  transport::OpenedLink opened;
+  LMCFG_ASSIGN_OR_RETURN(opened.link, transport::open_rfc2217(spec.host, spec.tcp_port, req.line,
+                                                              req.connect_timeout));
+  return opened;
 }
 
 Result<std::unique_ptr<can::Link>> open_slcan_row(const PortSpec& spec, const OpenRequest& req) {

@@ -8,7 +8,7 @@
 //
 //   /dev/ttyUSB0           serial device (termios), LinRS
 //   tcp://HOST:PORT        serial-to-Ethernet gateway (raw TCP), LinRS
-//   rfc2217://HOST:PORT    RFC 2217 gateway, LinRS (not built in yet)
+//   rfc2217://HOST:PORT    RFC 2217 gateway, LinRS (the client sets the line)
 //   sim:STATE.json         registered at start-up (the simulated drive), LinRS
 //   slcan:/dev/ttyACM0     serial-line CAN adapter (slcan/Lawicel), CAN
 //   can0, vcan0, slcan0    SocketCAN interface, CAN

@@ -63,6 +63,16 @@ std::optional<std::string> link_advice(Session& session, const std::string& port
              "--stop-bits, or " +
              scan_hint;
   }
+  // A raw TCP gateway (tcp://) runs its serial side at the rate it was
+  // configured with: --baud does not reach the line, and a scan through it
+  // tries MACIDs at that one rate. RFC 2217 gateways take the rate from us.
+  if (session.client().link().byte_time_us() <= 0.0) {
+    return "no answer from MACID " + hex(id, 2, "h") +
+           " through the gateway: check --id, and the gateway's serial settings (a tcp:// "
+           "gateway sets the line rate itself; --baud does not reach it: use rfc2217://HOST:PORT "
+           "if it speaks RFC 2217), or " +
+           scan_hint + " to try every MACID at the gateway's rate";
+  }
   return "no answer from MACID " + hex(id, 2, "h") + at + ": check --id and --baud (and " +
          "--parity), or " + scan_hint + " to try every MACID and rate";
 }

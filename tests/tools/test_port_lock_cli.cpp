@@ -10,6 +10,7 @@
 #include <thread>
 
 #include "files.hpp"
+#include "pty_sim.hpp"
 #include "subprocess.hpp"
 #include "transport/transport.hpp"
 
@@ -18,20 +19,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct PtySim {
-  test::Child child;
-  std::string tty;
-  explicit PtySim(std::vector<std::string> extra = {})
-      : child([&] {
-          std::vector<std::string> argv{LMCFG_TOOL_PATH, "sim", "--pty", "--fast"};
-          argv.insert(argv.end(), extra.begin(), extra.end());
-          return argv;
-        }()) {
-    tty = child.read_line();
-    (void)child.read_line();  // the link options line
-    REQUIRE(tty.rfind("/dev/pts/", 0) == 0);
-  }
-};
+using test::PtySim;
 
 transport::SerialSettings line(const std::string& device) {
   return {device, 57600, transport::Parity::none, 1};

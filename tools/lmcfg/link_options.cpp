@@ -33,7 +33,8 @@ void add_link_options(CLI::App* sub, CommonOptions& o) {
   name_holder(sub, o);
   sub->add_option(
          "--port", o.port,
-         "/dev/ttyUSB0, tcp://host:port (serial gateway) or sim:STATE.json (simulated drive)")
+         "/dev/ttyUSB0, tcp://host:port (serial gateway; it sets the rate), rfc2217://host:port "
+         "(RFC 2217 serial server; the tool sets the rate) or sim:STATE.json (simulated drive)")
       ->required();
   sub->add_option("--baud", o.baud, "baud rate: 4800, 9600, 19200, 38400, 57600, 115200")
       ->capture_default_str();
