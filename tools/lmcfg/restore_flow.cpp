@@ -22,11 +22,22 @@ void report_json(const ops::RestoreOutcome& out, const std::string& file) {
   const auto plan = ops::plan_json(out.plan);  // alive while its items are copied
   for (const auto& [k, v] : plan.items()) j[k] = v;
   j["mismatches"] = out.mismatches;
+  if (out.undo) j["undo"] = undo_json(*out.undo);
   if (out.error) j["error"] = out.error->message;
   std::printf("%s\n", j.dump(2).c_str());
 }
 
 }  // namespace
+
+void print_undo_saved(const ops::UndoSaved& u, const CommonOptions& common) {
+  if (common.quiet || common.json) return;
+  std::fprintf(stderr, "undo: saved the target's previous values to %s; to put them back: %s\n",
+               u.path.c_str(), u.command.c_str());
+}
+
+nlohmann::ordered_json undo_json(const ops::UndoSaved& u) {
+  return {{"path", u.path.string()}, {"command", u.command}};
+}
 
 void add_restore_flags(CLI::App* sub, RestoreFlags& f) {
   sub->add_flag("--dry-run", f.dry_run, "print the plan and exit without writing");
@@ -42,6 +53,9 @@ void add_restore_flags(CLI::App* sub, RestoreFlags& f) {
                 "do not ask for confirmation (needed when stdin is not a terminal)");
   sub->add_flag("--no-reset", f.no_reset,
                 "do not reset the drive at the end (ROM values act after the next restart)");
+  sub->add_flag("--no-undo", f.no_undo,
+                "do not save the target's previous values as an undo record before writing "
+                "(lmcfg undo)");
 }
 
 int restore_on_session(ops::Session& session, const config::DriveConfig& file,
@@ -65,6 +79,11 @@ int restore_on_session(ops::Session& session, const config::DriveConfig& file,
   ro.restore.progress = make_progress(common);
   ro.dry_run = f.dry_run;
   ro.overrides = overrides;
+  if (!f.no_undo && !f.dry_run) {
+    auto dir = ops::undo_dir();
+    if (!dir.ok()) return fail("restore", dir.error());
+    ro.undo = ops::UndoOptions{true, *dir, common.port, copt.id, f.undo_name, ops::kUndoKeep};
+  }
   ro.confirm = [&](const ops::Plan& plan) {
     end_progress(common);
     // The plan goes to stderr when stdout carries the JSON report.
@@ -77,6 +96,7 @@ int restore_on_session(ops::Session& session, const config::DriveConfig& file,
   end_progress(common);
   const bool text = !common.json;
   if (common.json) report_json(out, file_name);
+  if (out.undo) print_undo_saved(*out.undo, common);
   int code = kOk;
   switch (out.stage) {
     case S::failed:
