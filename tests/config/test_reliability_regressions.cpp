@@ -7,7 +7,7 @@
 #include <fstream>
 #include <iterator>
 
-#include "../fuzz/fuzz_entries.hpp"
+#include "../../fuzz/fuzz_entries.hpp"
 #include "config/config_io.hpp"
 
 using namespace lmcfg;

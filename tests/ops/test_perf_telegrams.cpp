@@ -7,7 +7,7 @@
 #include <catch2/catch.hpp>
 #include <map>
 
-#include "../bench/wire_workloads.hpp"
+#include "../../bench/wire_workloads.hpp"
 #include "client/client.hpp"
 #include "db/database.hpp"
 #include "e2e_support.hpp"

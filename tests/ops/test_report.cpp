@@ -21,7 +21,7 @@
 #include <set>
 #include <string>
 
-#include "../bench/report_workload.hpp"
+#include "../../bench/report_workload.hpp"
 #include "common/bytes.hpp"
 #include "common/layers.hpp"
 #include "config/config_io.hpp"

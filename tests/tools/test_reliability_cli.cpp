@@ -38,7 +38,7 @@ struct BadFile {
   const char* message;
 };
 const BadFile kBadFiles[] = {
-#include "fixtures/config/bad/expected.inc"
+#include "../fixtures/config/bad/expected.inc"
 };
 
 using Run = test::ToolRun;
