@@ -7,7 +7,7 @@
 #include <filesystem>
 #include <map>
 
-#include "../bench/wire_workloads.hpp"
+#include "../../bench/wire_workloads.hpp"
 #include "config/config_io.hpp"
 #include "db/database.hpp"
 #include "e2e_support.hpp"
@@ -143,7 +143,11 @@ TEST_CASE(
 
 TEST_CASE("undo: a record costs a few telegrams on the demo restores (docs/performance.md)",
           "[undo][perf]") {
-  const auto file = demo_backup();
+  // The file of tests/ops/test_perf_telegrams.cpp: types and defaults asked from the drive.
+  test::SimRig source("commissioned-axis.json");
+  auto backup = ops::backup(*source.client, ops::BackupOptions{}, db::Database::empty());
+  REQUIRE(backup.ok());
+  const auto& file = *backup;
   auto spare = sim::load_state(test::sim_fixture("used-spare.json"));
   auto demo = sim::load_state(test::sim_fixture("commissioned-axis.json"));
   REQUIRE(spare.ok());
