@@ -118,8 +118,7 @@ Result<void> describe_from_drive(client::Client& c, const db::Database& db, int 
 
 }  // namespace
 
-Result<config::DriveConfig> backup(client::Client& c, const BackupOptions& opt,
-                                   const db::Database& db) {
+config::DriveConfig new_capture(const client::Client& c, const db::Database& db) {
   config::DriveConfig cfg;
   char macid[8];
   std::snprintf(macid, sizeof macid, "0x%02X", c.options().id);
@@ -128,6 +127,16 @@ Result<config::DriveConfig> backup(client::Client& c, const BackupOptions& opt,
   cfg.identity.captured_at = utc_now();
   if (!db.is_empty()) cfg.identity.upid_db_hash = db.info().content_hash;
   if (!db.is_empty()) cfg.identity.upid_db_version = std::to_string(db.info().schema_version);
+  cfg.scope.layers = {false, false, false, false};
+  cfg.scope.parameters = config::ParamSet::modified;
+  cfg.scope.curves = false;
+  cfg.scope.command_table = false;
+  return cfg;
+}
+
+Result<config::DriveConfig> backup(client::Client& c, const BackupOptions& opt,
+                                   const db::Database& db) {
+  config::DriveConfig cfg = new_capture(c, db);
   cfg.scope.layers = opt.layers;
   cfg.scope.parameters = opt.full ? config::ParamSet::full : config::ParamSet::modified;
   cfg.scope.curves = opt.curves;

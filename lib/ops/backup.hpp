@@ -56,6 +56,11 @@ struct BackupOptions {
 Result<config::DriveConfig> backup(client::Client& c, const BackupOptions& opt,
                                    const db::Database& db);
 
+// A capture of the drive behind `c` with its identity (MACID, capture time,
+// tool and database versions) and nothing in scope yet: what backup() and the
+// undo records (ops/undo.hpp) start from.
+config::DriveConfig new_capture(const client::Client& c, const db::Database& db);
+
 // Fills display fields (name, unit, scaled text, type) of every parameter from
 // the database; leaves unknown UPIDs untouched.
 void annotate(config::DriveConfig& cfg, const db::Database& db);

@@ -24,7 +24,11 @@ Result<DefaultReport> default_drive(client::Client& c, const DefaultOptions& opt
                   (interrupted ? " (the telegram in flight was completed)" : "") +
                   ". The drive is partially defaulted" + (mc_stopped ? " (MC stopped)" : "") +
                   ": run the same command again" +
-                  (record_saved ? "; it finishes from the recovery record " + record : "") + ".";
+                  (record_saved ? "; it finishes from the recovery record " + record : "") +
+                  (rep.undo ? "; the previous values are in the undo record " +
+                                  rep.undo->path.string() + " (" + rep.undo->command + ")"
+                            : std::string()) +
+                  ".";
       return e;
     }
     rep.done.push_back(what);
@@ -33,9 +37,11 @@ Result<DefaultReport> default_drive(client::Client& c, const DefaultOptions& opt
   };
   // The communication values to keep, read before anything changes.
   std::map<std::uint16_t, std::uint32_t> keep;
+  std::array<std::optional<std::vector<client::ModifiedParam>>, 4> seen;  // for the undo record
   for (int layer = 1; layer <= 4; ++layer) {
     if (!opt.layers[static_cast<std::size_t>(layer - 1)]) continue;
     LMCFG_ASSIGN_OR_RETURN(auto mods, c.modified_list(layer));
+    seen[static_cast<std::size_t>(layer - 1)] = mods;
     for (const auto& m : mods) {
       if (!is_comm_parameter(db, m.upid)) continue;
       if (opt.include_comm)
@@ -43,6 +49,11 @@ Result<DefaultReport> default_drive(client::Client& c, const DefaultOptions& opt
       else
         keep[m.upid] = m.value;
     }
+  }
+  if (opt.undo.enabled) {
+    auto cfg = undo_config_for_default(c, seen, opt.curves, opt.command_table, db);
+    if (!cfg.ok()) return std::move(cfg).error();  // reads only: nothing written
+    LMCFG_ASSIGN_OR_RETURN(rep.undo, save_undo(opt.undo, *cfg, db));
   }
   // An earlier run stopped after defaulting: the drive no longer shows the
   // values it had; the record holds them.

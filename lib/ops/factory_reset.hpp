@@ -16,6 +16,7 @@
 
 #include "client/client.hpp"
 #include "ops/backup.hpp"
+#include "ops/undo.hpp"
 
 namespace lmcfg::db {
 class Database;
@@ -31,6 +32,10 @@ struct DefaultOptions {
   std::filesystem::path recovery_path;  // empty: no recovery record (tests, library users)
   std::string port;                     // for the record
   Progress progress;
+  // Before the first write: the layers it defaults, the curves and command
+  // table it deletes, saved as an undo record (ops/undo.hpp); a record that
+  // cannot be saved refuses, nothing written.
+  UndoOptions undo;
 };
 
 struct DefaultReport {
@@ -42,7 +47,8 @@ struct DefaultReport {
   std::vector<client::ModifiedParam> kept;
   // A record of an interrupted earlier run was found and finished.
   bool recovered = false;
-  std::string recovery_note;  // what happened with the recovery record, for people
+  std::string recovery_note;      // what happened with the recovery record, for people
+  std::optional<UndoSaved> undo;  // the undo record saved before the first write
 };
 
 Result<DefaultReport> default_drive(client::Client& c, const DefaultOptions& opt,

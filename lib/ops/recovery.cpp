@@ -20,9 +20,7 @@ Result<fs::path> recovery_dir() {
                "is set");
 }
 
-Result<fs::path> recovery_path(const std::string& command, const std::string& port,
-                               std::uint8_t macid) {
-  LMCFG_ASSIGN_OR_RETURN(auto dir, recovery_dir());
+std::string drive_key(const std::string& port, std::uint8_t macid) {
   std::string key;
   for (char ch : port) {
     const bool plain = (ch >= 'a' && ch <= 'z') || (ch >= 'A' && ch <= 'Z') ||
@@ -31,7 +29,13 @@ Result<fs::path> recovery_path(const std::string& command, const std::string& po
   }
   char id[8];
   std::snprintf(id, sizeof id, "%02Xh", macid);
-  return dir / (command + "-" + key + "-" + id + ".json");
+  return key + "-" + id;
+}
+
+Result<fs::path> recovery_path(const std::string& command, const std::string& port,
+                               std::uint8_t macid) {
+  LMCFG_ASSIGN_OR_RETURN(auto dir, recovery_dir());
+  return dir / (command + "-" + drive_key(port, macid) + ".json");
 }
 
 Result<std::optional<RecoveryRecord>> load_recovery(const fs::path& path) {

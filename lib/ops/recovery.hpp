@@ -29,7 +29,10 @@ struct RecoveryRecord {
 
 // The directory ($XDG_STATE_HOME/lmcfg or $HOME/.local/state/lmcfg).
 Result<std::filesystem::path> recovery_dir();
-// "<dir>/default-<port with / and : as _>-<MACID hex>.json".
+// What names a drive on this host: "<port with / and : as _>-<MACID hex>h"
+// (LinRS has no message that reads a serial number, seed 003 §10).
+std::string drive_key(const std::string& port, std::uint8_t macid);
+// "<dir>/default-<drive_key>.json".
 Result<std::filesystem::path> recovery_path(const std::string& command, const std::string& port,
                                             std::uint8_t macid);
 

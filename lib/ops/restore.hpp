@@ -29,7 +29,9 @@
 // verify_restore (restore_verify.cpp): reads the target back and lists every
 // mismatch. render_plan / plan_json (restore_render.cpp): the plan for people
 // and as structured items (docs/restore.md).
+#include <array>
 #include <filesystem>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -127,6 +129,21 @@ struct SkippedValue {
   std::string text;  // the label and `why`: the problem's message without the option
 };
 
+// What the plan read of the target before any write, kept for the undo record
+// (ops/undo.hpp), so the record costs no second read of the same items.
+// nullopt: not in the file's scope (or the plan stopped before reading it).
+struct TargetSeen {
+  struct CurveSeen {
+    std::uint16_t id = 0;
+    Bytes info;
+    std::uint16_t data_size = 0;
+    std::optional<Bytes> data;  // read only where the plan had to compare it
+  };
+  std::array<std::optional<std::vector<client::ModifiedParam>>, 4> layers;  // index = layer - 1
+  std::optional<std::map<std::uint32_t, Bytes>> ct_entries;                 // every defined entry
+  std::optional<std::vector<CurveSeen>> curves;                             // every curve found
+};
+
 struct Plan {
   std::vector<std::string> problems;  // any problem refuses the restore
   std::vector<PlanStep> steps;
@@ -146,6 +163,7 @@ struct Plan {
   // ("curve 3 'Lift' replaced by the file's 'Lift'"), with ID and name.
   std::vector<std::string> losses;
   std::string recovered_from;  // the recovery record this plan finishes, if any
+  TargetSeen target;           // the target as the plan found it (undo record)
   bool ok() const { return problems.empty(); }
   // The target already matches the file: no step, no write telegram.
   bool nothing_to_do() const { return ok() && steps.empty(); }

@@ -351,6 +351,7 @@ Result<void> plan_command_table(Builder& b, const config::DriveConfig& file, boo
     if (b.opt.progress) b.opt.progress("plan: command table", ++n, ids.size());
     LMCFG_ASSIGN_OR_RETURN(target[id], b.c.read_ct_entry(id));
   }
+  b.plan.target.ct_entries = target;
   std::vector<const config::CtEntry*> writes;
   std::vector<std::uint32_t> deletes;
   for (const auto& e : file.ct_entries) {
@@ -398,6 +399,7 @@ Result<void> plan_command_table(Builder& b, const config::DriveConfig& file, boo
 Result<void> plan_curves(Builder& b, const config::DriveConfig& file, bool force_save) {
   std::vector<const config::Curve*> writes;
   std::vector<std::pair<std::uint32_t, std::string>> deletes;
+  auto& seen = b.plan.target.curves.emplace();
   for (std::uint16_t id = 1; id <= b.opt.max_curve_id; ++id) {
     if (b.opt.progress) b.opt.progress("plan: curves", id, b.opt.max_curve_id);
     LMCFG_ASSIGN_OR_RETURN(auto sizes, b.c.curve_sizes(id));
@@ -411,9 +413,11 @@ Result<void> plan_curves(Builder& b, const config::DriveConfig& file, bool force
       LMCFG_ASSIGN_OR_RETURN(info, b.c.read_curve_info(id, sizes->info));
     }
     bool same = false;
+    auto& s = seen.emplace_back(TargetSeen::CurveSeen{id, info, sizes->data, std::nullopt});
     if (fc && fc->info == info && fc->data.size() == sizes->data) {
       LMCFG_ASSIGN_OR_RETURN(auto data, b.c.read_curve_data(id, sizes->data));
       same = data == fc->data;
+      s.data = std::move(data);
     }
     if (same) continue;
     const std::string name = curve_name(info);
@@ -645,6 +649,7 @@ void note_link_change(Builder& b, const LayerWork& w) {
 Result<void> compare_layer(Builder& b, const config::DriveConfig& file, const EarlierRun& earlier,
                            CompareProgress& progress, LayerWork& w) {
   LMCFG_ASSIGN_OR_RETURN(w.target, b.c.modified_list(w.layer));
+  b.plan.target.layers[static_cast<std::size_t>(w.layer - 1)] = w.target;
   for (const auto& m : w.target) w.on_target[m.upid] = m.value;
   LMCFG_TRY(compare_parameters(b, file, w, progress));
   sort_target_values(b, w);

@@ -2,6 +2,24 @@
 
 namespace lmcfg::ops {
 
+namespace {
+
+// The target's values in the file's scope, from the plan's reads, saved
+// before the first write; any failure refuses the restore with nothing written.
+Result<UndoSaved> save_restore_undo(client::Client& c, const Plan& plan, const config::Scope& scope,
+                                    const db::Database& db, const UndoOptions& undo) {
+  auto cfg = undo_config_from_plan(c, plan, scope, db);
+  if (!cfg.ok()) {
+    Error e = std::move(cfg).error();
+    e.message =
+        "reading the target's curves for the undo record: " + e.message + "; nothing written";
+    return e;
+  }
+  return save_undo(undo, *cfg, db);
+}
+
+}  // namespace
+
 const char* stage_name(RestoreOutcome::Stage s) {
   using S = RestoreOutcome::Stage;
   switch (s) {
@@ -70,6 +88,11 @@ RestoreOutcome run_restore(Session& session, const config::DriveConfig& file,
       out.stage = S::declined;
       return out;
     }
+  }
+  if (o.undo.enabled) {
+    auto saved = save_restore_undo(client, out.plan, file.scope, db, o.undo);
+    if (!saved.ok()) return fail(std::move(saved).error());
+    out.undo = std::move(saved).value();
   }
   out.written = true;
   if (auto r = execute_plan(client, out.plan, o.restore); !r.ok())

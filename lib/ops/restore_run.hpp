@@ -9,6 +9,7 @@
 #include "ops/relink.hpp"
 #include "ops/restore.hpp"
 #include "ops/session.hpp"
+#include "ops/undo.hpp"
 
 namespace lmcfg::ops {
 
@@ -19,6 +20,10 @@ struct RestoreRunOptions {
   // Called with an accepted plan that has steps, before any write: go on or
   // decline. Unset: go on.
   std::function<Result<Consent>(const Plan&)> confirm;
+  // After the confirmation, before the first write: the target's values in
+  // the file's scope saved as an undo record (ops/undo.hpp). A record that
+  // cannot be saved refuses the restore, nothing written.
+  UndoOptions undo;
 };
 
 struct RestoreOutcome {
@@ -43,6 +48,8 @@ struct RestoreOutcome {
   std::optional<Plan> second_pass;
   // --skip-incompatible left values out (Plan::skipped_incompatible).
   bool skipped_any() const { return !plan.skipped_incompatible.empty(); }
+  bool written = false;           // execute_plan ran (some steps may have been sent)
+  std::optional<UndoSaved> undo;  // the undo record saved before the first write
 };
 
 RestoreOutcome run_restore(Session& session, const config::DriveConfig& file,

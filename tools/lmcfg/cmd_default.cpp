@@ -9,6 +9,7 @@
 #include "ops/factory_reset.hpp"
 #include "ops/interrupt.hpp"
 #include "ops/recovery.hpp"
+#include "restore_flow.hpp"
 
 namespace lmcfg::cli {
 namespace {
@@ -20,6 +21,7 @@ struct DefaultCli {
   bool ct = false;
   bool include_comm = false;
   bool yes = false;
+  bool no_undo = false;
 };
 
 void report_json(const char* outcome, const ops::DefaultReport* rep, const db::Database& db,
@@ -39,6 +41,7 @@ void report_json(const char* outcome, const ops::DefaultReport* rep, const db::D
     j["recovered"] = rep->recovered;
     j["recovery"] = rep->recovery_note;
     j["link_may_change"] = rep->link_may_change;
+    if (rep->undo) j["undo"] = undo_json(*rep->undo);
   }
   if (!error.empty()) j["error"] = error;
   std::printf("%s\n", j.dump(2).c_str());
@@ -75,6 +78,11 @@ int run(DefaultCli& o) {
   if (!record.ok()) return fail("default", record.error());
   d.recovery_path = *record;
   d.port = o.common.port;
+  if (!o.no_undo) {
+    auto dir = ops::undo_dir();
+    if (!dir.ok()) return fail("default", dir.error());
+    d.undo = ops::UndoOptions{true, *dir, o.common.port, lo->client.id, "default", ops::kUndoKeep};
+  }
   auto session = open_link(o.common);
   if (!session.ok()) return fail("default", session.error());
   ops::install_interrupt_handlers();
@@ -91,6 +99,7 @@ int run(DefaultCli& o) {
     return fail("default", rep.error());
   }
   if (!closed.ok()) return fail("default", closed.error());
+  if (rep->undo) print_undo_saved(*rep->undo, o.common);
   if (o.common.json) {
     report_json("defaulted", &*rep, db, "");
   } else if (!o.common.quiet) {
@@ -121,6 +130,8 @@ void add_default(CLI::App& app, int& exit_code) {
       "$XDG_STATE_HOME/lmcfg (else ~/.local/state/lmcfg) before the first change, written back "
       "and\n"
       "read back; an interrupted run is finished from that record by running it again.\n"
+      "Before the first write the layers, curves and command table it changes are saved as an\n"
+      "undo record (lmcfg undo --list; lmcfg undo puts them back) unless --no-undo.\n"
       "Ctrl-C stops between two telegrams (exit 130) and names the step.");
   add_link_options(sub, o->common);
   add_output_options(sub, o->common);
@@ -131,6 +142,9 @@ void add_default(CLI::App& app, int& exit_code) {
       "--include-comm", o->include_comm,
       "also default communication parameters (the drive may stop answering on these settings)");
   sub->add_flag("--yes,-y", o->yes, "do not ask for confirmation");
+  sub->add_flag("--no-undo", o->no_undo,
+                "do not save the drive's previous values as an undo record before writing "
+                "(lmcfg undo)");
   sub->callback([o, &exit_code] { exit_code = run(*o); });
 }
 }  // namespace lmcfg::cli

@@ -109,10 +109,12 @@ int run_restore(const FleetCli& o) {
   CommonOptions common = o.common;  // the plan's prompt names the drive's port and MACID
   common.port = line->port;
   common.id = hex(d->id, 2, "h");
+  RestoreFlags flags = o.flags;
+  flags.undo_name = "fleet-restore";
   int code = kOk;
   fr.restore = [&](ops::Session& s, const config::DriveConfig& file, const std::string& file_name) {
     ops::RestoreOutcome out;
-    code = restore_on_session(s, file, file_name, common, o.flags, *overrides, fr.db, out);
+    code = restore_on_session(s, file, file_name, common, flags, *overrides, fr.db, out);
     return out;
   };
   auto res = fleet::fleet_restore(*inv, *archive, fr);

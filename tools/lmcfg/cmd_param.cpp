@@ -10,6 +10,8 @@
 #include "ops/drive_info.hpp"
 #include "ops/param_info.hpp"
 #include "ops/restore.hpp"
+#include "ops/undo.hpp"
+#include "restore_flow.hpp"
 
 namespace lmcfg::cli {
 namespace {
@@ -23,6 +25,7 @@ struct ParamCli {
   bool stop_mc = false;
   bool yes = false;  // --yes: for --rom, what --stop-mc means
   bool include_comm = false;
+  bool no_undo = false;
 };
 
 Result<std::uint16_t> parse_upid(const std::string& t) { return db::parse_upid(t); }
@@ -40,7 +43,8 @@ Result<db::ValueSpec> describe(client::Client& c, const ParamCli& o, const char*
 }
 
 void print_value(const ParamCli& o, std::uint16_t upid, const db::Parameter* d,
-                 const db::ValueSpec& spec, const char* where, std::uint32_t v) {
+                 const db::ValueSpec& spec, const char* where, std::uint32_t v,
+                 const std::optional<ops::UndoSaved>& undo = std::nullopt) {
   const bool known = spec.type || !spec.labels.empty();
   const std::string text = known ? db::format_value(spec, v) : std::to_string(v);
   if (o.common.json) {
@@ -62,6 +66,7 @@ void print_value(const ParamCli& o, std::uint16_t upid, const db::Parameter* d,
     j["integer"] = integer ? nlohmann::ordered_json(*integer) : nlohmann::ordered_json(nullptr);
     j["unit"] = spec.unit;
     j["value"] = text;
+    if (undo) j["undo"] = undo_json(*undo);
     std::printf("%s\n", j.dump().c_str());
   } else {
     const char* name = !d                ? "(not in database)"
@@ -162,6 +167,22 @@ int run_set(ParamCli& o) {
   if (!spec.ok()) return fail("set", spec.error());
   auto value = db::parse_value(*spec, o.value_text);
   if (!value.ok()) return fail("set", value.error());
+  // A ROM value is what the drive starts with, so its old value is saved first.
+  // A RAM value gets no undo record: "This change will affect the position
+  // controller behavior only after a restart of the MC-SW" (LinRS §9.2, of a
+  // ROM write whose RAM value differs): a restart brings the ROM value back.
+  std::optional<ops::UndoSaved> undo;
+  if (o.rom && !o.no_undo) {
+    auto dir = ops::undo_dir();
+    if (!dir.ok()) return fail("set", dir.error());
+    auto cfg = ops::undo_config_for_parameter(c, *upid, db);
+    if (!cfg.ok()) return fail("set", cfg.error());
+    auto saved = ops::save_undo(
+        ops::UndoOptions{true, *dir, o.common.port, c.options().id, "set", ops::kUndoKeep}, *cfg,
+        db);
+    if (!saved.ok()) return fail("set", saved.error());
+    undo = std::move(saved).value();
+  }
   if (*stop) {
     if (auto r = c.stop_mc(); !r.ok())
       return fail_with_state("set", r.error(), refusal_state(c, "set", r.error()));
@@ -173,6 +194,7 @@ int run_set(ParamCli& o) {
   Result<void> started{};
   if (*stop) started = c.start_mc();  // also after a failed write: leave MC as found
   auto closed = (*session)->close();
+  if (undo) print_undo_saved(*undo, o.common);
   if (!w.ok()) return fail_with_state("set", w.error(), state);
   if (!started.ok()) return fail("set", started.error());
   if (!closed.ok()) return fail("set", closed.error());
@@ -183,7 +205,7 @@ int run_set(ParamCli& o) {
                  *upid);
   if (*stop && !o.common.quiet)
     std::fprintf(stderr, "lmcfg set: MC was stopped for the ROM write and started again\n");
-  print_value(o, *upid, d, *spec, o.rom && o.ram ? "RAM+ROM" : o.rom ? "ROM" : "RAM", *value);
+  print_value(o, *upid, d, *spec, o.rom && o.ram ? "RAM+ROM" : o.rom ? "ROM" : "RAM", *value, undo);
   return kOk;
 }
 
@@ -226,6 +248,9 @@ void add_set(CLI::App& app, int& exit_code) {
                 "(as --stop-mc)");
   sub->add_flag("--include-comm", o->include_comm,
                 "allow writing a communication parameter (baud rate, MACID, checksum, parity)");
+  sub->add_flag("--no-undo", o->no_undo,
+                "with --rom: do not save the layer's previous values as an undo record first "
+                "(lmcfg undo); a RAM write gets none, a reset brings the ROM value back");
   sub->callback([o, &exit_code] { exit_code = run_set(*o); });
 }
 }  // namespace lmcfg::cli

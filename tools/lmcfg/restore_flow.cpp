@@ -23,11 +23,22 @@ void report_json(const ops::RestoreOutcome& out, const std::string& file) {
   for (const auto& [k, v] : plan.items()) j[k] = v;
   if (out.second_pass) j["second_pass"] = ops::plan_json(*out.second_pass)["steps"];
   j["mismatches"] = out.mismatches;
+  if (out.undo) j["undo"] = undo_json(*out.undo);
   if (out.error) j["error"] = out.error->message;
   std::printf("%s\n", j.dump(2).c_str());
 }
 
 }  // namespace
+
+void print_undo_saved(const ops::UndoSaved& u, const CommonOptions& common) {
+  if (common.quiet || common.json) return;
+  std::fprintf(stderr, "undo: saved the target's previous values to %s; to put them back: %s\n",
+               u.path.c_str(), u.command.c_str());
+}
+
+nlohmann::ordered_json undo_json(const ops::UndoSaved& u) {
+  return {{"path", u.path.string()}, {"command", u.command}};
+}
 
 void add_restore_flags(CLI::App* sub, RestoreFlags& f) {
   sub->add_flag("--dry-run", f.dry_run, "print the plan and exit without writing");
@@ -47,6 +58,9 @@ void add_restore_flags(CLI::App* sub, RestoreFlags& f) {
                 "restore what the target can take and list the values it cannot (UPID absent, "
                 "type, range, read-only, curve/command table limits); exit 7 when any was "
                 "skipped");
+  sub->add_flag("--no-undo", f.no_undo,
+                "do not save the target's previous values as an undo record before writing "
+                "(lmcfg undo)");
 }
 
 int restore_on_session(ops::Session& session, const config::DriveConfig& file,
@@ -71,6 +85,11 @@ int restore_on_session(ops::Session& session, const config::DriveConfig& file,
   ro.restore.progress = make_progress(common);
   ro.dry_run = f.dry_run;
   ro.overrides = overrides;
+  if (!f.no_undo && !f.dry_run) {
+    auto dir = ops::undo_dir();
+    if (!dir.ok()) return fail("restore", dir.error());
+    ro.undo = ops::UndoOptions{true, *dir, common.port, copt.id, f.undo_name, ops::kUndoKeep};
+  }
   ro.confirm = [&](const ops::Plan& plan) {
     end_progress(common);
     // The plan goes to stderr when stdout carries the JSON report.
@@ -83,6 +102,7 @@ int restore_on_session(ops::Session& session, const config::DriveConfig& file,
   end_progress(common);
   const bool text = !common.json;
   if (common.json) report_json(out, file_name);
+  if (out.undo) print_undo_saved(*out.undo, common);
   int code = kOk;
   switch (out.stage) {
     case S::failed:

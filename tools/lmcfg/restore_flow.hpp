@@ -3,6 +3,7 @@
 // options, the confirmation on a terminal, ops::run_restore, and the output
 // and exit code of each outcome.
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 #include <string>
 
 #include "config/model.hpp"
@@ -18,17 +19,26 @@ struct RestoreFlags {
   bool no_reset = false;
   bool skip_incompatible = false;
   bool yes = false;
+  bool no_undo = false;
   ReconnectOptions reconnect;
+  // The command that saves the undo record (its file name): "restore",
+  // "fleet-restore", "undo".
+  std::string undo_name = "restore";
 };
 
 // --dry-run, --no-default, --include-comm, --reconnect-*, --yes, --no-reset,
-// --skip-incompatible.
+// --skip-incompatible, --no-undo.
 void add_restore_flags(CLI::App* sub, RestoreFlags& f);
 
 // Restores `file` (called `file_name` in messages) over `session` as `lmcfg
 // restore` does, printing the plan, the confirmation and the outcome; returns
 // the documented exit code. `overrides` come from relink_overrides(f.reconnect),
 // checked by the caller before the link opened.
+// "undo: saved the target's previous values to PATH; to put them back: CMD"
+// on stderr (unless --quiet or --json).
+void print_undo_saved(const ops::UndoSaved& u, const CommonOptions& common);
+nlohmann::ordered_json undo_json(const ops::UndoSaved& u);
+
 int restore_on_session(ops::Session& session, const config::DriveConfig& file,
                        const std::string& file_name, const CommonOptions& common,
                        const RestoreFlags& f, const ops::RelinkOverrides& overrides,
