@@ -1,10 +1,10 @@
 #include "link/port.hpp"
 
-#include "transport/rfc2217.hpp"
-
 #include <algorithm>
 #include <deque>
 #include <filesystem>
+
+#include "transport/rfc2217.hpp"
 
 namespace lmcfg::link {
 

@@ -48,7 +48,6 @@ struct RestoreOutcome {
   std::optional<Plan> second_pass;
   // --skip-incompatible left values out (Plan::skipped_incompatible).
   bool skipped_any() const { return !plan.skipped_incompatible.empty(); }
-  bool written = false;           // execute_plan ran (some steps may have been sent)
   std::optional<UndoSaved> undo;  // the undo record saved before the first write
 };
 

@@ -165,6 +165,7 @@ Result<ops::LinkOptions> link_options(const OpenArgs& a) {
   ops::LinkOptions l;
   l.port = a.port;
   l.trace_path = a.trace;
+  l.holder = "a Python script (lmcfg module)";  // named to a second program on the port
   l.serial.baud = a.baud;
   l.serial.stop_bits = a.stop_bits;
   LMCFG_ASSIGN_OR_RETURN(l.serial.parity, ops::parse_parity(a.parity));

@@ -125,7 +125,7 @@ TEST_CASE("can: frames out of range are refused with the reason", "[can]") {
   CHECK(can::validate(f).error().message == "CAN frame length 9 is more than 8 bytes");
 }
 
-TEST_CASE("can: slcan bit rates; DeviceNet's three and no others by mistake", "[can]") {
+TEST_CASE("can: slcan bit rates, DeviceNet's three and no others by mistake", "[can]") {
   CHECK(can::slcan::bitrate_command(125000).value() == "S4\r");
   CHECK(can::slcan::bitrate_command(250000).value() == "S5\r");
   CHECK(can::slcan::bitrate_command(500000).value() == "S6\r");
@@ -200,7 +200,7 @@ TEST_CASE("can: an adapter that refuses the bit rate or says nothing is named", 
   }
 }
 
-TEST_CASE("can: SocketCAN names a missing interface; a vcan loopback when one is given", "[can]") {
+TEST_CASE("can: SocketCAN names a missing interface, a vcan loopback when one is given", "[can]") {
   auto missing = link::open_can_link("lmcfgnone0", {});
   REQUIRE_FALSE(missing.ok());
   CHECK(missing.error().message.rfind("CAN interface lmcfgnone0: ", 0) == 0);

@@ -287,7 +287,7 @@ TEST_CASE("adaptive deadline keeps promise 2: a late answer never answers a late
   }
 }
 
-TEST_CASE("the tools' sessions time adaptively; --settle-ms fixes the settle",
+TEST_CASE("the tools' sessions time adaptively, --settle-ms fixes the settle",
           "[reliability][deadline]") {
   namespace fs = std::filesystem;
   const fs::path dir =

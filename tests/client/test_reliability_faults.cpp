@@ -87,7 +87,7 @@ bool slow_reboot(const FaultCase& f) {
 
 }  // namespace
 
-TEST_CASE("faults in backup: reads retried and resynchronised; the backup equals a clean one",
+TEST_CASE("faults in backup: reads retried and resynchronised, the backup equals a clean one",
           "[reliability]") {
   const auto& fx = fixtures();
   // Aimed at the 2nd chunk of the first curve's info block: an idempotent read
@@ -276,7 +276,7 @@ TEST_CASE(
 
 TEST_CASE(
     "faults in restore: a fault inside a command table block write is restarted and confirmed, or "
-    "fails the restore; a rerun converges",
+    "fails the restore, a rerun converges",
     "[reliability]") {
   // Aimed at the 2nd data chunk of the first command table entry (08h 04h).
   for (const auto& f : all_faults()) {

@@ -200,7 +200,7 @@ TEST_CASE("seed003 all captured exchanges: the request table names the answer's 
   CHECK(pairs > 100);
 }
 
-TEST_CASE("request table: sub IDs the manual does not list are unknown; main IDs above 08h too",
+TEST_CASE("request table: sub IDs the manual does not list are unknown, main IDs above 08h too",
           "[codec]") {
   CHECK_FALSE(request_spec(0x05, 0x02).has_value());  // §10 skips 02h/03h
   CHECK_FALSE(request_spec(0x05, 0x10).has_value());

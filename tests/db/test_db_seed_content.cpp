@@ -200,7 +200,7 @@ TEST_CASE("upid-db: seed 001 §4.3 ranges and Scaled written in the unit column 
   CHECK(ranged == 84);  // 39 x 1..255, 38 x 1..100, 5 x 0.., 2 x 0..3Eh
 }
 
-TEST_CASE("upid-db: seed 001 §10 error classes are a field; fatal ones say so", "[db][seed]") {
+TEST_CASE("upid-db: seed 001 §10 error classes are a field, fatal ones say so", "[db][seed]") {
   CHECK(real_db().error("mc", 0x0001)->error_class == "Err");
   CHECK_FALSE(real_db().error("mc", 0x0001)->fatal());
   CHECK(real_db().error("mc", 0x000A)->error_class == "Fatal Err");  // X12 Signals Missing

@@ -124,7 +124,7 @@ TEST_CASE(
 }
 
 TEST_CASE(
-    "devicenet: the default modules make 6 bytes out and 8 back; a response of another "
+    "devicenet: the default modules make 6 bytes out and 8 back, a response of another "
     "size is refused with both sizes",
     "[devicenet]") {
   devicenet::IoLayout l;

@@ -126,7 +126,7 @@ TEST_CASE("devicenet master: a value out of Table 5-1's range is the controller'
 }
 
 TEST_CASE(
-    "devicenet master: lost poll responses are polled again; too many fail in bounded "
+    "devicenet master: lost poll responses are polled again, too many fail in bounded "
     "time",
     "[devicenet][master]") {
   Rig rig;
@@ -186,7 +186,7 @@ TEST_CASE(
 }
 
 TEST_CASE(
-    "devicenet master: a controller reset mid-session drops the connection; reconnecting "
+    "devicenet master: a controller reset mid-session drops the connection, reconnecting "
     "restores it",
     "[devicenet][master]") {
   Rig rig;

@@ -111,7 +111,7 @@ TEST_CASE("db scan: the scanned profile is the simulated drive's own parameter s
   CHECK(rig.wire->write_telegrams() == 0);
 }
 
-TEST_CASE("db scan: layers can be chosen; no database leaves every name empty", "[db][scan]") {
+TEST_CASE("db scan: layers can be chosen, no database leaves every name empty", "[db][scan]") {
   test::SimRig rig(kFixture);
   auto opt = scan_options();
   opt.names_from.clear();

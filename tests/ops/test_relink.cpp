@@ -227,7 +227,7 @@ TEST_CASE(
   fs::remove_all(dir);
 }
 
-TEST_CASE("relink: a drive on an unknown hex-switch ID is not found; --reconnect-id finds it",
+TEST_CASE("relink: a drive on an unknown hex-switch ID is not found, --reconnect-id finds it",
           "[relink]") {
   auto db = test::built_database();
   REQUIRE(db);
@@ -316,7 +316,7 @@ TEST_CASE(
 }
 
 TEST_CASE(
-    "relink: lmcfg default keeps the LinRS parameters even without a database; --include-comm says "
+    "relink: lmcfg default keeps the LinRS parameters even without a database, --include-comm says "
     "the switches rule",
     "[relink]") {
   test::SimRig rig("manual-drive.json");  // 38400 Bd and MACID 11h, both by parameter

@@ -339,7 +339,7 @@ TEST_CASE(
 
 TEST_CASE(
     "restore: the plan stops MC first, so a drive that refuses configuration writes while MC "
-    "runs takes them; without the stop it refuses (LinRS §10)",
+    "runs takes them, without the stop it refuses (LinRS §10)",
     "[restore][mc-stopped]") {
   const auto source = fixture("commissioned-axis.json");
   const auto file = backup_of(source);

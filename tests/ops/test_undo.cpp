@@ -92,7 +92,7 @@ std::size_t files_in(const fs::path& dir) {
 }  // namespace
 
 TEST_CASE(
-    "undo: a restore's record is the target's previous state in scope; restoring it "
+    "undo: a restore's record is the target's previous state in scope, restoring it "
     "brings the drive back",
     "[undo]") {
   const auto file = demo_backup();
@@ -180,7 +180,7 @@ TEST_CASE("undo: a record costs a few telegrams on the demo restores (docs/perfo
 }
 
 TEST_CASE(
-    "undo: the rotation keeps the newest 10 records of a drive; the listing is newest "
+    "undo: the rotation keeps the newest 10 records of a drive, the listing is newest "
     "first, per drive",
     "[undo]") {
   test::ScratchDir dir("undo-rotation");
@@ -232,7 +232,7 @@ TEST_CASE(
 }
 
 TEST_CASE(
-    "undo: run_restore saves the record before its first write, none without undo; a "
+    "undo: run_restore saves the record before its first write, none without undo, a "
     "record it cannot save refuses with nothing written",
     "[undo]") {
   const auto file = demo_backup();

@@ -85,7 +85,7 @@ struct Rig {
 }  // namespace
 
 TEST_CASE(
-    "serve: the schedule is due at start, then every period; drift notified once, "
+    "serve: the schedule is due at start, then every period, drift notified once, "
     "recovered once",
     "[serve][service]") {
   Rig rig;
@@ -361,7 +361,7 @@ TEST_CASE("serve: /metrics passes promtool check metrics", "[serve][metrics]") {
   CHECK(test::slurp(rig.dir.path / "promtool.txt").empty());
 }
 
-TEST_CASE("serve: a webhook receives the event JSON; a dead one is retried, then given up",
+TEST_CASE("serve: a webhook receives the event JSON, a dead one is retried, then given up",
           "[serve][notify]") {
   httplib::Server receiver;
   std::mutex mu;

@@ -24,7 +24,7 @@ TEST_CASE("serve: SHA-256 gives the FIPS 180-4 example digests (§B.1, §B.2, §
         "E3B0C44298FC1C149AFBF4C8996FB92427AE41E4649B934CA495991B7852B855");
 }
 
-TEST_CASE("serve: token add stores only the hash; tokens are found by role", "[serve][tokens]") {
+TEST_CASE("serve: token add stores only the hash, tokens are found by role", "[serve][tokens]") {
   test::ScratchDir d("serve-tokens");
   const std::string file = (d.path / "tokens").string();
   auto viewer = serve::add_token(file, "grafana", serve::Role::viewer);

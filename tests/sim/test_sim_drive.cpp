@@ -92,7 +92,7 @@ TEST_CASE("sim: UPID list ends with C6 repeating the last UPID", "[sim]") {
   CHECK(seen == std::vector<std::uint16_t>{0x3010, 0x3020, 0x3030});
 }
 
-TEST_CASE("sim: layer defaulting (03 12h) sets MC ROM to default; RAM follows only after reset",
+TEST_CASE("sim: layer defaulting (03 12h) sets MC ROM to default, RAM follows only after reset",
           "[sim]") {
   SimHarness h("commissioned-axis.json");
   REQUIRE(h.drive->rom(0x13A2) == 40u);
@@ -203,7 +203,7 @@ TEST_CASE("sim: command table setup/write/read round trip and defined list", "[s
 
 // ---- bus, checksums ----------------------------------------------------------------
 
-TEST_CASE("sim: frames for other MACIDs are ignored; a bus answers only from the addressed drive",
+TEST_CASE("sim: frames for other MACIDs are ignored, a bus answers only from the addressed drive",
           "[sim]") {
   auto bus = std::make_shared<sim::Bus>();
   auto a = load_fixture("commissioned-axis.json");
@@ -230,7 +230,7 @@ TEST_CASE("sim: frames for other MACIDs are ignored; a bus answers only from the
   CHECK(link.stats().answer_telegrams == 2);
 }
 
-TEST_CASE("sim: checksum modes add and CRC; C1 answer on a bad checksum", "[sim]") {
+TEST_CASE("sim: checksum modes add and CRC, C1 answer on a bad checksum", "[sim]") {
   for (auto mode : {ChecksumMode::add, ChecksumMode::crc_ccitt}) {
     auto s = load_fixture("manual-drive.json");
     s.checksum.mode = mode;

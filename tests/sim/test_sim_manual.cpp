@@ -143,7 +143,7 @@ TEST_CASE(
   CHECK_FALSE(h.drive->transfer_active());
 }
 
-TEST_CASE("sim: seed003 §11.2 write curve 1 (requests; answers compared on state)",
+TEST_CASE("sim: seed003 §11.2 write curve 1 (requests, answers compared on state)",
           "[sim][sim-manual]") {
   SimHarness h("manual-drive.json");
   const auto original = h.drive->state().curves_ram.at(1);
@@ -181,7 +181,7 @@ TEST_CASE("sim: seed003 §12.1 read command table entry 2 (64 bytes, 16 telegram
   CHECK(replay(h, "12.1") == 17);
 }
 
-TEST_CASE("sim: seed003 §12.2 write command table entry 2 (requests; answers compared on state)",
+TEST_CASE("sim: seed003 §12.2 write command table entry 2 (requests, answers compared on state)",
           "[sim][sim-manual]") {
   SimHarness h("manual-drive.json");
   const auto original = h.drive->state().ct_ram.at(2);

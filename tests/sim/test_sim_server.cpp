@@ -96,7 +96,7 @@ struct PtyLine {
 
 }  // namespace
 
-TEST_CASE("sim: one served line with several MACIDs; only the addressed drive answers",
+TEST_CASE("sim: one served line with several MACIDs, only the addressed drive answers",
           "[sim][sim-server]") {
   sim::Drive a(test::load_fixture("manual-drive.json"));
   auto second = test::load_fixture("manual-drive.json");

@@ -220,7 +220,7 @@ TEST_CASE(
 }
 
 TEST_CASE(
-    "DeviceNet §5.2 a firmware whose refusals stop RUN is told so; --devicenet-motors and "
+    "DeviceNet §5.2 a firmware whose refusals stop RUN is told so, --devicenet-motors and "
     "--no-module-values avoid the probes",
     "[devicenet][cli][pty]") {
   const auto dir = test::temp_dir("dn-run");
@@ -241,7 +241,7 @@ TEST_CASE(
 }
 
 TEST_CASE(
-    "DeviceNet §5.2 a controller reset in the middle of a restore is reported as partial; "
+    "DeviceNet §5.2 a controller reset in the middle of a restore is reported as partial, "
     "the rerun converges",
     "[devicenet][cli][pty]") {
   const auto dir = test::temp_dir("dn-reset");

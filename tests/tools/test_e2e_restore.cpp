@@ -239,7 +239,7 @@ TEST_CASE("e2e: offline diff against defaults uses the defaults a capture record
 }
 
 TEST_CASE(
-    "e2e: with address usage from the database the plan asks types; an unknown UPID answers C8h",
+    "e2e: with address usage from the database the plan asks types, an unknown UPID answers C8h",
     "[e2e]") {
   // A database that knows the address usage of every MC UPID of the file.
   auto dir =

@@ -38,7 +38,9 @@ struct Rig {
   };
   Out tool(const std::string& args) const {
     const auto o = dir / "stdout.txt", e = dir / "stderr.txt";
-    const std::string cmd = std::string(LMCFG_TOOL_PATH) + " " + args + " " + port + " >'" +
+    // Undo records of `set --rom` go below the test's own folder.
+    const std::string cmd = "XDG_STATE_HOME='" + (dir / "state").string() + "' " +
+                            std::string(LMCFG_TOOL_PATH) + " " + args + " " + port + " >'" +
                             o.string() + "' 2>'" + e.string() + "' </dev/null";
     const int rc = std::system(cmd.c_str());
     return Out{WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, slurp(o), slurp(e)};
@@ -100,7 +102,14 @@ TEST_CASE("seed003 §10 set --rom --yes in a script: stops MC, writes and starts
   Rig r;
   auto ok = r.tool("set 13A2 16 --rom --yes");
   REQUIRE(ok.rc == 0);
-  CHECK(ok.err == "lmcfg set: MC was stopped for the ROM write and started again\n");
+  // The undo record first (its path holds the time), then the MC note.
+  CHECK(ok.err.rfind("undo: saved the target's previous values to " + (r.dir / "state").string() +
+                         "/lmcfg/undo/",
+                     0) == 0);
+  CHECK(
+      ok.err.find("; to put them back: lmcfg undo --port sim:" + (r.dir / "drive.json").string() +
+                  " --id 0x11\nlmcfg set: MC was stopped for the ROM write and started again\n") !=
+      std::string::npos);
   auto back = r.tool("get 0x13A2 --rom --json");
   CHECK(back.out.find("\"raw\":16,") != std::string::npos);
   CHECK(slurp(r.dir / "drive.json").find("\"mc_running\": true") != std::string::npos);

@@ -53,7 +53,7 @@ TEST_CASE("port lock cli: get on a port held by a backup: the holder, exit 4, no
   CHECK(again.exit_code == 0);
 }
 
-TEST_CASE("port lock cli: a running lmcfg holds its port; the second is told which and its PID",
+TEST_CASE("port lock cli: a running lmcfg holds its port, the second is told which and its PID",
           "[cli][lock]") {
   PtySim sim;
   const auto dir = test::temp_dir("lock-cli-two");

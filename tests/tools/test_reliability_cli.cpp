@@ -338,7 +338,7 @@ TEST_CASE("cli: restore never modifies its input file", "[reliability][cli]") {
   CHECK(again.exit_code == 0);
 }
 
-TEST_CASE("cli: db devicenet shows seed 000 commands; a bad ID is exit 2, an undefined one a note",
+TEST_CASE("cli: db devicenet shows seed 000 commands, a bad ID is exit 2, an undefined one a note",
           "[reliability][cli][db]") {
   TempDir d;
   auto one = tool(d.path, "db devicenet 0x11 --json");
@@ -418,7 +418,7 @@ void set_param_field(const fs::path& state, const char* upid, const char* field,
 }  // namespace
 
 TEST_CASE(
-    "seed003 §10 05h 05h/06h: the plan takes min/max from the target; a lower max is "
+    "seed003 §10 05h 05h/06h: the plan takes min/max from the target, a lower max is "
     "refused by dry run and real run, zero write telegrams",
     "[reliability][cli][restore]") {
   TempDir d;
@@ -513,7 +513,7 @@ TEST_CASE("restore without --yes and without a terminal: exit 2, nothing written
 
 TEST_CASE(
     "restore and default --json validate against schemas/report-restore and report-default "
-    "(real ajv); restore steps are items with UPID, old and new",
+    "(real ajv), restore steps are items with UPID, old and new",
     "[reliability][cli][restore][json]") {
   TempDir d;
   good_backup(d);

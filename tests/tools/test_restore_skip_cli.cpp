@@ -84,7 +84,7 @@ std::string lines(const std::string& head, const std::string& prefix) {
 }  // namespace
 
 TEST_CASE(
-    "cli: restore onto another firmware refuses by default (exit 3); --skip-incompatible "
+    "cli: restore onto another firmware refuses by default (exit 3), --skip-incompatible "
     "restores the rest, lists the skipped values and exits 7, again on a second run",
     "[restore][skip-incompatible][cli]") {
   test::ScratchDir d("restore-skip");

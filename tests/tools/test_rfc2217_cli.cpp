@@ -46,7 +46,7 @@ TEST_CASE("rfc2217 cli: backup, diff and get through ser2net set the server's ra
   CHECK(d.exit_code == 0);
 }
 
-TEST_CASE("rfc2217 cli: a rate no drive listens at is a link failure; scan finds the drive's rate",
+TEST_CASE("rfc2217 cli: a rate no drive listens at is a link failure, scan finds the drive's rate",
           "[cli][rfc2217][ser2net]") {
   if (!have_ser2net()) return;
   test::PtySim sim;
@@ -63,5 +63,5 @@ TEST_CASE("rfc2217 cli: a rate no drive listens at is a link failure; scan finds
   auto s = test::run_tool_in(dir, "scan --from 0x11 --to 0x11 --json --port " + url);
   INFO(s.err);
   CHECK(s.exit_code == 0);
-  CHECK(s.out.find("\"baud\":57600") != std::string::npos);
+  CHECK(s.out.find("\"options\": \"--baud 57600 --id 0x11 --checksum none\"") != std::string::npos);
 }

@@ -29,7 +29,7 @@ void write_plant(const fs::path& dir, const std::string& tables = "") {
 
 }  // namespace
 
-TEST_CASE("serve cli: refuses a non-loopback --listen, bad roles; token add prints a token once",
+TEST_CASE("serve cli: refuses a non-loopback --listen, bad roles, token add prints a token once",
           "[serve][cli]") {
   test::ScratchDir d("serve-cli");
   write_plant(d.path);

@@ -147,7 +147,7 @@ TEST_CASE("undo cli: exact messages and exit codes", "[undo][cli]") {
   CHECK(r.diff_with("wrong.json") == 0);
 }
 
-TEST_CASE("undo cli: restore --json lists the record; --no-undo saves none", "[undo][cli]") {
+TEST_CASE("undo cli: restore --json lists the record, --no-undo saves none", "[undo][cli]") {
   Rig r;
   REQUIRE(r.tool("backup --port sim:demo.json -q -o wrong.json").exit_code == 0);
   auto dry = r.tool("restore wrong.json --port sim:spare.json --dry-run");

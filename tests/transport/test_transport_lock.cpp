@@ -119,7 +119,7 @@ TEST_CASE("port lock: another process holding the port is named with its PID",
   CHECK(open_serial(line(pty.slave_path), nullptr, PortClaim{"lmcfg get"}).ok());
 }
 
-TEST_CASE("port lock: a holder that recorded nothing is another program; stale records are ignored",
+TEST_CASE("port lock: a holder that recorded nothing is another program, stale records are ignored",
           "[transport][lock]") {
   auto pty = make_pty();
   // A program that takes the flock itself, as terminal programs do.

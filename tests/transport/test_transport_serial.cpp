@@ -301,7 +301,7 @@ TEST_CASE("FdTransport write times out when nobody reads", "[transport]") {
   CHECK(Clock::now() - t0 < 5s);
 }
 
-TEST_CASE("low latency: a pty has no TIOCSSERIAL; the open degrades gracefully",
+TEST_CASE("low latency: a pty has no TIOCSSERIAL, the open degrades gracefully",
           "[transport][latency]") {
   auto pty = make_pty();
   LowLatencyReport rep;
