@@ -1,8 +1,8 @@
 // DeviceNet controllers (seed 000) end to end: `lmcfg backup`, `diff` and
 // `restore` through a real pseudo-terminal to `lmcfg sim --devicenet` (a
 // simulated slcan adapter in front of a simulated controller), with poll
-// responses lost on the way; and the bad inputs (wrong bit rate, MAC ID, a second master, bad values), each with its
-// message and exit code.
+// responses lost on the way; and the bad inputs (wrong bit rate, MAC ID, a second master, bad
+// values), each with its message and exit code.
 #include <catch2/catch.hpp>
 #include <filesystem>
 #include <nlohmann/json.hpp>
