@@ -15,6 +15,8 @@ fi
 cd "$LMCFG_BUILD_DIR"
 # install-deps.sh installed Chromium: the report pages' browser checks must run, not skip.
 export LMCFG_REQUIRE_BROWSER=1
+# ser2net and promtool too (Debian packages ser2net, prometheus): their checks must run.
+export LMCFG_REQUIRE_PROMTOOL=1
 export LMCFG_REQUIRE_SER2NET=1  # the RFC 2217 tests run against the real ser2net
 # The golden-vector counts, printed for the record.
 ./tests/lmcfg_tests "[codec][golden]" | grep "seed003 golden"
