@@ -425,12 +425,14 @@ Result<FleetRestoreResult> fleet_restore(const Inventory& inv, Archive& archive,
   res.outcome = opt.restore(*session, file, file_name);
   auto closed = session->close();
   if (res.outcome.written) {
-    const std::string message = "fleet restore: " + d->name + " <- " + path + " at " +
-                                source->id.substr(0, 12) + " (" + opt.rev +
-                                "): " + ops::outcome_name(res.outcome) + "\n\nline " + line->name +
-                                " (" + line->port + "), MACID " + hex(d->id, 2, "h") + ", " +
-                                std::to_string(res.outcome.plan.steps.size()) + " step(s)\n" +
-                                skipped_lines(res.outcome.plan);
+    std::string message = "fleet restore: " + d->name + " <- " + path + " at " +
+                          source->id.substr(0, 12) + " (" + opt.rev +
+                          "): " + ops::outcome_name(res.outcome) + "\n\nline " + line->name + " (" +
+                          line->port + "), MACID " + hex(d->id, 2, "h") + ", " +
+                          std::to_string(res.outcome.plan.steps.size()) + " step(s)\n" +
+                          skipped_lines(res.outcome.plan);
+    const std::string tr = ops::trailers(opt.audit);
+    if (!tr.empty()) message += "\n" + tr;
     LMCFG_ASSIGN_OR_RETURN(res.record, archive.commit({}, message, true));
   }
   if (!closed.ok()) return closed.error();

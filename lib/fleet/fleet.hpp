@@ -13,6 +13,7 @@
 #include "db/database.hpp"
 #include "fleet/archive.hpp"
 #include "fleet/inventory.hpp"
+#include "ops/audit.hpp"
 #include "ops/backup.hpp"
 #include "ops/diff.hpp"
 #include "ops/restore_run.hpp"
@@ -106,6 +107,7 @@ struct FleetRestore {
   std::string drive;  // position name
   std::string rev = "HEAD";
   ops::LinkOptions link;  // the drive's line (client.id is set from the inventory)
+  ops::Audit audit;       // who and why: trailers of the recording commit
   std::reference_wrapper<const db::Database> db = db::Database::empty();
   // Runs the normal restore (plan, confirmation, verify) of the archived file
   // on the open session and returns its outcome.

@@ -1,0 +1,20 @@
+#pragma once
+// Who wrote to a drive and why: recorded with every write (restore, default,
+// set, fleet restore, the service), as git trailers of the archive's commit
+// where there is an archive.
+#include <string>
+
+namespace lmcfg::ops {
+
+struct Audit {
+  std::string who;     // the OS user, or the API token's name
+  std::string reason;  // free text (--reason, the API's "reason")
+  std::string ticket;  // a ticket id (--ticket, the API's "ticket")
+};
+
+// The trailers block "Operator: who\nReason: ...\nTicket: ...\n", empty fields
+// left out; "" when all are empty. Line breaks inside a field become spaces so
+// that each trailer stays one line (git interpret-trailers reads them so).
+std::string trailers(const Audit& a);
+
+}  // namespace lmcfg::ops
