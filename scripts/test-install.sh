@@ -18,6 +18,11 @@ for f in bin/lmcfg share/lmcfg/lmcfg-upid.sqlite share/lmcfg/schemas/lmcfg-confi
   lib/liblmcfg_ops.a lib/liblmcfg_sim.a include/lmcfg/ops/backup.hpp include/lmcfg/common/version.hpp lib/cmake/lmcfg/lmcfgConfig.cmake; do
   [[ -e "$prefix/$f" ]] || { echo "test-install: $f not installed"; exit 1; }
 done
+# Only the public API (lib/public-headers.txt): internals stay private.
+for f in include/lmcfg/db/sqlite.hpp include/lmcfg/client/internal.hpp include/lmcfg/ops/restore_internal.hpp; do
+  [[ ! -e "$prefix/$f" ]] || { echo "test-install: internal header $f installed"; exit 1; }
+done
+step "$(find "$prefix/include/lmcfg" -name '*.hpp' | wc -l) public headers installed"
 step "PREFIX/bin/lmcfg db show 13A2"
 "$prefix/bin/lmcfg" db show 13A2 | head -3
 step "PREFIX/bin/lmcfg --version"

@@ -3,23 +3,31 @@
 include flags of each layer's own sources (compile_commands.json), a header of
 every layer it declares compiles and a header of any other layer does not.
 usage: layering-test.py BUILD_DIR SOURCE_DIR"""
-import json, os, shlex, subprocess, sys, tempfile
+import json, os, re, shlex, subprocess, sys, tempfile
 
-ALLOWED = {  # as lib/CMakeLists.txt declares, with the layer itself
-    "common": {"common"},
-    "codec": {"codec", "common"},
-    "transport": {"transport", "common"},
-    "db": {"db", "common"},
-    "config": {"config", "common"},
-    "client": {"client", "codec", "transport", "common"},
-    "can": {"can", "transport", "common"},
-    "devicenet": {"devicenet", "can", "transport", "common"},
-    "sim": {"sim", "devicenet", "can", "codec", "transport", "common"},
-    "ops": {"ops", "client", "config", "db", "devicenet", "can", "codec", "transport", "common"},
-    "fleet": {"fleet", "ops", "client", "config", "db", "devicenet", "can", "codec", "transport",
-              "common"},
-}
 build, source = sys.argv[1], sys.argv[2]
+
+
+def declared_layers(cmake_text):
+    """{layer: {layers it may include, itself among them}} from the
+    lmcfg_layer(NAME LAYERS ... LIBS ...) calls of lib/CMakeLists.txt, the one
+    place the layering is declared."""
+    allowed = {}
+    for m in re.finditer(r"^lmcfg_layer\(([^)]*)\)", cmake_text, re.M):
+        words = m.group(1).split()
+        layer, deps, mode = words[0], {words[0]}, None
+        for w in words[1:]:
+            if w in ("LAYERS", "LIBS"):
+                mode = w
+            elif mode == "LAYERS":
+                deps.add(w)
+        allowed[layer] = deps
+    return allowed
+
+
+ALLOWED = declared_layers(open(os.path.join(source, "lib", "CMakeLists.txt")).read())
+if len(ALLOWED) < 2:
+    sys.exit("layering-test: found no lmcfg_layer() calls in lib/CMakeLists.txt")
 commands = json.load(open(os.path.join(build, "compile_commands.json")))
 header_of = {}
 for layer in ALLOWED:
