@@ -17,7 +17,8 @@ export PATH="$work/bin:$PATH"
 section() {  # section NAME: the first words of the lines of a help section ("Options:", "Subcommands:")
   awk -v s="$1" '$0 == s {on=1; next} /^[^ ]/ {on=0} on && /^  [^ ]/ {print $1}'
 }
-options() { section "Options:" | tr ',' '\n' | grep '^-' || true; }
+# Every option line of every option group ("Options:", "DeviceNet (...):").
+options() { awk '/^  -/ {print $1}' | tr ',' '\n' | grep '^-' || true; }
 
 subs="$(lmcfg --help | section "Subcommands:")"
 commands=()  # "backup", "db", "db show", ...

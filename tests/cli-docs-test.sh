@@ -6,7 +6,8 @@ set -euo pipefail
 lmcfg=$1 man_page=$2 completion=$3
 fail=0
 section() { awk -v s="$1" '$0 == s {on=1; next} /^[^ ]/ {on=0} on && /^  [^ ]/ {print $1}'; }
-options() { section "Options:" | tr ',' '\n' | grep '^-' || true; }
+# Every option line of every option group ("Options:", "DeviceNet (...):").
+options() { awk '/^  -/ {print $1}' | tr ',' '\n' | grep '^-' || true; }
 page="$(MANWIDTH=200 man -l "$man_page" 2>/dev/null | col -b)"
 [[ -n "$page" ]] || { echo "man -l $man_page rendered nothing"; exit 1; }
 commands=()

@@ -153,6 +153,7 @@ void add_backup(CLI::App& app, int& exit_code) {
       "Sends read telegrams only; the file is written atomically and only when the whole backup "
       "succeeded.");
   add_link_options(sub, o->common);
+  add_devicenet_options(sub, o->common);
   add_output_options(sub, o->common);
   sub->add_option("-o,--output", o->output,
                   "output file (.json or .xml); - = stdout (JSON unless --format)")

@@ -55,6 +55,7 @@ void add_restore(CLI::App& app, int& exit_code) {
       "the same restore run again converges.");
   sub->add_option("FILE", o->file, "configuration file (.json or .xml)")->required();
   add_link_options(sub, o->common);
+  add_devicenet_options(sub, o->common);
   add_output_options(sub, o->common);
   add_restore_flags(sub, o->flags);
   sub->callback([o, &exit_code] { exit_code = run(*o); });

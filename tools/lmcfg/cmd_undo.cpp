@@ -131,6 +131,7 @@ void add_undo(CLI::App& app, int& exit_code) {
   sub->add_option("FILE", o->file, "an undo record (default: the drive's newest)");
   sub->add_flag("--list", o->list, "list the undo records, newest first, per drive");
   add_link_options(sub, o->common);
+  add_devicenet_options(sub, o->common);
   o->port = sub->get_option("--port");
   o->port->required(false);
   add_output_options(sub, o->common);

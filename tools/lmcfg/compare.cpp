@@ -85,6 +85,7 @@ void add_compare_options(CLI::App* sub, CompareOptions& o, bool b_required, bool
   auto* b = sub->add_option("B", o.b, "file, -, defaults or drive");
   if (b_required) b->required();
   add_link_options(sub, o.common);
+  add_devicenet_options(sub, o.common);
   sub->get_option("--port")->required(false);
   add_output_options(sub, o.common);
   if (!json) sub->remove_option(sub->get_option("--json"));

@@ -75,27 +75,40 @@ void add_link_options(CLI::App* sub, CommonOptions& o) {
                   "timestamped hex to FILE");
   sub->add_flag("--verbose", o.verbose,
                 "link errors: the protocol detail too, after the advice on what to change");
+}
+
+void add_devicenet_options(CLI::App* sub, CommonOptions& o) {
+  // A group of their own in --help: only the commands that take DeviceNet
+  // controllers (backup, diff, restore, undo) list them.
+  const std::string group = "DeviceNet (--port can0 or slcan:/dev/ttyACM0)";
   sub->add_option("--can-bitrate", o.can_bitrate,
                   "DeviceNet (--port can0 or slcan:/dev/ttyACM0): 125000, 250000 or 500000")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->group(group);
   sub->add_option("--devicenet-macid", o.devicenet_macid,
-                  "DeviceNet: the controller's MAC ID, 0..63 (seed 000 controllers)");
+                  "DeviceNet: the controller's MAC ID, 0..63 (seed 000 controllers)")
+      ->group(group);
   sub->add_option("--devicenet-own-macid", o.devicenet_own_macid,
                   "DeviceNet: this tool's MAC ID on the bus, checked for duplicates first")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->group(group);
   sub->add_option("--devicenet-listen-ms", o.devicenet_listen_ms,
                   "DeviceNet: how long to listen for another node with this tool's MAC ID after "
                   "each of the two duplicate MAC ID checks (DeviceNet: 1 s)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->group(group);
   sub->add_option("--devicenet-motors", o.devicenet_motors,
                   "DeviceNet: the controller's motors, e.g. A,B (default: found by probing "
-                  "A..D; the controller refuses absent ones with a coded error)");
+                  "A..D; the controller refuses absent ones with a coded error)")
+      ->group(group);
   sub->add_flag("--no-module-values", o.no_module_values,
                 "DeviceNet: do not read the encoder and CAM values (60h..6Bh) that need a master "
-                "encoder or IO module");
+                "encoder or IO module")
+      ->group(group);
   sub->add_option("--io-modules", o.io_modules,
                   "DeviceNet: the controller's IO modules as set up in LinTalk, e.g. "
-                  "control-in,addressed-in,status-out,addressed-out (the default)");
+                  "control-in,addressed-in,status-out,addressed-out (the default)")
+      ->group(group);
 }
 
 bool is_devicenet(const CommonOptions& o) {
@@ -261,8 +274,8 @@ Result<SessionHandle> open_link(const CommonOptions& o) {
   if (is_devicenet(o)) {
     return Error(Errc::not_supported,
                  "--port " + o.port +
-                     " with --devicenet-macid names a DeviceNet controller: backup, diff and "
-                     "restore support those; this command is for LinRS drives");
+                     " names a DeviceNet controller: backup, diff, restore and undo support "
+                     "those; this command is for LinRS drives");
   }
   LMCFG_ASSIGN_OR_RETURN(auto l, link_options(o));
   LMCFG_ASSIGN_OR_RETURN(auto s, ops::open_session(l));

@@ -49,6 +49,10 @@ struct CommonOptions {
 // --timeout-ms, --settle-ms, --retries, --long-timeout-s, --agreeing-reads, --trace,
 // --verbose.
 void add_link_options(CLI::App* sub, CommonOptions& o);
+// --can-bitrate, --devicenet-macid, --devicenet-own-macid, --devicenet-listen-ms,
+// --devicenet-motors, --no-module-values, --io-modules: for the commands that
+// take DeviceNet controllers (backup, diff, restore, undo), in a --help group.
+void add_devicenet_options(CLI::App* sub, CommonOptions& o);
 // True when the options name a DeviceNet controller: a CAN port or --devicenet-macid.
 bool is_devicenet(const CommonOptions& o);
 // --quiet, --json, --db.
