@@ -12,6 +12,7 @@
 
 #include "files.hpp"
 #include "ops/session.hpp"
+#include "promtool.hpp"
 #include "serve/http.hpp"
 #include "serve/notify.hpp"
 #include "serve/service.hpp"
@@ -343,22 +344,7 @@ TEST_CASE("serve: /metrics passes promtool check metrics", "[serve][metrics]") {
   CHECK(text.find("lmcfg_serve_uptime_seconds 900\n") != std::string::npos);
   CHECK(text.find("lmcfg_line_telegrams_total{line=\"line1\"} 0\n") == std::string::npos);
 
-  const bool have = std::system("command -v promtool >/dev/null 2>&1") == 0;
-  const char* require = std::getenv("LMCFG_REQUIRE_PROMTOOL");
-  if (!have && !(require && std::string(require) == "1")) {
-    WARN(
-        "SKIP: promtool not found (Debian package prometheus); set LMCFG_REQUIRE_PROMTOOL=1 to "
-        "fail instead");
-    return;
-  }
-  REQUIRE(have);
-  test::spit(rig.dir.path / "metrics.txt", text);
-  const std::string cmd = "promtool check metrics < '" + (rig.dir.path / "metrics.txt").string() +
-                          "' > '" + (rig.dir.path / "promtool.txt").string() + "' 2>&1";
-  const int rc = std::system(cmd.c_str());
-  INFO(test::slurp(rig.dir.path / "promtool.txt"));
-  CHECK(rc == 0);
-  CHECK(test::slurp(rig.dir.path / "promtool.txt").empty());
+  test::check_with_promtool(text, rig.dir.path);
 }
 
 TEST_CASE("serve: a webhook receives the event JSON, a dead one is retried, then given up",
