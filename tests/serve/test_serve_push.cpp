@@ -8,10 +8,8 @@
 #include <thread>
 
 #include "files.hpp"
-#include "ops/session.hpp"
 #include "promtool.hpp"
-#include "serve/service.hpp"
-#include "sim/state_file.hpp"
+#include "serve_rig.hpp"
 
 using namespace lmcfg;
 namespace fs = std::filesystem;
@@ -38,45 +36,20 @@ void write_axis(const fs::path& path, int value) {
   test::spit(path, j.dump(1));
 }
 
-struct PushRig {
-  test::ScratchDir dir{"serve-push"};
-  serve::TimePoint now = serve::Clock::from_time_t(1'800'000'000);
-  std::mutex mu;
-  std::vector<nlohmann::json> events;
-  std::unique_ptr<serve::Service> service;
-
-  explicit PushRig(const std::string& remote) {
-    ops::register_link_scheme("sim", sim::state_file_link_factory());
+// The service over one simulated axis, press/a, pushing to `remote`.
+struct PushRig : test::ServiceRig {
+  explicit PushRig(const std::string& remote) : ServiceRig("serve-push") {
     write_axis(dir.path / "a.json", 5);
-    auto inv = fleet::parse_inventory("[archive]\npush = \"" + remote +
-                                          "\"\n[schedule]\nbackup_every = \"1h\"\n"
-                                          "[[line]]\nname = \"l1\"\nport = \"sim:" +
-                                          (dir.path / "a.json").string() +
-                                          "\"\n[[line.drive]]\nname = \"press/a\"\nid = 0x11\n",
-                                      "plant.toml");
-    REQUIRE(inv.ok());
-    CHECK(inv->archive.push == remote);
-    serve::ServiceOptions o;
-    o.inventory = *inv;
-    o.archive = (dir.path / "archive").string();
-    ops::LinkOptions link;
-    link.port = inv->lines[0].port;
-    o.links = {link};
-    o.clock = [this] { return now; };
-    o.push_retry_first = 20ms;
-    o.push_retry_max = 80ms;
-    o.notify = [this](const serve::Json& e) {
-      std::lock_guard<std::mutex> lock(mu);
-      events.push_back(nlohmann::json::parse(e.dump()));
-    };
-    auto s = serve::Service::create(std::move(o));
-    REQUIRE(s.ok());
-    service = std::move(s).value();
-  }
-  void at(serve::TimePoint t) {
-    now = t;
-    service->tick(t);
-    service->wait_idle();
+    start("[archive]\npush = \"" + remote +
+              "\"\n[schedule]\nbackup_every = \"1h\"\n"
+              "[[line]]\nname = \"l1\"\nport = \"sim:" +
+              (dir.path / "a.json").string() +
+              "\"\n[[line.drive]]\nname = \"press/a\"\nid = 0x11\n",
+          [&](serve::ServiceOptions& o) {
+            CHECK(o.inventory.archive.push == remote);
+            o.push_retry_first = 20ms;
+            o.push_retry_max = 80ms;
+          });
   }
   std::vector<std::string> event_names() {
     std::lock_guard<std::mutex> lock(mu);
