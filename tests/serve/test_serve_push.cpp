@@ -122,7 +122,7 @@ TEST_CASE(
   }
   std::string m = rig.service->metrics();
   CHECK(m.find("lmcfg_archive_push_pending 1\n") != std::string::npos);
-  CHECK(m.find("lmcfg_archive_push_last_success_timestamp_seconds ") == std::string::npos);
+  CHECK(m.find("\nlmcfg_archive_push_last_success_timestamp_seconds ") == std::string::npos);
   test::check_with_promtool(m, rig.dir.path);
 
   // Backups and commits go on while the push fails.

@@ -78,10 +78,10 @@ TEST_CASE(
   r = test::run_tool_in(d.path, "serve --archive arch");
   CHECK(r.exit_code == 2);
   CHECK(r.err == "lmcfg serve: INVENTORY and --archive DIR are needed (see lmcfg serve --help)\n");
-  r = test::run_tool_in(d.path, "serve token add ops --role admin --tokens tokens");
+  r = test::run_tool_in(d.path, "serve token add ops --role admin --tokens tokens2");
   CHECK(r.exit_code == 2);
   CHECK(r.err == "lmcfg serve token add: role 'admin' is not one of viewer, operator\n");
-  CHECK_FALSE(fs::exists(d.path / "tokens"));
+  CHECK_FALSE(fs::exists(d.path / "tokens2"));
   r = test::run_tool_in(d.path, "serve token add ops2 --role operator --tokens tokens2");
   CHECK(r.exit_code == 0);
   REQUIRE(r.out.size() == 65);
@@ -167,7 +167,7 @@ TEST_CASE(
   CHECK(curl(d.path, "--cacert cert.pem -o /dev/null -w '%{http_code}' -H 'Authorization: Bearer " +
                          token + "' " + local + "/metrics") == "200");
   CHECK(curl(d.path,
-             "--cacert cert.pem -o /dev/null -w '%{http_code}' -X POST -H "
+             "--cacert cert.pem -o /dev/null -w '%{http_code}' --data '' -H "
              "'Authorization: Bearer " +
                  token + "' " + local + "/api/v1/lines/l1/backup") == "403");
   CHECK(serve.stop() == 0);

@@ -90,9 +90,9 @@ void check_converged(Plant& p, const std::string& url) {
   const auto drives = get(url, "/api/v1/drives");
   REQUIRE(drives.size() == Plant::kDrives);
   for (const auto& d : drives) CHECK(d["status"] == "ok");
-  CHECK(sh(p.dir.path / "arch", "git fsck --full --strict") == 0);
-  CHECK(sh(p.dir.path / "arch", "test -z \"$(git status --porcelain)\"") == 0);
-  CHECK(sh(p.dir.path / "arch", "test $(git rev-list --count HEAD) = 1") == 0);
+  CHECK(sh(p.dir.path, "git -C arch fsck --full --strict") == 0);
+  CHECK(sh(p.dir.path, "test -z \"$(git -C arch status --porcelain)\"") == 0);
+  CHECK(sh(p.dir.path, "test $(git -C arch rev-list --count HEAD) = 1") == 0);
 }
 
 }  // namespace
@@ -117,8 +117,8 @@ TEST_CASE("serve cli: SIGKILL during a backup run leaves a sound archive, the re
   REQUIRE(::kill(serve->pid(), SIGKILL) == 0);
   serve.reset();  // reaps it
   // What the kill left: an archive git accepts (no commit yet), nothing staged.
-  CHECK(sh(p.dir.path / "arch", "git fsck --full --strict") == 0);
-  CHECK(sh(p.dir.path / "arch", "test -z \"$(git status --porcelain)\"") == 0);
+  CHECK(sh(p.dir.path, "git -C arch fsck --full --strict") == 0);
+  CHECK(sh(p.dir.path, "test -z \"$(git -C arch status --porcelain)\"") == 0);
 
   serve = p.serve();
   url = serve->read_line();
