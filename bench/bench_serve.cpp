@@ -39,7 +39,9 @@ namespace {
 double cpu_seconds() {
   rusage u{};
   ::getrusage(RUSAGE_SELF, &u);
-  auto s = [](const timeval& t) { return static_cast<double>(t.tv_sec) + t.tv_usec / 1e6; };
+  auto s = [](const timeval& t) {
+    return static_cast<double>(t.tv_sec) + static_cast<double>(t.tv_usec) / 1e6;
+  };
   return s(u.ru_utime) + s(u.ru_stime);
 }
 
@@ -192,7 +194,7 @@ int main(int argc, char** argv) {
   const long rss_idle = rss_kb();
   std::printf("  idle between runs: %.3f s CPU in %.1f s = %.3f %% of a core (goal < 2 %%)\n",
               idle_cpu, idle_wall, 100 * idle_cpu / idle_wall);
-  std::printf("  resident now: %.1f MB\n", rss_idle / 1024.0);
+  std::printf("  resident now: %.1f MB\n", static_cast<double>(rss_idle) / 1024.0);
 
   // The second drift check runs; right after it, a drift on the last drive of line 1.
   wait_runs(3);
@@ -222,7 +224,7 @@ int main(int argc, char** argv) {
       "%.1f s; bound status_every + read = %.1f s)\n",
       latency, to_due, line_read, status_s + line_read);
   std::printf("  peak resident (ru_maxrss, simulated drives included): %.1f MB (goal < 64 MB)\n",
-              peak_rss_kb() / 1024.0);
+              static_cast<double>(peak_rss_kb()) / 1024.0);
   std::printf("  total %.0f s, %d event(s)\n",
               std::chrono::duration<double>(Steady::now() - start).count(), events.load());
   stop = true;
