@@ -40,16 +40,16 @@ void write_axis(const fs::path& path, int value) {
 struct PushRig : test::ServiceRig {
   explicit PushRig(const std::string& remote) : ServiceRig("serve-push") {
     write_axis(dir.path / "a.json", 5);
-    start("[archive]\npush = \"" + remote +
-              "\"\n[schedule]\nbackup_every = \"1h\"\n"
-              "[[line]]\nname = \"l1\"\nport = \"sim:" +
-              (dir.path / "a.json").string() +
-              "\"\n[[line.drive]]\nname = \"press/a\"\nid = 0x11\n",
-          [&](serve::ServiceOptions& o) {
-            CHECK(o.inventory.archive.push == remote);
-            o.push_retry_first = 20ms;
-            o.push_retry_max = 80ms;
-          });
+    test::spit(dir.path / "plant.toml", "[archive]\npush = \"" + remote +
+                                            "\"\n[schedule]\nbackup_every = \"1h\"\n"
+                                            "[[line]]\nname = \"l1\"\nport = \"sim:" +
+                                            (dir.path / "a.json").string() +
+                                            "\"\n[[line.drive]]\nname = \"press/a\"\nid = 0x11\n");
+    start(test::slurp(dir.path / "plant.toml"), [&](serve::ServiceOptions& o) {
+      CHECK(o.inventory.archive.push == remote);
+      o.push_retry_first = 20ms;
+      o.push_retry_max = 80ms;
+    });
   }
   std::vector<std::string> event_names() {
     std::lock_guard<std::mutex> lock(mu);
@@ -141,6 +141,31 @@ TEST_CASE(
   m = rig.service->metrics();
   CHECK(m.find("lmcfg_archive_push_last_success_timestamp_seconds 1800003600\n") !=
         std::string::npos);
+}
+
+TEST_CASE("serve push: commits an earlier run could not push go at the next start",
+          "[serve][push]") {
+  test::ScratchDir remote("serve-remote");
+  const fs::path central = remote.path / "central.git";
+  std::string committed;
+  {
+    PushRig rig(central.string());  // no remote yet: the push fails
+    rig.at(rig.now);
+    committed = rig.head();
+    REQUIRE(committed.size() == 40);
+    REQUIRE(rig.metrics_show("lmcfg_archive_push_pending 1"));
+    // The service stops with the commit not pushed; the next start is over
+    // the same archive.
+    rig.service.reset();
+    REQUIRE(std::system(("git init -q --bare '" + central.string() + "'").c_str()) == 0);
+    rig.start(test::slurp(rig.dir.path / "plant.toml"), [](serve::ServiceOptions& o) {
+      o.push_retry_first = 20ms;
+      o.push_retry_max = 80ms;
+    });
+    REQUIRE(rig.metrics_show("lmcfg_archive_push_pending 0"));  // before any job ran
+    CHECK(rig.service->job("1").error().code == Errc::not_found);
+  }
+  CHECK(git(remote.path, "--git-dir=central.git rev-parse HEAD") == committed);
 }
 
 TEST_CASE("serve push: [archive] keys are checked with their position",
