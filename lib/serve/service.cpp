@@ -114,7 +114,7 @@ struct Service::Impl {
   // thread pushes the branch as it then is and marks that request done, so
   // commits made during a push are pushed by the next one.
   struct PushState {
-    std::uint64_t wanted = 0, done = 0, failures = 0, attempts = 0;
+    std::uint64_t wanted = 0, done = 0, failures = 0;
     std::optional<TimePoint> last_success;
     bool failing = false;  // in a failure episode (push_failed sent, no success since)
   } push;
@@ -171,7 +171,6 @@ struct Service::Impl {
       push_cv.wait(lock, [&] { return stopping || push.wanted > push.done; });
       if (stopping) return;
       const std::uint64_t asked = push.wanted;
-      ++push.attempts;
       lock.unlock();
       Result<void> pushed = repo.ok() ? repo->push(remote) : Result<void>(repo.error());
       lock.lock();
