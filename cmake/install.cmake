@@ -12,6 +12,9 @@ configure_file(${PROJECT_SOURCE_DIR}/packaging/lmcfg-serve.service.in
                ${PROJECT_BINARY_DIR}/lmcfg-serve.service @ONLY)
 install(FILES ${PROJECT_BINARY_DIR}/lmcfg-serve.service DESTINATION lib/systemd/system
         COMPONENT runtime)
+# Its example inventory, to copy to /etc/lmcfg/plant.toml.
+install(FILES ${PROJECT_SOURCE_DIR}/packaging/plant.example.toml
+        DESTINATION ${CMAKE_INSTALL_DOCDIR}/examples RENAME plant.toml COMPONENT runtime)
 
 # find_package(lmcfg) -> lmcfg::lmcfg
 include(CMakePackageConfigHelpers)

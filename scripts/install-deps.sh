@@ -22,6 +22,7 @@ build_packages=(
 test_packages=(
   catch2                                          # tests (Catch2 v2)
   prometheus                                      # promtool checks lmcfg serve's /metrics
+  openssl curl                                    # lmcfg serve TLS test: self-signed certificate, curl --cacert
   libbenchmark-dev                                # CPU benchmarks
   libxml2-utils                                   # xmllint: validates the XSD in tests
   nodejs npm                                      # ajv-cli: validates the JSON Schema in tests

@@ -213,6 +213,31 @@ Result<std::vector<HistoryEntry>> Archive::history(const std::string& path,
   return out;
 }
 
+Result<std::vector<std::string>> Archive::remove_stale_locks() {
+  namespace fs = std::filesystem;
+  const fs::path git_dir = git_repository_path(repo_);
+  std::vector<std::string> removed;
+  std::error_code ec;
+  auto remove = [&](const fs::path& p) -> Result<void> {
+    if (!fs::is_regular_file(p, ec)) return {};
+    if (!fs::remove(p, ec) && ec)
+      return Error(Errc::file_error, "archive " + dir_ + ": cannot remove the stale lock " +
+                                         p.string() + ": " + ec.message());
+    removed.push_back(p.lexically_relative(git_dir).string());
+    return {};
+  };
+  for (const char* name : {"index.lock", "HEAD.lock", "config.lock", "packed-refs.lock"})
+    LMCFG_TRY(remove(git_dir / name));
+  if (fs::is_directory(git_dir / "refs", ec)) {
+    std::vector<fs::path> locks;
+    for (auto it = fs::recursive_directory_iterator(git_dir / "refs", ec);
+         !ec && it != fs::recursive_directory_iterator(); it.increment(ec))
+      if (it->path().extension() == ".lock") locks.push_back(it->path());
+    for (const auto& l : locks) LMCFG_TRY(remove(l));
+  }
+  return removed;
+}
+
 Result<void> Archive::push(const std::string& remote_name) {
   const std::string where = "archive " + dir_ + ": push to " + remote_name;
   Reference head;

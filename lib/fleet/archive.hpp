@@ -55,6 +55,13 @@ class Archive {
   // unless allow_empty (a record such as "restored press3/z-axis").
   Result<std::optional<CommitInfo>> commit(const std::vector<std::string>& paths,
                                            const std::string& message, bool allow_empty = false);
+  // Removes the lock files git and libgit2 leave when a process is killed
+  // between creating a lock and renaming it into place (index.lock, HEAD.lock,
+  // config.lock, packed-refs.lock, refs/**/*.lock): while one is there every
+  // commit fails. Only for a repository no other process is writing (lmcfg
+  // serve at start, on its own archive). The files removed, relative to the
+  // git directory.
+  Result<std::vector<std::string>> remove_stale_locks();
   // Pushes the current branch to `remote` (a configured remote's name or a
   // URL/path), same branch name there.
   Result<void> push(const std::string& remote);

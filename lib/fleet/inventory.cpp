@@ -118,9 +118,10 @@ class Checker {
   std::vector<std::string> problems_;
 };
 
-constexpr std::string_view kRootKeys[] = {"line", "schedule", "notify"};
+constexpr std::string_view kRootKeys[] = {"line", "schedule", "notify", "archive"};
 constexpr std::string_view kScheduleKeys[] = {"backup_every", "status_every"};
 constexpr std::string_view kNotifyKeys[] = {"webhook", "command"};
+constexpr std::string_view kArchiveKeys[] = {"push"};
 constexpr std::string_view kLineKeys[] = {"name",
                                           "port",
                                           "baud",
@@ -206,8 +207,22 @@ void read_line(Checker& c, const toml::table& t, std::size_t index, Inventory& i
   inv.lines.push_back(std::move(line));
 }
 
-// [schedule] and [notify] (docs/serve.md).
+// [schedule], [notify] and [archive] (docs/serve.md).
 void read_service_tables(Checker& c, const toml::table& root, Inventory& inv) {
+  if (const toml::node* n = root.get("archive")) {
+    if (!n->is_table()) {
+      c.problem(n->source(), "'archive' must be a table ([archive])");
+    } else {
+      const toml::table& t = *n->as_table();
+      c.known_keys(t, kArchiveKeys, "[archive]");
+      if (auto push = c.string(t, "push", "[archive]", false)) {
+        if (push->empty())
+          c.problem(t.get("push")->source(),
+                    "'push' must name a git remote (a remote's name, a URL or a path), not \"\"");
+        inv.archive.push = *push;
+      }
+    }
+  }
   if (const toml::node* n = root.get("schedule")) {
     if (!n->is_table()) {
       c.problem(n->source(), "'schedule' must be a table ([schedule])");

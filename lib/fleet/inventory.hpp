@@ -69,11 +69,18 @@ struct Notify {
   std::string command;  // a program run with the JSON object on stdin
 };
 
+// [archive] (lmcfg serve): a git remote every commit is pushed to (a
+// configured remote's name, a URL or a path). Empty = no push.
+struct ArchiveSettings {
+  std::string push;
+};
+
 struct Inventory {
   std::string path;
   std::vector<LineEntry> lines;
   Schedule schedule;
   Notify notify;
+  ArchiveSettings archive;
   std::size_t drive_count() const;
   // nullptr when no drive has that name.
   const DriveEntry* find_drive(std::string_view name, const LineEntry** line = nullptr) const;

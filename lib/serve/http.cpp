@@ -25,11 +25,54 @@ bool is_loopback(const std::string& host) {
   return host == "localhost" || host == "::1" || host.rfind("127.", 0) == 0;
 }
 
+Result<void> check_exposure(const HttpOptions& opt, const std::string& listen_text) {
+  if (opt.tls_cert.empty() != opt.tls_key.empty())
+    return Error(Errc::invalid_argument,
+                 "--tls-cert and --tls-key go together (the certificate and its private key)");
+  if (is_loopback(opt.listen.host)) return {};
+  // Other hosts see the bearer tokens and the plant's data on the wire: both
+  // are required, not one.
+  std::string missing;
+  if (!opt.tokens) missing = "--tokens";
+  if (opt.tls_cert.empty())
+    missing += std::string(missing.empty() ? "" : " and ") + "--tls-cert/--tls-key";
+  if (missing.empty()) return {};
+  return Error(Errc::invalid_argument,
+               "--listen " + listen_text +
+                   " is not a loopback address: serving other hosts needs --tokens and "
+                   "--tls-cert/--tls-key (missing: " +
+                   missing + "; docs/serve.md \"Security model\")");
+}
+
+namespace {
+Error tls_files_error(const HttpOptions& opt) {
+  return Error(Errc::file_error, "--tls-cert " + opt.tls_cert + " / --tls-key " + opt.tls_key +
+                                     ": cannot load them as a PEM certificate and its private "
+                                     "key (readable files, the key matching the certificate)");
+}
+}  // namespace
+
+Result<void> check_tls_files(const HttpOptions& opt) {
+  if (opt.tls_cert.empty()) return {};
+  // SSLServer loads both files in its constructor; is_valid() is false when
+  // either cannot be read or the key does not belong to the certificate.
+  if (!httplib::SSLServer(opt.tls_cert.c_str(), opt.tls_key.c_str()).is_valid())
+    return tls_files_error(opt);
+  return {};
+}
+
 struct HttpServer::Impl {
   Service& service;
   HttpOptions opt;
-  httplib::Server server;
-  Impl(Service& s, HttpOptions o) : service(s), opt(std::move(o)) {}
+  std::unique_ptr<httplib::Server> owned;
+  httplib::Server& server;
+  Impl(Service& s, HttpOptions o)
+      : service(s),
+        opt(std::move(o)),
+        owned(opt.tls_cert.empty() ? std::make_unique<httplib::Server>()
+                                   : std::make_unique<httplib::SSLServer>(opt.tls_cert.c_str(),
+                                                                          opt.tls_key.c_str())),
+        server(*owned) {}
 
   void log(const std::string& s) const {
     if (opt.log) opt.log(s);
@@ -145,6 +188,7 @@ HttpServer::~HttpServer() = default;
 
 Result<int> HttpServer::bind() {
   const auto& a = impl_->opt.listen;
+  if (!impl_->server.is_valid()) return tls_files_error(impl_->opt);
   const int port = a.port == 0 ? impl_->server.bind_to_any_port(a.host.c_str())
                                : (impl_->server.bind_to_port(a.host.c_str(), a.port) ? a.port : -1);
   if (port < 0)

@@ -31,14 +31,25 @@ struct HttpOptions {
   std::size_t max_body = 4096;                    // request bodies above are refused (413)
   std::function<void(const std::string&)> log;
   std::function<int(const Error&)> exit_code;  // the CLI's exit code of an error (for "exit_code")
+  // HTTPS (cpp-httplib's SSLServer, OpenSSL) with this PEM certificate (chain)
+  // and private key; both empty: plain HTTP.
+  std::string tls_cert, tls_key;
 };
+
+// Whether `opt` may be served: a non-loopback address needs tokens and TLS,
+// TLS needs both files. Errc::invalid_argument saying what is missing.
+Result<void> check_exposure(const HttpOptions& opt, const std::string& listen_text);
+// Whether the TLS certificate and key load (nothing to check without TLS).
+// Errc::file_error naming both files.
+Result<void> check_tls_files(const HttpOptions& opt);
 
 class HttpServer {
  public:
   HttpServer(Service& service, HttpOptions opt);
   ~HttpServer();
   // Binds the address; the port bound (the free one chosen for port 0).
-  // Errc::io_error naming the address when it cannot be bound.
+  // Errc::io_error naming the address when it cannot be bound;
+  // Errc::file_error naming the files when the certificate or key cannot be loaded.
   Result<int> bind();
   // Serves until stop() (from another thread).
   void serve();

@@ -1,5 +1,6 @@
 #include "serve/service.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <condition_variable>
 #include <ctime>
@@ -109,6 +110,17 @@ struct Service::Impl {
 
   std::mutex archive_mu;  // libgit2's repository: one user at a time
 
+  // [archive] push, under mu. A commit asks for a push (++wanted); the push
+  // thread pushes the branch as it then is and marks that request done, so
+  // commits made during a push are pushed by the next one.
+  struct PushState {
+    std::uint64_t wanted = 0, done = 0, failures = 0;
+    std::optional<TimePoint> last_success;
+    bool failing = false;  // in a failure episode (push_failed sent, no success since)
+  } push;
+  std::condition_variable push_cv;
+  std::thread pusher;
+
   Impl(ServiceOptions o, fleet::Archive a) : opt(std::move(o)), archive(std::move(a)) {}
 
   void log(const std::string& s) const {
@@ -136,6 +148,53 @@ struct Service::Impl {
     ++job->lines_left;
     queues[line].push_back(Task{std::move(job), std::move(only)});
     cv.notify_all();
+  }
+
+  // An event about the archive, not a position: push_failed, push_recovered.
+  void emit_archive(const std::string& event, Json details) {
+    Json j{
+        {"event", event}, {"remote", opt.inventory.archive.push}, {"time", iso_time(opt.clock())}};
+    for (auto& [k, v] : details.items()) j[k] = v;
+    log("event " + event + ": push to " + opt.inventory.archive.push);
+    if (opt.notify) opt.notify(j);
+  }
+
+  // The push thread. Its own handle on the repository: a slow or unreachable
+  // remote holds neither archive_mu nor a line's worker, so backups and
+  // commits go on and only the push waits.
+  void push_loop() {
+    const std::string& remote = opt.inventory.archive.push;
+    auto repo = fleet::Archive::open(opt.archive, false);
+    std::chrono::milliseconds wait = opt.push_retry_first;
+    std::unique_lock<std::mutex> lock(mu);
+    for (;;) {
+      push_cv.wait(lock, [&] { return stopping || push.wanted > push.done; });
+      if (stopping) return;
+      const std::uint64_t asked = push.wanted;
+      lock.unlock();
+      Result<void> pushed = repo.ok() ? repo->push(remote) : Result<void>(repo.error());
+      lock.lock();
+      if (pushed.ok()) {
+        push.done = std::max(push.done, asked);
+        push.last_success = opt.clock();
+        wait = opt.push_retry_first;
+        const bool recovered = std::exchange(push.failing, false);
+        lock.unlock();
+        log("pushed the archive to " + remote);
+        if (recovered) emit_archive("push_recovered", {});
+        lock.lock();
+        continue;
+      }
+      ++push.failures;
+      const bool first = !std::exchange(push.failing, true);
+      lock.unlock();
+      log("push to " + remote + " failed, next try in " + std::to_string(wait.count()) +
+          " ms: " + pushed.error().message);
+      if (first) emit_archive("push_failed", {{"reason", pushed.error().message}});
+      lock.lock();
+      push_cv.wait_for(lock, wait, [&] { return stopping; });
+      wait = std::min(wait * 2, opt.push_retry_max);
+    }
   }
 
   void emit(const std::string& event, const fleet::DriveResult& r, Json details) {
@@ -263,6 +322,10 @@ struct Service::Impl {
       record(job.kind, r, commit);
     }
     std::lock_guard<std::mutex> lock(mu);
+    if (commit && !opt.inventory.archive.push.empty()) {
+      ++push.wanted;
+      push_cv.notify_all();
+    }
     auto& m = line_metrics[line_index];
     m.telegrams += run.stats.requests;
     m.retries += run.stats.retries;
@@ -354,6 +417,12 @@ Result<std::unique_ptr<Service>> Service::create(ServiceOptions opt) {
   if (opt.links.size() != opt.inventory.lines.size())
     return Error(Errc::invalid_argument, "serve: one link per inventory line is needed");
   LMCFG_ASSIGN_OR_RETURN(auto archive, fleet::Archive::open(opt.archive, true));
+  // A service killed during a commit (kill -9, power loss) leaves git's lock
+  // files, and every later commit would fail on them. The archive is the
+  // service's own (docs/serve.md): nobody else holds them now.
+  LMCFG_ASSIGN_OR_RETURN(auto stale, archive.remove_stale_locks());
+  for (const auto& f : stale)
+    if (opt.log) opt.log("archive: removed the stale lock " + f + " (left by a stopped writer)");
   auto impl = std::make_unique<Impl>(std::move(opt), std::move(archive));
   impl->started = impl->opt.clock();
   const std::size_t n = impl->opt.inventory.lines.size();
@@ -362,18 +431,27 @@ Result<std::unique_ptr<Service>> Service::create(ServiceOptions opt) {
   impl->line_metrics.resize(n);
   Impl* p = impl.get();
   for (std::size_t l = 0; l < n; ++l) impl->workers.emplace_back([p, l] { p->worker(l); });
+  if (!impl->opt.inventory.archive.push.empty()) {
+    // Commits of an earlier run that were not pushed yet (a failed push, a
+    // stop or a kill before it went) go with the first push.
+    auto head = impl->archive.resolve("HEAD");
+    if (head.ok() && *head) impl->push.wanted = 1;
+    impl->pusher = std::thread([p] { p->push_loop(); });
+  }
   return std::unique_ptr<Service>(new Service(std::move(impl)));
 }
 
 Service::~Service() {
   stop();
   for (auto& w : impl_->workers) w.join();
+  if (impl_->pusher.joinable()) impl_->pusher.join();
 }
 
 void Service::stop() {
   std::lock_guard<std::mutex> lock(impl_->mu);
   impl_->stopping = true;
   impl_->cv.notify_all();
+  impl_->push_cv.notify_all();
 }
 
 void Service::wait_idle() {
@@ -556,6 +634,17 @@ std::string Service::metrics() const {
            [](const LineMetrics& m) { return m.run_seconds; });
   per_line("lmcfg_line_last_run_seconds", "gauge", "Seconds the line's last job took.",
            [](const LineMetrics& m) { return m.last_run_seconds; });
+  if (s.opt.inventory.archive.push.empty()) return o;
+  head("lmcfg_archive_push_pending", "gauge",
+       "1 while a commit of the archive is not pushed to [archive] push yet, else 0.");
+  o += "lmcfg_archive_push_pending " + number(s.push.wanted > s.push.done ? 1 : 0) + "\n";
+  head("lmcfg_archive_push_failures_total", "counter", "Pushes of the archive that failed.");
+  o += "lmcfg_archive_push_failures_total " + number(static_cast<double>(s.push.failures)) + "\n";
+  head("lmcfg_archive_push_last_success_timestamp_seconds", "gauge",
+       "Time of the last successful push of the archive (Unix time).");
+  if (s.push.last_success)
+    o += "lmcfg_archive_push_last_success_timestamp_seconds " +
+         number(epoch_seconds(*s.push.last_success)) + "\n";
   return o;
 }
 

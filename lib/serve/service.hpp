@@ -40,6 +40,11 @@ struct ServiceOptions {
   std::function<void(const std::string&)> log;                     // one line per event, no newline
   std::function<void(const Json&)> notify;                         // each state change (event JSON)
   std::function<TimePoint()> clock = [] { return Clock::now(); };  // times in states and events
+  // [archive] push: after a failed push the next try waits push_retry_first,
+  // then twice as long each time, at most push_retry_max (real time, on the
+  // push thread; backups and commits go on meanwhile).
+  std::chrono::milliseconds push_retry_first{1000};
+  std::chrono::milliseconds push_retry_max{std::chrono::minutes(5)};
 };
 
 // "2026-11-24T17:20:15Z"

@@ -12,10 +12,12 @@
 
 #include "files.hpp"
 #include "ops/session.hpp"
+#include "promtool.hpp"
 #include "serve/http.hpp"
 #include "serve/notify.hpp"
 #include "serve/service.hpp"
 #include "serve/tokens.hpp"
+#include "serve_rig.hpp"
 #include "sim/state_file.hpp"
 
 using namespace lmcfg;
@@ -35,50 +37,20 @@ void write_axis(const fs::path& path, int id, const std::string& upid = "", int 
   test::spit(path, j.dump(1));
 }
 
-struct Rig {
-  test::ScratchDir dir{"serve"};
-  serve::TimePoint now = serve::Clock::from_time_t(1'800'000'000);
-  std::mutex mu;
-  std::vector<nlohmann::json> events;
-  std::unique_ptr<serve::Service> service;
-
-  explicit Rig(const std::string& extra_toml = "") {
-    ops::register_link_scheme("sim", sim::state_file_link_factory());
+// The service over a line of two simulated axes, press3/z (11h) and press3/x (12h).
+struct Rig : test::ServiceRig {
+  explicit Rig(const std::string& extra_toml = "") : ServiceRig("serve") {
     write_axis(dir.path / "a.json", 0x11);
     write_axis(dir.path / "b.json", 0x12);
-    const std::string text =
-        "[schedule]\nbackup_every = \"6h\"\nstatus_every = \"15m\"\n" + extra_toml +
-        "[[line]]\nname = \"line1\"\nport = \"sim:" + (dir.path / "a.json").string() + "," +
-        (dir.path / "b.json").string() +
-        "\"\nignore = [\"0020h\"]\n"
-        "[[line.drive]]\nname = \"press3/z\"\nid = 0x11\n"
-        "[[line.drive]]\nname = \"press3/x\"\nid = 0x12\n";
-    auto inv = fleet::parse_inventory(text, "plant.toml");
-    REQUIRE(inv.ok());
-    serve::ServiceOptions o;
-    o.inventory = *inv;
-    o.archive = (dir.path / "archive").string();
-    ops::LinkOptions link;
-    link.port = inv->lines[0].port;
-    o.links = {link};
-    o.exit_code = [](const Error& e) { return e.code == Errc::not_found ? 2 : 4; };
-    o.clock = [this] { return now; };
-    o.notify = [this](const serve::Json& e) {
-      std::lock_guard<std::mutex> lock(mu);
-      events.push_back(nlohmann::json::parse(e.dump()));
-    };
-    auto s = serve::Service::create(std::move(o));
-    REQUIRE(s.ok());
-    service = std::move(s).value();
-  }
-  void at(serve::TimePoint t) {
-    now = t;
-    service->tick(t);
-    service->wait_idle();
-  }
-  std::vector<nlohmann::json> take_events() {
-    std::lock_guard<std::mutex> lock(mu);
-    return std::exchange(events, {});
+    start("[schedule]\nbackup_every = \"6h\"\nstatus_every = \"15m\"\n" + extra_toml +
+              "[[line]]\nname = \"line1\"\nport = \"sim:" + (dir.path / "a.json").string() + "," +
+              (dir.path / "b.json").string() +
+              "\"\nignore = [\"0020h\"]\n"
+              "[[line.drive]]\nname = \"press3/z\"\nid = 0x11\n"
+              "[[line.drive]]\nname = \"press3/x\"\nid = 0x12\n",
+          [](serve::ServiceOptions& o) {
+            o.exit_code = [](const Error& e) { return e.code == Errc::not_found ? 2 : 4; };
+          });
   }
 };
 
@@ -343,22 +315,7 @@ TEST_CASE("serve: /metrics passes promtool check metrics", "[serve][metrics]") {
   CHECK(text.find("lmcfg_serve_uptime_seconds 900\n") != std::string::npos);
   CHECK(text.find("lmcfg_line_telegrams_total{line=\"line1\"} 0\n") == std::string::npos);
 
-  const bool have = std::system("command -v promtool >/dev/null 2>&1") == 0;
-  const char* require = std::getenv("LMCFG_REQUIRE_PROMTOOL");
-  if (!have && !(require && std::string(require) == "1")) {
-    WARN(
-        "SKIP: promtool not found (Debian package prometheus); set LMCFG_REQUIRE_PROMTOOL=1 to "
-        "fail instead");
-    return;
-  }
-  REQUIRE(have);
-  test::spit(rig.dir.path / "metrics.txt", text);
-  const std::string cmd = "promtool check metrics < '" + (rig.dir.path / "metrics.txt").string() +
-                          "' > '" + (rig.dir.path / "promtool.txt").string() + "' 2>&1";
-  const int rc = std::system(cmd.c_str());
-  INFO(test::slurp(rig.dir.path / "promtool.txt"));
-  CHECK(rc == 0);
-  CHECK(test::slurp(rig.dir.path / "promtool.txt").empty());
+  test::check_with_promtool(text, rig.dir.path);
 }
 
 TEST_CASE("serve: a webhook receives the event JSON, a dead one is retried, then given up",

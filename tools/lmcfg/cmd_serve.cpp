@@ -19,7 +19,7 @@ namespace {
 
 struct ServeCli {
   CommonOptions common;  // --db, --quiet; link settings come per line from the inventory
-  std::string inventory, archive, listen = "127.0.0.1:8470", tokens;
+  std::string inventory, archive, listen = "127.0.0.1:8470", tokens, tls_cert, tls_key;
   bool no_curves = false, no_ct = false, full = false;
   std::string token_name, role;
 };
@@ -38,18 +38,12 @@ int run_serve(const ServeCli& o) {
                                "INVENTORY and --archive DIR are needed (see lmcfg serve --help)"));
   auto listen = serve::parse_listen(o.listen);
   if (!listen.ok()) return fail("serve", listen.error());
-  if (!serve::is_loopback(listen->host)) {
-    return fail("serve",
-                Error(Errc::invalid_argument,
-                      "--listen " + o.listen +
-                          " is not a loopback address: serving other hosts needs TLS "
-                          "(--tls-cert/--tls-key), which is not built yet; listen on 127.0.0.1 "
-                          "and put a TLS reverse proxy in front (docs/serve.md \"Security\")"));
-  }
   serve::HttpOptions http;
   http.listen = *listen;
   http.log = log_line;
   http.exit_code = exit_code_for;
+  http.tls_cert = o.tls_cert;
+  http.tls_key = o.tls_key;
   if (!o.tokens.empty()) {
     auto tokens = serve::load_tokens(o.tokens);
     if (!tokens.ok()) return fail("serve", tokens.error());
@@ -58,6 +52,9 @@ int run_serve(const ServeCli& o) {
                                  o.tokens + ": no tokens (add one with lmcfg serve token add)"));
     http.tokens = std::move(tokens).value();
   }
+  if (auto exposed = serve::check_exposure(http, o.listen); !exposed.ok())
+    return fail("serve", exposed.error());
+  if (auto tls = serve::check_tls_files(http); !tls.ok()) return fail("serve", tls.error());
   auto inv = load_checked_inventory(o.inventory, o.common);
   if (!inv.ok()) return fail("serve", inv.error());
   ops::install_interrupt_handlers();
@@ -88,13 +85,16 @@ int run_serve(const ServeCli& o) {
   const std::string host =
       listen->host.find(':') != std::string::npos ? "[" + listen->host + "]" : listen->host;
   // The address on stdout (scripts and tests started with port 0 read it), the rest on stderr.
-  std::printf("http://%s:%d\n", host.c_str(), *port);
+  const std::string scheme = o.tls_cert.empty() ? "http" : "https";
+  std::printf("%s://%s:%d\n", scheme.c_str(), host.c_str(), *port);
   std::fflush(stdout);
-  log_line("listening on http://" + host + ":" + std::to_string(*port) + " for " + o.inventory +
-           " (" + std::to_string(inv->lines.size()) + " line(s), " +
+  log_line("listening on " + scheme + "://" + host + ":" + std::to_string(*port) + " for " +
+           o.inventory + " (" + std::to_string(inv->lines.size()) + " line(s), " +
            std::to_string(inv->drive_count()) + " drive(s)), archive " + o.archive);
   if (!http.tokens)
     log_line("no --tokens: every local user is an operator (GET and POST); loopback only");
+  if (!inv->archive.push.empty())
+    log_line("every commit is pushed to " + inv->archive.push + " ([archive] push)");
   std::thread http_thread([&server] { server.serve(); });
   while (!ops::interrupt_flag().load()) {
     (*service)->tick(serve::Clock::now());
@@ -132,9 +132,15 @@ void add_serve(CLI::App& app, int& exit_code) {
   serve->add_option("INVENTORY", o->inventory,
                     "inventory file (TOML, docs/fleet.md, docs/serve.md)");
   serve->add_option("--archive", o->archive, "the archive: a git repository (created when new)");
-  serve->add_option("--listen", o->listen, "HOST:PORT to serve HTTP on (loopback only for now)")
+  serve
+      ->add_option(
+          "--listen", o->listen,
+          "HOST:PORT to serve on; other than loopback needs --tokens and --tls-cert/--tls-key")
       ->capture_default_str();
   serve->add_option("--tokens", o->tokens, "bearer tokens file (lmcfg serve token add)");
+  serve->add_option("--tls-cert", o->tls_cert,
+                    "serve HTTPS with this PEM certificate (chain); needs --tls-key");
+  serve->add_option("--tls-key", o->tls_key, "the PEM private key of --tls-cert");
   serve->add_flag("--no-curves", o->no_curves, "do not read curves");
   serve->add_flag("--no-ct", o->no_ct, "do not read the command table");
   serve->add_flag("--full", o->full, "read every ROM-writable UPID");
@@ -143,8 +149,12 @@ void add_serve(CLI::App& app, int& exit_code) {
       "Examples:\n"
       "  lmcfg serve plant.toml --archive /var/lib/lmcfg/plant\n"
       "  curl -s http://127.0.0.1:8470/api/v1/drives\n"
+      "  lmcfg serve plant.toml --archive /var/lib/lmcfg/plant --listen 0.0.0.0:8470 \\\n"
+      "      --tokens /etc/lmcfg/tokens --tls-cert /etc/lmcfg/cert.pem --tls-key "
+      "/etc/lmcfg/key.pem\n"
       "  lmcfg serve token add grafana --role viewer --tokens /etc/lmcfg/tokens\n"
-      "The schedule and notifications come from the inventory's [schedule] and [notify];\n"
+      "The schedule, notifications and archive push come from the inventory's [schedule],\n"
+      "[notify] and [archive];\n"
       "docs/serve.md has the API, the events, the metrics and the security model.");
   auto* token = serve->add_subcommand("token", "Manage the API's bearer tokens");
   token->require_subcommand(1);
