@@ -486,6 +486,8 @@ Result<Json> Service::history(const std::string& name) const {
   return out;
 }
 
+const fleet::Inventory& Service::inventory() const { return impl_->opt.inventory; }
+
 std::string Service::metrics() const {
   const auto& s = *impl_;
   std::lock_guard<std::mutex> lock(s.mu);

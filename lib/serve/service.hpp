@@ -67,6 +67,8 @@ class Service {
   Json drives() const;
   Result<Json> drive(const std::string& name) const;
   Result<Json> history(const std::string& name) const;
+  // The inventory served (positions, labels), for the console's pages.
+  const fleet::Inventory& inventory() const;
   // Prometheus text exposition format (version 0.0.4).
   std::string metrics() const;
 
