@@ -2,6 +2,8 @@
 
 #include <httplib.h>
 
+#include "serve/console_http.hpp"
+
 namespace lmcfg::serve {
 
 Result<ListenAddress> parse_listen(const std::string& text) {
@@ -29,6 +31,7 @@ struct HttpServer::Impl {
   Service& service;
   HttpOptions opt;
   httplib::Server server;
+  std::unique_ptr<Console> console;  // its routes are registered by bind()
   Impl(Service& s, HttpOptions o) : service(s), opt(std::move(o)) {}
 
   void log(const std::string& s) const {
@@ -144,6 +147,11 @@ HttpServer::HttpServer(Service& service, HttpOptions opt)
 HttpServer::~HttpServer() = default;
 
 Result<int> HttpServer::bind() {
+  if (!impl_->console) {
+    LMCFG_ASSIGN_OR_RETURN(impl_->console,
+                           Console::create(impl_->service, impl_->opt.tokens, impl_->opt.console));
+    register_console_routes(impl_->server, *impl_->console);
+  }
   const auto& a = impl_->opt.listen;
   const int port = a.port == 0 ? impl_->server.bind_to_any_port(a.host.c_str())
                                : (impl_->server.bind_to_port(a.host.c_str(), a.port) ? a.port : -1);

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "common/result.hpp"
+#include "serve/console.hpp"
 #include "serve/service.hpp"
 #include "serve/tokens.hpp"
 
@@ -31,6 +32,7 @@ struct HttpOptions {
   std::size_t max_body = 4096;                    // request bodies above are refused (413)
   std::function<void(const std::string&)> log;
   std::function<int(const Error&)> exit_code;  // the CLI's exit code of an error (for "exit_code")
+  ConsoleOptions console;                      // the web console's sessions (docs/console.md)
 };
 
 class HttpServer {
@@ -38,7 +40,8 @@ class HttpServer {
   HttpServer(Service& service, HttpOptions opt);
   ~HttpServer();
   // Binds the address; the port bound (the free one chosen for port 0).
-  // Errc::io_error naming the address when it cannot be bound.
+  // Errc::io_error naming the address when it cannot be bound (or when the
+  // console finds no random bytes for its CSRF token).
   Result<int> bind();
   // Serves until stop() (from another thread).
   void serve();

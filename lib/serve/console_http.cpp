@@ -1,0 +1,166 @@
+#include "serve/console_http.hpp"
+
+#include <httplib.h>
+
+namespace lmcfg::serve {
+
+namespace {
+
+std::string cookie(const httplib::Request& req, std::string_view name) {
+  const std::string header = req.get_header_value("Cookie");
+  std::size_t pos = 0;
+  while (pos < header.size()) {
+    auto end = header.find(';', pos);
+    if (end == std::string::npos) end = header.size();
+    std::string_view part(header.data() + pos, end - pos);
+    while (!part.empty() && part.front() == ' ') part.remove_prefix(1);
+    if (part.size() > name.size() && part.substr(0, name.size()) == name &&
+        part[name.size()] == '=')
+      return std::string(part.substr(name.size() + 1));
+    pos = end + 1;
+  }
+  return "";
+}
+
+void headers(httplib::Response& res) {
+  res.set_header("Content-Security-Policy", std::string(Console::content_security_policy()));
+  res.set_header("X-Content-Type-Options", "nosniff");
+  res.set_header("Referrer-Policy", "no-referrer");
+  res.set_header("Cache-Control", "no-store");
+}
+
+void page(httplib::Response& res, const Page& p) {
+  headers(res);
+  res.status = p.status;
+  res.set_content(p.html, "text/html; charset=utf-8");
+}
+
+void see_other(httplib::Response& res, const std::string& location) {
+  headers(res);
+  res.status = 303;
+  res.set_header("Location", location);
+  res.set_content("", "text/plain");
+}
+
+// Only a path of this console: never another host ("//evil", "https://...").
+std::string local_path(const std::string& next) {
+  if (next.empty() || next[0] != '/' || (next.size() > 1 && (next[1] == '/' || next[1] == '\\')))
+    return "/";
+  return next;
+}
+
+std::string path_and_query(const httplib::Request& req) {
+  std::string s = req.path;
+  bool first = true;
+  for (const auto& [k, v] : req.params) {
+    s += (first ? "?" : "&") + url_encode(k) + "=" + url_encode(v);
+    first = false;
+  }
+  return s;
+}
+
+httplib::Params form(const httplib::Request& req) {
+  httplib::Params p;
+  httplib::detail::parse_query_text(req.body, p);
+  return p;
+}
+
+std::string field(const httplib::Params& p, const char* key) {
+  auto it = p.find(key);
+  return it == p.end() ? "" : it->second;
+}
+
+}  // namespace
+
+void register_console_routes(httplib::Server& server, Console& console) {
+  Console* c = &console;
+  // The signed-in user, or the answer that sends the browser to sign in.
+  auto who = [c](const httplib::Request& req, httplib::Response& res) {
+    auto u = c->user(cookie(req, kSessionCookie));
+    // After signing in, back to the page asked for (a form's POST: the overview).
+    if (!u)
+      see_other(res, "/signin?next=" + url_encode(req.method == "GET" ? path_and_query(req) : "/"));
+    return u;
+  };
+  // A POST's user: signed in, with the form's CSRF token; an operator for
+  // anything that changes something.
+  auto poster = [c, who](const httplib::Request& req, httplib::Response& res,
+                         const httplib::Params& f) -> std::optional<ConsoleUser> {
+    auto u = who(req, res);
+    if (!u) return u;
+    if (!Console::csrf_ok(*u, field(f, "csrf"))) {
+      page(res, c->error_page(&*u, 403, "Refused",
+                              "the form's CSRF token is missing or not this session's: reload "
+                              "the page and try again"));
+      return std::nullopt;
+    }
+    if (u->role != Role::operator_) {
+      page(res, c->error_page(&*u, 403, "Refused",
+                              "'" + u->who + "' has role viewer: this needs role operator"));
+      return std::nullopt;
+    }
+    return u;
+  };
+
+  server.Get("/console.css", [](const httplib::Request&, httplib::Response& res) {
+    headers(res);
+    res.set_header("Cache-Control", "max-age=300");
+    res.set_content(std::string(Console::stylesheet()), "text/css; charset=utf-8");
+  });
+  server.Get("/console.js", [](const httplib::Request&, httplib::Response& res) {
+    headers(res);
+    res.set_header("Cache-Control", "max-age=300");
+    res.set_content(std::string(Console::script()), "text/javascript; charset=utf-8");
+  });
+  server.Get("/signin", [c](const httplib::Request& req, httplib::Response& res) {
+    if (!c->sign_in_needed()) return see_other(res, "/");
+    page(res, c->signin_page("", local_path(req.get_param_value("next"))));
+  });
+  server.Post("/signin", [c](const httplib::Request& req, httplib::Response& res) {
+    const auto f = form(req);
+    const std::string next = local_path(field(f, "next"));
+    if (!c->sign_in_needed()) return see_other(res, next);
+    if (field(f, "csrf") != c->anonymous_csrf())
+      return page(res, c->signin_page("the form is out of date: sign in again", next, 403));
+    auto s = c->sign_in(field(f, "token"));
+    if (!s.ok()) return page(res, c->signin_page(s.error().message, next, 401));
+    res.set_header("Set-Cookie", std::string(kSessionCookie) + "=" + s->id +
+                                     "; HttpOnly; SameSite=Strict; Path=/; Max-Age=" +
+                                     std::to_string(s->max_age));
+    see_other(res, next);
+  });
+  server.Post("/signout", [c, who](const httplib::Request& req, httplib::Response& res) {
+    const auto f = form(req);
+    auto u = who(req, res);
+    if (!u) return;
+    if (!Console::csrf_ok(*u, field(f, "csrf")))
+      return page(res, c->error_page(&*u, 403, "Refused",
+                                     "the form's CSRF token is missing or not this session's"));
+    c->sign_out(cookie(req, kSessionCookie));
+    res.set_header("Set-Cookie",
+                   std::string(kSessionCookie) + "=; HttpOnly; SameSite=Strict; Path=/; Max-Age=0");
+    see_other(res, "/signin");
+  });
+  server.Get("/", [c, who](const httplib::Request& req, httplib::Response& res) {
+    if (auto u = who(req, res))
+      page(res, c->overview(*u, req.get_param_value("line"), req.get_param_value("status")));
+  });
+  server.Get("/position", [c, who](const httplib::Request& req, httplib::Response& res) {
+    if (auto u = who(req, res)) page(res, c->position(*u, req.get_param_value("name")));
+  });
+  server.Get("/job", [c, who](const httplib::Request& req, httplib::Response& res) {
+    if (auto u = who(req, res))
+      page(res, c->job_page(*u, req.get_param_value("id"), req.get_param_value("name")));
+  });
+  server.Post("/backup", [c, poster](const httplib::Request& req, httplib::Response& res) {
+    const auto f = form(req);
+    auto u = poster(req, res, f);
+    if (!u) return;
+    const std::string name = field(f, "name");
+    auto id = c->start_backup(*u, name);
+    if (!id.ok()) return page(res, c->error_page(&*u, 404, "Cannot back up", id.error().message));
+    see_other(res, "/job?id=" + url_encode(*id) + "&name=" + url_encode(name));
+  });
+}
+
+}  // namespace lmcfg::serve
