@@ -198,7 +198,9 @@ struct Service::Impl {
   std::mutex archive_mu;  // libgit2's repository: one user at a time
 
   std::map<std::string, StoredPlan> plans;  // by id (under mu)
-  std::filesystem::path state_dir;          // pending/, recovery/, undo/
+  // pending/ (restores begun), lmcfg/ (recovery and undo records, laid out as
+  // $XDG_STATE_HOME/lmcfg is for the CLI: XDG_STATE_HOME=<state_dir> lmcfg undo --list)
+  std::filesystem::path state_dir;
   std::optional<std::int64_t> summary_day;  // days since the epoch of the last summary
 
   Impl(ServiceOptions o, fleet::Archive a) : opt(std::move(o)), archive(std::move(a)) {}
@@ -238,7 +240,7 @@ struct Service::Impl {
     ops::RestoreOptions ro;
     ro.port = line.port;
     ro.recovery_path =
-        state_dir / "recovery" / ("restore-" + ops::drive_key(line.port, d.id) + ".json");
+        state_dir / "lmcfg" / ("restore-" + ops::drive_key(line.port, d.id) + ".json");
     ro.skip_incompatible = skip_incompatible;
     return ro;
   }
@@ -373,8 +375,8 @@ struct Service::Impl {
                        ? planned->steps[done - 1].text
                        : "step " + std::to_string(done) + " of " + std::to_string(total);
       };
-      ro.undo = ops::UndoOptions{true, state_dir / "undo", line.port,
-                                 d.id, "serve-restore",    ops::kUndoKeep};
+      ro.undo = ops::UndoOptions{
+          true, state_dir / "lmcfg" / "undo", line.port, d.id, "serve-restore", ops::kUndoKeep};
       auto changed = [&](const ops::Plan& now) -> std::optional<Error> {
         const std::string what = ops::target_change(*planned, now);
         if (what.empty()) return std::nullopt;
@@ -523,7 +525,8 @@ struct Service::Impl {
           st.status = "unknown";
           st.message = "not in the archive yet (no backup)";
         } else {
-          const bool was_off = st.notified == "drift" || st.notified == "failed";
+          const bool was_off =
+              st.notified == "drift" || st.notified == "failed" || st.notified == "replaced";
           st.status = "ok";
           st.message = r.status == S::added ? "new, archived" : "matches the archive";
           st.differences = 0;

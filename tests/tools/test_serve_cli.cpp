@@ -5,6 +5,7 @@
 #include <thread>
 
 #include "files.hpp"
+#include "ops/recovery.hpp"
 #include "serve_rig.hpp"
 #include "subprocess.hpp"
 
@@ -138,7 +139,7 @@ TEST_CASE(
     // The restore's recovery record exists from its first write to its last step.
     bool writing = false;
     for (int i = 0; i < 600 && !writing; ++i) {
-      writing = fs::exists(state / "recovery") && !fs::is_empty(state / "recovery");
+      writing = fs::exists(state / "lmcfg" / ("restore-" + ops::drive_key(tty, 0x11) + ".json"));
       if (!writing) std::this_thread::sleep_for(std::chrono::milliseconds(50));
     }
     REQUIRE(writing);
