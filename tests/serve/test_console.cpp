@@ -66,9 +66,9 @@ struct Tokens {
 
 TEST_CASE("console: without tokens no sign-in; pages with their CSP; a backup from the form",
           "[serve][console]") {
-  test::ServeRig rig;
+  test::Rig rig;
   rig.at(rig.now);
-  test::ServeHttp server(*rig.service);
+  test::Server server(*rig.service);
   Browser b(server.port);
 
   auto res = b.get("/");
@@ -134,14 +134,14 @@ TEST_CASE(
     "console: the guard: sign-in page without a session (API 401), viewer refused, "
     "CSRF checked, expiry, sign-out",
     "[serve][console]") {
-  test::ServeRig rig;
+  test::Rig rig;
   rig.at(rig.now);
   Tokens tokens(rig.dir.path);
   serve::TimePoint console_now = rig.now;
   serve::ConsoleOptions copt;
   copt.session_ttl = 1h;
   copt.clock = [&console_now] { return console_now; };
-  test::ServeHttp server(*rig.service, tokens.load(), copt);
+  test::Server server(*rig.service, tokens.load(), copt);
   Browser b(server.port);
 
   // No session: every page sends the browser to sign in, back to where it was.
@@ -245,11 +245,11 @@ TEST_CASE(
 
 TEST_CASE("console: hostile line names, labels and query text render as text", "[serve][console]") {
   const std::string hostile = "<script>alert(1)</script> & \\\"q\\\" 'x'";
-  test::ServeRig rig(
-      "", "\"" + hostile + "\"",
+  test::Rig rig(
+      "", "", "\"" + hostile + "\"",
       "labels = { note = \"<img src=x onerror=alert(1)>\", \"a&b\" = \"\\\"quoted\\\"\" }\n");
   rig.at(rig.now);
-  test::ServeHttp server(*rig.service);
+  test::Server server(*rig.service);
   Browser b(server.port);
   const std::string escaped =
       "&lt;script&gt;alert(1)&lt;/script&gt; &amp; &quot;q&quot; &#39;x&#39;";

@@ -53,9 +53,8 @@ TEST_CASE(
     "console in Chromium: sign in as operator, overview at 1280 and 768 px, back up a "
     "drifted position, its commit in the history",
     "[serve][console][browser]") {
-  test::ServeRig rig(
-      "", "\"line1\"",
-      "labels = { machine = \"press3\", note = \"<img src=x onerror=alert(1)>\" }\n");
+  test::Rig rig("", "", "\"line1\"",
+                "labels = { machine = \"press3\", note = \"<img src=x onerror=alert(1)>\" }\n");
   rig.at(rig.now);                                             // the first backup and drift check
   test::write_axis(rig.dir.path / "b.json", 0x12, "0010", 7);  // press3/x tuned by hand
   rig.at(rig.now + 15min);
@@ -65,7 +64,7 @@ TEST_CASE(
   const std::string op = *serve::add_token(tokens_file, "night-shift", serve::Role::operator_);
   serve::ConsoleOptions copt;
   copt.clock = [&rig] { return rig.now; };
-  test::ServeHttp server(*rig.service, *serve::load_tokens(tokens_file), copt);
+  test::Server server(*rig.service, *serve::load_tokens(tokens_file), copt);
   const std::string base = "http://127.0.0.1:" + std::to_string(server.port);
   const std::string x = base + "/position?name=press3%2Fx";
 

@@ -20,15 +20,9 @@
 #include "sim/state_file.hpp"
 
 using namespace lmcfg;
+using namespace lmcfg::test;
 namespace fs = std::filesystem;
 using namespace std::chrono_literals;
-
-namespace {
-
-using Rig = test::ServeRig;
-using test::write_axis;
-
-}  // namespace
 
 TEST_CASE(
     "serve: the schedule is due at start, then every period, drift notified once, "
@@ -141,12 +135,6 @@ TEST_CASE("serve: a backup that finds a change commits it and says so once", "[s
   CHECK(rig.service->backup_line("line9").error().message ==
         "no line named 'line9' in the inventory");
 }
-
-namespace {
-
-using Server = test::ServeHttp;
-
-}  // namespace
 
 TEST_CASE("serve: the REST API over HTTP on 127.0.0.1", "[serve][http]") {
   Rig rig;

@@ -1,15 +1,17 @@
 #pragma once
-// lmcfg serve over a simulated RS485 line for the tests: two commissioned
-// axes (sim:A.json,B.json state files the test may change behind the
-// service's back), a Service with an injected clock, and an HttpServer on
-// 127.0.0.1:0 served from a thread.
+// lmcfg serve's Service over a simulated RS485 line of two drives (sim:A,B
+// state files, changed behind its back by the tests), with an injected clock
+// and the events it sends kept; Server: its HttpServer on 127.0.0.1, any port.
+#include <httplib.h>
+
 #include <catch2/catch.hpp>
+#include <cstdio>
 #include <filesystem>
 #include <mutex>
 #include <nlohmann/json.hpp>
-#include <optional>
 #include <thread>
 
+#include "common/bytes.hpp"
 #include "files.hpp"
 #include "ops/session.hpp"
 #include "serve/http.hpp"
@@ -18,38 +20,73 @@
 
 namespace lmcfg::test {
 
+namespace fs = std::filesystem;
+
+// `git -C DIR ARGS` and its stdout.
+inline std::string git(const fs::path& dir, const std::string& args) {
+  const std::string cmd = "git -C '" + dir.string() + "' " + args + " 2>&1";
+  std::string out;
+  FILE* p = ::popen(cmd.c_str(), "r");
+  REQUIRE(p);
+  char buf[4096];
+  std::size_t n;
+  while ((n = std::fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
+  const int rc = ::pclose(p);
+  INFO(cmd << "\n" << out);
+  REQUIRE(rc == 0);
+  return out;
+}
+
+// The CLI's exit code categories (README "Exit codes") for the errors these tests meet.
+inline int exit_code_of(const Error& e) {
+  if (e.code == Errc::not_found || e.code == Errc::invalid_argument) return 2;
+  if (e.code == Errc::plan_refused) return 3;
+  if (e.code == Errc::verify_mismatch) return 6;
+  return 4;
+}
+
+inline const std::string kFixtures = std::string(LMCFG_SOURCE_DIR) + "/tests/fixtures/sim/";
+
 // The commissioned axis at MACID `id`, with UPID `upid` set to `value` (ROM and RAM).
-inline void write_axis(const std::filesystem::path& path, int id, const std::string& upid = "",
-                       int value = 0) {
-  auto j = nlohmann::json::parse(
-      slurp(std::string(LMCFG_SOURCE_DIR) + "/tests/fixtures/sim/commissioned-axis.json"));
-  j["macid"] = id;
-  for (auto& p : j["parameters"])
-    if (p["upid"] == upid) p["rom"] = p["ram"] = value;
+// The same drive as it leaves the factory: every ROM and RAM value at its
+// default, no curve, no command table entry (LinRS §10.2: nothing modified).
+inline void write_fresh_axis(const fs::path& path, int id) {
+  auto j = nlohmann::json::parse(slurp(kFixtures + "commissioned-axis.json"));
+  j["macid"] = hex(static_cast<std::uint32_t>(id), 2, "");
+  for (auto& p : j["parameters"]) p["rom"] = p["ram"] = p["default"];
+  j["curves"] = {{"flash", nlohmann::json::array()}};
+  j["command_table"] = {{"flash", nlohmann::json::array()}};
   spit(path, j.dump(1));
 }
 
-struct ServeRig {
-  ScratchDir dir{"serve"};
+inline void write_axis(const fs::path& path, int id, const std::string& upid = "", int value = 0) {
+  auto j = nlohmann::json::parse(test::slurp(kFixtures + "commissioned-axis.json"));
+  j["macid"] = id;
+  for (auto& p : j["parameters"])
+    if (p["upid"] == upid) p["rom"] = p["ram"] = value;
+  test::spit(path, j.dump(1));
+}
+
+struct Rig {
+  test::ScratchDir dir{"serve"};
   serve::TimePoint now = serve::Clock::from_time_t(1'800'000'000);
   std::mutex mu;
   std::vector<nlohmann::json> events;
   std::unique_ptr<serve::Service> service;
 
-  // `extra_toml` goes before the line (schedule, notify); `line_name` and
-  // `z_keys` (more keys of press3/z, e.g. labels) let a test choose hostile text.
-  explicit ServeRig(const std::string& extra_toml = "", const std::string& line_name = "\"line1\"",
-                    const std::string& z_keys = "") {
+  // extra_toml: top-level keys and tables; line_toml: keys of the line;
+  // line_name: the line's name as TOML; z_toml: keys of press3/z (labels).
+  explicit Rig(const std::string& extra_toml = "", const std::string& line_toml = "",
+               const std::string& line_name = "\"line1\"", const std::string& z_toml = "") {
     ops::register_link_scheme("sim", sim::state_file_link_factory());
     write_axis(dir.path / "a.json", 0x11);
     write_axis(dir.path / "b.json", 0x12);
     const std::string text = "[schedule]\nbackup_every = \"6h\"\nstatus_every = \"15m\"\n" +
                              extra_toml + "[[line]]\nname = " + line_name +
                              "\nport = \"sim:" + (dir.path / "a.json").string() + "," +
-                             (dir.path / "b.json").string() +
-                             "\"\nignore = [\"0020h\"]\n"
-                             "[[line.drive]]\nname = \"press3/z\"\nid = 0x11\n" +
-                             z_keys + "[[line.drive]]\nname = \"press3/x\"\nid = 0x12\n";
+                             (dir.path / "b.json").string() + "\"\nignore = [\"0020h\"]\n" +
+                             line_toml + "[[line.drive]]\nname = \"press3/z\"\nid = 0x11\n" +
+                             z_toml + "[[line.drive]]\nname = \"press3/x\"\nid = 0x12\n";
     auto inv = fleet::parse_inventory(text, "plant.toml");
     INFO((inv.ok() ? "" : inv.error().message));
     REQUIRE(inv.ok());
@@ -59,7 +96,7 @@ struct ServeRig {
     ops::LinkOptions link;
     link.port = inv->lines[0].port;
     o.links = {link};
-    o.exit_code = [](const Error& e) { return e.code == Errc::not_found ? 2 : 4; };
+    o.exit_code = exit_code_of;
     o.clock = [this] { return now; };
     o.notify = [this](const serve::Json& e) {
       std::lock_guard<std::mutex> lock(mu);
@@ -80,24 +117,24 @@ struct ServeRig {
   }
 };
 
-struct ServeHttp {
+struct Server {
   std::unique_ptr<serve::HttpServer> http;
   std::thread thread;
   int port = 0;
-  ServeHttp(serve::Service& s, std::optional<std::vector<serve::TokenEntry>> tokens = std::nullopt,
-            serve::ConsoleOptions console = {}) {
+  Server(serve::Service& s, std::optional<std::vector<serve::TokenEntry>> tokens = std::nullopt,
+         serve::ConsoleOptions console = {}) {
     serve::HttpOptions o;
+    o.console = std::move(console);
     o.listen = {"127.0.0.1", 0};
     o.tokens = std::move(tokens);
-    o.exit_code = [](const Error& e) { return e.code == Errc::not_found ? 2 : 70; };
-    o.console = std::move(console);
+    o.exit_code = exit_code_of;
     http = std::make_unique<serve::HttpServer>(s, o);
     auto p = http->bind();
     REQUIRE(p.ok());
     port = *p;
     thread = std::thread([this] { http->serve(); });
   }
-  ~ServeHttp() {
+  ~Server() {
     http->stop();
     thread.join();
   }
