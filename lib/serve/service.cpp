@@ -1017,7 +1017,14 @@ Result<Json> Service::history(const std::string& name) const {
   const auto* d = impl_->opt.inventory.find_drive(name);
   if (!d) return Error(Errc::not_found, "no drive named '" + name + "' in the inventory");
   std::lock_guard<std::mutex> lock(impl_->archive_mu);
-  LMCFG_ASSIGN_OR_RETURN(auto entries, impl_->archive.history(fleet::archive_path(*d)));
+  // The file's changes and the records of restores onto the position (they
+  // change no file; their subject is restore_record_message's).
+  const std::string record = "fleet restore: " + d->name + " <- ";
+  LMCFG_ASSIGN_OR_RETURN(
+      auto entries,
+      impl_->archive.history(fleet::archive_path(*d), 100, [&](const fleet::CommitInfo& c) {
+        return c.message.rfind(record, 0) == 0;
+      }));
   Json out = Json::array();
   for (const auto& e : entries) {
     out.push_back({{"commit", e.commit.id},
@@ -1027,6 +1034,8 @@ Result<Json> Service::history(const std::string& name) const {
   }
   return out;
 }
+
+const fleet::Inventory& Service::inventory() const { return impl_->opt.inventory; }
 
 Result<Json> Service::plan(const std::string& name, const std::string& rev,
                            const std::string& who) {
@@ -1123,9 +1132,21 @@ Result<std::string> Service::execute(const ExecuteRequest& req) {
   return job->id;
 }
 
-Result<Json> Service::diff(const std::string& name, const std::string& from,
-                           const std::string& to) const {
-  auto& s = *impl_;
+namespace {
+
+// Both sides of a position's diff and ops::diff()'s result, the position's
+// ignored UPIDs left out: one computation for the JSON and the HTML answers.
+struct DiffSides {
+  fleet::ArchivedFile a;
+  config::DriveConfig b;
+  std::string b_name;
+  ops::DiffResult r;
+};
+
+}  // namespace
+
+static Result<DiffSides> diff_sides(Service::Impl& s, const std::string& name,
+                                    const std::string& from, const std::string& to) {
   const fleet::LineEntry* line = nullptr;
   const auto* d = s.opt.inventory.find_drive(name, &line);
   if (!d) return Error(Errc::not_found, "no drive named '" + name + "' in the inventory");
@@ -1133,13 +1154,12 @@ Result<Json> Service::diff(const std::string& name, const std::string& from,
     std::lock_guard<std::mutex> lock(s.archive_mu);
     return fleet::load_archived(s.opt.inventory, s.archive, name, rev.empty() ? "HEAD" : rev);
   };
-  LMCFG_ASSIGN_OR_RETURN(auto a, archived(from));
-  config::DriveConfig b;
-  std::string b_name;
+  DiffSides out;
+  LMCFG_ASSIGN_OR_RETURN(out.a, archived(from));
   if (to == "live") {
     const std::size_t li = s.line_index(line);
     LMCFG_ASSIGN_OR_RETURN(
-        b, s.on_worker<config::DriveConfig>(li, [&]() -> Result<config::DriveConfig> {
+        out.b, s.on_worker<config::DriveConfig>(li, [&]() -> Result<config::DriveConfig> {
           fleet::FleetOptions fo;
           fo.db = s.opt.db;
           fo.backup = s.opt.backup;
@@ -1150,20 +1170,34 @@ Result<Json> Service::diff(const std::string& name, const std::string& from,
           }
           return std::move(*run.configs[0]);
         }));
-    b_name = "drive " + name + " (live)";
+    out.b_name = "drive " + name + " (live)";
   } else {
     LMCFG_ASSIGN_OR_RETURN(auto f, archived(to));
-    b = std::move(f.config);
-    b_name = f.file_name;
+    out.b = std::move(f.config);
+    out.b_name = f.file_name;
   }
-  auto r = ops::diff(a.config, b, s.opt.db, nullptr, ops::DiffOptions{});
+  out.r = ops::diff(out.a.config, out.b, s.opt.db, nullptr, ops::DiffOptions{});
   // The position's live and volatile values are never a difference (as in drift checks).
   const auto ignored = fleet::ignored_upids(*line, *d);
-  std::erase_if(r.items, [&](const ops::DiffItem& it) {
+  std::erase_if(out.r.items, [&](const ops::DiffItem& it) {
     return it.kind == ops::DiffItem::Kind::parameter &&
            std::find(ignored.begin(), ignored.end(), it.key) != ignored.end();
   });
-  return Json::parse(ops::render_json(r, a.file_name, b_name));
+  return out;
+}
+
+Result<Json> Service::diff(const std::string& name, const std::string& from,
+                           const std::string& to) const {
+  LMCFG_ASSIGN_OR_RETURN(auto d, diff_sides(*impl_, name, from, to));
+  return Json::parse(ops::render_json(d.r, d.a.file_name, d.b_name));
+}
+
+Result<std::string> Service::diff_html(const std::string& name, const std::string& from,
+                                       const std::string& to) const {
+  LMCFG_ASSIGN_OR_RETURN(auto d, diff_sides(*impl_, name, from, to));
+  ops::ReportOptions ro;
+  ro.generated_at = iso_time(impl_->opt.clock());
+  return ops::render_diff_report(d.a.config, d.a.file_name, d.b, d.b_name, d.r, impl_->opt.db, ro);
 }
 
 Result<std::string> Service::report_html(const std::string& name, const std::string& rev) const {
@@ -1204,8 +1238,6 @@ void Service::summarize(TimePoint now) {
   s.emit("summary", "", "",
          {{"period", "day"}, {"drives", s.opt.inventory.drive_count()}, {"counts", counts}});
 }
-
-const fleet::Inventory& Service::inventory() const { return impl_->opt.inventory; }
 
 std::string Service::metrics() const {
   const auto& s = *impl_;

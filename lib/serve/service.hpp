@@ -96,6 +96,9 @@ class Service {
   // drive read on the line's worker), as `lmcfg diff --json` writes it, the position's ignored
   // UPIDs left out.
   Result<Json> diff(const std::string& name, const std::string& from, const std::string& to) const;
+  // The same diff as `lmcfg report A B` renders it (the console's diff pages).
+  Result<std::string> diff_html(const std::string& name, const std::string& from,
+                                const std::string& to) const;
   // `lmcfg report` of `name`'s archived file at `rev` ("" = HEAD): the HTML page.
   Result<std::string> report_html(const std::string& name, const std::string& rev) const;
 
