@@ -1,5 +1,6 @@
 #include "serve/console.hpp"
 
+#include <deque>
 #include <map>
 #include <mutex>
 
@@ -31,6 +32,11 @@ struct Console::Impl {
   };
   std::mutex mu;
   std::map<std::string, Session, std::less<>> sessions;
+  // The plans made here, until executed (the service checks their expiry;
+  // the oldest go beyond kPlansKept).
+  static constexpr std::size_t kPlansKept = 64;
+  std::map<std::string, Json> plans;
+  std::deque<std::string> plan_order;
 
   Impl(Service& s, std::optional<std::vector<TokenEntry>> t, ConsoleOptions o)
       : service(s), tokens(std::move(t)), opt(std::move(o)) {}
@@ -95,8 +101,80 @@ bool Console::csrf_ok(const ConsoleUser& u, std::string_view form_value) {
 }
 
 Result<std::string> Console::start_backup(const ConsoleUser& u, const std::string& name) {
-  (void)u;  // the service's backups record no operator (a backup writes nothing to a drive)
-  return impl_->service.backup_drive(name);
+  return impl_->service.backup_drive(name, u.who);
+}
+
+Result<std::string> Console::make_plan(const ConsoleUser& u, const std::string& name,
+                                       const std::string& rev) {
+  LMCFG_ASSIGN_OR_RETURN(Json plan, impl_->service.plan(name, rev, u.who));
+  const std::string id = plan["plan_id"].get<std::string>();
+  std::lock_guard<std::mutex> lock(impl_->mu);
+  impl_->plans[id] = std::move(plan);
+  impl_->plan_order.push_back(id);
+  while (impl_->plan_order.size() > Impl::kPlansKept) {
+    impl_->plans.erase(impl_->plan_order.front());
+    impl_->plan_order.pop_front();
+  }
+  return id;
+}
+
+Result<std::string> Console::start_restore(const ConsoleUser& u, const std::string& plan_id,
+                                           const std::string& reason, const std::string& ticket,
+                                           bool skip_incompatible) {
+  Service::ExecuteRequest req;
+  req.plan_id = plan_id;
+  req.audit = {u.who, reason, ticket};
+  req.skip_incompatible = skip_incompatible;
+  return impl_->service.execute(req);
+}
+
+Page Console::replace_page(const ConsoleUser& u, const std::string& name,
+                           const std::string& rev) const {
+  const fleet::LineEntry* line = nullptr;
+  const fleet::DriveEntry* d = impl_->service.inventory().find_drive(name, &line);
+  if (!d)
+    return error_page(&u, 404, "No such position",
+                      "no drive named '" + name + "' in the inventory");
+  auto history = impl_->service.history(name);
+  return {200, pages::replace(u, sign_in_needed(), *line, *d, rev, history)};
+}
+
+Page Console::plan_page(const ConsoleUser& u, const std::string& plan_id) const {
+  Json plan;
+  {
+    std::lock_guard<std::mutex> lock(impl_->mu);
+    auto it = impl_->plans.find(plan_id);
+    if (it == impl_->plans.end())
+      return error_page(&u, 404, "No such plan",
+                        "no plan '" + plan_id +
+                            "' (executed already, or made too long ago): "
+                            "plan again from the position's page");
+    plan = it->second;
+  }
+  return {200, pages::plan(u, sign_in_needed(), plan, impl_->opt.clock())};
+}
+
+Result<std::string> Console::report(const std::string& name, const std::string& rev) const {
+  return impl_->service.report_html(name, rev);
+}
+
+Result<std::string> Console::diff(const std::string& name, const std::string& from,
+                                  const std::string& to) const {
+  return impl_->service.diff_html(name, from, to);
+}
+
+Page Console::failure_page(const ConsoleUser& u, const std::string& title, const Error& e) const {
+  int status = 500;
+  if (e.code == Errc::not_found) status = 404;
+  if (e.code == Errc::invalid_argument) status = 400;
+  if (e.code == Errc::plan_refused) status = 409;
+  if (e.code == Errc::interrupted) status = 503;
+  // The drive or the link failed, not this server.
+  for (Errc link :
+       {Errc::timeout, Errc::link_closed, Errc::io_error, Errc::drive_refused, Errc::frame_short,
+        Errc::frame_malformed, Errc::checksum_mismatch, Errc::unexpected_response})
+    if (e.code == link) status = 502;
+  return error_page(&u, status, title, e.message);
 }
 
 Page Console::signin_page(const std::string& message, const std::string& next, int status) const {

@@ -70,11 +70,31 @@ class Console {
   // Actions (the caller has checked the role and the CSRF token). The job id;
   // Errc::not_found for a name not in the inventory.
   Result<std::string> start_backup(const ConsoleUser& u, const std::string& name);
+  // Plans restoring `name` from revision `rev` ("" = the archive's newest)
+  // onto the drive at that position (reads it: is a drive answering, is it
+  // factory-fresh?). The plan id; its page is plan_page().
+  Result<std::string> make_plan(const ConsoleUser& u, const std::string& name,
+                                const std::string& rev);
+  // Executes a plan shown by plan_page(); the restore job's id.
+  Result<std::string> start_restore(const ConsoleUser& u, const std::string& plan_id,
+                                    const std::string& reason, const std::string& ticket,
+                                    bool skip_incompatible);
 
   // Pages. `next` is where to go after signing in (a path of this console).
   Page signin_page(const std::string& message, const std::string& next, int status = 200) const;
   Page overview(const ConsoleUser& u, const std::string& line, const std::string& status) const;
   Page position(const ConsoleUser& u, const std::string& name) const;
+  // The replace/restore flow's first page: which revision, then "check and plan".
+  Page replace_page(const ConsoleUser& u, const std::string& name, const std::string& rev) const;
+  Page plan_page(const ConsoleUser& u, const std::string& plan_id) const;
+  // A revision's report and the diff of two (`to` may be "live"), as
+  // `lmcfg report` renders them: whole pages with the report's own CSP.
+  Result<std::string> report(const std::string& name, const std::string& rev) const;
+  Result<std::string> diff(const std::string& name, const std::string& from,
+                           const std::string& to) const;
+  // An error of the service as a page: its status from the error's code, the
+  // message as the CLI says it.
+  Page failure_page(const ConsoleUser& u, const std::string& title, const Error& e) const;
   Page job_page(const ConsoleUser& u, const std::string& id, const std::string& name) const;
   Page error_page(const ConsoleUser* u, int status, const std::string& title,
                   const std::string& message) const;
@@ -84,6 +104,9 @@ class Console {
   static std::string_view script();
   // The Content-Security-Policy of every console page.
   static std::string_view content_security_policy();
+  // The Content-Security-Policy of the report pages (inline style only, as
+  // their own meta element says).
+  static std::string_view report_security_policy();
 
   struct Impl;
 

@@ -46,6 +46,13 @@ button, select, input, textarea { font: inherit; padding: .3rem .6rem; }
 button { background: var(--accent); color: #fff; border: 0; border-radius: 4px; cursor: pointer; }
 header button { background: #57606a; }
 button.danger { background: var(--failed); }
+a.button { display: inline-block; background: #fff; color: var(--accent); border: 1px solid var(--accent);
+  border-radius: 4px; padding: .25rem .6rem; text-decoration: none; margin-left: .5rem; }
+ol.flow { display: flex; flex-wrap: wrap; gap: .25rem 1.5rem; padding-left: 1.2rem; color: var(--muted); }
+ol.flow li[aria-current] { color: var(--fg); font-weight: 600; }
+.verdict { color: var(--ok); font-weight: 600; }
+.links { margin: .2rem 0 0; font-size: .9rem; }
+table.plan td:nth-child(5) { color: var(--muted); }
 dl.identity, dl.trailers { display: grid; grid-template-columns: max-content 1fr; gap: .2rem 1rem; }
 dl.trailers { margin: .25rem 0 0 1rem; }
 dt { font-weight: 600; } dd { margin: 0; overflow-wrap: anywhere; }
@@ -107,6 +114,10 @@ std::string_view Console::script() { return kScript; }
 std::string_view Console::content_security_policy() {
   return "default-src 'none'; style-src 'self'; script-src 'self'; img-src 'self'; "
          "connect-src 'self'; form-action 'self'; base-uri 'none'; frame-ancestors 'none'";
+}
+
+std::string_view Console::report_security_policy() {
+  return "default-src 'none'; style-src 'unsafe-inline'; frame-ancestors 'none'";
 }
 
 }  // namespace lmcfg::serve

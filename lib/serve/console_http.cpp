@@ -29,6 +29,13 @@ void headers(httplib::Response& res) {
   res.set_header("Cache-Control", "no-store");
 }
 
+// A report page as `lmcfg report` writes it: its own CSP (inline style only).
+void report(httplib::Response& res, const std::string& html) {
+  headers(res);
+  res.set_header("Content-Security-Policy", std::string(Console::report_security_policy()));
+  res.set_content(html, "text/html; charset=utf-8");
+}
+
 void page(httplib::Response& res, const Page& p) {
   headers(res);
   res.status = p.status;
@@ -160,6 +167,45 @@ void register_console_routes(httplib::Server& server, Console& console) {
     auto id = c->start_backup(*u, name);
     if (!id.ok()) return page(res, c->error_page(&*u, 404, "Cannot back up", id.error().message));
     see_other(res, "/job?id=" + url_encode(*id) + "&name=" + url_encode(name));
+  });
+  server.Get("/replace", [c, who](const httplib::Request& req, httplib::Response& res) {
+    if (auto u = who(req, res))
+      page(res, c->replace_page(*u, req.get_param_value("name"), req.get_param_value("rev")));
+  });
+  // Planning reads the drive: a POST (it makes a plan on the server), then
+  // the plan's own page.
+  server.Post("/plan", [c, poster](const httplib::Request& req, httplib::Response& res) {
+    const auto f = form(req);
+    auto u = poster(req, res, f);
+    if (!u) return;
+    auto id = c->make_plan(*u, field(f, "name"), field(f, "rev"));
+    if (!id.ok()) return page(res, c->failure_page(*u, "No plan", id.error()));
+    see_other(res, "/plan?id=" + url_encode(*id));
+  });
+  server.Get("/plan", [c, who](const httplib::Request& req, httplib::Response& res) {
+    if (auto u = who(req, res)) page(res, c->plan_page(*u, req.get_param_value("id")));
+  });
+  server.Post("/execute", [c, poster](const httplib::Request& req, httplib::Response& res) {
+    const auto f = form(req);
+    auto u = poster(req, res, f);
+    if (!u) return;
+    auto id = c->start_restore(*u, field(f, "plan"), field(f, "reason"), field(f, "ticket"),
+                               field(f, "skip_incompatible") == "1");
+    if (!id.ok()) return page(res, c->failure_page(*u, "Not restored", id.error()));
+    see_other(res, "/job?id=" + url_encode(*id) + "&name=" + url_encode(field(f, "name")));
+  });
+  server.Get("/report", [c, who](const httplib::Request& req, httplib::Response& res) {
+    auto u = who(req, res);
+    if (!u) return;
+    auto html = c->report(req.get_param_value("name"), req.get_param_value("rev"));
+    html.ok() ? report(res, *html) : page(res, c->failure_page(*u, "No report", html.error()));
+  });
+  server.Get("/diff", [c, who](const httplib::Request& req, httplib::Response& res) {
+    auto u = who(req, res);
+    if (!u) return;
+    auto html = c->diff(req.get_param_value("name"), req.get_param_value("from"),
+                        req.get_param_value("to"));
+    html.ok() ? report(res, *html) : page(res, c->failure_page(*u, "No diff", html.error()));
   });
 }
 

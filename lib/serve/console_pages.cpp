@@ -194,6 +194,7 @@ std::string overview(const ConsoleUser& u, bool signed_in, const fleet::Inventor
 std::string position(const ConsoleUser& u, bool signed_in, const fleet::LineEntry& line,
                      const fleet::DriveEntry& d, const Json& state, const Result<Json>& history,
                      TimePoint now) {
+  const std::string enc = esc(url_encode(d.name));
   std::string b = "<p class=\"crumbs\"><a href=\"/\">Plant</a> / " + esc(line.name) + "</p>\n";
   b += "<h1>" + esc(d.name) + " " + badge(shown_status(state)) + "</h1>\n";
   char id[8];
@@ -217,10 +218,16 @@ std::string position(const ConsoleUser& u, bool signed_in, const fleet::LineEntr
   b += "</section>\n";
 
   b += "<section aria-labelledby=\"h-act\"><h2 id=\"h-act\">Actions</h2>";
+  b += "<p><a href=\"/diff?name=" + enc +
+       "&amp;from=HEAD&amp;to=live\" id=\"live-diff\">Live diff against the archive</a> "
+       "(reads the drive now) &middot; <a href=\"/report?name=" +
+       enc + "&amp;rev=HEAD\">Report of the archived configuration</a></p>";
   if (u.role == Role::operator_) {
     b += "<form method=\"post\" action=\"/backup\" class=\"inline\">" + csrf_field(u) +
          "<input type=\"hidden\" name=\"name\" value=\"" + esc(d.name) +
-         "\"><button type=\"submit\" id=\"backup-now\">Back up now</button></form>";
+         "\"><button type=\"submit\" id=\"backup-now\">Back up now</button></form> "
+         "<a class=\"button\" id=\"replace\" href=\"/replace?name=" +
+         enc + "\">Replace the drive / restore a revision</a>";
   } else {
     b += "<p class=\"muted\">Signed in as a viewer: you can look at everything and change "
          "nothing.</p>";
@@ -246,12 +253,170 @@ std::string position(const ConsoleUser& u, bool signed_in, const fleet::LineEntr
         for (const auto& [k, v] : m.trailers) b += "<dt>" + esc(k) + "</dt><dd>" + esc(v) + "</dd>";
         b += "</dl>";
       }
-      b += "</li>";
+      const std::string rev = esc(url_encode(commit));
+      b += "<p class=\"links\"><a href=\"/report?name=" + enc + "&amp;rev=" + rev +
+           "\">report</a> &middot; <a href=\"/diff?name=" + enc + "&amp;from=" + rev +
+           "&amp;to=live\">diff with the drive</a>";
+      if (u.role == Role::operator_)
+        b += " &middot; <a href=\"/replace?name=" + enc + "&amp;rev=" + rev +
+             "\">restore this revision</a>";
+      b += "</p></li>";
     }
     b += "</ol>";
+    // Any two revisions: a GET form, so the diff is a link one can keep.
+    auto revisions = [&](const char* field, const char* label, std::size_t chosen, bool live) {
+      std::string o = "<label for=\"d-" + std::string(field) + "\">" + label +
+                      "</label><select id=\"d-" + field + "\" name=\"" + field + "\">";
+      if (live) o += "<option value=\"live\">the drive now</option>";
+      std::size_t n = 0;
+      for (const auto& h : *history) {
+        const std::string c = str(h, "commit");
+        o += "<option value=\"" + esc(c) + "\"" + (n++ == chosen && !live ? " selected" : "") +
+             ">" + esc(str(h, "time")) + " " + esc(c.substr(0, 10)) + "</option>";
+      }
+      return o + "</select>";
+    };
+    b += "<form method=\"get\" action=\"/diff\" class=\"filters\" aria-label=\"Compare revisions\">"
+         "<input type=\"hidden\" name=\"name\" value=\"" +
+         esc(d.name) + "\">" + revisions("from", "Compare", history->size() > 1 ? 1 : 0, false) +
+         revisions("to", "with", 0, false) + "<button type=\"submit\">Diff</button></form>";
   }
   b += "</section>\n";
   return frame(&u, signed_in, d.name, b);
+}
+
+std::string replace(const ConsoleUser& u, bool signed_in, const fleet::LineEntry& line,
+                    const fleet::DriveEntry& d, const std::string& rev,
+                    const Result<Json>& history) {
+  char id[8];
+  std::snprintf(id, sizeof id, "0x%02X", d.id);
+  std::string b = "<p class=\"crumbs\"><a href=\"/\">Plant</a> / " + position_link(d.name) +
+                  "</p>\n<h1>Replace the drive / restore a revision</h1>\n";
+  b += "<ol class=\"flow\"><li aria-current=\"step\">Check the drive and plan</li><li>Review "
+       "the plan</li><li>Confirm with a reason</li><li>Progress and verify</li></ol>\n";
+  b += "<p>The new (or the present) drive must be connected on line <strong>" + esc(line.name) +
+       "</strong> (" + esc(line.port) + ") with drive ID <strong>" + id +
+       "</strong>. Planning reads it: nothing is written before you confirm.</p>\n";
+  if (u.role != Role::operator_)
+    return frame(&u, signed_in, "Restore " + d.name,
+                 b + "<p class=\"problem\">Signed in as a viewer: planning and restoring need "
+                     "role operator.</p>\n");
+  if (!history.ok() || history->empty())
+    return frame(
+        &u, signed_in, "Restore " + d.name,
+        b + "<p class=\"problem\">" +
+            esc(history.ok() ? "the archive holds no file of " + d.name + " yet: back it up first"
+                             : history.error().message) +
+            "</p>\n");
+  b += "<form method=\"post\" action=\"/plan\" class=\"card\">" + csrf_field(u) +
+       "<input type=\"hidden\" name=\"name\" value=\"" + esc(d.name) +
+       "\"><label for=\"rev\">Revision to restore</label><select id=\"rev\" name=\"rev\">";
+  bool first = true;
+  for (const auto& h : *history) {
+    const std::string c = str(h, "commit");
+    const bool chosen = rev.empty() || rev == "HEAD" ? first : c.rfind(rev, 0) == 0;
+    b += "<option value=\"" + esc(c) + "\"" + (chosen ? " selected" : "") + ">" +
+         esc(str(h, "time")) + " " + esc(c.substr(0, 10)) + " " +
+         esc(split_message(str(h, "message")).subject) + (first ? " (newest)" : "") + "</option>";
+    first = false;
+  }
+  b += "</select><button type=\"submit\" id=\"plan\">Check the drive and plan</button></form>\n";
+  return frame(&u, signed_in, "Restore " + d.name, b);
+}
+
+std::string plan(const ConsoleUser& u, bool signed_in, const Json& p, TimePoint now) {
+  const std::string name = str(p, "drive");
+  std::string b = "<p class=\"crumbs\"><a href=\"/\">Plant</a> / " + position_link(name) +
+                  "</p>\n<h1>Plan: restore " + esc(name) + "</h1>\n";
+  b += "<ol class=\"flow\"><li>Check the drive and plan</li><li aria-current=\"step\">Review "
+       "the plan</li><li aria-current=\"step\">Confirm with a reason</li><li>Progress and "
+       "verify</li></ol>\n";
+  b += "<section aria-labelledby=\"h-link\"><h2 id=\"h-link\">The drive at this position</h2>";
+  b += "<p class=\"link-ok\">A drive answers on line " + esc(str(p, "line")) + " as ID " +
+       esc(str(p, "id")) + ". ";
+  b += p.value("factory_fresh", false)
+           ? "It is <strong id=\"factory-fresh\">factory-fresh</strong> (a replacement drive as "
+             "it leaves the factory).</p>"
+           : "It is <strong id=\"factory-fresh\">not factory-fresh</strong>: it holds a "
+             "configuration, which the plan below overwrites.</p>";
+  b += "<p>Source: " + esc(str(p, "file")) + " at <code>" + esc(str(p, "commit").substr(0, 10)) +
+       "</code>. This plan is valid until " + time_cell(str(p, "expires"), now) + " (" +
+       esc(str(p, "expires")) + ").</p></section>\n";
+
+  b += "<section aria-labelledby=\"h-plan\"><h2 id=\"h-plan\">What will be written</h2>";
+  if (p.value("nothing_to_do", false))
+    b += "<p id=\"nothing-to-do\">Nothing to do: the drive already matches the file.</p>";
+  b += "<table class=\"plan\"><thead><tr><th scope=\"col\">#</th><th scope=\"col\">Step</th><th "
+       "scope=\"col\">Parameter</th><th scope=\"col\">Old</th><th scope=\"col\"></th><th "
+       "scope=\"col\">New</th></tr></thead><tbody>\n";
+  std::size_t n = 0;
+  for (const auto& st : p["steps"]) {
+    ++n;
+    const std::string unit = str(st, "unit");
+    auto value = [&](const char* k) {
+      if (!st.contains(k) || st[k].is_null())
+        return std::string("<span class=\"muted\">none</span>");
+      return esc(st[k].is_string() ? st[k].get<std::string>() : st[k].dump()) +
+             (unit.empty() ? "" : " " + esc(unit));
+    };
+    b += "<tr class=\"step\" data-kind=\"" + esc(str(st, "kind")) + "\"><td>" + std::to_string(n) +
+         "</td>";
+    if (st.contains("upid")) {
+      b += "<td>" + esc(str(st, "kind")) + "</td><td><code>" + esc(str(st, "upid")) + "h</code> " +
+           esc(str(st, "name")) + "</td><td>" + value("old") +
+           "</td><td aria-hidden=\"true\">&rarr;</td><td>" + value("new") + "</td>";
+    } else {
+      b += "<td>" + esc(str(st, "kind")) + "</td><td colspan=\"4\">" + esc(str(st, "text")) +
+           "</td>";
+    }
+    b += "</tr>\n";
+  }
+  b += "</tbody></table></section>\n";
+  auto list = [&](const char* id, const char* title, const Json& items, const char* cls) {
+    if (!items.is_array() || items.empty()) return;
+    b += "<section aria-labelledby=\"h-" + std::string(id) + "\"><h2 id=\"h-" + id + "\">" + title +
+         "</h2><ul class=\"" + cls + "\" id=\"" + id + "\">";
+    for (const auto& it : items)
+      b += "<li>" +
+           esc(it.is_string()                             ? it.get<std::string>()
+               : it.is_object() && it.contains("message") ? str(it, "message")
+                                                          : it.dump()) +
+           "</li>";
+    b += "</ul></section>\n";
+  };
+  list("losses", "What the drive loses", p["losses"], "");
+  list("notes", "Notes", p["notes"], "muted");
+  list("problems", "Problems (nothing can be written until they are resolved)", p["problems"],
+       "problem");
+  list("incompatible", "Values this drive cannot take", p["incompatible"], "");
+
+  const bool problems = p.contains("problems") && !p["problems"].empty();
+  const bool incompatible = p.contains("incompatible") && !p["incompatible"].empty();
+  b += "<section aria-labelledby=\"h-confirm\"><h2 id=\"h-confirm\">Confirm</h2>";
+  if (problems) {
+    b += "<p class=\"problem\">This plan is refused: resolve the problems above (connect the "
+         "right drive, choose another revision, or update the drive's firmware), then <a "
+         "href=\"/replace?name=" +
+         esc(url_encode(name)) + "\">plan again</a>. Nothing was written.</p>";
+  } else if (u.role != Role::operator_) {
+    b += "<p class=\"muted\">Signed in as a viewer: restoring needs role operator.</p>";
+  } else {
+    b += "<form method=\"post\" action=\"/execute\" class=\"card\">" + csrf_field(u) +
+         "<input type=\"hidden\" name=\"plan\" value=\"" + esc(str(p, "plan_id")) +
+         "\"><input type=\"hidden\" name=\"name\" value=\"" + esc(name) +
+         "\"><label for=\"reason\">Reason (recorded in the archive's commit)</label>"
+         "<input id=\"reason\" name=\"reason\" required maxlength=\"500\">"
+         "<label for=\"ticket\">Ticket (optional)</label><input id=\"ticket\" name=\"ticket\" "
+         "maxlength=\"100\">";
+    if (incompatible)
+      b += "<label><input type=\"checkbox\" name=\"skip_incompatible\" value=\"1\" "
+           "id=\"skip-incompatible\"> Restore the rest without the values listed under "
+           "\"Values this drive cannot take\"</label>";
+    b += "<button type=\"submit\" class=\"danger\" id=\"execute\">Write to the "
+         "drive</button></form>";
+  }
+  b += "</section>\n";
+  return frame(&u, signed_in, "Plan for " + name, b);
 }
 
 std::string job(const ConsoleUser& u, bool signed_in, const Json& j, const std::string& name) {
@@ -264,20 +429,45 @@ std::string job(const ConsoleUser& u, bool signed_in, const Json& j, const std::
   // While the job runs the script reloads this section; without it, the
   // page's own reload does the same.
   b += std::string("<section id=\"live\" aria-live=\"polite\"") +
-       (state == "done" ? "" : " data-refresh=\"1\"") + ">";
-  const auto total = j.value("drives", 0u), done = j.value("done", 0u);
+       (state == "queued" || state == "running" ? " data-refresh=\"1\"" : "") + ">";
+  const bool restore = str(j, "kind") == "restore";
+  const auto& pr = j["progress"];
+  const auto total = pr.value("total", 0u), done = pr.value("done", 0u);
   b += "<p>State: <strong class=\"job-state\" data-state=\"" + esc(state) + "\">" + esc(state) +
-       "</strong></p>";
+       "</strong>";
+  if (j.contains("who") && j["who"].is_string()) b += ", asked by " + esc(str(j, "who"));
+  b += "</p>";
   b += "<progress max=\"" + std::to_string(total ? total : 1) + "\" value=\"" +
        std::to_string(done) + "\">" + std::to_string(done) + " of " + std::to_string(total) +
-       "</progress> " + std::to_string(done) + " of " + std::to_string(total) + " drive(s)";
+       "</progress> " + std::to_string(done) + " of " + std::to_string(total) +
+       (restore ? " step(s)" : " drive(s)");
+  if (!str(pr, "step").empty()) b += "<p>Now: " + esc(str(pr, "step")) + "</p>";
+  if (j["outcome"].is_string()) {
+    const std::string outcome = str(j, "outcome");
+    const bool bad = state == "failed";
+    b += "<p class=\"" + std::string(bad ? "problem" : "verdict") +
+         "\" id=\"outcome\">Outcome: " + esc(outcome) +
+         (j.contains("exit_code") && j["exit_code"].is_number()
+              ? " (the CLI's exit code " + j["exit_code"].dump() + ")"
+              : "") +
+         "</p>";
+    if (!str(j, "message").empty()) b += "<p id=\"message\">" + esc(str(j, "message")) + "</p>";
+    if (restore && bad && !name.empty())
+      b += "<p>Next: <a href=\"/replace?name=" + esc(url_encode(name)) +
+           "\">plan again</a> once the cause is fixed (a restore run again converges), or look "
+           "at the <a href=\"/position?name=" +
+           esc(url_encode(name)) + "\">position</a>.</p>";
+  }
+  if (restore && j["commit"].is_string())
+    b += "<p>Recorded in the archive as commit <code id=\"commit\">" + esc(str(j, "commit")) +
+         "</code>.</p>";
   if (j.contains("counts")) {
     b += "<ul class=\"counts\">";
     for (const auto& [k, v] : j["counts"].items())
       b += "<li>" + esc(k) + " <strong>" + v.dump() + "</strong></li>";
     b += "</ul>";
   }
-  if (j.contains("commits") && !j["commits"].empty()) {
+  if (!restore && j.contains("commits") && !j["commits"].empty()) {
     b += "<p>Committed:</p><ul>";
     for (const auto& c : j["commits"])
       b += "<li><code>" + esc(c.get<std::string>()) + "</code></li>";

@@ -17,6 +17,10 @@ std::string overview(const ConsoleUser& u, bool signed_in, const fleet::Inventor
 std::string position(const ConsoleUser& u, bool signed_in, const fleet::LineEntry& line,
                      const fleet::DriveEntry& d, const Json& state, const Result<Json>& history,
                      TimePoint now);
+std::string replace(const ConsoleUser& u, bool signed_in, const fleet::LineEntry& line,
+                    const fleet::DriveEntry& d, const std::string& rev,
+                    const Result<Json>& history);
+std::string plan(const ConsoleUser& u, bool signed_in, const Json& plan, TimePoint now);
 std::string job(const ConsoleUser& u, bool signed_in, const Json& job, const std::string& name);
 std::string error(const ConsoleUser* u, bool signed_in, const std::string& title,
                   const std::string& message);

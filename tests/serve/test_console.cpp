@@ -192,6 +192,19 @@ TEST_CASE(
     CHECK(res->status == 403);
     CHECK(res->body.find("&#39;grafana&#39; has role viewer: this needs role operator") !=
           std::string::npos);
+    // Planning and executing too: refused before anything is read or written.
+    const std::string csrf = csrf_of(b.get("/")->body);
+    res = b.post("/plan", {{"name", "press3/z"}, {"rev", ""}, {"csrf", csrf}});
+    REQUIRE(res);
+    CHECK(res->status == 403);
+    res = b.post("/execute", {{"plan", "0123abcd"}, {"reason", "r"}, {"csrf", csrf}});
+    REQUIRE(res);
+    CHECK(res->status == 403);
+    CHECK(res->body.find("has role viewer: this needs role operator") != std::string::npos);
+    res = b.get("/replace?name=press3%2Fz");
+    REQUIRE(res);
+    CHECK(res->body.find("planning and restoring need role operator") != std::string::npos);
+    CHECK(res->body.find("action=\"/plan\"") == std::string::npos);
   }
 
   SECTION("an operator's form post needs its session's CSRF token") {
