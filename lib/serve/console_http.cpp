@@ -159,54 +159,64 @@ void register_console_routes(httplib::Server& server, Console& console) {
     if (auto u = who(req, res))
       page(res, c->job_page(*u, req.get_param_value("id"), req.get_param_value("name")));
   });
-  server.Post("/backup", [c, poster](const httplib::Request& req, httplib::Response& res) {
-    const auto f = form(req);
-    auto u = poster(req, res, f);
-    if (!u) return;
-    const std::string name = field(f, "name");
-    auto id = c->start_backup(*u, name);
-    if (!id.ok()) return page(res, c->error_page(&*u, 404, "Cannot back up", id.error().message));
-    see_other(res, "/job?id=" + url_encode(*id) + "&name=" + url_encode(name));
-  });
+  // A form that starts something: the page it leads to (303), or the failure as a page.
+  auto action = [c, poster](const char* title, auto start) {
+    return [c, poster, title, start](const httplib::Request& req, httplib::Response& res) {
+      const auto f = form(req);
+      auto u = poster(req, res, f);
+      if (!u) return;
+      Result<std::string> location = start(*u, f);
+      location.ok() ? see_other(res, *location)
+                    : page(res, c->failure_page(*u, title, location.error()));
+    };
+  };
+  server.Post("/backup",
+              action("Cannot back up",
+                     [c](const ConsoleUser& u, const httplib::Params& f) -> Result<std::string> {
+                       const std::string name = field(f, "name");
+                       LMCFG_ASSIGN_OR_RETURN(auto id, c->start_backup(u, name));
+                       return "/job?id=" + url_encode(id) + "&name=" + url_encode(name);
+                     }));
   server.Get("/replace", [c, who](const httplib::Request& req, httplib::Response& res) {
     if (auto u = who(req, res))
       page(res, c->replace_page(*u, req.get_param_value("name"), req.get_param_value("rev")));
   });
   // Planning reads the drive: a POST (it makes a plan on the server), then
   // the plan's own page.
-  server.Post("/plan", [c, poster](const httplib::Request& req, httplib::Response& res) {
-    const auto f = form(req);
-    auto u = poster(req, res, f);
-    if (!u) return;
-    auto id = c->make_plan(*u, field(f, "name"), field(f, "rev"));
-    if (!id.ok()) return page(res, c->failure_page(*u, "No plan", id.error()));
-    see_other(res, "/plan?id=" + url_encode(*id));
-  });
+  server.Post(
+      "/plan",
+      action("No plan", [c](const ConsoleUser& u, const httplib::Params& f) -> Result<std::string> {
+        LMCFG_ASSIGN_OR_RETURN(auto id, c->make_plan(u, field(f, "name"), field(f, "rev")));
+        return "/plan?id=" + url_encode(id);
+      }));
   server.Get("/plan", [c, who](const httplib::Request& req, httplib::Response& res) {
     if (auto u = who(req, res)) page(res, c->plan_page(*u, req.get_param_value("id")));
   });
-  server.Post("/execute", [c, poster](const httplib::Request& req, httplib::Response& res) {
-    const auto f = form(req);
-    auto u = poster(req, res, f);
-    if (!u) return;
-    auto id = c->start_restore(*u, field(f, "plan"), field(f, "reason"), field(f, "ticket"),
-                               field(f, "skip_incompatible") == "1");
-    if (!id.ok()) return page(res, c->failure_page(*u, "Not restored", id.error()));
-    see_other(res, "/job?id=" + url_encode(*id) + "&name=" + url_encode(field(f, "name")));
-  });
-  server.Get("/report", [c, who](const httplib::Request& req, httplib::Response& res) {
-    auto u = who(req, res);
-    if (!u) return;
-    auto html = c->report(req.get_param_value("name"), req.get_param_value("rev"));
-    html.ok() ? report(res, *html) : page(res, c->failure_page(*u, "No report", html.error()));
-  });
-  server.Get("/diff", [c, who](const httplib::Request& req, httplib::Response& res) {
-    auto u = who(req, res);
-    if (!u) return;
-    auto html = c->diff(req.get_param_value("name"), req.get_param_value("from"),
-                        req.get_param_value("to"));
-    html.ok() ? report(res, *html) : page(res, c->failure_page(*u, "No diff", html.error()));
-  });
+  server.Post("/execute",
+              action("Not restored",
+                     [c](const ConsoleUser& u, const httplib::Params& f) -> Result<std::string> {
+                       LMCFG_ASSIGN_OR_RETURN(
+                           auto id, c->start_restore(u, field(f, "plan"), field(f, "reason"),
+                                                     field(f, "ticket"),
+                                                     field(f, "skip_incompatible") == "1"));
+                       return "/job?id=" + url_encode(id) + "&name=" + url_encode(field(f, "name"));
+                     }));
+  // The report's pages: a revision's, and the diff of two (or of one and the drive).
+  auto report_route = [c, who](const char* title, auto render) {
+    return [c, who, title, render](const httplib::Request& req, httplib::Response& res) {
+      auto u = who(req, res);
+      if (!u) return;
+      auto html = render(req);
+      html.ok() ? report(res, *html) : page(res, c->failure_page(*u, title, html.error()));
+    };
+  };
+  server.Get("/report", report_route("No report", [c](const httplib::Request& req) {
+               return c->report(req.get_param_value("name"), req.get_param_value("rev"));
+             }));
+  server.Get("/diff", report_route("No diff", [c](const httplib::Request& req) {
+               return c->diff(req.get_param_value("name"), req.get_param_value("from"),
+                              req.get_param_value("to"));
+             }));
 }
 
 }  // namespace lmcfg::serve

@@ -56,4 +56,45 @@ function launch(chromium) {
   return b;
 }
 
-module.exports = { launch };
+// Collects into `out` what a page of the target `sessionId` should never do:
+// console errors, exceptions and CSP violations (console_errors), requests
+// other than ownUrl(url) allows (requests), alert() and friends (dialogs,
+// answered so that the page goes on).
+function watch(browser, sessionId, out, ownUrl) {
+  browser.listeners.push((m) => {
+    if (m.sessionId !== sessionId) return;
+    const p = m.params;
+    if (m.method === 'Network.requestWillBeSent' && !ownUrl(p.request.url)) out.requests.push(p.request.url);
+    if (m.method === 'Runtime.consoleAPICalled' && (p.type === 'error' || p.type === 'assert'))
+      out.console_errors.push(p.args.map((a) => a.value || a.description).join(' '));
+    if (m.method === 'Runtime.exceptionThrown') out.console_errors.push(p.exceptionDetails.text);
+    if (m.method === 'Log.entryAdded' && p.entry.level === 'error') out.console_errors.push(p.entry.text);
+    if (m.method === 'Page.javascriptDialogOpening') {
+      out.dialogs.push(p.message);
+      browser.send('Page.handleJavaScriptDialog', { accept: true }, sessionId);
+    }
+  });
+}
+
+// Runs main() against `browser` with a time limit and prints its result as
+// one JSON line on stdout; exit 1 on an error, 3 on the time limit.
+function run(name, browser, main, timeoutMs) {
+  const timer = setTimeout(() => {
+    console.error(`${name}: timed out after ${timeoutMs / 1000} s\n` + browser.stderr);
+    browser.cleanup();
+    process.exit(3);
+  }, timeoutMs);
+  main().then((out) => {
+    clearTimeout(timer);
+    browser.cleanup();
+    // Exit only once the whole answer is out (a pipe is written asynchronously).
+    process.stdout.write(JSON.stringify(out) + '\n', () => process.exit(0));
+  }, (e) => {
+    clearTimeout(timer);
+    console.error(`${name}: ` + e.message + '\n' + browser.stderr);
+    browser.cleanup();
+    process.exit(1);
+  });
+}
+
+module.exports = { launch, run, watch };

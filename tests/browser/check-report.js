@@ -15,7 +15,7 @@
 'use strict';
 const fs = require('fs');
 const path = require('path');
-const { launch } = require('./cdp');
+const { launch, run, watch } = require('./cdp');
 
 const args = { texts: [] };
 for (let i = 2; i < process.argv.length; ++i) {
@@ -30,7 +30,7 @@ if (!args.chromium || !args.html || !args.screenshot) {
 }
 
 const browser = launch(args.chromium);
-const { send, waitFor, listeners, cleanup } = browser;
+const { send, waitFor } = browser;
 
 // Runs in the page: the DOM facts the test compares.
 function collect(needles) {
@@ -77,19 +77,7 @@ async function main() {
   const { targetId } = await send('Target.createTarget', { url: 'about:blank' });
   const { sessionId } = await send('Target.attachToTarget', { targetId, flatten: true });
   const s = (m, p) => send(m, p, sessionId);
-  listeners.push((m) => {
-    if (m.sessionId !== sessionId) return;
-    const p = m.params;
-    if (m.method === 'Network.requestWillBeSent' && p.request.url !== url) out.requests.push(p.request.url);
-    if (m.method === 'Runtime.consoleAPICalled' && (p.type === 'error' || p.type === 'assert'))
-      out.console_errors.push(p.args.map((a) => a.value || a.description).join(' '));
-    if (m.method === 'Runtime.exceptionThrown') out.console_errors.push(p.exceptionDetails.text);
-    if (m.method === 'Log.entryAdded' && p.entry.level === 'error') out.console_errors.push(p.entry.text);
-    if (m.method === 'Page.javascriptDialogOpening') {
-      out.dialogs.push(p.message);
-      s('Page.handleJavaScriptDialog', { accept: true });
-    }
-  });
+  watch(browser, sessionId, out, (u) => u === url);
   await Promise.all(['Page.enable', 'Runtime.enable', 'Network.enable', 'Log.enable'].map((m) => s(m)));
   await s('Emulation.setDeviceMetricsOverride', { width: 1280, height: 900, deviceScaleFactor: 1, mobile: false });
   const loaded = waitFor('Page.loadEventFired', 60000);
@@ -125,19 +113,4 @@ async function main() {
   return out;
 }
 
-const timer = setTimeout(() => {
-  console.error('check-report.js: timed out after 120 s\n' + browser.stderr);
-  cleanup();
-  process.exit(3);
-}, 120000);
-main().then((out) => {
-  clearTimeout(timer);
-  cleanup();
-  // Exit only once the whole report is out (a pipe is written asynchronously).
-  process.stdout.write(JSON.stringify(out) + '\n', () => process.exit(0));
-}, (e) => {
-  clearTimeout(timer);
-  console.error('check-report.js: ' + e.message + '\n' + browser.stderr);
-  cleanup();
-  process.exit(1);
-});
+run('check-report.js', browser, main, 120000);

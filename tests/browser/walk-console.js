@@ -15,7 +15,7 @@
 //   shot {file, full_page}
 'use strict';
 const fs = require('fs');
-const { launch } = require('./cdp');
+const { launch, run, watch } = require('./cdp');
 
 const args = {};
 for (let i = 2; i < process.argv.length; ++i) args[process.argv[i].replace(/^--/, '')] = process.argv[++i];
@@ -25,7 +25,7 @@ if (!args.chromium || !args.steps) {
 }
 const steps = JSON.parse(fs.readFileSync(args.steps, 'utf8'));
 const browser = launch(args.chromium);
-const { send, waitFor, listeners, cleanup } = browser;
+const { send, waitFor } = browser;
 
 async function main() {
   const out = { steps: [], console_errors: [], requests: [], dialogs: [] };
@@ -33,20 +33,7 @@ async function main() {
   const { sessionId } = await send('Target.attachToTarget', { targetId, flatten: true });
   const s = (m, p) => send(m, p, sessionId);
   let origin = null;
-  listeners.push((m) => {
-    if (m.sessionId !== sessionId) return;
-    const p = m.params;
-    if (m.method === 'Network.requestWillBeSent' && origin && !p.request.url.startsWith(origin))
-      out.requests.push(p.request.url);
-    if (m.method === 'Runtime.consoleAPICalled' && (p.type === 'error' || p.type === 'assert'))
-      out.console_errors.push(p.args.map((a) => a.value || a.description).join(' '));
-    if (m.method === 'Runtime.exceptionThrown') out.console_errors.push(p.exceptionDetails.text);
-    if (m.method === 'Log.entryAdded' && p.entry.level === 'error') out.console_errors.push(p.entry.text);
-    if (m.method === 'Page.javascriptDialogOpening') {
-      out.dialogs.push(p.message);
-      s('Page.handleJavaScriptDialog', { accept: true });
-    }
-  });
+  watch(browser, sessionId, out, (u) => !origin || u.startsWith(origin));
   await Promise.all(['Page.enable', 'Runtime.enable', 'Network.enable', 'Log.enable'].map((m) => s(m)));
   let viewport = { width: 1280, height: 900 };
   await s('Emulation.setDeviceMetricsOverride', { ...viewport, deviceScaleFactor: 1, mobile: false });
@@ -134,18 +121,4 @@ async function main() {
   return out;
 }
 
-const timer = setTimeout(() => {
-  console.error('walk-console.js: timed out after 240 s\n' + browser.stderr);
-  cleanup();
-  process.exit(3);
-}, 240000);
-main().then((out) => {
-  clearTimeout(timer);
-  cleanup();
-  process.stdout.write(JSON.stringify(out) + '\n', () => process.exit(0));
-}, (e) => {
-  clearTimeout(timer);
-  console.error('walk-console.js: ' + e.message + '\n' + browser.stderr);
-  cleanup();
-  process.exit(1);
-});
+run('walk-console.js', browser, main, 240000);
