@@ -48,7 +48,8 @@ header button { background: #57606a; }
 button.danger { background: var(--failed); }
 a.button { display: inline-block; background: #fff; color: var(--accent); border: 1px solid var(--accent);
   border-radius: 4px; padding: .25rem .6rem; text-decoration: none; margin-left: .5rem; }
-ol.flow { display: flex; flex-wrap: wrap; gap: .25rem 1.5rem; padding-left: 1.2rem; color: var(--muted); }
+ol.flow { display: flex; flex-wrap: wrap; gap: .25rem 2.5rem; padding-left: 0;
+  list-style-position: inside; color: var(--muted); }
 ol.flow li[aria-current] { color: var(--fg); font-weight: 600; }
 .verdict { color: var(--ok); font-weight: 600; }
 .links { margin: .2rem 0 0; font-size: .9rem; }

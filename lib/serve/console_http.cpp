@@ -119,6 +119,12 @@ void register_console_routes(httplib::Server& server, Console& console) {
     res.set_header("Cache-Control", "max-age=300");
     res.set_content(std::string(Console::script()), "text/javascript; charset=utf-8");
   });
+  // Browsers ask for it on every site; the console has none (and says so
+  // without a 404 in the browser's console).
+  server.Get("/favicon.ico", [](const httplib::Request&, httplib::Response& res) {
+    headers(res);
+    res.status = 204;
+  });
   server.Get("/signin", [c](const httplib::Request& req, httplib::Response& res) {
     if (!c->sign_in_needed()) return see_other(res, "/");
     page(res, c->signin_page("", local_path(req.get_param_value("next"))));

@@ -121,7 +121,12 @@ std::string age(const std::string& iso, TimePoint now) {
   tm.tm_mon -= 1;
   const auto t = Clock::from_time_t(::timegm(&tm));
   const long long s = std::chrono::duration_cast<std::chrono::seconds>(now - t).count();
-  if (s < 0) return "in the future (" + iso + ")";
+  if (s < 0) {  // a deadline (a plan's expiry)
+    const long long f = -s;
+    if (f < 60) return "in " + std::to_string(f) + " s";
+    if (f < 3600) return "in " + std::to_string(f / 60) + " min";
+    return "in " + std::to_string(f / 3600) + " h " + std::to_string(f % 3600 / 60) + " min";
+  }
   if (s < 60) return std::to_string(s) + " s ago";
   if (s < 3600) return std::to_string(s / 60) + " min ago";
   if (s < 86400)
@@ -339,9 +344,9 @@ std::string plan(const ConsoleUser& u, bool signed_in, const Json& p, TimePoint 
              "it leaves the factory).</p>"
            : "It is <strong id=\"factory-fresh\">not factory-fresh</strong>: it holds a "
              "configuration, which the plan below overwrites.</p>";
-  b += "<p>Source: " + esc(str(p, "file")) + " at <code>" + esc(str(p, "commit").substr(0, 10)) +
-       "</code>. This plan is valid until " + time_cell(str(p, "expires"), now) + " (" +
-       esc(str(p, "expires")) + ").</p></section>\n";
+  b += "<p>Source: " + esc(str(p, "file")) + ". This plan is valid until " +
+       esc(str(p, "expires")) + " (" + time_cell(str(p, "expires"), now) +
+       "); after that, plan again.</p></section>\n";
 
   b += "<section aria-labelledby=\"h-plan\"><h2 id=\"h-plan\">What will be written</h2>";
   if (p.value("nothing_to_do", false))

@@ -19,7 +19,7 @@ namespace {
 
 std::string csrf_of(const std::string& html) {
   std::smatch m;
-  REQUIRE(std::regex_search(html, m, std::regex("name=\"csrf\" value=\"([0-9a-f]{64})\"")));
+  REQUIRE(std::regex_search(html, m, std::regex("name=\"csrf\" value=\"([0-9A-F]{64})\"")));
   return m[1];
 }
 
@@ -47,7 +47,7 @@ struct Browser {
     CHECK(res->get_header_value("Location") == "/");
     const std::string set = res->get_header_value("Set-Cookie");
     std::smatch m;
-    REQUIRE(std::regex_search(set, m, std::regex("^lmcfg_session=([0-9a-f]{64});")));
+    REQUIRE(std::regex_search(set, m, std::regex("^lmcfg_session=([0-9A-F]{64});")));
     cookie = m[1];
     return set;
   }
@@ -109,7 +109,7 @@ TEST_CASE("console: without tokens no sign-in; pages with their CSP; a backup fr
   res = b.post("/backup", {{"name", "press3/z"}, {"csrf", csrf}});
   REQUIRE(res);
   CHECK(res->status == 303);
-  CHECK(res->get_header_value("Location") == "/job?id=3&name=press3%2Fz");
+  CHECK(res->get_header_value("Location") == "/job?id=3&name=press3/z");  // decoded by the client
   rig.service->wait_idle();
   res = b.get("/job?id=3&name=press3%2Fz");
   REQUIRE(res);
@@ -148,10 +148,12 @@ TEST_CASE(
   auto res = b.get("/position?name=press3%2Fz");
   REQUIRE(res);
   CHECK(res->status == 303);
-  CHECK(res->get_header_value("Location") == "/signin?next=%2Fposition%3Fname%3Dpress3%252Fz");
+  // (cpp-httplib's client decodes a Location once: on the wire it is
+  // /signin?next=%2Fposition%3Fname%3Dpress3%252Fz)
+  CHECK(res->get_header_value("Location") == "/signin?next=/position?name=press3%2Fz");
   res = b.get("/");
   CHECK(res->status == 303);
-  CHECK(res->get_header_value("Location") == "/signin?next=%2F");
+  CHECK(res->get_header_value("Location") == "/signin?next=/");
   res = b.get("/signin?next=%2Fposition%3Fname%3Dpress3%252Fz");
   REQUIRE(res);
   CHECK(res->status == 200);
@@ -240,7 +242,7 @@ TEST_CASE(
     res = b.get("/");
     REQUIRE(res);
     CHECK(res->status == 303);
-    CHECK(res->get_header_value("Location") == "/signin?next=%2F");
+    CHECK(res->get_header_value("Location") == "/signin?next=/");
   }
 
   SECTION("sign-out ends the session on the server, not only the cookie") {
