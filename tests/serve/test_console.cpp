@@ -294,3 +294,26 @@ TEST_CASE("console: hostile line names, labels and query text render as text", "
   REQUIRE(res);
   CHECK(res->body.find("\"><script>") == std::string::npos);
 }
+
+TEST_CASE(
+    "console: a plan with no drive answering shows the error as the CLI says it, "
+    "nothing planned",
+    "[serve][console]") {
+  test::Rig rig;
+  rig.at(rig.now);
+  test::Server server(*rig.service);
+  Browser b(server.port);
+  const std::string csrf = csrf_of(b.get("/replace?name=press3%2Fx")->body);
+  test::write_axis(rig.dir.path / "b.json", 0x13);  // no drive answers as 12h any more
+  auto res = b.post("/plan", {{"name", "press3/x"}, {"rev", "HEAD"}, {"csrf", csrf}});
+  REQUIRE(res);
+  INFO(res->body);
+  CHECK(res->status == 502);  // the link or the drive failed, not the console
+  CHECK(res->get_header_value("Location").empty());
+  CHECK(res->body.find("<h1>No plan</h1>") != std::string::npos);
+  CHECK(res->body.find("class=\"problem\" role=\"alert\"") != std::string::npos);
+  res = b.post("/execute", {{"plan", "0123abcd"}, {"reason", "r"}, {"csrf", csrf}});
+  REQUIRE(res);
+  CHECK(res->status == 404);
+  CHECK(res->body.find("no plan &#39;0123abcd&#39;") != std::string::npos);
+}
