@@ -22,17 +22,18 @@ std::string cookie(const httplib::Request& req, std::string_view name) {
   return "";
 }
 
-void headers(httplib::Response& res) {
-  res.set_header("Content-Security-Policy", std::string(Console::content_security_policy()));
+// (httplib's set_header adds a header: each is set once, two CSPs would both apply)
+void headers(httplib::Response& res, std::string_view csp = Console::content_security_policy(),
+             const char* cache = "no-store") {
+  res.set_header("Content-Security-Policy", std::string(csp));
   res.set_header("X-Content-Type-Options", "nosniff");
   res.set_header("Referrer-Policy", "no-referrer");
-  res.set_header("Cache-Control", "no-store");
+  res.set_header("Cache-Control", cache);
 }
 
 // A report page as `lmcfg report` writes it: its own CSP (inline style only).
 void report(httplib::Response& res, const std::string& html) {
-  headers(res);
-  res.set_header("Content-Security-Policy", std::string(Console::report_security_policy()));
+  headers(res, Console::report_security_policy());
   res.set_content(html, "text/html; charset=utf-8");
 }
 
@@ -110,13 +111,11 @@ void register_console_routes(httplib::Server& server, Console& console) {
   };
 
   server.Get("/console.css", [](const httplib::Request&, httplib::Response& res) {
-    headers(res);
-    res.set_header("Cache-Control", "max-age=300");
+    headers(res, Console::content_security_policy(), "max-age=300");
     res.set_content(std::string(Console::stylesheet()), "text/css; charset=utf-8");
   });
   server.Get("/console.js", [](const httplib::Request&, httplib::Response& res) {
-    headers(res);
-    res.set_header("Cache-Control", "max-age=300");
+    headers(res, Console::content_security_policy(), "max-age=300");
     res.set_content(std::string(Console::script()), "text/javascript; charset=utf-8");
   });
   // Browsers ask for it on every site; the console has none (and says so

@@ -116,6 +116,26 @@ TEST_CASE("console: without tokens no sign-in; pages with their CSP; a backup fr
   CHECK(res->body.find("data-state=\"done\"") != std::string::npos);
   CHECK(res->body.find("data-refresh") == std::string::npos);  // done: no more polling
 
+  // A revision's report and a diff with the drive: the report's own pages and CSP.
+  res = b.get("/report?name=press3%2Fz&rev=HEAD");
+  REQUIRE(res);
+  CHECK(res->status == 200);
+  CHECK(res->get_header_value("Content-Security-Policy") ==
+        "default-src 'none'; style-src 'unsafe-inline'; frame-ancestors 'none'");
+  CHECK(res->get_header_value_count("Content-Security-Policy") == 1);
+  CHECK(res->body.find("<meta name=\"generator\" content=\"lmcfg report\">") != std::string::npos);
+  CHECK(res->body.find("tr class=\"param") != std::string::npos);
+  test::write_axis(rig.dir.path / "a.json", 0x11, "0010", 9);  // tuned on the drive
+  res = b.get("/diff?name=press3%2Fz&from=HEAD&to=live");
+  REQUIRE(res);
+  CHECK(res->status == 200);
+  CHECK(res->body.find("data-kind=\"parameter\" data-key=\"0010\"") != std::string::npos);
+  CHECK(res->body.find("drive press3/z (live)") != std::string::npos);
+  res = b.get("/report?name=press3%2Fz&rev=nosuchrev");
+  REQUIRE(res);
+  CHECK(res->status == 404);
+  CHECK(res->body.find("<h1>No report</h1>") != std::string::npos);
+
   res = b.get("/position?name=no/such");
   REQUIRE(res);
   CHECK(res->status == 404);
@@ -125,6 +145,8 @@ TEST_CASE("console: without tokens no sign-in; pages with their CSP; a backup fr
   REQUIRE(res);
   CHECK(res->get_header_value("Content-Type") == "text/javascript; charset=utf-8");
   CHECK(res->body == serve::Console::script());
+  CHECK(res->get_header_value("Cache-Control") == "max-age=300");
+  CHECK(res->get_header_value_count("Cache-Control") == 1);
   res = b.get("/console.css");
   REQUIRE(res);
   CHECK(res->body == serve::Console::stylesheet());

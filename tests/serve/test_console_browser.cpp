@@ -116,6 +116,9 @@ TEST_CASE(
       {{"op", "goto"}, {"url", x}},
       {{"op", "read"}},  // 39: the history has the restore with its reason
       shot("09-position-history-1280.png"),
+      {{"op", "submit"}, {"selector", "#live-diff"}},  // 41: the diff with the drive, as a report
+      {{"op", "read"}},
+      shot("10-live-diff-1280.png", false),
   });
   const json w = walk(rig.dir.path, steps);
   if (w.is_null()) return;
@@ -176,9 +179,12 @@ TEST_CASE(
   CHECK(has(39, reason));  // the reason, as text
   CHECK(has(39, "MAINT-4711"));
   CHECK(has(39, "night-shift"));
+  CHECK(s[42]["url"] == base + "/diff?name=press3%2Fx&from=HEAD&to=live");
+  CHECK(has(42, "drive press3/x (live)"));
+  CHECK(s[42]["value"]["scripts"] == 0);
   for (const char* f :
        {"01-signin-1280.png", "02-overview-1280.png", "03-overview-768.png",
         "04-position-drift-1280.png", "05-replace-1280.png", "06-plan-1280.png", "07-plan-768.png",
-        "08-restore-done-1280.png", "09-position-history-1280.png"})
+        "08-restore-done-1280.png", "09-position-history-1280.png", "10-live-diff-1280.png"})
     CHECK(fs::file_size(shots_dir() / f) > 5000);
 }
