@@ -69,6 +69,7 @@ TEST_CASE("serve: plan, execute, the restore job's progress and outcome, a commi
   REQUIRE(id.ok());
   rig.service->wait_idle();
   const auto job = plain(*rig.service->job(*id));
+  INFO(job.dump());
   CHECK(job["kind"] == "restore");
   CHECK(job["scope"] == "drive press3/z");
   CHECK(job["state"] == "done");
@@ -88,7 +89,7 @@ TEST_CASE("serve: plan, execute, the restore job's progress and outcome, a commi
   CHECK(git(archive, "log -1 --format=%s") == "fleet restore: press3/z <- press3/z.json at " +
                                                   head.substr(0, 12) +
                                                   " (HEAD): restored and verified\n");
-  CHECK(git(archive, "log -1 --format=%(trailers)") ==
+  CHECK(git(archive, "log -1 '--format=%(trailers)'") ==
         "Operator: ops\nReason: tuning lost after a repair\nTicket: CHG-4711\n\n");
 
   auto events = rig.take_events();
@@ -168,25 +169,25 @@ TEST_CASE("serve: plan and execute over HTTP; a viewer's token may not; who is t
   httplib::Client c("127.0.0.1", server.port);
   const httplib::Headers as_viewer{{"Authorization", "Bearer " + viewer}};
   const httplib::Headers as_op{{"Authorization", "Bearer " + op}};
-  write_axis(rig.dir.path / "b.json", 0x12, "0010", 7);
+  write_axis(rig.dir.path / "a.json", 0x11, "0010", 7);
 
-  auto res = c.Post("/api/v1/drives/press3/x/plan", as_viewer, "{}", "application/json");
+  auto res = c.Post("/api/v1/drives/press3/z/plan", as_viewer, "{}", "application/json");
   REQUIRE(res);
   CHECK(res->status == 403);
   CHECK(nlohmann::json::parse(res->body) ==
         nlohmann::json{{"error", "token 'grafana' has role viewer: POST needs role operator"},
                        {"exit_code", 2}});
-  res = c.Post("/api/v1/drives/press3/x/plan", as_op, "{\"rev\": 5}", "application/json");
+  res = c.Post("/api/v1/drives/press3/z/plan", as_op, "{\"rev\": 5}", "application/json");
   REQUIRE(res);
   CHECK(res->status == 400);
   CHECK(nlohmann::json::parse(res->body)["error"] == "\"rev\" must be a string");
   res =
-      c.Post("/api/v1/drives/press3/x/plan", as_op, "{\"rev\": \"nosuchrev\"}", "application/json");
+      c.Post("/api/v1/drives/press3/z/plan", as_op, "{\"rev\": \"nosuchrev\"}", "application/json");
   REQUIRE(res);
   CHECK(res->status == 404);
   CHECK(nlohmann::json::parse(res->body)["exit_code"] == 2);
 
-  res = c.Post("/api/v1/drives/press3/x/plan", as_op, "{\"rev\": \"HEAD\"}", "application/json");
+  res = c.Post("/api/v1/drives/press3/z/plan", as_op, "{\"rev\": \"HEAD\"}", "application/json");
   REQUIRE(res);
   REQUIRE(res->status == 200);
   const auto plan = nlohmann::json::parse(res->body);
@@ -208,20 +209,21 @@ TEST_CASE("serve: plan and execute over HTTP; a viewer's token may not; who is t
   res = c.Get("/api/v1/jobs/" + job_id, as_viewer);
   REQUIRE(res);
   const auto job = nlohmann::json::parse(res->body);
+  INFO(job.dump());
   CHECK(job["state"] == "done");
   CHECK(job["outcome"] == "restored and verified");
-  CHECK(git(rig.dir.path / "archive", "log -1 --format=%(trailers)") ==
+  CHECK(git(rig.dir.path / "archive", "log -1 '--format=%(trailers)'") ==
         "Operator: maria\nReason: drift\nTicket: T-1\n\n");
 
   // An API backup records who asked for it.
-  write_axis(rig.dir.path / "b.json", 0x12, "0010", 8);
-  res = c.Post("/api/v1/drives/press3/x/backup", as_op, "", "application/json");
+  write_axis(rig.dir.path / "a.json", 0x11, "0010", 8);
+  res = c.Post("/api/v1/drives/press3/z/backup", as_op, "", "application/json");
   REQUIRE(res);
   CHECK(res->status == 202);
   rig.service->wait_idle();
   CHECK(git(rig.dir.path / "archive", "log -1 --format=%s") ==
         "fleet backup: 1 changed, 0 unchanged, 0 new, 0 failed\n");
-  CHECK(git(rig.dir.path / "archive", "log -1 --format=%(trailers)") == "Operator: maria\n\n");
+  CHECK(git(rig.dir.path / "archive", "log -1 '--format=%(trailers)'") == "Operator: maria\n\n");
 }
 
 TEST_CASE("serve: diff of a position between revisions and to the live drive; its HTML report",
@@ -242,7 +244,7 @@ TEST_CASE("serve: diff of a position between revisions and to the live drive; it
   CHECK(d["differences"][0]["b"] == "7");
   CHECK(plain(*rig.service->diff("press3/z", "HEAD", "live"))["differences"].empty());
 
-  rig.service->backup_drive("press3/x");
+  REQUIRE(rig.service->backup_drive("press3/x").ok());
   rig.service->wait_idle();
   auto revs = rig.service->diff("press3/x", first, "HEAD");
   REQUIRE(revs.ok());
@@ -315,30 +317,31 @@ TEST_CASE("serve: on_replaced = restore puts the archived file on a factory-fres
   rig.at(t0);
   const auto archive = rig.dir.path / "archive";
   const std::string head = git(archive, "rev-parse HEAD").substr(0, 40);
-  write_fresh_axis(rig.dir.path / "b.json", 0x12);
+  write_fresh_axis(rig.dir.path / "a.json", 0x11);
   rig.at(t0 + 15min);
   auto events = rig.take_events();
   REQUIRE(events.size() == 2);
   CHECK(events[0]["event"] == "replaced");
   CHECK(events[0]["on_replaced"] == "restore");
   CHECK(events[1]["event"] == "restored");
-  CHECK(events[1]["drive"] == "press3/x");
+  CHECK(events[1]["drive"] == "press3/z");
   CHECK(events[1]["automatic"] == true);
   CHECK(events[1]["outcome"] == "restored and verified");
-  CHECK(git(archive, "log -1 --format=%s") == "fleet restore: press3/x <- press3/x.json at " +
+  CHECK(git(archive, "log -1 --format=%s") == "fleet restore: press3/z <- press3/z.json at " +
                                                   head.substr(0, 12) +
                                                   " (automatic: factory-fresh drive found)\n");
-  CHECK(git(archive, "log -1 --format=%(trailers)") ==
+  CHECK(git(archive, "log -1 '--format=%(trailers)'") ==
         "Operator: lmcfg serve (automatic)\nReason: factory-fresh drive found at the "
         "position\n\n");
-  CHECK((*rig.service->drive("press3/x"))["status"] == "ok");
-  CHECK(rom_of(rig.dir.path / "b.json", "0010") == 5);
+  CHECK((*rig.service->drive("press3/z"))["status"] == "ok");
+  CHECK(rom_of(rig.dir.path / "a.json", "0010") == 5);
 
   // The drive matches the archive: the next drift check finds nothing.
   rig.at(t0 + 30min);
+  INFO(plain(*rig.service->diff("press3/z", "HEAD", "live")).dump());
   CHECK(rig.take_events().empty());
-  CHECK((*rig.service->drive("press3/x"))["status"] == "ok");
-  CHECK(plain(*rig.service->diff("press3/x", "HEAD", "live"))["differences"].empty());
+  CHECK((*rig.service->drive("press3/z"))["status"] == "ok");
+  CHECK(plain(*rig.service->diff("press3/z", "HEAD", "live"))["differences"].empty());
 }
 
 TEST_CASE("serve: the daily summary counts positions per status when a day begins",

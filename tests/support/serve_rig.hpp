@@ -48,12 +48,19 @@ inline int exit_code_of(const Error& e) {
 inline const std::string kFixtures = std::string(LMCFG_SOURCE_DIR) + "/tests/fixtures/sim/";
 
 // The commissioned axis at MACID `id`, with UPID `upid` set to `value` (ROM and RAM).
-// The same drive as it leaves the factory: every ROM and RAM value at its
-// default, no curve, no command table entry (LinRS §10.2: nothing modified).
+// A new drive put at the position: every ROM and RAM value at its default
+// (LinRS §10.2: nothing modified) except the LinRS settings a technician sets
+// to put it on the line (baud rate and MACID source and value, 200Eh, 2012h,
+// 206Ch, 2076h, as the commissioned axis has them); no curve, no command
+// table entry.
 inline void write_fresh_axis(const fs::path& path, int id) {
   auto j = nlohmann::json::parse(slurp(kFixtures + "commissioned-axis.json"));
   j["macid"] = hex(static_cast<std::uint32_t>(id), 2, "");
-  for (auto& p : j["parameters"]) p["rom"] = p["ram"] = p["default"];
+  for (auto& p : j["parameters"]) {
+    const std::string upid = p["upid"];
+    if (upid != "200E" && upid != "2012" && upid != "206C" && upid != "2076")
+      p["rom"] = p["ram"] = p["default"];
+  }
   j["curves"] = {{"flash", nlohmann::json::array()}};
   j["command_table"] = {{"flash", nlohmann::json::array()}};
   spit(path, j.dump(1));
@@ -74,19 +81,19 @@ struct Rig {
   std::vector<nlohmann::json> events;
   std::unique_ptr<serve::Service> service;
 
-  // extra_toml: top-level keys and tables; line_toml: keys of the line;
-  // line_name: the line's name as TOML; z_toml: keys of press3/z (labels).
+  // extra_toml: top-level keys (before [schedule]); line_toml: keys of the
+  // line; line_name: the line's name as TOML; z_toml: keys of press3/z (labels).
   explicit Rig(const std::string& extra_toml = "", const std::string& line_toml = "",
                const std::string& line_name = "\"line1\"", const std::string& z_toml = "") {
     ops::register_link_scheme("sim", sim::state_file_link_factory());
     write_axis(dir.path / "a.json", 0x11);
     write_axis(dir.path / "b.json", 0x12);
-    const std::string text = "[schedule]\nbackup_every = \"6h\"\nstatus_every = \"15m\"\n" +
-                             extra_toml + "[[line]]\nname = " + line_name +
-                             "\nport = \"sim:" + (dir.path / "a.json").string() + "," +
-                             (dir.path / "b.json").string() + "\"\nignore = [\"0020h\"]\n" +
-                             line_toml + "[[line.drive]]\nname = \"press3/z\"\nid = 0x11\n" +
-                             z_toml + "[[line.drive]]\nname = \"press3/x\"\nid = 0x12\n";
+    const std::string text =
+        extra_toml + "[schedule]\nbackup_every = \"6h\"\nstatus_every = \"15m\"\n" +
+        "[[line]]\nname = " + line_name + "\nport = \"sim:" + (dir.path / "a.json").string() + "," +
+        (dir.path / "b.json").string() + "\"\nignore = [\"0020h\"]\n" + line_toml +
+        "[[line.drive]]\nname = \"press3/z\"\nid = 0x11\n" + z_toml +
+        "[[line.drive]]\nname = \"press3/x\"\nid = 0x12\n";
     auto inv = fleet::parse_inventory(text, "plant.toml");
     INFO((inv.ok() ? "" : inv.error().message));
     REQUIRE(inv.ok());
