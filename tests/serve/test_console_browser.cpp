@@ -7,6 +7,7 @@
 // found in the position's history. Screenshots of each page at 1280 px and
 // 768 px are kept in build/tests/console-shots/.
 #include <catch2/catch.hpp>
+#include <map>
 #include <nlohmann/json.hpp>
 
 #include "browser.hpp"
@@ -55,14 +56,16 @@ TEST_CASE(
     "console in Chromium: sign in as operator, overview at 1280 and 768 px, back up a "
     "drifted position, replace a drive through plan, confirm, progress and verify",
     "[serve][console][browser]") {
+  // press3/z (the line's first drive, with hostile labels) is swapped for a
+  // factory-fresh drive; press3/x is tuned by hand.
   test::Rig rig("", "", "\"line1\"",
                 "labels = { machine = \"press3\", note = \"<img src=x onerror=alert(1)>\" }\n");
-  rig.at(rig.now);                                             // the first backup and drift check
-  test::write_axis(rig.dir.path / "a.json", 0x11, "0010", 7);  // press3/z tuned by hand
-  test::write_fresh_axis(rig.dir.path / "b.json", 0x12);       // press3/x swapped for a new drive
+  rig.at(rig.now);  // the first backup and drift check
+  test::write_fresh_axis(rig.dir.path / "a.json", 0x11);
+  test::write_axis(rig.dir.path / "b.json", 0x12, "0010", 7);
   rig.at(rig.now + 15min);
-  REQUIRE((*rig.service->drive("press3/z"))["status"] == "drift");
-  REQUIRE((*rig.service->drive("press3/x"))["status"] == "replaced");
+  REQUIRE((*rig.service->drive("press3/z"))["status"] == "replaced");
+  REQUIRE((*rig.service->drive("press3/x"))["status"] == "drift");
 
   const std::string tokens_file = (rig.dir.path / "tokens").string();
   const std::string op = *serve::add_token(tokens_file, "night-shift", serve::Role::operator_);
@@ -70,56 +73,65 @@ TEST_CASE(
   copt.clock = [&rig] { return rig.now; };
   test::Server server(*rig.service, *serve::load_tokens(tokens_file), copt);
   const std::string base = "http://127.0.0.1:" + std::to_string(server.port);
-  const std::string z = base + "/position?name=press3%2Fz";
-  const std::string x = base + "/position?name=press3%2Fx";
+  const std::string replaced = base + "/position?name=press3%2Fz";
+  const std::string drifted = base + "/position?name=press3%2Fx";
   const std::string reason = "encoder fault, drive swapped <b>&amp;</b>";
 
-  json steps = json::array({
-      {{"op", "goto"}, {"url", z}},  // 0: no session: the sign-in page
-      {{"op", "read"}},
-      shot("01-signin-1280.png", false),
-      {{"op", "fill"}, {"selector", "#token"}, {"value", op}},
-      {{"op", "submit"}, {"selector", "form.card button[type=submit]"}},  // 4: back to press3/z
-      {{"op", "read"}},
-      {{"op", "goto"}, {"url", base + "/"}},  // 6
-      {{"op", "read"}},
-      {{"op", "tab"}, {"count", 1}},  // 8: the skip link, focus visible
-      shot("02-overview-1280.png"),
-      {{"op", "viewport"}, {"width", 768}, {"height", 1024}},  // 10
-      {{"op", "read"}},
-      shot("03-overview-768.png"),
-      {{"op", "viewport"}, {"width", 1280}, {"height", 900}},
-      {{"op", "goto"}, {"url", z}},  // 14: labels as text
-      {{"op", "read"}},
-      shot("04-position-drift-1280.png"),
-      {{"op", "submit"}, {"selector", "#backup-now"}},  // 17: the job page
-      {{"op", "wait"}, {"selector", ".job-state[data-state=done]"}, {"timeout_ms", 20000}},
-      {{"op", "read"}},              // 19
-      {{"op", "goto"}, {"url", x}},  // 20: the replaced drive
-      {{"op", "submit"}, {"selector", "#replace"}},
-      {{"op", "read"}},  // 22: which revision
-      shot("05-replace-1280.png"),
-      {{"op", "submit"}, {"selector", "#plan"}},  // 24: the drive read, the plan
-      {{"op", "read"}},
-      shot("06-plan-1280.png"),
-      {{"op", "viewport"}, {"width", 768}, {"height", 1024}},
-      {{"op", "read"}},  // 28
-      shot("07-plan-768.png"),
-      {{"op", "viewport"}, {"width", 1280}, {"height", 900}},
-      {{"op", "fill"}, {"selector", "#reason"}, {"value", reason}},
-      {{"op", "fill"}, {"selector", "#ticket"}, {"value", "MAINT-4711"}},
-      {{"op", "submit"}, {"selector", "#execute"}},  // 33: the restore job's progress
-      {{"op", "eval"}, {"expression", "document.querySelector('progress') !== null"}},
-      {{"op", "wait"}, {"selector", ".job-state[data-state=done]"}, {"timeout_ms", 30000}},
-      {{"op", "read"}},  // 36: the verify result and the commit
-      shot("08-restore-done-1280.png"),
-      {{"op", "goto"}, {"url", x}},
-      {{"op", "read"}},  // 39: the history has the restore with its reason
-      shot("09-position-history-1280.png"),
-      {{"op", "submit"}, {"selector", "#live-diff"}},  // 41: the diff with the drive, as a report
-      {{"op", "read"}},
-      shot("10-live-diff-1280.png", false),
-  });
+  // Each step may have a name: its result is looked up by it.
+  json steps = json::array();
+  std::map<std::string, std::size_t> named;
+  auto step = [&](json st, const std::string& name = "") {
+    if (!name.empty()) named[name] = steps.size();
+    steps.push_back(std::move(st));
+  };
+  auto read = [&](const std::string& name) { step({{"op", "read"}}, name); };
+  step({{"op", "goto"}, {"url", drifted}});  // no session: the sign-in page
+  read("signin");
+  step(shot("01-signin-1280.png", false));
+  step({{"op", "fill"}, {"selector", "#token"}, {"value", op}});
+  step({{"op", "submit"}, {"selector", "form.card button[type=submit]"}});  // back to press3/x
+  read("signed-in");
+  step({{"op", "goto"}, {"url", base + "/"}});
+  read("overview");
+  step({{"op", "tab"}, {"count", 1}}, "tab");  // the skip link, focus visible
+  step(shot("02-overview-1280.png"));
+  step({{"op", "viewport"}, {"width", 768}, {"height", 1024}});
+  read("overview-768");
+  step(shot("03-overview-768.png"));
+  step({{"op", "viewport"}, {"width", 1280}, {"height", 900}});
+  step({{"op", "goto"}, {"url", drifted}});
+  step(shot("04-position-drift-1280.png"));
+  step({{"op", "submit"}, {"selector", "#backup-now"}});  // the backup job's page
+  step({{"op", "wait"}, {"selector", ".job-state[data-state=done]"}, {"timeout_ms", 20000}},
+       "backup-done");
+  read("backup-job");
+  step({{"op", "goto"}, {"url", replaced}});
+  read("replaced");  // the labels, as text
+  step({{"op", "submit"}, {"selector", "#replace"}});
+  read("replace");  // which revision
+  step(shot("05-replace-1280.png"));
+  step({{"op", "submit"}, {"selector", "#plan"}});  // the drive read, the plan
+  read("plan");
+  step(shot("06-plan-1280.png"));
+  step({{"op", "viewport"}, {"width", 768}, {"height", 1024}});
+  read("plan-768");
+  step(shot("07-plan-768.png"));
+  step({{"op", "viewport"}, {"width", 1280}, {"height", 900}});
+  step({{"op", "fill"}, {"selector", "#reason"}, {"value", reason}});
+  step({{"op", "fill"}, {"selector", "#ticket"}, {"value", "MAINT-4711"}});
+  step({{"op", "submit"}, {"selector", "#execute"}});  // the restore job's progress
+  step({{"op", "eval"}, {"expression", "document.querySelector('progress') !== null"}}, "progress");
+  step({{"op", "wait"}, {"selector", ".job-state[data-state=done]"}, {"timeout_ms", 30000}},
+       "restore-done");
+  read("restore-job");  // the verify result and the commit
+  step(shot("08-restore-done-1280.png"));
+  step({{"op", "goto"}, {"url", replaced}});
+  read("history");  // the restore with its reason
+  step(shot("09-position-history-1280.png"));
+  step({{"op", "submit"}, {"selector", "#live-diff"}});  // the diff with the drive, as a report
+  read("live-diff");
+  step(shot("10-live-diff-1280.png", false));
+
   const json w = walk(rig.dir.path, steps);
   if (w.is_null()) return;
   const auto& s = w["steps"];
@@ -127,61 +139,62 @@ TEST_CASE(
   CHECK(w["console_errors"] == json::array());
   CHECK(w["requests"] == json::array());  // nothing from outside the console
   CHECK(w["dialogs"] == json::array());   // no hostile label ran
-  auto text = [&](std::size_t i) { return s[i]["value"]["text"].get<std::string>(); };
-  auto has = [&](std::size_t i, const std::string& needle) {
-    INFO("step " << i << ": " << needle);
-    return text(i).find(needle) != std::string::npos;
+  auto at = [&](const std::string& name) -> const json& { return s[named.at(name)]; };
+  auto has = [&](const std::string& name, const std::string& needle) {
+    INFO("step " << name << ": " << needle);
+    return at(name)["value"]["text"].get<std::string>().find(needle) != std::string::npos;
   };
 
-  CHECK(s[1]["value"]["h1"] == "Sign in");
-  CHECK(s[1]["url"].get<std::string>().rfind(base + "/signin?next=", 0) == 0);
-  CHECK(s[5]["url"] == z);
-  CHECK(s[5]["value"]["h1"].get<std::string>().rfind("press3/z", 0) == 0);
-  CHECK(has(5, "night-shift (operator)"));
+  CHECK(at("signin")["value"]["h1"] == "Sign in");
+  CHECK(at("signin")["url"].get<std::string>().rfind(base + "/signin?next=", 0) == 0);
+  CHECK(at("signed-in")["url"] == drifted);
+  CHECK(at("signed-in")["value"]["h1"].get<std::string>().rfind("press3/x", 0) == 0);
+  CHECK(has("signed-in", "night-shift (operator)"));
 
-  CHECK(has(7, "2 positions"));
-  CHECK(s[7]["value"]["scripts"] == 0);  // no inline script: the CSP would block it
-  CHECK(s[8]["value"]["text"] == "Skip to content");
-  CHECK(s[8]["value"]["outline"] == "solid");
-  CHECK(s[8]["value"]["outline_width"].get<double>() >= 2);
-  CHECK(s[11]["value"]["width"].get<int>() <= 768);  // no sideways scrolling on a tablet
+  CHECK(has("overview", "2 positions"));
+  CHECK(at("overview")["value"]["scripts"] == 0);  // no inline script: the CSP would block it
+  CHECK(at("tab")["value"]["text"] == "Skip to content");
+  CHECK(at("tab")["value"]["outline"] == "solid");
+  CHECK(at("tab")["value"]["outline_width"].get<double>() >= 2);
+  CHECK(at("overview-768")["value"]["width"].get<int>() <= 768);  // no sideways scrolling
 
-  CHECK(has(15, "<img src=x onerror=alert(1)>"));
-  CHECK(s[15]["value"]["handlers"] == 0);
+  CHECK(at("backup-done")["value"] == true);  // the script's refresh showed the job finished
+  CHECK(at("backup-job")["url"].get<std::string>().rfind(base + "/job?id=", 0) == 0);
+  CHECK(has("backup-job", "Committed:"));
 
-  CHECK(s[18]["value"] == true);  // the script's refresh showed the job finished
-  CHECK(s[19]["url"].get<std::string>().rfind(base + "/job?id=", 0) == 0);
-  CHECK(has(19, "Committed:"));
+  CHECK(has("replaced", "<img src=x onerror=alert(1)>"));
+  CHECK(at("replaced")["value"]["handlers"] == 0);
+  CHECK(at("replace")["url"] == base + "/replace?name=press3%2Fz");
+  CHECK(has("replace", "Check the drive and plan"));
+  CHECK(at("plan")["url"].get<std::string>().rfind(base + "/plan?id=", 0) == 0);
+  CHECK(has("plan", "A drive answers on line line1 as ID 11h."));
+  CHECK(has("plan", "It is factory-fresh"));
+  CHECK(has("plan", "What will be written"));
+  CHECK(at("plan-768")["value"]["width"].get<int>() <= 768);
 
-  CHECK(s[22]["url"] == base + "/replace?name=press3%2Fx");
-  CHECK(has(22, "Check the drive and plan"));
-  CHECK(s[25]["url"].get<std::string>().rfind(base + "/plan?id=", 0) == 0);
-  CHECK(has(25, "A drive answers on line line1 as ID 12h."));
-  CHECK(has(25, "It is factory-fresh"));
-  CHECK(has(25, "What will be written"));
-  CHECK(s[28]["value"]["width"].get<int>() <= 768);
+  CHECK(at("progress")["value"] == true);  // the progress bar
+  CHECK(at("restore-done")["value"] == true);
+  CHECK(at("restore-job")["url"].get<std::string>().rfind(base + "/job?id=", 0) == 0);
+  CHECK(has("restore-job", "Outcome: "));
+  CHECK(has("restore-job", "and verified"));
+  CHECK(has("restore-job", "asked by night-shift"));
+  CHECK(has("restore-job", "Recorded in the archive as commit"));
 
-  CHECK(s[34]["value"] == true);  // the progress bar
-  CHECK(s[35]["value"] == true);
-  CHECK(s[36]["url"].get<std::string>().rfind(base + "/job?id=", 0) == 0);
-  CHECK(has(36, "Outcome: "));
-  CHECK(has(36, "and verified"));
-  CHECK(has(36, "asked by night-shift"));
-  CHECK(has(36, "Recorded in the archive as commit"));
-
-  CHECK((*rig.service->drive("press3/x"))["status"] == "ok");
-  const auto h = *rig.service->history("press3/x");
+  CHECK((*rig.service->drive("press3/z"))["status"] == "ok");
+  const auto h = *rig.service->history("press3/z");
   REQUIRE(h.size() >= 2);
   const std::string record = h[0]["commit"];
   CHECK(h[0]["message"].get<std::string>().find("Reason: " + reason) != std::string::npos);
-  CHECK(has(36, record));
-  CHECK(has(39, record.substr(0, 10)));
-  CHECK(has(39, reason));  // the reason, as text
-  CHECK(has(39, "MAINT-4711"));
-  CHECK(has(39, "night-shift"));
-  CHECK(s[42]["url"] == base + "/diff?name=press3%2Fx&from=HEAD&to=live");
-  CHECK(has(42, "drive press3/x (live)"));
-  CHECK(s[42]["value"]["scripts"] == 0);
+  CHECK(has("restore-job", record));
+  CHECK(has("history", record.substr(0, 10)));
+  CHECK(has("history", reason));  // the reason, as text
+  CHECK(has("history", "MAINT-4711"));
+  CHECK(has("history", "night-shift"));
+
+  CHECK(at("live-diff")["url"] == base + "/diff?name=press3%2Fz&from=HEAD&to=live");
+  CHECK(has("live-diff", "drive press3/z (live)"));
+  CHECK(has("live-diff", "Identical"));  // restored: the drive holds the archived file
+  CHECK(at("live-diff")["value"]["scripts"] == 0);
   for (const char* f :
        {"01-signin-1280.png", "02-overview-1280.png", "03-overview-768.png",
         "04-position-drift-1280.png", "05-replace-1280.png", "06-plan-1280.png", "07-plan-768.png",
