@@ -180,8 +180,9 @@ Result<std::optional<CommitInfo>> Archive::commit(const std::vector<std::string>
   return std::optional<CommitInfo>(info_of(made.p));
 }
 
-Result<std::vector<HistoryEntry>> Archive::history(const std::string& path,
-                                                   std::size_t limit) const {
+Result<std::vector<HistoryEntry>> Archive::history(
+    const std::string& path, std::size_t limit,
+    const std::function<bool(const CommitInfo&)>& also) const {
   std::vector<HistoryEntry> out;
   if (unborn(repo_)) return out;
   const std::string where = "archive " + dir_ + ": history of " + path;
@@ -204,7 +205,7 @@ Result<std::vector<HistoryEntry>> Archive::history(const std::string& path,
     } else {
       changed = mine.has_value();
     }
-    if (!changed) continue;
+    if (!changed && !(also && also(info_of(c.p)))) continue;
     const git_signature* a = git_commit_author(c.p);
     out.push_back(HistoryEntry{
         info_of(c.p), static_cast<std::int64_t>(git_commit_time(c.p)),

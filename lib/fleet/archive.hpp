@@ -3,6 +3,7 @@
 // configuration file per drive position, <name>.json. Each fleet run is one
 // commit; history, review and replication are git's (docs/fleet.md).
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -49,7 +50,11 @@ class Archive {
                                           const std::string& rev = "HEAD") const;
   // The commits reachable from HEAD that changed `path` (added, modified or
   // removed it), newest first, at most `limit`. Empty without commits.
-  Result<std::vector<HistoryEntry>> history(const std::string& path, std::size_t limit = 100) const;
+  // `also`: commits kept although they leave the file as it was (the records
+  // a restore commits, which change no file).
+  Result<std::vector<HistoryEntry>> history(
+      const std::string& path, std::size_t limit = 100,
+      const std::function<bool(const CommitInfo&)>& also = nullptr) const;
   // Stages `paths` (files the caller wrote in the work tree) and commits them
   // with `message`. nullopt, and no commit, when the tree equals HEAD's,
   // unless allow_empty (a record such as "restored press3/z-axis").

@@ -398,42 +398,63 @@ std::string skipped_lines(const ops::Plan& p) {
 }
 }  // namespace
 
+Result<ArchivedFile> load_archived(const Inventory& inv, const Archive& archive,
+                                   const std::string& drive, const std::string& rev) {
+  const LineEntry* line = nullptr;
+  const DriveEntry* d = inv.find_drive(drive, &line);
+  if (!d) {
+    return Error(Errc::not_found, inv.path + ": no drive named '" + drive + "' in the inventory");
+  }
+  ArchivedFile f;
+  f.drive = d;
+  f.line = line;
+  f.rev = rev;
+  LMCFG_ASSIGN_OR_RETURN(auto source, archive.resolve(rev));
+  if (!source) return Error(Errc::not_found, "archive " + archive.dir() + " has no commit yet");
+  f.source = *source;
+  f.path = archive_path(*d);
+  LMCFG_ASSIGN_OR_RETURN(auto text, archive.read(f.path, source->id));
+  if (!text) {
+    return Error(Errc::not_found, "archive " + archive.dir() + " has no " + f.path + " at " + rev +
+                                      " (" + source->id.substr(0, 12) + ")");
+  }
+  f.file_name = f.path + "@" + source->id.substr(0, 12);
+  LMCFG_ASSIGN_OR_RETURN(f.config,
+                         config::read_config_text(*text, f.file_name, config::FileFormat::json));
+  return f;
+}
+
+std::string restore_record_message(const ArchivedFile& f, const ops::RestoreOutcome& outcome,
+                                   const ops::Audit& audit, const std::string& cause) {
+  const std::string at = f.source.id.substr(0, 12);
+  std::string message = "fleet restore: " + f.drive->name + " <- " + f.path + " at " + at;
+  // The outcome follows the revision asked for; an automatic restore names its cause
+  // in the subject and the outcome in the body.
+  message += cause.empty() ? " (" + f.rev + "): " + ops::outcome_name(outcome) + "\n"
+                           : " (" + cause + ")\n\n" + ops::outcome_name(outcome) + "\n";
+  message += "\nline " + f.line->name + " (" + f.line->port + "), MACID " +
+             hex(f.drive->id, 2, "h") + ", " + std::to_string(outcome.plan.steps.size()) +
+             " step(s)\n" + skipped_lines(outcome.plan);
+  if (outcome.error) message += "\n" + outcome.error->message + "\n";
+  const std::string tr = ops::trailers(audit);
+  if (!tr.empty()) message += "\n" + tr;
+  return message;
+}
+
 Result<FleetRestoreResult> fleet_restore(const Inventory& inv, Archive& archive,
                                          const FleetRestore& opt) {
-  const LineEntry* line = nullptr;
-  const DriveEntry* d = inv.find_drive(opt.drive, &line);
-  if (!d) {
-    return Error(Errc::not_found,
-                 inv.path + ": no drive named '" + opt.drive + "' in the inventory");
-  }
+  LMCFG_ASSIGN_OR_RETURN(auto f, load_archived(inv, archive, opt.drive, opt.rev));
   FleetRestoreResult res;
-  LMCFG_ASSIGN_OR_RETURN(auto source, archive.resolve(opt.rev));
-  if (!source) return Error(Errc::not_found, "archive " + archive.dir() + " has no commit yet");
-  res.source = *source;
-  const std::string path = archive_path(*d);
-  LMCFG_ASSIGN_OR_RETURN(auto text, archive.read(path, source->id));
-  if (!text) {
-    return Error(Errc::not_found, "archive " + archive.dir() + " has no " + path + " at " +
-                                      opt.rev + " (" + source->id.substr(0, 12) + ")");
-  }
-  const std::string file_name = path + "@" + source->id.substr(0, 12);
-  LMCFG_ASSIGN_OR_RETURN(auto file,
-                         config::read_config_text(*text, file_name, config::FileFormat::json));
+  res.source = f.source;
   ops::LinkOptions link = opt.link;
-  link.client.id = d->id;
+  link.client.id = f.drive->id;
   LMCFG_ASSIGN_OR_RETURN(auto session, ops::open_session(link));
-  res.outcome = opt.restore(*session, file, file_name);
+  res.outcome = opt.restore(*session, f.config, f.file_name);
   auto closed = session->close();
   if (res.outcome.written) {
-    std::string message = "fleet restore: " + d->name + " <- " + path + " at " +
-                          source->id.substr(0, 12) + " (" + opt.rev +
-                          "): " + ops::outcome_name(res.outcome) + "\n\nline " + line->name + " (" +
-                          line->port + "), MACID " + hex(d->id, 2, "h") + ", " +
-                          std::to_string(res.outcome.plan.steps.size()) + " step(s)\n" +
-                          skipped_lines(res.outcome.plan);
-    const std::string tr = ops::trailers(opt.audit);
-    if (!tr.empty()) message += "\n" + tr;
-    LMCFG_ASSIGN_OR_RETURN(res.record, archive.commit({}, message, true));
+    LMCFG_ASSIGN_OR_RETURN(
+        res.record,
+        archive.commit({}, restore_record_message(f, res.outcome, opt.audit, ""), true));
   }
   if (!closed.ok()) return closed.error();
   return res;

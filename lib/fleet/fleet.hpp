@@ -120,6 +120,28 @@ struct FleetRestoreResult {
   CommitInfo source;                 // the archive revision restored from
   std::optional<CommitInfo> record;  // the commit recording the restore (when written)
 };
+// A position's archived file at a revision, read and parsed: what a restore
+// of that position writes (fleet restore, the service's plan).
+struct ArchivedFile {
+  const DriveEntry* drive = nullptr;  // in the inventory it was loaded from
+  const LineEntry* line = nullptr;
+  std::string rev;        // as asked ("HEAD", a hash ...)
+  CommitInfo source;      // the commit it names
+  std::string path;       // "<name>.json"
+  std::string file_name;  // "<name>.json@<12 hex digits>" (messages, undo records)
+  config::DriveConfig config;
+};
+// Errc::not_found for a drive not in the inventory, an archive without a
+// commit or without the position's file at `rev`.
+Result<ArchivedFile> load_archived(const Inventory& inv, const Archive& archive,
+                                   const std::string& drive, const std::string& rev);
+// The message of the commit recording a restore of `f`: "fleet restore: NAME
+// <- NAME.json at REV (rev asked): OUTCOME", or with a `cause` "fleet restore:
+// NAME <- NAME.json at REV (CAUSE)" and the outcome in the body; the line,
+// MACID, steps, skipped values, the error of a failed restore, the audit trailers.
+std::string restore_record_message(const ArchivedFile& f, const ops::RestoreOutcome& outcome,
+                                   const ops::Audit& audit, const std::string& cause);
+
 // Restores position `drive`'s archived file (at rev) onto the drive now at that
 // position; when anything was written, records an empty commit naming the
 // position, the revision and the outcome.

@@ -97,6 +97,18 @@ class Checker {
     return out;
   }
 
+  // `on_replaced = "notify" | "restore"` (lmcfg serve: a factory-fresh drive
+  // found at a position the archive holds a file for).
+  std::optional<std::string> on_replaced(const toml::table& t) {
+    auto s = string(t, "on_replaced", "", false);
+    if (s && *s != "notify" && *s != "restore") {
+      problem(t.get("on_replaced")->source(),
+              "'on_replaced' must be \"notify\" or \"restore\", not '" + *s + "'");
+      return std::nullopt;
+    }
+    return s;
+  }
+
   std::optional<std::chrono::seconds> duration(const toml::table& t, std::string_view key) {
     const toml::node* n = t.get(key);
     if (!n) return std::nullopt;
@@ -118,7 +130,7 @@ class Checker {
   std::vector<std::string> problems_;
 };
 
-constexpr std::string_view kRootKeys[] = {"line", "schedule", "notify", "archive"};
+constexpr std::string_view kRootKeys[] = {"line", "schedule", "notify", "archive", "require_reason"};
 constexpr std::string_view kScheduleKeys[] = {"backup_every", "status_every"};
 constexpr std::string_view kNotifyKeys[] = {"webhook", "command"};
 constexpr std::string_view kArchiveKeys[] = {"push"};
@@ -134,8 +146,9 @@ constexpr std::string_view kLineKeys[] = {"name",
                                           "settle_ms",
                                           "agreeing_reads",
                                           "ignore",
+                                          "on_replaced",
                                           "drive"};
-constexpr std::string_view kDriveKeys[] = {"name", "id", "labels", "ignore"};
+constexpr std::string_view kDriveKeys[] = {"name", "id", "labels", "ignore", "on_replaced"};
 
 void read_drive(Checker& c, const toml::table& t, LineEntry& line) {
   const std::string where = "drive of line '" + line.name + "'";
@@ -173,6 +186,7 @@ void read_drive(Checker& c, const toml::table& t, LineEntry& line) {
     }
   }
   d.ignore = c.upids(t, "ignore");
+  d.on_replaced = c.on_replaced(t);
   line.drives.push_back(std::move(d));
 }
 
@@ -193,6 +207,7 @@ void read_line(Checker& c, const toml::table& t, std::size_t index, Inventory& i
   line.checksum = c.string(t, "checksum", "", false);
   line.checksum_coverage = c.string(t, "checksum_coverage", "", false);
   line.ignore = c.upids(t, "ignore");
+  line.on_replaced = c.on_replaced(t);
   if (const toml::node* drives = t.get("drive")) {
     const toml::array* a = drives->as_array();
     if (!a || !a->is_array_of_tables()) {
@@ -222,6 +237,12 @@ void read_service_tables(Checker& c, const toml::table& root, Inventory& inv) {
         inv.archive.push = *push;
       }
     }
+  }
+  if (const toml::node* n = root.get("require_reason")) {
+    if (!n->is_boolean())
+      c.problem(n->source(), "'require_reason' must be true or false");
+    else
+      inv.require_reason = n->as_boolean()->get();
   }
   if (const toml::node* n = root.get("schedule")) {
     if (!n->is_table()) {
@@ -328,6 +349,10 @@ Result<std::chrono::seconds> parse_duration(std::string_view text) {
   }
   if (n == 0) return Error(Errc::invalid_argument, expected);
   return std::chrono::seconds(n * unit);
+}
+
+bool restore_when_replaced(const LineEntry& line, const DriveEntry& d) {
+  return d.on_replaced.value_or(line.on_replaced.value_or("notify")) == "restore";
 }
 
 std::vector<std::uint16_t> ignored_upids(const LineEntry& line, const DriveEntry& d) {

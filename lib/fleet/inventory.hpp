@@ -41,6 +41,10 @@ struct DriveEntry {
   // UPIDs never compared (live or volatile values): `ignore = ["1037h"]`, with
   // the line's list added.
   std::vector<std::uint16_t> ignore;
+  // lmcfg serve, a factory-fresh drive at a position the archive holds a file
+  // for: "notify" (the event only) or "restore" (the archived file restored).
+  // Unset: the line's, else "notify".
+  std::optional<std::string> on_replaced;
   Position at;
 };
 
@@ -52,7 +56,8 @@ struct LineEntry {
   std::string port;
   std::optional<std::int64_t> baud, stop_bits, timeout_ms, retries, settle_ms, agreeing_reads;
   std::optional<std::string> parity, checksum, checksum_coverage;
-  std::vector<std::uint16_t> ignore;  // for every drive of the line
+  std::vector<std::uint16_t> ignore;       // for every drive of the line
+  std::optional<std::string> on_replaced;  // for every drive of the line without its own
   std::vector<DriveEntry> drives;
   Position at;
 };
@@ -81,6 +86,8 @@ struct Inventory {
   Schedule schedule;
   Notify notify;
   ArchiveSettings archive;
+  // `require_reason = true`: a write (a restore through the service) needs a reason.
+  bool require_reason = false;
   std::size_t drive_count() const;
   // nullptr when no drive has that name.
   const DriveEntry* find_drive(std::string_view name, const LineEntry** line = nullptr) const;
@@ -104,6 +111,8 @@ Result<void> check_ports(const Inventory& inv);
 // Errc::invalid_argument saying what is expected.
 Result<std::chrono::seconds> parse_duration(std::string_view text);
 
+// on_replaced of the drive, else of its line, is "restore".
+bool restore_when_replaced(const LineEntry& line, const DriveEntry& d);
 // The UPIDs a drive's comparison skips: its own `ignore` and its line's.
 std::vector<std::uint16_t> ignored_upids(const LineEntry& line, const DriveEntry& d);
 

@@ -169,6 +169,13 @@ struct Plan {
   bool nothing_to_do() const { return ok() && steps.empty(); }
 };
 
+// What differs between the target two plans of the same file found ("" when
+// it reads the same): each layer's modified list, the command table entries,
+// the curves (info blocks and sizes, data where both read it), then the steps
+// with their old values (the ROM reads behind them). A plan made earlier is
+// executed only while this is "" (lmcfg serve's plan/execute).
+std::string target_change(const Plan& planned, const Plan& now);
+
 // "stop_mc", "write_rom", ...: a step's `action` in plan_json.
 const char* action_name(PlanStep::Action a);
 

@@ -2,6 +2,8 @@
 
 #include <httplib.h>
 
+#include "serve/console_http.hpp"
+
 namespace lmcfg::serve {
 
 Result<ListenAddress> parse_listen(const std::string& text) {
@@ -66,6 +68,7 @@ struct HttpServer::Impl {
   HttpOptions opt;
   std::unique_ptr<httplib::Server> owned;
   httplib::Server& server;
+  std::unique_ptr<Console> console;  // its routes are registered by bind()
   Impl(Service& s, HttpOptions o)
       : service(s),
         opt(std::move(o)),
@@ -82,6 +85,7 @@ struct HttpServer::Impl {
     if (e.code == Errc::not_found) return 404;
     if (e.code == Errc::interrupted) return 503;  // the service is stopping
     if (e.code == Errc::invalid_argument) return 400;
+    if (e.code == Errc::plan_refused) return 409;  // the plan cannot be executed as it stands
     return 500;
   }
   // {"error": message, "exit_code": N}: N is the CLI's exit code for the same error.
@@ -123,6 +127,34 @@ struct HttpServer::Impl {
     return true;
   }
 
+  // Who is asking: the token's name; without tokens "local".
+  std::string who(const httplib::Request& req) const {
+    if (!opt.tokens) return "local";
+    const auto header = req.get_header_value("Authorization");
+    const TokenEntry* t = find_token(*opt.tokens, std::string_view(header).substr(7));
+    return t ? t->name : "local";
+  }
+  // The request's JSON object body ("" = {}); false: the 400 answer is written.
+  static bool body(const httplib::Request& req, httplib::Response& res, Json& out) {
+    if (req.body.empty()) {
+      out = Json::object();
+      return true;
+    }
+    out = Json::parse(req.body, nullptr, false);
+    if (!out.is_object()) {
+      error(res, 400, "the request body is not a JSON object", 2);
+      return false;
+    }
+    return true;
+  }
+  static std::string text(const Json& j, const char* key, httplib::Response& res, bool& ok) {
+    if (!j.contains(key) || j[key].is_null()) return "";
+    if (j[key].is_string()) return j[key].get<std::string>();
+    error(res, 400, std::string("\"") + key + "\" must be a string", 2);
+    ok = false;
+    return "";
+  }
+
   void routes() {
     auto guard = [this](auto handler) {
       return [this, handler](const httplib::Request& req, httplib::Response& res) {
@@ -142,6 +174,22 @@ struct HttpServer::Impl {
                  auto h = service.history(req.matches[1]);
                  h.ok() ? json(res, *h) : error(res, h.error());
                }));
+    server.Get(R"(/api/v1/drives/(.+)/diff)",
+               guard([this](const httplib::Request& req, httplib::Response& res) {
+                 if (!req.has_param("from")) {
+                   error(res, 400, "from=REV is needed (to=REV or to=live, default live)", 2);
+                   return;
+                 }
+                 const std::string to = req.has_param("to") ? req.get_param_value("to") : "live";
+                 auto d = service.diff(req.matches[1], req.get_param_value("from"), to);
+                 d.ok() ? json(res, *d) : error(res, d.error());
+               }));
+    server.Get(R"(/api/v1/drives/(.+)/report)",
+               guard([this](const httplib::Request& req, httplib::Response& res) {
+                 auto r = service.report_html(req.matches[1], req.get_param_value("rev"));
+                 if (!r.ok()) return error(res, r.error());
+                 res.set_content(*r, "text/html; charset=utf-8");
+               }));
     server.Get(R"(/api/v1/drives/(.+))",
                guard([this](const httplib::Request& req, httplib::Response& res) {
                  auto d = service.drive(req.matches[1]);
@@ -149,12 +197,39 @@ struct HttpServer::Impl {
                }));
     server.Post(R"(/api/v1/drives/(.+)/backup)",
                 guard([this](const httplib::Request& req, httplib::Response& res) {
-                  auto id = service.backup_drive(req.matches[1]);
+                  auto id = service.backup_drive(req.matches[1], who(req));
                   id.ok() ? json(res, Json{{"job", *id}}, 202) : error(res, id.error());
                 }));
     server.Post(R"(/api/v1/lines/(.+)/backup)",
                 guard([this](const httplib::Request& req, httplib::Response& res) {
-                  auto id = service.backup_line(req.matches[1]);
+                  auto id = service.backup_line(req.matches[1], who(req));
+                  id.ok() ? json(res, Json{{"job", *id}}, 202) : error(res, id.error());
+                }));
+    server.Post(R"(/api/v1/drives/(.+)/plan)",
+                guard([this](const httplib::Request& req, httplib::Response& res) {
+                  Json b;
+                  bool ok = body(req, res, b);
+                  const std::string rev = ok ? text(b, "rev", res, ok) : "";
+                  if (!ok) return;
+                  auto p = service.plan(req.matches[1], rev, who(req));
+                  p.ok() ? json(res, *p) : error(res, p.error());
+                }));
+    server.Post(R"(/api/v1/plans/([0-9a-f]+)/execute)",
+                guard([this](const httplib::Request& req, httplib::Response& res) {
+                  Json b;
+                  bool ok = body(req, res, b);
+                  Service::ExecuteRequest er;
+                  er.plan_id = req.matches[1];
+                  er.audit.who = who(req);
+                  if (ok) er.audit.reason = text(b, "reason", res, ok);
+                  if (ok) er.audit.ticket = text(b, "ticket", res, ok);
+                  if (!ok) return;
+                  if (b.contains("skip_incompatible")) {
+                    if (!b["skip_incompatible"].is_boolean())
+                      return error(res, 400, "\"skip_incompatible\" must be true or false", 2);
+                    er.skip_incompatible = b["skip_incompatible"].get<bool>();
+                  }
+                  auto id = service.execute(er);
                   id.ok() ? json(res, Json{{"job", *id}}, 202) : error(res, id.error());
                 }));
     server.Get(R"(/api/v1/jobs/([0-9]+))",
@@ -187,6 +262,11 @@ HttpServer::HttpServer(Service& service, HttpOptions opt)
 HttpServer::~HttpServer() = default;
 
 Result<int> HttpServer::bind() {
+  if (!impl_->console) {
+    LMCFG_ASSIGN_OR_RETURN(impl_->console,
+                           Console::create(impl_->service, impl_->opt.tokens, impl_->opt.console));
+    register_console_routes(impl_->server, *impl_->console);
+  }
   const auto& a = impl_->opt.listen;
   if (!impl_->server.is_valid()) return tls_files_error(impl_->opt);
   const int port = a.port == 0 ? impl_->server.bind_to_any_port(a.host.c_str())

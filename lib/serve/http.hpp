@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "common/result.hpp"
+#include "serve/console.hpp"
 #include "serve/service.hpp"
 #include "serve/tokens.hpp"
 
@@ -34,6 +35,7 @@ struct HttpOptions {
   // HTTPS (cpp-httplib's SSLServer, OpenSSL) with this PEM certificate (chain)
   // and private key; both empty: plain HTTP.
   std::string tls_cert, tls_key;
+  ConsoleOptions console;                      // the web console's sessions (docs/console.md)
 };
 
 // Whether `opt` may be served: a non-loopback address needs tokens and TLS,
@@ -48,7 +50,8 @@ class HttpServer {
   HttpServer(Service& service, HttpOptions opt);
   ~HttpServer();
   // Binds the address; the port bound (the free one chosen for port 0).
-  // Errc::io_error naming the address when it cannot be bound;
+  // Errc::io_error naming the address when it cannot be bound (or when the
+  // console finds no random bytes for its CSRF token);
   // Errc::file_error naming the files when the certificate or key cannot be loaded.
   Result<int> bind();
   // Serves until stop() (from another thread).

@@ -5,13 +5,22 @@
 #include <condition_variable>
 #include <ctime>
 #include <deque>
+#include <future>
 #include <map>
 #include <mutex>
+#include <random>
 #include <thread>
 
 #include "common/bytes.hpp"
 #include "common/layers.hpp"
+#include "config/atomic_file.hpp"
+#include "config/config_io.hpp"
 #include "fleet/archive.hpp"
+#include "ops/diff.hpp"
+#include "ops/recovery.hpp"
+#include "ops/report.hpp"
+#include "ops/restore_run.hpp"
+#include "ops/undo.hpp"
 
 namespace lmcfg::serve {
 
@@ -26,8 +35,14 @@ std::string iso_time(TimePoint t) {
 
 namespace {
 
-enum class Kind { backup, status };
-const char* kind_name(Kind k) { return k == Kind::backup ? "backup" : "status"; }
+// Who an automatic restore records as its operator, and why.
+constexpr const char* kAutomatic = "lmcfg serve (automatic)";
+constexpr const char* kReplacedCause = "factory-fresh drive found at the position";
+
+enum class Kind { backup, status, restore };
+const char* kind_name(Kind k) {
+  return k == Kind::backup ? "backup" : (k == Kind::status ? "status" : "restore");
+}
 
 double epoch_seconds(TimePoint t) {
   return std::chrono::duration<double>(t.time_since_epoch()).count();
@@ -39,16 +54,89 @@ struct Job {
   std::string scope;  // "drive NAME", "line NAME", "scheduled"
   TimePoint created;
   std::size_t total = 0, done = 0, lines_left = 0;
-  std::size_t changed = 0, unchanged = 0, added = 0, failed = 0;
+  std::size_t changed = 0, unchanged = 0, added = 0, failed = 0, replaced = 0;
   std::vector<std::string> commits, errors;
   bool started = false;  // a line's worker has taken it up
   std::optional<TimePoint> finished;
+  std::string who;  // asked for by (API token's name, "local"); "" = scheduled
+  // Restore jobs: the steps as they run, the outcome and its commit.
+  bool failed_job = false;
+  std::size_t step_done = 0, step_total = 0;
+  std::string step, outcome, message, commit;
+  std::optional<int> exit_code;
 };
 
 struct Task {
   std::shared_ptr<Job> job;
   std::vector<std::string> only;  // drive names; empty = the whole line
+  // Work other than a backup or drift check (plans, restores, live reads), run
+  // on the line's worker: fn(true); fn(false) when the service stops first.
+  std::function<void(bool run)> fn;
 };
+
+// A plan made for the API: what execute() needs, kept until it expires.
+struct StoredPlan {
+  std::string id;
+  fleet::ArchivedFile file;
+  std::size_t line = 0;
+  ops::Plan plan;
+  std::string who;
+  TimePoint expires;
+};
+
+// A restore the service began and has not finished: written before the
+// first write, removed after the outcome is recorded; a start that finds one
+// (the service was killed mid-restore) runs the restore again, which converges.
+struct PendingRestore {
+  std::string drive, commit, who, reason, ticket, cause;
+  bool skip_incompatible = false;
+};
+
+// "press3/z" and MACID 11h on line "line1": "line1-11h.json" (names are
+// archive paths, so '/' cannot be in a file name; a line's MACIDs are unique).
+std::string pending_name(const fleet::LineEntry& line, const fleet::DriveEntry& d) {
+  std::string n = line.name + "-" + hex(d.id, 2, "h") + ".json";
+  for (char& c : n)
+    if (c == '/') c = '_';
+  return n;
+}
+
+std::string random_id() {
+  std::random_device rd;
+  std::string id;
+  for (int i = 0; i < 4; ++i) id += hex(rd(), 8, "");
+  for (char& c : id) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return id;
+}
+
+// Factory state as LinRS can see it: "With this functionality the whole
+// parameter configuration of the servo controller could be read out" (LinRS
+// §10.2): nothing modified means factory values. The MACID and baud rate a
+// technician must set to put a new drive at the position (LinRS §3.2 "By
+// Parameter", §10.2's example lists exactly those) and the position's ignored
+// UPIDs do not count; no curve, no command table entry.
+bool fresh_upid(std::uint16_t upid, const db::Database& db,
+                const std::vector<std::uint16_t>& ignored) {
+  return ops::is_comm_parameter(db, upid) ||
+         std::find(ignored.begin(), ignored.end(), upid) != ignored.end();
+}
+bool factory_fresh(const config::DriveConfig& cfg, const db::Database& db,
+                   const std::vector<std::uint16_t>& ignored) {
+  if (cfg.devicenet || !cfg.curves.empty() || !cfg.ct_entries.empty()) return false;
+  for (const auto& layer : cfg.layers)
+    for (const auto& p : layer)
+      if (!fresh_upid(p.upid, db, ignored)) return false;
+  return true;
+}
+// The same of what a restore plan read of the target.
+bool factory_fresh(const ops::TargetSeen& t, const db::Database& db,
+                   const std::vector<std::uint16_t>& ignored) {
+  if ((t.ct_entries && !t.ct_entries->empty()) || (t.curves && !t.curves->empty())) return false;
+  for (const auto& layer : t.layers)
+    for (const auto& p : layer.value_or(std::vector<client::ModifiedParam>{}))
+      if (!fresh_upid(p.upid, db, ignored)) return false;
+  return true;
+}
 
 // What the service knows about one position.
 struct DriveState {
@@ -120,8 +208,72 @@ struct Service::Impl {
   } push;
   std::condition_variable push_cv;
   std::thread pusher;
+  std::map<std::string, StoredPlan> plans;  // by id (under mu)
+  // pending/ (restores begun), lmcfg/ (recovery and undo records, laid out as
+  // $XDG_STATE_HOME/lmcfg is for the CLI: XDG_STATE_HOME=<state_dir> lmcfg undo --list)
+  std::filesystem::path state_dir;
+  std::optional<std::int64_t> summary_day;  // days since the epoch of the last summary
 
   Impl(ServiceOptions o, fleet::Archive a) : opt(std::move(o)), archive(std::move(a)) {}
+
+  std::size_t line_index(const fleet::LineEntry* l) const {
+    return static_cast<std::size_t>(l - opt.inventory.lines.data());
+  }
+  ops::LinkOptions link_for(std::size_t line, const fleet::DriveEntry& d) const {
+    ops::LinkOptions l = opt.links[line];
+    l.client.id = d.id;
+    return l;
+  }
+
+  // Runs `fn` on the line's worker (after what is queued there) and waits for it.
+  template <class T>
+  Result<T> on_worker(std::size_t line, std::function<Result<T>()> fn) {
+    auto promise = std::make_shared<std::promise<Result<T>>>();
+    auto future = promise->get_future();
+    {
+      std::lock_guard<std::mutex> lock(mu);
+      if (stopping) return Error(Errc::interrupted, "the service is stopping");
+      queues[line].push_back(Task{nullptr, {}, [promise, fn](bool run) {
+                                    if (run)
+                                      promise->set_value(fn());
+                                    else
+                                      promise->set_value(
+                                          Error(Errc::interrupted, "the service is stopping"));
+                                  }});
+      cv.notify_all();
+    }
+    return future.get();
+  }
+
+  // The restore options of a position: its recovery record in the state directory.
+  ops::RestoreOptions restore_options(const fleet::LineEntry& line, const fleet::DriveEntry& d,
+                                      bool skip_incompatible) const {
+    ops::RestoreOptions ro;
+    ro.port = line.port;
+    ro.recovery_path =
+        state_dir / "lmcfg" / ("restore-" + ops::drive_key(line.port, d.id) + ".json");
+    ro.skip_incompatible = skip_incompatible;
+    return ro;
+  }
+
+  Result<void> save_pending(const fleet::LineEntry& line, const fleet::DriveEntry& d,
+                            const PendingRestore& p) const {
+    const Json j{{"drive", p.drive},
+                 {"commit", p.commit},
+                 {"who", p.who},
+                 {"reason", p.reason},
+                 {"ticket", p.ticket},
+                 {"cause", p.cause},
+                 {"skip_incompatible", p.skip_incompatible}};
+    std::error_code ec;
+    std::filesystem::create_directories(state_dir / "pending", ec);
+    return config::write_file_atomic(state_dir / "pending" / pending_name(line, d),
+                                     j.dump() + "\n");
+  }
+  void remove_pending(const fleet::LineEntry& line, const fleet::DriveEntry& d) const {
+    std::error_code ec;
+    std::filesystem::remove(state_dir / "pending" / pending_name(line, d), ec);
+  }
 
   void log(const std::string& s) const {
     if (opt.log) opt.log(s);
@@ -146,8 +298,16 @@ struct Service::Impl {
     const auto& l = opt.inventory.lines[line];
     job->total += only.empty() ? l.drives.size() : only.size();
     ++job->lines_left;
-    queues[line].push_back(Task{std::move(job), std::move(only)});
+    queues[line].push_back(Task{std::move(job), std::move(only), {}});
     cv.notify_all();
+  }
+
+  // A commit was made: with [archive] push, the push thread pushes it.
+  void want_push() {
+    if (opt.inventory.archive.push.empty()) return;
+    std::lock_guard<std::mutex> lock(mu);
+    ++push.wanted;
+    push_cv.notify_all();
   }
 
   // An event about the archive, not a position: push_failed, push_recovered.
@@ -197,11 +357,193 @@ struct Service::Impl {
     }
   }
 
-  void emit(const std::string& event, const fleet::DriveResult& r, Json details) {
-    Json j{{"event", event}, {"drive", r.name}, {"line", r.line}, {"time", iso_time(opt.clock())}};
+  void emit(const std::string& event, const std::string& drive, const std::string& line,
+            Json details) {
+    Json j{{"event", event},
+           {"drive", drive.empty() ? Json(nullptr) : Json(drive)},
+           {"line", line.empty() ? Json(nullptr) : Json(line)},
+           {"time", iso_time(opt.clock())}};
     for (auto& [k, v] : details.items()) j[k] = v;
-    log("event " + event + ": " + r.name + " (line " + r.line + ")");
+    log("event " + event + (drive.empty() ? "" : ": " + drive + " (line " + line + ")"));
     if (opt.notify) opt.notify(j);
+  }
+  void emit(const std::string& event, const fleet::DriveResult& r, Json details) {
+    emit(event, r.name, r.line, std::move(details));
+  }
+
+  // A factory-fresh drive where the archive holds a file: state `replaced`,
+  // the event once.
+  void record_replaced(Kind kind, const fleet::DriveResult& r, bool restoring) {
+    bool send = false;
+    {
+      std::lock_guard<std::mutex> lock(mu);
+      auto& st = states[r.name];
+      st.last_attempt = opt.clock();
+      st.last_kind = kind_name(kind);
+      st.last_ok = true;
+      st.last_exit_code = 0;
+      st.status = "replaced";
+      st.message = "a factory-fresh drive answers at this position; the archive holds its file";
+      st.differences = r.diff.items.size();
+      st.differing.clear();
+      for (const auto& it : r.diff.items) st.differing.push_back(fleet::item_line(it));
+      send = st.notified != "replaced";
+      st.notified = "replaced";
+    }
+    if (send) {
+      emit("replaced", r,
+           {{"job", kind_name(kind)},
+            {"differences", r.diff.items.size()},
+            {"on_replaced", restoring ? "restore" : "notify"}});
+    }
+  }
+
+  // Runs a restore of `f` on this line's worker thread (the caller is it):
+  // the normal restore (plan against the target, undo record, execute,
+  // verify), recorded as a commit with the audit trailers. `planned`: the plan
+  // the API showed; the target must still read as it found it.
+  void run_restore_job(Job& job, std::size_t li, const fleet::ArchivedFile& f,
+                       const ops::Audit& audit, bool skip, const std::string& cause,
+                       const ops::Plan* planned, const std::string& plan_id) {
+    using S = ops::RestoreOutcome::Stage;
+    const auto& line = opt.inventory.lines[li];
+    const auto& d = *f.drive;
+    {
+      std::lock_guard<std::mutex> lock(mu);
+      job.started = true;
+      if (planned) job.step_total = planned->steps.size();
+    }
+    log("restore job " + job.id + ": " + d.name + " <- " + f.file_name + " started" +
+        (audit.who.empty() ? "" : " for " + audit.who));
+    ops::RestoreOutcome out;
+    std::optional<Error> err;
+    std::optional<fleet::CommitInfo> record;
+    const PendingRestore pending{d.name,       f.source.id, audit.who, audit.reason,
+                                 audit.ticket, cause,       skip};
+    if (auto saved = save_pending(line, d, pending); !saved.ok()) {
+      err = saved.error();
+    } else if (auto session = ops::open_session(link_for(li, d)); !session.ok()) {
+      err = session.error();
+    } else {
+      ops::RestoreRunOptions ro;
+      ro.restore = restore_options(line, d, skip);
+      ro.restore.progress = [this, &job, planned](const std::string& phase, std::size_t done,
+                                                  std::size_t total) {
+        std::lock_guard<std::mutex> lock(mu);
+        if (phase != "restore") {
+          job.step = phase;
+          return;
+        }
+        // Called as step `done` (1-based) begins.
+        job.step_done = done > 0 ? done - 1 : 0;
+        job.step_total = total;
+        job.step = planned && done > 0 && done <= planned->steps.size()
+                       ? planned->steps[done - 1].text
+                       : "step " + std::to_string(done) + " of " + std::to_string(total);
+      };
+      ro.undo = ops::UndoOptions{
+          true, state_dir / "lmcfg" / "undo", line.port, d.id, "serve-restore", ops::kUndoKeep};
+      auto changed = [&](const ops::Plan& now) -> std::optional<Error> {
+        const std::string what = ops::target_change(*planned, now);
+        if (what.empty()) return std::nullopt;
+        return Error(Errc::plan_refused, "the target changed since plan " + plan_id +
+                                             " was made (" + what +
+                                             "); nothing written: make a new plan");
+      };
+      if (planned) {
+        ro.confirm = [&](const ops::Plan& now) -> Result<ops::Consent> {
+          if (auto e = changed(now)) return *e;
+          return ops::Consent::go;
+        };
+      }
+      out = ops::run_restore(**session, f.config, opt.db, ro);
+      if (planned && out.stage != S::failed && !out.written) {
+        if (auto e = changed(out.plan)) {
+          out.stage = S::failed;
+          out.error = *e;
+        }
+      }
+      auto closed = (*session)->close();
+      if (!closed.ok() && out.stage != S::failed) err = closed.error();
+      if (out.written) {
+        std::lock_guard<std::mutex> lock(archive_mu);
+        auto made = archive.commit({}, fleet::restore_record_message(f, out, audit, cause), true);
+        if (made.ok())
+          record = *made;
+        else
+          err = made.error();
+      }
+      if (record) want_push();  // outside archive_mu: want_push takes mu
+    }
+    if (!err && out.stage == S::failed && out.error) err = out.error;
+    if (!err && out.stage == S::plan_refused) {
+      std::string all;
+      for (const auto& p : out.plan.problems) all += (all.empty() ? "" : "; ") + p;
+      err = Error(Errc::plan_refused, "restore refused: " + all + "; nothing written");
+    }
+    if (!err && out.stage == S::verify_mismatch) {
+      std::string all;
+      for (const auto& m : out.mismatches) all += (all.empty() ? "" : "; ") + m;
+      err = Error(Errc::verify_mismatch, "written, but the drive reads back differently: " + all);
+    }
+    // Stopped by SIGTERM/SIGINT: the record stays, the next start finishes it.
+    const bool interrupted = err && err->code == Errc::interrupted;
+    if (!interrupted) remove_pending(line, d);
+
+    const std::string outcome =
+        err ? (out.written ? "failed after writing" : "failed") : ops::outcome_name(out);
+    const int code = err ? exit_code(*err) : (out.skipped_any() ? 7 : 0);
+    std::string event;
+    Json details{{"job", job.id},
+                 {"source", f.path + "@" + f.source.id.substr(0, 12)},
+                 {"outcome", outcome},
+                 {"automatic", !cause.empty()},
+                 {"operator", audit.who}};
+    if (record) details["commit"] = record->id;
+    {
+      std::lock_guard<std::mutex> lock(mu);
+      job.finished = opt.clock();
+      job.failed_job = err.has_value();
+      job.outcome = outcome;
+      job.exit_code = code;
+      if (out.stage != S::failed || out.written) job.step_done = job.step_total;
+      job.step = "";
+      job.message = err ? err->message
+                        : (out.stage == S::nothing_to_do
+                               ? "nothing to do: the drive already matches " + f.file_name
+                               : "restored " + f.file_name + " onto " + d.name + " and verified");
+      if (record) {
+        job.commit = record->id;
+        job.commits.push_back(record->id);
+      }
+      if (!interrupted) {
+        auto& st = states[d.name];
+        st.last_attempt = opt.clock();
+        st.last_kind = "restore";
+        st.last_ok = !err;
+        st.last_exit_code = code;
+        if (err) {
+          st.status = "failed";
+          st.message = err->message;
+          event = "restore_failed";
+          details["reason"] = err->message;
+          details["exit_code"] = code;
+          st.notified = "failed";
+        } else {
+          st.status = "ok";
+          st.message = out.stage == S::nothing_to_do ? "matches the archive"
+                                                     : "restored from " + f.file_name;
+          st.differences = 0;
+          st.differing.clear();
+          if (out.written) event = "restored";
+          st.notified = "ok";
+        }
+      }
+    }
+    log("restore job " + job.id + ": " + d.name + ": " + outcome +
+        (err ? ": " + err->message : std::string()) +
+        (record ? ", committed " + record->id.substr(0, 12) : std::string()));
+    if (!event.empty()) emit(event, d.name, line.name, details);
   }
 
   // One drive's outcome: its state, and an event when the state changed.
@@ -250,7 +592,8 @@ struct Service::Impl {
           st.status = "unknown";
           st.message = "not in the archive yet (no backup)";
         } else {
-          const bool was_off = st.notified == "drift" || st.notified == "failed";
+          const bool was_off =
+              st.notified == "drift" || st.notified == "failed" || st.notified == "replaced";
           st.status = "ok";
           st.message = r.status == S::added ? "new, archived" : "matches the archive";
           st.differences = 0;
@@ -294,38 +637,61 @@ struct Service::Impl {
     };
     log(std::string(kind_name(job.kind)) + " job " + job.id + ": line " + line.name + " started");
     fleet::LineRun run = fleet::read_line(line, opt.links[line_index], fo, task.only);
+    using S = fleet::DriveResult::Status;
     std::optional<std::string> commit;
     Result<void> archived;
+    std::vector<bool> replaced(run.drives.size(), false);
     {
       std::lock_guard<std::mutex> lock(archive_mu);
       archived = [&]() -> Result<void> {
         LMCFG_TRY(fleet::compare_line(line, archive, "HEAD", opt.db, run));
+        for (std::size_t i = 0; i < run.drives.size(); ++i) {
+          replaced[i] =
+              run.drives[i].status == S::changed && run.configs[i] &&
+              factory_fresh(*run.configs[i], opt.db, fleet::ignored_upids(line, *run.entries[i]));
+        }
         if (job.kind != Kind::backup) return {};
-        LMCFG_ASSIGN_OR_RETURN(auto paths, fleet::write_line(archive, opt.db, run));
+        // A replaced drive's factory state never overwrites the archived file.
+        fleet::LineRun keep;
+        for (std::size_t i = 0; i < run.drives.size(); ++i) {
+          if (replaced[i]) continue;
+          keep.entries.push_back(run.entries[i]);
+          keep.drives.push_back(run.drives[i]);
+          keep.configs.push_back(run.configs[i]);
+        }
+        LMCFG_ASSIGN_OR_RETURN(auto paths, fleet::write_line(archive, opt.db, keep));
         fleet::FleetRun fr;
-        fr.drives = run.drives;
-        LMCFG_ASSIGN_OR_RETURN(auto made, archive.commit(paths, fleet::commit_message(fr)));
+        fr.drives = keep.drives;
+        std::string message = fleet::commit_message(fr);
+        const std::string tr = ops::trailers(ops::Audit{job.who, "", ""});
+        if (!tr.empty()) message += "\n" + tr;
+        LMCFG_ASSIGN_OR_RETURN(auto made, archive.commit(paths, message));
         if (made) commit = made->id;
         return {};
       }();
     }
-    using S = fleet::DriveResult::Status;
     std::size_t failed = 0;
-    for (auto& r : run.drives) {
+    std::vector<std::size_t> to_restore;
+    for (std::size_t i = 0; i < run.drives.size(); ++i) {
+      auto& r = run.drives[i];
       // A stop asked for mid-read is not the drive's failure: no state, no event.
       if (r.error && r.error->code == Errc::interrupted) continue;
       if (!archived.ok() && r.status != S::failed) {
         r.status = S::failed;
         r.error = archived.error();
+        replaced[i] = false;
       }
       failed += r.status == S::failed;
-      record(job.kind, r, commit);
+      if (replaced[i]) {
+        const bool restore = fleet::restore_when_replaced(line, *run.entries[i]);
+        record_replaced(job.kind, r, restore);
+        if (restore) to_restore.push_back(i);
+      } else {
+        record(job.kind, r, commit);
+      }
     }
-    std::lock_guard<std::mutex> lock(mu);
-    if (commit && !opt.inventory.archive.push.empty()) {
-      ++push.wanted;
-      push_cv.notify_all();
-    }
+    if (commit) want_push();
+    std::unique_lock<std::mutex> lock(mu);
     auto& m = line_metrics[line_index];
     m.telegrams += run.stats.requests;
     m.retries += run.stats.retries;
@@ -335,7 +701,8 @@ struct Service::Impl {
     m.run_seconds += run.seconds;
     m.last_run_seconds = run.seconds;
     for (const auto& r : run.drives) {
-      job.changed += r.status == S::changed;
+      job.changed += r.status == S::changed && !replaced[&r - run.drives.data()];
+      job.replaced += replaced[&r - run.drives.data()];
       job.unchanged += r.status == S::unchanged;
       job.added += r.status == S::added;
       job.failed += r.status == S::failed;
@@ -348,19 +715,124 @@ struct Service::Impl {
     log(std::string(kind_name(job.kind)) + " job " + job.id + ": line " + line.name + " done in " +
         secs + " s: " + std::to_string(run.drives.size()) + " drive(s), " + std::to_string(failed) +
         " failed" + (commit ? ", committed " + commit->substr(0, 12) : std::string()));
+    lock.unlock();
+    for (std::size_t i : to_restore) restore_replaced(line_index, *run.entries[i]);
+  }
+
+  // on_replaced = "restore": the archived file at HEAD, restored at once on this worker.
+  void restore_replaced(std::size_t li, const fleet::DriveEntry& d) {
+    std::shared_ptr<Job> job;
+    {
+      std::lock_guard<std::mutex> lock(mu);
+      if (stopping) return;
+      job = new_job(Kind::restore, "drive " + d.name);
+      job->who = kAutomatic;
+      job->total = 1;
+    }
+    Result<fleet::ArchivedFile> f = [&] {
+      std::lock_guard<std::mutex> lock(archive_mu);
+      return fleet::load_archived(opt.inventory, archive, d.name, "HEAD");
+    }();
+    if (!f.ok()) {
+      fail_job(*job, f.error());
+      return;
+    }
+    run_restore_job(*job, li, *f, ops::Audit{kAutomatic, kReplacedCause, ""}, false,
+                    "automatic: factory-fresh drive found", nullptr, "");
+  }
+
+  // Restores a previous run began and did not finish (killed, or stopped by a
+  // signal mid-restore): queued first on their lines, the same revision, who
+  // and why. Running the restore again converges (docs/restore.md).
+  void resume_pending() {
+    std::error_code ec;
+    for (const auto& entry : std::filesystem::directory_iterator(state_dir / "pending", ec)) {
+      const auto path = entry.path();
+      if (path.extension() != ".json") continue;
+      auto text = config::read_text_file(path, 1 << 16);
+      Json j = text.ok() ? Json::parse(*text, nullptr, false) : Json();
+      const fleet::LineEntry* line = nullptr;
+      const fleet::DriveEntry* d =
+          j.is_object() && j["drive"].is_string()
+              ? opt.inventory.find_drive(j["drive"].get<std::string>(), &line)
+              : nullptr;
+      if (!d) {
+        log("unfinished restore record " + path.string() +
+            " names no drive of the inventory; left as it is");
+        continue;
+      }
+      PendingRestore pr{j.value("drive", ""),
+                        j.value("commit", ""),
+                        j.value("who", ""),
+                        j.value("reason", ""),
+                        j.value("ticket", ""),
+                        j.value("cause", ""),
+                        j.value("skip_incompatible", false)};
+      auto f = fleet::load_archived(opt.inventory, archive, pr.drive, pr.commit);
+      const std::size_t li = line_index(line);
+      std::lock_guard<std::mutex> lock(mu);
+      auto job = new_job(Kind::restore, "drive " + pr.drive);
+      job->who = pr.who;
+      job->total = 1;
+      if (!f.ok()) {
+        job->finished = opt.clock();
+        job->failed_job = true;
+        job->message = "resuming the unfinished restore: " + f.error().message;
+        log("restore job " + job->id + ": " + job->message);
+        continue;
+      }
+      log("restore job " + job->id + ": resuming the unfinished restore of " + pr.drive + " <- " +
+          f->file_name);
+      auto file = std::make_shared<fleet::ArchivedFile>(std::move(f).value());
+      queues[li].push_back(Task{job, {}, [this, job, li, file, pr](bool run) {
+                                  if (!run) return;
+                                  run_restore_job(*job, li, *file,
+                                                  ops::Audit{pr.who, pr.reason, pr.ticket},
+                                                  pr.skip_incompatible, pr.cause, nullptr, "");
+                                }});
+    }
+  }
+
+  void fail_job(Job& job, const Error& e) {
+    std::lock_guard<std::mutex> lock(mu);
+    job.started = true;
+    job.finished = opt.clock();
+    job.failed_job = true;
+    job.outcome = "failed";
+    job.message = e.message;
+    job.exit_code = exit_code(e);
+    log(std::string(kind_name(job.kind)) + " job " + job.id + ": failed: " + e.message);
   }
 
   void worker(std::size_t line) {
     std::unique_lock<std::mutex> lock(mu);
     for (;;) {
       cv.wait(lock, [&] { return stopping || !queues[line].empty(); });
-      if (stopping) return;
+      if (stopping) {
+        // Waiting callers learn that nothing will run; queued jobs say so.
+        std::deque<Task> left = std::move(queues[line]);
+        queues[line].clear();
+        for (auto& t : left) {
+          if (t.job && !t.job->finished) {
+            t.job->finished = opt.clock();
+            t.job->failed_job = true;
+            t.job->message = "the service stopped before the job ran";
+          }
+        }
+        lock.unlock();
+        for (auto& t : left)
+          if (t.fn) t.fn(false);
+        return;
+      }
       Task task = std::move(queues[line].front());
       queues[line].pop_front();
       busy[line] = true;
-      task.job->started = true;
+      if (task.job && !task.fn) task.job->started = true;
       lock.unlock();
-      run_task(line, task);
+      if (task.fn)
+        task.fn(true);
+      else
+        run_task(line, task);
       lock.lock();
       busy[line] = false;
       cv.notify_all();
@@ -368,22 +840,90 @@ struct Service::Impl {
   }
 
   Json job_json(const Job& j) const {
+    const char* state =
+        j.finished ? (j.failed_job ? "failed" : "done") : (j.started ? "running" : "queued");
     Json out{{"id", j.id},
              {"kind", kind_name(j.kind)},
              {"scope", j.scope},
-             {"state", j.finished ? "done" : (j.started ? "running" : "queued")},
+             {"state", state},
              {"created", iso_time(j.created)},
              {"finished", j.finished ? Json(iso_time(*j.finished)) : Json(nullptr)},
-             {"drives", j.total},
-             {"done", j.done},
-             {"counts",
-              {{"unchanged", j.unchanged},
-               {"changed", j.changed},
-               {"new", j.added},
-               {"failed", j.failed}}},
-             {"commits", j.commits},
-             {"errors", j.errors}};
+             {"who", j.who.empty() ? Json(nullptr) : Json(j.who)}};
+    if (j.kind == Kind::restore) {
+      out["progress"] = {{"done", j.step_done}, {"total", j.step_total}, {"step", j.step}};
+      out["outcome"] = j.outcome.empty() ? Json(nullptr) : Json(j.outcome);
+      out["message"] = j.message;
+      out["exit_code"] = j.exit_code ? Json(*j.exit_code) : Json(nullptr);
+      out["commit"] = j.commit.empty() ? Json(nullptr) : Json(j.commit);
+      return out;
+    }
+    out["progress"] = {{"done", j.done}, {"total", j.total}, {"step", ""}};
+    out["outcome"] = j.finished ? Json(j.failed ? "some drives failed" : "done") : Json(nullptr);
+    out["message"] = j.message;
+    out["commit"] = j.commits.empty() ? Json(nullptr) : Json(j.commits.back());
+    out["drives"] = j.total;
+    out["done"] = j.done;
+    out["counts"] = {{"unchanged", j.unchanged},
+                     {"changed", j.changed},
+                     {"new", j.added},
+                     {"failed", j.failed},
+                     {"replaced", j.replaced}};
+    out["commits"] = j.commits;
+    out["errors"] = j.errors;
     return out;
+  }
+
+  // A plan for the API: the CLI's plan_json items (restore --dry-run --json),
+  // each step with its `kind` and the old and new values for people.
+  Json plan_to_json(const StoredPlan& sp) const {
+    const auto& line = opt.inventory.lines[sp.line];
+    const auto& d = *sp.file.drive;
+    const auto items = ops::plan_json(sp.plan);
+    Json steps = Json::array();
+    for (const auto& st : items["steps"]) {
+      Json o;
+      o["kind"] = st["action"];
+      for (auto& [k, v] : st.items()) {
+        if (k == "old" || k == "new") {
+          o[k] = v.is_null() ? Json(nullptr) : Json(v["display"]);
+          o[k + "_raw"] = v.is_null() ? Json(nullptr) : Json(v["raw"]);
+        } else if (k != "action") {
+          o[k] = v;
+        }
+      }
+      if (st.contains("upid")) {
+        const auto* p = opt.db.get().find(
+            static_cast<std::uint16_t>(std::stoul(st["upid"].get<std::string>(), nullptr, 16)));
+        o["unit"] = p ? p->spec.unit : "";
+      }
+      steps.push_back(std::move(o));
+    }
+    Json problems = Json::array();
+    for (const auto& p : sp.plan.problems) problems.push_back({{"kind", "plan"}, {"message", p}});
+    Json incompatible = Json::array();
+    std::size_t n = 0;
+    for (const auto& v : items["skipped_incompatible"]) {
+      Json o = v;
+      o["message"] = sp.plan.skipped_incompatible[n++].text;
+      incompatible.push_back(std::move(o));
+    }
+    return Json{
+        {"plan_id", sp.id},
+        {"drive", d.name},
+        {"line", line.name},
+        {"id", hex(d.id, 2, "h")},
+        {"rev", sp.file.rev},
+        {"commit", sp.file.source.id},
+        {"file", sp.file.file_name},
+        {"who", sp.who},
+        {"expires", iso_time(sp.expires)},
+        {"nothing_to_do", sp.plan.nothing_to_do()},
+        {"steps", steps},
+        {"losses", items["losses"]},
+        {"notes", items["notes"]},
+        {"problems", problems},
+        {"incompatible", incompatible},
+        {"factory_fresh", factory_fresh(sp.plan.target, opt.db, fleet::ignored_upids(line, d))}};
   }
 
   Json drive_json(const fleet::LineEntry& line, const fleet::DriveEntry& d) const {
@@ -429,7 +969,11 @@ Result<std::unique_ptr<Service>> Service::create(ServiceOptions opt) {
   impl->queues.resize(n);
   impl->busy.assign(n, false);
   impl->line_metrics.resize(n);
+  impl->state_dir = impl->opt.state_dir.empty()
+                        ? std::filesystem::path(impl->opt.archive) / ".git" / "lmcfg-serve"
+                        : std::filesystem::path(impl->opt.state_dir);
   Impl* p = impl.get();
+  p->resume_pending();
   for (std::size_t l = 0; l < n; ++l) impl->workers.emplace_back([p, l] { p->worker(l); });
   if (!impl->opt.inventory.archive.push.empty()) {
     // Commits of an earlier run that were not pushed yet (a failed push, a
@@ -465,6 +1009,7 @@ void Service::wait_idle() {
 }
 
 void Service::tick(TimePoint now) {
+  summarize(now);
   auto& s = *impl_;
   const auto& sched = s.opt.inventory.schedule;
   std::lock_guard<std::mutex> lock(s.mu);
@@ -497,25 +1042,27 @@ std::optional<TimePoint> Service::next_status() const {
   return impl_->next_status;
 }
 
-Result<std::string> Service::backup_drive(const std::string& name) {
+Result<std::string> Service::backup_drive(const std::string& name, const std::string& who) {
   const fleet::LineEntry* line = nullptr;
   if (!impl_->opt.inventory.find_drive(name, &line))
     return Error(Errc::not_found, "no drive named '" + name + "' in the inventory");
   std::lock_guard<std::mutex> lock(impl_->mu);
   if (impl_->stopping) return Error(Errc::interrupted, "the service is stopping");
   auto job = impl_->new_job(Kind::backup, "drive " + name);
+  job->who = who;
   impl_->enqueue(static_cast<std::size_t>(line - impl_->opt.inventory.lines.data()), job, {name});
   impl_->log("backup job " + job->id + " asked for: drive " + name);
   return job->id;
 }
 
-Result<std::string> Service::backup_line(const std::string& name) {
+Result<std::string> Service::backup_line(const std::string& name, const std::string& who) {
   const auto& lines = impl_->opt.inventory.lines;
   for (std::size_t l = 0; l < lines.size(); ++l) {
     if (lines[l].name != name) continue;
     std::lock_guard<std::mutex> lock(impl_->mu);
     if (impl_->stopping) return Error(Errc::interrupted, "the service is stopping");
     auto job = impl_->new_job(Kind::backup, "line " + name);
+    job->who = who;
     impl_->enqueue(l, job, {});
     impl_->log("backup job " + job->id + " asked for: line " + name);
     return job->id;
@@ -553,7 +1100,14 @@ Result<Json> Service::history(const std::string& name) const {
   const auto* d = impl_->opt.inventory.find_drive(name);
   if (!d) return Error(Errc::not_found, "no drive named '" + name + "' in the inventory");
   std::lock_guard<std::mutex> lock(impl_->archive_mu);
-  LMCFG_ASSIGN_OR_RETURN(auto entries, impl_->archive.history(fleet::archive_path(*d)));
+  // The file's changes and the records of restores onto the position (they
+  // change no file; their subject is restore_record_message's).
+  const std::string record = "fleet restore: " + d->name + " <- ";
+  LMCFG_ASSIGN_OR_RETURN(
+      auto entries,
+      impl_->archive.history(fleet::archive_path(*d), 100, [&](const fleet::CommitInfo& c) {
+        return c.message.rfind(record, 0) == 0;
+      }));
   Json out = Json::array();
   for (const auto& e : entries) {
     out.push_back({{"commit", e.commit.id},
@@ -562,6 +1116,210 @@ Result<Json> Service::history(const std::string& name) const {
                    {"message", e.commit.message}});
   }
   return out;
+}
+
+const fleet::Inventory& Service::inventory() const { return impl_->opt.inventory; }
+
+Result<Json> Service::plan(const std::string& name, const std::string& rev,
+                           const std::string& who) {
+  auto& s = *impl_;
+  const fleet::LineEntry* line = nullptr;
+  const auto* d = s.opt.inventory.find_drive(name, &line);
+  if (!d) return Error(Errc::not_found, "no drive named '" + name + "' in the inventory");
+  StoredPlan sp;
+  {
+    std::lock_guard<std::mutex> lock(s.archive_mu);
+    LMCFG_ASSIGN_OR_RETURN(sp.file, fleet::load_archived(s.opt.inventory, s.archive, name,
+                                                         rev.empty() ? "HEAD" : rev));
+  }
+  sp.line = s.line_index(line);
+  // The plan of `lmcfg restore --dry-run`, the values the target cannot take
+  // listed apart (execute decides whether to leave them out).
+  LMCFG_ASSIGN_OR_RETURN(sp.plan, s.on_worker<ops::Plan>(sp.line, [&]() -> Result<ops::Plan> {
+    LMCFG_ASSIGN_OR_RETURN(auto session, ops::open_session(s.link_for(sp.line, *d)));
+    ops::RestoreRunOptions ro;
+    ro.restore = s.restore_options(*line, *d, true);
+    ro.dry_run = true;
+    auto out = ops::run_restore(*session, sp.file.config, s.opt.db, ro);
+    auto closed = session->close();
+    if (out.stage == ops::RestoreOutcome::Stage::failed) return *out.error;
+    if (!closed.ok()) return closed.error();
+    return std::move(out.plan);
+  }));
+  sp.who = who;
+  sp.id = random_id();
+  sp.expires = s.opt.clock() + s.opt.plan_lifetime;
+  std::lock_guard<std::mutex> lock(s.mu);
+  // Expired plans go; a plan is small, but an API client looping on plan must not grow the map.
+  const TimePoint now = s.opt.clock();
+  std::erase_if(s.plans, [&](const auto& kv) { return kv.second.expires <= now; });
+  Json j = s.plan_to_json(sp);
+  s.log("plan " + sp.id + " for " + name + " <- " + sp.file.file_name + ": " +
+        std::to_string(sp.plan.steps.size()) + " step(s), " +
+        std::to_string(sp.plan.problems.size()) + " problem(s)" +
+        (who.empty() ? "" : ", asked by " + who));
+  s.plans.emplace(sp.id, std::move(sp));
+  return j;
+}
+
+Result<std::string> Service::execute(const ExecuteRequest& req) {
+  auto& s = *impl_;
+  std::lock_guard<std::mutex> lock(s.mu);
+  if (s.stopping) return Error(Errc::interrupted, "the service is stopping");
+  auto it = s.plans.find(req.plan_id);
+  if (it == s.plans.end()) return Error(Errc::not_found, "no plan '" + req.plan_id + "'");
+  const TimePoint now = s.opt.clock();
+  if (it->second.expires <= now) {
+    const std::string when = iso_time(it->second.expires);
+    s.plans.erase(it);
+    return Error(Errc::not_found,
+                 "plan '" + req.plan_id + "' expired at " + when + " (a plan is valid for " +
+                     std::to_string(s.opt.plan_lifetime.count()) + " s): make a new one");
+  }
+  if (s.opt.inventory.require_reason && req.audit.reason.empty()) {
+    return Error(Errc::invalid_argument,
+                 "a reason is required (the inventory sets require_reason = true): give "
+                 "\"reason\"");
+  }
+  const StoredPlan& sp = it->second;
+  if (!sp.plan.ok()) {
+    return Error(Errc::plan_refused, "plan '" + req.plan_id + "' has " +
+                                         std::to_string(sp.plan.problems.size()) +
+                                         " problem(s) (listed under \"problems\"); nothing "
+                                         "written");
+  }
+  if (!sp.plan.skipped_incompatible.empty() && !req.skip_incompatible) {
+    return Error(Errc::plan_refused,
+                 "the target cannot take " + std::to_string(sp.plan.skipped_incompatible.size()) +
+                     " value(s) of the file (listed under \"incompatible\"): execute with "
+                     "\"skip_incompatible\": true to restore the rest; nothing written");
+  }
+  auto stored = std::make_shared<StoredPlan>(std::move(it->second));
+  s.plans.erase(it);  // a plan executes once
+  auto job = s.new_job(Kind::restore, "drive " + stored->file.drive->name);
+  job->who = req.audit.who;
+  job->total = 1;
+  job->step_total = stored->plan.steps.size();
+  Service::Impl* p = impl_.get();
+  const ops::Audit audit = req.audit;
+  const bool skip = req.skip_incompatible;
+  s.queues[stored->line].push_back(Task{job, {}, [p, job, stored, audit, skip](bool run) {
+                                          if (!run) return;
+                                          p->run_restore_job(*job, stored->line, stored->file,
+                                                             audit, skip, "", &stored->plan,
+                                                             stored->id);
+                                        }});
+  s.cv.notify_all();
+  s.log("restore job " + job->id + " asked for: plan " + stored->id + ", " +
+        stored->file.drive->name + (audit.who.empty() ? "" : " by " + audit.who));
+  return job->id;
+}
+
+namespace {
+
+// Both sides of a position's diff and ops::diff()'s result, the position's
+// ignored UPIDs left out: one computation for the JSON and the HTML answers.
+struct DiffSides {
+  fleet::ArchivedFile a;
+  config::DriveConfig b;
+  std::string b_name;
+  ops::DiffResult r;
+};
+
+}  // namespace
+
+static Result<DiffSides> diff_sides(Service::Impl& s, const std::string& name,
+                                    const std::string& from, const std::string& to) {
+  const fleet::LineEntry* line = nullptr;
+  const auto* d = s.opt.inventory.find_drive(name, &line);
+  if (!d) return Error(Errc::not_found, "no drive named '" + name + "' in the inventory");
+  auto archived = [&](const std::string& rev) -> Result<fleet::ArchivedFile> {
+    std::lock_guard<std::mutex> lock(s.archive_mu);
+    return fleet::load_archived(s.opt.inventory, s.archive, name, rev.empty() ? "HEAD" : rev);
+  };
+  DiffSides out;
+  LMCFG_ASSIGN_OR_RETURN(out.a, archived(from));
+  if (to == "live") {
+    const std::size_t li = s.line_index(line);
+    LMCFG_ASSIGN_OR_RETURN(
+        out.b, s.on_worker<config::DriveConfig>(li, [&]() -> Result<config::DriveConfig> {
+          fleet::FleetOptions fo;
+          fo.db = s.opt.db;
+          fo.backup = s.opt.backup;
+          auto run = fleet::read_line(*line, s.opt.links[li], fo, {name});
+          if (run.configs.empty() || !run.configs[0]) {
+            if (!run.drives.empty() && run.drives[0].error) return *run.drives[0].error;
+            return Error(Errc::io_error, "drive " + name + " could not be read");
+          }
+          return std::move(*run.configs[0]);
+        }));
+    out.b_name = "drive " + name + " (live)";
+  } else {
+    LMCFG_ASSIGN_OR_RETURN(auto f, archived(to));
+    out.b = std::move(f.config);
+    out.b_name = f.file_name;
+  }
+  out.r = ops::diff(out.a.config, out.b, s.opt.db, nullptr, ops::DiffOptions{});
+  // The position's live and volatile values are never a difference (as in drift checks).
+  const auto ignored = fleet::ignored_upids(*line, *d);
+  std::erase_if(out.r.items, [&](const ops::DiffItem& it) {
+    return it.kind == ops::DiffItem::Kind::parameter &&
+           std::find(ignored.begin(), ignored.end(), it.key) != ignored.end();
+  });
+  return out;
+}
+
+Result<Json> Service::diff(const std::string& name, const std::string& from,
+                           const std::string& to) const {
+  LMCFG_ASSIGN_OR_RETURN(auto d, diff_sides(*impl_, name, from, to));
+  return Json::parse(ops::render_json(d.r, d.a.file_name, d.b_name));
+}
+
+Result<std::string> Service::diff_html(const std::string& name, const std::string& from,
+                                       const std::string& to) const {
+  LMCFG_ASSIGN_OR_RETURN(auto d, diff_sides(*impl_, name, from, to));
+  ops::ReportOptions ro;
+  ro.generated_at = iso_time(impl_->opt.clock());
+  return ops::render_diff_report(d.a.config, d.a.file_name, d.b, d.b_name, d.r, impl_->opt.db, ro);
+}
+
+Result<std::string> Service::report_html(const std::string& name, const std::string& rev) const {
+  auto& s = *impl_;
+  if (!s.opt.inventory.find_drive(name))
+    return Error(Errc::not_found, "no drive named '" + name + "' in the inventory");
+  Result<fleet::ArchivedFile> f = [&] {
+    std::lock_guard<std::mutex> lock(s.archive_mu);
+    return fleet::load_archived(s.opt.inventory, s.archive, name, rev.empty() ? "HEAD" : rev);
+  }();
+  if (!f.ok()) return f.error();
+  ops::ReportOptions ro;
+  ro.generated_at = iso_time(s.opt.clock());
+  return ops::render_report(f->config, f->file_name, s.opt.db, ro);
+}
+
+void Service::summarize(TimePoint now) {
+  auto& s = *impl_;
+  const std::int64_t day =
+      std::chrono::duration_cast<std::chrono::seconds>(now.time_since_epoch()).count() / 86400;
+  Json counts{{"ok", 0}, {"drift", 0}, {"failed", 0}, {"replaced", 0}, {"unknown", 0}};
+  {
+    std::lock_guard<std::mutex> lock(s.mu);
+    if (!s.summary_day) {
+      s.summary_day = day;  // the first day is summarized when it ends
+      return;
+    }
+    if (day <= *s.summary_day) return;
+    s.summary_day = day;
+    for (const auto& line : s.opt.inventory.lines) {
+      for (const auto& d : line.drives) {
+        auto it = s.states.find(d.name);
+        const std::string st = it == s.states.end() ? "unknown" : it->second.status;
+        counts[st] = counts.value(st, 0) + 1;
+      }
+    }
+  }
+  s.emit("summary", "", "",
+         {{"period", "day"}, {"drives", s.opt.inventory.drive_count()}, {"counts", counts}});
 }
 
 std::string Service::metrics() const {

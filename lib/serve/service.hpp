@@ -19,6 +19,7 @@
 #include "db/database.hpp"
 #include "fleet/fleet.hpp"
 #include "fleet/inventory.hpp"
+#include "ops/audit.hpp"
 #include "ops/backup.hpp"
 #include "ops/session.hpp"
 
@@ -45,6 +46,12 @@ struct ServiceOptions {
   // push thread; backups and commits go on meanwhile).
   std::chrono::milliseconds push_retry_first{1000};
   std::chrono::milliseconds push_retry_max{std::chrono::minutes(5)};
+  // Where the service keeps what must outlive it (docs/serve.md "State"): the
+  // restores in progress (resumed at the next start), the drives' recovery and
+  // undo records. "" = <archive>/.git/lmcfg-serve.
+  std::string state_dir;
+  // How long a plan may wait for its execution.
+  std::chrono::seconds plan_lifetime{300};
 };
 
 // "2026-11-24T17:20:15Z"
@@ -66,12 +73,48 @@ class Service {
   std::optional<TimePoint> next_status() const;
 
   // API: Errc::not_found for a name not in the inventory. The job's id.
-  Result<std::string> backup_drive(const std::string& name);
-  Result<std::string> backup_line(const std::string& line);
+  // `who` asked for it: the backup's commit carries it as its Operator trailer
+  // ("" = a scheduled run, no trailer).
+  Result<std::string> backup_drive(const std::string& name, const std::string& who = "");
+  Result<std::string> backup_line(const std::string& line, const std::string& who = "");
+  // {"id","kind" ("backup"|"restore"),"scope","state" ("queued"|"running"|"done"|"failed"),
+  //  "created","finished","progress":{"done","total","step"},"outcome","message","commit",
+  //  ...; backups also "drives","done","counts","commits","errors"}
   Result<Json> job(const std::string& id) const;
+
+  // Plans restoring `name`'s archived file at `rev` ("" = the archive's HEAD) onto the drive now at
+  // that position, reading the target on the line's worker (waits for it). Json:
+  // {"plan_id","drive","line","rev","commit","expires" (ISO
+  // time),"steps":[{"kind","upid","name","old","new","unit",...}],
+  //  "problems":[{"kind","message",...}],"incompatible":[...],"factory_fresh":bool}
+  Result<Json> plan(const std::string& name, const std::string& rev, const std::string& who);
+  struct ExecuteRequest {
+    std::string plan_id;
+    ops::Audit audit;
+    bool skip_incompatible = false;
+  };
+  // Queues the plan's execution on the line's worker; the job id. Errc for an unknown or expired
+  // plan (say which), a missing reason under require_reason, problems without skip_incompatible.
+  // At execution the target is re-read and compared with what the plan saw; a change refuses.
+  Result<std::string> execute(const ExecuteRequest& req);
+  // The diff of `name`'s archived file at `from` and `to` (revisions; `to` may be "live": the
+  // drive read on the line's worker), as `lmcfg diff --json` writes it, the position's ignored
+  // UPIDs left out.
+  Result<Json> diff(const std::string& name, const std::string& from, const std::string& to) const;
+  // The same diff as `lmcfg report A B` renders it (the console's diff pages).
+  Result<std::string> diff_html(const std::string& name, const std::string& from,
+                                const std::string& to) const;
+  // `lmcfg report` of `name`'s archived file at `rev` ("" = HEAD): the HTML page.
+  Result<std::string> report_html(const std::string& name, const std::string& rev) const;
+
+  // Sends the daily summary event when a day (UTC) has begun since the last one: counts of
+  // positions per status. tick() calls it; tests call it with their clock.
+  void summarize(TimePoint now);
   Json drives() const;
   Result<Json> drive(const std::string& name) const;
   Result<Json> history(const std::string& name) const;
+  // The inventory served (positions, labels), for the console's pages.
+  const fleet::Inventory& inventory() const;
   // Prometheus text exposition format (version 0.0.4).
   std::string metrics() const;
 

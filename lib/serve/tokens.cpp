@@ -56,11 +56,7 @@ Result<std::string> add_token(const std::string& path, const std::string& name, 
         return Error(Errc::invalid_argument,
                      path + ": a token named '" + name + "' exists already");
   }
-  std::uint8_t raw[32];
-  std::ifstream rnd("/dev/urandom", std::ios::binary);
-  if (!rnd.read(reinterpret_cast<char*>(raw), sizeof raw))
-    return Error(Errc::io_error, "/dev/urandom: cannot read random bytes for the token");
-  std::string token = to_hex(ByteView(raw, sizeof raw), '\0');
+  LMCFG_ASSIGN_OR_RETURN(std::string token, random_hex(32));
   const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0600);
   if (fd < 0) return Error(Errc::file_error, path + ": " + std::strerror(errno));
   const std::string line = name + " " + role_name(role) + " " + sha256_hex(token) + "\n";
@@ -69,6 +65,14 @@ Result<std::string> add_token(const std::string& path, const std::string& name, 
   ::close(fd);
   if (!ok) return Error(Errc::file_error, path + ": " + std::strerror(saved));
   return token;
+}
+
+Result<std::string> random_hex(std::size_t bytes) {
+  std::vector<std::uint8_t> raw(bytes);
+  std::ifstream rnd("/dev/urandom", std::ios::binary);
+  if (!rnd.read(reinterpret_cast<char*>(raw.data()), static_cast<std::streamsize>(raw.size())))
+    return Error(Errc::io_error, "/dev/urandom: cannot read random bytes");
+  return to_hex(ByteView(raw.data(), raw.size()), '\0');
 }
 
 const TokenEntry* find_token(const std::vector<TokenEntry>& tokens, std::string_view token) {

@@ -26,6 +26,9 @@ Result<std::vector<TokenEntry>> load_tokens(const std::string& path);
 // appended to `path` (created with mode 0600). Returns the token, shown once.
 // Errc::invalid_argument for a name in use or with blanks.
 Result<std::string> add_token(const std::string& path, const std::string& name, Role role);
+// `bytes` random bytes from /dev/urandom as hex digits (upper case) (tokens, console
+// session ids and CSRF tokens). Errc::io_error when it cannot be read.
+Result<std::string> random_hex(std::size_t bytes);
 // The entry whose hash matches `token`; nullptr when none does.
 const TokenEntry* find_token(const std::vector<TokenEntry>& tokens, std::string_view token);
 

@@ -13,10 +13,9 @@
 // Usage: check-report.js --chromium PATH --html FILE --screenshot PNG
 //        [--full-page] [--clip SELECTOR] [--text NEEDLE]...
 'use strict';
-const { spawn } = require('child_process');
 const fs = require('fs');
-const os = require('os');
 const path = require('path');
+const { launch, run, watch } = require('./cdp');
 
 const args = { texts: [] };
 for (let i = 2; i < process.argv.length; ++i) {
@@ -30,56 +29,8 @@ if (!args.chromium || !args.html || !args.screenshot) {
   process.exit(2);
 }
 
-const profile = fs.mkdtempSync(path.join(os.tmpdir(), 'lmcfg-chromium-'));
-const chrome = spawn(args.chromium, [
-  '--headless', '--disable-gpu', '--no-sandbox', '--remote-debugging-pipe',
-  `--user-data-dir=${profile}`, '--no-first-run', '--no-default-browser-check',
-  '--disable-extensions', '--disable-background-networking', '--disable-sync',
-  '--disable-component-update', '--hide-scrollbars', '--mute-audio', 'about:blank',
-], { stdio: ['ignore', 'ignore', 'pipe', 'pipe', 'pipe'] });
-let stderr = '';
-chrome.stderr.on('data', (d) => { stderr += d; });
-
-const toChrome = chrome.stdio[3];
-const fromChrome = chrome.stdio[4];
-let nextId = 1;
-const pending = new Map();
-const listeners = [];
-let buffer = '';
-fromChrome.on('data', (chunk) => {
-  buffer += chunk.toString('utf8');
-  let end;
-  while ((end = buffer.indexOf('\0')) >= 0) {
-    const msg = JSON.parse(buffer.slice(0, end));
-    buffer = buffer.slice(end + 1);
-    if (msg.id && pending.has(msg.id)) {
-      const { resolve, reject, method } = pending.get(msg.id);
-      pending.delete(msg.id);
-      if (msg.error) reject(new Error(`${method}: ${msg.error.message}`));
-      else resolve(msg.result);
-    } else if (msg.method) {
-      for (const l of listeners) l(msg);
-    }
-  }
-});
-function send(method, params = {}, sessionId) {
-  const id = nextId++;
-  const msg = { id, method, params };
-  if (sessionId) msg.sessionId = sessionId;
-  toChrome.write(JSON.stringify(msg) + '\0');
-  return new Promise((resolve, reject) => pending.set(id, { resolve, reject, method }));
-}
-function waitFor(method, timeoutMs) {
-  return new Promise((resolve, reject) => {
-    const t = setTimeout(() => reject(new Error(`timeout waiting for ${method}`)), timeoutMs);
-    listeners.push((m) => { if (m.method === method) { clearTimeout(t); resolve(m.params); } });
-  });
-}
-
-function cleanup() {
-  try { chrome.kill('SIGKILL'); } catch (e) { /* gone */ }
-  try { fs.rmSync(profile, { recursive: true, force: true }); } catch (e) { /* best effort */ }
-}
+const browser = launch(args.chromium);
+const { send, waitFor } = browser;
 
 // Runs in the page: the DOM facts the test compares.
 function collect(needles) {
@@ -126,19 +77,7 @@ async function main() {
   const { targetId } = await send('Target.createTarget', { url: 'about:blank' });
   const { sessionId } = await send('Target.attachToTarget', { targetId, flatten: true });
   const s = (m, p) => send(m, p, sessionId);
-  listeners.push((m) => {
-    if (m.sessionId !== sessionId) return;
-    const p = m.params;
-    if (m.method === 'Network.requestWillBeSent' && p.request.url !== url) out.requests.push(p.request.url);
-    if (m.method === 'Runtime.consoleAPICalled' && (p.type === 'error' || p.type === 'assert'))
-      out.console_errors.push(p.args.map((a) => a.value || a.description).join(' '));
-    if (m.method === 'Runtime.exceptionThrown') out.console_errors.push(p.exceptionDetails.text);
-    if (m.method === 'Log.entryAdded' && p.entry.level === 'error') out.console_errors.push(p.entry.text);
-    if (m.method === 'Page.javascriptDialogOpening') {
-      out.dialogs.push(p.message);
-      s('Page.handleJavaScriptDialog', { accept: true });
-    }
-  });
+  watch(browser, sessionId, out, (u) => u === url);
   await Promise.all(['Page.enable', 'Runtime.enable', 'Network.enable', 'Log.enable'].map((m) => s(m)));
   await s('Emulation.setDeviceMetricsOverride', { width: 1280, height: 900, deviceScaleFactor: 1, mobile: false });
   const loaded = waitFor('Page.loadEventFired', 60000);
@@ -174,19 +113,4 @@ async function main() {
   return out;
 }
 
-const timer = setTimeout(() => {
-  console.error('check-report.js: timed out after 120 s\n' + stderr);
-  cleanup();
-  process.exit(3);
-}, 120000);
-main().then((out) => {
-  clearTimeout(timer);
-  cleanup();
-  // Exit only once the whole report is out (a pipe is written asynchronously).
-  process.stdout.write(JSON.stringify(out) + '\n', () => process.exit(0));
-}, (e) => {
-  clearTimeout(timer);
-  console.error('check-report.js: ' + e.message + '\n' + stderr);
-  cleanup();
-  process.exit(1);
-});
+run('check-report.js', browser, main, 120000);

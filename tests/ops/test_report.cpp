@@ -22,6 +22,7 @@
 #include <string>
 
 #include "../../bench/report_workload.hpp"
+#include "browser.hpp"
 #include "common/bytes.hpp"
 #include "common/layers.hpp"
 #include "config/config_io.hpp"
@@ -78,17 +79,8 @@ Out tool(const Work& w, const std::string& args) {
              std::string("LMCFG_UPID_DB='") + LMCFG_DB_PATH + "' " + LMCFG_TOOL_PATH + " " + args);
 }
 
-std::string find_chromium() {
-  if (const char* e = std::getenv("LMCFG_CHROMIUM"); e && *e) return e;
-  for (const char* c : {"/usr/bin/chromium", "/usr/bin/chromium-browser", "/usr/bin/google-chrome"})
-    if (::access(c, X_OK) == 0) return c;
-  return "";
-}
-
-bool browser_required() {
-  const char* e = std::getenv("LMCFG_REQUIRE_BROWSER");
-  return e && std::string(e) == "1";
-}
+using test::browser_required;
+using test::find_chromium;
 
 // The page's DOM facts, or null when the browser checks are skipped.
 json load_in_browser(const Work& w, const fs::path& html, const std::string& shot_name,

@@ -70,3 +70,31 @@ TEST_CASE("serve inventory: every bad service key is named at its file:line:colu
         "plant.toml:11:20: 'ignore': a value is not a UPID (4 hex digits, e.g. \"1037h\")\n"
         "plant.toml:15:10: 'ignore' must be an array of UPIDs, e.g. [\"1037h\"]");
 }
+
+TEST_CASE("serve inventory: on_replaced per line and drive, require_reason at the top",
+          "[serve][inventory]") {
+  auto inv = fleet::parse_inventory("require_reason = true\n" + kLine +
+                                        "on_replaced = \"restore\"\n" + kDrive +
+                                        "[[line.drive]]\nname = \"b\"\nid = 0x12\non_replaced = "
+                                        "\"notify\"\n",
+                                    "plant.toml");
+  REQUIRE(inv.ok());
+  CHECK(inv->require_reason);
+  const auto& line = inv->lines[0];
+  CHECK(fleet::restore_when_replaced(line, line.drives[0]));        // the line's
+  CHECK_FALSE(fleet::restore_when_replaced(line, line.drives[1]));  // its own
+  auto plain = fleet::parse_inventory(kLine + kDrive, "plant.toml");
+  REQUIRE(plain.ok());
+  CHECK_FALSE(plain->require_reason);
+  CHECK_FALSE(fleet::restore_when_replaced(plain->lines[0], plain->lines[0].drives[0]));
+
+  auto bad =
+      fleet::parse_inventory("require_reason = \"yes\"\n" + kLine + "on_replaced = \"reflash\"\n" +
+                                 kDrive + "on_replaced = true\n",
+                             "plant.toml");
+  REQUIRE_FALSE(bad.ok());
+  CHECK(bad.error().message ==
+        "plant.toml:1:18: 'require_reason' must be true or false\n"
+        "plant.toml:5:15: 'on_replaced' must be \"notify\" or \"restore\", not 'reflash'\n"
+        "plant.toml:9:15: 'on_replaced' must be a string");
+}

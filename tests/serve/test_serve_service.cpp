@@ -21,40 +21,9 @@
 #include "sim/state_file.hpp"
 
 using namespace lmcfg;
+using namespace lmcfg::test;
 namespace fs = std::filesystem;
 using namespace std::chrono_literals;
-
-namespace {
-
-const std::string kFixtures = std::string(LMCFG_SOURCE_DIR) + "/tests/fixtures/sim/";
-
-// The commissioned axis at MACID `id`, with UPID `upid` set to `value` (ROM and RAM).
-void write_axis(const fs::path& path, int id, const std::string& upid = "", int value = 0) {
-  auto j = nlohmann::json::parse(test::slurp(kFixtures + "commissioned-axis.json"));
-  j["macid"] = id;
-  for (auto& p : j["parameters"])
-    if (p["upid"] == upid) p["rom"] = p["ram"] = value;
-  test::spit(path, j.dump(1));
-}
-
-// The service over a line of two simulated axes, press3/z (11h) and press3/x (12h).
-struct Rig : test::ServiceRig {
-  explicit Rig(const std::string& extra_toml = "") : ServiceRig("serve") {
-    write_axis(dir.path / "a.json", 0x11);
-    write_axis(dir.path / "b.json", 0x12);
-    start("[schedule]\nbackup_every = \"6h\"\nstatus_every = \"15m\"\n" + extra_toml +
-              "[[line]]\nname = \"line1\"\nport = \"sim:" + (dir.path / "a.json").string() + "," +
-              (dir.path / "b.json").string() +
-              "\"\nignore = [\"0020h\"]\n"
-              "[[line.drive]]\nname = \"press3/z\"\nid = 0x11\n"
-              "[[line.drive]]\nname = \"press3/x\"\nid = 0x12\n",
-          [](serve::ServiceOptions& o) {
-            o.exit_code = [](const Error& e) { return e.code == Errc::not_found ? 2 : 4; };
-          });
-  }
-};
-
-}  // namespace
 
 TEST_CASE(
     "serve: the schedule is due at start, then every period, drift notified once, "
@@ -167,31 +136,6 @@ TEST_CASE("serve: a backup that finds a change commits it and says so once", "[s
   CHECK(rig.service->backup_line("line9").error().message ==
         "no line named 'line9' in the inventory");
 }
-
-namespace {
-
-struct Server {
-  std::unique_ptr<serve::HttpServer> http;
-  std::thread thread;
-  int port = 0;
-  Server(serve::Service& s, std::optional<std::vector<serve::TokenEntry>> tokens = std::nullopt) {
-    serve::HttpOptions o;
-    o.listen = {"127.0.0.1", 0};
-    o.tokens = std::move(tokens);
-    o.exit_code = [](const Error& e) { return e.code == Errc::not_found ? 2 : 70; };
-    http = std::make_unique<serve::HttpServer>(s, o);
-    auto p = http->bind();
-    REQUIRE(p.ok());
-    port = *p;
-    thread = std::thread([this] { http->serve(); });
-  }
-  ~Server() {
-    http->stop();
-    thread.join();
-  }
-};
-
-}  // namespace
 
 TEST_CASE("serve: the REST API over HTTP on 127.0.0.1", "[serve][http]") {
   Rig rig;

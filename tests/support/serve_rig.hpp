@@ -1,20 +1,84 @@
 #pragma once
-// A serve::Service over an inventory's text (sim: ports), in a scratch
-// directory of its own, on a clock the test sets, collecting the events it sends.
+// lmcfg serve's Service over a simulated RS485 line of two drives (sim:A,B
+// state files, changed behind its back by the tests), with an injected clock
+// and the events it sends kept; Server: its HttpServer on 127.0.0.1, any port.
+#include <httplib.h>
+
 #include <catch2/catch.hpp>
+#include <cstdio>
+#include <filesystem>
 #include <functional>
 #include <mutex>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <thread>
 #include <vector>
 
+#include "common/bytes.hpp"
 #include "files.hpp"
 #include "ops/session.hpp"
+#include "serve/http.hpp"
 #include "serve/service.hpp"
 #include "sim/state_file.hpp"
 
 namespace lmcfg::test {
 
+namespace fs = std::filesystem;
+
+// `git -C DIR ARGS` and its stdout.
+inline std::string git(const fs::path& dir, const std::string& args) {
+  const std::string cmd = "git -C '" + dir.string() + "' " + args + " 2>&1";
+  std::string out;
+  FILE* p = ::popen(cmd.c_str(), "r");
+  REQUIRE(p);
+  char buf[4096];
+  std::size_t n;
+  while ((n = std::fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
+  const int rc = ::pclose(p);
+  INFO(cmd << "\n" << out);
+  REQUIRE(rc == 0);
+  return out;
+}
+
+// The CLI's exit code categories (README "Exit codes") for the errors these tests meet.
+inline int exit_code_of(const Error& e) {
+  if (e.code == Errc::not_found || e.code == Errc::invalid_argument) return 2;
+  if (e.code == Errc::plan_refused) return 3;
+  if (e.code == Errc::verify_mismatch) return 6;
+  return 4;
+}
+
+inline const std::string kFixtures = std::string(LMCFG_SOURCE_DIR) + "/tests/fixtures/sim/";
+
+// The commissioned axis at MACID `id`, with UPID `upid` set to `value` (ROM and RAM).
+// A new drive put at the position: every ROM and RAM value at its default
+// (LinRS §10.2: nothing modified) except the LinRS settings a technician sets
+// to put it on the line (baud rate and MACID source and value, 200Eh, 2012h,
+// 206Ch, 2076h, as the commissioned axis has them); no curve, no command
+// table entry.
+inline void write_fresh_axis(const fs::path& path, int id) {
+  auto j = nlohmann::json::parse(slurp(kFixtures + "commissioned-axis.json"));
+  j["macid"] = hex(static_cast<std::uint32_t>(id), 2, "");
+  for (auto& p : j["parameters"]) {
+    const std::string upid = p["upid"];
+    if (upid != "200E" && upid != "2012" && upid != "206C" && upid != "2076")
+      p["rom"] = p["ram"] = p["default"];
+  }
+  j["curves"] = {{"flash", nlohmann::json::array()}};
+  j["command_table"] = {{"flash", nlohmann::json::array()}};
+  spit(path, j.dump(1));
+}
+
+inline void write_axis(const fs::path& path, int id, const std::string& upid = "", int value = 0) {
+  auto j = nlohmann::json::parse(test::slurp(kFixtures + "commissioned-axis.json"));
+  j["macid"] = id;
+  for (auto& p : j["parameters"])
+    if (p["upid"] == upid) p["rom"] = p["ram"] = value;
+  test::spit(path, j.dump(1));
+}
+
+// A serve::Service over an inventory's text (sim: ports), in a scratch
+// directory of its own, on a clock the test sets, collecting the events it sends.
 struct ServiceRig {
   ScratchDir dir;
   serve::TimePoint now = serve::Clock::from_time_t(1'800'000'000);
@@ -58,6 +122,79 @@ struct ServiceRig {
   std::vector<nlohmann::json> take_events() {
     std::lock_guard<std::mutex> lock(mu);
     return std::exchange(events, {});
+  }
+};
+
+struct Rig {
+  test::ScratchDir dir{"serve"};
+  serve::TimePoint now = serve::Clock::from_time_t(1'800'000'000);
+  std::mutex mu;
+  std::vector<nlohmann::json> events;
+  std::unique_ptr<serve::Service> service;
+
+  // extra_toml: top-level keys (before [schedule]); line_toml: keys of the
+  // line; line_name: the line's name as TOML; z_toml: keys of press3/z (labels).
+  explicit Rig(const std::string& extra_toml = "", const std::string& line_toml = "",
+               const std::string& line_name = "\"line1\"", const std::string& z_toml = "") {
+    ops::register_link_scheme("sim", sim::state_file_link_factory());
+    write_axis(dir.path / "a.json", 0x11);
+    write_axis(dir.path / "b.json", 0x12);
+    const std::string text =
+        extra_toml + "[schedule]\nbackup_every = \"6h\"\nstatus_every = \"15m\"\n" +
+        "[[line]]\nname = " + line_name + "\nport = \"sim:" + (dir.path / "a.json").string() + "," +
+        (dir.path / "b.json").string() + "\"\nignore = [\"0020h\"]\n" + line_toml +
+        "[[line.drive]]\nname = \"press3/z\"\nid = 0x11\n" + z_toml +
+        "[[line.drive]]\nname = \"press3/x\"\nid = 0x12\n";
+    auto inv = fleet::parse_inventory(text, "plant.toml");
+    INFO((inv.ok() ? "" : inv.error().message));
+    REQUIRE(inv.ok());
+    serve::ServiceOptions o;
+    o.inventory = *inv;
+    o.archive = (dir.path / "archive").string();
+    ops::LinkOptions link;
+    link.port = inv->lines[0].port;
+    o.links = {link};
+    o.exit_code = exit_code_of;
+    o.clock = [this] { return now; };
+    o.notify = [this](const serve::Json& e) {
+      std::lock_guard<std::mutex> lock(mu);
+      events.push_back(nlohmann::json::parse(e.dump()));
+    };
+    auto s = serve::Service::create(std::move(o));
+    REQUIRE(s.ok());
+    service = std::move(s).value();
+  }
+  void at(serve::TimePoint t) {
+    now = t;
+    service->tick(t);
+    service->wait_idle();
+  }
+  std::vector<nlohmann::json> take_events() {
+    std::lock_guard<std::mutex> lock(mu);
+    return std::exchange(events, {});
+  }
+};
+
+struct Server {
+  std::unique_ptr<serve::HttpServer> http;
+  std::thread thread;
+  int port = 0;
+  Server(serve::Service& s, std::optional<std::vector<serve::TokenEntry>> tokens = std::nullopt,
+         serve::ConsoleOptions console = {}) {
+    serve::HttpOptions o;
+    o.console = std::move(console);
+    o.listen = {"127.0.0.1", 0};
+    o.tokens = std::move(tokens);
+    o.exit_code = exit_code_of;
+    http = std::make_unique<serve::HttpServer>(s, o);
+    auto p = http->bind();
+    REQUIRE(p.ok());
+    port = *p;
+    thread = std::thread([this] { http->serve(); });
+  }
+  ~Server() {
+    http->stop();
+    thread.join();
   }
 };
 

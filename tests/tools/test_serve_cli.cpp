@@ -5,6 +5,8 @@
 #include <thread>
 
 #include "files.hpp"
+#include "ops/recovery.hpp"
+#include "serve_rig.hpp"
 #include "subprocess.hpp"
 
 using namespace lmcfg;
@@ -170,5 +172,86 @@ TEST_CASE(
              "--cacert cert.pem -o /dev/null -w '%{http_code}' --data '' -H "
              "'Authorization: Bearer " +
                  token + "' " + local + "/api/v1/lines/l1/backup") == "403");
+  CHECK(serve.stop() == 0);
+}
+
+TEST_CASE(
+    "serve cli: kill -9 during an automatic restore; the restart resumes it, git fsck is clean "
+    "and the drive converges to the archive",
+    "[serve][cli][replaced]") {
+  test::ScratchDir d("serve-kill");
+  // The archive holds the commissioned axis at press/a (a backup through the in-process sim).
+  write_plant(d.path);
+  auto backup = test::run_tool_in(d.path, "fleet backup plant.toml --archive arch");
+  REQUIRE(backup.exit_code == 0);
+  const std::string archived = test::git(d.path / "arch", "rev-parse HEAD").substr(0, 12);
+  // A factory-fresh drive now answers there: `lmcfg sim` in real time on a pty, slow flash
+  // saves and reset, so the restore takes seconds and the kill lands in its middle.
+  test::write_fresh_axis(d.path / "fresh.json", 0x11);
+  auto fresh = nlohmann::json::parse(test::slurp(d.path / "fresh.json"));
+  fresh["timing_us"] = {{"flash_save", 1500000}, {"reset", 2000000}, {"start", 1000000}};
+  test::spit(d.path / "fresh.json", fresh.dump(1));
+  test::Child drive({LMCFG_TOOL_PATH, "sim", "--pty", "--state", (d.path / "fresh.json").string()});
+  const std::string tty = drive.read_line();
+  (void)drive.read_line();  // the link options
+  REQUIRE(tty.rfind("/dev/pts/", 0) == 0);
+  test::spit(d.path / "serve.toml",
+             "[schedule]\nbackup_every = \"1d\"\nstatus_every = \"2s\"\n[[line]]\nname = "
+             "\"l1\"\nport = \"" +
+                 tty +
+                 "\"\non_replaced = \"restore\"\n[[line.drive]]\nname = \"press/a\"\nid = "
+                 "0x11\n");
+  const std::vector<std::string> argv{LMCFG_TOOL_PATH,
+                                      "serve",
+                                      (d.path / "serve.toml").string(),
+                                      "--archive",
+                                      (d.path / "arch").string(),
+                                      "--listen",
+                                      "127.0.0.1:0"};
+  const fs::path state = d.path / "arch" / ".git" / "lmcfg-serve";
+  {
+    test::Child serve(argv);
+    REQUIRE(serve.read_line().rfind("http://127.0.0.1:", 0) == 0);
+    // The restore's recovery record exists from its first write to its last step.
+    bool writing = false;
+    for (int i = 0; i < 600 && !writing; ++i) {
+      writing = fs::exists(state / "lmcfg" / ("restore-" + ops::drive_key(tty, 0x11) + ".json"));
+      if (!writing) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+    REQUIRE(writing);
+    std::this_thread::sleep_for(std::chrono::milliseconds(700));
+    REQUIRE(::kill(serve.pid(), SIGKILL) == 0);
+    serve.stop();  // reaps it
+  }
+  CHECK(fs::exists(state / "pending" / "l1-11h.json"));
+  test::git(d.path / "arch", "fsck --no-progress");
+  // Killed before its outcome: nothing recorded yet.
+  CHECK(test::git(d.path / "arch", "rev-parse HEAD").substr(0, 12) == archived);
+
+  test::Child serve(argv);
+  const std::string url = serve.read_line();
+  REQUIRE(url.rfind("http://127.0.0.1:", 0) == 0);
+  nlohmann::json job, drive_state;
+  for (int i = 0; i < 600; ++i) {
+    job = nlohmann::json::parse(curl(d.path, url + "/api/v1/jobs/1"));
+    drive_state = nlohmann::json::parse(curl(d.path, url + "/api/v1/drives/press/a"));
+    if (job["state"] == "done" && drive_state["status"] == "ok" &&
+        drive_state["last_attempt"]["job"] == "status")
+      break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  INFO(job.dump() << "\n" << drive_state.dump());
+  CHECK(job["kind"] == "restore");
+  CHECK(job["state"] == "done");
+  CHECK(job["outcome"] == "restored and verified");
+  CHECK(drive_state["status"] == "ok");  // the next drift check finds the archive's file
+  CHECK_FALSE(fs::exists(state / "pending" / "l1-11h.json"));
+  CHECK(test::git(d.path / "arch", "log -1 --format=%s") ==
+        "fleet restore: press/a <- press/a.json at " + archived +
+            " (automatic: factory-fresh drive found)\n");
+  const auto diff = nlohmann::json::parse(
+      curl(d.path, "'" + url + "/api/v1/drives/press/a/diff?from=HEAD&to=live'"));
+  CHECK(diff["differences"].empty());
+  test::git(d.path / "arch", "fsck --no-progress");
   CHECK(serve.stop() == 0);
 }

@@ -1,0 +1,122 @@
+#pragma once
+// The web console of lmcfg serve (docs/console.md): HTML pages rendered on
+// the server from the Service's calls (the ones the REST API answers), a
+// small stylesheet and script embedded in the binary, sign-in with the
+// tokens file into a server-side session, a CSRF token in every form.
+//
+// This class knows no HTTP library: the routes (serve/console_http.cpp) turn
+// requests into these calls and the answers into responses. Without tokens
+// every visitor is an operator (the tool allows that on loopback only) and
+// there is no sign-in; the CSRF token is then one random value per process.
+#include <chrono>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "common/result.hpp"
+#include "serve/service.hpp"
+#include "serve/tokens.hpp"
+
+namespace lmcfg::serve {
+
+struct ConsoleOptions {
+  std::chrono::seconds session_ttl = std::chrono::hours(8);  // a session's life from sign-in
+  std::function<TimePoint()> clock = [] { return Clock::now(); };
+};
+
+// Who is looking: a signed-in token, or the anonymous operator without tokens.
+struct ConsoleUser {
+  std::string who;  // the token's name; "local" without tokens
+  Role role = Role::viewer;
+  std::string csrf;  // the value every form of this user carries
+};
+
+struct ConsoleSession {
+  std::string id;   // the cookie's value
+  int max_age = 0;  // seconds, for the cookie's Max-Age
+  ConsoleUser user;
+};
+
+// A page: the status and the HTML.
+struct Page {
+  int status = 200;
+  std::string html;
+};
+
+class Console {
+ public:
+  // Errc::io_error when no random bytes can be read.
+  static Result<std::unique_ptr<Console>> create(Service& service,
+                                                 std::optional<std::vector<TokenEntry>> tokens,
+                                                 ConsoleOptions opt);
+  ~Console();
+
+  bool sign_in_needed() const;
+  // A new session for `token`; Errc::invalid_argument when the token is not in
+  // the tokens file (the message says so, not which part was wrong).
+  Result<ConsoleSession> sign_in(std::string_view token);
+  // The session's user; nullopt when signing in is needed (no cookie, an
+  // unknown or expired session). Without tokens: the anonymous operator.
+  std::optional<ConsoleUser> user(std::string_view session_id);
+  void sign_out(std::string_view session_id);
+  // The form's CSRF value is the user's (compared in constant time).
+  static bool csrf_ok(const ConsoleUser& u, std::string_view form_value);
+  // The CSRF value of the sign-in form (nobody is signed in yet).
+  const std::string& anonymous_csrf() const;
+
+  // Actions (the caller has checked the role and the CSRF token). The job id;
+  // Errc::not_found for a name not in the inventory.
+  Result<std::string> start_backup(const ConsoleUser& u, const std::string& name);
+  // Plans restoring `name` from revision `rev` ("" = the archive's newest)
+  // onto the drive at that position (reads it: is a drive answering, is it
+  // factory-fresh?). The plan id; its page is plan_page().
+  Result<std::string> make_plan(const ConsoleUser& u, const std::string& name,
+                                const std::string& rev);
+  // Executes a plan shown by plan_page(); the restore job's id.
+  Result<std::string> start_restore(const ConsoleUser& u, const std::string& plan_id,
+                                    const std::string& reason, const std::string& ticket,
+                                    bool skip_incompatible);
+
+  // Pages. `next` is where to go after signing in (a path of this console).
+  Page signin_page(const std::string& message, const std::string& next, int status = 200) const;
+  Page overview(const ConsoleUser& u, const std::string& line, const std::string& status) const;
+  Page position(const ConsoleUser& u, const std::string& name) const;
+  // The replace/restore flow's first page: which revision, then "check and plan".
+  Page replace_page(const ConsoleUser& u, const std::string& name, const std::string& rev) const;
+  Page plan_page(const ConsoleUser& u, const std::string& plan_id) const;
+  // A revision's report and the diff of two (`to` may be "live"), as
+  // `lmcfg report` renders them: whole pages with the report's own CSP.
+  Result<std::string> report(const std::string& name, const std::string& rev) const;
+  Result<std::string> diff(const std::string& name, const std::string& from,
+                           const std::string& to) const;
+  // An error of the service as a page: its status from the error's code, the
+  // message as the CLI says it.
+  Page failure_page(const ConsoleUser& u, const std::string& title, const Error& e) const;
+  Page job_page(const ConsoleUser& u, const std::string& id, const std::string& name) const;
+  Page error_page(const ConsoleUser* u, int status, const std::string& title,
+                  const std::string& message) const;
+
+  // The embedded assets (served as /console.css and /console.js).
+  static std::string_view stylesheet();
+  static std::string_view script();
+  // The Content-Security-Policy of every console page.
+  static std::string_view content_security_policy();
+  // The Content-Security-Policy of the report pages (inline style only, as
+  // their own meta element says).
+  static std::string_view report_security_policy();
+
+  struct Impl;
+
+ private:
+  explicit Console(std::unique_ptr<Impl> impl);
+  std::unique_ptr<Impl> impl_;
+};
+
+// "%XX" for everything but unreserved characters (RFC 3986 §2.3): drive
+// names in links and query strings.
+std::string url_encode(std::string_view s);
+
+}  // namespace lmcfg::serve

@@ -1,0 +1,500 @@
+#include "serve/console_pages.hpp"
+
+#include <cstdio>
+#include <ctime>
+#include <set>
+
+#include "ops/report.hpp"
+
+namespace lmcfg::serve::pages {
+
+namespace {
+
+std::string esc(std::string_view s) { return ops::html_escape(s); }
+
+std::string str(const Json& j, const char* key) {
+  auto it = j.find(key);
+  return it != j.end() && it->is_string() ? it->get<std::string>() : std::string();
+}
+
+std::string csrf_field(const ConsoleUser& u) {
+  return "<input type=\"hidden\" name=\"csrf\" value=\"" + esc(u.csrf) + "\">";
+}
+
+// The page around `body`: the stylesheet and script from this server only,
+// a skip link, the navigation and who is signed in.
+std::string frame(const ConsoleUser* u, bool signed_in, const std::string& title,
+                  const std::string& body) {
+  std::string o =
+      "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
+      "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">"
+      "<title>" +
+      esc(title) +
+      " - lmcfg</title><link rel=\"stylesheet\" href=\"/console.css\">"
+      "<script src=\"/console.js\" defer></script></head><body>\n"
+      "<a class=\"skip\" href=\"#main\">Skip to content</a>\n"
+      "<header><nav aria-label=\"Console\"><a class=\"brand\" href=\"/\">lmcfg plant</a>";
+  if (u) {
+    o += "<span class=\"who\">" + esc(u->who) + " (" + role_name(u->role) + ")</span>";
+    if (signed_in)
+      o += "<form method=\"post\" action=\"/signout\" class=\"inline\">" + csrf_field(*u) +
+           "<button type=\"submit\">Sign out</button></form>";
+  }
+  o += "</nav></header>\n<main id=\"main\" tabindex=\"-1\">\n" + body + "</main>\n</body></html>\n";
+  return o;
+}
+
+std::string badge(const std::string& status) {
+  std::string cls = status;
+  for (char& c : cls)
+    if (c == ' ') c = '-';
+  return "<span class=\"status s-" + esc(cls) + "\">" + esc(status) + "</span>";
+}
+
+std::string position_link(const std::string& name) {
+  return "<a href=\"/position?name=" + esc(url_encode(name)) + "\">" + esc(name) + "</a>";
+}
+
+std::string time_cell(const std::string& iso, TimePoint now) {
+  if (iso.empty()) return "<span class=\"muted\">never</span>";
+  return "<time datetime=\"" + esc(iso) + "\" title=\"" + esc(iso) + "\">" + esc(age(iso, now)) +
+         "</time>";
+}
+
+std::string last_event(const Json& d, TimePoint now) {
+  std::string o = esc(str(d, "message"));
+  const auto& a = d["last_attempt"];
+  if (a.is_object())
+    o += " <span class=\"muted\">(" + esc(str(a, "job")) + ", " + time_cell(str(a, "time"), now) +
+         ")</span>";
+  return o;
+}
+
+const char* const kStatuses[] = {"ok", "drift", "failed", "replaced", "unknown", "never backed up"};
+
+std::string option(const std::string& value, const std::string& label, const std::string& chosen) {
+  return "<option value=\"" + esc(value) + "\"" + (value == chosen ? " selected" : "") + ">" +
+         esc(label) + "</option>";
+}
+
+// The archive's commit message: subject, body and the ops::Audit trailers.
+struct Message {
+  std::string subject;
+  std::vector<std::pair<std::string, std::string>> trailers;  // Operator, Reason, Ticket
+};
+Message split_message(const std::string& m) {
+  Message out;
+  std::size_t pos = 0;
+  bool first = true;
+  while (pos <= m.size()) {
+    auto end = m.find('\n', pos);
+    if (end == std::string::npos) end = m.size();
+    const std::string line = m.substr(pos, end - pos);
+    pos = end + 1;
+    if (first) {
+      out.subject = line;
+      first = false;
+      continue;
+    }
+    for (const char* key : {"Operator", "Reason", "Ticket"}) {
+      const std::string prefix = std::string(key) + ": ";
+      if (line.rfind(prefix, 0) == 0) out.trailers.emplace_back(key, line.substr(prefix.size()));
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+std::string shown_status(const Json& d) {
+  const std::string s = str(d, "status");
+  if (s == "unknown" && !d["last_backup"].is_string()) return "never backed up";
+  return s;
+}
+
+std::string age(const std::string& iso, TimePoint now) {
+  std::tm tm{};
+  if (std::sscanf(iso.c_str(), "%4d-%2d-%2dT%2d:%2d:%2dZ", &tm.tm_year, &tm.tm_mon, &tm.tm_mday,
+                  &tm.tm_hour, &tm.tm_min, &tm.tm_sec) != 6)
+    return "";
+  tm.tm_year -= 1900;
+  tm.tm_mon -= 1;
+  const auto t = Clock::from_time_t(::timegm(&tm));
+  const long long s = std::chrono::duration_cast<std::chrono::seconds>(now - t).count();
+  if (s < 0) {  // a deadline (a plan's expiry)
+    const long long f = -s;
+    if (f < 60) return "in " + std::to_string(f) + " s";
+    if (f < 3600) return "in " + std::to_string(f / 60) + " min";
+    return "in " + std::to_string(f / 3600) + " h " + std::to_string(f % 3600 / 60) + " min";
+  }
+  if (s < 60) return std::to_string(s) + " s ago";
+  if (s < 3600) return std::to_string(s / 60) + " min ago";
+  if (s < 86400)
+    return std::to_string(s / 3600) + " h " + std::to_string(s % 3600 / 60) + " min ago";
+  return std::to_string(s / 86400) + " d " + std::to_string(s % 86400 / 3600) + " h ago";
+}
+
+std::string signin(const std::string& message, const std::string& next, const std::string& csrf) {
+  std::string b = "<h1>Sign in</h1>\n";
+  if (!message.empty()) b += "<p class=\"problem\" role=\"alert\">" + esc(message) + "</p>\n";
+  b += "<form method=\"post\" action=\"/signin\" class=\"card\">"
+       "<input type=\"hidden\" name=\"csrf\" value=\"" +
+       esc(csrf) + "\"><input type=\"hidden\" name=\"next\" value=\"" + esc(next) +
+       "\">"
+       "<label for=\"token\">Token</label>"
+       "<input id=\"token\" name=\"token\" type=\"password\" autocomplete=\"current-password\" "
+       "required autofocus>"
+       "<p class=\"muted\">A token from <code>lmcfg serve token add</code> (viewer: read only; "
+       "operator: also back up, plan and restore).</p>"
+       "<button type=\"submit\">Sign in</button></form>\n";
+  return frame(nullptr, true, "Sign in", b);
+}
+
+std::string overview(const ConsoleUser& u, bool signed_in, const fleet::Inventory& inv,
+                     const Json& drives, const std::string& line, const std::string& status,
+                     TimePoint now) {
+  std::map<std::string, std::size_t> counts;
+  for (const auto& d : drives) ++counts[shown_status(d)];
+  std::string b = "<h1>Plant overview</h1>\n";
+  b += "<section id=\"live\" data-refresh=\"10\" aria-live=\"polite\">\n";
+  b += "<ul class=\"counts\" aria-label=\"Positions by status\"><li><strong>" +
+       std::to_string(drives.size()) + "</strong> positions</li>";
+  for (const char* s : kStatuses)
+    b += "<li>" + badge(s) + " <strong data-count=\"" + esc(s) + "\">" + std::to_string(counts[s]) +
+         "</strong></li>";
+  b += "</ul>\n";
+  b += "<p class=\"muted\">As of <time>" + esc(iso_time(now)) + "</time>.</p>\n";
+  b += "<table class=\"positions\"><thead><tr><th scope=\"col\">Position</th><th "
+       "scope=\"col\">Line</th><th scope=\"col\">ID</th><th scope=\"col\">Status</th><th "
+       "scope=\"col\">Last backup</th><th scope=\"col\">Last event</th></tr></thead><tbody>\n";
+  std::size_t shown = 0;
+  for (const auto& d : drives) {
+    const std::string st = shown_status(d);
+    if (!line.empty() && str(d, "line") != line) continue;
+    if (!status.empty() && st != status) continue;
+    ++shown;
+    char id[8];
+    std::snprintf(id, sizeof id, "0x%02X", d["id"].get<unsigned>());
+    b += "<tr data-drive=\"" + esc(str(d, "name")) + "\" data-status=\"" + esc(st) + "\"><td>" +
+         position_link(str(d, "name")) + "</td><td>" + esc(str(d, "line")) + "</td><td>" + id +
+         "</td><td>" + badge(st) + "</td><td>" + time_cell(str(d, "last_backup"), now) +
+         "</td><td>" + last_event(d, now) + "</td></tr>\n";
+  }
+  if (shown == 0)
+    b += "<tr><td colspan=\"6\" class=\"muted\">No position matches the filter.</td></tr>\n";
+  b += "</tbody></table>\n</section>\n";
+  // The filter is a plain GET form: it works without the script, and the
+  // filtered view is a link one can keep.
+  b += "<form method=\"get\" action=\"/\" class=\"filters\" aria-label=\"Filter\">"
+       "<label for=\"f-line\">Line</label><select id=\"f-line\" name=\"line\">" +
+       option("", "all lines", line);
+  for (const auto& l : inv.lines) b += option(l.name, l.name, line);
+  b += "</select><label for=\"f-status\">Status</label><select id=\"f-status\" name=\"status\">" +
+       option("", "all", status);
+  for (const char* s : kStatuses) b += option(s, s, status);
+  b += "</select><button type=\"submit\">Filter</button></form>\n";
+  return frame(&u, signed_in, "Plant overview", b);
+}
+
+std::string position(const ConsoleUser& u, bool signed_in, const fleet::LineEntry& line,
+                     const fleet::DriveEntry& d, const Json& state, const Result<Json>& history,
+                     TimePoint now) {
+  const std::string enc = esc(url_encode(d.name));
+  std::string b = "<p class=\"crumbs\"><a href=\"/\">Plant</a> / " + esc(line.name) + "</p>\n";
+  b += "<h1>" + esc(d.name) + " " + badge(shown_status(state)) + "</h1>\n";
+  char id[8];
+  std::snprintf(id, sizeof id, "0x%02X", d.id);
+  b += "<section aria-labelledby=\"h-id\"><h2 id=\"h-id\">Identity</h2><dl class=\"identity\">";
+  b += "<dt>Line</dt><dd>" + esc(line.name) + " (" + esc(line.port) + ")</dd>";
+  b += "<dt>Drive ID</dt><dd>" + std::string(id) + "</dd>";
+  for (const auto& [k, v] : d.labels) b += "<dt>" + esc(k) + "</dt><dd>" + esc(v) + "</dd>";
+  b += "</dl></section>\n";
+
+  b += "<section id=\"live\" data-refresh=\"10\" aria-labelledby=\"h-state\"><h2 "
+       "id=\"h-state\">Current state</h2>";
+  b += "<p>" + badge(shown_status(state)) + " " + esc(str(state, "message")) + "</p>";
+  b += "<p>Last backup: " + time_cell(str(state, "last_backup"), now) +
+       ". Last read: " + last_event(state, now) + ".</p>";
+  if (state.contains("differing") && !state["differing"].empty()) {
+    b += "<p>Differences from the archive at the last check:</p><ul class=\"differing\">";
+    for (const auto& s : state["differing"]) b += "<li>" + esc(s.get<std::string>()) + "</li>";
+    b += "</ul>";
+  }
+  b += "</section>\n";
+
+  b += "<section aria-labelledby=\"h-act\"><h2 id=\"h-act\">Actions</h2>";
+  b += "<p><a href=\"/diff?name=" + enc +
+       "&amp;from=HEAD&amp;to=live\" id=\"live-diff\">Live diff against the archive</a> "
+       "(reads the drive now) &middot; <a href=\"/report?name=" +
+       enc + "&amp;rev=HEAD\">Report of the archived configuration</a></p>";
+  if (u.role == Role::operator_) {
+    b += "<form method=\"post\" action=\"/backup\" class=\"inline\">" + csrf_field(u) +
+         "<input type=\"hidden\" name=\"name\" value=\"" + esc(d.name) +
+         "\"><button type=\"submit\" id=\"backup-now\">Back up now</button></form> "
+         "<a class=\"button\" id=\"replace\" href=\"/replace?name=" +
+         enc + "\">Replace the drive / restore a revision</a>";
+  } else {
+    b += "<p class=\"muted\">Signed in as a viewer: you can look at everything and change "
+         "nothing.</p>";
+  }
+  b += "</section>\n";
+
+  b += "<section aria-labelledby=\"h-hist\"><h2 id=\"h-hist\">History</h2>";
+  if (!history.ok()) {
+    b += "<p class=\"problem\">" + esc(history.error().message) + "</p>";
+  } else if (history->empty()) {
+    b += "<p class=\"muted\">Not in the archive yet.</p>";
+  } else {
+    b += "<ol class=\"timeline\">";
+    for (const auto& h : *history) {
+      const Message m = split_message(str(h, "message"));
+      const std::string commit = str(h, "commit");
+      b += "<li data-commit=\"" + esc(commit) + "\"><time datetime=\"" + esc(str(h, "time")) +
+           "\">" + esc(str(h, "time")) + "</time> <code>" + esc(commit.substr(0, 10)) +
+           "</code> <span class=\"subject\">" + esc(m.subject) +
+           "</span><br><span class=\"muted\">" + esc(str(h, "author")) + "</span>";
+      if (!m.trailers.empty()) {
+        b += "<dl class=\"trailers\">";
+        for (const auto& [k, v] : m.trailers) b += "<dt>" + esc(k) + "</dt><dd>" + esc(v) + "</dd>";
+        b += "</dl>";
+      }
+      const std::string rev = esc(url_encode(commit));
+      b += "<p class=\"links\"><a href=\"/report?name=" + enc + "&amp;rev=" + rev +
+           "\">report</a> &middot; <a href=\"/diff?name=" + enc + "&amp;from=" + rev +
+           "&amp;to=live\">diff with the drive</a>";
+      if (u.role == Role::operator_)
+        b += " &middot; <a href=\"/replace?name=" + enc + "&amp;rev=" + rev +
+             "\">restore this revision</a>";
+      b += "</p></li>";
+    }
+    b += "</ol>";
+    // Any two revisions: a GET form, so the diff is a link one can keep.
+    auto revisions = [&](const char* field, const char* label, std::size_t chosen, bool live) {
+      std::string o = "<label for=\"d-" + std::string(field) + "\">" + label +
+                      "</label><select id=\"d-" + field + "\" name=\"" + field + "\">";
+      if (live) o += "<option value=\"live\">the drive now</option>";
+      std::size_t n = 0;
+      for (const auto& h : *history) {
+        const std::string c = str(h, "commit");
+        o += "<option value=\"" + esc(c) + "\"" + (n++ == chosen && !live ? " selected" : "") +
+             ">" + esc(str(h, "time")) + " " + esc(c.substr(0, 10)) + "</option>";
+      }
+      return o + "</select>";
+    };
+    b += "<form method=\"get\" action=\"/diff\" class=\"filters\" aria-label=\"Compare revisions\">"
+         "<input type=\"hidden\" name=\"name\" value=\"" +
+         esc(d.name) + "\">" + revisions("from", "Compare", history->size() > 1 ? 1 : 0, false) +
+         revisions("to", "with", 0, false) + "<button type=\"submit\">Diff</button></form>";
+  }
+  b += "</section>\n";
+  return frame(&u, signed_in, d.name, b);
+}
+
+std::string replace(const ConsoleUser& u, bool signed_in, const fleet::LineEntry& line,
+                    const fleet::DriveEntry& d, const std::string& rev,
+                    const Result<Json>& history) {
+  char id[8];
+  std::snprintf(id, sizeof id, "0x%02X", d.id);
+  std::string b = "<p class=\"crumbs\"><a href=\"/\">Plant</a> / " + position_link(d.name) +
+                  "</p>\n<h1>Replace the drive / restore a revision</h1>\n";
+  b += "<ol class=\"flow\"><li aria-current=\"step\">Check the drive and plan</li><li>Review "
+       "the plan</li><li>Confirm with a reason</li><li>Progress and verify</li></ol>\n";
+  b += "<p>The new (or the present) drive must be connected on line <strong>" + esc(line.name) +
+       "</strong> (" + esc(line.port) + ") with drive ID <strong>" + id +
+       "</strong>. Planning reads it: nothing is written before you confirm.</p>\n";
+  if (u.role != Role::operator_)
+    return frame(&u, signed_in, "Restore " + d.name,
+                 b + "<p class=\"problem\">Signed in as a viewer: planning and restoring need "
+                     "role operator.</p>\n");
+  if (!history.ok() || history->empty())
+    return frame(
+        &u, signed_in, "Restore " + d.name,
+        b + "<p class=\"problem\">" +
+            esc(history.ok() ? "the archive holds no file of " + d.name + " yet: back it up first"
+                             : history.error().message) +
+            "</p>\n");
+  b += "<form method=\"post\" action=\"/plan\" class=\"card\">" + csrf_field(u) +
+       "<input type=\"hidden\" name=\"name\" value=\"" + esc(d.name) +
+       "\"><label for=\"rev\">Revision to restore</label><select id=\"rev\" name=\"rev\">";
+  bool first = true;
+  for (const auto& h : *history) {
+    const std::string c = str(h, "commit");
+    const bool chosen = rev.empty() || rev == "HEAD" ? first : c.rfind(rev, 0) == 0;
+    b += "<option value=\"" + esc(c) + "\"" + (chosen ? " selected" : "") + ">" +
+         esc(str(h, "time")) + " " + esc(c.substr(0, 10)) + " " +
+         esc(split_message(str(h, "message")).subject) + (first ? " (newest)" : "") + "</option>";
+    first = false;
+  }
+  b += "</select><button type=\"submit\" id=\"plan\">Check the drive and plan</button></form>\n";
+  return frame(&u, signed_in, "Restore " + d.name, b);
+}
+
+std::string plan(const ConsoleUser& u, bool signed_in, const Json& p, TimePoint now) {
+  const std::string name = str(p, "drive");
+  std::string b = "<p class=\"crumbs\"><a href=\"/\">Plant</a> / " + position_link(name) +
+                  "</p>\n<h1>Plan: restore " + esc(name) + "</h1>\n";
+  b += "<ol class=\"flow\"><li>Check the drive and plan</li><li aria-current=\"step\">Review "
+       "the plan</li><li aria-current=\"step\">Confirm with a reason</li><li>Progress and "
+       "verify</li></ol>\n";
+  b += "<section aria-labelledby=\"h-link\"><h2 id=\"h-link\">The drive at this position</h2>";
+  b += "<p class=\"link-ok\">A drive answers on line " + esc(str(p, "line")) + " as ID " +
+       esc(str(p, "id")) + ". ";
+  b += p.value("factory_fresh", false)
+           ? "It is <strong id=\"factory-fresh\">factory-fresh</strong> (a replacement drive as "
+             "it leaves the factory).</p>"
+           : "It is <strong id=\"factory-fresh\">not factory-fresh</strong>: it holds a "
+             "configuration, which the plan below overwrites.</p>";
+  b += "<p>Source: " + esc(str(p, "file")) + ". This plan is valid until " +
+       esc(str(p, "expires")) + " (" + time_cell(str(p, "expires"), now) +
+       "); after that, plan again.</p></section>\n";
+
+  b += "<section aria-labelledby=\"h-plan\"><h2 id=\"h-plan\">What will be written</h2>";
+  if (p.value("nothing_to_do", false))
+    b += "<p id=\"nothing-to-do\">Nothing to do: the drive already matches the file.</p>";
+  b += "<table class=\"plan\"><thead><tr><th scope=\"col\">#</th><th scope=\"col\">Step</th><th "
+       "scope=\"col\">Parameter</th><th scope=\"col\">Old</th><th scope=\"col\"></th><th "
+       "scope=\"col\">New</th></tr></thead><tbody>\n";
+  std::size_t n = 0;
+  for (const auto& st : p["steps"]) {
+    ++n;
+    const std::string unit = str(st, "unit");
+    auto value = [&](const char* k) {
+      if (!st.contains(k) || st[k].is_null())
+        return std::string("<span class=\"muted\">none</span>");
+      return esc(st[k].is_string() ? st[k].get<std::string>() : st[k].dump()) +
+             (unit.empty() ? "" : " " + esc(unit));
+    };
+    b += "<tr class=\"step\" data-kind=\"" + esc(str(st, "kind")) + "\"><td>" + std::to_string(n) +
+         "</td>";
+    if (st.contains("upid")) {
+      b += "<td>" + esc(str(st, "kind")) + "</td><td><code>" + esc(str(st, "upid")) + "h</code> " +
+           esc(str(st, "name")) + "</td><td>" + value("old") +
+           "</td><td aria-hidden=\"true\">&rarr;</td><td>" + value("new") + "</td>";
+    } else {
+      b += "<td>" + esc(str(st, "kind")) + "</td><td colspan=\"4\">" + esc(str(st, "text")) +
+           "</td>";
+    }
+    b += "</tr>\n";
+  }
+  b += "</tbody></table></section>\n";
+  auto list = [&](const char* id, const char* title, const Json& items, const char* cls) {
+    if (!items.is_array() || items.empty()) return;
+    b += "<section aria-labelledby=\"h-" + std::string(id) + "\"><h2 id=\"h-" + id + "\">" + title +
+         "</h2><ul class=\"" + cls + "\" id=\"" + id + "\">";
+    for (const auto& it : items)
+      b += "<li>" +
+           esc(it.is_string()                             ? it.get<std::string>()
+               : it.is_object() && it.contains("message") ? str(it, "message")
+                                                          : it.dump()) +
+           "</li>";
+    b += "</ul></section>\n";
+  };
+  list("losses", "What the drive loses", p["losses"], "");
+  list("notes", "Notes", p["notes"], "muted");
+  list("problems", "Problems (nothing can be written until they are resolved)", p["problems"],
+       "problem");
+  list("incompatible", "Values this drive cannot take", p["incompatible"], "");
+
+  const bool problems = p.contains("problems") && !p["problems"].empty();
+  const bool incompatible = p.contains("incompatible") && !p["incompatible"].empty();
+  b += "<section aria-labelledby=\"h-confirm\"><h2 id=\"h-confirm\">Confirm</h2>";
+  if (problems) {
+    b += "<p class=\"problem\">This plan is refused: resolve the problems above (connect the "
+         "right drive, choose another revision, or update the drive's firmware), then <a "
+         "href=\"/replace?name=" +
+         esc(url_encode(name)) + "\">plan again</a>. Nothing was written.</p>";
+  } else if (u.role != Role::operator_) {
+    b += "<p class=\"muted\">Signed in as a viewer: restoring needs role operator.</p>";
+  } else {
+    b += "<form method=\"post\" action=\"/execute\" class=\"card\">" + csrf_field(u) +
+         "<input type=\"hidden\" name=\"plan\" value=\"" + esc(str(p, "plan_id")) +
+         "\"><input type=\"hidden\" name=\"name\" value=\"" + esc(name) +
+         "\"><label for=\"reason\">Reason (recorded in the archive's commit)</label>"
+         "<input id=\"reason\" name=\"reason\" required maxlength=\"500\">"
+         "<label for=\"ticket\">Ticket (optional)</label><input id=\"ticket\" name=\"ticket\" "
+         "maxlength=\"100\">";
+    if (incompatible)
+      b += "<label><input type=\"checkbox\" name=\"skip_incompatible\" value=\"1\" "
+           "id=\"skip-incompatible\"> Restore the rest without the values listed under "
+           "\"Values this drive cannot take\"</label>";
+    b += "<button type=\"submit\" class=\"danger\" id=\"execute\">Write to the "
+         "drive</button></form>";
+  }
+  b += "</section>\n";
+  return frame(&u, signed_in, "Plan for " + name, b);
+}
+
+std::string job(const ConsoleUser& u, bool signed_in, const Json& j, const std::string& name) {
+  const std::string state = str(j, "state");
+  std::string b;
+  if (!name.empty())
+    b += "<p class=\"crumbs\"><a href=\"/\">Plant</a> / " + position_link(name) + "</p>\n";
+  b += "<h1>Job " + esc(str(j, "id")) + ": " + esc(str(j, "kind")) + " of " + esc(str(j, "scope")) +
+       "</h1>\n";
+  // While the job runs the script reloads this section; without it, the
+  // page's own reload does the same.
+  b += std::string("<section id=\"live\" aria-live=\"polite\"") +
+       (state == "queued" || state == "running" ? " data-refresh=\"1\"" : "") + ">";
+  const bool restore = str(j, "kind") == "restore";
+  const auto& pr = j["progress"];
+  const auto total = pr.value("total", 0u), done = pr.value("done", 0u);
+  b += "<p>State: <strong class=\"job-state\" data-state=\"" + esc(state) + "\">" + esc(state) +
+       "</strong>";
+  if (j.contains("who") && j["who"].is_string()) b += ", asked by " + esc(str(j, "who"));
+  b += "</p>";
+  b += "<progress max=\"" + std::to_string(total ? total : 1) + "\" value=\"" +
+       std::to_string(done) + "\">" + std::to_string(done) + " of " + std::to_string(total) +
+       "</progress> " + std::to_string(done) + " of " + std::to_string(total) +
+       (restore ? " step(s)" : " drive(s)");
+  if (!str(pr, "step").empty()) b += "<p>Now: " + esc(str(pr, "step")) + "</p>";
+  if (j["outcome"].is_string()) {
+    const std::string outcome = str(j, "outcome");
+    const bool bad = state == "failed";
+    b += "<p class=\"" + std::string(bad ? "problem" : "verdict") +
+         "\" id=\"outcome\">Outcome: " + esc(outcome) +
+         (j.contains("exit_code") && j["exit_code"].is_number()
+              ? " (the CLI's exit code " + j["exit_code"].dump() + ")"
+              : "") +
+         "</p>";
+    if (!str(j, "message").empty()) b += "<p id=\"message\">" + esc(str(j, "message")) + "</p>";
+    if (restore && bad && !name.empty())
+      b += "<p>Next: <a href=\"/replace?name=" + esc(url_encode(name)) +
+           "\">plan again</a> once the cause is fixed (a restore run again converges), or look "
+           "at the <a href=\"/position?name=" +
+           esc(url_encode(name)) + "\">position</a>.</p>";
+  }
+  if (restore && j["commit"].is_string())
+    b += "<p>Recorded in the archive as commit <code id=\"commit\">" + esc(str(j, "commit")) +
+         "</code>.</p>";
+  if (j.contains("counts")) {
+    b += "<ul class=\"counts\">";
+    for (const auto& [k, v] : j["counts"].items())
+      b += "<li>" + esc(k) + " <strong>" + v.dump() + "</strong></li>";
+    b += "</ul>";
+  }
+  if (!restore && j.contains("commits") && !j["commits"].empty()) {
+    b += "<p>Committed:</p><ul>";
+    for (const auto& c : j["commits"])
+      b += "<li><code>" + esc(c.get<std::string>()) + "</code></li>";
+    b += "</ul>";
+  }
+  if (j.contains("errors") && !j["errors"].empty()) {
+    b += "<p class=\"problem\">Errors:</p><ul>";
+    for (const auto& e : j["errors"]) b += "<li>" + esc(e.get<std::string>()) + "</li>";
+    b += "</ul>";
+  }
+  b += "</section>\n";
+  if (!name.empty())
+    b += "<p><a href=\"/position?name=" + esc(url_encode(name)) + "\">Back to " + esc(name) +
+         "</a></p>\n";
+  return frame(&u, signed_in, "Job " + str(j, "id"), b);
+}
+
+std::string error(const ConsoleUser* u, bool signed_in, const std::string& title,
+                  const std::string& message) {
+  return frame(u, signed_in, title,
+               "<h1>" + esc(title) + "</h1>\n<p class=\"problem\" role=\"alert\">" + esc(message) +
+                   "</p>\n<p><a href=\"/\">Plant overview</a></p>\n");
+}
+
+}  // namespace lmcfg::serve::pages
