@@ -100,9 +100,11 @@ TEST_CASE("serve cli: a running service answers curl with a token and stops on S
 }
 
 TEST_CASE(
-    "serve cli: kill -9 during an automatic restore; the restart resumes it, git fsck is clean "
-    "and the drive converges to the archive",
+    "serve cli: kill -9 or SIGTERM during an automatic restore; the restart resumes it, git fsck "
+    "is clean and the drive converges to the archive",
     "[serve][cli][replaced]") {
+  const int signal = GENERATE(SIGKILL, SIGTERM);
+  INFO("signal " << signal);
   test::ScratchDir d("serve-kill");
   // The archive holds the commissioned axis at press/a (a backup through the in-process sim).
   write_plant(d.path);
@@ -144,13 +146,24 @@ TEST_CASE(
     }
     REQUIRE(writing);
     std::this_thread::sleep_for(std::chrono::milliseconds(700));
-    REQUIRE(::kill(serve.pid(), SIGKILL) == 0);
-    serve.stop();  // reaps it
+    if (signal == SIGKILL) {
+      REQUIRE(::kill(serve.pid(), SIGKILL) == 0);
+      serve.stop();  // reaps it
+    } else {
+      // The telegram in flight completes, the restore stops as on Ctrl-C, exit 0.
+      CHECK(serve.stop() == 0);
+    }
   }
   CHECK(fs::exists(state / "pending" / "l1-11h.json"));
   test::git(d.path / "arch", "fsck --no-progress");
-  // Killed before its outcome: nothing recorded yet.
-  CHECK(test::git(d.path / "arch", "rev-parse HEAD").substr(0, 12) == archived);
+  if (signal == SIGKILL) {
+    // Killed before its outcome: nothing recorded yet.
+    CHECK(test::git(d.path / "arch", "rev-parse HEAD").substr(0, 12) == archived);
+  } else {
+    // Stopped after its first write: recorded as failed, with the reason.
+    const std::string body = test::git(d.path / "arch", "log -1 --format=%B");
+    CHECK(body.find("(automatic: factory-fresh drive found)\n\nfailed\n") != std::string::npos);
+  }
 
   test::Child serve(argv);
   const std::string url = serve.read_line();
