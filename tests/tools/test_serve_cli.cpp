@@ -100,7 +100,7 @@ TEST_CASE("serve cli: a running service answers curl with a token and stops on S
 }
 
 TEST_CASE(
-    "serve cli: kill -9 or SIGTERM during an automatic restore; the restart resumes it, git fsck "
+    "serve cli: kill -9 or SIGTERM during an automatic restore, the restart resumes it, git fsck "
     "is clean and the drive converges to the archive",
     "[serve][cli][replaced]") {
   const int signal = GENERATE(SIGKILL, SIGTERM);
