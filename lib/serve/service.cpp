@@ -209,6 +209,8 @@ struct Service::Impl {
   std::condition_variable push_cv;
   std::thread pusher;
   std::map<std::string, StoredPlan> plans;  // by id (under mu)
+  // Restores begun and not finished, by position (under mu; on disk in pending/).
+  std::map<std::string, PendingRestore> pending;
   // pending/ (restores begun), lmcfg/ (recovery and undo records, laid out as
   // $XDG_STATE_HOME/lmcfg is for the CLI: XDG_STATE_HOME=<state_dir> lmcfg undo --list)
   std::filesystem::path state_dir;
@@ -257,7 +259,7 @@ struct Service::Impl {
   }
 
   Result<void> save_pending(const fleet::LineEntry& line, const fleet::DriveEntry& d,
-                            const PendingRestore& p) const {
+                            const PendingRestore& p) {
     const Json j{{"drive", p.drive},
                  {"commit", p.commit},
                  {"who", p.who},
@@ -267,12 +269,21 @@ struct Service::Impl {
                  {"skip_incompatible", p.skip_incompatible}};
     std::error_code ec;
     std::filesystem::create_directories(state_dir / "pending", ec);
-    return config::write_file_atomic(state_dir / "pending" / pending_name(line, d),
-                                     j.dump() + "\n");
+    LMCFG_TRY(
+        config::write_file_atomic(state_dir / "pending" / pending_name(line, d), j.dump() + "\n"));
+    std::lock_guard<std::mutex> lock(mu);
+    pending[d.name] = p;
+    return {};
   }
-  void remove_pending(const fleet::LineEntry& line, const fleet::DriveEntry& d) const {
+  void remove_pending(const fleet::LineEntry& line, const fleet::DriveEntry& d) {
     std::error_code ec;
     std::filesystem::remove(state_dir / "pending" / pending_name(line, d), ec);
+    std::lock_guard<std::mutex> lock(mu);
+    pending.erase(d.name);
+  }
+  bool is_pending(const std::string& name) const {
+    std::lock_guard<std::mutex> lock(mu);
+    return pending.count(name) != 0;
   }
 
   void log(const std::string& s) const {
@@ -418,9 +429,9 @@ struct Service::Impl {
     ops::RestoreOutcome out;
     std::optional<Error> err;
     std::optional<fleet::CommitInfo> record;
-    const PendingRestore pending{d.name,       f.source.id, audit.who, audit.reason,
-                                 audit.ticket, cause,       skip};
-    if (auto saved = save_pending(line, d, pending); !saved.ok()) {
+    const PendingRestore begun{d.name,       f.source.id, audit.who, audit.reason,
+                               audit.ticket, cause,       skip};
+    if (auto saved = save_pending(line, d, begun); !saved.ok()) {
       err = saved.error();
     } else if (auto session = ops::open_session(link_for(li, d)); !session.ok()) {
       err = session.error();
@@ -486,9 +497,12 @@ struct Service::Impl {
       for (const auto& m : out.mismatches) all += (all.empty() ? "" : "; ") + m;
       err = Error(Errc::verify_mismatch, "written, but the drive reads back differently: " + all);
     }
-    // Stopped by SIGTERM/SIGINT: the record stays, the next start finishes it.
+    // Stopped by SIGTERM/SIGINT: the record stays, the next start finishes it;
+    // the drive did not answer (busy resetting or saving when a killed service
+    // left it): the next run of the line tries again.
     const bool interrupted = err && err->code == Errc::interrupted;
-    if (!interrupted) remove_pending(line, d);
+    const bool stays = interrupted || (err && err->code == ErrorClass::link_failure);
+    if (!stays) remove_pending(line, d);
 
     const std::string outcome =
         err ? (out.written ? "failed after writing" : "failed") : ops::outcome_name(out);
@@ -635,12 +649,21 @@ struct Service::Impl {
       std::lock_guard<std::mutex> lock(mu);
       ++job.done;
     };
+    {
+      std::vector<std::string> waiting;
+      for (const auto& d : line.drives) {
+        const bool in_scope = task.only.empty() || std::find(task.only.begin(), task.only.end(),
+                                                             d.name) != task.only.end();
+        if (in_scope && is_pending(d.name)) waiting.push_back(d.name);
+      }
+      resume(line_index, waiting);
+    }
     log(std::string(kind_name(job.kind)) + " job " + job.id + ": line " + line.name + " started");
     fleet::LineRun run = fleet::read_line(line, opt.links[line_index], fo, task.only);
     using S = fleet::DriveResult::Status;
     std::optional<std::string> commit;
     Result<void> archived;
-    std::vector<bool> replaced(run.drives.size(), false);
+    std::vector<bool> replaced(run.drives.size(), false), unfinished(run.drives.size(), false);
     {
       std::lock_guard<std::mutex> lock(archive_mu);
       archived = [&]() -> Result<void> {
@@ -649,12 +672,14 @@ struct Service::Impl {
           replaced[i] =
               run.drives[i].status == S::changed && run.configs[i] &&
               factory_fresh(*run.configs[i], opt.db, fleet::ignored_upids(line, *run.entries[i]));
+          // A drive a restore has not finished on is half configured: never archived.
+          unfinished[i] = is_pending(run.entries[i]->name);
         }
         if (job.kind != Kind::backup) return {};
         // A replaced drive's factory state never overwrites the archived file.
         fleet::LineRun keep;
         for (std::size_t i = 0; i < run.drives.size(); ++i) {
-          if (replaced[i]) continue;
+          if (replaced[i] || unfinished[i]) continue;
           keep.entries.push_back(run.entries[i]);
           keep.drives.push_back(run.drives[i]);
           keep.configs.push_back(run.configs[i]);
@@ -682,6 +707,10 @@ struct Service::Impl {
         replaced[i] = false;
       }
       failed += r.status == S::failed;
+      if (unfinished[i]) {
+        // Its state is the restore's (failed, with the reason) until a restore finishes.
+        continue;
+      }
       if (replaced[i]) {
         const bool restore = fleet::restore_when_replaced(line, *run.entries[i]);
         record_replaced(job.kind, r, restore);
@@ -742,9 +771,8 @@ struct Service::Impl {
   }
 
   // Restores a previous run began and did not finish (killed, or stopped by a
-  // signal mid-restore): queued first on their lines, the same revision, who
-  // and why. Running the restore again converges (docs/restore.md).
-  void resume_pending() {
+  // signal mid-restore): loaded at start and queued first on their lines.
+  void load_pending() {
     std::error_code ec;
     for (const auto& entry : std::filesystem::directory_iterator(state_dir / "pending", ec)) {
       const auto path = entry.path();
@@ -761,35 +789,51 @@ struct Service::Impl {
             " names no drive of the inventory; left as it is");
         continue;
       }
-      PendingRestore pr{j.value("drive", ""),
-                        j.value("commit", ""),
-                        j.value("who", ""),
-                        j.value("reason", ""),
-                        j.value("ticket", ""),
-                        j.value("cause", ""),
-                        j.value("skip_incompatible", false)};
-      auto f = fleet::load_archived(opt.inventory, archive, pr.drive, pr.commit);
+      pending[d->name] = PendingRestore{j.value("drive", ""),
+                                        j.value("commit", ""),
+                                        j.value("who", ""),
+                                        j.value("reason", ""),
+                                        j.value("ticket", ""),
+                                        j.value("cause", ""),
+                                        j.value("skip_incompatible", false)};
       const std::size_t li = line_index(line);
-      std::lock_guard<std::mutex> lock(mu);
-      auto job = new_job(Kind::restore, "drive " + pr.drive);
-      job->who = pr.who;
-      job->total = 1;
+      const std::string name = d->name;
+      queues[li].push_back(Task{nullptr, {}, [this, li, name](bool run) {
+                                  if (run) resume(li, {name});
+                                }});
+    }
+  }
+
+  // Runs the unfinished restores of `names` again (on this line's worker): the
+  // same revision, who and why. Running a restore again converges
+  // (docs/restore.md); one stopped by a link failure (the drive was resetting
+  // or saving to flash when the service died) stays pending for the next run.
+  void resume(std::size_t li, const std::vector<std::string>& names) {
+    for (const auto& name : names) {
+      std::optional<PendingRestore> pr;
+      std::shared_ptr<Job> job;
+      {
+        std::lock_guard<std::mutex> lock(mu);
+        auto it = pending.find(name);
+        if (it == pending.end() || stopping) continue;
+        pr = it->second;
+        job = new_job(Kind::restore, "drive " + name);
+        job->who = pr->who;
+        job->total = 1;
+      }
+      Result<fleet::ArchivedFile> f = [&] {
+        std::lock_guard<std::mutex> lock(archive_mu);
+        return fleet::load_archived(opt.inventory, archive, name, pr->commit);
+      }();
       if (!f.ok()) {
-        job->finished = opt.clock();
-        job->failed_job = true;
-        job->message = "resuming the unfinished restore: " + f.error().message;
-        log("restore job " + job->id + ": " + job->message);
+        fail_job(*job,
+                 Error(f.error().code, "resuming the unfinished restore: " + f.error().message));
         continue;
       }
-      log("restore job " + job->id + ": resuming the unfinished restore of " + pr.drive + " <- " +
+      log("restore job " + job->id + ": resuming the unfinished restore of " + name + " <- " +
           f->file_name);
-      auto file = std::make_shared<fleet::ArchivedFile>(std::move(f).value());
-      queues[li].push_back(Task{job, {}, [this, job, li, file, pr](bool run) {
-                                  if (!run) return;
-                                  run_restore_job(*job, li, *file,
-                                                  ops::Audit{pr.who, pr.reason, pr.ticket},
-                                                  pr.skip_incompatible, pr.cause, nullptr, "");
-                                }});
+      run_restore_job(*job, li, *f, ops::Audit{pr->who, pr->reason, pr->ticket},
+                      pr->skip_incompatible, pr->cause, nullptr, "");
     }
   }
 
@@ -973,7 +1017,7 @@ Result<std::unique_ptr<Service>> Service::create(ServiceOptions opt) {
                         ? std::filesystem::path(impl->opt.archive) / ".git" / "lmcfg-serve"
                         : std::filesystem::path(impl->opt.state_dir);
   Impl* p = impl.get();
-  p->resume_pending();
+  p->load_pending();
   for (std::size_t l = 0; l < n; ++l) impl->workers.emplace_back([p, l] { p->worker(l); });
   if (!impl->opt.inventory.archive.push.empty()) {
     // Commits of an earlier run that were not pushed yet (a failed push, a
@@ -1025,8 +1069,18 @@ void Service::tick(TimePoint now) {
     if (!due(kind == Kind::backup ? sched.backup_every : sched.status_every,
              kind == Kind::backup ? s.next_backup : s.next_status))
       continue;
+    // A line still busy with a long job (a restore) gets one waiting run of a
+    // kind, not one per period missed.
+    std::vector<std::size_t> lines;
+    for (std::size_t l = 0; l < s.opt.inventory.lines.size(); ++l) {
+      const bool waiting = std::any_of(s.queues[l].begin(), s.queues[l].end(), [&](const Task& t) {
+        return t.job && t.job->kind == kind && t.job->scope == "scheduled";
+      });
+      if (!waiting) lines.push_back(l);
+    }
+    if (lines.empty()) continue;
     auto job = s.new_job(kind, "scheduled");
-    for (std::size_t l = 0; l < s.opt.inventory.lines.size(); ++l) s.enqueue(l, job, {});
+    for (std::size_t l : lines) s.enqueue(l, job, {});
     s.log(std::string("scheduled ") + kind_name(kind) + " job " + job->id + ": " +
           std::to_string(job->total) + " drive(s) on " +
           std::to_string(s.opt.inventory.lines.size()) + " line(s)");

@@ -158,7 +158,7 @@ TEST_CASE("serve: an expired plan, a missing reason, a changed target are refuse
         "no drive named 'press9/q' in the inventory");
 }
 
-TEST_CASE("serve: plan and execute over HTTP; a viewer's token may not; who is the token's name",
+TEST_CASE("serve: plan and execute over HTTP, a viewer's token may not, who is the token's name",
           "[serve][plan][http]") {
   Rig rig;
   rig.at(rig.now);
@@ -226,7 +226,7 @@ TEST_CASE("serve: plan and execute over HTTP; a viewer's token may not; who is t
   CHECK(git(rig.dir.path / "archive", "log -1 '--format=%(trailers)'") == "Operator: maria\n\n");
 }
 
-TEST_CASE("serve: diff of a position between revisions and to the live drive; its HTML report",
+TEST_CASE("serve: diff of a position between revisions and to the live drive, its HTML report",
           "[serve][plan][http]") {
   Rig rig;
   rig.at(rig.now);
