@@ -276,8 +276,8 @@ Result<LinkPlan> plan_link_change(Session& session, const LinkMap& map, const Li
     if (!now[S::macid].rom)
       return refuse(opt, "the drive did not read 2076h (" + now[S::macid].note + ")");
     if (*change.macid != now.in_use.macid) {
-      // RS485/RS422 lines carry several drives (LinRS §3.3): two drives with
-      // one MACID would both answer.
+      // "With the RS485 topology also several Slaves can be accessed" (LinRS
+      // §3.3): two drives with one MACID would both answer.
       auto& c = session.client();
       auto co = c.options();
       const auto saved = co;
@@ -347,8 +347,10 @@ Result<LinkApplyReport> apply_link_change(Session& session, const LinkMap& map,
                            " holds the previous values (" + link_options_of(before) + ")";
 
   // "For configuring it is needed to stop the MC-SW of the servo controller
-  // first" (LinRS §10); ROM values act after a restart (LinRS §9.2), so only
-  // ROM is written and the reset makes them the drive's settings.
+  // first" (LinRS §10). "The configuration parameters affects the behavior of
+  // its SW instance only after a restart of it. A Reset command or Power cycle
+  // restarts all SW instances" (LinRS §9): only ROM is written, and the reset
+  // makes it the drive's settings.
   if (auto r = c.stop_mc(); !r.ok()) {
     Error e = std::move(r).error();
     e.message = "stopping MC failed, nothing written: " + e.message + "; " + kept;
@@ -366,7 +368,8 @@ Result<LinkApplyReport> apply_link_change(Session& session, const LinkMap& map,
       return e;
     }
   }
-  // "reset, answer after completion" (LinRS §13.1): the drive answers after its
+  // "Reset Servo Controller Completely (restart of all SW instances) with
+  // response after reset completion" (LinRS §13): the answer comes after the
   // restart, already at the new settings, so a lost answer is expected.
   if (auto r = c.reset(); !r.ok() && r.error().code != ErrorClass::link_failure) {
     Error e = std::move(r).error();
