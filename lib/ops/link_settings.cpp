@@ -4,11 +4,10 @@
 
 #include <algorithm>
 #include <cctype>
-#include <chrono>
 #include <cstdio>
-#include <ctime>
 
 #include "common/bytes.hpp"
+#include "ops/backup.hpp"
 #include "ops/recovery.hpp"
 #include "ops/restore.hpp"
 #include "ops/scan.hpp"
@@ -86,19 +85,10 @@ std::string code_list(const SettingMap& m) {
   return s.empty() ? "none" : s;
 }
 
-std::string now_iso() {
-  const std::time_t t = std::time(nullptr);
-  std::tm tm{};
-  gmtime_r(&t, &tm);
-  char buf[32];
-  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
-  return buf;
-}
-
 // The text of a raw value of `s`, "" when the map does not know it.
 std::string text_of(const LinkMap& map, S s, std::uint32_t raw) {
   if (s == S::macid) return raw <= 0xFF ? hex(static_cast<std::uint8_t>(raw), 2, "h") : "";
-  if (auto v = map[s].value_of(raw)) return *v;
+  if (auto v = map[s].value_of(raw)) return *v == "parameter" ? "By Parameter" : *v;
   // Seed 003 §15 lists two choices for Baud Rate Source Select and three for
   // MACID Source Select; the raw value of By Parameter is stated (§10.2), so
   // any other value is a hex switch choice.
@@ -220,13 +210,68 @@ Result<LinkState> read_link_settings(Session& session, const LinkMap& map) {
   return st;
 }
 
+namespace {
+
+Error refuse(const std::string& option, const std::string& why) {
+  return Error(Errc::invalid_argument, option + ": " + why + "; nothing written");
+}
+
+// The raw value of `value` for setting `s`, or why the map cannot say.
+Result<std::uint32_t> raw_for(const LinkMap& map, S s, const std::string& option,
+                              const std::string& value) {
+  const SettingMap& m = map[s];
+  if (!m.upid)
+    return refuse(option, "seed 003 §15 names the " + std::string(setting_title(s)) +
+                              " setting but gives neither its UPID nor its raw values; give "
+                              "them with --map " +
+                              std::string(setting_key(s)) + "@UPID:VALUE=RAW,...");
+  auto raw = m.raw_of(value);
+  if (!raw)
+    return refuse(
+        option, "no raw value of " + hex(*m.upid, 4, "h") + " " + std::string(setting_title(s)) +
+                    " is known for " + value + " (known: " + code_list(m) +
+                    (s == S::baud ? "; seed 003 states only 8 = 38400 Baud, §10.2" : "") +
+                    "); give it with --map " + std::string(setting_key(s)) + ":" + value + "=RAW");
+  return *raw;
+}
+
+std::string checksum_value(const codec::ChecksumConfig& c) {
+  return checksum_name(codec::ChecksumConfig{c.mode, c.crc_init, {}});
+}
+
+}  // namespace
+
+Result<void> check_link_change(const LinkMap& map, const LinkChange& change) {
+  if (change.baud) {
+    const std::string opt = "--set-baud " + std::to_string(*change.baud);
+    auto v = canonical(S::baud, std::to_string(*change.baud));
+    if (!v.ok()) return refuse(opt, v.error().message);
+    LMCFG_TRY(raw_for(map, S::baud, opt, *v));
+    LMCFG_TRY(raw_for(map, S::baud_source, opt, "parameter"));
+  }
+  if (change.macid)
+    LMCFG_TRY(raw_for(map, S::macid_source, "--set-id " + hex(*change.macid, 2, "h"), "parameter"));
+  if (change.checksum) {
+    const std::string name = checksum_value(*change.checksum);
+    LMCFG_TRY(raw_for(map, S::checksum, "--set-checksum " + name, name));
+  }
+  if (change.parity) {
+    const std::string name(transport::parity_name(*change.parity));
+    LMCFG_TRY(raw_for(map, S::parity, "--set-parity " + name, name));
+  }
+  if (change.stop_bits) {
+    const std::string name = std::to_string(*change.stop_bits);
+    if (*change.stop_bits != 1 && *change.stop_bits != 2)
+      return refuse("--set-stop-bits " + name, "not 1 or 2");
+    LMCFG_TRY(raw_for(map, S::stop_bits, "--set-stop-bits " + name, name));
+  }
+  return {};
+}
+
 Result<LinkPlan> plan_link_change(Session& session, const LinkMap& map, const LinkState& now,
                                   const LinkChange& change) {
   LinkPlan plan;
   plan.after = now.in_use;
-  auto refuse = [](const std::string& option, const std::string& why) {
-    return Error(Errc::invalid_argument, option + ": " + why + "; nothing written");
-  };
   // One write of setting `s` to `value` (a name of the map, or the MACID).
   auto want = [&](S s, std::uint32_t raw, const std::string& text) {
     const LinkValue& v = now[s];
@@ -239,25 +284,13 @@ Result<LinkPlan> plan_link_change(Session& session, const LinkMap& map, const Li
   };
   auto mapped = [&](S s, const std::string& option,
                     const std::string& value) -> Result<std::uint32_t> {
-    const SettingMap& m = map[s];
-    if (!m.upid)
-      return refuse(option, "seed 003 §15 names the " + std::string(setting_title(s)) +
-                                " setting but gives neither its UPID nor its raw values; give "
-                                "them with --map " +
-                                std::string(setting_key(s)) + "@UPID:VALUE=RAW,...");
-    if (!now[s].upid || !now[s].rom)
-      return refuse(option,
-                    "the drive did not read " + hex(*m.upid, 4, "h") + " (" + now[s].note + ")");
-    auto raw = m.raw_of(value);
-    if (!raw)
+    LMCFG_ASSIGN_OR_RETURN(auto raw, raw_for(map, s, option, value));
+    if (!now[s].rom)
       return refuse(
-          option, "no raw value of " + hex(*m.upid, 4, "h") + " " + std::string(setting_title(s)) +
-                      " is known for " + value + " (known: " + code_list(m) +
-                      (s == S::baud ? "; seed 003 states only 8 = 38400 Baud, §10.2" : "") +
-                      "); give it with --map " + std::string(setting_key(s)) + ":" + value +
-                      "=RAW");
-    return *raw;
+          option, "the drive did not read " + hex(*map[s].upid, 4, "h") + " (" + now[s].note + ")");
+    return raw;
   };
+  LMCFG_TRY(check_link_change(map, change));
   // Pairs: the value before its source select, so a power loss between the two
   // writes never activates a half-written pair (as restore --include-comm).
   if (change.baud) {
@@ -338,7 +371,7 @@ Result<LinkApplyReport> apply_link_change(Session& session, const LinkMap& map,
   rec.command = "link";
   rec.port = port;
   rec.macid = before.macid;
-  rec.created = now_iso();
+  rec.created = utc_now();
   rec.expect = link_options_of(plan.after);
   for (const auto& w : plan.writes)
     if (w.old_value) rec.keep.push_back({w.upid, *w.old_value});

@@ -118,6 +118,10 @@ struct LinkPlan {
   bool nothing_to_do() const { return writes.empty(); }
 };
 
+// Errc::invalid_argument when the map cannot express `change` (a setting
+// without a UPID, a value without a raw value): checked before the link opens.
+Result<void> check_link_change(const LinkMap& map, const LinkChange& change);
+
 // Errc::invalid_argument (nothing written) for a value the map has no raw
 // value for, a setting without a UPID, or a MACID another drive on the line
 // already answers to (probed at the current settings, one default response

@@ -120,6 +120,7 @@ int run(LinkCli& o) {
   const db::Database db = load_database(o.common);
   auto map = ops::link_map(db, o.maps);
   if (!map.ok()) return fail("link", map.error());
+  if (auto c = ops::check_link_change(*map, *change); !c.ok()) return fail("link", c.error());
   auto lo = link_options(o.common);
   if (!lo.ok()) return fail("link", lo.error());
   auto record = ops::recovery_path("link", o.common.port, lo->client.id);
