@@ -233,3 +233,53 @@ TEST_CASE("link: a MACID another drive on the line answers to is refused (seed 0
         "206Ch MACID source: 1 (hex switches (S2, or S1 and S2)) -> 3 (By Parameter)");
   CHECK((*s)->client().options().id == 0x11);
 }
+
+TEST_CASE(
+    "link: parity and stop bits through --map; the drive is found at even parity, 2 stop bits",
+    "[link]") {
+  test::ScratchDir dir("link-parity");
+  auto st = sim::load_state(test::sim_fixture("used-spare.json"));
+  REQUIRE(st.ok());
+  for (std::uint16_t upid : {std::uint16_t{0x20B0}, std::uint16_t{0x20B2}}) {
+    sim::Parameter p;
+    p.upid = upid;
+    p.max = 2;
+    st->put(p);
+  }
+  // Stand-ins: seed 003 §15 names Parity (None, Even, Odd) and Stop Bit (1, 2)
+  // without UPIDs or raw values.
+  st->options.parity_param =
+      sim::Options::CommParam{0x20B0, {{0, "none"}, {1, "even"}, {2, "odd"}}};
+  st->options.stop_bits_param = sim::Options::CommParam{0x20B2, {{0, "1"}, {1, "2"}}};
+  const fs::path file = dir.path / "spare.json";
+  REQUIRE(sim::save_state(*st, file.string()).ok());
+  ops::LinkOptions lo;
+  lo.port = "sim:" + file.string();
+  lo.client.timeout = transport::Millis(50);
+  auto s = ops::open_session(lo);
+  REQUIRE(s.ok());
+  auto map = ops::link_map(db::Database::empty(),
+                           {"parity@20B0:none=0,even=1,odd=2", "stop-bits@20B2:1=0,2=1"});
+  REQUIRE(map.ok());
+  auto now = ops::read_link_settings(**s, *map);
+  REQUIRE(now.ok());
+  ops::LinkChange ch;
+  ch.parity = transport::Parity::even;
+  ch.stop_bits = 2;
+  auto plan = ops::plan_link_change(**s, *map, *now, ch);
+  REQUIRE(plan.ok());
+  REQUIRE(plan->writes.size() == 2);
+  CHECK(plan->writes[0].text == "20B0h parity: 0 (none) -> 1 (even)");
+  CHECK(plan->writes[1].text == "20B2h stop bits: 0 (1) -> 1 (2)");
+  auto rep = ops::apply_link_change(**s, *map, *plan, "sim:spare", dir.path / "record.json");
+  REQUIRE(rep.ok());
+  CHECK(rep->relink.summary ==
+        "the drive answers at 57600 Bd, MACID 11h, checksum none, parity even, 2 stop bits");
+  CHECK(ops::link_options_of(rep->relink.used) ==
+        "--baud 57600 --parity even --stop-bits 2 --id 0x11 --checksum none");
+  REQUIRE((*s)->close().ok());
+  auto after = sim::load_state(file.string());
+  REQUIRE(after.ok());
+  CHECK(after->link.parity == transport::Parity::even);
+  CHECK(after->link.stop_bits == 2);
+}
