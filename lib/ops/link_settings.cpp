@@ -180,6 +180,18 @@ Result<LinkMap> link_map(const db::Database& db, const std::vector<std::string>&
   return m;
 }
 
+Result<void> learn_from_drive(Session& session, LinkMap& map) {
+  SettingMap& baud = map[S::baud];
+  if (!baud.upid || baud.raw_of("57600")) return {};
+  auto def = session.client().get_default(*baud.upid);
+  if (!def.ok()) {
+    if (def.error().code == ErrorClass::drive_refusal) return {};
+    return std::move(def).error();
+  }
+  if (!baud.value_of(*def)) baud.codes.emplace_back(*def, "57600");
+  return {};
+}
+
 Result<LinkState> read_link_settings(Session& session, const LinkMap& map) {
   auto& c = session.client();
   LinkState st;
@@ -246,7 +258,8 @@ Result<void> check_link_change(const LinkMap& map, const LinkChange& change) {
     const std::string opt = "--set-baud " + std::to_string(*change.baud);
     auto v = canonical(S::baud, std::to_string(*change.baud));
     if (!v.ok()) return refuse(opt, v.error().message);
-    LMCFG_TRY(raw_for(map, S::baud, opt, *v));
+    // 57600 is 2012h's default (LinRS §15): learn_from_drive asks the drive.
+    if (*v != "57600" || map[S::baud].raw_of(*v)) LMCFG_TRY(raw_for(map, S::baud, opt, *v));
     LMCFG_TRY(raw_for(map, S::baud_source, opt, "parameter"));
   }
   if (change.macid)

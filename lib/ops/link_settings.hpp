@@ -74,6 +74,12 @@ struct LinkMap {
 // whose UPID the manual states.
 Result<LinkMap> link_map(const db::Database& db, const std::vector<std::string>& entries);
 
+// What the drive itself tells about the map: Baud Rate Parameter Def's
+// default (§10 05h 07h) is 57600 Bit/s, "RS baud rate = 57600 Bit/s
+// (default)" (LinRS §15), so the drive's default raw value of 2012h is the
+// code of 57600 unless the map already has one. A refused read adds nothing.
+Result<void> learn_from_drive(Session& session, LinkMap& map);
+
 // One setting as the drive holds it.
 struct LinkValue {
   std::optional<std::uint16_t> upid;
@@ -120,6 +126,8 @@ struct LinkPlan {
 
 // Errc::invalid_argument when the map cannot express `change` (a setting
 // without a UPID, a value without a raw value): checked before the link opens.
+// 57600 Bd passes without a code: learn_from_drive may find it, plan_link_change
+// refuses it if not.
 Result<void> check_link_change(const LinkMap& map, const LinkChange& change);
 
 // Errc::invalid_argument (nothing written) for a value the map has no raw

@@ -78,6 +78,9 @@ TEST_CASE("link: the settings as the drive holds them, with their sources (seed 
         "UPID unknown: seed 003 §15 names the setting but not its UPID; give it with --map "
         "parity@UPID:VALUE=RAW,...");
   CHECK(ops::link_options_of(st->in_use) == "--baud 57600 --id 0x11 --checksum none");
+  // 2012h's default on the drive is 16: "57600 Bit/s (default)" (seed 003 §15).
+  REQUIRE(ops::learn_from_drive(*rig.session, *map).ok());
+  CHECK((*map)[S::baud].raw_of("57600") == 16u);
 }
 
 TEST_CASE("link: --map entries are checked", "[link]") {

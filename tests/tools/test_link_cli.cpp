@@ -136,6 +136,13 @@ TEST_CASE("link cli: --set-baud 38400 (2012h = 8, seed 003 §10.2) and the inven
   INFO(shown.err);
   CHECK(shown.exit_code == 0);
   CHECK(shown.out.find("  baud rate: 2012h = 8 (38400)\n") != std::string::npos);
+  // Back to the factory rate: 2012h's default on the drive is 57600 Bit/s (§15).
+  auto back = s.run("link --port " + s.tty + " --baud 38400 --set-baud 57600 --yes");
+  INFO(back.err);
+  REQUIRE(back.exit_code == 0);
+  CHECK(back.out.find("  2012h baud rate: 8 (38400) -> 16 (57600)\n"
+                      "the drive answers at 57600 Bd, MACID 11h, checksum none") !=
+        std::string::npos);
 }
 
 TEST_CASE("link cli: --dry-run writes nothing", "[link][pty]") {

@@ -133,6 +133,7 @@ int run(LinkCli& o) {
 
   auto session = open_link(o.common);
   if (!session.ok()) return fail("link", session.error());
+  if (auto l = ops::learn_from_drive(**session, *map); !l.ok()) return fail("link", l.error());
   auto now = ops::read_link_settings(**session, *map);
   if (!now.ok()) return fail("link", now.error());
   const std::string drive = "drive " + hex(now->in_use.macid, 2, "h") + " on " + o.common.port;
