@@ -2,6 +2,7 @@
 
 #include <toml++/toml.h>
 
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -449,6 +450,60 @@ Result<Inventory> load_inventory(const std::string& path) {
   text << in.rdbuf();
   if (in.bad()) return Error(Errc::file_error, path + ": cannot read the inventory");
   return parse_inventory(text.str(), path);
+}
+
+Result<InventoryEdit> link_inventory_edit(const Inventory& inv, std::string_view drive,
+                                          const LinkKeys& after) {
+  const LineEntry* line = nullptr;
+  const DriveEntry* d = inv.find_drive(drive, &line);
+  if (!d)
+    return Error(Errc::not_found,
+                 inv.path + ": no drive is called '" + std::string(drive) + "' (--drive)");
+  InventoryEdit out;
+  const LinkKeys unset;  // what a key the line leaves out means: the option's default
+  const std::string where = line->at.str() + ": [[line]] \"" + line->name + "\": ";
+  std::vector<std::string> line_keys;
+  auto num = [&](const char* key, const std::optional<std::int64_t>& now, std::int64_t def,
+                 std::int64_t want) {
+    if (now.value_or(def) != want)
+      line_keys.push_back(std::string(key) + " = " + std::to_string(want));
+  };
+  auto str = [&](const char* key, const std::optional<std::string>& now, const std::string& def,
+                 const std::string& want) {
+    if (now.value_or(def) != want) line_keys.push_back(std::string(key) + " = \"" + want + "\"");
+  };
+  num("baud", line->baud, unset.baud, after.baud);
+  str("parity", line->parity, unset.parity, after.parity);
+  num("stop_bits", line->stop_bits, unset.stop_bits, after.stop_bits);
+  // "crc" and "crc-ffff" are one checksum (--checksum).
+  auto same_sum = [](std::string a, std::string b) {
+    if (a == "crc") a = "crc-ffff";
+    if (b == "crc") b = "crc-ffff";
+    return a == b;
+  };
+  if (!same_sum(line->checksum.value_or(unset.checksum), after.checksum))
+    line_keys.push_back("checksum = \"" + after.checksum + "\"");
+  str("checksum_coverage", line->checksum_coverage, unset.checksum_coverage,
+      after.checksum_coverage);
+  for (const auto& k : line_keys) out.keys.push_back(where + k);
+  if (d->id != after.id) {
+    char id[8];
+    std::snprintf(id, sizeof id, "0x%02X", after.id);
+    out.keys.push_back(d->at.str() + ": [[line.drive]] \"" + d->name + "\": id = " + id);
+  }
+  if (!line_keys.empty() && line->drives.size() > 1) {
+    std::string others;
+    for (const auto& o : line->drives)
+      if (&o != d) others += (others.empty() ? "" : ", ") + o.name;
+    out.warnings.push_back("line \"" + line->name + "\" (" + line->at.str() + ") carries " +
+                           std::to_string(line->drives.size()) +
+                           " drives on one port that share its rate, parity, stop bits and "
+                           "checksum: move the others (" +
+                           others +
+                           ") to the same settings with lmcfg link before changing the line's "
+                           "keys, or the fleet commands reach only part of the line");
+  }
+  return out;
 }
 
 }  // namespace lmcfg::fleet

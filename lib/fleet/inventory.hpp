@@ -99,6 +99,24 @@ Result<Inventory> parse_inventory(std::string_view text, std::string path);
 // Errc::file_error when the file cannot be read.
 Result<Inventory> load_inventory(const std::string& path);
 
+// `lmcfg link` moved a drive to other link settings: the inventory keys that
+// must change with it, spelled as the inventory spells them.
+struct LinkKeys {
+  std::int64_t baud = 57600;
+  std::string parity = "none";
+  std::int64_t stop_bits = 1;
+  std::string checksum = "none";
+  std::string checksum_coverage = "id";
+  std::uint8_t id = 0x11;
+};
+struct InventoryEdit {
+  std::vector<std::string> keys;      // "plant.toml:4:1: [[line]] \"press\": baud = 115200"
+  std::vector<std::string> warnings;  // the other drives of a line that shares the settings
+};
+// Errc::not_found when no drive is called `drive`.
+Result<InventoryEdit> link_inventory_edit(const Inventory& inv, std::string_view drive,
+                                          const LinkKeys& after);
+
 // Whether each line's port can be reached before any drive is talked to,
 // through the table of port schemes (link/port.hpp): its form ("tcp://HOST:PORT"
 // has a port 1..65535), a LinRS link (not CAN), a device path ("/dev/ttyUSB0")

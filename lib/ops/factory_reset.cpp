@@ -69,7 +69,7 @@ Result<DefaultReport> default_drive(client::Client& c, const DefaultOptions& opt
                           found->created + "): writing back the values it recorded";
     }
     if (!keep.empty() && !found) {
-      RecoveryRecord r{"default", opt.port, c.options().id, utc_now(), {}};
+      RecoveryRecord r{"default", opt.port, c.options().id, utc_now(), {}, {}};
       for (const auto& [upid, value] : keep) r.keep.push_back({upid, value});
       LMCFG_TRY(save_recovery(opt.recovery_path, r));
       rep.recovery_note = "recorded the values to keep in " + record;

@@ -49,6 +49,7 @@ Result<std::optional<RecoveryRecord>> load_recovery(const fs::path& path) {
     r.port = j.at("port").get<std::string>();
     r.macid = j.at("macid").get<std::uint8_t>();
     r.created = j.at("created").get<std::string>();
+    r.expect = j.value("expect", std::string());
     for (const auto& k : j.at("keep")) {
       r.keep.push_back(client::ModifiedParam{
           static_cast<std::uint16_t>(std::stoul(k.at("upid").get<std::string>(), nullptr, 16)),
@@ -73,6 +74,7 @@ Result<void> save_recovery(const fs::path& path, const RecoveryRecord& rec) {
   j["port"] = rec.port;
   j["macid"] = rec.macid;
   j["created"] = rec.created;
+  if (!rec.expect.empty()) j["expect"] = rec.expect;
   j["keep"] = nlohmann::ordered_json::array();
   for (const auto& k : rec.keep) {
     char upid[8];

@@ -25,6 +25,8 @@ struct RecoveryRecord {
   std::uint8_t macid = 0;
   std::string created;                      // ISO 8601 UTC
   std::vector<client::ModifiedParam> keep;  // values to write back (ROM)
+  // `link`: the link options the drive was expected at after its reset ("" = none).
+  std::string expect;
 };
 
 // The directory ($XDG_STATE_HOME/lmcfg or $HOME/.local/state/lmcfg).
@@ -32,7 +34,7 @@ Result<std::filesystem::path> recovery_dir();
 // What names a drive on this host: "<port with / and : as _>-<MACID hex>h"
 // (LinRS has no message that reads a serial number, seed 003 §10).
 std::string drive_key(const std::string& port, std::uint8_t macid);
-// "<dir>/default-<drive_key>.json".
+// "<dir>/<command>-<drive_key>.json" (command "default", "link").
 Result<std::filesystem::path> recovery_path(const std::string& command, const std::string& port,
                                             std::uint8_t macid);
 

@@ -52,8 +52,12 @@ std::optional<unsigned> baud_of_label(const db::Database& db, std::uint16_t upid
 }
 
 std::string describe(const RelinkCandidate& c) {
-  return std::to_string(c.line.baud) + " Bd, MACID " + hex(c.macid, 2, "h") + ", checksum " +
-         checksum_name(c.checksum);
+  std::string s = std::to_string(c.line.baud) + " Bd, MACID " + hex(c.macid, 2, "h") +
+                  ", checksum " + checksum_name(c.checksum);
+  if (c.line.parity != transport::Parity::none)
+    s += ", parity " + std::string(transport::parity_name(c.line.parity));
+  if (c.line.stop_bits != 1) s += ", " + std::to_string(c.line.stop_bits) + " stop bits";
+  return s;
 }
 
 }  // namespace
@@ -144,14 +148,24 @@ std::vector<RelinkCandidate> relink_candidates(const ExpectedLink& expected,
   if (o.checksum) sums.push_back(*o.checksum);
   if (!o.checksum || !(*o.checksum == checksum)) sums.push_back(checksum);
 
+  std::vector<transport::SerialSettings> lines;
+  if (o.parity || o.stop_bits) {
+    transport::SerialSettings l = line;
+    l.parity = o.parity.value_or(line.parity);
+    l.stop_bits = o.stop_bits.value_or(line.stop_bits);
+    if (l.parity != line.parity || l.stop_bits != line.stop_bits) lines.push_back(l);
+  }
+  lines.push_back(line);
+
   std::vector<RelinkCandidate> out;
-  for (unsigned b : bauds)
-    for (auto id : ids)
-      for (const auto& cs : sums) {
-        RelinkCandidate c{line, id, cs};
-        c.line.baud = b;
-        out.push_back(c);
-      }
+  for (const auto& l : lines)
+    for (unsigned b : bauds)
+      for (auto id : ids)
+        for (const auto& cs : sums) {
+          RelinkCandidate c{l, id, cs};
+          c.line.baud = b;
+          out.push_back(c);
+        }
   return out;
 }
 
@@ -183,8 +197,10 @@ Result<RelinkReport> reconnect(Session& session, const ExpectedLink& expected,
     // An error state (C1..C9) is an answer too: the drive hears these settings.
     if (answer.ok() || answer.error().code == ErrorClass::drive_refusal) {
       rep.used = cand;
-      rep.changed = !(cand.line.baud == before.line.baud && cand.macid == before.macid &&
-                      cand.checksum == before.checksum);
+      rep.changed =
+          !(cand.line.baud == before.line.baud && cand.line.parity == before.line.parity &&
+            cand.line.stop_bits == before.line.stop_bits && cand.macid == before.macid &&
+            cand.checksum == before.checksum);
       rep.summary = "the drive answers at " + describe(cand);
       return rep;
     }

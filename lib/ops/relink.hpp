@@ -39,6 +39,10 @@ struct RelinkOverrides {
   std::optional<unsigned> baud;
   std::optional<std::uint8_t> macid;
   std::optional<codec::ChecksumConfig> checksum;
+  // Parity and stop bits the drive takes at its reset (`lmcfg link`); tried
+  // before the line's own.
+  std::optional<transport::Parity> parity;
+  std::optional<unsigned> stop_bits;
 };
 
 struct RelinkCandidate {
@@ -49,7 +53,8 @@ struct RelinkCandidate {
 
 // In the order they are tried: overrides, then the expected values, then the
 // settings in use; for an unknown baud rate every rate of seed 003 §3.2.1 after
-// those. Parity and stop bits stay as they are (their UPIDs are not in the seeds).
+// those. Parity and stop bits stay as they are unless the overrides name them
+// (their UPIDs are not in the seeds): then those first, the line's after.
 std::vector<RelinkCandidate> relink_candidates(const ExpectedLink& expected,
                                                const RelinkOverrides& overrides,
                                                const transport::SerialSettings& line,

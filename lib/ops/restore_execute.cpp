@@ -13,7 +13,7 @@ Result<void> execute_plan(client::Client& c, const Plan& p, const RestoreOptions
   if (!opt.recovery_path.empty()) {
     // Before the first destructive step: what a re-run must finish (§11/§12
     // flash saves it cannot see) and the communication values kept.
-    RecoveryRecord rec{"restore", opt.port, c.options().id, utc_now(), {}};
+    RecoveryRecord rec{"restore", opt.port, c.options().id, utc_now(), {}, {}};
     for (const auto& s : p.steps)
       if (s.action == Action::write_rom && s.why == "kept communication value")
         rec.keep.push_back({static_cast<std::uint16_t>(s.key), s.value});

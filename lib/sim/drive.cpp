@@ -91,6 +91,29 @@ void Drive::apply_comm_parameters() {
   }
   s_.link.baud = baud;
   s_.macid = id;
+  // The settings seed 003 §15 names without a UPID (Options::checksum_param ...).
+  auto code_of = [&](const std::optional<Options::CommParam>& p) -> const std::string* {
+    if (!p) return nullptr;
+    auto v = rom(p->upid);
+    if (!v) return nullptr;
+    auto it = p->codes.find(*v);
+    return it == p->codes.end() ? nullptr : &it->second;
+  };
+  if (const std::string* c = code_of(s_.options.checksum_param)) {
+    const codec::ChecksumCoverage coverage = s_.checksum.coverage;
+    if (*c == "none") s_.checksum = {codec::ChecksumMode::none, 0xFFFF, coverage};
+    if (*c == "add") s_.checksum = {codec::ChecksumMode::add, 0xFFFF, coverage};
+    if (*c == "crc" || *c == "crc-ffff")
+      s_.checksum = {codec::ChecksumMode::crc_ccitt, 0xFFFF, coverage};
+    if (*c == "crc-0000") s_.checksum = {codec::ChecksumMode::crc_ccitt, 0x0000, coverage};
+    if (*c == "crc-kermit") s_.checksum = {codec::ChecksumMode::crc_kermit, 0x0000, coverage};
+  }
+  if (const std::string* c = code_of(s_.options.parity_param)) {
+    if (auto p = transport::parity_from_name(*c)) s_.link.parity = *p;
+  }
+  if (const std::string* c = code_of(s_.options.stop_bits_param)) {
+    if (*c == "1" || *c == "2") s_.link.stop_bits = *c == "1" ? 1U : 2U;
+  }
 }
 
 Parameter* Drive::find(std::uint16_t upid) {
@@ -231,7 +254,7 @@ std::optional<Answer> Drive::handle(const Telegram& t, std::int64_t now) {
     return std::nullopt;
   }
   ++stats_.telegrams_for_me;
-  if (s_.options.ignore_while_busy && busy(now)) {
+  if (silenced_ || (s_.options.ignore_while_busy && busy(now))) {
     ++stats_.ignored_busy;
     return std::nullopt;
   }
@@ -607,6 +630,7 @@ void Drive::reset(std::int64_t now_ns, bool make_busy) {
   s_.options.reload_tables_on_start = reload;
   s_.mc_running = true;
   apply_comm_parameters();
+  if (s_.options.silent_after_reset) silenced_ = true;
   xfer_ = {};
   modified_ = {};
   upids_ = {};

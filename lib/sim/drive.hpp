@@ -144,6 +144,24 @@ struct Options {
   // (powers of two in the order §15 lists the rates). A code not in the table
   // leaves the drive at its S1 switch rate.
   std::map<std::uint32_t, unsigned> baud_codes = default_baud_codes();
+  // Checksum, parity and stop bits at start-up. Seed 003 §15 names them
+  // ("LinRS\Protocol Config\Checksum": None, Add, CRC CCITT; "LinRS\RS
+  // Config\Parity": None, Even, Odd; "LinRS\RS Config\Stop Bit": 1, 2) but
+  // gives neither their UPIDs nor their raw values, so each is this option:
+  // unset (the default), a reset leaves the setting as the state holds it; set,
+  // a reset takes the ROM value of `upid` through `codes` (raw value -> the
+  // setting as the tools' options spell it: "none", "add", "crc-ffff",
+  // "crc-0000", "crc-kermit"; "none", "even", "odd"; "1", "2"). A raw value not
+  // in `codes` leaves the setting as it was.
+  struct CommParam {
+    std::uint16_t upid = 0;
+    std::map<std::uint32_t, std::string> codes;
+    friend bool operator==(const CommParam&, const CommParam&) = default;
+  };
+  std::optional<CommParam> checksum_param, parity_param, stop_bits_param;
+  // Fault injection: after a reset the drive answers nothing until the
+  // simulator is restarted (a drive lost at settings no master tries).
+  bool silent_after_reset = false;
   // ---- docs/reliability.md (drive variance) ----
   // §12 setup read (08h 05h) of an entry that does not exist: true = state 00
   // with size 0, false = state `missing_object_state` (C8).
@@ -236,7 +254,9 @@ class Drive {
   // Select 206Ch = 3 "By Parameter" (§10.2 example) takes MACID Parameter Value
   // 2076h, else the switch ID; Baud Rate Source Select 200Eh = 2 "By Parameter"
   // takes Baud Rate Parameter Def 2012h through Options::baud_codes, else the
-  // S1 rate. Called by reset(); ROM values, since RAM := ROM at start-up.
+  // S1 rate. Checksum, parity and stop bits follow Options::checksum_param,
+  // parity_param and stop_bits_param where those are set. Called by reset();
+  // ROM values, since RAM := ROM at start-up.
   void apply_comm_parameters();
   // The next flash save takes timing.flash_save_max_us (fault injection).
   void make_next_flash_save_slow() { slow_flash_ = true; }
@@ -317,6 +337,7 @@ class Drive {
   std::uint16_t last_motion_header_ = 0;
   std::uint16_t control_word_ = 0;
   bool slow_flash_ = false;
+  bool silenced_ = false;  // Options::silent_after_reset after a reset
   DriveStats stats_;
 };
 

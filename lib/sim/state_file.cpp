@@ -210,6 +210,16 @@ json to_json(const DriveState& s) {
     for (const auto& [code, rate] : O.baud_codes) codes[std::to_string(code)] = rate;
     j["options"]["baud_codes"] = std::move(codes);
   }
+  auto comm_param = [&](const char* key, const std::optional<Options::CommParam>& p) {
+    if (!p) return;
+    json codes = json::object();
+    for (const auto& [code, name] : p->codes) codes[std::to_string(code)] = name;
+    j["options"][key] = {{"upid", hex16(p->upid)}, {"codes", std::move(codes)}};
+  };
+  comm_param("checksum_param", O.checksum_param);
+  comm_param("parity_param", O.parity_param);
+  comm_param("stop_bits_param", O.stop_bits_param);
+  if (O.silent_after_reset) j["options"]["silent_after_reset"] = true;
   json params = json::array();
   for (const auto& [upid, p] : s.params) {
     json q = {{"upid", hex16(upid)}};
@@ -366,6 +376,38 @@ Result<DriveState> from_json(const json& j) {
           O.baud_codes[*c] = probe.baud;
         }
       }
+      // {"upid": "20A0", "codes": {"0": "none", "2": "crc-ffff"}}
+      auto comm_param = [&](const char* key, std::optional<Options::CommParam>& out,
+                            std::initializer_list<const char*> names) {
+        auto cp = it->find(key);
+        if (cp == it->end()) return;
+        const std::string where = std::string("options.") + key;
+        if (!cp->is_object() || !cp->contains("upid") || !cp->contains("codes") ||
+            !cp->at("codes").is_object())
+          throw BadField(where + ": expected {\"upid\": \"20A0\", \"codes\": {\"0\": NAME}}");
+        Options::CommParam p;
+        p.upid = u16_or(*cp, "upid", 0);
+        for (const auto& [code, name] : cp->at("codes").items()) {
+          auto c = parse_number(code, true);
+          if (!c) throw BadField(where + ".codes: key '" + code + "' is not a number");
+          if (!name.is_string()) throw BadField(where + ".codes: expected a name for " + code);
+          const std::string n = name.get<std::string>();
+          bool known = false;
+          std::string list;
+          for (const char* k : names) {
+            known = known || n == k;
+            list += std::string(list.empty() ? "" : ", ") + k;
+          }
+          if (!known) throw BadField(where + ".codes: '" + n + "' is not one of " + list);
+          p.codes[*c] = n;
+        }
+        out = std::move(p);
+      };
+      comm_param("checksum_param", O.checksum_param,
+                 {"none", "add", "crc", "crc-ffff", "crc-0000", "crc-kermit"});
+      comm_param("parity_param", O.parity_param, {"none", "even", "odd"});
+      comm_param("stop_bits_param", O.stop_bits_param, {"1", "2"});
+      O.silent_after_reset = bool_or(*it, "silent_after_reset", O.silent_after_reset);
     }
     if (auto it = j.find("parameters"); it != j.end()) {
       if (!it->is_array()) throw BadField("parameters: expected an array");

@@ -36,6 +36,7 @@ void add_db(CLI::App& app, int& exit_code);
 void add_info(CLI::App& app, int& exit_code);
 void add_convert(CLI::App& app, int& exit_code);
 void add_scan(CLI::App& app, int& exit_code);
+void add_link(CLI::App& app, int& exit_code);
 void add_sim(CLI::App& app, int& exit_code);
 void add_fleet(CLI::App& app, int& exit_code);
 void add_serve(CLI::App& app, int& exit_code);
