@@ -118,7 +118,7 @@ class Checker {
   std::vector<std::string> problems_;
 };
 
-constexpr std::string_view kRootKeys[] = {"line", "schedule", "notify"};
+constexpr std::string_view kRootKeys[] = {"line", "schedule", "notify", "require_reason"};
 constexpr std::string_view kScheduleKeys[] = {"backup_every", "status_every"};
 constexpr std::string_view kNotifyKeys[] = {"webhook", "command"};
 constexpr std::string_view kLineKeys[] = {"name",
@@ -383,6 +383,12 @@ Result<Inventory> parse_inventory(std::string_view text, std::string path) {
   inv.path = path;
   c.known_keys(root, kRootKeys, "the inventory");
   read_service_tables(c, root, inv);
+  if (const toml::node* n = root.get("require_reason")) {
+    if (n->is_boolean())
+      inv.require_reason = n->as_boolean()->get();
+    else
+      c.problem(n->source(), "'require_reason' must be true or false");
+  }
   const toml::node* lines = root.get("line");
   const toml::array* a = lines ? lines->as_array() : nullptr;
   if (!lines) {

@@ -74,6 +74,9 @@ struct Inventory {
   std::vector<LineEntry> lines;
   Schedule schedule;
   Notify notify;
+  // `require_reason = true` (top level): a write to a drive of this plant
+  // (fleet restore) needs a reason (--reason; docs/audit.md).
+  bool require_reason = false;
   std::size_t drive_count() const;
   // nullptr when no drive has that name.
   const DriveEntry* find_drive(std::string_view name, const LineEntry** line = nullptr) const;

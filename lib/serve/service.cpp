@@ -11,6 +11,7 @@
 #include "common/bytes.hpp"
 #include "common/layers.hpp"
 #include "fleet/archive.hpp"
+#include "fleet/history.hpp"
 
 namespace lmcfg::serve {
 
@@ -475,15 +476,8 @@ Result<Json> Service::history(const std::string& name) const {
   const auto* d = impl_->opt.inventory.find_drive(name);
   if (!d) return Error(Errc::not_found, "no drive named '" + name + "' in the inventory");
   std::lock_guard<std::mutex> lock(impl_->archive_mu);
-  LMCFG_ASSIGN_OR_RETURN(auto entries, impl_->archive.history(fleet::archive_path(*d)));
-  Json out = Json::array();
-  for (const auto& e : entries) {
-    out.push_back({{"commit", e.commit.id},
-                   {"time", iso_time(Clock::from_time_t(static_cast<std::time_t>(e.time)))},
-                   {"author", e.author},
-                   {"message", e.commit.message}});
-  }
-  return out;
+  LMCFG_ASSIGN_OR_RETURN(auto events, fleet::position_history(impl_->archive, *d));
+  return fleet::history_json(events);
 }
 
 std::string Service::metrics() const {
