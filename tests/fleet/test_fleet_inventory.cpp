@@ -178,7 +178,8 @@ TEST_CASE("fleet inventory: require_reason is a top-level true or false", "[flee
   CHECK_FALSE(off->require_reason);
   CHECK(problems("require_reason = \"yes\"\n" + lines) ==
         "plant.toml:1:18: 'require_reason' must be true or false");
-  // Below a [[line]] header the key belongs to the line, which knows no such key.
-  CHECK(problems(lines + "require_reason = true\n")
-            .find("plant.toml:7:1: unknown key 'require_reason' in [[line.drive]]") == 0);
+  // Below a table header the key belongs to that table, which knows no such key.
+  CHECK(problems(lines + "require_reason = true\n") ==
+        "plant.toml:7:1: unknown key 'require_reason' in drive of line 'l' (known: name, id, "
+        "labels, ignore)");
 }

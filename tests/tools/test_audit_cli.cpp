@@ -48,12 +48,18 @@ bool iso_utc(const std::string& t) {
          t[16] == ':' && t[19] == 'Z';
 }
 
-// The sim line of two drives, backed up into `arch`; bench/b then replaced by
-// a factory-fresh drive.
+// The sim line of two drives (the commissioned axis at MACIDs 11h and 12h),
+// backed up into `arch`; bench/b then replaced by a factory-fresh drive.
 void fleet_rig(const Rig& r, const std::string& head) {
   for (auto [file, id] : {std::pair{"s1.json", 0x11}, std::pair{"s2.json", 0x12}}) {
     auto j = nlohmann::json::parse(test::slurp(kFixtures + "commissioned-axis.json"));
     j["macid"] = id;
+    // Communication parameters at their defaults: the MACID comes from the
+    // state file, so the drive still answers as `id` after the restore's reset.
+    for (auto& p : j["parameters"]) {
+      const std::string upid = p["upid"];
+      if (upid == "200E" || upid == "206C") p["rom"] = p["ram"] = p["default"];
+    }
     test::spit(r.path / file, j.dump(1));
   }
   test::spit(r.path / "plant.toml",
