@@ -180,6 +180,17 @@ Result<std::optional<CommitInfo>> Archive::commit(const std::vector<std::string>
   return std::optional<CommitInfo>(info_of(made.p));
 }
 
+std::vector<std::pair<std::string, std::string>> message_trailers(const std::string& message) {
+  std::vector<std::pair<std::string, std::string>> out;
+  git_message_trailer_array arr{};
+  if (git_message_trailers(&arr, message.c_str()) != 0) return out;
+  for (std::size_t i = 0; i < arr.count; ++i)
+    out.emplace_back(arr.trailers[i].key ? arr.trailers[i].key : "",
+                     arr.trailers[i].value ? arr.trailers[i].value : "");
+  git_message_trailer_array_free(&arr);
+  return out;
+}
+
 Result<std::vector<HistoryEntry>> Archive::history(
     const std::string& path, std::size_t limit,
     const std::function<bool(const CommitInfo&)>& also) const {
@@ -205,10 +216,11 @@ Result<std::vector<HistoryEntry>> Archive::history(
     } else {
       changed = mine.has_value();
     }
-    if (!changed && !(also && also(info_of(c.p)))) continue;
+    auto info = info_of(c.p);
+    if (!changed && !(also && also(info))) continue;
     const git_signature* a = git_commit_author(c.p);
     out.push_back(HistoryEntry{
-        info_of(c.p), static_cast<std::int64_t>(git_commit_time(c.p)),
+        std::move(info), static_cast<std::int64_t>(git_commit_time(c.p)),
         std::string(a->name ? a->name : "") + " <" + (a->email ? a->email : "") + ">"});
   }
   return out;

@@ -7,6 +7,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "common/result.hpp"
@@ -27,6 +28,11 @@ struct HistoryEntry {
   std::int64_t time = 0;  // committer time, seconds since the epoch (UTC)
   std::string author;     // "Name <email>"
 };
+
+// The trailers of a commit message ("Operator: ana"), in order, as git
+// interpret-trailers reads them (libgit2's git_message_trailers): the last
+// paragraph, when every line of it is "Key: value".
+std::vector<std::pair<std::string, std::string>> message_trailers(const std::string& message);
 
 class Archive {
  public:
@@ -50,11 +56,11 @@ class Archive {
                                           const std::string& rev = "HEAD") const;
   // The commits reachable from HEAD that changed `path` (added, modified or
   // removed it), newest first, at most `limit`. Empty without commits.
-  // `also`: commits kept although they leave the file as it was (the records
-  // a restore commits, which change no file).
+  // `also`: commits that did not change it but are taken all the same (fleet
+  // restore's empty recording commits, by their message).
   Result<std::vector<HistoryEntry>> history(
       const std::string& path, std::size_t limit = 100,
-      const std::function<bool(const CommitInfo&)>& also = nullptr) const;
+      const std::function<bool(const CommitInfo&)>& also = {}) const;
   // Stages `paths` (files the caller wrote in the work tree) and commits them
   // with `message`. nullopt, and no commit, when the tree equals HEAD's,
   // unless allow_empty (a record such as "restored press3/z-axis").

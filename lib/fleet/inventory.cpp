@@ -423,7 +423,7 @@ Result<Inventory> parse_inventory(std::string_view text, std::string path) {
   Inventory inv;
   inv.path = path;
   c.known_keys(root, kRootKeys, "the inventory");
-  read_service_tables(c, root, inv);
+  read_service_tables(c, root, inv);  // and require_reason
   const toml::node* lines = root.get("line");
   const toml::array* a = lines ? lines->as_array() : nullptr;
   if (!lines) {

@@ -86,7 +86,9 @@ struct Inventory {
   Schedule schedule;
   Notify notify;
   ArchiveSettings archive;
-  // `require_reason = true`: a write (a restore through the service) needs a reason.
+  // `require_reason = true` (top level): a write to a drive of this plant
+  // (fleet restore, a restore through the service) needs a reason (--reason,
+  // the API's "reason"; docs/audit.md).
   bool require_reason = false;
   std::size_t drive_count() const;
   // nullptr when no drive has that name.

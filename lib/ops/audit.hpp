@@ -17,4 +17,8 @@ struct Audit {
 // that each trailer stays one line (git interpret-trailers reads them so).
 std::string trailers(const Audit& a);
 
+// The OS user running this program: the name of the effective uid
+// (getpwuid), else $USER, else the uid as a number.
+std::string current_user();
+
 }  // namespace lmcfg::ops

@@ -21,6 +21,7 @@
 #include "ops/report.hpp"
 #include "ops/restore_run.hpp"
 #include "ops/undo.hpp"
+#include "fleet/history.hpp"
 
 namespace lmcfg::serve {
 
@@ -1154,22 +1155,8 @@ Result<Json> Service::history(const std::string& name) const {
   const auto* d = impl_->opt.inventory.find_drive(name);
   if (!d) return Error(Errc::not_found, "no drive named '" + name + "' in the inventory");
   std::lock_guard<std::mutex> lock(impl_->archive_mu);
-  // The file's changes and the records of restores onto the position (they
-  // change no file; their subject is restore_record_message's).
-  const std::string record = "fleet restore: " + d->name + " <- ";
-  LMCFG_ASSIGN_OR_RETURN(
-      auto entries,
-      impl_->archive.history(fleet::archive_path(*d), 100, [&](const fleet::CommitInfo& c) {
-        return c.message.rfind(record, 0) == 0;
-      }));
-  Json out = Json::array();
-  for (const auto& e : entries) {
-    out.push_back({{"commit", e.commit.id},
-                   {"time", iso_time(Clock::from_time_t(static_cast<std::time_t>(e.time)))},
-                   {"author", e.author},
-                   {"message", e.commit.message}});
-  }
-  return out;
+  LMCFG_ASSIGN_OR_RETURN(auto events, fleet::position_history(impl_->archive, *d));
+  return fleet::history_json(events);
 }
 
 const fleet::Inventory& Service::inventory() const { return impl_->opt.inventory; }

@@ -165,3 +165,21 @@ TEST_CASE("fleet inventory: a file that cannot be read says so", "[fleet][invent
   REQUIRE_FALSE(inv.ok());
   CHECK(inv.error().message == "/no/such/plant.toml: cannot open the inventory");
 }
+
+TEST_CASE("fleet inventory: require_reason is a top-level true or false", "[fleet][inventory]") {
+  const std::string lines =
+      "[[line]]\nname = \"l\"\nport = \"/dev/ttyUSB0\"\n"
+      "[[line.drive]]\nname = \"a\"\nid = 0x11\n";
+  auto on = fleet::parse_inventory("require_reason = true\n" + lines, "plant.toml");
+  REQUIRE(on.ok());
+  CHECK(on->require_reason);
+  auto off = fleet::parse_inventory(lines, "plant.toml");
+  REQUIRE(off.ok());
+  CHECK_FALSE(off->require_reason);
+  CHECK(problems("require_reason = \"yes\"\n" + lines) ==
+        "plant.toml:1:18: 'require_reason' must be true or false");
+  // Below a table header the key belongs to that table, which knows no such key.
+  CHECK(problems(lines + "require_reason = true\n") ==
+        "plant.toml:7:1: unknown key 'require_reason' in drive of line 'l' (known: name, id, "
+        "labels, ignore)");
+}

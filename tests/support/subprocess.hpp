@@ -6,6 +6,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <string>
@@ -88,6 +89,25 @@ inline ToolRun run_tool_in(const std::filesystem::path& dir, const std::string& 
   r.out = slurp(dir / "stdout.txt");
   r.err = slurp(dir / "stderr.txt");
   return r;
+}
+
+// The output of a shell command, stdout only (`git log ...`, `id -un`).
+inline std::string shell_output(const std::string& cmd) {
+  std::string out;
+  if (FILE* p = ::popen(cmd.c_str(), "r")) {
+    char buf[4096];
+    std::size_t n;
+    while ((n = std::fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
+    ::pclose(p);
+  }
+  return out;
+}
+
+// The OS user the tools record as "who", as id(1) names it.
+inline std::string os_user() {
+  std::string u = shell_output("id -un");
+  while (!u.empty() && u.back() == '\n') u.pop_back();
+  return u;
 }
 
 inline int run_tool(const std::string& args) {

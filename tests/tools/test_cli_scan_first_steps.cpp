@@ -205,7 +205,8 @@ TEST_CASE("first steps: unknown subcommands and stray words are errors naming th
   CHECK(fleet.exit_code == 2);
   CHECK(fleet.err ==
         "lmcfg: unknown subcommand 'fleat' (one of: backup, diff, report, restore, default, undo, "
-        "get, set, db, info, convert, scan, sim, fleet, serve; see lmcfg --help)\n");
+        "journal, get, set, db, info, convert, scan, link, sim, fleet, serve; see lmcfg "
+        "--help)\n");
   auto stray = tool(d.path, "info stray --port sim:none.json");
   CHECK(stray.exit_code == 2);
   CHECK(stray.err == "lmcfg: unexpected argument 'stray' (see lmcfg SUBCOMMAND --help)\n");

@@ -3,6 +3,7 @@
 // simulated slcan adapter in front of a simulated controller), with poll
 // responses lost on the way; and the bad inputs (wrong bit rate, MAC ID, a second master, bad
 // values), each with its message and exit code.
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <filesystem>
 #include <nlohmann/json.hpp>
@@ -104,6 +105,17 @@ void backup_change_restore(const DnSim& sim, const std::string& dir_name,
   CHECK(restore.out.find("  set 35h motor A: Controller P (34h): ") != std::string::npos);
   CHECK(restore.out.find("  set 51h motor B: Filter Maximal Speed (50h): ") != std::string::npos);
   CHECK(restore.err.find("restore: 2 Set command(s) sent, verified") != std::string::npos);
+  // The journal records the two Set commands (docs/audit.md).
+  const std::string journal = test::slurp(dir / "lmcfg" / "journal.jsonl");
+  REQUIRE(std::count(journal.begin(), journal.end(), '\n') == 1);
+  const auto rec = nlohmann::json::parse(journal);
+  CHECK(rec["command"] == "restore");
+  CHECK(rec["outcome"] == "restored and verified");
+  REQUIRE(rec["steps"].size() == 2);
+  CHECK(rec["steps"][0]["action"] == "devicenet_set");
+  CHECK(rec["steps"][0]["motor"] == "A");
+  CHECK(rec["steps"][0]["command"] == "35h");
+  CHECK(rec["steps"][1]["command"] == "51h");
 
   auto again = test::run_tool_in(dir, "diff ctl.json drive " + sim.link());
   INFO(again.out << again.err);

@@ -212,5 +212,6 @@ TEST_CASE("cli: fleet restore --skip-incompatible records the skipped values in 
   CHECK(record->message == "fleet restore: bench/a <- bench/a.json at " + head->id.substr(0, 12) +
                                " (HEAD): restored except the listed values, verified\n\nline "
                                "bench (sim:s1.json), MACID 11h, 30 step(s)\n\n" +
-                               lines("skipped (the target cannot take them):\n", "  "));
+                               lines("skipped (the target cannot take them):\n", "  ") +
+                               "\nOperator: " + test::os_user() + "\n");
 }

@@ -3,7 +3,9 @@
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
+#include "audit_flow.hpp"
 #include "command.hpp"
+#include "common/layers.hpp"
 #include "link_options.hpp"
 #include "ops/confirm.hpp"
 #include "ops/factory_reset.hpp"
@@ -22,7 +24,34 @@ struct DefaultCli {
   bool include_comm = false;
   bool yes = false;
   bool no_undo = false;
+  AuditFlags audit;
 };
+
+// What default does, as the journal's steps (the shape of restore --json's
+// steps): each layer defaulted, the curves and command table deleted, the
+// communication values written back.
+nlohmann::ordered_json journal_steps(const ops::DefaultOptions& d, const ops::DefaultReport* rep,
+                                     const db::Database& db) {
+  nlohmann::ordered_json steps = nlohmann::ordered_json::array();
+  auto add = [&](nlohmann::ordered_json o) {
+    nlohmann::ordered_json step{{"step", steps.size() + 1}};
+    for (auto& [k, v] : o.items()) step[k] = v;
+    steps.push_back(std::move(step));
+  };
+  for (int layer = lmcfg::layers::kOS; layer <= lmcfg::layers::kAppl; ++layer)
+    if (d.layers[static_cast<std::size_t>(layer - 1)])
+      add({{"action", "default_layer"}, {"layer", std::string(lmcfg::layers::name(layer))}});
+  if (d.curves) add({{"action", "delete_all_curves"}});
+  if (d.command_table) add({{"action", "delete_all_ct"}});
+  if (rep) {
+    for (const auto& k : rep->kept)
+      add({{"action", "write_rom"},
+           {"upid", hex(k.upid, 4)},
+           {"new", {{"raw", k.value}, {"display", ops::display_value(db, k.upid, k.value)}}},
+           {"why", "kept communication value"}});
+  }
+  return steps;
+}
 
 void report_json(const char* outcome, const ops::DefaultReport* rep, const db::Database& db,
                  const std::string& error) {
@@ -94,6 +123,20 @@ int run(DefaultCli& o) {
   auto rep = ops::default_drive(client, d, db);
   end_progress(o.common);
   auto closed = (*session)->close();
+  {
+    ops::JournalEntry e;
+    e.audit = audit_of(o.audit);
+    e.command = "default";
+    e.port = o.common.port;
+    e.macid = copt.id;
+    e.steps = journal_steps(d, rep.ok() ? &*rep : nullptr, db);
+    const Error* error = !rep.ok() ? &rep.error() : !closed.ok() ? &closed.error() : nullptr;
+    e.outcome = error ? "failed" : "defaulted";
+    e.exit_code = error ? exit_code_for(*error) : kOk;
+    if (error) e.error = error->message;
+    if (rep.ok() && rep->undo) e.undo = rep->undo->path.string();
+    record_in_journal("default", std::move(e));
+  }
   if (!rep.ok()) {
     if (o.common.json) report_json("failed", nullptr, db, rep.error().message);
     return fail("default", rep.error());
@@ -145,6 +188,7 @@ void add_default(CLI::App& app, int& exit_code) {
   sub->add_flag("--no-undo", o->no_undo,
                 "do not save the drive's previous values as an undo record before writing "
                 "(lmcfg undo)");
+  add_audit_options(sub, o->audit);
   sub->callback([o, &exit_code] { exit_code = run(*o); });
 }
 }  // namespace lmcfg::cli

@@ -6,6 +6,7 @@
 
 #include "command.hpp"
 #include "fleet/fleet.hpp"
+#include "fleet/history.hpp"
 #include "fleet_cli.hpp"
 #include "link_options.hpp"
 #include "ops/interrupt.hpp"
@@ -17,6 +18,7 @@ namespace {
 struct FleetCli {
   CommonOptions common;  // --db, --json, --quiet, --trace; link settings come per line
   std::string inventory, archive, since = "HEAD", push, drive, rev = "HEAD";
+  std::string position;  // fleet log NAME
   bool no_curves = false, no_ct = false, full = false;
   RestoreFlags flags;
 };
@@ -95,6 +97,14 @@ int run_restore(const FleetCli& o) {
     return fail("fleet restore", Error(Errc::not_found, o.inventory + ": no drive named '" +
                                                             o.drive + "' in the inventory"));
   }
+  // Checked before the archive or the link is touched: nothing is written.
+  if (inv->require_reason && o.flags.audit.reason.empty() && !o.flags.dry_run)
+    return fail(
+        "fleet restore",
+        Error(Errc::invalid_argument,
+              o.inventory + ": require_reason = true: a restore needs --reason TEXT (why this "
+                            "drive is written; recorded in the archive and the journal); nothing "
+                            "written"));
   auto overrides = relink_overrides(o.flags.reconnect);
   if (!overrides.ok()) return fail("fleet restore", overrides.error());
   auto archive = fleet::Archive::open(o.archive, false);
@@ -104,6 +114,7 @@ int run_restore(const FleetCli& o) {
   fr.drive = o.drive;
   fr.rev = o.rev;
   fr.db = db;
+  fr.audit = audit_of(o.flags.audit);
   const auto links = *line_links(*inv, o.common);
   fr.link = links[static_cast<std::size_t>(line - inv->lines.data())];
   CommonOptions common = o.common;  // the plan's prompt names the drive's port and MACID
@@ -111,6 +122,7 @@ int run_restore(const FleetCli& o) {
   common.id = hex(d->id, 2, "h");
   RestoreFlags flags = o.flags;
   flags.undo_name = "fleet-restore";
+  flags.position = o.drive;
   int code = kOk;
   fr.restore = [&](ops::Session& s, const config::DriveConfig& file, const std::string& file_name) {
     ops::RestoreOutcome out;
@@ -123,6 +135,33 @@ int run_restore(const FleetCli& o) {
     std::fprintf(stderr, "fleet restore: recorded as %s in %s\n",
                  res->record->id.substr(0, 12).c_str(), o.archive.c_str());
   return code;
+}
+
+// fleet log NAME: the position's history from the archive. With --inventory
+// the name must be one of its drives; without, any valid position name.
+int run_log(const FleetCli& o) {
+  fleet::DriveEntry d;
+  d.name = o.position;
+  if (!o.inventory.empty()) {
+    auto inv = fleet::load_inventory(o.inventory);
+    if (!inv.ok()) return fail("fleet log", inv.error());
+    const auto* found = inv->find_drive(o.position);
+    if (!found)
+      return fail("fleet log", Error(Errc::not_found, o.inventory + ": no drive named '" +
+                                                          o.position + "' in the inventory"));
+    d = *found;
+  } else if (auto name = fleet::check_position_name(o.position); !name.ok()) {
+    return fail("fleet log", name.error());
+  }
+  auto archive = fleet::Archive::open(o.archive, false);
+  if (!archive.ok()) return fail("fleet log", archive.error());
+  auto events = fleet::position_history(*archive, d);
+  if (!events.ok()) return fail("fleet log", events.error());
+  if (o.common.json)
+    std::printf("%s\n", fleet::history_json(*events).dump(2).c_str());
+  else
+    std::fputs(fleet::render_history(*events, o.position).c_str(), stdout);
+  return kOk;
 }
 
 CLI::App* add_part(CLI::App* fleet, const char* name, const char* help, FleetCli& o) {
@@ -185,7 +224,9 @@ void add_fleet(CLI::App& app, int& exit_code) {
       "  lmcfg fleet check plant.toml\n"
       "  lmcfg fleet backup plant.toml --archive /srv/lmcfg-archive\n"
       "  lmcfg fleet status plant.toml --archive /srv/lmcfg-archive --since HEAD~7\n"
-      "  lmcfg fleet restore plant.toml --archive /srv/lmcfg-archive --drive press3/z-axis\n"
+      "  lmcfg fleet restore plant.toml --archive /srv/lmcfg-archive --drive press3/z-axis \\\n"
+      "      --reason \"replaced the motor\" --ticket T-17\n"
+      "  lmcfg fleet log press3/z-axis --archive /srv/lmcfg-archive\n"
       "Lines are read in parallel, the drives of a line one after another. docs/fleet.md has the\n"
       "inventory format and the archive workflow.");
   add_part(fleet, "check", "Validate an inventory: keys, names, MACIDs, ports", *o)
@@ -215,6 +256,21 @@ void add_fleet(CLI::App& app, int& exit_code) {
       ->capture_default_str();
   add_restore_flags(restore, o->flags);
   restore->callback([o, &exit_code] { exit_code = run_restore(*o); });
+
+  auto* log = fleet->add_subcommand(
+      "log", "A position's history from the archive: backups and restores, who and why");
+  log->add_option("NAME", o->position, "the position's name (its file is NAME.json)")->required();
+  log->add_option("--archive", o->archive, "the archive (a git repository)")->required();
+  log->add_option("--inventory", o->inventory,
+                  "the inventory: NAME must be one of its drives (docs/fleet.md)");
+  add_output_options(log, o->common);
+  log->footer(
+      "Newest first: the commits that changed NAME.json (fleet backup) and the records of fleet\n"
+      "restore onto NAME, with the time, who (the Operator: trailer, else the commit's author),\n"
+      "why (Reason:, Ticket:) and the subject. --json: the array GET "
+      "/api/v1/drives/NAME/history\n"
+      "returns.");
+  log->callback([o, &exit_code] { exit_code = run_log(*o); });
 }
 
 }  // namespace lmcfg::cli

@@ -26,6 +26,7 @@ struct ParamCli {
   bool yes = false;  // --yes: for --rom, what --stop-mc means
   bool include_comm = false;
   bool no_undo = false;
+  AuditFlags audit;  // set: --reason, --ticket
 };
 
 Result<std::uint16_t> parse_upid(const std::string& t) { return db::parse_upid(t); }
@@ -172,11 +173,15 @@ int run_set(ParamCli& o) {
   // controller behavior only after a restart of the MC-SW" (LinRS §9.2, of a
   // ROM write whose RAM value differs): a restart brings the ROM value back.
   std::optional<ops::UndoSaved> undo;
+  // The ROM value before the write, for the journal: the layer's modified
+  // list (read for the undo record) holds it when it is not the default.
+  std::optional<std::uint32_t> old;
   if (o.rom && !o.no_undo) {
     auto dir = ops::undo_dir();
     if (!dir.ok()) return fail("set", dir.error());
     auto cfg = ops::undo_config_for_parameter(c, *upid, db);
     if (!cfg.ok()) return fail("set", cfg.error());
+    if (const auto* p = cfg->find_param(*upid)) old = p->value;
     auto saved = ops::save_undo(
         ops::UndoOptions{true, *dir, o.common.port, c.options().id, "set", ops::kUndoKeep}, *cfg,
         db);
@@ -195,6 +200,35 @@ int run_set(ParamCli& o) {
   if (*stop) started = c.start_mc();  // also after a failed write: leave MC as found
   auto closed = (*session)->close();
   if (undo) print_undo_saved(*undo, o.common);
+  {
+    ops::JournalEntry e;
+    e.audit = audit_of(o.audit);
+    e.command = "set";
+    e.port = o.common.port;
+    e.macid = c.options().id;
+    const bool known = spec->type || !spec->labels.empty();
+    auto shown = [&](std::uint32_t v) {
+      return nlohmann::ordered_json{
+          {"raw", v}, {"display", known ? db::format_value(*spec, v) : std::to_string(v)}};
+    };
+    e.steps.push_back({{"step", 1},
+                       {"action", o.rom && o.ram ? "write_ram_rom"
+                                  : o.rom        ? "write_rom"
+                                                 : "write_ram"},
+                       {"upid", hex(*upid, 4)},
+                       {"name", d ? d->name : ""},
+                       {"old", old ? shown(*old) : nlohmann::ordered_json(nullptr)},
+                       {"new", shown(*value)}});
+    const Error* error = !w.ok()         ? &w.error()
+                         : !started.ok() ? &started.error()
+                         : !closed.ok()  ? &closed.error()
+                                         : nullptr;
+    e.outcome = error ? "failed" : "written";
+    e.exit_code = error ? exit_code_for(*error) : kOk;
+    if (error) e.error = error->message;
+    if (undo) e.undo = undo->path.string();
+    record_in_journal("set", std::move(e));
+  }
   if (!w.ok()) return fail_with_state("set", w.error(), state);
   if (!started.ok()) return fail("set", started.error());
   if (!closed.ok()) return fail("set", closed.error());
@@ -251,6 +285,7 @@ void add_set(CLI::App& app, int& exit_code) {
   sub->add_flag("--no-undo", o->no_undo,
                 "with --rom: do not save the layer's previous values as an undo record first "
                 "(lmcfg undo); a RAM write gets none, a reset brings the ROM value back");
+  add_audit_options(sub, o->audit);
   sub->callback([o, &exit_code] { exit_code = run_set(*o); });
 }
 }  // namespace lmcfg::cli

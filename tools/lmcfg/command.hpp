@@ -30,6 +30,7 @@ void add_report(CLI::App& app, int& exit_code);
 void add_restore(CLI::App& app, int& exit_code);
 void add_default(CLI::App& app, int& exit_code);
 void add_undo(CLI::App& app, int& exit_code);
+void add_journal(CLI::App& app, int& exit_code);
 void add_get(CLI::App& app, int& exit_code);
 void add_set(CLI::App& app, int& exit_code);
 void add_db(CLI::App& app, int& exit_code);

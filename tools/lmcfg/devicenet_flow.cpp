@@ -173,12 +173,46 @@ int restore_devicenet(const config::DriveConfig& file, const std::string& file_n
   if (auto i = interrupted_check(); !i.ok()) return fail("restore", i.error());
   auto mismatches = ops::execute_devicenet_plan(m, plan, file, db, make_progress(common));
   end_progress(common);
+  auto closed = (*session)->close();
+  {
+    ops::JournalEntry e;
+    e.audit = audit_of(f.audit);
+    e.command = "restore";
+    e.port = common.port;
+    e.macid = l->master.slave_mac;
+    e.file = file_name;
+    for (const auto& w : plan.writes)
+      e.steps.push_back({{"step", e.steps.size() + 1},
+                         {"action", "devicenet_set"},
+                         {"motor", w.motor == config::kDevicenetController
+                                       ? std::string("controller")
+                                       : std::string(1, static_cast<char>('A' + w.motor))},
+                         {"command", hex(w.get + 1u, 2, "h")},
+                         {"old", w.from},
+                         {"new", w.to},
+                         {"text", w.what}});
+    const Error* error = !mismatches.ok() ? &mismatches.error()
+                         : !closed.ok()   ? &closed.error()
+                                          : nullptr;
+    if (error) {
+      e.outcome = "failed";
+      e.exit_code = exit_code_for(*error);
+      e.error = error->message;
+    } else if (!mismatches->empty()) {
+      e.outcome = "verify mismatch";
+      e.exit_code = kVerifyMismatch;
+      for (const auto& s : *mismatches) e.error += (e.error.empty() ? "" : "; ") + s;
+    } else {
+      e.outcome = "restored and verified";
+    }
+    record_in_journal("restore", std::move(e));
+  }
   if (!mismatches.ok()) {
     std::fprintf(stderr, "lmcfg restore: the controller is partially restored: %s\n",
                  mismatches.error().message.c_str());
     return exit_code_for(mismatches.error());
   }
-  if (auto c = (*session)->close(); !c.ok()) return fail("restore", c.error());
+  if (!closed.ok()) return fail("restore", closed.error());
   if (!mismatches->empty()) {
     std::fprintf(stderr, "lmcfg restore: verification found %zu mismatch(es):\n",
                  mismatches->size());

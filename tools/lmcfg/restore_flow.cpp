@@ -61,6 +61,7 @@ void add_restore_flags(CLI::App* sub, RestoreFlags& f) {
   sub->add_flag("--no-undo", f.no_undo,
                 "do not save the target's previous values as an undo record before writing "
                 "(lmcfg undo)");
+  add_audit_options(sub, f.audit);
 }
 
 int restore_on_session(ops::Session& session, const config::DriveConfig& file,
@@ -167,6 +168,25 @@ int restore_on_session(ops::Session& session, const config::DriveConfig& file,
       if (text) std::fputs(ops::render_skipped_incompatible(out.plan).c_str(), stdout);
       if (out.skipped_any()) code = kRestoredExcept;
       break;
+  }
+  if (out.written) {
+    ops::JournalEntry e;
+    e.audit = audit_of(f.audit);
+    e.command = f.undo_name;
+    e.port = common.port;
+    e.macid = copt.id;
+    e.position = f.position;
+    e.file = file_name;
+    e.steps = ops::plan_json(out.plan)["steps"];
+    if (out.second_pass)
+      for (const auto& s : ops::plan_json(*out.second_pass)["steps"]) e.steps.push_back(s);
+    e.outcome = ops::outcome_name(out);
+    e.exit_code = code;
+    if (out.error) e.error = out.error->message;
+    for (const auto& m : out.mismatches) e.error += (e.error.empty() ? "" : "; ") + m;
+    if (out.undo) e.undo = out.undo->path.string();
+    record_in_journal(f.undo_name == "fleet-restore" ? "fleet restore" : f.undo_name.c_str(),
+                      std::move(e));
   }
   return code;
 }

@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "audit_flow.hpp"
 #include "config/model.hpp"
 #include "link_options.hpp"
 #include "ops/restore_run.hpp"
@@ -21,18 +22,21 @@ struct RestoreFlags {
   bool yes = false;
   bool no_undo = false;
   ReconnectOptions reconnect;
-  // The command that saves the undo record (its file name): "restore",
-  // "fleet-restore", "undo".
+  // The command that saves the undo record (its file name) and that the
+  // journal names: "restore", "fleet-restore", "undo".
   std::string undo_name = "restore";
+  AuditFlags audit;      // --reason, --ticket
+  std::string position;  // fleet restore: the position's name, for the journal
 };
 
 // --dry-run, --no-default, --include-comm, --reconnect-*, --yes, --no-reset,
-// --skip-incompatible, --no-undo.
+// --skip-incompatible, --no-undo, --reason, --ticket.
 void add_restore_flags(CLI::App* sub, RestoreFlags& f);
 
 // Restores `file` (called `file_name` in messages) over `session` as `lmcfg
 // restore` does, printing the plan, the confirmation and the outcome; returns
-// the documented exit code. `overrides` come from relink_overrides(f.reconnect),
+// the documented exit code. When anything was written, the run is recorded in
+// the journal (audit_flow.hpp). `overrides` come from relink_overrides(f.reconnect),
 // checked by the caller before the link opened.
 // "undo: saved the target's previous values to PATH; to put them back: CMD"
 // on stderr (unless --quiet or --json).
