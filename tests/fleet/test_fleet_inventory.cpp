@@ -295,13 +295,10 @@ no_module_values = "yes"
 name = "c"
 devicenet_macid = 1
 )") == "plant.toml:6:19: drive 'a': devicenet_macid 64 is not a DeviceNet MAC ID 0..63\n"
-       "plant.toml:9:20: " +
-            devicenet::parse_motor_list("devicenet_motors", "A,E").error().message +
-            "\n"
-            "plant.toml:10:14: " +
-            devicenet::parse_modules("control-in,warp-drive").error().message +
-            "\n"
-            "plant.toml:11:20: 'no_module_values' must be true or false");
+       "plant.toml:10:20: devicenet_motors 'A,E': expected motors A..D, each once, e.g. A,B\n"
+       "plant.toml:11:14: unknown IO module 'warp-drive' (expected control-in, addressed-in, "
+       "direct-in, status-out, addressed-out, direct-out-1, direct-out-2, master:A..master:D)\n"
+       "plant.toml:12:20: 'no_module_values' must be true or false");
   CHECK(problems(R"([[line]]
 name = "can1"
 port = "vcan0"
