@@ -50,7 +50,8 @@ std::string plural(std::size_t n, const char* one, const char* many) {
 }
 
 std::string where(const DriveResult& r) {
-  return r.name + " (line " + r.line + ", MACID " + hex(r.id, 2, "h") + ")";
+  return r.name + " (line " + r.line + (r.devicenet ? ", DeviceNet MAC ID " : ", MACID ") +
+         hex(r.id, 2, "h") + ")";
 }
 
 constexpr std::size_t kItemsPerDrive = 20;  // in a commit message; the diff has them all
@@ -71,6 +72,12 @@ void append_items(std::string& s, const DriveResult& r, const char* indent) {
 
 std::string counts_line(const DriveResult& r) {
   using K = ops::DiffItem::Kind;
+  if (r.devicenet) {
+    std::string s = plural(r.count(K::devicenet), "DeviceNet value", "DeviceNet values");
+    if (auto other = r.count(K::metadata) + r.count(K::scope))
+      s += ", " + plural(other, "other difference", "other differences");
+    return s;
+  }
   std::string s = plural(r.count(K::parameter), "parameter", "parameters") + ", " +
                   plural(r.count(K::curve), "curve", "curves") + ", " +
                   plural(r.count(K::ct_entry), "CT entry", "CT entries");
@@ -104,7 +111,16 @@ std::string item_line(const ops::DiffItem& it) {
   return what;
 }
 
-LineRun read_line(const LineEntry& line, const ops::LinkOptions& link_in, const FleetOptions& opt,
+ops::LineDrive line_drive(const DriveEntry& d) {
+  ops::LineDrive ld;
+  ld.id = d.id;
+  ld.io_modules = d.io_modules;
+  ld.motors = d.devicenet_motors;
+  ld.module_values = d.module_values;
+  return ld;
+}
+
+LineRun read_line(const LineEntry& line, const ops::LineLink& link, const FleetOptions& opt,
                   const std::vector<std::string>& only) {
   LineRun run;
   for (const auto& d : line.drives) {
@@ -114,15 +130,14 @@ LineRun read_line(const LineEntry& line, const ops::LinkOptions& link_in, const 
     r.line = line.name;
     r.name = d.name;
     r.id = d.id;
+    r.devicenet = link.is_devicenet();
     run.drives.push_back(std::move(r));
   }
   run.configs.resize(run.entries.size());
   if (run.entries.empty()) return run;
   const auto line_start = Clock::now();
   try {
-    ops::LinkOptions link = link_in;
-    link.client.id = run.entries.front()->id;
-    auto session = ops::open_session(link);
+    auto session = ops::LineSession::open(link, run.entries.front()->id);
     std::size_t done = 0;
     for (std::size_t i = 0; i < run.entries.size(); ++i) {
       const auto& d = *run.entries[i];
@@ -131,22 +146,19 @@ LineRun read_line(const LineEntry& line, const ops::LinkOptions& link_in, const 
       if (!session.ok()) {
         r.error = Error(session.error().code,
                         "line '" + line.name + "' (" + line.port + "): " + session.error().message);
-      } else if (auto relinked = (*session)->relink((*session)->line(), d.id, link.client.checksum);
-                 !relinked.ok()) {
-        r.error = relinked.error();
       } else {
         ops::BackupOptions bo = opt.backup;
         bo.progress = nullptr;
         bo.report = nullptr;
-        auto cfg = ops::backup((*session)->client(), bo, opt.db.get());
+        auto cfg = (*session)->backup(line_drive(d), bo, opt.db.get());
         if (!cfg.ok()) {
           r.error = cfg.error();
         } else {
-          cfg->identity.link = (*session)->link_settings();
           cfg->identity.labels = d.labels;
           for (const auto& l : cfg->layers) r.parameters += l.size();
           r.curves = cfg->curves.size();
           r.ct_entries = cfg->ct_entries.size();
+          if (cfg->devicenet) r.devicenet_values = cfg->devicenet->values.size();
           run.configs[i] = std::move(cfg).value();
         }
       }
@@ -159,7 +171,7 @@ LineRun read_line(const LineEntry& line, const ops::LinkOptions& link_in, const 
       }
     }
     if (session.ok()) {
-      run.stats = (*session)->client().stats();
+      run.stats = (*session)->stats();
       // A simulated line saves its drives here; a real one has nothing to save.
       if (auto closed = (*session)->close(); !closed.ok()) {
         for (std::size_t i = 0; i < run.drives.size(); ++i) {
@@ -300,7 +312,10 @@ std::string commit_message(const FleetRun& run) {
     }
   }
   for (const auto& r : run.drives) {
-    if (r.status == S::added) {
+    if (r.status == S::added && r.devicenet) {
+      s += "\nnew " + where(r) + ": " +
+           plural(r.devicenet_values, "DeviceNet value", "DeviceNet values") + "\n";
+    } else if (r.status == S::added) {
       s += "\nnew " + where(r) + ": " + plural(r.parameters, "parameter", "parameters") + ", " +
            plural(r.curves, "curve", "curves") + ", " +
            plural(r.ct_entries, "CT entry", "CT entries") + "\n";
@@ -371,6 +386,7 @@ std::string render_json(const FleetRun& run, bool status) {
       d["parameters"] = r.parameters;
       d["curves"] = r.curves;
       d["ct_entries"] = r.ct_entries;
+      if (r.devicenet) d["devicenet_values"] = r.devicenet_values;
     }
     if (r.status == S::changed) {
       auto& items = d["differences"] = nlohmann::ordered_json::array();
@@ -432,9 +448,12 @@ std::string restore_record_message(const ArchivedFile& f, const ops::RestoreOutc
   // in the subject and the outcome in the body.
   message += cause.empty() ? " (" + f.rev + "): " + ops::outcome_name(outcome) + "\n"
                            : " (" + cause + ")\n\n" + ops::outcome_name(outcome) + "\n";
-  message += "\nline " + f.line->name + " (" + f.line->port + "), MACID " +
-             hex(f.drive->id, 2, "h") + ", " + std::to_string(outcome.plan.steps.size()) +
-             " step(s)\n" + skipped_lines(outcome.plan);
+  const std::string steps = f.line->devicenet
+                                ? std::to_string(outcome.set_commands) + " Set command(s)"
+                                : std::to_string(outcome.plan.steps.size()) + " step(s)";
+  message += "\nline " + f.line->name + " (" + f.line->port + "), " +
+             (f.line->devicenet ? "DeviceNet MAC ID " : "MACID ") + hex(f.drive->id, 2, "h") +
+             ", " + steps + "\n" + skipped_lines(outcome.plan);
   if (outcome.error) message += "\n" + outcome.error->message + "\n";
   const std::string tr = ops::trailers(audit);
   if (!tr.empty()) message += "\n" + tr;
@@ -446,11 +465,22 @@ Result<FleetRestoreResult> fleet_restore(const Inventory& inv, Archive& archive,
   LMCFG_ASSIGN_OR_RETURN(auto f, load_archived(inv, archive, opt.drive, opt.rev));
   FleetRestoreResult res;
   res.source = f.source;
-  ops::LinkOptions link = opt.link;
-  link.client.id = f.drive->id;
-  LMCFG_ASSIGN_OR_RETURN(auto session, ops::open_session(link));
-  res.outcome = opt.restore(*session, f.config, f.file_name);
-  auto closed = session->close();
+  const DriveEntry* d = f.drive;
+  // The session of the drive's protocol, the matching restore on it; the
+  // connection is released (a simulated line saved) before the record.
+  Result<void> closed;
+  if (opt.link.is_devicenet()) {
+    LMCFG_ASSIGN_OR_RETURN(auto session, ops::DevicenetSession::open(ops::devicenet_link_for(
+                                             *opt.link.devicenet, line_drive(*d))));
+    res.outcome = opt.restore_devicenet(*session, f.config, f.file_name);
+    closed = session->close();
+  } else {
+    ops::LinkOptions link = opt.link.linrs;
+    link.client.id = d->id;
+    LMCFG_ASSIGN_OR_RETURN(auto session, ops::open_session(link));
+    res.outcome = opt.restore(*session, f.config, f.file_name);
+    closed = session->close();
+  }
   if (res.outcome.written) {
     LMCFG_ASSIGN_OR_RETURN(
         res.record,

@@ -16,6 +16,7 @@
 #include "ops/audit.hpp"
 #include "ops/backup.hpp"
 #include "ops/diff.hpp"
+#include "ops/line.hpp"
 #include "ops/restore_run.hpp"
 #include "ops/session.hpp"
 
@@ -33,6 +34,8 @@ struct DriveResult {
   Status status = Status::failed;
   std::optional<Error> error;
   std::size_t parameters = 0, curves = 0, ct_entries = 0;  // in the live read
+  bool devicenet = false;                                  // a DeviceNet controller (a CAN line)
+  std::size_t devicenet_values = 0;                        // its settable values in the live read
   ops::DiffResult diff;                                    // archived -> live
   double seconds = 0;
   // Differences by kind (parameter, curve, ct_entry, other).
@@ -41,7 +44,7 @@ struct DriveResult {
 const char* status_name(DriveResult::Status s);  // "unchanged", "changed", "new", "failed"
 
 struct FleetOptions {
-  std::vector<ops::LinkOptions> links;  // one per inventory line, same order
+  std::vector<ops::LineLink> links;  // one per inventory line, same order
   // Names, types and decoded views; the empty database when there is none.
   std::reference_wrapper<const db::Database> db = db::Database::empty();
   ops::BackupOptions backup;  // what to read (progress and report are per drive, ignored)
@@ -67,11 +70,15 @@ struct LineRun {
   client::Stats stats;                                      // the line session's telegrams
   double seconds = 0;
 };
-// Reads the drives of `line` (those named in `only`, else all) over one session
-// opened with `link` (ops::open_session, the port path of every fleet command).
-// Never throws: a failure is the drives' error.
-LineRun read_line(const LineEntry& line, const ops::LinkOptions& link, const FleetOptions& opt,
+// Reads the drives of `line` (those named in `only`, else all) through one
+// ops::LineSession opened with `link`: a LinRS line over one session, a
+// DeviceNet line controller by controller. Never throws: a failure is the
+// drives' error.
+LineRun read_line(const LineEntry& line, const ops::LineLink& link, const FleetOptions& opt,
                   const std::vector<std::string>& only = {});
+// What the line's session needs of drive `d` (its MACID; DeviceNet: motors,
+// IO modules, module values).
+ops::LineDrive line_drive(const DriveEntry& d);
 // Compares each read of `run` with its archived file at `rev`, leaving out the
 // drive's ignored UPIDs (ignored_upids); sets each drive's status.
 Result<void> compare_line(const LineEntry& line, const Archive& archive, const std::string& rev,
@@ -106,14 +113,20 @@ std::string archive_path(const DriveEntry& d);
 struct FleetRestore {
   std::string drive;  // position name
   std::string rev = "HEAD";
-  ops::LinkOptions link;  // the drive's line (client.id is set from the inventory)
-  ops::Audit audit;       // who and why: trailers of the recording commit
+  ops::LineLink link;  // the drive's line (the MACID is set from the inventory)
+  ops::Audit audit;    // who and why: trailers of the recording commit
   std::reference_wrapper<const db::Database> db = db::Database::empty();
   // Runs the normal restore (plan, confirmation, verify) of the archived file
   // on the open session and returns its outcome.
   std::function<ops::RestoreOutcome(ops::Session&, const config::DriveConfig&,
                                     const std::string& file_name)>
       restore;
+  // DeviceNet lines: the same for a controller, on its connection (the
+  // DeviceNet restore: plan against Table 5-1, confirmation, Set commands,
+  // verify). RestoreOutcome::set_commands counts what it sent.
+  std::function<ops::RestoreOutcome(ops::DevicenetSession&, const config::DriveConfig&,
+                                    const std::string& file_name)>
+      restore_devicenet;
 };
 struct FleetRestoreResult {
   ops::RestoreOutcome outcome;

@@ -11,6 +11,7 @@
 
 #include "common/bytes.hpp"
 #include "config/io_common.hpp"
+#include "devicenet/catalogue.hpp"
 #include "link/port.hpp"
 
 namespace lmcfg::fleet {
@@ -35,11 +36,13 @@ class Checker {
   const std::vector<std::string>& problems() const { return problems_; }
 
   // Every key of `t` is one of `allowed`; the message lists them.
+  // Keys in `elsewhere` are reported by the caller (keys of the other protocol).
   void known_keys(const toml::table& t, std::span<const std::string_view> allowed,
-                  std::string_view where) {
+                  std::string_view where, std::span<const std::string_view> elsewhere = {}) {
     for (auto&& [key, value] : t) {
       bool ok = false;
       for (auto a : allowed) ok = ok || key.str() == a;
+      for (auto a : elsewhere) ok = ok || key.str() == a;
       if (ok) continue;
       std::string list;
       for (auto a : allowed) list += (list.empty() ? "" : ", ") + std::string(a);
@@ -150,10 +153,93 @@ constexpr std::string_view kLineKeys[] = {"name",
                                           "on_replaced",
                                           "drive"};
 constexpr std::string_view kDriveKeys[] = {"name", "id", "labels", "ignore", "on_replaced"};
+// A line whose port is a CAN link: DeviceNet controllers (docs/devicenet.md),
+// with the settings of the CLI's DeviceNet options of the same names.
+constexpr std::string_view kDevicenetLineKeys[] = {
+    "name",    "port",   "can_bitrate", "devicenet_own_macid", "devicenet_listen_ms", "timeout_ms",
+    "retries", "ignore", "drive"};
+constexpr std::string_view kDevicenetDriveKeys[] = {
+    "name",   "devicenet_macid", "devicenet_motors", "io_modules", "no_module_values",
+    "labels", "ignore"};
+// The keys of one protocol only: on a line of the other, each is named as such.
+constexpr std::string_view kLinrsOnlyLineKeys[] = {
+    "baud", "parity", "stop_bits", "checksum", "checksum_coverage", "settle_ms", "agreeing_reads"};
+constexpr std::string_view kDevicenetOnlyLineKeys[] = {"can_bitrate", "devicenet_own_macid",
+                                                       "devicenet_listen_ms"};
+constexpr std::string_view kLinrsOnlyDriveKeys[] = {"id"};
+constexpr std::string_view kDevicenetOnlyDriveKeys[] = {"devicenet_macid", "devicenet_motors",
+                                                        "io_modules", "no_module_values"};
+
+// "'baud' is a LinRS key, not for DeviceNet line 'can1' (port 'slcan:/dev/ttyACM0' is a CAN
+// link)" for each key of `t` in `other` (the other protocol's keys).
+void misplaced_keys(Checker& c, const toml::table& t, std::span<const std::string_view> other,
+                    const LineEntry& line, const std::string& whose) {
+  const std::string of_other = line.devicenet ? "a LinRS key" : "a DeviceNet key";
+  const std::string here =
+      line.devicenet ? "DeviceNet line '" + line.name + "' (port '" + line.port + "' is a CAN link)"
+                     : "LinRS line '" + line.name +
+                           "' (DeviceNet needs a CAN port: "
+                           "slcan:DEVICE, slcan:tcp://HOST:PORT, can0)";
+  for (auto&& [key, value] : t) {
+    for (auto k : other) {
+      if (key.str() != k) continue;
+      c.problem(key.source(),
+                whose + "'" + std::string(k) + "' is " + of_other + ", not for " + here);
+    }
+  }
+}
+
+// DeviceNet controllers: devicenet_macid (0..63), devicenet_motors ("A,B"),
+// io_modules ("control-in,addressed-in,..."), no_module_values, checked by
+// the parsers of the options of the same names.
+void read_devicenet_drive(Checker& c, const toml::table& t, DriveEntry& d) {
+  if (!t.get("devicenet_macid")) {
+    c.problem(t.source(), "drive '" + d.name +
+                              "' has no 'devicenet_macid' (the controller's MAC ID 0..63, e.g. "
+                              "devicenet_macid = 5)");
+  } else if (auto mac = c.integer(t, "devicenet_macid")) {
+    if (*mac < 0 || *mac > 63) {
+      c.problem(t.get("devicenet_macid")->source(), "drive '" + d.name + "': devicenet_macid " +
+                                                        std::to_string(*mac) +
+                                                        " is not a DeviceNet MAC ID 0..63");
+    } else {
+      d.id = static_cast<std::uint8_t>(*mac);
+    }
+  }
+  if (auto motors = c.string(t, "devicenet_motors", "", false)) {
+    auto selected = devicenet::parse_motor_list("devicenet_motors", *motors);
+    if (!selected.ok()) {
+      c.problem(t.get("devicenet_motors")->source(), selected.error().message);
+    } else {
+      std::vector<int> list;
+      for (int m = 0; m < 4; ++m)
+        if ((*selected)[static_cast<std::size_t>(m)]) list.push_back(m);
+      d.devicenet_motors = list;
+    }
+  }
+  if (auto modules = c.string(t, "io_modules", "", false)) {
+    auto layout = devicenet::parse_modules(*modules);
+    if (!layout.ok())
+      c.problem(t.get("io_modules")->source(), layout.error().message);
+    else
+      d.io_modules = *layout;
+  }
+  if (const toml::node* n = t.get("no_module_values")) {
+    if (!n->is_boolean())
+      c.problem(n->source(), "'no_module_values' must be true or false");
+    else
+      d.module_values = !n->as_boolean()->get();
+  }
+}
 
 void read_drive(Checker& c, const toml::table& t, LineEntry& line) {
   const std::string where = "drive of line '" + line.name + "'";
-  c.known_keys(t, kDriveKeys, where);
+  const auto other = line.devicenet ? std::span<const std::string_view>(kLinrsOnlyDriveKeys)
+                                    : std::span<const std::string_view>(kDevicenetOnlyDriveKeys);
+  misplaced_keys(c, t, other, line, "drive '" + t["name"].value_or(std::string()) + "': ");
+  c.known_keys(t,
+               line.devicenet ? std::span<const std::string_view>(kDevicenetDriveKeys) : kDriveKeys,
+               where, other);
   DriveEntry d;
   d.at = c.at(t.source());
   if (auto name = c.string(t, "name", where, true)) {
@@ -162,7 +248,9 @@ void read_drive(Checker& c, const toml::table& t, LineEntry& line) {
     }
     d.name = *name;
   }
-  if (!t.get("id")) {
+  if (line.devicenet) {
+    read_devicenet_drive(c, t, d);
+  } else if (!t.get("id")) {
     c.problem(t.source(), "drive '" + d.name + "' has no 'id' (its MACID, e.g. id = 0x11)");
   } else if (auto id = c.integer(t, "id")) {
     if (*id < 0 || *id > 0xFF) {
@@ -196,14 +284,24 @@ void read_line(Checker& c, const toml::table& t, std::size_t index, Inventory& i
   line.at = c.at(t.source());
   const std::string fallback = "line " + std::to_string(index + 1);
   line.name = c.string(t, "name", fallback, true).value_or(fallback);
-  c.known_keys(t, kLineKeys, "line '" + line.name + "'");
   line.port = c.string(t, "port", "line '" + line.name + "'", true).value_or("");
+  // The port's row in the table of port schemes says the protocol.
+  line.devicenet = !line.port.empty() && link::is_can_port(line.port);
+  const auto other = line.devicenet ? std::span<const std::string_view>(kLinrsOnlyLineKeys)
+                                    : std::span<const std::string_view>(kDevicenetOnlyLineKeys);
+  misplaced_keys(c, t, other, line, "");
+  c.known_keys(t,
+               line.devicenet ? std::span<const std::string_view>(kDevicenetLineKeys) : kLineKeys,
+               "line '" + line.name + "'", other);
   line.baud = c.integer(t, "baud");
   line.stop_bits = c.integer(t, "stop_bits");
   line.timeout_ms = c.integer(t, "timeout_ms");
   line.retries = c.integer(t, "retries");
   line.settle_ms = c.integer(t, "settle_ms");
   line.agreeing_reads = c.integer(t, "agreeing_reads");
+  line.can_bitrate = c.integer(t, "can_bitrate");
+  line.devicenet_own_macid = c.integer(t, "devicenet_own_macid");
+  line.devicenet_listen_ms = c.integer(t, "devicenet_listen_ms");
   line.parity = c.string(t, "parity", "", false);
   line.checksum = c.string(t, "checksum", "", false);
   line.checksum_coverage = c.string(t, "checksum_coverage", "", false);
@@ -293,7 +391,8 @@ void check_unique(Checker& c, const Inventory& inv) {
       if (auto [it, fresh] = ids.emplace(d.id, &d); !fresh) {
         c.problem(d.at, "line '" + line.name + "': drives '" + it->second->name + "' (" +
                             it->second->at.str() + ") and '" + d.name + "' (" + d.at.str() +
-                            ") both have MACID " + hex(d.id, 2, "h"));
+                            ") both have " + (line.devicenet ? "DeviceNet MAC ID " : "MACID ") +
+                            hex(d.id, 2, "h"));
       }
     }
   }
@@ -399,9 +498,6 @@ Result<void> check_ports(const Inventory& inv) {
     auto spec = link::parse_port(l.port);
     if (!spec.ok()) {
       problem(l, spec.error().message);
-    } else if (spec->kind() != link::Kind::byte_link) {
-      problem(l, "port '" + l.port +
-                     "' is a CAN link (DeviceNet controllers); a fleet line is a LinRS line");
     } else if (spec->scheme->check_present) {
       if (auto present = spec->scheme->check_present(*spec); !present.ok())
         problem(l, present.error().message);

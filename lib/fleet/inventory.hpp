@@ -12,6 +12,18 @@
 //   id = 0x11
 //   labels = { machine = "press3" }
 //
+// A line whose port is a CAN link (slcan:/dev/ttyACM0, slcan:tcp://HOST:PORT,
+// can0) carries DeviceNet controllers (seed 000) instead:
+//
+//   [[line]]
+//   name = "hall1-can"
+//   port = "slcan:/dev/ttyACM0"
+//   can_bitrate = 250000
+//   [[line.drive]]
+//   name = "press5/controller"
+//   devicenet_macid = 5
+//   devicenet_motors = "A,B"
+//
 // Loading checks everything a run needs before any drive is talked to:
 // unknown keys, wrong value types, names that are not archive paths,
 // duplicate drive names in the plant, duplicate line names, duplicate MACIDs
@@ -25,6 +37,7 @@
 #include <vector>
 
 #include "common/result.hpp"
+#include "devicenet/command.hpp"
 
 namespace lmcfg::fleet {
 
@@ -35,8 +48,8 @@ struct Position {
 };
 
 struct DriveEntry {
-  std::string name;  // position in the machine; the archive file is <name>.json
-  std::uint8_t id = 0x11;
+  std::string name;        // position in the machine; the archive file is <name>.json
+  std::uint8_t id = 0x11;  // LinRS: `id`; DeviceNet: `devicenet_macid` (0..63)
   std::map<std::string, std::string> labels;
   // UPIDs never compared (live or volatile values): `ignore = ["1037h"]`, with
   // the line's list added.
@@ -45,6 +58,12 @@ struct DriveEntry {
   // for: "notify" (the event only) or "restore" (the archived file restored).
   // Unset: the line's, else "notify".
   std::optional<std::string> on_replaced;
+  // DeviceNet controllers only, as --devicenet-motors, --io-modules and
+  // --no-module-values: the motors (nullopt: probed), the IO modules (nullopt:
+  // the default layout), whether the encoder/IO module values are read.
+  std::optional<std::vector<int>> devicenet_motors;
+  std::optional<devicenet::IoLayout> io_modules;
+  bool module_values = true;
   Position at;
 };
 
@@ -56,7 +75,11 @@ struct LineEntry {
   std::string port;
   std::optional<std::int64_t> baud, stop_bits, timeout_ms, retries, settle_ms, agreeing_reads;
   std::optional<std::string> parity, checksum, checksum_coverage;
-  std::vector<std::uint16_t> ignore;       // for every drive of the line
+  // DeviceNet lines (a CAN port): --can-bitrate, --devicenet-own-macid,
+  // --devicenet-listen-ms.
+  bool devicenet = false;
+  std::optional<std::int64_t> can_bitrate, devicenet_own_macid, devicenet_listen_ms;
+  std::vector<std::uint16_t> ignore;  // for every drive of the line
   std::optional<std::string> on_replaced;  // for every drive of the line without its own
   std::vector<DriveEntry> drives;
   Position at;
@@ -121,7 +144,7 @@ Result<InventoryEdit> link_inventory_edit(const Inventory& inv, std::string_view
 
 // Whether each line's port can be reached before any drive is talked to,
 // through the table of port schemes (link/port.hpp): its form ("tcp://HOST:PORT"
-// has a port 1..65535), a LinRS link (not CAN), a device path ("/dev/ttyUSB0")
+// has a port 1..65535), a device path ("/dev/ttyUSB0", "slcan:/dev/ttyACM0")
 // exists. Registered "SCHEME:ADDRESS" ports are their scheme's to check when
 // opened; a gateway that does not answer fails its line's drives at run time.
 // Errc::validation_failed with every problem and its position.

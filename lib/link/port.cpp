@@ -92,6 +92,17 @@ Result<std::unique_ptr<can::Link>> open_slcan_row(const PortSpec& spec, const Op
   return can::open_slcan(std::move(serial), req.can);
 }
 
+// slcan:tcp://: the adapter's slcan byte stream over TCP (a serial-to-Ethernet
+// gateway in front of a serial CAN adapter, or `lmcfg sim --devicenet --tcp`).
+// The adapter's own serial rate is the gateway's; the CAN bit rate is still
+// sent to the adapter ("Sn").
+Result<std::unique_ptr<can::Link>> open_slcan_tcp_row(const PortSpec& spec,
+                                                      const OpenRequest& req) {
+  LMCFG_ASSIGN_OR_RETURN(auto stream,
+                         transport::open_tcp(spec.host, spec.tcp_port, req.connect_timeout));
+  return can::open_slcan(std::move(stream), req.can);
+}
+
 Result<std::unique_ptr<can::Link>> open_socketcan_row(const PortSpec& spec, const OpenRequest&) {
   return can::open_socketcan(spec.address);
 }
@@ -146,6 +157,17 @@ std::deque<Scheme>& table() {
     t.push_back(std::move(rfc));
 
     t.push_back(factory_row("sim", nullptr, "sim:STATE.json"));
+
+    // Before slcan: its prefix is the longer one (rows are tried in order).
+    Scheme slcan_tcp;
+    slcan_tcp.name = "slcan-tcp";
+    slcan_tcp.prefix = "slcan:tcp://";
+    slcan_tcp.kind = Kind::can_link;
+    slcan_tcp.line_rate = false;  // the CAN bit rate is --can-bitrate, sent to the adapter
+    slcan_tcp.syntax = "slcan:tcp://HOST:PORT";
+    slcan_tcp.parse = parse_gateway;
+    slcan_tcp.open_can = open_slcan_tcp_row;
+    t.push_back(std::move(slcan_tcp));
 
     Scheme slcan;
     slcan.name = "slcan";
@@ -233,9 +255,10 @@ Result<std::unique_ptr<can::Link>> open_can_link(const PortSpec& spec, const Ope
   if (spec.scheme_name() == "serial" && spec.address.find('/') == std::string::npos)
     return open_socketcan_row(spec, req);
   if (!spec.scheme->open_can)
-    return Error(
-        Errc::invalid_argument,
-        "port '" + spec.text + "' is not a CAN link: slcan:DEVICE or a SocketCAN interface (can0)");
+    return Error(Errc::invalid_argument,
+                 "port '" + spec.text +
+                     "' is not a CAN link: slcan:DEVICE, slcan:tcp://HOST:PORT or a SocketCAN "
+                     "interface (can0)");
   return spec.scheme->open_can(spec, req);
 }
 

@@ -11,6 +11,8 @@
 //   rfc2217://HOST:PORT    RFC 2217 gateway, LinRS (the client sets the line)
 //   sim:STATE.json         registered at start-up (the simulated drive), LinRS
 //   slcan:/dev/ttyACM0     serial-line CAN adapter (slcan/Lawicel), CAN
+//   slcan:tcp://HOST:PORT  the same adapter protocol over TCP (a gateway, or
+//                          `lmcfg sim --devicenet --tcp`), CAN
 //   can0, vcan0, slcan0    SocketCAN interface, CAN
 //   OTHER:ADDRESS          a scheme registered with register_scheme(), LinRS
 #include <cstdint>
@@ -49,7 +51,8 @@ struct PortSpec {
   // configured in the gateway; a SocketCAN interface has its bit rate from
   // `ip link`).
   bool sets_line_rate() const;
-  // "serial", "tcp", "rfc2217", "sim", "slcan", "socketcan" or a registered name.
+  // "serial", "tcp", "rfc2217", "sim", "slcan-tcp", "slcan", "socketcan" or a
+  // registered name.
   const std::string& scheme_name() const;
 };
 
@@ -90,7 +93,8 @@ const Scheme& scheme_of(std::string_view port);
 // The row and its parts; Errc::invalid_argument with a located message
 // ("port 'tcp://x' is not tcp://HOST:PORT with PORT 1..65535").
 Result<PortSpec> parse_port(std::string_view port);
-// True for CAN ports: slcan:DEVICE or a SocketCAN interface name.
+// True for CAN ports: slcan:DEVICE, slcan:tcp://HOST:PORT or a SocketCAN
+// interface name.
 bool is_can_port(std::string_view port);
 
 // Opens a byte link (serial, tcp, sim ...). A CAN port gives

@@ -124,6 +124,21 @@ Result<void> DevicenetSession::close() {
   return master_->release();
 }
 
+Result<config::DriveConfig> capture_devicenet(const DevicenetLinkOptions& l,
+                                              const DevicenetBackupOptions& opt,
+                                              const db::Database& db) {
+  LMCFG_ASSIGN_OR_RETURN(auto session, DevicenetSession::open(l));
+  auto cfg = devicenet_backup(session->master(), opt, db);
+  auto closed = session->close();
+  LMCFG_TRY(cfg);
+  LMCFG_TRY(closed);
+  cfg->identity.macid = std::to_string(session->macid());
+  cfg->identity.link = session->link_settings();
+  cfg->devicenet->can_bitrate = l.can_bitrate;
+  cfg->devicenet->io_modules = devicenet::module_names(l.master.layout);
+  return cfg;
+}
+
 std::int64_t devicenet_word(const db::DevicenetCommand* c, std::uint16_t raw) {
   // Table 5-1 gives signed ranges ("-32256 to +32256") for positions: the
   // word is two's complement there.

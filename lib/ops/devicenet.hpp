@@ -73,6 +73,14 @@ struct DevicenetBackupOptions {
   std::vector<std::string>* notes = nullptr;  // what was skipped and why, for people
 };
 
+// The capture `lmcfg backup --port slcan:...` writes: opens the link, reads
+// the controller at l.master.slave_mac (devicenet_backup), releases it, and
+// records the link in the identity (MAC ID, port, CAN bit rate, IO modules).
+// A release that fails after a good read fails the capture.
+Result<config::DriveConfig> capture_devicenet(const DevicenetLinkOptions& l,
+                                              const DevicenetBackupOptions& opt,
+                                              const db::Database& db);
+
 // Which motors are configured (unless given): a motor the controller refuses
 // with 8111h "Drive not master" (or 8110h) for Get (Rise) Curve Number is not.
 // The controller's coded error pending before the backup refuses it (the

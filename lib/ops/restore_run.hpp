@@ -49,6 +49,7 @@ struct RestoreOutcome {
   // --skip-incompatible left values out (Plan::skipped_incompatible).
   bool skipped_any() const { return !plan.skipped_incompatible.empty(); }
   std::optional<UndoSaved> undo;  // the undo record saved before the first write
+  std::size_t set_commands = 0;   // a DeviceNet restore: the Set commands planned (`plan` is LinRS)
 };
 
 RestoreOutcome run_restore(Session& session, const config::DriveConfig& file,

@@ -223,7 +223,7 @@ struct Service::Impl {
     return static_cast<std::size_t>(l - opt.inventory.lines.data());
   }
   ops::LinkOptions link_for(std::size_t line, const fleet::DriveEntry& d) const {
-    ops::LinkOptions l = opt.links[line];
+    ops::LinkOptions l = opt.links[line].linrs;
     l.client.id = d.id;
     return l;
   }
@@ -670,8 +670,10 @@ struct Service::Impl {
       archived = [&]() -> Result<void> {
         LMCFG_TRY(fleet::compare_line(line, archive, "HEAD", opt.db, run));
         for (std::size_t i = 0; i < run.drives.size(); ++i) {
+          // LinRS drives only: a DeviceNet capture has no modified lists (DeviceNet §5.2
+          // values, read whole), so "factory-fresh" says nothing of it.
           replaced[i] =
-              run.drives[i].status == S::changed && run.configs[i] &&
+              !line.devicenet && run.drives[i].status == S::changed && run.configs[i] &&
               factory_fresh(*run.configs[i], opt.db, fleet::ignored_upids(line, *run.entries[i]));
           // A drive a restore has not finished on is half configured: never archived.
           unfinished[i] = is_pending(run.entries[i]->name);
@@ -1167,6 +1169,11 @@ Result<Json> Service::plan(const std::string& name, const std::string& rev,
   const fleet::LineEntry* line = nullptr;
   const auto* d = s.opt.inventory.find_drive(name, &line);
   if (!d) return Error(Errc::not_found, "no drive named '" + name + "' in the inventory");
+  if (line->devicenet) {
+    return Error(Errc::not_supported,
+                 "drive " + name + " is a DeviceNet controller on line " + line->name +
+                     ": the service restores LinRS drives; use lmcfg fleet restore");
+  }
   StoredPlan sp;
   {
     std::lock_guard<std::mutex> lock(s.archive_mu);

@@ -31,8 +31,8 @@ using Json = nlohmann::ordered_json;
 
 struct ServiceOptions {
   fleet::Inventory inventory;
-  std::string archive;                  // the archive's directory (created when new or empty)
-  std::vector<ops::LinkOptions> links;  // one per inventory line, same order
+  std::string archive;               // the archive's directory (created when new or empty)
+  std::vector<ops::LineLink> links;  // one per inventory line, same order (LinRS or DeviceNet)
   std::reference_wrapper<const db::Database> db = db::Database::empty();
   ops::BackupOptions backup;  // what to read
   // The CLI's exit code for an error (README "Exit codes"): events and API

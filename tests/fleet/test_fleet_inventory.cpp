@@ -2,6 +2,7 @@
 // write, and every kind of bad inventory with its exact message and position.
 #include <catch2/catch.hpp>
 
+#include "devicenet/catalogue.hpp"
 #include "files.hpp"
 #include "fleet/inventory.hpp"
 
@@ -181,5 +182,182 @@ TEST_CASE("fleet inventory: require_reason is a top-level true or false", "[flee
   // Below a table header the key belongs to that table, which knows no such key.
   CHECK(problems(lines + "require_reason = true\n") ==
         "plant.toml:7:1: unknown key 'require_reason' in drive of line 'l' (known: name, id, "
-        "labels, ignore)");
+        "labels, ignore, on_replaced)");
+}
+
+TEST_CASE("fleet inventory: a CAN port's line holds DeviceNet controllers with their settings",
+          "[fleet][inventory][devicenet]") {
+  const std::string text = R"([[line]]
+name = "hall1-can"
+port = "slcan:/dev/ttyACM0"
+can_bitrate = 250000
+devicenet_own_macid = 60
+devicenet_listen_ms = 200
+timeout_ms = 150
+[[line.drive]]
+name = "press5/controller"
+devicenet_macid = 5
+devicenet_motors = "A,B"
+no_module_values = true
+io_modules = "control-in,addressed-in,status-out,addressed-out"
+labels = { machine = "press5" }
+[[line.drive]]
+name = "press6/controller"
+devicenet_macid = 0x3F
+
+[[line]]
+name = "gateway-can"
+port = "slcan:tcp://10.0.0.7:4002"
+[[line.drive]]
+name = "press7/controller"
+devicenet_macid = 5
+
+[[line]]
+name = "socketcan"
+port = "can0"
+[[line.drive]]
+name = "press8/controller"
+devicenet_macid = 1
+)";
+  auto inv = fleet::parse_inventory(text, "plant.toml");
+  INFO((inv.ok() ? std::string() : inv.error().message));
+  REQUIRE(inv.ok());
+  REQUIRE(inv->lines.size() == 3);
+  const auto& can = inv->lines[0];
+  CHECK(can.devicenet);
+  CHECK(can.can_bitrate == 250000);
+  CHECK(can.devicenet_own_macid == 60);
+  CHECK(can.devicenet_listen_ms == 200);
+  CHECK(can.timeout_ms == 150);
+  REQUIRE(can.drives.size() == 2);
+  CHECK(can.drives[0].id == 5);
+  CHECK(can.drives[0].devicenet_motors == std::vector<int>{0, 1});
+  CHECK_FALSE(can.drives[0].module_values);
+  REQUIRE(can.drives[0].io_modules);
+  CHECK(devicenet::module_names(*can.drives[0].io_modules) ==
+        std::vector<std::string>{"control-in", "addressed-in", "status-out", "addressed-out"});
+  CHECK(can.drives[0].labels == std::map<std::string, std::string>{{"machine", "press5"}});
+  CHECK(can.drives[1].id == 0x3F);
+  CHECK_FALSE(can.drives[1].devicenet_motors);
+  CHECK_FALSE(can.drives[1].io_modules);
+  CHECK(can.drives[1].module_values);
+  CHECK(inv->lines[1].devicenet);
+  CHECK(inv->lines[2].devicenet);
+  CHECK(inv->lines[2].drives[0].id == 1);
+  // The line's port is its protocol: a LinRS line of docs/fleet.md is not one.
+  auto linrs = fleet::parse_inventory(
+      "[[line]]\nname = \"l\"\nport = \"/dev/ttyUSB0\"\n[[line.drive]]\nname = \"a\"\nid = 1\n",
+      "plant.toml");
+  REQUIRE(linrs.ok());
+  CHECK_FALSE(linrs->lines[0].devicenet);
+}
+
+TEST_CASE(
+    "fleet inventory: LinRS keys on a DeviceNet line and DeviceNet keys on a LinRS line are "
+    "errors at their position",
+    "[fleet][inventory][devicenet]") {
+  CHECK(problems(R"([[line]]
+name = "can1"
+port = "slcan:/dev/ttyACM0"
+baud = 57600
+checksum = "crc"
+[[line.drive]]
+name = "press5/controller"
+id = 5
+[[line.drive]]
+name = "press6/controller"
+devicenet_macid = 6
+colour = "red"
+[[line]]
+name = "rs485"
+port = "/dev/ttyUSB0"
+can_bitrate = 250000
+[[line.drive]]
+name = "press3/z"
+id = 0x11
+devicenet_macid = 5
+devicenet_motors = "A"
+)") == "plant.toml:4:1: 'baud' is a LinRS key, not for DeviceNet line 'can1' (port "
+       "'slcan:/dev/ttyACM0' is a CAN link)\n"
+       "plant.toml:5:1: 'checksum' is a LinRS key, not for DeviceNet line 'can1' (port "
+       "'slcan:/dev/ttyACM0' is a CAN link)\n"
+       "plant.toml:8:1: drive 'press5/controller': 'id' is a LinRS key, not for DeviceNet line "
+       "'can1' (port 'slcan:/dev/ttyACM0' is a CAN link)\n"
+       "plant.toml:6:1: drive 'press5/controller' has no 'devicenet_macid' (the controller's MAC "
+       "ID 0..63, e.g. devicenet_macid = 5)\n"
+       "plant.toml:12:1: unknown key 'colour' in drive of line 'can1' (known: name, "
+       "devicenet_macid, devicenet_motors, io_modules, no_module_values, labels, ignore)\n"
+       "plant.toml:16:1: 'can_bitrate' is a DeviceNet key, not for LinRS line 'rs485' "
+       "(DeviceNet needs a CAN port: slcan:DEVICE, slcan:tcp://HOST:PORT, can0)\n"
+       "plant.toml:20:1: drive 'press3/z': 'devicenet_macid' is a DeviceNet key, not for LinRS "
+       "line 'rs485' (DeviceNet needs a CAN port: slcan:DEVICE, slcan:tcp://HOST:PORT, can0)\n"
+       "plant.toml:21:1: drive 'press3/z': 'devicenet_motors' is a DeviceNet key, not for LinRS "
+       "line 'rs485' (DeviceNet needs a CAN port: slcan:DEVICE, slcan:tcp://HOST:PORT, can0)");
+}
+
+TEST_CASE("fleet inventory: DeviceNet values are checked as the options of the same names",
+          "[fleet][inventory][devicenet]") {
+  CHECK(problems(R"([[line]]
+name = "can1"
+port = "vcan0"
+[[line.drive]]
+name = "a"
+devicenet_macid = 64
+[[line.drive]]
+name = "b"
+devicenet_macid = 1
+devicenet_motors = "A,E"
+io_modules = "control-in,warp-drive"
+no_module_values = "yes"
+[[line.drive]]
+name = "c"
+devicenet_macid = 1
+)") == "plant.toml:6:19: drive 'a': devicenet_macid 64 is not a DeviceNet MAC ID 0..63\n"
+       "plant.toml:10:20: devicenet_motors 'A,E': expected motors A..D, each once, e.g. A,B\n"
+       "plant.toml:11:14: unknown IO module 'warp-drive' (expected control-in, addressed-in, "
+       "direct-in, status-out, addressed-out, direct-out-1, direct-out-2, master:A..master:D)\n"
+       "plant.toml:12:20: 'no_module_values' must be true or false");
+  CHECK(problems(R"([[line]]
+name = "can1"
+port = "vcan0"
+[[line.drive]]
+name = "b"
+devicenet_macid = 1
+[[line.drive]]
+name = "c"
+devicenet_macid = 1
+)") == "plant.toml:7:1: line 'can1': drives 'b' (plant.toml:4:1) and 'c' (plant.toml:7:1) both "
+       "have DeviceNet MAC ID 01h");
+}
+
+TEST_CASE("fleet inventory: a DeviceNet line's adapter must exist, its gateway have a port",
+          "[fleet][inventory][devicenet]") {
+  auto inv = fleet::parse_inventory(R"([[line]]
+name = "usb"
+port = "slcan:/dev/no-such-can-adapter"
+[[line.drive]]
+name = "a"
+devicenet_macid = 1
+[[line]]
+name = "gw"
+port = "slcan:tcp://10.0.0.7"
+[[line.drive]]
+name = "b"
+devicenet_macid = 1
+[[line]]
+name = "ok"
+port = "can0"
+[[line.drive]]
+name = "c"
+devicenet_macid = 1
+)",
+                                    "plant.toml");
+  REQUIRE(inv.ok());
+  auto ports = fleet::check_ports(*inv);
+  REQUIRE_FALSE(ports.ok());
+  CHECK(ports.error().message ==
+        "plant.toml:1:1: line 'usb': port /dev/no-such-can-adapter does not exist (is the "
+        "adapter plugged in?)\n"
+        "plant.toml:7:1: line 'gw': port 'slcan:tcp://10.0.0.7' is not slcan:tcp://HOST:PORT "
+        "with PORT 1..65535");
 }

@@ -83,6 +83,7 @@ TEST_CASE("port schemes: one row per kind of port, each with its parser, kind an
       {"rfc2217://gw:2217", "rfc2217", link::Kind::byte_link, true, "gw:2217"},
       {"sim:axis.json", "sim", link::Kind::byte_link, true, "axis.json"},
       {"slcan:/dev/ttyACM0", "slcan", link::Kind::can_link, false, "/dev/ttyACM0"},
+      {"slcan:tcp://127.0.0.1:4002", "slcan-tcp", link::Kind::can_link, false, "127.0.0.1:4002"},
       {"can0", "socketcan", link::Kind::can_link, false, "can0"},
       {"vcan12", "socketcan", link::Kind::can_link, false, "vcan12"},
       {"canopen", "serial", link::Kind::byte_link, true, "canopen"},
@@ -108,6 +109,25 @@ TEST_CASE("port schemes: one row per kind of port, each with its parser, kind an
   CHECK(link::parse_port("rfc2217://gw").error().message ==
         "port 'rfc2217://gw' is not rfc2217://HOST:PORT with PORT 1..65535");
   CHECK(link::parse_port("slcan:").error().message == "port 'slcan:' is not slcan:DEVICE");
+  CHECK(link::parse_port("slcan:tcp://gw").error().message ==
+        "port 'slcan:tcp://gw' is not slcan:tcp://HOST:PORT with PORT 1..65535");
+  auto slcan_tcp = link::parse_port("slcan:tcp://[::1]:4002");
+  REQUIRE(slcan_tcp.ok());
+  CHECK(slcan_tcp->host == "::1");
+  CHECK(slcan_tcp->tcp_port == 4002);
+}
+
+TEST_CASE("port schemes: slcan:tcp:// opens the adapter protocol over TCP, a CAN link only",
+          "[link]") {
+  // Nothing listens on the discard port of loopback: the row tried the connection.
+  auto can = link::open_can_link("slcan:tcp://127.0.0.1:9", can::SlcanOptions{});
+  REQUIRE_FALSE(can.ok());
+  CHECK(can.error().message == "tcp 127.0.0.1:9: cannot connect: Connection refused");
+  ops::LinkOptions lo;
+  lo.port = "slcan:tcp://127.0.0.1:9";
+  CHECK(ops::open_session(lo).error().message ==
+        "port 'slcan:tcp://127.0.0.1:9' is a CAN link (DeviceNet controllers), not a LinRS "
+        "serial line");
 }
 
 TEST_CASE("port schemes: the session opens byte links only, rfc2217 through its transport",

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 #include <thread>
 
+#include "devicenet_sim.hpp"
 #include "files.hpp"
 #include "ops/session.hpp"
 #include "promtool.hpp"
@@ -331,4 +332,55 @@ TEST_CASE("serve: the notify command gets the event JSON on stdin", "[serve][not
   REQUIRE_FALSE(failed.ok());
   CHECK(failed.error().message ==
         "notify command " + (d.path / "fail.sh").string() + " failed (exit 3)");
+}
+
+TEST_CASE(
+    "serve: a DeviceNet line (lmcfg sim --devicenet on loopback TCP) is backed up by the "
+    "schedule and a value changed behind its back is drift, notified once",
+    "[serve][service][devicenet]") {
+  test::DevicenetSim sim({}, test::DevicenetSim::Where::tcp);
+  test::ScratchDir dir{"serve-dn"};
+  auto inv = fleet::parse_inventory(
+      "[schedule]\nbackup_every = \"6h\"\nstatus_every = \"15m\"\n[[line]]\nname = \"can\"\n"
+      "port = \"" +
+          sim.port + "\"\n[[line.drive]]\nname = \"press5/controller\"\ndevicenet_macid = 5\n",
+      "plant.toml");
+  REQUIRE(inv.ok());
+  serve::TimePoint now = serve::Clock::from_time_t(1'800'000'000);
+  std::mutex mu;
+  std::vector<nlohmann::json> events;
+  serve::ServiceOptions o;
+  o.inventory = *inv;
+  o.archive = (dir.path / "archive").string();
+  ops::DevicenetLinkOptions dn;
+  dn.port = sim.port;
+  dn.master.timeout = transport::Millis(100);
+  dn.master.duplicate_check_wait = transport::Millis(20);
+  ops::LineLink link;
+  link.devicenet = dn;
+  o.links = {link};
+  o.exit_code = [](const Error&) { return 4; };
+  o.clock = [&] { return now; };
+  o.notify = [&](const serve::Json& e) {
+    std::lock_guard<std::mutex> lock(mu);
+    events.push_back(nlohmann::json::parse(e.dump()));
+  };
+  auto service = serve::Service::create(std::move(o));
+  REQUIRE(service.ok());
+  (*service)->tick(now);  // a backup (the archive's first commit), then a drift check
+  (*service)->wait_idle();
+  auto drives = (*service)->drives();
+  REQUIRE(drives.size() == 1);
+  CHECK(drives[0]["status"] == "ok");
+  CHECK(fs::exists(dir.path / "archive/press5/controller.json"));
+
+  test::change_two_values(sim);
+  now += 15min;
+  (*service)->tick(now);
+  (*service)->wait_idle();
+  std::lock_guard<std::mutex> lock(mu);
+  REQUIRE(events.size() == 1);
+  CHECK(events[0]["event"] == "drift");
+  CHECK(events[0]["drive"] == "press5/controller");
+  CHECK(events[0]["line"] == "can");
 }

@@ -11,6 +11,7 @@
 #include "can/link.hpp"
 #include "config/config_io.hpp"
 #include "devicenet/master.hpp"
+#include "devicenet_sim.hpp"
 #include "files.hpp"
 #include "link/port.hpp"
 #include "subprocess.hpp"
@@ -20,22 +21,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct DnSim {
-  std::unique_ptr<test::Child> child;
-  std::string pty;
-  explicit DnSim(std::vector<std::string> extra = {}) {
-    std::vector<std::string> argv{
-        LMCFG_TOOL_PATH,      "sim", "--devicenet", "--devicenet-macid", "5",
-        "--devicenet-motors", "A,B"};
-    argv.insert(argv.end(), extra.begin(), extra.end());
-    child = std::make_unique<test::Child>(argv);
-    pty = child->read_line();
-    (void)child->read_line();  // the link options line
-  }
-  std::string link() const {
-    return "--port slcan:" + pty + " --devicenet-macid 5 --devicenet-listen-ms 20 --timeout-ms 100";
-  }
-};
+using DnSim = test::DevicenetSim;
 
 std::size_t count(const std::string& text, const std::string& what) {
   std::size_t n = 0;
@@ -43,29 +29,12 @@ std::size_t count(const std::string& text, const std::string& what) {
   return n;
 }
 
-// Another tool on the same controller between two runs of lmcfg (a PLC, a
-// technician with LinTalk): sets two values with the library's master.
-void change_two_values(const std::string& pty) {
-  auto link = link::open_can_link("slcan:" + pty, {125000, true, transport::Millis(1000)});
-  REQUIRE(link.ok());
-  devicenet::MasterOptions o;
-  o.slave_mac = 5;
-  o.own_mac = 61;
-  o.timeout = transport::Millis(100);
-  o.retries = 5;
-  devicenet::Master m(**link, o);
-  REQUIRE(m.connect().ok());
-  REQUIRE(m.command({true, false, false, false}, 0x35, 2000).ok());  // Set Controller P, motor A
-  REQUIRE(m.command({false, true, false, false}, 0x51, 5243).ok());  // Set Filter Max Speed, B
-  REQUIRE(m.release().ok());
-}
-
 // Backup, diff (identical), two values changed by another master, diff
 // (exactly those two), restore (exactly two Set commands, verified), diff
 // again identical, a second restore with nothing to do.
 void backup_change_restore(const DnSim& sim, const std::string& dir_name,
                            const std::string& restore_options) {
-  REQUIRE(sim.pty.rfind("/dev/", 0) == 0);
+  REQUIRE(sim.port.rfind("slcan:", 0) == 0);
   const auto dir = test::temp_dir(dir_name);
 
   auto backup = test::run_tool_in(dir, "backup " + sim.link() + " -o ctl.json");
@@ -83,7 +52,7 @@ void backup_change_restore(const DnSim& sim, const std::string& dir_name,
   INFO(same.out << same.err);
   CHECK(same.exit_code == 0);
 
-  change_two_values(sim.pty);
+  test::change_two_values(sim);
   auto changed = test::run_tool_in(dir, "diff ctl.json drive " + sim.link() + " --json");
   INFO(changed.out << changed.err);
   CHECK(changed.exit_code == 1);
@@ -259,7 +228,7 @@ TEST_CASE(
   const auto dir = test::temp_dir("dn-reset");
   DnSim sim({"--reset-after-sets", "3"});  // the two sets below, then the restore's first
   REQUIRE(test::run_tool_in(dir, "backup " + sim.link() + " -q -o ctl.json").exit_code == 0);
-  change_two_values(sim.pty);
+  test::change_two_values(sim);
   auto partial = test::run_tool_in(dir, "restore ctl.json --yes " + sim.link());
   INFO(partial.out << partial.err);
   CHECK(partial.exit_code == 4);
@@ -285,7 +254,7 @@ TEST_CASE("DeviceNet §5.2 Ctrl-C during a backup releases the connection (exit 
   ::usleep(600 * 1000);
   CHECK(backup.stop() == 130);
   CHECK(!fs::exists(dir / "x.json"));
-  change_two_values(sim.pty);  // another master gets the connection: it was released
+  test::change_two_values(sim);  // another master gets the connection: it was released
   fs::remove_all(dir);
 }
 
@@ -309,5 +278,31 @@ TEST_CASE("devicenet: lmcfg sim refuses an unknown --devicenet-toggle",
         "lmcfg sim: --devicenet-toggle 'always' is not one of seed, get-set-ignore, "
         "module\n");
   CHECK(r.out.empty());
+  fs::remove_all(dir);
+}
+
+TEST_CASE(
+    "devicenet: lmcfg sim --devicenet --tcp serves the adapter protocol on loopback TCP; backup, "
+    "diff, change, restore and verify over slcan:tcp://",
+    "[devicenet][cli][tcp]") {
+  DnSim sim({}, DnSim::Where::tcp);
+  REQUIRE(sim.announced.find_first_not_of("0123456789") == std::string::npos);
+  CHECK(sim.options == "link options: --port slcan:tcp://127.0.0.1:" + sim.announced +
+                           " --can-bitrate 125000 --devicenet-macid 5");
+  CHECK(sim.pty.empty());
+  // Each tool run is a new TCP client; the controller keeps its values between them.
+  backup_change_restore(sim, "dn-tcp", "");
+}
+
+TEST_CASE("devicenet: lmcfg sim --devicenet refuses a --tcp that is not HOST:PORT and --state",
+          "[devicenet][cli][tcp]") {
+  const auto dir = test::temp_dir("dn-tcp-bad");
+  auto bad = test::run_tool_in(dir, "sim --devicenet --tcp 127.0.0.1:x");
+  CHECK(bad.exit_code == 2);
+  CHECK(bad.err == "lmcfg sim: --tcp expects HOST:PORT, got '127.0.0.1:x'\n");
+  CHECK(bad.out.empty());
+  auto state = test::run_tool_in(dir, "sim --devicenet --state axis.json");
+  CHECK(state.exit_code == 2);
+  CHECK(state.err == "lmcfg sim: --devicenet simulates a controller of its own, without --state\n");
   fs::remove_all(dir);
 }

@@ -1,10 +1,14 @@
 // lmcfg fleet end to end: two lines behind loopback TCP gateways (`lmcfg sim
 // --tcp` serving an RS485 line of several MACIDs each) and one simulated line
-// in-process (sim:A.json,B.json), archived in a real git repository (libgit2).
+// in-process (sim:A.json,B.json), archived in a real git repository (libgit2);
+// DeviceNet controllers (`lmcfg sim --devicenet`) on a pty and on loopback TCP
+// next to a LinRS line on a pty.
 #include <catch2/catch.hpp>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
+#include "config/config_io.hpp"
+#include "devicenet_sim.hpp"
 #include "files.hpp"
 #include "fleet/archive.hpp"
 #include "subprocess.hpp"
@@ -320,4 +324,160 @@ TEST_CASE("fleet: a damaged archived file is drift that the next backup repairs"
   CHECK(archive->resolve("HEAD").value()->summary ==
         "fleet backup: 1 changed, 0 unchanged, 0 new, 0 failed");
   CHECK(test::run_tool_in(dir, "fleet status ok.toml --archive arch").exit_code == 0);
+}
+
+TEST_CASE(
+    "fleet: DeviceNet controllers on a pty and on loopback TCP next to a LinRS line: backup, "
+    "drift, restore, under each reading of seed 000 §5.2's toggle rule",
+    "[fleet][cli][devicenet]") {
+  for (const std::string rule : {"seed", "get-set-ignore", "module"}) {
+    INFO("--devicenet-toggle " << rule);
+    test::ScratchDir d("fleet-dn");
+    const auto& dir = d.path;
+    write_axis(dir / "axis.json", 0x11);
+    test::Child linrs({LMCFG_TOOL_PATH, "sim", "--state", (dir / "axis.json").string(), "--fast"});
+    const std::string rs485 = linrs.read_line();
+    REQUIRE(rs485.rfind("/dev/", 0) == 0);
+    test::DevicenetSim usb({"--devicenet-toggle", rule});
+    test::DevicenetSim gw({"--devicenet-toggle", rule}, test::DevicenetSim::Where::tcp, 7);
+    REQUIRE(usb.port == "slcan:" + usb.pty);
+    REQUIRE(gw.port.rfind("slcan:tcp://127.0.0.1:", 0) == 0);
+    test::spit(dir / "plant.toml", "[[line]]\nname = \"rs485\"\nport = \"" + rs485 +
+                                       "\"\n"
+                                       "[[line.drive]]\nname = \"press3/z-axis\"\nid = 0x11\n"
+                                       "[[line]]\nname = \"can-usb\"\nport = \"" +
+                                       usb.port +
+                                       "\"\ndevicenet_listen_ms = 20\ntimeout_ms = 100\n"
+                                       "[[line.drive]]\nname = \"press5/controller\"\n"
+                                       "devicenet_macid = 5\ndevicenet_motors = \"A,B\"\n"
+                                       "[[line]]\nname = \"can-gw\"\nport = \"" +
+                                       gw.port +
+                                       "\"\ncan_bitrate = 125000\ndevicenet_listen_ms = 20\n"
+                                       "timeout_ms = 100\n"
+                                       "[[line.drive]]\nname = \"press6/controller\"\n"
+                                       "devicenet_macid = 7\n");
+
+    auto check = test::run_tool_in(dir, "fleet check plant.toml");
+    INFO(check.err);
+    CHECK(check.exit_code == 0);
+    CHECK(check.out == "plant.toml: 3 line(s), 3 drive(s): ok\n");
+
+    auto first = test::run_tool_in(dir, "fleet backup plant.toml --archive arch");
+    INFO(first.out << first.err);
+    REQUIRE(first.exit_code == 0);
+    auto archive = fleet::Archive::open((dir / "arch").string(), false);
+    REQUIRE(archive.ok());
+    auto head1 = archive->resolve("HEAD").value();
+    REQUIRE(head1);
+    CHECK(head1->summary == "fleet backup: 0 changed, 0 unchanged, 3 new, 0 failed");
+    CHECK(head1->message.find("\nnew press5/controller (line can-usb, DeviceNet MAC ID 05h): ") !=
+          std::string::npos);
+    CHECK(head1->message.find("\nnew press6/controller (line can-gw, DeviceNet MAC ID 07h): ") !=
+          std::string::npos);
+    CHECK(first.err.find("[can-gw 1/1] press6/controller: read ") != std::string::npos);
+    for (const char* f : {"press5/controller.json", "press6/controller.json"}) {
+      INFO(f);
+      auto file = config::read_config_file((dir / "arch" / f).string());
+      REQUIRE(file.ok());
+      REQUIRE(file->devicenet);
+      CHECK(file->devicenet->motors == std::vector<int>{0, 1});  // probed on press6
+    }
+    // The archived file is what `lmcfg backup` reads from the same controller.
+    auto direct = test::run_tool_in(dir, "backup " + gw.link() + " -q -o direct.json");
+    REQUIRE(direct.exit_code == 0);
+    auto same = test::run_tool_in(dir, "diff direct.json arch/press6/controller.json");
+    INFO(same.out);
+    CHECK(same.exit_code == 0);
+    CHECK(test::run_tool_in(dir, "fleet status plant.toml --archive arch").exit_code == 0);
+
+    // Another master changes two values on the controller behind the gateway.
+    test::change_two_values(gw);
+    auto status = test::run_tool_in(dir, "fleet status plant.toml --archive arch");
+    INFO(status.err);
+    CHECK(status.exit_code == 1);
+    CHECK(status.out.rfind("drift: press6/controller (line can-gw, DeviceNet MAC ID 07h): 2 "
+                           "DeviceNet values\n"
+                           "    devicenet motor A: Controller P (34h): ",
+                           0) == 0);
+    CHECK(status.out.find("\n    devicenet motor B: Filter Maximal Speed (50h): ") !=
+          std::string::npos);
+    CHECK(status.out.find("3 drive(s): 2 as archived, 1 drifted, 0 not in archive, 0 failed "
+                          "(against " +
+                          head1->id.substr(0, 12) + ")") != std::string::npos);
+    auto status_json = test::run_tool_in(dir, "fleet status plant.toml --archive arch --json");
+    const auto sj = nlohmann::json::parse(status_json.out);
+    CHECK(sj["drives"][2]["status"] == "changed");
+    CHECK(sj["drives"][2]["differences"].size() == 2);
+    CHECK(sj["drives"][2]["differences"][0]["kind"] == "devicenet");
+
+    // fleet restore puts the archived values back through the DeviceNet restore.
+    auto restore = test::run_tool_in(
+        dir, "fleet restore plant.toml --archive arch --drive press6/controller --yes");
+    INFO(restore.out << restore.err);
+    CHECK(restore.exit_code == 0);
+    CHECK(restore.out.find("  set 35h motor A: Controller P (34h): ") != std::string::npos);
+    CHECK(restore.err.find("restore: 2 Set command(s) sent, verified: the controller matches "
+                           "press6/controller.json@" +
+                           head1->id.substr(0, 12) + "\n") != std::string::npos);
+    auto record = archive->resolve("HEAD").value();
+    REQUIRE(record);
+    CHECK(record->summary == "fleet restore: press6/controller <- press6/controller.json at " +
+                                 head1->id.substr(0, 12) + " (HEAD): restored and verified");
+    CHECK(record->message.find("\nline can-gw (" + gw.port +
+                               "), DeviceNet MAC ID 07h, 2 Set command(s)\n") != std::string::npos);
+    CHECK(test::run_tool_in(dir, "fleet status plant.toml --archive arch").exit_code == 0);
+
+    // A change on the pty's controller: the next backup commits only its file.
+    test::change_two_values(usb);
+    auto next = test::run_tool_in(dir, "fleet backup plant.toml --archive arch");
+    INFO(next.out << next.err);
+    CHECK(next.exit_code == 0);
+    auto head2 = archive->resolve("HEAD").value();
+    REQUIRE(head2);
+    CHECK(head2->summary == "fleet backup: 1 changed, 2 unchanged, 0 new, 0 failed");
+    CHECK(head2->message.find("\nchanged press5/controller (line can-usb, DeviceNet MAC ID 05h): "
+                              "2 DeviceNet values\n") != std::string::npos);
+
+    // A LinRS-only restore option is refused for a controller, nothing written.
+    auto comm =
+        test::run_tool_in(dir,
+                          "fleet restore plant.toml --archive arch --drive press5/controller --yes "
+                          "--include-comm");
+    CHECK(comm.exit_code == 2);
+    CHECK(comm.err ==
+          "lmcfg fleet restore: --include-comm, --no-default, --no-reset and --reconnect-* are "
+          "LinRS options; a DeviceNet restore writes only the values that differ\n");
+    CHECK(archive->resolve("HEAD").value()->id == head2->id);
+  }
+}
+
+TEST_CASE("fleet: DeviceNet settings of a line are checked as the options, at the line",
+          "[fleet][cli][devicenet]") {
+  test::ScratchDir d("fleet-dn-bad");
+  const auto& dir = d.path;
+  test::spit(dir / "rate.toml",
+             "[[line]]\nname = \"can\"\nport = \"vcan0\"\ncan_bitrate = 100000\n[[line.drive]]\n"
+             "name = \"a\"\ndevicenet_macid = 5\n");
+  auto rate = test::run_tool_in(dir, "fleet check rate.toml");
+  CHECK(rate.exit_code == 2);
+  CHECK(rate.err ==
+        "lmcfg fleet check: rate.toml:1:1: line 'can': --can-bitrate 100000 is not a DeviceNet "
+        "bit rate (125000, 250000, 500000)\n");
+  test::spit(dir / "own.toml",
+             "[[line]]\nname = \"can\"\nport = \"vcan0\"\ndevicenet_own_macid = 5\n"
+             "[[line.drive]]\nname = \"a\"\ndevicenet_macid = 5\n");
+  auto own = test::run_tool_in(dir, "fleet backup own.toml --archive arch");
+  CHECK(own.exit_code == 2);
+  CHECK(own.err ==
+        "lmcfg fleet backup: own.toml:1:1: line 'can': --devicenet-own-macid 5 must be 0..63 and "
+        "differ from the controller's MAC ID\n");
+  CHECK_FALSE(fs::exists(dir / "arch"));
+  test::spit(dir / "keys.toml",
+             "[[line]]\nname = \"can\"\nport = \"slcan:tcp://127.0.0.1:9\"\nparity = \"even\"\n"
+             "[[line.drive]]\nname = \"a\"\ndevicenet_macid = 5\n");
+  auto keys = test::run_tool_in(dir, "fleet check keys.toml");
+  CHECK(keys.exit_code == 2);
+  CHECK(keys.err ==
+        "lmcfg fleet check: keys.toml:4:1: 'parity' is a LinRS key, not for DeviceNet line 'can' "
+        "(port 'slcan:tcp://127.0.0.1:9' is a CAN link)\n");
 }

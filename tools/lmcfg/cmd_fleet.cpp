@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "command.hpp"
+#include "devicenet_flow.hpp"
 #include "fleet/fleet.hpp"
 #include "fleet/history.hpp"
 #include "fleet_cli.hpp"
@@ -62,6 +63,9 @@ int run_fleet(const FleetCli& o, bool status) {
       if (r.error) {
         std::fprintf(stderr, "[%s %zu/%zu] %s: failed: %s\n", r.line.c_str(), done, total,
                      r.name.c_str(), r.error->message.c_str());
+      } else if (r.devicenet) {
+        std::fprintf(stderr, "[%s %zu/%zu] %s: read %zu DeviceNet value(s) in %.1f s\n",
+                     r.line.c_str(), done, total, r.name.c_str(), r.devicenet_values, r.seconds);
       } else {
         std::fprintf(stderr,
                      "[%s %zu/%zu] %s: read %zu parameter(s), %zu curve(s), %zu CT "
@@ -120,17 +124,36 @@ int run_restore(const FleetCli& o) {
   CommonOptions common = o.common;  // the plan's prompt names the drive's port and MACID
   common.port = line->port;
   common.id = hex(d->id, 2, "h");
+  common.devicenet_macid = std::to_string(d->id);
   RestoreFlags flags = o.flags;
   flags.undo_name = "fleet-restore";
   flags.position = o.drive;
+  if (line->devicenet) {
+    if (auto dn = check_devicenet_restore_flags(flags); !dn.ok())
+      return fail("fleet restore", dn.error());
+  }
   int code = kOk;
   fr.restore = [&](ops::Session& s, const config::DriveConfig& file, const std::string& file_name) {
     ops::RestoreOutcome out;
     code = restore_on_session(s, file, file_name, common, flags, *overrides, fr.db, out);
     return out;
   };
+  fr.restore_devicenet = [&](ops::DevicenetSession& s, const config::DriveConfig& file,
+                             const std::string& file_name) {
+    ops::RestoreOutcome out;
+    code = restore_devicenet_on(s, file, file_name, common, flags,
+                                ops::devicenet_read_for(fleet::line_drive(*d)), fr.db, out);
+    return out;
+  };
   auto res = fleet::fleet_restore(*inv, *archive, fr);
   if (!res.ok()) return fail("fleet restore", res.error());
+  if (line->devicenet && res->outcome.stage == ops::RestoreOutcome::Stage::restored &&
+      !o.common.quiet)
+    std::fprintf(stderr,
+                 "restore: %zu Set command(s) sent, verified: the controller matches %s@%s\n"
+                 "restore: note: %s\n",
+                 res->outcome.set_commands, fleet::archive_path(*d).c_str(),
+                 res->source.id.substr(0, 12).c_str(), ops::kRuntimeNote);
   if (res->record && !o.common.quiet && !o.common.json)
     std::fprintf(stderr, "fleet restore: recorded as %s in %s\n",
                  res->record->id.substr(0, 12).c_str(), o.archive.c_str());
@@ -175,9 +198,9 @@ CLI::App* add_part(CLI::App* fleet, const char* name, const char* help, FleetCli
 
 // The line's link settings, checked as the command-line options are; a bad
 // value is reported at the line's position in the inventory.
-Result<std::vector<ops::LinkOptions>> line_links(const fleet::Inventory& inv,
-                                                 const CommonOptions& base) {
-  std::vector<ops::LinkOptions> links;
+Result<std::vector<ops::LineLink>> line_links(const fleet::Inventory& inv,
+                                              const CommonOptions& base) {
+  std::vector<ops::LineLink> links;
   for (const auto& l : inv.lines) {
     CommonOptions c = base;
     c.port = l.port;
@@ -186,6 +209,27 @@ Result<std::vector<ops::LinkOptions>> line_links(const fleet::Inventory& inv,
         field = static_cast<std::remove_reference_t<decltype(field)>>(
             std::clamp<std::int64_t>(*v, -1, 100'000'000));
     };
+    auto at_line = [&](const Error& e) {
+      return Error(e.code, l.at.str() + ": line '" + l.name + "': " + e.message);
+    };
+    if (l.devicenet) {
+      // The DeviceNet options' own checks, once per controller (this tool's
+      // MAC ID must differ from each).
+      set_int(l.can_bitrate, c.can_bitrate);
+      set_int(l.devicenet_own_macid, c.devicenet_own_macid);
+      set_int(l.devicenet_listen_ms, c.devicenet_listen_ms);
+      set_int(l.timeout_ms, c.timeout_ms);
+      set_int(l.retries, c.retries);
+      ops::LineLink link;
+      for (const auto& d : l.drives) {
+        c.devicenet_macid = std::to_string(d.id);
+        auto dn = devicenet_link_options(c);
+        if (!dn.ok()) return at_line(dn.error());
+        link.devicenet = std::move(dn).value();
+      }
+      links.push_back(std::move(link));
+      continue;
+    }
     set_int(l.baud, c.baud);
     set_int(l.stop_bits, c.stop_bits);
     set_int(l.timeout_ms, c.timeout_ms);
@@ -196,10 +240,7 @@ Result<std::vector<ops::LinkOptions>> line_links(const fleet::Inventory& inv,
     if (l.checksum) c.checksum = *l.checksum;
     if (l.checksum_coverage) c.checksum_coverage = *l.checksum_coverage;
     auto opt = link_options(c);
-    if (!opt.ok()) {
-      return Error(opt.error().code,
-                   l.at.str() + ": line '" + l.name + "': " + opt.error().message);
-    }
+    if (!opt.ok()) return at_line(opt.error());
     opt->client.on_long_wait = nullptr;  // lines run in parallel: no shared progress line
     links.push_back(std::move(opt).value());
   }

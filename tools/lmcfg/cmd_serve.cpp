@@ -63,7 +63,8 @@ int run_serve(const ServeCli& o) {
   so.archive = o.archive;
   so.links = *line_links(*inv, o.common);
   // SIGTERM/SIGINT: the telegram in flight completes, the line stops there.
-  for (auto& l : so.links) l.client.cancel = &ops::interrupt_flag();
+  // (DeviceNet lines: the master checks the same flag, devicenet_link_options.)
+  for (auto& l : so.links) l.linrs.client.cancel = &ops::interrupt_flag();
   const db::Database db = load_database(o.common);
   so.db = db;
   so.backup.curves = !o.no_curves;

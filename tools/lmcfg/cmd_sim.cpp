@@ -18,6 +18,7 @@
 #include "sim/server.hpp"
 #include "sim/state_file.hpp"
 #include "sim_devicenet.hpp"
+#include "sim_tcp.hpp"
 #include "transport/pty.hpp"
 
 namespace lmcfg::cli {
@@ -97,12 +98,15 @@ Result<std::vector<std::unique_ptr<sim::Drive>>> load_drives(
 
 int run(const SimArgs& a) {
   if (a.devicenet) {
-    if (!a.tcp.empty() || !a.states.empty()) {
-      std::fprintf(stderr, "lmcfg sim: --devicenet serves on a pty, without --tcp or --state\n");
+    if (!a.states.empty()) {
+      std::fprintf(stderr,
+                   "lmcfg sim: --devicenet simulates a controller of its own, without --state\n");
       return kInvalidInput;
     }
     install_stop_handlers();
-    return run_devicenet_sim(a.dn,
+    DevicenetSimArgs dn = a.dn;
+    dn.tcp = a.tcp;
+    return run_devicenet_sim(dn,
                              [&] { return g_stop != 0 || (a.until_stdin_eof && stdin_at_eof()); });
   }
   if (a.states.empty() && a.save_on_exit) {
@@ -131,34 +135,14 @@ int run(const SimArgs& a) {
 
   int rc = kOk;
   if (!a.tcp.empty()) {
-    // HOST:PORT as tcp:// ports are written (port 0: any); a bare PORT is on 127.0.0.1.
-    auto hp =
-        link::split_host_port(a.tcp.find(':') == std::string::npos ? "127.0.0.1:" + a.tcp : a.tcp);
-    if (!hp) {
-      std::fprintf(stderr, "lmcfg sim: --tcp expects HOST:PORT, got '%s'\n", a.tcp.c_str());
-      return kInvalidInput;
-    }
-    std::uint16_t bound = 0;
-    auto lfd = sim::listen_tcp(hp->host, hp->port, bound);
-    if (!lfd.ok()) {
-      std::fprintf(stderr, "lmcfg sim: %s\n", lfd.error().message.c_str());
-      return kCommFailure;
-    }
-    std::printf("%u\n", static_cast<unsigned>(bound));
-    std::fflush(stdout);
-    while (!opt.should_stop()) {
-      auto c = sim::accept_client(lfd->get(), transport::Millis(100));
-      if (!c.ok()) {
-        std::fprintf(stderr, "lmcfg sim: %s\n", c.error().message.c_str());
-        rc = kCommFailure;
-        break;
-      }
-      if (!c->valid()) continue;
-      transport::FdTransport t(std::move(c).value(), "tcp client of lmcfg sim");
-      auto r = sim::serve_bus(line, t, opt);
-      if (!r.ok() && r.error().code != make_error_code(Errc::link_closed))
-        std::fprintf(stderr, "lmcfg sim: %s\n", r.error().message.c_str());
-    }
+    rc = serve_tcp_clients(
+        a.tcp, opt.should_stop,
+        [](std::uint16_t port) {
+          std::printf("%u\n", static_cast<unsigned>(port));
+          std::fflush(stdout);
+        },
+        [&](transport::Transport& t) { return sim::serve_bus(line, t, opt); });
+    if (rc != kOk) return rc;
   } else {
     auto p = transport::open_pty();
     if (!p.ok()) {
@@ -208,6 +192,36 @@ int run(const SimArgs& a) {
 
 }  // namespace
 
+int serve_tcp_clients(const std::string& tcp, const std::function<bool()>& should_stop,
+                      const std::function<void(std::uint16_t port)>& announce,
+                      const std::function<Result<void>(transport::Transport&)>& serve) {
+  auto hp = link::split_host_port(tcp.find(':') == std::string::npos ? "127.0.0.1:" + tcp : tcp);
+  if (!hp) {
+    std::fprintf(stderr, "lmcfg sim: --tcp expects HOST:PORT, got '%s'\n", tcp.c_str());
+    return kInvalidInput;
+  }
+  std::uint16_t bound = 0;
+  auto lfd = sim::listen_tcp(hp->host, hp->port, bound);
+  if (!lfd.ok()) {
+    std::fprintf(stderr, "lmcfg sim: %s\n", lfd.error().message.c_str());
+    return kCommFailure;
+  }
+  announce(bound);
+  while (!should_stop()) {
+    auto c = sim::accept_client(lfd->get(), transport::Millis(100));
+    if (!c.ok()) {
+      std::fprintf(stderr, "lmcfg sim: %s\n", c.error().message.c_str());
+      return kCommFailure;
+    }
+    if (!c->valid()) continue;
+    transport::FdTransport t(std::move(c).value(), "tcp client of lmcfg sim");
+    auto r = serve(t);
+    if (!r.ok() && r.error().code != make_error_code(Errc::link_closed))
+      std::fprintf(stderr, "lmcfg sim: %s\n", r.error().message.c_str());
+  }
+  return kOk;
+}
+
 void add_sim(CLI::App& app, int& exit_code) {
   auto args = std::make_shared<SimArgs>();
   auto* cmd = app.add_subcommand(
@@ -229,7 +243,8 @@ void add_sim(CLI::App& app, int& exit_code) {
   auto* devicenet =
       cmd->add_flag("--devicenet", args->devicenet,
                     "Serve a simulated DeviceNet LinMot controller (seed 000) behind a simulated "
-                    "slcan CAN adapter on a pty");
+                    "slcan CAN adapter on a pty, or with --tcp on TCP (--port "
+                    "slcan:tcp://HOST:PORT)");
   add_devicenet_sim_options(cmd, devicenet, args->dn);
   cmd->callback([args, &exit_code] { exit_code = run(*args); });
 }

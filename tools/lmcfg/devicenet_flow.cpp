@@ -40,6 +40,12 @@ Result<void> interrupted_check() {
   return {};
 }
 
+// The controller's MAC ID as --devicenet-macid (or the inventory) gives it,
+// already checked by devicenet_link_options; 0 when it is not a number.
+std::uint8_t macid_of(const CommonOptions& common) {
+  auto mac = devicenet::parse_mac_id("--devicenet-macid", common.devicenet_macid);
+  return mac.ok() ? static_cast<std::uint8_t>(*mac) : std::uint8_t{0};
+}
 }  // namespace
 
 Result<ops::DevicenetLinkOptions> devicenet_link_options(const CommonOptions& o) {
@@ -101,58 +107,80 @@ Result<config::DriveConfig> devicenet_capture(const CommonOptions& o, const db::
                                               const DevicenetCapture& c) {
   LMCFG_ASSIGN_OR_RETURN(auto l, devicenet_link_options(o));
   LMCFG_ASSIGN_OR_RETURN(auto bo, devicenet_read_options(o));
-  LMCFG_ASSIGN_OR_RETURN(auto session, ops::DevicenetSession::open(l));
   std::vector<std::string> notes;
   bo.live = c.live;
   bo.reset_coded_error = c.reset_coded_error;
   bo.notes = &notes;
   bo.progress = make_progress(o);
-  auto cfg = ops::devicenet_backup(session->master(), bo, db);
+  auto cfg = ops::capture_devicenet(l, bo, db);
   end_progress(o);
-  auto closed = session->close();
   print_notes(o, "devicenet", notes);
-  LMCFG_TRY(cfg);
-  LMCFG_TRY(closed);
-  cfg->identity.macid = std::to_string(session->macid());
-  cfg->identity.link = session->link_settings();
-  cfg->devicenet->can_bitrate = l.can_bitrate;
-  cfg->devicenet->io_modules = devicenet::module_names(l.master.layout);
   return cfg;
+}
+
+Result<void> check_devicenet_restore_flags(const RestoreFlags& f) {
+  if (f.include_comm || f.no_default || f.no_reset || !f.reconnect.baud.empty() ||
+      !f.reconnect.id.empty() || !f.reconnect.checksum.empty())
+    return Error(Errc::invalid_argument,
+                 "--include-comm, --no-default, --no-reset and --reconnect-* are LinRS options; a "
+                 "DeviceNet restore writes only the values that differ");
+  if (f.skip_incompatible)
+    return Error(Errc::invalid_argument,
+                 "--skip-incompatible is a LinRS option; a DeviceNet restore plans against Table "
+                 "5-1's ranges and refuses any value outside");
+  return {};
 }
 
 int restore_devicenet(const config::DriveConfig& file, const std::string& file_name,
                       const CommonOptions& common, const RestoreFlags& f, const db::Database& db) {
-  if (f.include_comm || f.no_default || f.no_reset || !f.reconnect.baud.empty() ||
-      !f.reconnect.id.empty() || !f.reconnect.checksum.empty())
-    return fail("restore", Error(Errc::invalid_argument,
-                                 "--include-comm, --no-default, --no-reset and --reconnect-* are "
-                                 "LinRS options; a DeviceNet restore writes only the values that "
-                                 "differ"));
-  if (f.skip_incompatible)
-    return fail("restore", Error(Errc::invalid_argument,
-                                 "--skip-incompatible is a LinRS option; a DeviceNet restore "
-                                 "plans against Table 5-1's ranges and refuses any value outside"));
+  if (auto flags = check_devicenet_restore_flags(f); !flags.ok())
+    return fail("restore", flags.error());
   auto l = devicenet_link_options(common);
   if (!l.ok()) return fail("restore", l.error());
   auto read = devicenet_read_options(common);
   if (!read.ok()) return fail("restore", read.error());
   auto session = ops::DevicenetSession::open(*l);
   if (!session.ok()) return fail("restore", session.error());
-  auto& m = (*session)->master();
+  ops::RestoreOutcome out;
+  const int code = restore_devicenet_on(**session, file, file_name, common, f, *read, db, out);
+  if (code != kOk || !out.written) return code;
+  if (auto c = (*session)->close(); !c.ok()) return fail("restore", c.error());
+  if (!common.quiet)
+    std::fprintf(stderr,
+                 "restore: %zu Set command(s) sent, verified: the controller matches %s\n"
+                 "restore: note: %s\n",
+                 out.set_commands, file_name.c_str(), ops::kRuntimeNote);
+  return kOk;
+}
+
+int restore_devicenet_on(ops::DevicenetSession& session, const config::DriveConfig& file,
+                         const std::string& file_name, const CommonOptions& common,
+                         const RestoreFlags& f, ops::DevicenetBackupOptions read,
+                         const db::Database& db, ops::RestoreOutcome& out) {
+  using S = ops::RestoreOutcome::Stage;
+  auto failed = [&](const Error& e) {
+    out.stage = S::failed;
+    out.error = e;
+    return fail("restore", e);
+  };
+  auto& m = session.master();
   std::vector<std::string> notes;
-  read->live = false;
-  read->notes = &notes;
-  auto current = ops::devicenet_backup(m, *read, db);
+  read.live = false;
+  read.notes = &notes;
+  auto current = ops::devicenet_backup(m, read, db);
   print_notes(common, "restore", notes);
-  if (!current.ok()) return fail("restore", current.error());
-  if (auto i = interrupted_check(); !i.ok()) return fail("restore", i.error());
+  if (!current.ok()) return failed(current.error());
+  if (auto i = interrupted_check(); !i.ok()) return failed(i.error());
   const auto plan = ops::plan_devicenet_restore(file, *current, db);
+  out.set_commands = plan.writes.size();
   const std::string text = ops::render_devicenet_plan(plan, file_name);
   if (plan.refused()) {
+    out.stage = S::plan_refused;
     std::fputs(text.c_str(), stderr);
     return kPlanRefused;
   }
   if (f.dry_run || plan.writes.empty()) {
+    out.stage = f.dry_run ? S::dry_run : S::nothing_to_do;
     if (!common.quiet || f.dry_run) std::fputs(text.c_str(), stdout);
     if (plan.writes.empty() && !common.quiet)
       std::printf("nothing to do: the controller already matches %s\n", file_name.c_str());
@@ -165,21 +193,23 @@ int restore_devicenet(const config::DriveConfig& file, const std::string& file_n
   auto consent = ops::confirm("Write these values to DeviceNet MAC ID " + common.devicenet_macid +
                                   " on " + common.port + "?",
                               "restore " + file_name + " onto a controller", f.yes);
-  if (!consent.ok()) return fail("restore", consent.error());
+  if (!consent.ok()) return failed(consent.error());
   if (*consent == ops::Consent::declined) {
+    out.stage = S::declined;
     std::fprintf(stderr, "cancelled; nothing written\n");
     return kOk;
   }
-  if (auto i = interrupted_check(); !i.ok()) return fail("restore", i.error());
+  if (auto i = interrupted_check(); !i.ok()) return failed(i.error());
+  out.written = true;
   auto mismatches = ops::execute_devicenet_plan(m, plan, file, db, make_progress(common));
   end_progress(common);
-  auto closed = (*session)->close();
   {
+    // Recorded once the Set commands went out; the caller closes the session.
     ops::JournalEntry e;
     e.audit = audit_of(f.audit);
     e.command = "restore";
     e.port = common.port;
-    e.macid = l->master.slave_mac;
+    e.macid = macid_of(common);
     e.file = file_name;
     for (const auto& w : plan.writes)
       e.steps.push_back({{"step", e.steps.size() + 1},
@@ -191,9 +221,7 @@ int restore_devicenet(const config::DriveConfig& file, const std::string& file_n
                          {"old", w.from},
                          {"new", w.to},
                          {"text", w.what}});
-    const Error* error = !mismatches.ok() ? &mismatches.error()
-                         : !closed.ok()   ? &closed.error()
-                                          : nullptr;
+    const Error* error = !mismatches.ok() ? &mismatches.error() : nullptr;
     if (error) {
       e.outcome = "failed";
       e.exit_code = exit_code_for(*error);
@@ -208,22 +236,21 @@ int restore_devicenet(const config::DriveConfig& file, const std::string& file_n
     record_in_journal("restore", std::move(e));
   }
   if (!mismatches.ok()) {
+    out.stage = S::failed;
+    out.error = mismatches.error();
     std::fprintf(stderr, "lmcfg restore: the controller is partially restored: %s\n",
                  mismatches.error().message.c_str());
     return exit_code_for(mismatches.error());
   }
-  if (!closed.ok()) return fail("restore", closed.error());
+  out.mismatches = *mismatches;
   if (!mismatches->empty()) {
+    out.stage = S::verify_mismatch;
     std::fprintf(stderr, "lmcfg restore: verification found %zu mismatch(es):\n",
                  mismatches->size());
     for (const auto& s : *mismatches) std::fprintf(stderr, "  %s\n", s.c_str());
     return kVerifyMismatch;
   }
-  if (!common.quiet)
-    std::fprintf(stderr,
-                 "restore: %zu Set command(s) sent, verified: the controller matches %s\n"
-                 "restore: note: %s\n",
-                 plan.writes.size(), file_name.c_str(), ops::kRuntimeNote);
+  out.stage = S::restored;
   return kOk;
 }
 

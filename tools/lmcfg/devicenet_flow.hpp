@@ -9,6 +9,7 @@
 #include "config/model.hpp"
 #include "link_options.hpp"
 #include "ops/devicenet.hpp"
+#include "ops/restore_run.hpp"
 #include "restore_flow.hpp"
 
 namespace lmcfg::cli {
@@ -26,8 +27,22 @@ struct DevicenetCapture {
 Result<config::DriveConfig> devicenet_capture(const CommonOptions& o, const db::Database& db,
                                               const DevicenetCapture& c);
 
+// The restore flags a DeviceNet restore refuses (the LinRS-only ones), with
+// the message saying why.
+Result<void> check_devicenet_restore_flags(const RestoreFlags& f);
+
 // `lmcfg restore FILE` for a DeviceNet capture; the documented exit code.
 int restore_devicenet(const config::DriveConfig& file, const std::string& file_name,
                       const CommonOptions& common, const RestoreFlags& f, const db::Database& db);
+// The restore on an open connection (also `lmcfg fleet restore`): reads the
+// controller (`read`: its motors and module values), plans, prints the plan,
+// asks (--yes), sends the Set commands and verifies; `out` says how far it
+// went. common.port and common.devicenet_macid name the controller in the
+// question. The documented exit code; a verified restore prints no summary
+// (the caller does, once the connection is released).
+int restore_devicenet_on(ops::DevicenetSession& session, const config::DriveConfig& file,
+                         const std::string& file_name, const CommonOptions& common,
+                         const RestoreFlags& f, ops::DevicenetBackupOptions read,
+                         const db::Database& db, ops::RestoreOutcome& out);
 
 }  // namespace lmcfg::cli

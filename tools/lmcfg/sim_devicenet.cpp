@@ -9,6 +9,7 @@
 #include "devicenet/catalogue.hpp"
 #include "sim/devicenet_controller.hpp"
 #include "sim/slcan_adapter.hpp"
+#include "sim_tcp.hpp"
 #include "transport/pty.hpp"
 
 namespace lmcfg::cli {
@@ -101,20 +102,40 @@ int run_devicenet_sim(const DevicenetSimArgs& a, const std::function<bool()>& sh
     controller.hold_for_other_master(*other);
   }
   controller.attach(*bus);
-  auto p = transport::open_pty();
-  if (!p.ok()) {
-    std::fprintf(stderr, "lmcfg sim: %s\n", p.error().message.c_str());
-    return kCommFailure;
-  }
-  std::printf("%s\n", p->slave_path.c_str());
-  std::printf("link options: --port slcan:%s --can-bitrate %u --devicenet-macid %u\n",
-              p->slave_path.c_str(), a.bus_bitrate, static_cast<unsigned>(opt->mac));
-  std::fflush(stdout);
-  transport::FdTransport t(std::move(p->master), "pty " + p->slave_path);
   sim::SlcanAdapterOptions o;
   o.should_stop = should_stop;
   o.bus_bitrate = a.bus_bitrate;
-  auto r = sim::serve_slcan(*bus, t, o);
+  // Line 1: where (the pty's path, or the TCP port); line 2: the link options.
+  auto announce = [&](const std::string& where, const std::string& port) {
+    std::printf("%s\n", where.c_str());
+    std::printf("link options: --port %s --can-bitrate %u --devicenet-macid %u\n", port.c_str(),
+                a.bus_bitrate, static_cast<unsigned>(opt->mac));
+    std::fflush(stdout);
+  };
+  Result<void> r;
+  if (!a.tcp.empty()) {
+    // The adapter is reset for each client (its channel closed, as a USB
+    // adapter is when plugged in again); the controller and the bus stay.
+    const int rc = serve_tcp_clients(
+        a.tcp, should_stop,
+        [&](std::uint16_t port) {
+          const std::string host = a.tcp.find(':') == std::string::npos
+                                       ? std::string("127.0.0.1")
+                                       : a.tcp.substr(0, a.tcp.rfind(':'));
+          announce(std::to_string(port), "slcan:tcp://" + host + ":" + std::to_string(port));
+        },
+        [&](transport::Transport& t) { return sim::serve_slcan(*bus, t, o); });
+    if (rc != kOk) return rc;
+  } else {
+    auto p = transport::open_pty();
+    if (!p.ok()) {
+      std::fprintf(stderr, "lmcfg sim: %s\n", p.error().message.c_str());
+      return kCommFailure;
+    }
+    announce(p->slave_path, "slcan:" + p->slave_path);
+    transport::FdTransport t(std::move(p->master), "pty " + p->slave_path);
+    r = sim::serve_slcan(*bus, t, o);
+  }
   std::fprintf(stderr, "lmcfg sim: %llu command(s) executed, %llu poll response(s) lost\n",
                static_cast<unsigned long long>(controller.commands_executed()),
                static_cast<unsigned long long>(controller.poll_responses_lost()));

@@ -1,7 +1,7 @@
 #pragma once
 // `lmcfg sim --devicenet`: a simulated DeviceNet LinMot controller (seed 000)
-// behind a simulated slcan adapter on a pseudo-terminal, with its fault
-// options. docs/devicenet.md.
+// behind a simulated slcan adapter on a pseudo-terminal or a TCP listener,
+// with its fault options. docs/devicenet.md.
 #include <CLI/CLI.hpp>
 #include <functional>
 #include <string>
@@ -21,6 +21,7 @@ struct DevicenetSimArgs {
   bool error_leaves_run = false;
   unsigned reset_after = 0;
   std::string toggle = "seed";  // seed | get-set-ignore | module
+  std::string tcp;              // --tcp HOST:PORT; "" = a new pty
 };
 
 // The options of `lmcfg sim --devicenet`; each needs `devicenet_flag`.
