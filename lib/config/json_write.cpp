@@ -1,48 +1,94 @@
-// Writing the canonical JSON form (split from json_io.cpp: reading there).
+// Writing the canonical JSON form: the document's frame around the records
+// of the field tables (json_fields.hpp), and the decoded views.
 #include <nlohmann/json.hpp>
 
 #include "common/layers.hpp"
 #include "config/atomic_file.hpp"
 #include "config/io_common.hpp"
+#include "config/json_fields.hpp"
 #include "config/json_io.hpp"
 
 namespace lmcfg::config {
 
-using ojson = nlohmann::ordered_json;
+using detail::ojson;
+using detail::write_record;
 
 namespace {
 
-ojson rows_json(ByteView b) {
-  ojson a = ojson::array();
-  for (auto& r : detail::block_rows(b)) a.push_back(std::move(r));
-  return a;
-}
-
-ojson devicenet_values_json(const std::vector<DevicenetValue>& values) {
-  ojson a = ojson::array();
-  for (const auto& v : values) {
-    ojson j;
-    j["motor"] = detail::devicenet_motor_text(v.motor);
-    j["command"] = detail::command_hex(v.command);
-    j["raw"] = v.raw;
-    if (!v.name.empty()) j["name"] = v.name;
-    if (!v.scaled.empty()) j["scaled"] = v.scaled;
-    if (!v.unit.empty()) j["unit"] = v.unit;
-    a.push_back(std::move(j));
+// parameters: one object per layer, every layer (empty ones too).
+ojson parameters_json(const DriveConfig& cfg) {
+  ojson params = ojson::array();
+  for (int l = 1; l <= lmcfg::layers::kCount; ++l) {
+    ojson lj;
+    lj["layer"] = l;
+    lj["name"] = lmcfg::layers::name(l);
+    ojson arr = ojson::array();
+    for (const auto& p : cfg.layer(l)) arr.push_back(write_record(fields::parameter_fields(), p));
+    lj["params"] = std::move(arr);
+    params.push_back(std::move(lj));
   }
-  return a;
+  return params;
 }
 
-ojson devicenet_json(const DevicenetSection& dn) {
+// A curve's decoded view (derived; ignored on read).
+ojson curve_view_json(const CurveView& v) {
   ojson d;
-  d["can_bitrate"] = dn.can_bitrate;
-  d["io_modules"] = dn.io_modules;
-  ojson motors = ojson::array();
-  for (int m : dn.motors) motors.push_back(detail::devicenet_motor_text(m));
-  d["motors"] = std::move(motors);
-  d["values"] = devicenet_values_json(dn.values);
-  d["live"] = devicenet_values_json(dn.live);
+  d["name"] = v.name;
+  d["object_type"] = detail::upid_hex(v.object_type);
+  d["x"] = CurveView::x_name(v.x_code);
+  d["y"] = CurveView::y_name(v.y_code);
+  d["setpoint_count"] = v.setpoint_count;
+  d["bytes_per_setpoint"] = v.bytes_per_setpoint;
+  d["curve_id"] = v.curve_id;
+  d["length"] = v.length;
+  d["length_ms"] = v.length_ms_text();
+  d["x_dimension"] = v.x_dimension;
+  d["y_dimension"] = v.y_dimension;
+  d["wizard"] = detail::upid_hex(v.wizard);
+  d["wizard_params"] = v.wizard_params;
+  d["setpoints"] = v.setpoints;
   return d;
+}
+
+ojson curves_json(const std::vector<Curve>& curves, const WriteOptions& opts) {
+  ojson out = ojson::array();
+  for (const auto& c : curves) {
+    ojson cj = write_record(fields::curve_fields(), c);
+    if (opts.include_decoded) {
+      if (auto v = decode_curve(c); v.ok()) cj["decoded"] = curve_view_json(*v);
+    }
+    out.push_back(std::move(cj));
+  }
+  return out;
+}
+
+// A command table entry's decoded view (derived; ignored on read).
+ojson ct_entry_view_json(const CtEntry& e, const WriteOptions& opts) {
+  ojson d;
+  d["name"] = ct_entry_name(e.raw);
+  if (auto v = opts.ct_decoder ? opts.ct_decoder->decode(e.id, e.raw) : std::nullopt) {
+    d["summary"] = v->summary;
+    ojson ps = ojson::array();
+    for (const auto& p : v->params) {
+      ojson pj;
+      pj["name"] = p.name;
+      pj["value"] = p.value;
+      if (!p.unit.empty()) pj["unit"] = p.unit;
+      ps.push_back(std::move(pj));
+    }
+    d["params"] = std::move(ps);
+  }
+  return d;
+}
+
+ojson command_table_json(const std::vector<CtEntry>& entries, const WriteOptions& opts) {
+  ojson out = ojson::array();
+  for (const auto& e : entries) {
+    ojson ej = write_record(fields::ct_entry_fields(), e);
+    if (opts.include_decoded) ej["decoded"] = ct_entry_view_json(e, opts);
+    out.push_back(std::move(ej));
+  }
+  return out;
 }
 
 }  // namespace
@@ -54,119 +100,12 @@ Result<std::string> write_json(const DriveConfig& in, const WriteOptions& opts) 
   ojson doc;
   doc["format"] = kFormatId;
   doc["format_version"] = kFormatVersion;
-  {
-    const auto& id = cfg.identity;
-    ojson j;
-    j["macid"] = id.macid;
-    j["link"] = ojson{{"port", id.link.port},
-                      {"baud", id.link.baud},
-                      {"parity", id.link.parity},
-                      {"stop_bits", id.link.stop_bits},
-                      {"checksum", id.link.checksum}};
-    j["product"] = id.product;
-    j["firmware"] = id.firmware;
-    j["upid_fingerprint"] = id.upid_fingerprint;
-    j["tool_version"] = id.tool_version;
-    j["upid_db"] = ojson{{"version", id.upid_db_version}, {"hash", id.upid_db_hash}};
-    j["captured_at"] = id.captured_at;
-    ojson labels = ojson::object();
-    for (const auto& [k, v] : id.labels) labels[k] = v;  // std::map: sorted
-    j["labels"] = std::move(labels);
-    doc["identity"] = std::move(j);
-  }
-  {
-    ojson s;
-    ojson layers = ojson::array();
-    for (int l = 1; l <= lmcfg::layers::kCount; ++l)
-      if (cfg.scope.layers[static_cast<std::size_t>(l - 1)]) layers.push_back(l);
-    s["layers"] = std::move(layers);
-    s["parameters"] = to_string(cfg.scope.parameters);
-    s["curves"] = cfg.scope.curves;
-    s["command_table"] = cfg.scope.command_table;
-    doc["scope"] = std::move(s);
-  }
-  {
-    ojson params = ojson::array();
-    for (int l = 1; l <= lmcfg::layers::kCount; ++l) {
-      ojson lj;
-      lj["layer"] = l;
-      lj["name"] = lmcfg::layers::name(l);
-      ojson arr = ojson::array();
-      for (const auto& p : cfg.layer(l)) {
-        ojson q;
-        q["upid"] = detail::upid_hex(p.upid);
-        q["value"] = p.value;
-        if (p.type) q["type"] = *p.type;
-        if (p.default_value) q["default"] = *p.default_value;
-        if (!p.name.empty()) q["name"] = p.name;
-        if (!p.scaled.empty()) q["scaled"] = p.scaled;
-        if (!p.unit.empty()) q["unit"] = p.unit;
-        arr.push_back(std::move(q));
-      }
-      lj["params"] = std::move(arr);
-      params.push_back(std::move(lj));
-    }
-    doc["parameters"] = std::move(params);
-  }
-  {
-    ojson curves = ojson::array();
-    for (const auto& c : cfg.curves) {
-      ojson cj;
-      cj["id"] = c.id;
-      cj["info"] = rows_json(c.info);
-      cj["data"] = rows_json(c.data);
-      if (opts.include_decoded) {
-        if (auto v = decode_curve(c); v.ok()) {
-          ojson d;
-          d["name"] = v->name;
-          d["object_type"] = detail::upid_hex(v->object_type);
-          d["x"] = CurveView::x_name(v->x_code);
-          d["y"] = CurveView::y_name(v->y_code);
-          d["setpoint_count"] = v->setpoint_count;
-          d["bytes_per_setpoint"] = v->bytes_per_setpoint;
-          d["curve_id"] = v->curve_id;
-          d["length"] = v->length;
-          d["length_ms"] = v->length_ms_text();
-          d["x_dimension"] = v->x_dimension;
-          d["y_dimension"] = v->y_dimension;
-          d["wizard"] = detail::upid_hex(v->wizard);
-          d["wizard_params"] = v->wizard_params;
-          d["setpoints"] = v->setpoints;
-          cj["decoded"] = std::move(d);
-        }
-      }
-      curves.push_back(std::move(cj));
-    }
-    doc["curves"] = std::move(curves);
-  }
-  {
-    ojson table = ojson::array();
-    for (const auto& e : cfg.ct_entries) {
-      ojson ej;
-      ej["id"] = e.id;
-      ej["raw"] = rows_json(e.raw);
-      if (opts.include_decoded) {
-        ojson d;
-        d["name"] = ct_entry_name(e.raw);
-        if (auto v = opts.ct_decoder ? opts.ct_decoder->decode(e.id, e.raw) : std::nullopt) {
-          d["summary"] = v->summary;
-          ojson ps = ojson::array();
-          for (const auto& p : v->params) {
-            ojson pj;
-            pj["name"] = p.name;
-            pj["value"] = p.value;
-            if (!p.unit.empty()) pj["unit"] = p.unit;
-            ps.push_back(std::move(pj));
-          }
-          d["params"] = std::move(ps);
-        }
-        ej["decoded"] = std::move(d);
-      }
-      table.push_back(std::move(ej));
-    }
-    doc["command_table"] = std::move(table);
-  }
-  if (cfg.devicenet) doc["devicenet"] = devicenet_json(*cfg.devicenet);
+  doc["identity"] = write_record(fields::identity_fields(), cfg.identity);
+  doc["scope"] = write_record(fields::scope_fields(), cfg.scope);
+  doc["parameters"] = parameters_json(cfg);
+  doc["curves"] = curves_json(cfg.curves, opts);
+  doc["command_table"] = command_table_json(cfg.ct_entries, opts);
+  if (cfg.devicenet) doc["devicenet"] = write_record(fields::devicenet_fields(), *cfg.devicenet);
   try {
     return doc.dump(2, ' ', false, ojson::error_handler_t::strict) + "\n";
   } catch (const ojson::exception& e) {

@@ -5,6 +5,7 @@
 
 #include "common/bytes.hpp"
 #include "common/layers.hpp"
+#include "config/fields.hpp"
 
 namespace lmcfg::config {
 
@@ -253,12 +254,8 @@ std::optional<Issue> find_devicenet_issue(const DriveConfig& cfg) {
       if (!seen.insert({v.motor, v.command}).second)
         return at("command",
                   "duplicate command " + hex(v.command, 2) + "h for " + motor_text(v.motor));
-      for (const auto& [field, value] :
-           {std::pair<const char*, const std::string*>{"name", &v.name},
-            {"unit", &v.unit},
-            {"scaled", &v.scaled}})
-        if (!is_clean_text(*value))
-          return at(field, "expected UTF-8 text without control characters");
+      if (auto field = fields::unclean_text(fields::devicenet_value_fields(), v))
+        return at(*field, "expected UTF-8 text without control characters");
     }
   }
   return std::nullopt;
@@ -269,25 +266,9 @@ std::optional<Issue> find_devicenet_issue(const DriveConfig& cfg) {
 std::optional<Issue> find_issue(const DriveConfig& cfg) {
   {
     const auto& id = cfg.identity;
-    const std::pair<const char*, const std::string*> fields[] = {
-        {"macid", &id.macid},
-        {"link.port", &id.link.port},
-        {"link.baud", &id.link.baud},
-        {"link.parity", &id.link.parity},
-        {"link.stop_bits", &id.link.stop_bits},
-        {"link.checksum", &id.link.checksum},
-        {"product", &id.product},
-        {"firmware", &id.firmware},
-        {"upid_fingerprint", &id.upid_fingerprint},
-        {"tool_version", &id.tool_version},
-        {"upid_db.version", &id.upid_db_version},
-        {"upid_db.hash", &id.upid_db_hash},
-        {"captured_at", &id.captured_at},
-    };
-    for (const auto& [field, value] : fields)
-      if (!is_clean_text(*value))
-        return Issue{Issue::Where::identity, 0, 0, field,
-                     "expected UTF-8 text without control characters"};
+    if (auto field = fields::unclean_text(fields::identity_fields(), id))
+      return Issue{Issue::Where::identity, 0, 0, *field,
+                   "expected UTF-8 text without control characters"};
     for (const auto& [k, v] : id.labels) {
       if (k.empty() || !is_clean_text(k))
         return Issue{Issue::Where::identity, 0, 0, "labels",
@@ -319,13 +300,9 @@ std::optional<Issue> find_issue(const DriveConfig& cfg) {
         return Issue{Issue::Where::param, l, i, "upid",
                      "duplicate UPID " + hex(p.upid, 4) + "h in layer " + std::to_string(l) + " (" +
                          std::string(info_name) + ")"};
-      for (const auto& [field, value] :
-           {std::pair<const char*, const std::string*>{"name", &p.name},
-            {"unit", &p.unit},
-            {"scaled", &p.scaled}})
-        if (!is_clean_text(*value))
-          return Issue{Issue::Where::param, l, i, field,
-                       "expected UTF-8 text without control characters"};
+      if (auto field = fields::unclean_text(fields::parameter_fields(), p))
+        return Issue{Issue::Where::param, l, i, *field,
+                     "expected UTF-8 text without control characters"};
       if (p.type && *p.type > 0x0F)
         return Issue{Issue::Where::param, l, i, "type",
                      "type code " + std::to_string(*p.type) + " is not a type code (0..15)"};

@@ -16,47 +16,38 @@ std::optional<std::int64_t> opt_bit(const std::optional<AddressUsage>& au, unsig
   return (au->raw >> bit) & 1u;
 }
 
-// The rows of every table; returns the failing table's name, or empty.
-std::string insert_rows(sqlite3* db, const Model& m, const std::string& hash,
-                        const std::string& built_from, std::string& error) {
-  using sqlite::Statement;
-  Statement meta(db, "INSERT INTO meta(key, value) VALUES(?, ?)");
-  Statement prof(db, "INSERT INTO profiles VALUES(?,?,?,?,?,?,?,?)");
-  Statement par(db,
-                "INSERT INTO parameters(id, upid, upid_hex, profiles, layer, name, path, "
-                "type_code, type, address_usage, ram_read, ram_write, rom_read, rom_write, "
-                "no_hash, min, max, default_value, unit, scale, comm, description, source, "
-                "src_file, src_line) "
-                "VALUES(?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)");
-  Statement lab(db, "INSERT INTO enum_labels VALUES(?,?,?,?,?,?)");
-  Statement err(db, "INSERT INTO errors VALUES(?,?,?,?,?,?,?,?,?,?)");
-  Statement cmd(db, "INSERT INTO motion_commands VALUES(?,?,?,?,?,?,?,?,?)");
-  Statement cpar(db, "INSERT INTO motion_command_params VALUES(?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)");
-  Statement dnp(db, "INSERT INTO devicenet_parameters VALUES(?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)");
-  Statement dnpl(db, "INSERT INTO devicenet_parameter_labels VALUES(?,?,?,?,?,?)");
-  Statement dnc(db, "INSERT INTO devicenet_commands VALUES(?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)");
-  Statement dncl(db, "INSERT INTO devicenet_command_labels VALUES(?,?,?,?,?,?)");
-  for (const Statement* s : {&meta, &prof, &par, &lab, &err, &cmd, &cpar, &dnp, &dnpl, &dnc, &dncl})
-    if (!s->ok()) {
-      error = sqlite3_errmsg(db);
-      return "prepare";
-    }
-  auto add_meta = [&](const std::string& k, const std::string& v) {
-    return meta.text(k).text(v).insert();
-  };
-  if (!add_meta("schema_version", std::to_string(kSchemaVersion)) ||
-      !add_meta("content_hash", hash) || !add_meta("built_from", built_from) ||
-      !add_meta("generator", "upiddb-compile"))
-    return "meta";
-  for (const auto& p : m.profiles)
-    if (!prof.text(p.id)
-             .text(p.family)
-             .text(p.software)
-             .text(p.version)
-             .text(p.description)
-             .prov(p.prov)
-             .insert())
-      return "profiles";
+using sqlite::Statement;
+
+// One prepared INSERT per table.
+struct Statements {
+  explicit Statements(sqlite3* db)
+      : meta(db, "INSERT INTO meta(key, value) VALUES(?, ?)"),
+        prof(db, "INSERT INTO profiles VALUES(?,?,?,?,?,?,?,?)"),
+        par(db,
+            "INSERT INTO parameters(id, upid, upid_hex, profiles, layer, name, path, "
+            "type_code, type, address_usage, ram_read, ram_write, rom_read, rom_write, "
+            "no_hash, min, max, default_value, unit, scale, comm, description, source, "
+            "src_file, src_line) "
+            "VALUES(?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)"),
+        lab(db, "INSERT INTO enum_labels VALUES(?,?,?,?,?,?)"),
+        err(db, "INSERT INTO errors VALUES(?,?,?,?,?,?,?,?,?,?)"),
+        cmd(db, "INSERT INTO motion_commands VALUES(?,?,?,?,?,?,?,?,?)"),
+        cpar(db, "INSERT INTO motion_command_params VALUES(?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)"),
+        dnp(db, "INSERT INTO devicenet_parameters VALUES(?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)"),
+        dnpl(db, "INSERT INTO devicenet_parameter_labels VALUES(?,?,?,?,?,?)"),
+        dnc(db, "INSERT INTO devicenet_commands VALUES(?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)"),
+        dncl(db, "INSERT INTO devicenet_command_labels VALUES(?,?,?,?,?,?)") {}
+  bool ok() const {
+    for (const Statement* s :
+         {&meta, &prof, &par, &lab, &err, &cmd, &cpar, &dnp, &dnpl, &dnc, &dncl})
+      if (!s->ok()) return false;
+    return true;
+  }
+  Statement meta, prof, par, lab, err, cmd, cpar, dnp, dnpl, dnc, dncl;
+};
+
+// parameters and their enum labels; returns the failing table's name, or empty.
+std::string insert_parameters(Statements& st, const Model& m) {
   std::int64_t id = 0;
   for (const auto& p : m.params) {
     ++id;
@@ -71,7 +62,7 @@ std::string insert_rows(sqlite3* db, const Model& m, const std::string& hash,
     }
     std::optional<std::int64_t> au;
     if (p.address_usage) au = p.address_usage->raw;
-    Statement& b = par;
+    Statement& b = st.par;
     b.integer(id)
         .integer(p.upid)
         .text(hex(p.upid, 4))
@@ -97,10 +88,16 @@ std::string insert_rows(sqlite3* db, const Model& m, const std::string& hash,
         .prov(p.prov);
     if (!b.insert()) return "parameters";
     for (const auto& l : p.spec.labels)
-      if (!lab.integer(id).integer(l.raw).text(l.label).prov(p.prov).insert()) return "enum_labels";
+      if (!st.lab.integer(id).integer(l.raw).text(l.label).prov(p.prov).insert())
+        return "enum_labels";
   }
+  return {};
+}
+
+// errors
+std::string insert_errors(Statements& st, const Model& m) {
   for (const auto& e : m.errors)
-    if (!err.text(e.domain)
+    if (!st.err.text(e.domain)
              .integer(e.code)
              .text(e.code_text)
              .text(e.text)
@@ -110,8 +107,13 @@ std::string insert_rows(sqlite3* db, const Model& m, const std::string& hash,
              .prov(e.prov)
              .insert())
       return "errors";
+  return {};
+}
+
+// motion commands and their parameters
+std::string insert_commands(Statements& st, const Model& m) {
   for (const auto& c : m.commands) {
-    if (!cmd.integer(c.master)
+    if (!st.cmd.integer(c.master)
              .integer(c.sub)
              .integer(c.header())
              .text(c.name)
@@ -123,7 +125,7 @@ std::string insert_rows(sqlite3* db, const Model& m, const std::string& hash,
     for (const auto& p : c.params) {
       std::optional<std::int64_t> tc;
       if (p.spec.type) tc = static_cast<std::int64_t>(*p.spec.type);
-      if (!cpar.integer(c.master)
+      if (!st.cpar.integer(c.master)
                .integer(c.sub)
                .integer(p.index)
                .integer(p.offset)
@@ -141,6 +143,11 @@ std::string insert_rows(sqlite3* db, const Model& m, const std::string& hash,
         return "motion_command_params";
     }
   }
+  return {};
+}
+
+// DeviceNet parameters and commands, with their labels
+std::string insert_devicenet(Statements& st, const Model& m) {
   const std::string dn_profile(kDevicenetProfile);
   auto type_code_of = [](const ValueSpec& s) -> std::optional<std::int64_t> {
     if (!s.type) return std::nullopt;
@@ -151,7 +158,7 @@ std::string insert_rows(sqlite3* db, const Model& m, const std::string& hash,
   };
   std::int64_t seq = 0;
   for (const auto& p : m.dn_params) {
-    if (!dnp.integer(++seq)
+    if (!st.dnp.integer(++seq)
              .text(p.id)
              .text(dn_profile)
              .text(p.name)
@@ -169,11 +176,11 @@ std::string insert_rows(sqlite3* db, const Model& m, const std::string& hash,
              .insert())
       return "devicenet_parameters";
     for (const auto& l : p.spec.labels)
-      if (!dnpl.text(p.id).integer(l.raw).text(l.label).prov(p.prov).insert())
+      if (!st.dnpl.text(p.id).integer(l.raw).text(l.label).prov(p.prov).insert())
         return "devicenet_parameter_labels";
   }
   for (const auto& c : m.dn_commands) {
-    if (!dnc.integer(c.id)
+    if (!st.dnc.integer(c.id)
              .text(c.id_text)
              .text(dn_profile)
              .text(c.direction)
@@ -192,9 +199,38 @@ std::string insert_rows(sqlite3* db, const Model& m, const std::string& hash,
              .insert())
       return "devicenet_commands";
     for (const auto& l : c.spec.labels)
-      if (!dncl.integer(c.id).integer(l.raw).text(l.label).prov(c.prov).insert())
+      if (!st.dncl.integer(c.id).integer(l.raw).text(l.label).prov(c.prov).insert())
         return "devicenet_command_labels";
   }
+  return {};
+}
+
+// The rows of every table; returns the failing table's name, or empty.
+std::string insert_rows(sqlite3* db, const Model& m, const std::string& hash,
+                        const std::string& built_from, std::string& error) {
+  Statements st(db);
+  if (!st.ok()) {
+    error = sqlite3_errmsg(db);
+    return "prepare";
+  }
+  auto add_meta = [&](const std::string& k, const std::string& v) {
+    return st.meta.text(k).text(v).insert();
+  };
+  if (!add_meta("schema_version", std::to_string(kSchemaVersion)) ||
+      !add_meta("content_hash", hash) || !add_meta("built_from", built_from) ||
+      !add_meta("generator", "upiddb-compile"))
+    return "meta";
+  for (const auto& p : m.profiles)
+    if (!st.prof.text(p.id)
+             .text(p.family)
+             .text(p.software)
+             .text(p.version)
+             .text(p.description)
+             .prov(p.prov)
+             .insert())
+      return "profiles";
+  for (auto* part : {insert_parameters, insert_errors, insert_commands, insert_devicenet})
+    if (std::string table = part(st, m); !table.empty()) return table;
   return {};
 }
 

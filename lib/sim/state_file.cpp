@@ -155,6 +155,231 @@ std::map<std::uint16_t, Bytes> ct_of(const json& a) {
   return m;
 }
 
+// The sections of a state file, one reader each (from_json); each throws
+// BadField with the member's name.
+
+// link, switches
+void read_link(const json& j, DriveState& s) {
+  if (auto it = j.find("link"); it != j.end()) {
+    s.link.baud = num_or(*it, "baud", 57600);
+    s.link.parity = enum_of(
+        *it, "parity", transport::Parity::none,
+        {std::pair{"none", transport::Parity::none}, std::pair{"even", transport::Parity::even},
+         std::pair{"odd", transport::Parity::odd}});
+    s.link.stop_bits = num_or(*it, "stop_bits", 1);
+    if (auto v = transport::validate(s.link); !v.ok()) throw BadField("link: " + v.error().message);
+  }
+  if (auto it = j.find("switches"); it != j.end()) {
+    HexSwitches sw{s.macid, s.link.baud};
+    const auto id = num_or(*it, "macid", sw.macid);
+    if (id > 0xFF) throw BadField("switches.macid: exceeds FFh");
+    sw.macid = static_cast<std::uint8_t>(id);
+    transport::SerialSettings probe = s.link;
+    probe.baud = num_or(*it, "baud", sw.baud);
+    if (auto v = transport::validate(probe); !v.ok())
+      throw BadField("switches: " + v.error().message);
+    sw.baud = probe.baud;
+    s.switches = sw;
+  }
+}
+
+// checksum
+void read_checksum(const json& j, DriveState& s) {
+  if (auto it = j.find("checksum"); it != j.end()) {
+    s.checksum.mode = enum_of(
+        *it, "mode", codec::ChecksumMode::none,
+        {std::pair{"none", codec::ChecksumMode::none}, std::pair{"add", codec::ChecksumMode::add},
+         std::pair{"crc_ccitt", codec::ChecksumMode::crc_ccitt},
+         std::pair{"crc_kermit", codec::ChecksumMode::crc_kermit}});
+    s.checksum.crc_init = u16_or(*it, "crc_init", 0xFFFF);
+    s.checksum.coverage =
+        enum_of(*it, "coverage", codec::ChecksumCoverage::id_through_data,
+                {std::pair{"id_through_data", codec::ChecksumCoverage::id_through_data},
+                 std::pair{"start_through_data", codec::ChecksumCoverage::start_through_data},
+                 std::pair{"data_only", codec::ChecksumCoverage::data_only}});
+  }
+}
+
+// default_response, mc_running, live, timing_us
+void read_layout_and_timing(const json& j, DriveState& s) {
+  if (auto it = j.find("default_response"); it != j.end()) {
+    auto& L = s.layout;
+    L.comm_state = bool_or(*it, "comm_state", L.comm_state);
+    L.status_word = bool_or(*it, "status_word", L.status_word);
+    L.state_var = bool_or(*it, "state_var", L.state_var);
+    L.error_code = bool_or(*it, "error_code", L.error_code);
+    L.warn_word = bool_or(*it, "warn_word", L.warn_word);
+    L.echo_header = bool_or(*it, "echo_header", L.echo_header);
+    L.monitoring_1 = bool_or(*it, "monitoring_1", L.monitoring_1);
+    L.monitoring_2 = bool_or(*it, "monitoring_2", L.monitoring_2);
+    L.mc_response = bool_or(*it, "mc_response", L.mc_response);
+  }
+  s.mc_running = bool_or(j, "mc_running", true);
+  if (auto it = j.find("live"); it != j.end()) {
+    auto& V = s.live;
+    V.status_word = u16_or(*it, "status_word", V.status_word);
+    V.state_var = u16_or(*it, "state_var", V.state_var);
+    V.warn_word = u16_or(*it, "warn_word", V.warn_word);
+    V.error_code = u16_or(*it, "error_code", V.error_code);
+    V.monitoring_1 = num_or(*it, "monitoring_1", V.monitoring_1);
+    V.monitoring_2 = num_or(*it, "monitoring_2", V.monitoring_2);
+  }
+  if (auto it = j.find("timing_us"); it != j.end()) {
+    auto& T = s.timing;
+    T.turnaround_us = i64_or(*it, "turnaround", T.turnaround_us);
+    T.defaulting_us = i64_or(*it, "defaulting", T.defaulting_us);
+    T.flash_save_us = i64_or(*it, "flash_save", T.flash_save_us);
+    T.flash_save_max_us = i64_or(*it, "flash_save_max", T.flash_save_max_us);
+    T.reset_us = i64_or(*it, "reset", T.reset_us);
+    T.start_us = i64_or(*it, "start", T.start_us);
+    T.rx_timeout_us = i64_or(*it, "rx_timeout", T.rx_timeout_us);
+  }
+}
+
+// options
+// options.checksum_param and its kin: {"upid": "20A0", "codes": {"0": "none", "2": "crc-ffff"}}
+void read_comm_param(const json& options, const char* key, std::optional<Options::CommParam>& out,
+                     std::initializer_list<const char*> names) {
+  auto cp = options.find(key);
+  if (cp == options.end()) return;
+  const std::string where = std::string("options.") + key;
+  if (!cp->is_object() || !cp->contains("upid") || !cp->contains("codes") ||
+      !cp->at("codes").is_object())
+    throw BadField(where + ": expected {\"upid\": \"20A0\", \"codes\": {\"0\": NAME}}");
+  Options::CommParam p;
+  p.upid = u16_or(*cp, "upid", 0);
+  for (const auto& [code, name] : cp->at("codes").items()) {
+    auto c = parse_number(code, true);
+    if (!c) throw BadField(where + ".codes: key '" + code + "' is not a number");
+    if (!name.is_string()) throw BadField(where + ".codes: expected a name for " + code);
+    const std::string n = name.get<std::string>();
+    bool known = false;
+    std::string list;
+    for (const char* k : names) {
+      known = known || n == k;
+      list += std::string(list.empty() ? "" : ", ") + k;
+    }
+    if (!known) throw BadField(where + ".codes: '" + n + "' is not one of " + list);
+    p.codes[*c] = n;
+  }
+  out = std::move(p);
+}
+
+void read_options(const json& j, DriveState& s) {
+  if (auto it = j.find("options"); it != j.end()) {
+    auto& O = s.options;
+    auto u8_or = [&](const char* k, std::uint8_t d) {
+      const auto v = num_or(*it, k, d);
+      if (v > 0xFF) throw BadField(std::string(k) + ": exceeds FFh");
+      return static_cast<std::uint8_t>(v);
+    };
+    O.empty_list_state = u8_or("empty_list_state", O.empty_list_state);
+    O.empty_list_upid = u16_or(*it, "empty_list_upid", O.empty_list_upid);
+    O.missing_curve_zero_sizes =
+        bool_or(*it, "missing_curve_zero_sizes", O.missing_curve_zero_sizes);
+    O.write_policy =
+        enum_of(*it, "write_policy", O.write_policy,
+                {std::pair{"reject", WritePolicy::reject}, std::pair{"clamp", WritePolicy::clamp},
+                 std::pair{"accept", WritePolicy::accept}});
+    O.reject_state = u8_or("reject_state", O.reject_state);
+    O.flash_refused_state = u8_or("flash_refused_state", O.flash_refused_state);
+    O.missing_object_state = u8_or("missing_object_state", O.missing_object_state);
+    O.respond_on_checksum_error =
+        bool_or(*it, "respond_on_checksum_error", O.respond_on_checksum_error);
+    O.respond_on_end_missing = bool_or(*it, "respond_on_end_missing", O.respond_on_end_missing);
+    O.reload_tables_on_start = bool_or(*it, "reload_tables_on_start", O.reload_tables_on_start);
+    O.ignore_while_busy = bool_or(*it, "ignore_while_busy", O.ignore_while_busy);
+    O.missing_ct_entry_zero_size =
+        bool_or(*it, "missing_ct_entry_zero_size", O.missing_ct_entry_zero_size);
+    O.empty_list_echo_upid = bool_or(*it, "empty_list_echo_upid", O.empty_list_echo_upid);
+    O.refusal_fields =
+        enum_of(*it, "refusal_fields", O.refusal_fields,
+                {std::pair{"echo", RefusalFields::echo}, std::pair{"zeros", RefusalFields::zeros},
+                 std::pair{"arbitrary", RefusalFields::arbitrary}});
+    O.refuse_config_while_mc_runs =
+        bool_or(*it, "refuse_config_while_mc_runs", O.refuse_config_while_mc_runs);
+    O.config_refused_state = u8_or("config_refused_state", O.config_refused_state);
+    if (auto bc = it->find("baud_codes"); bc != it->end()) {
+      if (!bc->is_object())
+        throw BadField("options.baud_codes: expected an object of code -> baud rate");
+      O.baud_codes.clear();
+      for (const auto& [code, rate] : bc->items()) {
+        auto c = parse_number(code, true);
+        if (!c) throw BadField("options.baud_codes: key '" + code + "' is not a number");
+        transport::SerialSettings probe;
+        probe.baud = num(rate, "options.baud_codes value");
+        if (auto v = transport::validate(probe); !v.ok())
+          throw BadField("options.baud_codes: " + v.error().message);
+        O.baud_codes[*c] = probe.baud;
+      }
+    }
+    read_comm_param(*it, "checksum_param", O.checksum_param,
+                    {"none", "add", "crc", "crc-ffff", "crc-0000", "crc-kermit"});
+    read_comm_param(*it, "parity_param", O.parity_param, {"none", "even", "odd"});
+    read_comm_param(*it, "stop_bits_param", O.stop_bits_param, {"1", "2"});
+    O.silent_after_reset = bool_or(*it, "silent_after_reset", O.silent_after_reset);
+  }
+}
+
+// parameters
+void read_parameters(const json& j, DriveState& s) {
+  if (auto it = j.find("parameters"); it != j.end()) {
+    if (!it->is_array()) throw BadField("parameters: expected an array");
+    for (const auto& q : *it) {
+      Parameter p;
+      if (!q.contains("upid")) throw BadField("parameters: entry without upid");
+      p.upid = u16_or(q, "upid", 0);
+      p.name = q.value("name", std::string());
+      if (auto t = q.find("type"); t != q.end()) {
+        if (t->is_string()) {
+          auto code = type_from_name(t->get<std::string>());
+          p.type = code ? type_code(*code) : static_cast<std::uint16_t>(num(*t, "type"));
+        } else {
+          p.type = static_cast<std::uint16_t>(num(*t, "type"));
+        }
+      }
+      p.address_usage = u16_or(q, "address_usage", au::parameter);
+      p.min = num_or(q, "min", 0);
+      p.max = num_or(q, "max", 0xFFFFFFFF);
+      p.def = num_or(q, "default", 0);
+      p.rom = num_or(q, "rom", p.def);
+      p.ram = num_or(q, "ram", p.rom);
+      if (s.params.count(p.upid))
+        throw BadField("parameters: UPID " + hex16(p.upid) + " given twice");
+      s.params[p.upid] = std::move(p);
+    }
+  }
+}
+
+// curves, command_table, error_log, error_texts
+void read_tables_and_log(const json& j, DriveState& s) {
+  if (auto it = j.find("curves"); it != j.end()) {
+    if (it->contains("flash")) s.curves_flash = curves_of(it->at("flash"));
+    s.curves_ram = it->contains("ram") ? curves_of(it->at("ram")) : s.curves_flash;
+  }
+  if (auto it = j.find("command_table"); it != j.end()) {
+    if (it->contains("flash")) s.ct_flash = ct_of(it->at("flash"));
+    s.ct_ram = it->contains("ram") ? ct_of(it->at("ram")) : s.ct_flash;
+  }
+  if (auto it = j.find("error_log"); it != j.end()) {
+    s.errors_occurred = u16_or(*it, "occurred", 0);
+    if (auto e = it->find("entries"); e != it->end()) {
+      for (const auto& x : *e)
+        s.error_log.push_back({u16_or(x, "code", 0), num_or(x, "ms", 0), num_or(x, "hours", 0)});
+    }
+  }
+  s.error_texts = default_error_texts();
+  if (auto it = j.find("error_texts"); it != j.end()) {
+    if (!it->is_object()) throw BadField("error_texts: expected an object of code -> text");
+    for (const auto& [k, v] : it->items()) {
+      auto code = parse_number(k, true);
+      if (!code || *code > 0xFFFF || !v.is_string())
+        throw BadField("error_texts: bad entry '" + k + "'");
+      s.error_texts[static_cast<std::uint16_t>(*code)] = v.get<std::string>();
+    }
+  }
+}
+
 }  // namespace
 
 json to_json(const DriveState& s) {
@@ -262,204 +487,12 @@ Result<DriveState> from_json(const json& j) {
     const auto macid = num_or(j, "macid", 0x11);
     if (macid > 0xFF) throw BadField("macid: exceeds FFh");
     s.macid = static_cast<std::uint8_t>(macid);
-    if (auto it = j.find("link"); it != j.end()) {
-      s.link.baud = num_or(*it, "baud", 57600);
-      s.link.parity = enum_of(
-          *it, "parity", transport::Parity::none,
-          {std::pair{"none", transport::Parity::none}, std::pair{"even", transport::Parity::even},
-           std::pair{"odd", transport::Parity::odd}});
-      s.link.stop_bits = num_or(*it, "stop_bits", 1);
-      if (auto v = transport::validate(s.link); !v.ok())
-        throw BadField("link: " + v.error().message);
-    }
-    if (auto it = j.find("switches"); it != j.end()) {
-      HexSwitches sw{s.macid, s.link.baud};
-      const auto id = num_or(*it, "macid", sw.macid);
-      if (id > 0xFF) throw BadField("switches.macid: exceeds FFh");
-      sw.macid = static_cast<std::uint8_t>(id);
-      transport::SerialSettings probe = s.link;
-      probe.baud = num_or(*it, "baud", sw.baud);
-      if (auto v = transport::validate(probe); !v.ok())
-        throw BadField("switches: " + v.error().message);
-      sw.baud = probe.baud;
-      s.switches = sw;
-    }
-    if (auto it = j.find("checksum"); it != j.end()) {
-      s.checksum.mode = enum_of(
-          *it, "mode", codec::ChecksumMode::none,
-          {std::pair{"none", codec::ChecksumMode::none}, std::pair{"add", codec::ChecksumMode::add},
-           std::pair{"crc_ccitt", codec::ChecksumMode::crc_ccitt},
-           std::pair{"crc_kermit", codec::ChecksumMode::crc_kermit}});
-      s.checksum.crc_init = u16_or(*it, "crc_init", 0xFFFF);
-      s.checksum.coverage =
-          enum_of(*it, "coverage", codec::ChecksumCoverage::id_through_data,
-                  {std::pair{"id_through_data", codec::ChecksumCoverage::id_through_data},
-                   std::pair{"start_through_data", codec::ChecksumCoverage::start_through_data},
-                   std::pair{"data_only", codec::ChecksumCoverage::data_only}});
-    }
-    if (auto it = j.find("default_response"); it != j.end()) {
-      auto& L = s.layout;
-      L.comm_state = bool_or(*it, "comm_state", L.comm_state);
-      L.status_word = bool_or(*it, "status_word", L.status_word);
-      L.state_var = bool_or(*it, "state_var", L.state_var);
-      L.error_code = bool_or(*it, "error_code", L.error_code);
-      L.warn_word = bool_or(*it, "warn_word", L.warn_word);
-      L.echo_header = bool_or(*it, "echo_header", L.echo_header);
-      L.monitoring_1 = bool_or(*it, "monitoring_1", L.monitoring_1);
-      L.monitoring_2 = bool_or(*it, "monitoring_2", L.monitoring_2);
-      L.mc_response = bool_or(*it, "mc_response", L.mc_response);
-    }
-    s.mc_running = bool_or(j, "mc_running", true);
-    if (auto it = j.find("live"); it != j.end()) {
-      auto& V = s.live;
-      V.status_word = u16_or(*it, "status_word", V.status_word);
-      V.state_var = u16_or(*it, "state_var", V.state_var);
-      V.warn_word = u16_or(*it, "warn_word", V.warn_word);
-      V.error_code = u16_or(*it, "error_code", V.error_code);
-      V.monitoring_1 = num_or(*it, "monitoring_1", V.monitoring_1);
-      V.monitoring_2 = num_or(*it, "monitoring_2", V.monitoring_2);
-    }
-    if (auto it = j.find("timing_us"); it != j.end()) {
-      auto& T = s.timing;
-      T.turnaround_us = i64_or(*it, "turnaround", T.turnaround_us);
-      T.defaulting_us = i64_or(*it, "defaulting", T.defaulting_us);
-      T.flash_save_us = i64_or(*it, "flash_save", T.flash_save_us);
-      T.flash_save_max_us = i64_or(*it, "flash_save_max", T.flash_save_max_us);
-      T.reset_us = i64_or(*it, "reset", T.reset_us);
-      T.start_us = i64_or(*it, "start", T.start_us);
-      T.rx_timeout_us = i64_or(*it, "rx_timeout", T.rx_timeout_us);
-    }
-    if (auto it = j.find("options"); it != j.end()) {
-      auto& O = s.options;
-      auto u8_or = [&](const char* k, std::uint8_t d) {
-        const auto v = num_or(*it, k, d);
-        if (v > 0xFF) throw BadField(std::string(k) + ": exceeds FFh");
-        return static_cast<std::uint8_t>(v);
-      };
-      O.empty_list_state = u8_or("empty_list_state", O.empty_list_state);
-      O.empty_list_upid = u16_or(*it, "empty_list_upid", O.empty_list_upid);
-      O.missing_curve_zero_sizes =
-          bool_or(*it, "missing_curve_zero_sizes", O.missing_curve_zero_sizes);
-      O.write_policy =
-          enum_of(*it, "write_policy", O.write_policy,
-                  {std::pair{"reject", WritePolicy::reject}, std::pair{"clamp", WritePolicy::clamp},
-                   std::pair{"accept", WritePolicy::accept}});
-      O.reject_state = u8_or("reject_state", O.reject_state);
-      O.flash_refused_state = u8_or("flash_refused_state", O.flash_refused_state);
-      O.missing_object_state = u8_or("missing_object_state", O.missing_object_state);
-      O.respond_on_checksum_error =
-          bool_or(*it, "respond_on_checksum_error", O.respond_on_checksum_error);
-      O.respond_on_end_missing = bool_or(*it, "respond_on_end_missing", O.respond_on_end_missing);
-      O.reload_tables_on_start = bool_or(*it, "reload_tables_on_start", O.reload_tables_on_start);
-      O.ignore_while_busy = bool_or(*it, "ignore_while_busy", O.ignore_while_busy);
-      O.missing_ct_entry_zero_size =
-          bool_or(*it, "missing_ct_entry_zero_size", O.missing_ct_entry_zero_size);
-      O.empty_list_echo_upid = bool_or(*it, "empty_list_echo_upid", O.empty_list_echo_upid);
-      O.refusal_fields =
-          enum_of(*it, "refusal_fields", O.refusal_fields,
-                  {std::pair{"echo", RefusalFields::echo}, std::pair{"zeros", RefusalFields::zeros},
-                   std::pair{"arbitrary", RefusalFields::arbitrary}});
-      O.refuse_config_while_mc_runs =
-          bool_or(*it, "refuse_config_while_mc_runs", O.refuse_config_while_mc_runs);
-      O.config_refused_state = u8_or("config_refused_state", O.config_refused_state);
-      if (auto bc = it->find("baud_codes"); bc != it->end()) {
-        if (!bc->is_object())
-          throw BadField("options.baud_codes: expected an object of code -> baud rate");
-        O.baud_codes.clear();
-        for (const auto& [code, rate] : bc->items()) {
-          auto c = parse_number(code, true);
-          if (!c) throw BadField("options.baud_codes: key '" + code + "' is not a number");
-          transport::SerialSettings probe;
-          probe.baud = num(rate, "options.baud_codes value");
-          if (auto v = transport::validate(probe); !v.ok())
-            throw BadField("options.baud_codes: " + v.error().message);
-          O.baud_codes[*c] = probe.baud;
-        }
-      }
-      // {"upid": "20A0", "codes": {"0": "none", "2": "crc-ffff"}}
-      auto comm_param = [&](const char* key, std::optional<Options::CommParam>& out,
-                            std::initializer_list<const char*> names) {
-        auto cp = it->find(key);
-        if (cp == it->end()) return;
-        const std::string where = std::string("options.") + key;
-        if (!cp->is_object() || !cp->contains("upid") || !cp->contains("codes") ||
-            !cp->at("codes").is_object())
-          throw BadField(where + ": expected {\"upid\": \"20A0\", \"codes\": {\"0\": NAME}}");
-        Options::CommParam p;
-        p.upid = u16_or(*cp, "upid", 0);
-        for (const auto& [code, name] : cp->at("codes").items()) {
-          auto c = parse_number(code, true);
-          if (!c) throw BadField(where + ".codes: key '" + code + "' is not a number");
-          if (!name.is_string()) throw BadField(where + ".codes: expected a name for " + code);
-          const std::string n = name.get<std::string>();
-          bool known = false;
-          std::string list;
-          for (const char* k : names) {
-            known = known || n == k;
-            list += std::string(list.empty() ? "" : ", ") + k;
-          }
-          if (!known) throw BadField(where + ".codes: '" + n + "' is not one of " + list);
-          p.codes[*c] = n;
-        }
-        out = std::move(p);
-      };
-      comm_param("checksum_param", O.checksum_param,
-                 {"none", "add", "crc", "crc-ffff", "crc-0000", "crc-kermit"});
-      comm_param("parity_param", O.parity_param, {"none", "even", "odd"});
-      comm_param("stop_bits_param", O.stop_bits_param, {"1", "2"});
-      O.silent_after_reset = bool_or(*it, "silent_after_reset", O.silent_after_reset);
-    }
-    if (auto it = j.find("parameters"); it != j.end()) {
-      if (!it->is_array()) throw BadField("parameters: expected an array");
-      for (const auto& q : *it) {
-        Parameter p;
-        if (!q.contains("upid")) throw BadField("parameters: entry without upid");
-        p.upid = u16_or(q, "upid", 0);
-        p.name = q.value("name", std::string());
-        if (auto t = q.find("type"); t != q.end()) {
-          if (t->is_string()) {
-            auto code = type_from_name(t->get<std::string>());
-            p.type = code ? type_code(*code) : static_cast<std::uint16_t>(num(*t, "type"));
-          } else {
-            p.type = static_cast<std::uint16_t>(num(*t, "type"));
-          }
-        }
-        p.address_usage = u16_or(q, "address_usage", au::parameter);
-        p.min = num_or(q, "min", 0);
-        p.max = num_or(q, "max", 0xFFFFFFFF);
-        p.def = num_or(q, "default", 0);
-        p.rom = num_or(q, "rom", p.def);
-        p.ram = num_or(q, "ram", p.rom);
-        if (s.params.count(p.upid))
-          throw BadField("parameters: UPID " + hex16(p.upid) + " given twice");
-        s.params[p.upid] = std::move(p);
-      }
-    }
-    if (auto it = j.find("curves"); it != j.end()) {
-      if (it->contains("flash")) s.curves_flash = curves_of(it->at("flash"));
-      s.curves_ram = it->contains("ram") ? curves_of(it->at("ram")) : s.curves_flash;
-    }
-    if (auto it = j.find("command_table"); it != j.end()) {
-      if (it->contains("flash")) s.ct_flash = ct_of(it->at("flash"));
-      s.ct_ram = it->contains("ram") ? ct_of(it->at("ram")) : s.ct_flash;
-    }
-    if (auto it = j.find("error_log"); it != j.end()) {
-      s.errors_occurred = u16_or(*it, "occurred", 0);
-      if (auto e = it->find("entries"); e != it->end()) {
-        for (const auto& x : *e)
-          s.error_log.push_back({u16_or(x, "code", 0), num_or(x, "ms", 0), num_or(x, "hours", 0)});
-      }
-    }
-    s.error_texts = default_error_texts();
-    if (auto it = j.find("error_texts"); it != j.end()) {
-      if (!it->is_object()) throw BadField("error_texts: expected an object of code -> text");
-      for (const auto& [k, v] : it->items()) {
-        auto code = parse_number(k, true);
-        if (!code || *code > 0xFFFF || !v.is_string())
-          throw BadField("error_texts: bad entry '" + k + "'");
-        s.error_texts[static_cast<std::uint16_t>(*code)] = v.get<std::string>();
-      }
-    }
+    read_link(j, s);
+    read_checksum(j, s);
+    read_layout_and_timing(j, s);
+    read_options(j, s);
+    read_parameters(j, s);
+    read_tables_and_log(j, s);
     return s;
   } catch (const BadField& e) {
     return Error(Errc::parse_error, std::string("sim state: ") + e.what());

@@ -149,13 +149,6 @@ TEST_CASE("config: writers refuse an invalid model", "[config]") {
   CHECK_FALSE(write_xml(c).ok());
 }
 
-TEST_CASE("config: text positions", "[config]") {
-  CHECK(text_position("ab\ncd", 0).line == 1);
-  CHECK(text_position("ab\ncd", 4).line == 2);
-  CHECK(text_position("ab\ncd", 4).column == 2);
-  CHECK(text_position("ab", 99).column == 3);
-}
-
 TEST_CASE("config: format selection", "[config]") {
   CHECK(*format_from_path("a/b.JSON") == FileFormat::json);
   CHECK(*format_from_path("b.xml") == FileFormat::xml);
