@@ -2,7 +2,7 @@
 // accepter against the same exchange on the pseudo-terminal directly
 // (docs/performance.md "RFC 2217"). A simulated drive (lib/sim, real time: it
 // answers after its modelled turnaround plus the answer's wire time at
-// 57600 Bd) is served on a pty; N read-RAM exchanges of seed 003 §9.1
+// 57600 Bd) is served on a pty; N read-RAM exchanges of LinRS §9.1
 // (01 11 05 02 00 03 A2 13 04, a 20-byte answer) run first with open_serial on
 // the pty's slave, then with open_rfc2217 through ser2net serving that slave.
 // Round trip = write() of the request to the last byte of a complete answer.

@@ -37,7 +37,7 @@ namespace slcan {
 
 // The bit rate commands of the Lawicel protocol: S0 10k, S1 20k, S2 50k,
 // S3 100k, S4 125k, S5 250k, S6 500k, S7 800k, S8 1M. DeviceNet uses 125,
-// 250 and 500 kbit/s (seed 000 §3 "Baud Rate").
+// 250 and 500 kbit/s (DeviceNet §3 "Baud Rate").
 Result<std::string> bitrate_command(unsigned bitrate);  // "S4\r"
 std::optional<unsigned> bitrate_of(char digit);         // '4' -> 125000
 // "F": read status flags; the answer "Fxx\r" (hex). Lawicel's CAN232/CANUSB

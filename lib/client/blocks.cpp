@@ -1,4 +1,4 @@
-// Curves (seed 003 §11) and the command table (§12): block transfers.
+// Curves (LinRS §11) and the command table (§12): block transfers.
 //
 // Block reads go in passes, each from the setup telegram ("read sizes" for a
 // curve, "setup read" for a CT entry) to the last chunk. The manual gives no

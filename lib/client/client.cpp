@@ -33,7 +33,7 @@ std::string refused_subject(const Telegram& r) {
   return buf;
 }
 
-// Communication states seed 003 §16.1 lists (error states and 00/04/C6).
+// Communication states LinRS §16.1 lists (error states and 00/04/C6).
 bool documented_state(std::uint8_t s) {
   return s == 0x00 || s == 0x04 || s == 0xC6 || (s >= 0xC1 && s <= 0xC5) || s == 0xC8 || s == 0xC9;
 }
@@ -284,7 +284,7 @@ std::optional<Error> Client::refusal_in(const Exchange& x, const Telegram& answe
   Error refusal(make_comm_state_error(s), "drive " + hexid("%02Xh", opt_.id) + " refused " +
                                               describe(x.req) + refused_subject(x.req) + ": " +
                                               state::describe(s));
-  // Seed 003 §16.1 lists C1..C5, C8, C9. Another state is reported with its
+  // LinRS §16.1 lists C1..C5, C8, C9. Another state is reported with its
   // hex value.
   if (!documented_state(s)) {
     ++stats_.undocumented_states;

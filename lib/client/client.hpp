@@ -1,7 +1,7 @@
 #pragma once
 // Drive client: request/response over a Transport, per-request deadlines,
 // bounded retries for idempotent reads only, and every operation of the LinRS
-// message groups (seed 003 §6-14) as a typed call.
+// message groups (LinRS §6-14) as a typed call.
 //
 // Contract:
 // - One request is in flight at a time; answers from other MACIDs are ignored.
@@ -37,7 +37,7 @@ namespace lmcfg::client {
 using transport::Millis;
 
 struct ClientOptions {
-  std::uint8_t id = 0x11;  // seed 003 §15 factory MACID parameter value
+  std::uint8_t id = 0x11;  // LinRS §15 factory MACID parameter value
   codec::ChecksumConfig checksum;
   codec::DefaultResponseLayout layout;
   // Answer deadline of an ordinary request (drive answers in 0.5-1.5 ms,

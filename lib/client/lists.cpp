@@ -1,4 +1,4 @@
-// Parameter lists (seed 003 §10.2, §10.3).
+// Parameter lists (LinRS §10.2, §10.3).
 //
 // A list is read in passes from its start telegram ("get next" advances the
 // drive's cursor, so a pass that loses an answer restarts from the start). The

@@ -1,5 +1,5 @@
 #pragma once
-// LinRS framing (seed 003 §4): 01 | ID | LEN | 02 SUB MAIN data... | [CHK_LO CHK_HI] | 04
+// LinRS framing (LinRS §4): 01 | ID | LEN | 02 SUB MAIN data... | [CHK_LO CHK_HI] | 04
 // Pure: bytes in, typed telegrams out. No I/O, no clock.
 #include <cstdint>
 #include <optional>
@@ -15,7 +15,7 @@ inline constexpr std::uint8_t kStartData = 0x02;
 inline constexpr std::uint8_t kEndTelegram = 0x04;
 inline constexpr std::size_t kMinLen =
     3;  // 02 SUB MAIN: the table allows 2, but no message is shorter than 3
-inline constexpr std::size_t kMaxLen = 63;  // seed 003 §4 table
+inline constexpr std::size_t kMaxLen = 63;  // LinRS §4 table
 
 // crc_ccitt: CRC-16, polynomial 0x1021, MSB first, initial value crc_init
 // (0xFFFF "CCITT-FALSE" or 0x0000 "XMODEM"). crc_kermit: the same polynomial
@@ -23,7 +23,7 @@ inline constexpr std::size_t kMaxLen = 63;  // seed 003 §4 table
 // §4.4/§15 say only "CRC CCITT polynomial 16 bit": all three readings are options.
 enum class ChecksumMode : std::uint8_t { none, add, crc_ccitt, crc_kermit };
 
-// Which bytes the checksum covers. Seed 003 §4 places "Checksum Calculation"
+// Which bytes the checksum covers. LinRS §4 places "Checksum Calculation"
 // under ID..last data byte; that is the default. The other readings stay
 // selectable because the manual does not settle them (facts note, "unresolved").
 enum class ChecksumCoverage : std::uint8_t { id_through_data, start_through_data, data_only };

@@ -1,5 +1,5 @@
 #pragma once
-// Typed LinRS messages for every message group of seed 003 §5-14.
+// Typed LinRS messages for every message group of LinRS §5-14.
 // Requests are built as Telegrams; responses are decoded from Telegrams.
 #include <array>
 #include <cstdint>
@@ -50,7 +50,7 @@ enum class ResponseRequest : std::uint8_t {
 Telegram make_response_request(std::uint8_t id, ResponseRequest kind);
 // §7
 Telegram make_write_control_word(std::uint8_t id, std::uint16_t control_word);
-// §8: header then parameters as raw bytes (seed 001 §4.3 layouts).
+// §8: header then parameters as raw bytes (MC SW §4.3 layouts).
 Telegram make_motion_command(std::uint8_t id, std::uint16_t header, ByteView parameters);
 
 // §9 parameter group (main 03), answered with the default response (+4 value bytes on reads).

@@ -1,5 +1,5 @@
 #pragma once
-// The request -> answer vocabulary of LinRS (seed 003 §5-14), one table for
+// The request -> answer vocabulary of LinRS (LinRS §5-14), one table for
 // both sides: the client uses it to match answers to requests, the simulated
 // drive to accept requests and to address its answers. The golden vectors of
 // the manual (tests/golden/) check it against every captured exchange.

@@ -1,5 +1,5 @@
 #pragma once
-// Little-endian byte helpers (seed 003 §4: lowest byte first) and hex text.
+// Little-endian byte helpers (LinRS §4: lowest byte first) and hex text.
 #include <cstdint>
 #include <optional>
 #include <span>

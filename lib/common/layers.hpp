@@ -1,5 +1,5 @@
 #pragma once
-// Firmware layers and their UPID ranges (seed 003 §10.2), the one definition
+// Firmware layers and their UPID ranges (LinRS §10.2), the one definition
 // every part of lmcfg uses: 1 OS 0000h-0EFFh, 2 MC 1000h-1EFFh,
 // 3 Intf 2000h-2EFFh, 4 Appl 3000h-3EFFh.
 #include <cstdint>

@@ -61,7 +61,7 @@ class CommStateCategory final : public std::error_category {
  public:
   const char* name() const noexcept override { return "linrs-comm-state"; }
   std::string message(int ev) const override {
-    // seed 003 §16.1
+    // LinRS §16.1
     switch (ev) {
       case 0xC1:
         return "C1h checksum error";

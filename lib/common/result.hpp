@@ -45,7 +45,7 @@ enum class Errc {
 const std::error_category& lmcfg_category() noexcept;
 std::error_code make_error_code(Errc e) noexcept;
 
-// Communication state bytes of seed 003 §16.1 (C1..C9) as their own category,
+// Communication state bytes of LinRS §16.1 (C1..C9) as their own category,
 // so a drive refusal carries the exact state code it answered.
 const std::error_category& comm_state_category() noexcept;
 std::error_code make_comm_state_error(unsigned state_byte) noexcept;

@@ -1,5 +1,5 @@
 #pragma once
-// Parameter type codes of seed 003 §10 ("Supported Parameter Types"), the one
+// Parameter type codes of LinRS §10 ("Supported Parameter Types"), the one
 // table of lmcfg: the database, the configuration files' readers, the restore
 // plan and the simulated drive all use it. Pure.
 #include <cstdint>
@@ -30,7 +30,7 @@ enum class TypeCode : std::uint8_t {
 
 // The wire code as the 16-bit field of §10 carries it.
 constexpr std::uint16_t type_code(TypeCode t) noexcept { return static_cast<std::uint16_t>(t); }
-// "BOOL", "UINT8", ... exactly as seed 003 §10 / upid-db/FORMAT.md spell them.
+// "BOOL", "UINT8", ... exactly as LinRS §10 / upid-db/FORMAT.md spell them.
 std::string_view type_name(TypeCode t) noexcept;
 // Case-insensitive; also accepts the seed 001 spelling "SInt32", "UInt16".
 std::optional<TypeCode> type_from_name(std::string_view name) noexcept;

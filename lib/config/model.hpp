@@ -2,7 +2,7 @@
 // The drive configuration model: what a backup of one LinMot drive holds.
 //
 // Raw values are the truth: parameter values are the 4-byte fields the drive
-// answered (seed 003 §9/§10), curve and command table blocks are the bytes read
+// answered (LinRS §9/§10), curve and command table blocks are the bytes read
 // with §11/§12. Decoded views (curve name, setpoints, CT summaries, scaled
 // parameter text) are derived for people and never needed to restore.
 //
@@ -137,8 +137,8 @@ struct CtEntry {
   bool operator==(const CtEntry&) const = default;
 };
 
-// Name at off 38..53 (15 chars + NUL; seed 003 §12.1 "Unnamed" at off 38,
-// seed 001 §4.3.143 for the offsets); "" when the entry is shorter. Bytes
+// Name at off 38..53 (15 chars + NUL; LinRS §12.1 "Unnamed" at off 38,
+// MC SW §4.3.143 for the offsets); "" when the entry is shorter. Bytes
 // outside printable ASCII (and the backslash) are shown as "\xNN", so the
 // name is clean text in both file formats.
 std::string ct_entry_name(ByteView raw);
@@ -167,7 +167,7 @@ class CtEntryDecoder {
 // 3): runtime values read with the general-purpose commands of §5.2 Table 5-1
 // over the Addressed In/Out modules. They are runtime values: the persistent
 // configuration of these controllers is made with the vendor's PC software
-// (seed 000 §1.1), so a restore re-applies them until the next power cycle.
+// (DeviceNet §1.1), so a restore re-applies them until the next power cycle.
 // docs/devicenet.md.
 inline constexpr int kDevicenetController = -1;  // DevicenetValue::motor: no motor bit set
 

@@ -531,7 +531,7 @@ bool check_devicenet_profile(const Table& t, const Model& m) {
   return false;
 }
 
-// Seed 000 §3.1: rows addressed by tree path; type and most fields unknown.
+// DeviceNet §3.1: rows addressed by tree path; type and most fields unknown.
 void load_devicenet_parameters(const Table& t, Model& m) {
   if (!check_devicenet_profile(t, m)) return;
   std::map<std::string, int> seen;
@@ -561,7 +561,7 @@ void load_devicenet_parameters(const Table& t, Model& m) {
   }
 }
 
-// Seed 000 §5.2 Table 5-1: command IDs 0x00..0x7F.
+// DeviceNet §5.2 Table 5-1: command IDs 0x00..0x7F.
 void load_devicenet_commands(const Table& t, Model& m) {
   if (!check_devicenet_profile(t, m)) return;
   std::map<int, int> seen;

@@ -1,5 +1,5 @@
 #pragma once
-// Decoding a command table entry (seed 003 §12.1; offsets from seed 001
+// Decoding a command table entry (LinRS §12.1; offsets from seed 001
 // §4.3.143 and linrs-facts.md) with the motion command catalogue.
 //   off 0..1   raw word, unresolved (format/version?)   kept raw
 //   off 2..3   link ID (FFFFh: no successor)

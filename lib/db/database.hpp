@@ -26,8 +26,8 @@ inline constexpr std::string_view kDefaultDbFileName = "lmcfg-upid.sqlite";
 // Environment variable that overrides the default location.
 inline constexpr std::string_view kDbPathEnv = "LMCFG_UPID_DB";
 
-// Firmware layers and their UPID ranges (seed 003 §10.2). `Other` holds the
-// UPIDs the seeds name outside the four ranges (6300h, seed 001 §3.7): no
+// Firmware layers and their UPID ranges (LinRS §10.2). `Other` holds the
+// UPIDs the seeds name outside the four ranges (6300h, MC SW §3.7): no
 // layer list, layer default or modified list reaches them.
 // The values are the 0-based view of the layer numbers of common/layers.hpp.
 enum class Layer {
@@ -44,7 +44,7 @@ std::optional<Layer> layer_from_name(std::string_view name) noexcept;  // case-i
 std::optional<Layer> layer_of_upid(std::uint16_t upid) noexcept;       // nullopt between the ranges
 std::uint16_t layer_base_upid(Layer l) noexcept;  // 0000, 1000, 2000, 3000; FFFF for Other
 
-// Address usage word (seed 003 §10; resolved bits only, see linrs-facts.md).
+// Address usage word (LinRS §10; resolved bits only, see linrs-facts.md).
 // Bit 7 vs 8 ("live parameter") is unresolved: use raw.
 struct AddressUsage {
   std::uint16_t raw = 0;
@@ -90,11 +90,11 @@ struct ErrorEntry {
   std::string code_text;  // as written in the TSV ("000C", "C1")
   std::string text, description, action;
   Provenance prov;
-  // Seed 001 §10's class, the prefix of `text`: "Err", "Fatal Err", "Cfg Err",
+  // MC SW §10's class, the prefix of `text`: "Err", "Fatal Err", "Cfg Err",
   // "Cfg Err (Fatal)", "User Err", "Setup Err", "Runtime Err"; empty where
   // the seed gives none (LinRS states, DeviceNet codes, "No Error").
   std::string error_class;
-  // Seed 001 §3.4: a fatal error cannot be acknowledged, only a reset clears it.
+  // MC SW §3.4: a fatal error cannot be acknowledged, only a reset clears it.
   bool fatal() const noexcept { return error_class.find("Fatal") != std::string::npos; }
 };
 
@@ -104,11 +104,11 @@ struct MotionParam {
   std::string name;
   ValueSpec spec;          // type, unit, scale; min/max parsed from range_text
   std::string range_text;  // as the seed's unit column writes it: "1..255", "0..", "0..3Eh"
-  bool scaled = false;     // "Scaled": 16 bit interface scaling (seed 001 §4.3), no fixed unit
+  bool scaled = false;     // "Scaled": 16 bit interface scaling (MC SW §4.3), no fixed unit
   Provenance prov;
 };
 
-// Header layout (seed 001 §4.1.1): master ID bits 15..8, sub ID bits 7..4,
+// Header layout (MC SW §4.1.1): master ID bits 15..8, sub ID bits 7..4,
 // command count bits 3..0.
 constexpr std::uint16_t motion_header(std::uint8_t master, std::uint8_t sub,
                                       std::uint8_t count = 0) noexcept {

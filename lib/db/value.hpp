@@ -1,6 +1,6 @@
 #pragma once
-// Parameter values: type codes (seed 003 §10), decoding the 4-byte value field
-// (seed 003 §9: a bit in the lowest bit, a byte in the lowest byte, a word in
+// Parameter values: type codes (LinRS §10), decoding the 4-byte value field
+// (LinRS §9: a bit in the lowest bit, a byte in the lowest byte, a word in
 // the two lower bytes), display formatting with scale/unit/enum labels, parsing
 // user input back to the raw field, and range checks. Pure: no I/O, no database.
 #include <cstdint>
@@ -14,7 +14,7 @@
 
 namespace lmcfg::db {
 
-// The type codes of seed 003 §10 live in common/types.hpp; the database's
+// The type codes of LinRS §10 live in common/types.hpp; the database's
 // users name them db::TypeCode as well.
 using lmcfg::field_integer;
 using lmcfg::IntRange;

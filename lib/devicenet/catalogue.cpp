@@ -8,7 +8,7 @@
 namespace lmcfg::devicenet {
 namespace {
 
-// Seed 000 §5.2: each detail section says whether the command addresses "one
+// DeviceNet §5.2: each detail section says whether the command addresses "one
 // drive" (a motor bit) or "the LinMot servo controller". The live ones are the
 // state words, positions and IO the texts describe as actual values.
 constexpr ValueCommand kCommands[] = {

@@ -229,7 +229,7 @@ Result<std::uint16_t> Master::command(std::array<bool, 4> motors, std::uint8_t i
   const bool error_before = status_.error_pending();
   const CommandWord previous = echo_;
   PollCommand c = last_command_;
-  // Seed 000 §5.2 (Start Curve 20h): "the toggle bit T in the command ID has
+  // DeviceNet §5.2 (Start Curve 20h): "the toggle bit T in the command ID has
   // to be the inverse to the Motor x Command Toggle bit of the specified drive
   // in the status High word". The status has no toggle for the controller, so
   // a controller-level command takes the inverse of the last controller-level

@@ -3,7 +3,7 @@
 // talks to a device without a scanner (Group 2 only client of the Predefined
 // Master/Slave Connection Set): duplicate MAC ID check of its own MAC ID,
 // Allocate (explicit + polled), the polled connection's expected packet rate,
-// polled I/O with the controller's module layout (seed 000 §5.1), the §5.2
+// polled I/O with the controller's module layout (DeviceNet §5.1), the §5.2
 // command exchange on the Addressed modules, Release. docs/can.md.
 #include <array>
 #include <atomic>
@@ -44,7 +44,7 @@ class Master {
   Result<void> check_own_mac();
   // Allocate explicit + polled, then the expected packet rate, then the
   // polled connection's produced/consumed sizes, checked against the layout.
-  // "Another master owns the connection" (seed 000 §2.6: one explicit
+  // "Another master owns the connection" (DeviceNet §2.6: one explicit
   // connection, one master at a time) is named when the slave answers
   // Allocate with an error. No answer at all: the message names the bit rate
   // and the MAC ID, and the adapter's bus errors when it reports some. Sizes

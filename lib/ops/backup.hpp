@@ -1,6 +1,6 @@
 #pragma once
 // Backup (README): read a drive's configuration into the model.
-//   parameters: the modified-UPID list of each layer (seed 003 §10.2), or with
+//   parameters: the modified-UPID list of each layer (LinRS §10.2), or with
 //               `full` every ROM-writable UPID of the UPID list (§10.3) read with
 //               "read ROM value";
 //   curves:     probe IDs 1..max_curve_id ("read sizes", §11; no message lists

@@ -1,6 +1,6 @@
 #pragma once
 // Learn a firmware profile from a drive (docs/upid-db.md, `lmcfg db scan`):
-//   1. walk the UPID list of every selected layer (seed 003 §10.3: UPID,
+//   1. walk the UPID list of every selected layer (LinRS §10.3: UPID,
 //      address usage, type);
 //   2. ask min, max and default of each UPID (§10, 05h/06h/07h);
 //   3. merge the names the database already knows for the same UPID (name,

@@ -5,7 +5,7 @@
 // (devicenet::value_commands), into config::DevicenetSection::values, and the
 // live values (status words, positions, IO) into `live`. These are runtime
 // values: the persistent configuration is made with the vendor's PC software
-// (seed 000 §1.1), so a restore re-applies them until the next power cycle
+// (DeviceNet §1.1), so a restore re-applies them until the next power cycle
 // unless the machine's PLC keeps them (kRuntimeNote). docs/devicenet.md.
 #include <array>
 #include <functional>

@@ -9,7 +9,7 @@
 namespace lmcfg::ops {
 
 std::string state_name(unsigned s) {
-  // seed 001 §3.1-3.20 (no state 7 is described)
+  // MC SW §3.1-3.20 (no state 7 is described)
   static const std::array<const char*, 21> kNames{"Not Ready To Switch On",
                                                   "Switch On Disabled",
                                                   "Ready To Switch On",
@@ -45,7 +45,7 @@ std::vector<std::string> bits(std::uint16_t w, const std::array<const char*, 16>
 }  // namespace
 
 std::vector<std::string> status_word_bits(std::uint16_t w) {
-  // seed 001 §3.23
+  // MC SW §3.23
   static const std::array<const char*, 16> kNames{
       "Operation Enabled",    "Switch On Active",      "Enable Operation",   "Error",
       "Voltage Enable",       "/Quick Stop",           "Switch On Locked",   "Warning",
@@ -55,7 +55,7 @@ std::vector<std::string> status_word_bits(std::uint16_t w) {
 }
 
 std::vector<std::string> warn_word_bits(std::uint16_t w) {
-  // seed 001 §3.24
+  // MC SW §3.24
   static const std::array<const char*, 16> kNames{"Motor Hot Sensor",
                                                   "Motor Short Time Overload I^2t",
                                                   "Motor Supply Voltage Low",

@@ -1,6 +1,6 @@
 #pragma once
-// `lmcfg info`: the default response decoded (seed 001 §3: state machine,
-// status word §3.23, warn word §3.24), the actual error text (seed 003 §14.1)
+// `lmcfg info`: the default response decoded (MC SW §3: state machine,
+// status word §3.23, warn word §3.24), the actual error text (LinRS §14.1)
 // and the error log (§14.3, §14.4) with texts from the database.
 #include <optional>
 #include <string>
@@ -35,9 +35,9 @@ struct DriveInfo {
 };
 
 // The drive's error state, read after a refused request: a refusal can put
-// MC into its error state (seed 003 §15 Error Detection Mask). State var
-// (seed 001 §3: main state 4 = Error State), status word bits 3 Error and 12
-// Fatal Error (§3.23), the actual error text (seed 003 §14.1). Reads only.
+// MC into its error state (LinRS §15 Error Detection Mask). State var
+// (MC SW §3: main state 4 = Error State), status word bits 3 Error and 12
+// Fatal Error (§3.23), the actual error text (LinRS §14.1). Reads only.
 struct ErrorState {
   std::optional<std::uint16_t> state_var;
   std::optional<std::uint16_t> status_word;

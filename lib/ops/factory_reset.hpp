@@ -41,7 +41,7 @@ struct DefaultOptions {
 struct DefaultReport {
   std::vector<std::string> done;  // one line per step
   // include_comm defaulted modified communication parameters: after the reset
-  // the drive takes MACID and baud rate from its hex switches (seed 003 §3.2).
+  // the drive takes MACID and baud rate from its hex switches (LinRS §3.2).
   bool link_may_change = false;
   // The communication values written back and confirmed by reading them back.
   std::vector<client::ModifiedParam> kept;

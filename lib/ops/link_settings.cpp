@@ -89,7 +89,7 @@ std::string code_list(const SettingMap& m) {
 std::string text_of(const LinkMap& map, S s, std::uint32_t raw) {
   if (s == S::macid) return raw <= 0xFF ? hex(static_cast<std::uint8_t>(raw), 2, "h") : "";
   if (auto v = map[s].value_of(raw)) return *v == "parameter" ? "By Parameter" : *v;
-  // Seed 003 §15 lists two choices for Baud Rate Source Select and three for
+  // LinRS §15 lists two choices for Baud Rate Source Select and three for
   // MACID Source Select; the raw value of By Parameter is stated (§10.2), so
   // any other value is a hex switch choice.
   if (s == S::baud_source) return "hex switch S1";
@@ -201,7 +201,7 @@ Result<LinkState> read_link_settings(Session& session, const LinkMap& map) {
     LinkValue& v = st.values[i];
     v.upid = map[s].upid;
     if (!v.upid) {
-      // Seed 003 §15 names these settings with their choices, no UPID.
+      // LinRS §15 names these settings with their choices, no UPID.
       v.note =
           "UPID unknown: seed 003 §15 names the setting but not its UPID; give it with "
           "--map " +

@@ -2,7 +2,7 @@
 // `lmcfg link` (README, docs/link.md): a drive's LinRS settings as it holds
 // them, and a safe change of them.
 //
-// The settings are parameters of the Interface layer (seed 003 §15). The manual
+// The settings are parameters of the Interface layer (LinRS §15). The manual
 // gives the UPIDs of four of them, in its §10.2 example: Baud Rate Source Select
 // 200Eh (2 = By Parameter), Baud Rate Parameter Def 2012h (8 = 38400 Baud),
 // MACID Source Select 206Ch (3 = By Parameter) and MACID Parameter Value 2076h.
@@ -54,7 +54,7 @@ std::string_view setting_key(LinkSetting s);
 struct SettingMap {
   std::optional<std::uint16_t> upid;
   std::vector<std::pair<std::uint32_t, std::string>> codes;
-  std::string source;  // where the UPID and codes come from ("seed 003 §10.2", "--map")
+  std::string source;  // where the UPID and codes come from ("LinRS §10.2", "--map")
   std::optional<std::uint32_t> raw_of(std::string_view value) const;
   std::optional<std::string> value_of(std::uint32_t raw) const;
 };

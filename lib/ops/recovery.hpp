@@ -32,7 +32,7 @@ struct RecoveryRecord {
 // The directory ($XDG_STATE_HOME/lmcfg or $HOME/.local/state/lmcfg).
 Result<std::filesystem::path> recovery_dir();
 // What names a drive on this host: "<port with / and : as _>-<MACID hex>h"
-// (LinRS has no message that reads a serial number, seed 003 §10).
+// (LinRS has no message that reads a serial number, LinRS §10).
 std::string drive_key(const std::string& port, std::uint8_t macid);
 // "<dir>/<command>-<drive_key>.json" (command "default", "link").
 Result<std::filesystem::path> recovery_path(const std::string& command, const std::string& port,

@@ -1,7 +1,7 @@
 #pragma once
 // Finding the drive again after its LinRS settings changed (README,
 // `restore --include-comm`). The drive chooses its MACID and baud rate at
-// start-up (seed 003 §3.2, §15): from hex switches S2/S1, or "By Parameter"
+// start-up (LinRS §3.2, §15): from hex switches S2/S1, or "By Parameter"
 // from MACID Parameter Value 2076h / Baud Rate Parameter Def 2012h. A restore
 // that writes those parameters and resets the drive can leave it talking with
 // other settings than the ones the tool opened the link with.
@@ -9,7 +9,7 @@
 // expected_link() reads what the restored ROM values select, as far as the
 // database can tell; everything it cannot tell stays unknown. reconnect() then
 // tries candidate settings in a fixed order, one cheap read (the default
-// response request, seed 003 §8) each, and keeps the first the drive answers.
+// response request, LinRS §8) each, and keeps the first the drive answers.
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -52,7 +52,7 @@ struct RelinkCandidate {
 };
 
 // In the order they are tried: overrides, then the expected values, then the
-// settings in use; for an unknown baud rate every rate of seed 003 §3.2.1 after
+// settings in use; for an unknown baud rate every rate of LinRS §3.2.1 after
 // those. Parity and stop bits stay as they are unless the overrides name them
 // (their UPIDs are not in the seeds): then those first, the line's after.
 std::vector<RelinkCandidate> relink_candidates(const ExpectedLink& expected,

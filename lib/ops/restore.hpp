@@ -51,7 +51,7 @@ namespace lmcfg::ops {
 // database, so that --include-comm is never needed to keep a drive reachable.
 inline constexpr std::uint16_t kBaudRateSource = 0x200E, kBaudRateCode = 0x2012,
                                kMacidSource = 0x206C, kMacidValue = 0x2076;
-// "By Parameter" values of the two source selects (seed 003 §10.2 example).
+// "By Parameter" values of the two source selects (LinRS §10.2 example).
 inline constexpr std::uint32_t kBaudRateByParameter = 2, kMacidByParameter = 3;
 
 // The database's `comm` flag, or one of the four UPIDs above.
@@ -64,7 +64,7 @@ struct RestoreOptions {
   bool reset_after = true;           // reset so ROM values become active (§9.2)
   std::uint16_t max_curve_id = 100;  // storage limit of 100 curves (facts note)
   std::size_t curve_memory = 65280;  // 70 B per curve + 4 B per setpoint (facts note)
-  std::size_t ct_entry_size = 64;    // seed 003 §12.1
+  std::size_t ct_entry_size = 64;    // LinRS §12.1
   Progress progress;
   // Recovery record of this drive (ops/recovery.hpp; empty: none, as in
   // library use and in-process tests). execute_plan writes it before its first

@@ -283,7 +283,7 @@ void order_comm_writes_last(std::vector<PlanStep>& steps, std::size_t first,
 
 std::size_t chunks(std::size_t n) { return (n + 3) / 4; }
 
-// Defaulting a layer: seed 003 §10.4 "could be more than 1 s"; 1.2 s as modelled
+// Defaulting a layer: LinRS §10.4 "could be more than 1 s"; 1.2 s as modelled
 // by the simulator (docs/simulator.md). Only used to choose the cheaper way to
 // bring leftovers to their defaults.
 constexpr double kDefaultingEstimateUs = 1'200'000.0;

@@ -257,7 +257,7 @@ std::uint16_t DeviceNetController::execute(const devicenet::CommandWord& w, std:
 }
 
 bool DeviceNetController::takes(const devicenet::CommandWord& w, std::uint16_t value) const {
-  // Seed 000 §5.2 (Start Curve 20h): "the toggle bit T in the command ID has
+  // DeviceNet §5.2 (Start Curve 20h): "the toggle bit T in the command ID has
   // to be the inverse to the Motor x Command Toggle bit of the specified
   // drive in the status High word". With several motors selected, the
   // inverse of any one's is taken. The status has no toggle for the

@@ -18,7 +18,7 @@
 
 namespace lmcfg::sim {
 
-// When an Addressed command executes. Seed 000 §5.2 gives the rule for the
+// When an Addressed command executes. DeviceNet §5.2 gives the rule for the
 // toggle commands only ("the toggle bit T in the command ID has to be the
 // inverse to the Motor x Command Toggle bit of the specified drive in the
 // status High word") and draws bit 7 of every other command as "X"; the

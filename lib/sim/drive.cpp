@@ -61,9 +61,9 @@ bool in_range(const Parameter& p, std::uint32_t value) {
 
 std::map<std::uint16_t, std::string> default_error_texts() {
   return {
-      {0x0000, "No Error"},                       // seed 003 §14.1
-      {0x0001, "Err: X4 Logic Supply Too Low"},   // seed 003 §14.2
-      {0x000C, "Err. Pos Lag Standing Too Big"},  // seed 003 §14.4
+      {0x0000, "No Error"},                       // LinRS §14.1
+      {0x0001, "Err: X4 Logic Supply Too Low"},   // LinRS §14.2
+      {0x000C, "Err. Pos Lag Standing Too Big"},  // LinRS §14.4
   };
 }
 
@@ -75,8 +75,8 @@ Drive::Drive(DriveState state) : s_(std::move(state)), decoder_(s_.checksum) {
 }
 
 void Drive::apply_comm_parameters() {
-  constexpr std::uint32_t kByParameterBaud = 2;   // seed 003 §10.2: 200Eh value 2 "By Parameter"
-  constexpr std::uint32_t kByParameterMacid = 3;  // seed 003 §10.2: 206Ch value 3 "By Parameter"
+  constexpr std::uint32_t kByParameterBaud = 2;   // LinRS §10.2: 200Eh value 2 "By Parameter"
+  constexpr std::uint32_t kByParameterMacid = 3;  // LinRS §10.2: 206Ch value 3 "By Parameter"
   const HexSwitches sw = s_.switches.value_or(HexSwitches{s_.macid, s_.link.baud});
   unsigned baud = sw.baud;
   if (rom(0x200E) == kByParameterBaud) {
@@ -91,7 +91,7 @@ void Drive::apply_comm_parameters() {
   }
   s_.link.baud = baud;
   s_.macid = id;
-  // The settings seed 003 §15 names without a UPID (Options::checksum_param ...).
+  // The settings LinRS §15 names without a UPID (Options::checksum_param ...).
   auto code_of = [&](const std::optional<Options::CommParam>& p) -> const std::string* {
     if (!p) return nullptr;
     auto v = rom(p->upid);
@@ -192,7 +192,7 @@ Telegram Drive::default_response(std::uint8_t comm_state,
                                  std::optional<std::uint32_t> value) const {
   codec::DefaultResponse r;
   r.comm_state = comm_state;
-  // MC stopped: status word and state var read 0 (seed 003 §13.3 and §10.1 captures).
+  // MC stopped: status word and state var read 0 (LinRS §13.3 and §10.1 captures).
   r.status_word = s_.mc_running ? s_.live.status_word : 0;
   r.state_var = s_.mc_running ? s_.live.state_var : 0;
   r.error_code = s_.live.error_code;
@@ -258,7 +258,7 @@ std::optional<Answer> Drive::handle(const Telegram& t, std::int64_t now) {
     ++stats_.ignored_busy;
     return std::nullopt;
   }
-  // The codec's request table (seed 003 §5-14) decides which requests exist
+  // The codec's request table (LinRS §5-14) decides which requests exist
   // and what they carry; the handlers below only act on them.
   if (!codec::known_main(t.main)) return error_answer(st::bad_main_id, now);
   const auto spec = codec::request_spec(t.main, t.sub);

@@ -1,5 +1,5 @@
 #pragma once
-// sim::Drive: a simulated LinMot E1100 drive speaking LinRS (seed 003 §6-§16).
+// sim::Drive: a simulated LinMot E1100 drive speaking LinRS (LinRS §6-§16).
 // A real peer built on the codec: raw request bytes in (codec::StreamDecoder),
 // raw answer bytes out (codec builders + codec::encode). No clock of its own:
 // the caller passes the time at which the bytes arrived and gets each answer
@@ -21,7 +21,7 @@
 
 namespace lmcfg::sim {
 
-// Firmware layers and their UPID ranges (seed 003 §10.2): the layer numbers
+// Firmware layers and their UPID ranges (LinRS §10.2): the layer numbers
 // of common/layers.hpp as an enum, none = 0 outside every range.
 enum class Layer : std::uint8_t {
   none = 0,
@@ -85,7 +85,7 @@ struct LiveValues {
   friend bool operator==(const LiveValues&, const LiveValues&) = default;
 };
 
-// Durations in microseconds (seed 003 §6.1.1.1, §10.4, §11, §12, §13).
+// Durations in microseconds (LinRS §6.1.1.1, §10.4, §11, §12, §13).
 struct Timing {
   std::int64_t turnaround_us = 1'000;           // every answer (§6.1.1.1: 0.5..1.5 ms)
   std::int64_t defaulting_us = 1'200'000;       // defaulting a layer (§10.4 "more than 1 s")
@@ -144,7 +144,7 @@ struct Options {
   // (powers of two in the order §15 lists the rates). A code not in the table
   // leaves the drive at its S1 switch rate.
   std::map<std::uint32_t, unsigned> baud_codes = default_baud_codes();
-  // Checksum, parity and stop bits at start-up. Seed 003 §15 names them
+  // Checksum, parity and stop bits at start-up. LinRS §15 names them
   // ("LinRS\Protocol Config\Checksum": None, Add, CRC CCITT; "LinRS\RS
   // Config\Parity": None, Even, Odd; "LinRS\RS Config\Stop Bit": 1, 2) but
   // gives neither their UPIDs nor their raw values, so each is this option:
@@ -211,7 +211,7 @@ struct DriveState {
   void put(Parameter p) { params[p.upid] = std::move(p); }
 };
 
-// Built-in error texts: 0000 "No Error" and the seed 003 §14 examples.
+// Built-in error texts: 0000 "No Error" and the LinRS §14 examples.
 std::map<std::uint16_t, std::string> default_error_texts();
 
 struct DriveStats {
@@ -250,7 +250,7 @@ class Drive {
   // Power cycle / reset (§13.1): RAM := ROM, tables reloaded, transfers and
   // list cursors forgotten, MC running. With busy, deaf for timing.reset_us.
   void reset(std::int64_t now_ns, bool busy = true);
-  // Start-up choice of MACID and baud rate (seed 003 §3.2, §15): MACID Source
+  // Start-up choice of MACID and baud rate (LinRS §3.2, §15): MACID Source
   // Select 206Ch = 3 "By Parameter" (§10.2 example) takes MACID Parameter Value
   // 2076h, else the switch ID; Baud Rate Source Select 200Eh = 2 "By Parameter"
   // takes Baud Rate Parameter Def 2012h through Options::baud_codes, else the

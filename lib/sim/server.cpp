@@ -47,7 +47,7 @@ Result<void> serve_bus(const std::vector<Drive*>& drives, transport::Transport& 
   ServeStats local;
   ServeStats& st = stats ? *stats : local;
   // Every drive hears every byte at its own baud rate; only the addressed one
-  // answers (an RS485 line, seed 003 §2).
+  // answers (an RS485 line, LinRS §2).
   auto wrong_baud = [&](const Drive& d) {
     if (!opt.master_baud) return false;
     const auto b = opt.master_baud();

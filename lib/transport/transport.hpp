@@ -87,7 +87,7 @@ enum class Parity : std::uint8_t { none, even, odd };
 
 struct SerialSettings {
   std::string device;
-  unsigned baud = 57600;  // seed 003 §15 factory default
+  unsigned baud = 57600;  // LinRS §15 factory default
   Parity parity = Parity::none;
   unsigned stop_bits = 1;
   friend bool operator==(const SerialSettings&, const SerialSettings&) = default;
@@ -101,7 +101,7 @@ std::optional<Parity> parity_from_name(std::string_view text) noexcept;
 unsigned bits_per_byte(const SerialSettings& s);
 // Validates baud (4800..115200, one of the S1 table rates of §3.2.1), stop bits 1|2.
 Result<void> validate(const SerialSettings& s);
-// The S1 table rates of seed 003 §3.2.1, ascending; the only bauds validate() accepts.
+// The S1 table rates of LinRS §3.2.1, ascending; the only bauds validate() accepts.
 inline constexpr std::array<unsigned, 6> kSerialBaudRates{4800, 9600, 19200, 38400, 57600, 115200};
 // "57600 8N1", "19200 8E2" (no device).
 std::string format_settings(const SerialSettings& s);

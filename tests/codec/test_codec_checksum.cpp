@@ -1,4 +1,4 @@
-// Checksum variants the manual leaves open (seed 003 §4.4, §15 "Checksum":
+// Checksum variants the manual leaves open (LinRS §4.4, §15 "Checksum":
 // "Add" and "CRC CCITT polynomial 16 bit", neither the covered bytes nor the
 // CRC's initial value / bit order settled). The expected values do not come
 // from the code under test: the CRC check values ("123456789") are the

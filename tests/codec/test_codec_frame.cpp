@@ -83,7 +83,7 @@ TEST_CASE("stream decoder: all captures back to back come out in order", "[codec
 
 TEST_CASE("stream decoder: garbage before a telegram is skipped and reported", "[codec][frame]") {
   const auto caps = seed003_captures();
-  const auto& c = caps.good.front();  // seed 003 §5.1
+  const auto& c = caps.good.front();  // LinRS §5.1
   StreamDecoder d;
   d.feed(Bytes{0xFF, 0x00, 0x55});
   d.feed(c.bytes);

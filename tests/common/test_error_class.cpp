@@ -56,7 +56,7 @@ TEST_CASE("error class: every Errc has exactly one class", "[error_class]") {
 }
 
 TEST_CASE("error class: communication states and foreign codes", "[error_class]") {
-  // Every state byte of seed 003 §16.1 and any undocumented one is a refusal.
+  // Every state byte of LinRS §16.1 and any undocumented one is a refusal.
   for (unsigned s = 0; s <= 0xFF; ++s) {
     const auto code = make_comm_state_error(s);
     CHECK(class_of(code) == ErrorClass::drive_refusal);

@@ -21,7 +21,7 @@ using lmcfg::db::test::fixture_db;
 
 namespace {
 
-// Seed 003 §12.1, command table entry 2 (64 bytes).
+// LinRS §12.1, command table entry 2 (64 bytes).
 Bytes seed_ct_entry() {
   Bytes b = *from_hex("01 A7 FF FF 00 01 40 42 0F 00 20 A1 07 00 40 0D 03 00 40 0D 03 00");
   b.insert(b.end(), 16, 0x00);
@@ -262,7 +262,7 @@ TEST_CASE("the real built database: every row has provenance", "[db]") {
   REQUIRE(r->params.size() == 4);
   CHECK(r->params[0].text == "100 mm");
   CHECK(r->params[1].text == "0.5 m/s");
-  // docs/upid-db.md acceptance, through the real catalogue extracted from seed 001 §4.3.
+  // docs/upid-db.md acceptance, through the real catalogue extracted from MC SW §4.3.
   CHECK(r->summary() ==
         "VAI Go To Pos, target 100 mm, max velocity 0.5 m/s, acceleration 2 m/s2, deceleration 2 "
         "m/s2");

@@ -65,7 +65,7 @@ TEST_CASE("upid-db: seed 003 §10.2/§15 LinRS parameters are communication para
     CHECK(p->layer == Layer::Intf);
   }
   CHECK(real_db().find(0x2012)->path == "LinRS\\RS Config\\Baud Rate\\Baud Rate Parameter Def");
-  // seed 003 §15 "Baud Rate Parameter Definition" labels the value "38400 Bit/s";
+  // LinRS §15 "Baud Rate Parameter Definition" labels the value "38400 Bit/s";
   // §10.2 gives its raw value 00000008h.
   CHECK(real_db().find(0x2012)->format(8) == "38400 Bit/s (8)");
 }

@@ -1,4 +1,4 @@
-// The DeviceNet controllers' polled I/O (lib/devicenet, seed 000 §5.1 and
+// The DeviceNet controllers' polled I/O (lib/devicenet, DeviceNet §5.1 and
 // §5.2): command words, status words, the toggle rule, the module layouts of
 // the seed's two examples, the coded errors.
 #include <catch2/catch.hpp>

@@ -1,5 +1,5 @@
 // ops::link_settings (`lmcfg link`) against the in-process simulated drive.
-// Seed 003 §10.2 gives 200Eh = 2 "By Parameter", 2012h = 8 "38400 Baud",
+// LinRS §10.2 gives 200Eh = 2 "By Parameter", 2012h = 8 "38400 Baud",
 // 206Ch = 3 "By Parameter" and 2076h (the MACID); §15 names the checksum
 // without a UPID, so the drive here keeps it at 20A0h, a stand-in the test
 // gives both the simulator (options.checksum_param) and the tool (--map).
@@ -78,7 +78,7 @@ TEST_CASE("link: the settings as the drive holds them, with their sources (seed 
         "UPID unknown: seed 003 §15 names the setting but not its UPID; give it with --map "
         "parity@UPID:VALUE=RAW,...");
   CHECK(ops::link_options_of(st->in_use) == "--baud 57600 --id 0x11 --checksum none");
-  // 2012h's default on the drive is 16: "57600 Bit/s (default)" (seed 003 §15).
+  // 2012h's default on the drive is 16: "57600 Bit/s (default)" (LinRS §15).
   REQUIRE(ops::learn_from_drive(*rig.session, *map).ok());
   CHECK((*map)[S::baud].raw_of("57600") == 16u);
 }
@@ -99,7 +99,7 @@ TEST_CASE("link: --map entries are checked", "[link]") {
   REQUIRE(ok.ok());
   CHECK((*ok)[ops::LinkSetting::baud].raw_of("115200") == 32u);
   CHECK((*ok)[ops::LinkSetting::baud].raw_of("57600") == 16u);
-  CHECK((*ok)[ops::LinkSetting::baud].raw_of("38400") == 8u);  // seed 003 §10.2
+  CHECK((*ok)[ops::LinkSetting::baud].raw_of("38400") == 8u);  // LinRS §10.2
 }
 
 TEST_CASE("link: what the map cannot express is refused before anything is written", "[link]") {
@@ -249,7 +249,7 @@ TEST_CASE(
     p.max = 2;
     st->put(p);
   }
-  // Stand-ins: seed 003 §15 names Parity (None, Even, Odd) and Stop Bit (1, 2)
+  // Stand-ins: LinRS §15 names Parity (None, Even, Odd) and Stop Bit (1, 2)
   // without UPIDs or raw values.
   st->options.parity_param =
       sim::Options::CommParam{0x20B0, {{0, "none"}, {1, "even"}, {2, "odd"}}};

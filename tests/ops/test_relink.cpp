@@ -1,7 +1,7 @@
 // README: "when [communication parameters] are [restored], the tool
 // reconnects with the new settings after the reset and says so". The drive
 // picks MACID and baud rate at start-up from its hex switches or "By
-// Parameter" (seed 003 §3.2, §10.2, §15); the simulated drive models that, and
+// Parameter" (LinRS §3.2, §10.2, §15); the simulated drive models that, and
 // a master at the wrong baud rate hears nothing from it.
 #include <catch2/catch.hpp>
 #include <filesystem>
@@ -33,7 +33,7 @@ void set_rom(sim::Drive& d, std::uint16_t upid, std::uint32_t v) {
 }
 
 // A backup of the commissioned axis whose LinRS parameters select 38400 Bd
-// (2012h = 8, the one code seed 003 §10.2 gives) and MACID 22h by parameter.
+// (2012h = 8, the one code LinRS §10.2 gives) and MACID 22h by parameter.
 config::DriveConfig moved_axis_file(const db::Database& db) {
   test::SimRig axis("commissioned-axis.json");
   auto cfg = ops::backup(*axis.client, ops::BackupOptions{}, db);

@@ -126,7 +126,7 @@ TEST_CASE("sim: a drive started in one fast connection answers at once in the ne
     PtyLine line({&drive}, false);
     auto client = transport::open_serial({line.slave, 38400, transport::Parity::none, 1});
     REQUIRE(client.ok());
-    // seed 003 §13.4: start MC, answered after completion (ca. 3 s, skipped here).
+    // LinRS §13.4: start MC, answered after completion (ca. 3 s, skipped here).
     REQUIRE((*client)->write(from_hex("01 11 03 02 04 06 04").value()).ok());
     CHECK(read_frame(**client, 2000) == from_hex("01 11 04 02 60 00 00 04").value());
   }

@@ -25,7 +25,7 @@ inline std::filesystem::path fixture_dir() {
 
 inline Bytes hex(const char* s) { return *from_hex(s); }
 
-// Seed 003 §11.1: curve 1 "SinRise" as read (70-byte info block, 21 setpoints).
+// LinRS §11.1: curve 1 "SinRise" as read (70-byte info block, 21 setpoints).
 inline Bytes sinrise_info() {
   return hex(
       "46 00 03 00 15 00 04 00 53 69 6E 52 69 73 65 00"
@@ -42,7 +42,7 @@ inline Bytes sinrise_data() {
       "AC FC 09 00 D3 17 0B 00 25 1D 0C 00 31 06 0D 00 3C CD 0D 00 5F 6D 0E 00"
       "A8 E2 0E 00 34 2A 0F 00 40 42 0F 00");
 }
-// Seed 003 §12.1: command table entry 2 (64 bytes).
+// LinRS §12.1: command table entry 2 (64 bytes).
 inline Bytes ct_entry2() {
   return hex(
       "01 A7 FF FF 00 01 40 42 0F 00 20 A1 07 00 40 0D 03 00 40 0D 03 00"

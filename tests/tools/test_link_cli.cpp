@@ -1,7 +1,7 @@
 // `lmcfg link` end to end against `lmcfg sim` on a pseudo-terminal: the
 // server follows the drive to its new rate and checksum after the reset, so
 // the new link options are tested on the wire the tool really uses. The
-// simulated firmware keeps its checksum at 20A0h, a stand-in (seed 003 §15
+// simulated firmware keeps its checksum at 20A0h, a stand-in (LinRS §15
 // names the setting without a UPID) that the tests pass with --map.
 #include <catch2/catch.hpp>
 #include <filesystem>

@@ -1,7 +1,7 @@
 // get/set/info through the real tool binary and the built-in simulated drive
 // (--port sim:STATE.json, a copy of tests/fixtures/sim/manual-drive.json):
 // communication parameters need --include-comm, ROM writes need MC stopped
-// (seed 003 §10), and the --json reports validate against their schemas.
+// (LinRS §10), and the --json reports validate against their schemas.
 #include <unistd.h>
 
 #include <catch2/catch.hpp>

@@ -386,12 +386,12 @@ TEST_CASE("cli: get and set ask the drive what the database does not know, and s
         "lmcfg get: drive 11h refused ID 11h parameter (main 03h sub 00h), 2 data byte(s) for UPID "
         "5555h: C8h "
         "parameter unknown UPID\n"
-        // seed 003 §15: after a refusal, the drive's error state with its text.
+        // LinRS §15: after a refusal, the drive's error state with its text.
         "lmcfg get: after the refusal: drive state: 8 Operation Enabled (state var 08C2h), status "
         "word 4C37h; actual error: No Error\n");
 }
 
-// ---- Restore you can trust (seed 003 §10, §11, §12; docs/restore.md) ----
+// ---- Restore you can trust (LinRS §10, §11, §12; docs/restore.md) ----
 
 namespace {
 

@@ -221,6 +221,11 @@ TEST_CASE(
       if (!writing) std::this_thread::sleep_for(std::chrono::milliseconds(50));
     }
     REQUIRE(writing);
+    // The line's port is the service's while it uses it.
+    auto busy = test::run_tool_in(d.path, "info --port " + tty);
+    CHECK(busy.exit_code == 4);
+    CHECK(busy.err.find("port " + tty + " is in use by lmcfg serve (PID " +
+                        std::to_string(serve.pid()) + ")") != std::string::npos);
     std::this_thread::sleep_for(std::chrono::milliseconds(700));
     if (signal == SIGKILL) {
       REQUIRE(::kill(serve.pid(), SIGKILL) == 0);

@@ -473,7 +473,7 @@ bool have_ser2net() {
   return false;
 }
 
-// seed 003 §10.1: read ROM of 13A2h, to drive `id`, and the manual's answer.
+// LinRS §10.1: read ROM of 13A2h, to drive `id`, and the manual's answer.
 Bytes read_rom_13a2(std::uint8_t id) {
   Bytes b = hex("01 11 05 02 00 05 A2 13 04");
   b[1] = id;

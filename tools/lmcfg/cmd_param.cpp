@@ -78,7 +78,7 @@ void print_value(const ParamCli& o, std::uint16_t upid, const db::Parameter* d,
 }
 
 // After the drive refused a request: its error state, with the error text
-// (a refusal can put MC into its error state, seed 003 §15), as a line for
+// (a refusal can put MC into its error state, LinRS §15), as a line for
 // stderr; "" for other errors.
 std::string refusal_state(client::Client& c, const char* cmd, const Error& e) {
   if (e.code != ErrorClass::drive_refusal) return "";

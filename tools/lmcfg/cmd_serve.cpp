@@ -61,7 +61,11 @@ int run_serve(const ServeCli& o) {
   serve::ServiceOptions so;
   so.inventory = *inv;
   so.archive = o.archive;
-  so.links = *line_links(*inv, o.common);
+  // Each line's port, while the service uses it, is locked as "lmcfg serve":
+  // a CLI user meets "port ... is in use by lmcfg serve (PID n)".
+  CommonOptions common = o.common;
+  common.holder = "lmcfg serve";
+  so.links = *line_links(*inv, common);
   // SIGTERM/SIGINT: the telegram in flight completes, the line stops there.
   // (DeviceNet lines: the master checks the same flag, devicenet_link_options.)
   for (auto& l : so.links) l.linrs.client.cancel = &ops::interrupt_flag();
