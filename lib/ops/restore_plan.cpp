@@ -7,6 +7,7 @@
 #include "common/layers.hpp"
 #include "db/database.hpp"
 #include "ops/recovery.hpp"
+#include "ops/relink.hpp"
 #include "ops/restore.hpp"
 #include "ops/restore_internal.hpp"
 
@@ -737,6 +738,40 @@ void add_stop_and_start(Builder& b, bool rom_changed) {
   }
 }
 
+// Phase 5: where the reset leaves the drive. LinRS §15 MACID Source Select:
+// "By Parameter: Take the value of MACID Parameter Value", and §9 "A Reset
+// command or Power cycle restarts all SW instances": the reset puts the drive
+// on the MACID its ROM selects, whatever it answers at now. A drive whose ROM
+// selects another ID than the one the tool addresses (2076h written without a
+// restart since) would leave that ID: the reset's answer (§13.1, "given after
+// the reset is completed") comes from the new ID and is skipped, and on a line
+// of several drives the new ID may be another drive's. Without --include-comm
+// the restore keeps the link, so such a plan is refused before any write; with
+// it, the tool follows the drive after the reset (ops/relink.hpp).
+void check_id_after_reset(Builder& b) {
+  const bool resets = std::any_of(b.plan.steps.begin(), b.plan.steps.end(),
+                                  [](const PlanStep& s) { return s.action == Action::reset; });
+  if (!resets || b.plan.link_may_change) return;
+  const ExpectedLink after = expected_link(b.plan, b.db);
+  const std::uint8_t now = b.c.options().id;
+  if (!after.macid || *after.macid == now) return;
+  if (b.opt.include_comm) {
+    b.plan.link_may_change = true;
+    return;
+  }
+  std::string why;
+  for (const auto& r : after.reasons)
+    if (r.rfind("MACID ", 0) == 0) why = " (" + r + ")";
+  b.plan.problems.push_back(
+      "the drive answers at MACID " + hex(now, 2, "h") + ", but its ROM selects MACID " +
+      hex(*after.macid, 2, "h") + why + ": the restore's reset would move it to " +
+      hex(*after.macid, 2, "h") + ", where another drive of the line may answer. Write the MACID " +
+      "it keeps first ('lmcfg set " + hex(kMacidValue, 4, "h") + " " + std::to_string(now) +
+      " --rom --include-comm'), or, on a line of its own, restore with --include-comm to "
+      "follow it");
+  b.plan.steps.clear();
+}
+
 }  // namespace
 
 Result<Plan> plan_restore(client::Client& c, const config::DriveConfig& file,
@@ -797,6 +832,7 @@ Result<Plan> plan_restore(client::Client& c, const config::DriveConfig& file,
 
   // Phase 4: MC stopped around the writes.
   add_stop_and_start(b, rom_changed);
+  check_id_after_reset(b);
   return plan;
 }
 

@@ -107,6 +107,37 @@ TEST_CASE("serve: plan, execute, the restore job's progress and outcome, a commi
   CHECK(again.error().message == "no plan '" + req.plan_id + "'");
 }
 
+TEST_CASE("serve: plan and execute onto the line's second drive (press3/x, 12h)",
+          "[serve][plan][multidrop]") {
+  Rig rig;
+  rig.at(rig.now);
+  const std::string head = git(rig.dir.path / "archive", "rev-parse HEAD").substr(0, 40);
+  write_axis(rig.dir.path / "b.json", 0x12, "0010", 9);  // tuned behind the service's back
+
+  auto planned = rig.service->plan("press3/x", "", "ops");
+  REQUIRE(planned.ok());
+  const auto p = plain(*planned);
+  CHECK(p["drive"] == "press3/x");
+  CHECK(p["problems"].empty());
+  serve::Service::ExecuteRequest req;
+  req.plan_id = p["plan_id"];
+  req.audit = {"ops", "tuning lost after a repair", "CHG-4712"};
+  auto id = rig.service->execute(req);
+  REQUIRE(id.ok());
+  rig.service->wait_idle();
+  const auto job = plain(*rig.service->job(*id));
+  INFO(job.dump());
+  CHECK(job["state"] == "done");
+  CHECK(job["outcome"] == "restored and verified");
+  CHECK(job["exit_code"] == 0);
+  CHECK(job["message"] ==
+        "restored press3/x.json@" + head.substr(0, 12) + " onto press3/x and verified");
+  CHECK(rom_of(rig.dir.path / "b.json", "0010") == 5);
+  CHECK(rom_of(rig.dir.path / "a.json", "0010") == 5);  // the first drive untouched
+  CHECK((*rig.service->drive("press3/x"))["status"] == "ok");
+  CHECK((*rig.service->drive("press3/z"))["status"] == "ok");
+}
+
 TEST_CASE("serve: an expired plan, a missing reason, a changed target are refused",
           "[serve][plan]") {
   Rig rig("require_reason = true\n");

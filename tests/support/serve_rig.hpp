@@ -63,17 +63,23 @@ inline void write_fresh_axis(const fs::path& path, int id) {
     const std::string upid = p["upid"];
     if (upid != "200E" && upid != "2012" && upid != "206C" && upid != "2076")
       p["rom"] = p["ram"] = p["default"];
+    if (upid == "2076") p["rom"] = p["ram"] = id;  // on the line at its position's ID
   }
   j["curves"] = {{"flash", nlohmann::json::array()}};
   j["command_table"] = {{"flash", nlohmann::json::array()}};
   spit(path, j.dump(1));
 }
 
+// The commissioned axis takes its MACID "By Parameter" (206Ch = 3): LinRS §15
+// "Take the value of MACID Parameter Value", so 2076h holds `id` too, or a
+// reset would move the drive (to 11h, the fixture's, the line's first drive).
 inline void write_axis(const fs::path& path, int id, const std::string& upid = "", int value = 0) {
   auto j = nlohmann::json::parse(test::slurp(kFixtures + "commissioned-axis.json"));
   j["macid"] = id;
-  for (auto& p : j["parameters"])
+  for (auto& p : j["parameters"]) {
+    if (p["upid"] == "2076") p["rom"] = p["ram"] = id;
     if (p["upid"] == upid) p["rom"] = p["ram"] = value;
+  }
   test::spit(path, j.dump(1));
 }
 
