@@ -238,7 +238,7 @@ TEST_CASE("link: a MACID another drive on the line answers to is refused (seed 0
 }
 
 TEST_CASE(
-    "link: parity and stop bits through --map; the drive is found at even parity, 2 stop bits",
+    "link: parity and stop bits through --map, the drive is found at even parity, 2 stop bits",
     "[link]") {
   test::ScratchDir dir("link-parity");
   auto st = sim::load_state(test::sim_fixture("used-spare.json"));

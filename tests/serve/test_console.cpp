@@ -64,7 +64,7 @@ struct Tokens {
 
 }  // namespace
 
-TEST_CASE("console: without tokens no sign-in; pages with their CSP; a backup from the form",
+TEST_CASE("console: without tokens no sign-in, pages with their CSP, a backup from the form",
           "[serve][console]") {
   test::Rig rig;
   rig.at(rig.now);

@@ -205,7 +205,7 @@ TEST_CASE("audit cli: a journal that cannot be written is a warning, never a fai
             .exit_code == 0);
 }
 
-TEST_CASE("audit cli: fleet restore records who and why as trailers; fleet log shows them",
+TEST_CASE("audit cli: fleet restore records who and why as trailers, fleet log shows them",
           "[audit][fleet][cli]") {
   Rig r("audit-fleet");
   fleet_rig(r, "");

@@ -282,7 +282,7 @@ TEST_CASE("devicenet: lmcfg sim refuses an unknown --devicenet-toggle",
 }
 
 TEST_CASE(
-    "devicenet: lmcfg sim --devicenet --tcp serves the adapter protocol on loopback TCP; backup, "
+    "devicenet: lmcfg sim --devicenet --tcp serves the adapter protocol on loopback TCP, backup, "
     "diff, change, restore and verify over slcan:tcp://",
     "[devicenet][cli][tcp]") {
   DnSim sim({}, DnSim::Where::tcp);

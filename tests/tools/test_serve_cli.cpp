@@ -33,7 +33,7 @@ void write_plant(const fs::path& dir, const std::string& tables = "") {
 
 TEST_CASE(
     "serve cli: refuses a non-loopback --listen without tokens and TLS, bad TLS files, bad "
-    "roles; token add prints a token once",
+    "roles, token add prints a token once",
     "[serve][cli]") {
   test::ScratchDir d("serve-cli");
   write_plant(d.path);
