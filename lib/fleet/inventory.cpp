@@ -134,7 +134,8 @@ class Checker {
   std::vector<std::string> problems_;
 };
 
-constexpr std::string_view kRootKeys[] = {"line", "schedule", "notify", "archive", "require_reason"};
+constexpr std::string_view kRootKeys[] = {"line", "schedule", "notify", "archive",
+                                          "require_reason"};
 constexpr std::string_view kScheduleKeys[] = {"backup_every", "status_every"};
 constexpr std::string_view kNotifyKeys[] = {"webhook", "command"};
 constexpr std::string_view kArchiveKeys[] = {"push"};

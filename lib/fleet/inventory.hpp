@@ -79,7 +79,7 @@ struct LineEntry {
   // --devicenet-listen-ms.
   bool devicenet = false;
   std::optional<std::int64_t> can_bitrate, devicenet_own_macid, devicenet_listen_ms;
-  std::vector<std::uint16_t> ignore;  // for every drive of the line
+  std::vector<std::uint16_t> ignore;       // for every drive of the line
   std::optional<std::string> on_replaced;  // for every drive of the line without its own
   std::vector<DriveEntry> drives;
   Position at;

@@ -35,7 +35,7 @@ struct HttpOptions {
   // HTTPS (cpp-httplib's SSLServer, OpenSSL) with this PEM certificate (chain)
   // and private key; both empty: plain HTTP.
   std::string tls_cert, tls_key;
-  ConsoleOptions console;                      // the web console's sessions (docs/console.md)
+  ConsoleOptions console;  // the web console's sessions (docs/console.md)
 };
 
 // Whether `opt` may be served: a non-loopback address needs tokens and TLS,

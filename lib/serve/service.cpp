@@ -16,12 +16,12 @@
 #include "config/atomic_file.hpp"
 #include "config/config_io.hpp"
 #include "fleet/archive.hpp"
+#include "fleet/history.hpp"
 #include "ops/diff.hpp"
 #include "ops/recovery.hpp"
 #include "ops/report.hpp"
 #include "ops/restore_run.hpp"
 #include "ops/undo.hpp"
-#include "fleet/history.hpp"
 
 namespace lmcfg::serve {
 
