@@ -100,6 +100,7 @@ struct ServiceRig {
              const std::function<void(serve::ServiceOptions&)>& tweak = {}) {
     ops::register_link_scheme("sim", sim::state_file_link_factory());
     auto inv = fleet::parse_inventory(inventory_text, "plant.toml");
+    INFO((inv.ok() ? "" : inv.error().message));
     REQUIRE(inv.ok());
     serve::ServiceOptions o;
     o.inventory = *inv;
@@ -131,53 +132,21 @@ struct ServiceRig {
   }
 };
 
-struct Rig {
-  test::ScratchDir dir{"serve"};
-  serve::TimePoint now = serve::Clock::from_time_t(1'800'000'000);
-  std::mutex mu;
-  std::vector<nlohmann::json> events;
-  std::unique_ptr<serve::Service> service;
-
+// The service over a line of two simulated axes, press3/z (11h) and press3/x (12h).
+struct Rig : ServiceRig {
   // extra_toml: top-level keys (before [schedule]); line_toml: keys of the
   // line; line_name: the line's name as TOML; z_toml: keys of press3/z (labels).
   explicit Rig(const std::string& extra_toml = "", const std::string& line_toml = "",
-               const std::string& line_name = "\"line1\"", const std::string& z_toml = "") {
-    ops::register_link_scheme("sim", sim::state_file_link_factory());
+               const std::string& line_name = "\"line1\"", const std::string& z_toml = "")
+      : ServiceRig("serve") {
     write_axis(dir.path / "a.json", 0x11);
     write_axis(dir.path / "b.json", 0x12);
-    const std::string text =
-        extra_toml + "[schedule]\nbackup_every = \"6h\"\nstatus_every = \"15m\"\n" +
-        "[[line]]\nname = " + line_name + "\nport = \"sim:" + (dir.path / "a.json").string() + "," +
-        (dir.path / "b.json").string() + "\"\nignore = [\"0020h\"]\n" + line_toml +
-        "[[line.drive]]\nname = \"press3/z\"\nid = 0x11\n" + z_toml +
-        "[[line.drive]]\nname = \"press3/x\"\nid = 0x12\n";
-    auto inv = fleet::parse_inventory(text, "plant.toml");
-    INFO((inv.ok() ? "" : inv.error().message));
-    REQUIRE(inv.ok());
-    serve::ServiceOptions o;
-    o.inventory = *inv;
-    o.archive = (dir.path / "archive").string();
-    ops::LinkOptions link;
-    link.port = inv->lines[0].port;
-    o.links = {link};
-    o.exit_code = exit_code_of;
-    o.clock = [this] { return now; };
-    o.notify = [this](const serve::Json& e) {
-      std::lock_guard<std::mutex> lock(mu);
-      events.push_back(nlohmann::json::parse(e.dump()));
-    };
-    auto s = serve::Service::create(std::move(o));
-    REQUIRE(s.ok());
-    service = std::move(s).value();
-  }
-  void at(serve::TimePoint t) {
-    now = t;
-    service->tick(t);
-    service->wait_idle();
-  }
-  std::vector<nlohmann::json> take_events() {
-    std::lock_guard<std::mutex> lock(mu);
-    return std::exchange(events, {});
+    start(extra_toml + "[schedule]\nbackup_every = \"6h\"\nstatus_every = \"15m\"\n" +
+              "[[line]]\nname = " + line_name + "\nport = \"sim:" + (dir.path / "a.json").string() +
+              "," + (dir.path / "b.json").string() + "\"\nignore = [\"0020h\"]\n" + line_toml +
+              "[[line.drive]]\nname = \"press3/z\"\nid = 0x11\n" + z_toml +
+              "[[line.drive]]\nname = \"press3/x\"\nid = 0x12\n",
+          [](serve::ServiceOptions& o) { o.exit_code = exit_code_of; });
   }
 };
 
