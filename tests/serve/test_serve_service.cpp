@@ -122,7 +122,7 @@ TEST_CASE("serve: a backup that finds a change commits it and says so once", "[s
   CHECK(j["drives"] == 1);
   CHECK(j["counts"]["changed"] == 1);
   REQUIRE(j["commits"].size() == 1);
-  CHECK(events[0]["committed"] == j["commits"][0]);
+  CHECK(events[0]["committed"].get<std::string>() == j["commits"][0].get<std::string>());
   CHECK((*rig.service->drive("press3/z"))["status"] == "ok");
   auto history = rig.service->history("press3/z");
   REQUIRE(history.ok());

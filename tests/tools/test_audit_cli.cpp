@@ -116,7 +116,7 @@ TEST_CASE("audit cli: restore, set, default and undo each append one journal lin
   CHECK(rec["exit_code"] == 0);
   CHECK(rec["exit_category"] == "ok");
   CHECK(rec["error"].is_null());
-  CHECK(rec["undo"] == report["undo"]["path"]);
+  CHECK(rec["undo"].get<std::string>() == report["undo"]["path"].get<std::string>());
   CHECK(fs::exists(rec["undo"].get<std::string>()));
 
   // Nothing to do: nothing written, nothing recorded.
