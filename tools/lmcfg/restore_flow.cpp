@@ -178,8 +178,11 @@ int restore_on_session(ops::Session& session, const config::DriveConfig& file,
     e.position = f.position;
     e.file = file_name;
     e.steps = ops::plan_json(out.plan)["steps"];
-    if (out.second_pass)
-      for (const auto& s : ops::plan_json(*out.second_pass)["steps"]) e.steps.push_back(s);
+    if (out.second_pass) {
+      // A named value: a range-for over a member of a temporary would read freed memory.
+      const auto second = ops::plan_json(*out.second_pass);
+      for (const auto& s : second["steps"]) e.steps.push_back(s);
+    }
     e.outcome = ops::outcome_name(out);
     e.exit_code = code;
     if (out.error) e.error = out.error->message;
