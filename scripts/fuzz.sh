@@ -14,8 +14,14 @@ if [[ ${#targets[@]} -eq 0 ]]; then targets=(decoder json_config xml_config clie
 build="${LMCFG_FUZZ_BUILD:-$root/build-fuzz}"
 jobs="${LMCFG_JOBS:-2}"
 
-CC=clang CXX=clang++ cmake -S "$root" -B "$build" -DLMCFG_FUZZ=ON -DLMCFG_WERROR=ON -DLMCFG_BUILD_TESTS=OFF \
-  -DLMCFG_BUILD_BENCH=OFF -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null
+if [[ -f "$build/CMakeCache.txt" ]] && grep -q '^LMCFG_FUZZ:BOOL=ON' "$build/CMakeCache.txt"; then
+  # A build that already has the fuzz targets (LMCFG_FUZZ_BUILD=build-asan:
+  # the sanitizer build of scripts/test.sh with clang): only build them there.
+  :
+else
+  CC=clang CXX=clang++ cmake -S "$root" -B "$build" -DLMCFG_FUZZ=ON -DLMCFG_WERROR=ON -DLMCFG_BUILD_TESTS=OFF \
+    -DLMCFG_BUILD_BENCH=OFF -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null
+fi
 cmake --build "$build" -j"$jobs" --target $(printf 'fuzz_%s ' "${targets[@]}")
 
 seed() {  # seed corpus per target from the fixtures

@@ -7,7 +7,16 @@ root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 if [[ "${LMCFG_SANITIZE:-0}" == 1 ]]; then
   export LMCFG_BUILD_DIR="${LMCFG_BUILD_DIR:-$root/build-asan}"
   # No Python module: CPython would load it without the sanitizer runtime.
-  "$root/scripts/build.sh" -DLMCFG_SANITIZE=ON -DLMCFG_BUILD_BENCH=OFF -DLMCFG_PYTHON=OFF
+  sanitize=(-DLMCFG_SANITIZE=ON -DLMCFG_BUILD_BENCH=OFF -DLMCFG_PYTHON=OFF)
+  if command -v clang++ >/dev/null; then
+    # With clang the same build also holds the libFuzzer targets (LMCFG_FUZZ:
+    # coverage instrumentation on top of ASan + UBSan), so scripts/fuzz.sh
+    # runs them from this folder instead of compiling everything a third time
+    # (docs/ci.md).
+    export CC=clang CXX=clang++
+    sanitize+=(-DLMCFG_FUZZ=ON)
+  fi
+  "$root/scripts/build.sh" "${sanitize[@]}"
 else
   export LMCFG_BUILD_DIR="${LMCFG_BUILD_DIR:-$root/build}"
   "$root/scripts/build.sh"
