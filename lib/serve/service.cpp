@@ -22,6 +22,7 @@
 #include "ops/report.hpp"
 #include "ops/restore_run.hpp"
 #include "ops/undo.hpp"
+#include "serve/console.hpp"  // url_encode
 
 namespace lmcfg::serve {
 
@@ -198,6 +199,7 @@ struct Service::Impl {
   std::vector<std::thread> workers;
 
   std::mutex archive_mu;  // libgit2's repository: one user at a time
+  std::string base_url;   // under mu: set_base_url
 
   // [archive] push, under mu. A commit asks for a push (++wanted); the push
   // thread pushes the branch as it then is and marks that request done, so
@@ -634,6 +636,11 @@ struct Service::Impl {
           }
           details["upids"] = upids;
           if (commit) details["committed"] = *commit;
+          // The diff rendered as lmcfg report does it: the archive against the
+          // drive now, or (a backup committed it) the commit against its parent.
+          details["report"] = base_url + "/diff?name=" + url_encode(r.name) +
+                              (commit ? "&from=" + *commit + "~1&to=" + *commit
+                                      : std::string("&from=HEAD&to=live"));
         }
       }
     }
@@ -1368,6 +1375,11 @@ void Service::summarize(TimePoint now) {
   }
   s.emit("summary", "", "",
          {{"period", "day"}, {"drives", s.opt.inventory.drive_count()}, {"counts", counts}});
+}
+
+void Service::set_base_url(const std::string& url) {
+  std::lock_guard<std::mutex> lock(impl_->mu);
+  impl_->base_url = url;
 }
 
 std::string Service::metrics() const {

@@ -117,6 +117,10 @@ class Service {
   const fleet::Inventory& inventory() const;
   // Prometheus text exposition format (version 0.0.4).
   std::string metrics() const;
+  // The address people reach the service at ("http://127.0.0.1:8470"), known
+  // once the HTTP server is bound: drift events link to the console's diff
+  // page under it. Until set, the links are paths ("/diff?...").
+  void set_base_url(const std::string& url);
 
   // Until every queued job has finished.
   void wait_idle();

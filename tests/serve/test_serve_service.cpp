@@ -66,6 +66,8 @@ TEST_CASE(
   REQUIRE(events[0]["upids"].size() == 1);
   CHECK(events[0]["upids"][0]["upid"] == "0010h");
   CHECK(events[0]["upids"][0]["archived"] == "5");
+  // A link to the diff as lmcfg report renders it (the console's /diff page).
+  CHECK(events[0]["report"] == "/diff?name=press3%2Fx&from=HEAD&to=live");
   CHECK(events[0]["upids"][0]["live"] == "7");
   CHECK((*rig.service->drive("press3/x"))["status"] == "drift");
   CHECK((*rig.service->drive("press3/x"))["differences"] == 1);

@@ -92,6 +92,7 @@ int run_serve(const ServeCli& o) {
   // The address on stdout (scripts and tests started with port 0 read it), the rest on stderr.
   const std::string scheme = o.tls_cert.empty() ? "http" : "https";
   std::printf("%s://%s:%d\n", scheme.c_str(), host.c_str(), *port);
+  (*service)->set_base_url(scheme + "://" + host + ":" + std::to_string(*port));
   std::fflush(stdout);
   log_line("listening on " + scheme + "://" + host + ":" + std::to_string(*port) + " for " +
            o.inventory + " (" + std::to_string(inv->lines.size()) + " line(s), " +
