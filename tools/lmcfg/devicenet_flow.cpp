@@ -40,12 +40,6 @@ Result<void> interrupted_check() {
   return {};
 }
 
-// The controller's MAC ID as --devicenet-macid (or the inventory) gives it,
-// already checked by devicenet_link_options; 0 when it is not a number.
-std::uint8_t macid_of(const CommonOptions& common) {
-  auto mac = devicenet::parse_mac_id("--devicenet-macid", common.devicenet_macid);
-  return mac.ok() ? static_cast<std::uint8_t>(*mac) : std::uint8_t{0};
-}
 }  // namespace
 
 Result<ops::DevicenetLinkOptions> devicenet_link_options(const CommonOptions& o) {
@@ -209,7 +203,7 @@ int restore_devicenet_on(ops::DevicenetSession& session, const config::DriveConf
     e.audit = audit_of(f.audit);
     e.command = "restore";
     e.port = common.port;
-    e.macid = macid_of(common);
+    e.macid = session.macid();
     e.file = file_name;
     for (const auto& w : plan.writes)
       e.steps.push_back({{"step", e.steps.size() + 1},
