@@ -59,7 +59,7 @@ inline void decoder_entry(const std::uint8_t* data, std::size_t size) {
 }
 
 // A configuration file reader: whatever it accepts must write back out
-// (validation included) and read again.
+// (validation included) and read again, in its own format and in the other.
 inline void config_entry(const std::uint8_t* data, std::size_t size, config::FileFormat format) {
   const std::string_view text(reinterpret_cast<const char*>(data), size);
   auto cfg = config::read_config_text(
@@ -72,6 +72,14 @@ inline void config_entry(const std::uint8_t* data, std::size_t size, config::Fil
   if (!out.ok()) fuzz_fail("accepted configuration does not write back", out.error().message);
   auto again = config::read_config_text(*out, "fuzz-roundtrip", format);
   if (!again.ok()) fuzz_fail("written configuration does not read back", again.error().message);
+  // `lmcfg convert` takes any accepted file to the other format.
+  const auto other =
+      format == config::FileFormat::json ? config::FileFormat::xml : config::FileFormat::json;
+  auto converted = config::write_config_text(*cfg, other);
+  if (!converted.ok())
+    fuzz_fail("accepted configuration does not convert", converted.error().message);
+  auto back = config::read_config_text(*converted, "fuzz-converted", other);
+  if (!back.ok()) fuzz_fail("converted configuration does not read back", back.error().message);
 }
 
 inline void json_entry(const std::uint8_t* data, std::size_t size) {

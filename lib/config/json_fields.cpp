@@ -122,8 +122,14 @@ std::string describe(const json& j) {
   if (j.is_number()) return j.dump();
   if (j.is_string()) {
     std::string s = j.get<std::string>();
-    if (s.size() > 40) s = s.substr(0, 40) + "...";
-    return "string " + json(s).dump();
+    if (s.size() > 40) {
+      // Cut at a character boundary: the parser accepted valid UTF-8, and
+      // half a multi-byte character would not dump.
+      std::size_t n = 40;
+      while (n > 0 && (static_cast<unsigned char>(s[n]) & 0xC0) == 0x80) --n;
+      s = s.substr(0, n) + "...";
+    }
+    return "string " + json(s).dump(-1, ' ', false, json::error_handler_t::replace);
   }
   return std::string(j.type_name());
 }

@@ -82,6 +82,29 @@ Result<void> check_curve_blocks(const Curve& c) {
   return {};
 }
 
+namespace {
+// A name stored in a drive's bytes (curve info, command table entry): printable
+// ASCII as is, anything else (and the escape character itself) as \xNN. The
+// manuals give no character set for these fields, and a drive may hold any
+// bytes there; the files are UTF-8 text, so a byte that is not ASCII cannot be
+// copied through.
+std::string printable_name(ByteView raw, std::size_t begin, std::size_t end) {
+  std::string s;
+  for (std::size_t i = begin; i < end && i < raw.size() && raw[i] != 0; ++i) {
+    const auto c = raw[i];
+    if (c >= 0x20 && c < 0x7F && c != '\\') {
+      s.push_back(static_cast<char>(c));
+    } else {
+      static const char* kHex = "0123456789ABCDEF";
+      s += "\\x";
+      s.push_back(kHex[c >> 4]);
+      s.push_back(kHex[c & 15]);
+    }
+  }
+  return s;
+}
+}  // namespace
+
 Result<CurveView> decode_curve(const Curve& c) {
   LMCFG_TRY(check_curve_blocks(c));
   if (c.info.size() < kCurveInfoFull)
@@ -96,7 +119,7 @@ Result<CurveView> decode_curve(const Curve& c) {
   v.y_code = static_cast<int>(hi >> 4);
   v.setpoint_count = get_u16le(b, 4);
   v.bytes_per_setpoint = get_u16le(b, 6);
-  for (std::size_t i = 8; i < 30 && b[i] != 0; ++i) v.name.push_back(static_cast<char>(b[i]));
+  v.name = printable_name(b, 8, 30);
   v.curve_id = get_u16le(b, 30);
   v.length = get_u32le(b, 32);
   v.x_dimension = get_u16le(b, 36);
@@ -112,21 +135,7 @@ Result<CurveView> decode_curve(const Curve& c) {
   return v;
 }
 
-std::string ct_entry_name(ByteView raw) {
-  std::string s;
-  for (std::size_t i = 38; i < 54 && i < raw.size() && raw[i] != 0; ++i) {
-    const auto c = raw[i];
-    if (c >= 0x20 && c < 0x7F && c != '\\') {
-      s.push_back(static_cast<char>(c));
-    } else {
-      static const char* kHex = "0123456789ABCDEF";
-      s += "\\x";
-      s.push_back(kHex[c >> 4]);
-      s.push_back(kHex[c & 15]);
-    }
-  }
-  return s;
-}
+std::string ct_entry_name(ByteView raw) { return printable_name(raw, 38, 54); }
 
 // ---------------------------------------------------------------------------
 const Parameter* DriveConfig::find_param(std::uint16_t upid) const {

@@ -106,7 +106,7 @@ struct CurveView {
   int y_code = 0;                        // high byte bits 4..7: 0 pos, 1 vel, 2 current, ...
   std::uint16_t setpoint_count = 0;      // off 4
   std::uint16_t bytes_per_setpoint = 0;  // off 6
-  std::string name;                      // off 8, char[22], NUL padded
+  std::string name;                      // off 8, char[22], NUL padded; not ASCII as \xNN
   std::uint16_t curve_id = 0;            // off 30
   std::uint32_t length = 0;              // off 32, 10 us units when X is time
   std::uint16_t x_dimension = 0;         // off 36 (0x1A = 0.01 ms)

@@ -84,6 +84,18 @@ TEST_CASE("config: SinRise decodes", "[config]") {
     CHECK(v->setpoints[i] > v->setpoints[i - 1]);
 }
 
+TEST_CASE("config: a curve name byte that is not printable ASCII decodes as \\xNN", "[config]") {
+  // A drive may hold any byte in the name field (info off 8, char[22]); the
+  // decoded view is UTF-8 text in both file formats.
+  Curve c{1, sinrise_info(), sinrise_data()};
+  c.info[8 + 6] = 0x89;  // "SinRis\x89"
+  c.info[8 + 7] = '\\';
+  c.info[8 + 8] = 0x01;
+  auto v = decode_curve(c);
+  REQUIRE(v.ok());
+  CHECK(v->name == "SinRis\\x89\\x5C\\x01");
+}
+
 TEST_CASE("config: curve length text is exact", "[config]") {
   CurveView v;
   v.length = 12345;

@@ -58,6 +58,15 @@ TEST_CASE("json_io: a small document reads, and writes every layer and member", 
   CHECK(text.find("devicenet") == std::string::npos);
 }
 
+TEST_CASE("json_io: a long string in a message is cut at a character boundary", "[config][json]") {
+  // 39 ASCII bytes and a two-byte character across the 40-byte cut.
+  const std::string name = std::string(39, 'a') + "\xC3\xA4" + "bbb";
+  CHECK(message(doc([&](ojson& d) { d["parameters"][0]["params"][0]["upid"] = name; })) ==
+        "t.json:1:176: /parameters/0/params/0/upid: expected a UPID as 4 hex digits (\"13A2\"), "
+        "found string \"" +
+            std::string(39, 'a') + "...\"");
+}
+
 TEST_CASE("json_io: each kind of field says what it expected, and where", "[config][json]") {
   CHECK(message(doc([](ojson& d) { d["parameters"][0]["params"][0]["upid"] = "13G2"; })) ==
         "t.json:1:176: /parameters/0/params/0/upid: expected a UPID as 4 hex digits (\"13A2\"), "
