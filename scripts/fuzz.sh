@@ -5,6 +5,11 @@
 # copied to tests/fixtures/fuzz-regressions/<target>/ so the regular test suite
 # (tests/config/test_reliability_regressions.cpp) replays it from then on.
 #   scripts/fuzz.sh [SECONDS] [TARGET...]
+# With LMCFG_FUZZ_RUNS=N each target instead runs N inputs from the fixed seed
+# LMCFG_FUZZ_SEED (default 1), SECONDS then being only a cap: the same commit
+# explores the same inputs on every machine, so a failure is reproducible and
+# belongs to the change that brought it. CI runs that way; run without it
+# (a random seed, as long as you like) to look for new crashes.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 secs="${1:-60}"
@@ -45,7 +50,12 @@ for t in "${targets[@]}"; do
   seed "$t" "$corpus"
   mkdir -p "$artifacts"
   echo "== fuzz_$t for ${secs}s (corpus $corpus)"
-  if ! "$build/fuzz/fuzz_$t" -max_total_time="$secs" -timeout=10 -rss_limit_mb=2048 -max_len=8192 \
+  budget=(-max_total_time="$secs")
+  if [[ -n "${LMCFG_FUZZ_RUNS:-}" ]]; then
+    budget+=(-runs="$LMCFG_FUZZ_RUNS" -seed="${LMCFG_FUZZ_SEED:-1}")
+    echo "   ${LMCFG_FUZZ_RUNS} runs from seed ${LMCFG_FUZZ_SEED:-1}, at most ${secs}s"
+  fi
+  if ! "$build/fuzz/fuzz_$t" "${budget[@]}" -timeout=10 -rss_limit_mb=2048 -max_len=8192 \
        -print_final_stats=1 -artifact_prefix="$artifacts/" "$corpus" 2>"$build/fuzz_$t.log"; then
     status=1
     echo "fuzz_$t FAILED; see $build/fuzz_$t.log" >&2
