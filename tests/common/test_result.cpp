@@ -73,9 +73,9 @@ TEST_CASE("error class: communication states and foreign codes", "[error_class]"
 }
 
 TEST_CASE("error class: the client repeats only lost or garbled answers", "[error_class]") {
-  // The classifiers that used to be written out: the client's retry set
-  // (bad_answer) leaves out link_closed and io_error, the tests' communication
-  // failure (link_failure) and the exit code 4 include them.
+  // One class per question: the client's retry set (bad_answer) leaves out
+  // link_closed and io_error, the tests' communication failure (link_failure)
+  // and the exit code 4 include them.
   CHECK(make_error_code(Errc::timeout) == ErrorClass::bad_answer);
   CHECK_FALSE(make_error_code(Errc::link_closed) == ErrorClass::bad_answer);
   CHECK_FALSE(make_error_code(Errc::io_error) == ErrorClass::bad_answer);
