@@ -40,9 +40,9 @@ TEST_CASE("bytes: hex text, either way", "[common][bytes]") {
   CHECK(from_hex("01 11:05\n02\t0A\r\n") == std::optional<Bytes>(Bytes{1, 0x11, 5, 2, 0x0A}));
   CHECK(from_hex("0111") == std::optional<Bytes>(Bytes{1, 0x11}));
   CHECK(from_hex("") == std::optional<Bytes>(Bytes{}));
-  CHECK_FALSE(from_hex("011"));    // odd count
-  CHECK_FALSE(from_hex("0 11"));   // a lone nibble before a separator
-  CHECK_FALSE(from_hex("0x11"));   // not hex
+  CHECK_FALSE(from_hex("011"));   // odd count
+  CHECK_FALSE(from_hex("0 11"));  // a lone nibble before a separator
+  CHECK_FALSE(from_hex("0x11"));  // not hex
   CHECK(as_bytes("S4\r").size() == 3);
   CHECK(to_hex(as_bytes("S4\r")) == "53 34 0D");
 }
@@ -56,7 +56,7 @@ TEST_CASE("bytes: numbers as users write them, case-insensitive names", "[common
   CHECK(parse_number("FFFFFFFF", true) == std::optional<std::uint32_t>(0xFFFFFFFF));
   CHECK_FALSE(parse_number("4294967296", false));
   CHECK_FALSE(parse_number("100000000", true));  // nine hex digits
-  CHECK_FALSE(parse_number("13A2", false));       // decimal unless marked
+  CHECK_FALSE(parse_number("13A2", false));      // decimal unless marked
   CHECK_FALSE(parse_number("", false));
   CHECK_FALSE(parse_number("h", false));
   CHECK_FALSE(parse_number("0x", false));

@@ -18,11 +18,11 @@ TEST_CASE("LinRS §10 Supported Parameter Types: codes, names and sizes of the t
     const char* name;
     unsigned bytes;  // the value's bytes in the 4-byte field (1 for one bit)
   };
-  const Row table[] = {{0x00, "BOOL", 1},      {0x01, "UINT8", 1},       {0x02, "SINT8", 1},
-                       {0x03, "UINT16", 2},    {0x04, "SINT16", 2},      {0x05, "UINT32", 4},
-                       {0x06, "SINT32", 4},    {0x07, "LIN_FLOAT", 4},   {0x08, "STRING", 4},
+  const Row table[] = {{0x00, "BOOL", 1},      {0x01, "UINT8", 1},         {0x02, "SINT8", 1},
+                       {0x03, "UINT16", 2},    {0x04, "SINT16", 2},        {0x05, "UINT32", 4},
+                       {0x06, "SINT32", 4},    {0x07, "LIN_FLOAT", 4},     {0x08, "STRING", 4},
                        {0x09, "CAP_DIR", 4},   {0x0A, "RADIO_DIR_BIT", 1}, {0x0B, "RADIO_DIR16", 2},
-                       {0x0C, "ENUM_DIR8", 1}, {0x0D, "ENUM_DIR16", 2},  {0x0E, "STRINGLET", 4},
+                       {0x0C, "ENUM_DIR8", 1}, {0x0D, "ENUM_DIR16", 2},    {0x0E, "STRINGLET", 4},
                        {0x0F, "CAP_DIRLET", 4}};
   for (const auto& r : table) {
     INFO(r.name);
@@ -40,8 +40,7 @@ TEST_CASE("LinRS §10 Supported Parameter Types: codes, names and sizes of the t
   CHECK_FALSE(type_from_name(""));
 }
 
-TEST_CASE("LinRS §10 types: text, signed and the ranges of the integer types",
-          "[common][types]") {
+TEST_CASE("LinRS §10 types: text, signed and the ranges of the integer types", "[common][types]") {
   for (auto t : {TypeCode::String, TypeCode::CapDir, TypeCode::Stringlet, TypeCode::CapDirlet})
     CHECK(is_text_type(t));
   CHECK_FALSE(is_text_type(TypeCode::UInt32));

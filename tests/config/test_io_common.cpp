@@ -38,10 +38,10 @@ TEST_CASE("io_common: byte rows hold 16 bytes, the last one the rest", "[config]
   CHECK(parse_row(rows[0]) == std::optional<Bytes>(Bytes(b.begin(), b.begin() + 16)));
   CHECK_FALSE(parse_row(""));
   CHECK_FALSE(parse_row("4"));
-  CHECK_FALSE(parse_row("46  00"));   // two blanks
-  CHECK_FALSE(parse_row("46,00"));    // another separator
-  CHECK_FALSE(parse_row("46 00 "));   // trailing blank
-  CHECK_FALSE(parse_row("4G"));       // not hex
+  CHECK_FALSE(parse_row("46  00"));         // two blanks
+  CHECK_FALSE(parse_row("46,00"));          // another separator
+  CHECK_FALSE(parse_row("46 00 "));         // trailing blank
+  CHECK_FALSE(parse_row("4G"));             // not hex
   CHECK_FALSE(parse_row(rows[0] + " 00"));  // 17 bytes
 }
 
@@ -100,5 +100,6 @@ TEST_CASE("io_common: format and format_version checks say what was expected and
   auto older = check_format_version(0, "f.xml", "f.xml: /lmcfg/@format_version");
   REQUIRE_FALSE(older.ok());
   CHECK(older.error().code == make_error_code(Errc::unsupported_version));
-  CHECK(older.error().message == "f.xml: /lmcfg/@format_version: expected format_version 1..3, found 0");
+  CHECK(older.error().message ==
+        "f.xml: /lmcfg/@format_version: expected format_version 1..3, found 0");
 }

@@ -62,11 +62,11 @@ TEST_CASE("tsv: a header with an unknown, a repeated or a missing column stops t
   tsv::Table t(diags, "dir/x.tsv", "x.tsv", "# head\na\tz\ta\n1\t2\t3\n", {"a", "b"});
   CHECK_FALSE(t.header_ok());
   CHECK(t.rows().empty());  // rows under a bad header are not read
-  CHECK(messages(diags) == std::vector<std::string>{
-                               "dir/x.tsv:2:3: error: unknown column \"z\" in the header "
-                               "(expected: a b)",
-                               "dir/x.tsv:2:5: error: column \"a\" appears twice in the header",
-                               "dir/x.tsv:2:6: error: header lacks column \"b\""});
+  CHECK(messages(diags) ==
+        std::vector<std::string>{"dir/x.tsv:2:3: error: unknown column \"z\" in the header "
+                                 "(expected: a b)",
+                                 "dir/x.tsv:2:5: error: column \"a\" appears twice in the header",
+                                 "dir/x.tsv:2:6: error: header lacks column \"b\""});
 }
 
 TEST_CASE("tsv: a row short of fields is named at its end, a file without a header is refused",
@@ -80,9 +80,9 @@ TEST_CASE("tsv: a row short of fields is named at its end, a file without a head
   CHECK(t.get(t.rows()[0], "b").text == "3");
   CHECK(t.get(t.rows()[0], "c").text.empty());
   CHECK(t.get(t.rows()[0], "c").column == 1);
-  CHECK(messages(diags) == std::vector<std::string>{
-                               "x.tsv:2:2: error: expected 2 fields (as in the header, line 1), "
-                               "found 1"});
+  CHECK(messages(diags) ==
+        std::vector<std::string>{"x.tsv:2:2: error: expected 2 fields (as in the header, line 1), "
+                                 "found 1"});
   t.error(t.rows()[0], t.get(t.rows()[0], "a"), "bad value");
   t.file_error("whole file");
   CHECK(diags.at(1).str() == "x.tsv:3:3: error: bad value");

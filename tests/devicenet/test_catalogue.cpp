@@ -78,9 +78,9 @@ TEST_CASE("devicenet catalogue: IO module names both ways, unknown ones named",
   CHECK_FALSE(l->status_out);
   CHECK(l->direct_out1);
   CHECK((l->masters == std::array<bool, 4>{true, false, true, false}));
-  CHECK(devicenet::module_names(*l) ==
-        std::vector<std::string>{"control-in", "direct-in", "direct-out-1", "master:A",
-                                 "master:C"});
+  CHECK(devicenet::module_names(*l) == std::vector<std::string>{"control-in", "direct-in",
+                                                                "direct-out-1", "master:A",
+                                                                "master:C"});
   auto back = devicenet::parse_modules(devicenet::module_names(*l));
   REQUIRE(back.ok());
   CHECK(devicenet::module_names(*back) == devicenet::module_names(*l));

@@ -90,8 +90,8 @@ TEST_CASE("archive: commits only on change, reads any revision, git log agrees",
   REQUIRE(same.ok());
   CHECK_FALSE(*same);
   // Unless it is a record.
-  auto record = a.commit({}, "fleet restore: press3 <- press3.json at HEAD: restored and verified",
-                         true);
+  auto record =
+      a.commit({}, "fleet restore: press3 <- press3.json at HEAD: restored and verified", true);
   REQUIRE(record.ok());
   REQUIRE(*record);
   test::spit(dir / "press3.json", "{\"v\": 2}\n");
@@ -101,8 +101,7 @@ TEST_CASE("archive: commits only on change, reads any revision, git log agrees",
 
   CHECK(a.read("press3.json").value() == std::optional<std::string>("{\"v\": 2}\n"));
   CHECK(a.read("press3.json", "HEAD~2").value() == std::optional<std::string>("{\"v\": 1}\n"));
-  CHECK(a.read("press3.json", (*first)->id).value() ==
-        std::optional<std::string>("{\"v\": 1}\n"));
+  CHECK(a.read("press3.json", (*first)->id).value() == std::optional<std::string>("{\"v\": 1}\n"));
   CHECK_FALSE(a.read("other.json").value());
   CHECK(a.resolve("HEAD~1").value()->id == (*record)->id);
   auto unknown = a.resolve("no-such-rev");

@@ -26,10 +26,10 @@ TEST_CASE("history: backups and restore records of one position, who and why fro
   test::spit(dir / "press3" / "z-axis.json", "1\n");
   REQUIRE(archive->commit({"press3/z.json", "press3/z-axis.json"}, "fleet backup: 2 new").value());
   // A restore onto the neighbour whose name starts the same is not this one's.
-  REQUIRE(archive
-              ->commit({}, "fleet restore: press3/z-axis <- press3/z-axis.json at HEAD: restored",
-                       true)
-              .value());
+  REQUIRE(
+      archive
+          ->commit({}, "fleet restore: press3/z-axis <- press3/z-axis.json at HEAD: restored", true)
+          .value());
   REQUIRE(archive
               ->commit({},
                        "fleet restore: press3/z <- press3/z.json at HEAD: restored and verified\n\n"

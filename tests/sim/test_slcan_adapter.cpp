@@ -30,8 +30,7 @@ struct Rig {
   Rig() {
     int fds[2];
     REQUIRE(::socketpair(AF_UNIX, SOCK_STREAM, 0, fds) == 0);
-    adapter_side =
-        std::make_unique<transport::FdTransport>(transport::UniqueFd(fds[0]), "adapter");
+    adapter_side = std::make_unique<transport::FdTransport>(transport::UniqueFd(fds[0]), "adapter");
     client = std::make_unique<transport::FdTransport>(transport::UniqueFd(fds[1]), "client");
     // A node answering each frame with its identifier + 1 and the same data.
     bus->attach([this](const can::Frame& f, can::VirtualBus& b) {

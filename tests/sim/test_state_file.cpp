@@ -101,8 +101,8 @@ TEST_CASE("sim state file: what it refuses is named with the field", "[sim][stat
       R"({"format":"lmcfg-sim-state","version":1,"parameters":[{"name":"x"}]})"));
   REQUIRE_FALSE(no_upid.ok());
   CHECK(no_upid.error().message == "sim state: parameters: entry without upid");
-  auto macid = sim::from_json(
-      nlohmann::json{{"format", "lmcfg-sim-state"}, {"version", 1}, {"macid", 256}});
+  auto macid =
+      sim::from_json(nlohmann::json{{"format", "lmcfg-sim-state"}, {"version", 1}, {"macid", 256}});
   REQUIRE_FALSE(macid.ok());
   CHECK(macid.error().message == "sim state: macid: exceeds FFh");
   // The defaults of a file that gives nothing but its format.
@@ -137,7 +137,8 @@ TEST_CASE("sim state file: loading, saving and a line of drives with distinct MA
   CHECK(back->params == axis.params);
   auto unwritable = sim::save_state(axis, (dir.path / "no" / "x.json").string());
   REQUIRE_FALSE(unwritable.ok());
-  CHECK(unwritable.error().message == "cannot write " + (dir.path / "no" / "x.json").string() + ".tmp");
+  CHECK(unwritable.error().message ==
+        "cannot write " + (dir.path / "no" / "x.json").string() + ".tmp");
 
   // Two drives of one line answering at the same MACID are refused.
   const auto a = fixture_path("commissioned-axis.json");
