@@ -7,6 +7,7 @@
 
 #include "files.hpp"
 #include "fleet/archive.hpp"
+#include "git_repo.hpp"
 #include "subprocess.hpp"
 
 using namespace lmcfg;
@@ -14,17 +15,10 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// A repository's own committer, so the result does not depend on ~/.gitconfig.
-void set_identity(const fs::path& repo) {
-  REQUIRE(std::system(("git -C '" + repo.string() + "' config user.name 'Test Op' && git -C '" +
-                       repo.string() + "' config user.email op@example.com")
-                          .c_str()) == 0);
-}
-
 fleet::Archive open_new(const fs::path& dir) {
   auto a = fleet::Archive::open(dir.string(), true);
   REQUIRE(a.ok());
-  set_identity(dir);
+  test::set_git_identity(dir);
   return std::move(a).value();
 }
 

@@ -8,6 +8,7 @@
 #include "fleet/archive.hpp"
 #include "fleet/history.hpp"
 #include "fleet/inventory.hpp"
+#include "git_repo.hpp"
 
 using namespace lmcfg;
 namespace fs = std::filesystem;
@@ -18,9 +19,7 @@ TEST_CASE("history: backups and restore records of one position, who and why fro
   const auto dir = d.path / "arch";
   auto archive = fleet::Archive::open(dir.string(), true);
   REQUIRE(archive.ok());
-  REQUIRE(std::system(("git -C '" + dir.string() + "' config user.name 'Test Op' && git -C '" +
-                       dir.string() + "' config user.email op@example.com")
-                          .c_str()) == 0);
+  test::set_git_identity(dir);
   fs::create_directories(dir / "press3");
   test::spit(dir / "press3" / "z.json", "1\n");
   test::spit(dir / "press3" / "z-axis.json", "1\n");

@@ -16,16 +16,7 @@
 using namespace lmcfg;
 using namespace lmcfg::transport;
 using namespace std::chrono_literals;
-
-namespace {
-
-PtyPair make_pty() {
-  auto p = open_pty();
-  REQUIRE(p.ok());
-  return std::move(p).value();
-}
-
-}  // namespace
+using test::make_pty;
 
 TEST_CASE("FdTransport: a read waits for the first byte, then drains what is there",
           "[transport][fd]") {

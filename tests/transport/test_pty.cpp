@@ -14,16 +14,7 @@
 using namespace lmcfg;
 using namespace lmcfg::transport;
 using namespace std::chrono_literals;
-
-namespace {
-
-PtyPair make_pty() {
-  auto p = open_pty();
-  REQUIRE(p.ok());
-  return std::move(p).value();
-}
-
-}  // namespace
+using test::make_pty;
 
 TEST_CASE("pty: both ends close-on-exec, only the master non-blocking", "[transport][pty]") {
   auto pty = make_pty();

@@ -17,6 +17,7 @@
 using namespace lmcfg;
 using namespace lmcfg::transport;
 using namespace std::chrono_literals;
+using test::make_pty;
 
 namespace {
 
@@ -43,12 +44,6 @@ Bytes all_byte_values() {
   Bytes b;
   for (unsigned i = 0; i < 256; ++i) b.push_back(static_cast<std::uint8_t>(i));
   return b;
-}
-
-PtyPair make_pty() {
-  auto p = open_pty();
-  REQUIRE(p.ok());
-  return std::move(p).value();
 }
 
 }  // namespace
