@@ -34,8 +34,6 @@ ALLOWED = {
     # The simulated DeviceNet controller is the peer the master is tested against.
     "sim/devicenet_controller.cpp": ("tests/devicenet/test_master.cpp",
                                      "the peer of the DeviceNet master's tests"),
-    # Fleet runs read drives through the tools' link options: tested end to end.
-    "fleet/fleet.cpp": ("tests/tools/test_fleet_cli.cpp", "fleet backup/status/restore runs"),
 }
 
 # Pending: the layers whose test files other work is reorganising (ops, link,
