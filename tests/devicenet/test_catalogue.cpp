@@ -30,7 +30,7 @@ TEST_CASE("DeviceNet §5.2 Table 5-1: settings have their Set at Get + 1, live v
           "[devicenet][catalogue]") {
   // Table 5-1: "0x24 Get (Rise) Curve Number 0 to 63", "0x25 Set (Rise) Curve
   // Number"; "0x40 Get Minimal Position", "0x41 Set Minimal Position".
-  for (std::uint8_t get : {0x24, 0x26, 0x40}) {
+  for (std::uint8_t get : std::initializer_list<std::uint8_t>{0x24, 0x26, 0x40}) {
     INFO(int(get));
     const auto* c = devicenet::value_command(get);
     REQUIRE(c != nullptr);
