@@ -22,8 +22,8 @@ TEST_CASE("FdTransport: a read waits for the first byte, then drains what is the
           "[transport][fd]") {
   int fds[2];
   REQUIRE(::socketpair(AF_UNIX, SOCK_STREAM, 0, fds) == 0);
-  FdTransport a(UniqueFd(fds[0]), "socket a", 86.8);
-  FdTransport b(UniqueFd(fds[1]), "socket b");
+  FdTransport a(UniqueFd{fds[0]}, "socket a", 86.8);
+  FdTransport b(UniqueFd{fds[1]}, "socket b");
   CHECK(a.describe() == "socket a");
   CHECK(a.byte_time_us() == 86.8);
   CHECK(b.byte_time_us() == 0.0);
@@ -44,7 +44,7 @@ TEST_CASE("FdTransport: discard_input drops what arrived, later bytes still come
           "[transport][fd]") {
   int fds[2];
   REQUIRE(::pipe(fds) == 0);
-  FdTransport reader(UniqueFd(fds[0]), "pipe");
+  FdTransport reader(UniqueFd{fds[0]}, "pipe");
   UniqueFd writer(fds[1]);
   REQUIRE(::write(writer.get(), "\x01\x02\x03", 3) == 3);
   reader.discard_input();
@@ -60,7 +60,7 @@ TEST_CASE("FdTransport: end of file on a pipe and a closed socket peer are link_
   {
     int fds[2];
     REQUIRE(::pipe(fds) == 0);
-    FdTransport reader(UniqueFd(fds[0]), "pipe r");
+    FdTransport reader(UniqueFd{fds[0]}, "pipe r");
     ::close(fds[1]);
     auto r = reader.read_some(1000ms);
     REQUIRE_FALSE(r.ok());
@@ -70,7 +70,7 @@ TEST_CASE("FdTransport: end of file on a pipe and a closed socket peer are link_
   {
     int fds[2];
     REQUIRE(::socketpair(AF_UNIX, SOCK_STREAM, 0, fds) == 0);
-    FdTransport a(UniqueFd(fds[0]), "socket a");
+    FdTransport a(UniqueFd{fds[0]}, "socket a");
     ::close(fds[1]);
     // send(MSG_NOSIGNAL): the closed peer is an error, never SIGPIPE.
     auto w = a.write(Bytes{1});
