@@ -54,7 +54,7 @@ std::error_code make_comm_state_error(unsigned state_byte) noexcept;
 // classification of lmcfg errors. An error_code compares equal to each class it
 // belongs to (`e.code == ErrorClass::link_failure`), through the category's
 // equivalent(); the classes of every Errc and of the communication states are
-// listed in result.cpp (class_of) and checked by tests/common/test_error_class.cpp.
+// listed in result.cpp (class_of) and checked by tests/common/test_result.cpp.
 // The tools' exit codes follow the classes (tools/lmcfg/link_options.cpp).
 enum class ErrorClass {
   // The link failed (exit code 4): bad_answer or link_down.

@@ -4,7 +4,7 @@
 // bodies (Allocate, Release, Get/Set_Attribute_Single, error responses) and
 // the fragmentation of I/O data longer than 8 bytes. Seed 000 does not
 // describe this layer (it is the DeviceNet specification's); the golden
-// vectors in tests/devicenet/test_devicenet_messages.cpp come from vendors' published
+// vectors in tests/devicenet/test_messages.cpp come from vendors' published
 // DeviceNet manuals, cited there. docs/can.md.
 #include <cstdint>
 #include <optional>

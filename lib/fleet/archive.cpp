@@ -200,7 +200,11 @@ Result<std::vector<HistoryEntry>> Archive::history(
   Walk walk;
   if (git_revwalk_new(&walk.p, repo_) != 0 || git_revwalk_push_head(walk.p) != 0)
     return git_failure(Errc::file_error, where);
-  git_revwalk_sorting(walk.p, GIT_SORT_TIME);
+  // Newest first as git log --date-order: commit times have one-second
+  // resolution, and a time sort alone leaves the commits of one second (a
+  // backup and the restore record after it) in any order; topological order
+  // puts each child before its parent.
+  git_revwalk_sorting(walk.p, GIT_SORT_TOPOLOGICAL | GIT_SORT_TIME);
   git_oid id;
   while (out.size() < limit && git_revwalk_next(&id, walk.p) == 0) {
     Commit c;

@@ -5,23 +5,12 @@
 
 #include "client/client.hpp"
 #include "common/layers.hpp"
-#include "scripted_transport.hpp"
+#include "manual_client.hpp"
 
 using namespace lmcfg;
 using namespace lmcfg::client;
 
-namespace {
-struct Fixture {
-  test::ScriptedTransport link;
-  Client client{link, ClientOptions{}};
-  explicit Fixture(int from, int to) { link.steps = test::manual_steps(from, to); }
-  void done() {
-    CHECK(link.mismatches.empty());
-    for (auto& m : link.mismatches) UNSCOPED_INFO(m);
-    CHECK(link.steps.empty());
-  }
-};
-}  // namespace
+using Fixture = test::ManualClient;
 
 TEST_CASE("seed003 §9.1 read RAM value of 13A2h", "[client][golden]") {
   Fixture f(756, 758);
@@ -43,66 +32,9 @@ TEST_CASE("seed003 §10.1 ROM read/write, type, min, max, default of 13A2h", "[c
   f.done();
 }
 
-TEST_CASE("seed003 §10.2 modified list of the Intf layer ends with C6 carrying 20C7h",
-          "[client][golden]") {
-  Fixture f(991, 1002);
-  auto list = f.client.modified_list(lmcfg::layers::kIntf);
-  REQUIRE(list.ok());
-  std::vector<ModifiedParam> want{
-      {0x200E, 2}, {0x2012, 8}, {0x206C, 3}, {0x2076, 0x11}, {0x20C7, 1}};
-  CHECK(*list == want);
-  f.done();
-}
-
-TEST_CASE("seed003 §10.3 UPID list: the C6 answer repeats 2137h and counts once",
-          "[client][golden]") {
-  Fixture f(1057, 1067);
-  auto list = f.client.upid_list(lmcfg::layers::kIntf);
-  REQUIRE(list.ok());
-  std::vector<UpidInfo> want{
-      {0x2008, 0x000D, 0x0A}, {0x2136, 0x1001, 0x03}, {0x2137, 0x1001, 0x03}};
-  CHECK(*list == want);
-  f.done();
-}
-
 TEST_CASE("seed003 §10.4 defaulting each layer", "[client][golden]") {
   Fixture f(1079, 1101);
   for (int layer = 1; layer <= 4; ++layer) CHECK(f.client.default_layer(layer).ok());
-  f.done();
-}
-
-TEST_CASE("seed003 §11.1 read curve 1 sizes and info block (SinRise)", "[client][golden]") {
-  Fixture f(1245, 1321);  // the data-block transcript's first answer is truncated in the manual
-  auto sizes = f.client.curve_sizes(1);
-  REQUIRE(sizes.ok());
-  REQUIRE(sizes->has_value());
-  CHECK((*sizes)->info == 0x46);
-  CHECK((*sizes)->data == 0x54);
-  auto info = f.client.read_curve_info(1, 0x46);
-  INFO((info.ok() ? std::string() : info.error().message));
-  REQUIRE(info.ok());
-  CHECK(info->size() == 70);
-  CHECK(to_hex(ByteView(*info).first(16)) == "46 00 03 00 15 00 04 00 53 69 6E 52 69 73 65 00");
-  CHECK(get_u32le(*info, 32) == 100000);
-  f.done();
-}
-
-TEST_CASE("seed003 §12 defined-entry list: entries 1, 2, 4, 5, 6", "[client][golden]") {
-  Fixture f(1669, 1684);
-  auto entries = f.client.ct_defined_entries();
-  REQUIRE(entries.ok());
-  CHECK(*entries == std::vector<std::uint16_t>{1, 2, 4, 5, 6});
-  f.done();
-}
-
-TEST_CASE("seed003 §12.1 read command table entry 2", "[client][golden]") {
-  Fixture f(1688, 1722);
-  auto e = f.client.read_ct_entry(2);
-  REQUIRE(e.ok());
-  CHECK(to_hex(*e) ==
-        "01 A7 FF FF 00 01 40 42 0F 00 20 A1 07 00 40 0D 03 00 40 0D 03 00 00 00 00 00 00 00 00 00 "
-        "00 00 00 00 00 "
-        "00 00 00 55 6E 6E 61 6D 65 64 00 00 00 00 00 00 00 00 00 FF FF FF FF FF FF FF FF FF FF");
   f.done();
 }
 

@@ -36,43 +36,6 @@ struct TempDir {
 };
 }  // namespace
 
-TEST_CASE("config: atomic write creates and replaces files", "[config]") {
-  TempDir d;
-  const auto f = d.path / "out.json";
-  REQUIRE(write_file_atomic(f, "one").ok());
-  CHECK(slurp(f) == "one");
-  REQUIRE(write_file_atomic(f, "two, longer").ok());
-  CHECK(slurp(f) == "two, longer");
-  CHECK(d.entries() == 1);  // no temporary left behind
-  fs::permissions(f, fs::perms::owner_read | fs::perms::owner_write | fs::perms::group_read);
-  REQUIRE(write_file_atomic(f, "three").ok());
-  CHECK((fs::status(f).permissions() & fs::perms::all) ==
-        (fs::perms::owner_read | fs::perms::owner_write | fs::perms::group_read));
-}
-
-TEST_CASE("config: atomic write failures leave existing files untouched", "[config]") {
-  TempDir d;
-  auto r = write_file_atomic(d.path, "x");
-  REQUIRE_FALSE(r.ok());
-  CHECK(r.error().code == make_error_code(Errc::file_error));
-  CHECK(r.error().message == d.path.string() + ": is a directory; expected a file path");
-
-  const auto f = d.path / "keep.json";
-  spit(f, "original");
-  auto bad = write_file_atomic(f / "child.json", "x");  // parent is a file
-  REQUIRE_FALSE(bad.ok());
-  CHECK(bad.error().message.find("cannot create a temporary file") != std::string::npos);
-  auto missing = write_file_atomic(d.path / "no" / "such" / "dir.json", "x");
-  REQUIRE_FALSE(missing.ok());
-
-  // An invalid model is refused before anything is written.
-  auto cfg = golden_sinrise();
-  cfg.ct_entries.push_back(CtEntry{2, hex("00")});
-  REQUIRE_FALSE(write_config_file(cfg, f).ok());
-  CHECK(slurp(f) == "original");
-  CHECK(d.entries() == 1);
-}
-
 TEST_CASE("config: files round trip through write_config_file/read_config_file", "[config]") {
   TempDir d;
   for (const char* name : {"a.json", "a.xml"}) {

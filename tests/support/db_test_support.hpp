@@ -1,11 +1,12 @@
 #pragma once
-// Shared helpers of the tests/db/test_db_*.cpp files.
+// Shared helpers of the tests/db/ test files.
 #include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
 #include <string>
 
+#include "common/bytes.hpp"
 #include "db/compiler.hpp"
 #include "db/database.hpp"
 
@@ -37,6 +38,17 @@ inline const Database& fixture_db() {
     return std::move(r).value();
   }();
   return db;
+}
+
+// LinRS §12.1, command table entry 2 (64 bytes).
+inline Bytes seed_ct_entry() {
+  Bytes b = *from_hex("01 A7 FF FF 00 01 40 42 0F 00 20 A1 07 00 40 0D 03 00 40 0D 03 00");
+  b.insert(b.end(), 16, 0x00);
+  Bytes name = *from_hex("55 6E 6E 61 6D 65 64 00");
+  b.insert(b.end(), name.begin(), name.end());
+  b.insert(b.end(), 8, 0x00);
+  b.insert(b.end(), 10, 0xFF);
+  return b;
 }
 
 }  // namespace lmcfg::db::test

@@ -3,6 +3,7 @@
 #include <catch2/catch.hpp>
 #include <chrono>
 
+#include "transport/pty.hpp"
 #include "transport/transport.hpp"
 
 namespace lmcfg::test {
@@ -18,6 +19,13 @@ inline Bytes read_n(transport::Transport& t, std::size_t want) {
     got.insert(got.end(), r->begin(), r->end());
   }
   return got;
+}
+
+// A fresh pseudo-terminal pair (transport::open_pty), required to open.
+inline transport::PtyPair make_pty() {
+  auto p = transport::open_pty();
+  REQUIRE(p.ok());
+  return std::move(p).value();
 }
 
 }  // namespace lmcfg::test

@@ -1,6 +1,6 @@
-// The DeviceNet controllers' polled I/O (lib/devicenet, DeviceNet §5.1 and
-// §5.2): command words, status words, the toggle rule, the module layouts of
-// the seed's two examples, the coded errors.
+// The DeviceNet controllers' polled I/O (lib/devicenet/command.cpp, DeviceNet
+// §5.1 and §5.2): command words, status words, the toggle rule, the module
+// layouts of the seed's two examples, the coded errors.
 #include <catch2/catch.hpp>
 
 #include "devicenet/catalogue.hpp"
@@ -140,20 +140,4 @@ TEST_CASE("seed000 §5.2 Get Coded Error: the application errors' texts", "[devi
   CHECK(devicenet::coded_error_text(0x8112) == "Drive not in serial mode");
   CHECK(devicenet::coded_error_text(0x8148) == "CAN BOFF error");
   CHECK(devicenet::coded_error_text(0x0001).empty());
-}
-
-TEST_CASE("devicenet: frames' meaning for --trace (polls decoded with the layout, services named)",
-          "[devicenet]") {
-  const devicenet::IoLayout l;  // the default: 6 bytes out, 8 in
-  CHECK(devicenet::describe_frame(can::Frame::standard(0x42D, Bytes{0, 0, 0x8A, 0x10, 0x34, 0x12}),
-                                  l) ==
-        "Group 2 MAC 05h master's I/O poll command: command 0Ah motor A toggle 1 value 1234h");
-  CHECK(devicenet::describe_frame(
-            can::Frame::standard(0x3C5, Bytes{0x43, 0, 0x80, 0, 0x0A, 0, 0x11, 0x81}), l) ==
-        "Group 1 MAC 05h slave's I/O poll response (Fh): status 0043h 0080h, echo command 0Ah "
-        "toggle 0 value 8111h");
-  CHECK(
-      devicenet::describe_frame(can::Frame::standard(0x42E, Bytes{0x3E, 0x4B, 3, 1, 3, 0x3E}), l) ==
-      "Group 2 MAC 05h unconnected explicit request: Allocate_Master/Slave_Connection_Set "
-      "request 03 01 03 3E");
 }

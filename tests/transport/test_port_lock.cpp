@@ -15,19 +15,15 @@
 #include "files.hpp"
 #include "transport/pty.hpp"
 #include "transport/transport.hpp"
+#include "transport_test_support.hpp"
 
 using namespace lmcfg;
 using namespace lmcfg::transport;
 using namespace std::chrono_literals;
 namespace fs = std::filesystem;
+using test::make_pty;
 
 namespace {
-
-PtyPair make_pty() {
-  auto p = open_pty();
-  REQUIRE(p.ok());
-  return std::move(p).value();
-}
 
 SerialSettings line(const std::string& device) { return {device, 57600, Parity::none, 1}; }
 

@@ -17,6 +17,7 @@
 using namespace lmcfg;
 using namespace lmcfg::transport;
 using namespace std::chrono_literals;
+using test::make_pty;
 
 namespace {
 
@@ -45,24 +46,7 @@ Bytes all_byte_values() {
   return b;
 }
 
-PtyPair make_pty() {
-  auto p = open_pty();
-  REQUIRE(p.ok());
-  return std::move(p).value();
-}
-
 }  // namespace
-
-TEST_CASE("open_pty gives a raw master and a named slave", "[transport]") {
-  auto pty = make_pty();
-  CHECK(pty.master.valid());
-  CHECK(pty.slave.valid());
-  CHECK(pty.slave_path.rfind("/dev/pts/", 0) == 0);
-  termios t{};
-  REQUIRE(::tcgetattr(pty.slave.get(), &t) == 0);
-  CHECK((t.c_lflag & (ICANON | ECHO | ISIG)) == 0);
-  CHECK((t.c_oflag & OPOST) == 0);
-}
 
 TEST_CASE("serial settings are applied to the terminal", "[transport]") {
   auto pty = make_pty();
@@ -199,25 +183,6 @@ TEST_CASE("closing the pty master ends the serial link without a hang", "[transp
   CHECK((w.error().code == Errc::link_closed || w.error().code == Errc::io_error));
 }
 
-TEST_CASE("pty master sees link_closed once no slave is open", "[transport]") {
-  auto pty = make_pty();
-  FdTransport master(std::move(pty.master), "pty master");
-  {
-    auto serial = open_serial({pty.slave_path, 57600, Parity::none, 1});
-    REQUIRE(serial.ok());
-    pty.slave.reset();  // the serial transport is the only slave now
-    auto r = master.read_some(50ms);
-    REQUIRE(r.ok());
-    CHECK(r->empty());
-  }
-  const auto t0 = Clock::now();
-  auto r = master.read_some(3000ms);
-  CHECK(Clock::now() - t0 < 1500ms);
-  REQUIRE_FALSE(r.ok());
-  CHECK(r.error().code == Errc::link_closed);
-  CHECK(r.error().message.rfind("pty master: ", 0) == 0);
-}
-
 TEST_CASE("serial settings validation messages", "[transport]") {
   SerialSettings s{"/dev/ttyUSB0", 57600, Parity::none, 1};
   CHECK(validate(s).ok());
@@ -280,25 +245,6 @@ TEST_CASE("bits per byte and settings text", "[transport]") {
   CHECK(format_settings({"x", 57600, Parity::none, 1}) == "57600 8N1");
   CHECK(format_settings({"x", 19200, Parity::even, 2}) == "19200 8E2");
   CHECK(format_settings({"x", 4800, Parity::odd, 1}) == "4800 8O1");
-}
-
-TEST_CASE("FdTransport write times out when nobody reads", "[transport]") {
-  auto pty = make_pty();
-  FdTransport master(std::move(pty.master), "pty master");
-  master.set_write_timeout(200ms);
-  const Bytes block(4096, 0x55);
-  bool timed_out = false;
-  const auto t0 = Clock::now();
-  for (int i = 0; i < 256 && !timed_out; ++i) {  // the pty buffer is far below 1 MiB
-    auto w = master.write(block);
-    if (!w.ok()) {
-      CHECK(w.error().code == Errc::timeout);
-      CHECK(w.error().message.rfind("pty master: write timed out after 200 ms", 0) == 0);
-      timed_out = true;
-    }
-  }
-  CHECK(timed_out);
-  CHECK(Clock::now() - t0 < 5s);
 }
 
 TEST_CASE("low latency: a pty has no TIOCSSERIAL, the open degrades gracefully",

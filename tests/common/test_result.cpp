@@ -1,6 +1,7 @@
-// One error classification (common/result.hpp, ErrorClass): every code's
-// class, and the comparisons the client, the tools' exit codes, db scan and
-// the tests make with it.
+// Errors (lib/common/result.cpp): the codes' and LinRS communication states'
+// texts, and the one error classification (ErrorClass): every code's class,
+// and the comparisons the client, the tools' exit codes, db scan and the tests
+// make with it.
 #include <catch2/catch.hpp>
 #include <map>
 #include <system_error>
@@ -73,9 +74,9 @@ TEST_CASE("error class: communication states and foreign codes", "[error_class]"
 }
 
 TEST_CASE("error class: the client repeats only lost or garbled answers", "[error_class]") {
-  // The classifiers that used to be written out: the client's retry set
-  // (bad_answer) leaves out link_closed and io_error, the tests' communication
-  // failure (link_failure) and the exit code 4 include them.
+  // One class per question: the client's retry set (bad_answer) leaves out
+  // link_closed and io_error, the tests' communication failure (link_failure)
+  // and the exit code 4 include them.
   CHECK(make_error_code(Errc::timeout) == ErrorClass::bad_answer);
   CHECK_FALSE(make_error_code(Errc::link_closed) == ErrorClass::bad_answer);
   CHECK_FALSE(make_error_code(Errc::io_error) == ErrorClass::bad_answer);
@@ -86,4 +87,39 @@ TEST_CASE("error class: the client repeats only lost or garbled answers", "[erro
   REQUIRE(r.ok());
   CHECK_FALSE(r->has_value());
   CHECK_FALSE(unless_refused(Result<int>(Error(Errc::timeout, "lost"))).ok());
+}
+
+TEST_CASE("LinRS §16.1 communication states: each documented state's text, others named raw",
+          "[error_class][result]") {
+  // LinRS §16.1: "C1h Checksum error", "C2h Message format error End of
+  // Telegram (04h) missing", "C3h Undefined Message Main ID", "C4h Undefined
+  // Message Sub ID", "C5h Wrong Baud Rate Defined With S1", "C8h Parameter
+  // Unknown UPID", "C9h Parameter Wrong Type".
+  CHECK(make_comm_state_error(0xC1).message() == "C1h checksum error");
+  CHECK(make_comm_state_error(0xC2).message() ==
+        "C2h message format error: end of telegram (04h) missing");
+  CHECK(make_comm_state_error(0xC3).message() == "C3h undefined message main ID");
+  CHECK(make_comm_state_error(0xC4).message() == "C4h undefined message sub ID");
+  CHECK(make_comm_state_error(0xC5).message() == "C5h wrong baud rate defined with S1");
+  CHECK(make_comm_state_error(0xC8).message() == "C8h parameter unknown UPID");
+  CHECK(make_comm_state_error(0xC9).message() == "C9h parameter wrong type");
+  CHECK(make_comm_state_error(0xC7).message() == "C7h undocumented communication state");
+  CHECK(std::string(make_comm_state_error(0xC8).category().name()) == "linrs-comm-state");
+  CHECK(make_comm_state_error(0xC8).value() == 0xC8);
+}
+
+TEST_CASE("result: lmcfg error codes say what went wrong", "[error_class][result]") {
+  CHECK(make_error_code(Errc::timeout).message() == "no answer before the deadline");
+  CHECK(make_error_code(Errc::checksum_mismatch).message() == "telegram checksum mismatch");
+  CHECK(make_error_code(Errc::not_supported).message() == "not supported by this link");
+  CHECK(std::string(make_error_code(Errc::timeout).category().name()) == "lmcfg");
+  Error e(Errc::file_error, "x.json: cannot open");
+  CHECK(e.code == make_error_code(Errc::file_error));
+  CHECK(e.message == "x.json: cannot open");
+  Result<int> ok(7);
+  REQUIRE(ok.ok());
+  CHECK(*ok == 7);
+  Result<int> bad(e);
+  REQUIRE_FALSE(bad.ok());
+  CHECK(bad.error().message == "x.json: cannot open");
 }

@@ -18,19 +18,9 @@
 using namespace lmcfg;
 using namespace lmcfg::db;
 using lmcfg::db::test::fixture_db;
+using lmcfg::db::test::seed_ct_entry;
 
 namespace {
-
-// LinRS §12.1, command table entry 2 (64 bytes).
-Bytes seed_ct_entry() {
-  Bytes b = *from_hex("01 A7 FF FF 00 01 40 42 0F 00 20 A1 07 00 40 0D 03 00 40 0D 03 00");
-  b.insert(b.end(), 16, 0x00);
-  Bytes name = *from_hex("55 6E 6E 61 6D 65 64 00");
-  b.insert(b.end(), name.begin(), name.end());
-  b.insert(b.end(), 8, 0x00);
-  b.insert(b.end(), 10, 0xFF);
-  return b;
-}
 
 // Every field of two parameter rows.
 bool same_parameter(const Parameter& a, const Parameter& b) {
@@ -188,44 +178,6 @@ TEST_CASE("motion command by header ignores the command count", "[db]") {
   REQUIRE(db.motion_command(0x0171));
   CHECK(db.motion_command(0x0171)->name == "VAI Stop");
   CHECK(db.motion_command(0x0200) == nullptr);
-}
-
-TEST_CASE("decode the seed 003 §12.1 command table entry", "[db]") {
-  const auto& db = fixture_db();
-  Bytes entry = seed_ct_entry();
-  REQUIRE(entry.size() == 64);
-  auto r = decode_ct_entry(db, entry);
-  REQUIRE(r);
-  const CtEntry& e = *r;
-  CHECK(e.word0 == 0xA701);
-  CHECK(e.link == 0xFFFF);
-  CHECK_FALSE(e.has_link());
-  CHECK(e.header == 0x0100);
-  CHECK(e.command_name == "VAI Go To Pos");
-  CHECK(e.name == "Unnamed");
-  REQUIRE(e.params.size() == 4);
-  CHECK(e.params[0].entry_offset == 6);
-  CHECK(e.params[0].raw == 1000000u);
-  CHECK(e.params[0].text == "100 mm");
-  CHECK(e.params[1].text == "0.5 m/s");
-  CHECK(e.raw == entry);
-  CHECK(e.summary() ==
-        "VAI Go To Pos, target 100 mm, max velocity 0.5 m/s, acceleration 2 m/s2, deceleration 2 "
-        "m/s2");
-
-  // Unknown command: not an error, no parameters.
-  Bytes unknown = entry;
-  unknown[5] = 0x7E;
-  auto u = decode_ct_entry(db, unknown);
-  REQUIRE(u);
-  CHECK(u->command == nullptr);
-  CHECK(u->summary() == "unknown motion command 7E00h");
-
-  auto short_entry = decode_ct_entry(db, ByteView(entry).first(40));
-  REQUIRE_FALSE(short_entry);
-  CHECK(short_entry.error().message == "command table entry has 40 bytes, expected 64");
-  CHECK(summary_label("Maximal Velocity") == "max velocity");
-  CHECK(summary_label("Position Increment") == "position increment");
 }
 
 TEST_CASE("the real built database: every row has provenance", "[db]") {

@@ -117,7 +117,7 @@ TEST_CASE("tcp echoes bytes over IPv6 loopback", "[transport]") {
     CHECK(read_n(**t, 7) == Bytes{0x01, 0x11, 0x05, 0x02, 0x00, 0x03, 0x04});
   }
   server.join();
-  auto bracketed = open_tcp("[::1]", l.port, 500ms);  // listener no longer accepts, but connects
+  auto bracketed = open_tcp("[::1]", l.port, 500ms);  // nobody accepts, the kernel still connects
   if (bracketed.ok()) CHECK((*bracketed)->describe() == "tcp [::1]:" + std::to_string(l.port));
 }
 
