@@ -293,10 +293,10 @@ DevicenetPlan plan_devicenet_restore(const config::DriveConfig& file,
       ++p.unchanged;
       continue;
     }
-    p.writes.push_back({v.motor, v.command, it->second, v.raw,
-                        name + ": " +
-                            devicenet_value_text(db, value_of(v.motor, v.command, it->second)) +
-                            " -> " + devicenet_value_text(db, v)});
+    const std::string from = devicenet_value_text(db, value_of(v.motor, v.command, it->second));
+    const std::string to = devicenet_value_text(db, v);
+    p.writes.push_back(
+        {v.motor, v.command, it->second, v.raw, name + ": " + from + " -> " + to, name, from, to});
   }
   return p;
 }

@@ -110,11 +110,16 @@ struct DevicenetWrite {
   std::uint8_t get = 0;  // the Set command sent is get + 1
   std::uint16_t from = 0, to = 0;
   std::string what;  // "motor A: Controller P (34h): 2.3438 A/mm (raw 1000) -> ..."
+  std::string name;  // "motor A: Controller P (34h)" (devicenet_value_name)
+  std::string from_display, to_display;  // "2.3438 A/mm (raw 1000)" (devicenet_value_text)
 };
 struct DevicenetPlan {
   std::vector<DevicenetWrite> writes;
   std::vector<std::string> problems;  // any: refused, nothing written
   std::size_t unchanged = 0;
+  // What the read of the controller before the plan skipped, and why ("not
+  // read: ..."); filled in by run_devicenet_restore (ops/devicenet_restore.hpp).
+  std::vector<std::string> notes;
   bool refused() const { return !problems.empty(); }
 };
 

@@ -6,6 +6,7 @@
 #include <optional>
 
 #include "ops/confirm.hpp"
+#include "ops/devicenet.hpp"
 #include "ops/relink.hpp"
 #include "ops/restore.hpp"
 #include "ops/session.hpp"
@@ -49,7 +50,10 @@ struct RestoreOutcome {
   // --skip-incompatible left values out (Plan::skipped_incompatible).
   bool skipped_any() const { return !plan.skipped_incompatible.empty(); }
   std::optional<UndoSaved> undo;  // the undo record saved before the first write
-  std::size_t set_commands = 0;   // a DeviceNet restore: the Set commands planned (`plan` is LinRS)
+  // A DeviceNet controller's restore (ops/devicenet_restore.hpp): its plan;
+  // `plan` stays empty (it is LinRS's). nullopt: a LinRS restore.
+  std::optional<DevicenetPlan> devicenet;
+  std::size_t set_commands = 0;  // a DeviceNet restore: the Set commands planned
 };
 
 RestoreOutcome run_restore(Session& session, const config::DriveConfig& file,

@@ -3,11 +3,13 @@
 // USB-CAN adapter takes) or on loopback TCP (slcan:tcp://), and another master
 // changing its values behind lmcfg's back.
 #include <catch2/catch.hpp>
+#include <filesystem>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "can/link.hpp"
+#include "config/config_io.hpp"
 #include "devicenet/master.hpp"
 #include "link/port.hpp"
 #include "subprocess.hpp"
@@ -62,6 +64,17 @@ inline void change_two_values(const DevicenetSim& sim) {
   REQUIRE(m.command({true, false, false, false}, 0x35, 2000).ok());  // Set Controller P, motor A
   REQUIRE(m.command({false, true, false, false}, 0x51, 5243).ok());  // Set Filter Max Speed, B
   REQUIRE(m.release().ok());
+}
+
+// A backup of `sim` in dir/ctl.json, and dir/bad.json: the same with motor B's
+// In Position Low Limit (48h) at 600, outside Table 5-1's "2 to 511".
+inline void backup_and_out_of_range(const DevicenetSim& sim, const std::filesystem::path& dir) {
+  REQUIRE(run_tool_in(dir, "backup " + sim.link() + " -q -o ctl.json").exit_code == 0);
+  auto file = config::read_config_file((dir / "ctl.json").string());
+  REQUIRE(file.ok());
+  for (auto& v : file->devicenet->values)
+    if (v.motor == 1 && v.command == 0x48) v.raw = 600;
+  REQUIRE(config::write_config_file(*file, (dir / "bad.json").string()).ok());
 }
 
 }  // namespace lmcfg::test

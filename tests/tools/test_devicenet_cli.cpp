@@ -186,12 +186,7 @@ TEST_CASE(
           "default: Control In + Addressed In, Status Out + Addressed Out), then run again\n");
   }
   DnSim sim;
-  REQUIRE(test::run_tool_in(dir, "backup " + sim.link() + " -q -o ctl.json").exit_code == 0);
-  auto file = config::read_config_file((dir / "ctl.json").string());
-  REQUIRE(file.ok());
-  for (auto& v : file->devicenet->values)
-    if (v.motor == 1 && v.command == 0x48) v.raw = 600;  // In Position Low Limit: 2 to 511
-  REQUIRE(config::write_config_file(*file, (dir / "bad.json").string()).ok());
+  test::backup_and_out_of_range(sim, dir);
   auto r = test::run_tool_in(dir, "restore bad.json --yes " + sim.link());
   CHECK(r.exit_code == 3);
   CHECK(r.err.find("restore plan for bad.json: REFUSED, nothing written:\n  problem: motor B: In "

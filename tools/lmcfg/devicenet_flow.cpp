@@ -9,7 +9,7 @@
 
 #include "command.hpp"
 #include "devicenet/catalogue.hpp"
-#include "ops/confirm.hpp"
+#include "ops/devicenet_restore.hpp"
 #include "ops/interrupt.hpp"
 
 namespace lmcfg::cli {
@@ -31,13 +31,6 @@ void print_notes(const CommonOptions& o, const char* command,
                  const std::vector<std::string>& notes) {
   if (o.quiet) return;
   for (const auto& n : notes) std::fprintf(stderr, "%s: %s\n", command, n.c_str());
-}
-
-// Every command polls until its echo shows up: a signal stops between two.
-Result<void> interrupted_check() {
-  if (ops::interrupt_flag().load())
-    return Error(Errc::interrupted, "interrupted: the connection was released");
-  return {};
 }
 
 }  // namespace
@@ -139,7 +132,7 @@ int restore_devicenet(const config::DriveConfig& file, const std::string& file_n
   const int code = restore_devicenet_on(**session, file, file_name, common, f, *read, db, out);
   if (code != kOk || !out.written) return code;
   if (auto c = (*session)->close(); !c.ok()) return fail("restore", c.error());
-  if (!common.quiet)
+  if (!common.quiet && !common.json)
     std::fprintf(stderr,
                  "restore: %zu Set command(s) sent, verified: the controller matches %s\n"
                  "restore: note: %s\n",
@@ -151,101 +144,33 @@ int restore_devicenet_on(ops::DevicenetSession& session, const config::DriveConf
                          const std::string& file_name, const CommonOptions& common,
                          const RestoreFlags& f, ops::DevicenetBackupOptions read,
                          const db::Database& db, ops::RestoreOutcome& out) {
-  using S = ops::RestoreOutcome::Stage;
-  auto failed = [&](const Error& e) {
-    out.stage = S::failed;
-    out.error = e;
-    return fail("restore", e);
+  RestoreTarget t;
+  t.noun = "controller";
+  t.question = "Write these values to DeviceNet MAC ID " + common.devicenet_macid + " on " +
+               common.port + "?";
+  t.macid = session.macid();
+  t.plan_with_yes = true;
+  ops::DevicenetRestoreRunOptions ro;
+  ro.read = std::move(read);
+  ro.dry_run = f.dry_run;
+  ro.progress = make_progress(common);
+  ro.cancel = &ops::interrupt_flag();
+  // The read's notes come before the plan, so a person sees what was not read
+  // before being asked.
+  bool notes_shown = false;
+  auto show_notes = [&](const ops::DevicenetPlan& p) {
+    if (!notes_shown) print_notes(common, "restore", p.notes);
+    notes_shown = true;
   };
-  auto& m = session.master();
-  std::vector<std::string> notes;
-  read.live = false;
-  read.notes = &notes;
-  auto current = ops::devicenet_backup(m, read, db);
-  print_notes(common, "restore", notes);
-  if (!current.ok()) return failed(current.error());
-  if (auto i = interrupted_check(); !i.ok()) return failed(i.error());
-  const auto plan = ops::plan_devicenet_restore(file, *current, db);
-  out.set_commands = plan.writes.size();
-  const std::string text = ops::render_devicenet_plan(plan, file_name);
-  if (plan.refused()) {
-    out.stage = S::plan_refused;
-    std::fputs(text.c_str(), stderr);
-    return kPlanRefused;
-  }
-  if (f.dry_run || plan.writes.empty()) {
-    out.stage = f.dry_run ? S::dry_run : S::nothing_to_do;
-    if (!common.quiet || f.dry_run) std::fputs(text.c_str(), stdout);
-    if (plan.writes.empty() && !common.quiet)
-      std::printf("nothing to do: the controller already matches %s\n", file_name.c_str());
-    return kOk;
-  }
-  // Printed with --yes too: the Set commands are few, and a log of a scripted
-  // restore should say what was written.
-  if (!common.quiet) std::fputs(text.c_str(), stdout);
-  std::fflush(stdout);
-  auto consent = ops::confirm("Write these values to DeviceNet MAC ID " + common.devicenet_macid +
-                                  " on " + common.port + "?",
-                              "restore " + file_name + " onto a controller", f.yes);
-  if (!consent.ok()) return failed(consent.error());
-  if (*consent == ops::Consent::declined) {
-    out.stage = S::declined;
-    std::fprintf(stderr, "cancelled; nothing written\n");
-    return kOk;
-  }
-  if (auto i = interrupted_check(); !i.ok()) return failed(i.error());
-  out.written = true;
-  auto mismatches = ops::execute_devicenet_plan(m, plan, file, db, make_progress(common));
+  ro.confirm = [&](const ops::DevicenetPlan& plan) {
+    end_progress(common);
+    show_notes(plan);
+    return confirm_restore(ops::render_devicenet_plan(plan, file_name), t, file_name, common, f);
+  };
+  out = ops::run_devicenet_restore(session, file, db, ro);
   end_progress(common);
-  {
-    // Recorded once the Set commands went out; the caller closes the session.
-    ops::JournalEntry e;
-    e.audit = audit_of(f.audit);
-    e.command = "restore";
-    e.port = common.port;
-    e.macid = session.macid();
-    e.file = file_name;
-    for (const auto& w : plan.writes)
-      e.steps.push_back({{"step", e.steps.size() + 1},
-                         {"action", "devicenet_set"},
-                         {"motor", w.motor == config::kDevicenetController
-                                       ? std::string("controller")
-                                       : std::string(1, static_cast<char>('A' + w.motor))},
-                         {"command", hex(w.get + 1u, 2, "h")},
-                         {"old", w.from},
-                         {"new", w.to},
-                         {"text", w.what}});
-    const Error* error = !mismatches.ok() ? &mismatches.error() : nullptr;
-    if (error) {
-      e.outcome = "failed";
-      e.exit_code = exit_code_for(*error);
-      e.error = error->message;
-    } else if (!mismatches->empty()) {
-      e.outcome = "verify mismatch";
-      e.exit_code = kVerifyMismatch;
-      for (const auto& s : *mismatches) e.error += (e.error.empty() ? "" : "; ") + s;
-    } else {
-      e.outcome = "restored and verified";
-    }
-    record_in_journal("restore", std::move(e));
-  }
-  if (!mismatches.ok()) {
-    out.stage = S::failed;
-    out.error = mismatches.error();
-    std::fprintf(stderr, "lmcfg restore: the controller is partially restored: %s\n",
-                 mismatches.error().message.c_str());
-    return exit_code_for(mismatches.error());
-  }
-  out.mismatches = *mismatches;
-  if (!mismatches->empty()) {
-    out.stage = S::verify_mismatch;
-    std::fprintf(stderr, "lmcfg restore: verification found %zu mismatch(es):\n",
-                 mismatches->size());
-    for (const auto& s : *mismatches) std::fprintf(stderr, "  %s\n", s.c_str());
-    return kVerifyMismatch;
-  }
-  out.stage = S::restored;
-  return kOk;
+  if (out.devicenet) show_notes(*out.devicenet);
+  return finish_restore(out, t, file_name, common, f);
 }
 
 }  // namespace lmcfg::cli

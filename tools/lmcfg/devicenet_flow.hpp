@@ -1,8 +1,8 @@
 #pragma once
 // The DeviceNet side of backup, diff and restore (seed 000 controllers behind
 // a CAN link): options to ops::DevicenetLinkOptions, the capture, and the
-// restore flow (plan, confirmation, Set commands, verification) with the same
-// exit codes as on LinRS. docs/devicenet.md.
+// restore through the flow LinRS restores take (restore_flow.hpp), with the
+// same exit codes and --json report. docs/devicenet.md.
 #include <string>
 #include <vector>
 
@@ -34,12 +34,14 @@ Result<void> check_devicenet_restore_flags(const RestoreFlags& f);
 // `lmcfg restore FILE` for a DeviceNet capture; the documented exit code.
 int restore_devicenet(const config::DriveConfig& file, const std::string& file_name,
                       const CommonOptions& common, const RestoreFlags& f, const db::Database& db);
-// The restore on an open connection (also `lmcfg fleet restore`): reads the
-// controller (`read`: its motors and module values), plans, prints the plan,
-// asks (--yes), sends the Set commands and verifies; `out` says how far it
-// went. common.port and common.devicenet_macid name the controller in the
-// question. The documented exit code; a verified restore prints no summary
-// (the caller does, once the connection is released).
+// The restore on an open connection (also `lmcfg fleet restore`):
+// ops::run_devicenet_restore (reads the controller, `read`: its motors and
+// module values; plans; sends the Set commands; reads back) inside the
+// shared flow of restore_flow.hpp (confirmation, text or --json report,
+// journal, exit code); `out` says how far it went. common.port and
+// common.devicenet_macid name the controller in the question. The documented
+// exit code; a verified restore prints no summary (the caller does, once the
+// connection is released).
 int restore_devicenet_on(ops::DevicenetSession& session, const config::DriveConfig& file,
                          const std::string& file_name, const CommonOptions& common,
                          const RestoreFlags& f, ops::DevicenetBackupOptions read,

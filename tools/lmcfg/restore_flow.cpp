@@ -1,15 +1,29 @@
-// The restore flow of `lmcfg restore` and `lmcfg fleet restore`.
+// The restore flow of `lmcfg restore`, `lmcfg undo` and `lmcfg fleet restore`,
+// for LinRS drives and DeviceNet controllers alike: the library runs the
+// protocol's plan, execute and verify; confirmation, the text or JSON report,
+// the journal record and the exit code are this file's, once for both.
 #include "restore_flow.hpp"
 
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
 #include "command.hpp"
+#include "ops/devicenet_restore.hpp"
 #include "ops/interrupt.hpp"
 #include "ops/recovery.hpp"
 
 namespace lmcfg::cli {
 namespace {
+
+// The plan for people and as items, of whichever protocol ran.
+std::string plan_text(const ops::RestoreOutcome& out, const std::string& file_name) {
+  return out.devicenet ? ops::render_devicenet_plan(*out.devicenet, file_name)
+                       : ops::render_plan(out.plan);
+}
+
+nlohmann::ordered_json plan_items(const ops::RestoreOutcome& out) {
+  return out.devicenet ? ops::devicenet_plan_json(*out.devicenet) : ops::plan_json(out.plan);
+}
 
 void report_json(const ops::RestoreOutcome& out, const std::string& file) {
   nlohmann::ordered_json j;
@@ -19,13 +33,179 @@ void report_json(const ops::RestoreOutcome& out, const std::string& file) {
     j["link_after"] = {{"changed", out.relink->changed},
                        {"summary", out.relink->summary},
                        {"reasons", out.relink->reasons}};
-  const auto plan = ops::plan_json(out.plan);  // alive while its items are copied
+  const auto plan = plan_items(out);  // alive while its items are copied
   for (const auto& [k, v] : plan.items()) j[k] = v;
   if (out.second_pass) j["second_pass"] = ops::plan_json(*out.second_pass)["steps"];
   j["mismatches"] = out.mismatches;
   if (out.undo) j["undo"] = undo_json(*out.undo);
   if (out.error) j["error"] = out.error->message;
   std::printf("%s\n", j.dump(2).c_str());
+}
+
+// The documented exit code of an outcome (README "Exit codes").
+int exit_code_of(const ops::RestoreOutcome& out) {
+  using S = ops::RestoreOutcome::Stage;
+  switch (out.stage) {
+    case S::failed:
+      return exit_code_for(*out.error);
+    case S::plan_refused:
+      return kPlanRefused;
+    case S::verify_mismatch:
+      return kVerifyMismatch;
+    case S::nothing_to_do:
+    case S::restored:
+      return out.skipped_any() ? kRestoredExcept : kOk;
+    case S::dry_run:
+    case S::declined:
+      return kOk;
+  }
+  return kOk;
+}
+
+void print_nothing_to_do(const ops::RestoreOutcome& out, const std::string& file_name,
+                         const CommonOptions& common) {
+  if (out.devicenet) {
+    if (!common.quiet)
+      std::printf("%snothing to do: the controller already matches %s\n",
+                  plan_text(out, file_name).c_str(), file_name.c_str());
+    return;
+  }
+  if (!common.quiet) {
+    for (const auto& s : out.plan.skipped) std::fprintf(stderr, "skip: %s\n", s.c_str());
+    std::printf("nothing to do: the drive already matches %s%s\n", file_name.c_str(),
+                out.skipped_any() ? " except the skipped values" : "");
+  }
+  std::fputs(ops::render_skipped_incompatible(out.plan).c_str(), stdout);
+}
+
+// LinRS: what the run did beside the steps, and the summary. A DeviceNet
+// restore's summary is its caller's, once the connection is released.
+void print_restored(const ops::RestoreOutcome& out, const std::string& file_name,
+                    const CommonOptions& common, const RestoreFlags& f,
+                    unsigned long long telegrams) {
+  if (out.devicenet) return;
+  if (!common.quiet) {
+    if (out.plan.link_may_change && f.no_reset)
+      std::fprintf(stderr,
+                   "restore: the restored communication parameters act after the next restart\n");
+    if (out.relink && out.relink->changed)
+      std::fprintf(stderr,
+                   "restore: the restored link settings are active: %s; use them from now on\n",
+                   out.relink->summary.c_str());
+    if (out.second_pass)
+      std::fprintf(stderr,
+                   "restore: after the restart a table differed from the file (its flash held "
+                   "another one): second pass, %zu step(s) (write, save to flash, start MC)\n",
+                   out.second_pass->steps.size());
+    std::fprintf(stderr,
+                 "restore: %zu step(s) done, verified: the drive matches %s%s (%llu telegrams)\n",
+                 out.plan.steps.size(), file_name.c_str(),
+                 out.skipped_any() ? " except the skipped values" : "", telegrams);
+  }
+  std::fputs(ops::render_skipped_incompatible(out.plan).c_str(), stdout);
+}
+
+// The outcome for people (without --json; an error also with it).
+void print_outcome(const ops::RestoreOutcome& out, const std::string& file_name,
+                   const CommonOptions& common, const RestoreFlags& f,
+                   unsigned long long telegrams) {
+  using S = ops::RestoreOutcome::Stage;
+  const bool text = !common.json;
+  switch (out.stage) {
+    case S::failed:
+      std::fprintf(stderr, "lmcfg restore: %s%s\n",
+                   out.devicenet && out.written ? "the controller is partially restored: " : "",
+                   out.error->message.c_str());
+      break;
+    case S::plan_refused:
+      if (text) std::fputs(plan_text(out, file_name).c_str(), stderr);
+      break;
+    case S::dry_run:
+      if (!text) break;
+      std::fputs(plan_text(out, file_name).c_str(), stdout);
+      if (out.devicenet && out.devicenet->writes.empty() && !common.quiet)
+        std::printf("nothing to do: the controller already matches %s\n", file_name.c_str());
+      break;
+    case S::declined:
+      std::fprintf(stderr, "cancelled; nothing written\n");
+      break;
+    case S::nothing_to_do:
+      if (text) print_nothing_to_do(out, file_name, common);
+      break;
+    case S::verify_mismatch:
+      if (!text) break;
+      std::fprintf(stderr, "lmcfg restore: verification found %zu mismatch(es)%s:\n",
+                   out.mismatches.size(),
+                   out.second_pass ? " after a second pass that wrote the tables again" : "");
+      for (const auto& m : out.mismatches) std::fprintf(stderr, "  %s\n", m.c_str());
+      break;
+    case S::restored:
+      if (text) print_restored(out, file_name, common, f, telegrams);
+      break;
+  }
+}
+
+// The steps as the journal records them: the report's; a DeviceNet Set
+// command's old and new as raw words (docs/audit.md).
+nlohmann::ordered_json journal_steps(const ops::RestoreOutcome& out) {
+  if (out.devicenet) {
+    auto steps = ops::devicenet_plan_json(*out.devicenet)["steps"];
+    for (auto& s : steps) {
+      s.erase("name");
+      s["old"] = nlohmann::ordered_json(s["old"]["raw"]);
+      s["new"] = nlohmann::ordered_json(s["new"]["raw"]);
+    }
+    return steps;
+  }
+  auto steps = ops::plan_json(out.plan)["steps"];
+  if (out.second_pass) {
+    // A named value: a range-for over a member of a temporary would read freed memory.
+    const auto second = ops::plan_json(*out.second_pass);
+    for (const auto& s : second["steps"]) steps.push_back(s);
+  }
+  return steps;
+}
+
+void record_restore(const ops::RestoreOutcome& out, int code, const RestoreTarget& t,
+                    const std::string& file_name, const CommonOptions& common,
+                    const RestoreFlags& f) {
+  ops::JournalEntry e;
+  e.audit = audit_of(f.audit);
+  e.command = f.undo_name;
+  e.port = common.port;
+  e.macid = t.macid;
+  e.position = f.position;
+  e.file = file_name;
+  e.steps = journal_steps(out);
+  e.outcome = ops::outcome_name(out);
+  e.exit_code = code;
+  if (out.error) e.error = out.error->message;
+  for (const auto& m : out.mismatches) e.error += (e.error.empty() ? "" : "; ") + m;
+  if (out.undo) e.undo = out.undo->path.string();
+  record_in_journal(f.undo_name == "fleet-restore" ? "fleet restore" : f.undo_name.c_str(),
+                    std::move(e));
+}
+
+// The LinRS run's options: the recovery record, the restore flags, the undo
+// record (none for a dry run).
+Result<ops::RestoreRunOptions> linrs_run_options(const CommonOptions& common, const RestoreFlags& f,
+                                                 const ops::RelinkOverrides& overrides,
+                                                 std::uint8_t id) {
+  ops::RestoreRunOptions ro;
+  LMCFG_ASSIGN_OR_RETURN(ro.restore.recovery_path, ops::recovery_path("restore", common.port, id));
+  ro.restore.port = common.port;
+  ro.restore.default_first = !f.no_default;
+  ro.restore.include_comm = f.include_comm;
+  ro.restore.reset_after = !f.no_reset;
+  ro.restore.skip_incompatible = f.skip_incompatible;
+  ro.restore.progress = make_progress(common);
+  ro.dry_run = f.dry_run;
+  ro.overrides = overrides;
+  if (!f.no_undo && !f.dry_run) {
+    LMCFG_ASSIGN_OR_RETURN(const auto dir, ops::undo_dir());
+    ro.undo = ops::UndoOptions{true, dir, common.port, id, f.undo_name, ops::kUndoKeep};
+  }
+  return ro;
 }
 
 }  // namespace
@@ -64,134 +244,49 @@ void add_restore_flags(CLI::App* sub, RestoreFlags& f) {
   add_audit_options(sub, f.audit);
 }
 
+Result<ops::Consent> confirm_restore(const std::string& plan, const RestoreTarget& t,
+                                     const std::string& file_name, const CommonOptions& common,
+                                     const RestoreFlags& f) {
+  end_progress(common);
+  // The plan goes to stderr when stdout carries the JSON report.
+  if (!f.yes || (t.plan_with_yes && !common.quiet && !common.json))
+    std::fputs(plan.c_str(), common.json ? stderr : stdout);
+  std::fflush(stdout);
+  return ops::confirm(t.question, "restore " + file_name + " onto a " + t.noun, f.yes);
+}
+
+int finish_restore(const ops::RestoreOutcome& out, const RestoreTarget& t,
+                   const std::string& file_name, const CommonOptions& common,
+                   const RestoreFlags& f) {
+  end_progress(common);
+  if (common.json) report_json(out, file_name);
+  if (out.undo) print_undo_saved(*out.undo, common);
+  print_outcome(out, file_name, common, f, t.telegrams ? t.telegrams() : 0);
+  const int code = exit_code_of(out);
+  if (out.written) record_restore(out, code, t, file_name, common, f);
+  return code;
+}
+
 int restore_on_session(ops::Session& session, const config::DriveConfig& file,
                        const std::string& file_name, const CommonOptions& common,
                        const RestoreFlags& f, const ops::RelinkOverrides& overrides,
                        const db::Database& db, ops::RestoreOutcome& out) {
-  using S = ops::RestoreOutcome::Stage;
   auto& client = session.client();
   auto copt = client.options();
   copt.cancel = &ops::interrupt_flag();
   client.set_options(copt);
-
-  ops::RestoreRunOptions ro;
-  auto record = ops::recovery_path("restore", common.port, copt.id);
-  if (!record.ok()) return fail("restore", record.error());
-  ro.restore.recovery_path = *record;
-  ro.restore.port = common.port;
-  ro.restore.default_first = !f.no_default;
-  ro.restore.include_comm = f.include_comm;
-  ro.restore.reset_after = !f.no_reset;
-  ro.restore.skip_incompatible = f.skip_incompatible;
-  ro.restore.progress = make_progress(common);
-  ro.dry_run = f.dry_run;
-  ro.overrides = overrides;
-  if (!f.no_undo && !f.dry_run) {
-    auto dir = ops::undo_dir();
-    if (!dir.ok()) return fail("restore", dir.error());
-    ro.undo = ops::UndoOptions{true, *dir, common.port, copt.id, f.undo_name, ops::kUndoKeep};
-  }
-  ro.confirm = [&](const ops::Plan& plan) {
-    end_progress(common);
-    // The plan goes to stderr when stdout carries the JSON report.
-    if (!f.yes) std::fputs(ops::render_plan(plan).c_str(), common.json ? stderr : stdout);
-    std::fflush(stdout);
-    return ops::confirm("Write this plan to drive " + common.id + " on " + common.port + "?",
-                        "restore " + file_name + " onto a drive", f.yes);
+  auto ro = linrs_run_options(common, f, overrides, copt.id);
+  if (!ro.ok()) return fail("restore", ro.error());
+  RestoreTarget t;
+  t.noun = "drive";
+  t.question = "Write this plan to drive " + common.id + " on " + common.port + "?";
+  t.macid = copt.id;
+  t.telegrams = [&client] { return static_cast<unsigned long long>(client.stats().requests); };
+  ro->confirm = [&](const ops::Plan& plan) {
+    return confirm_restore(ops::render_plan(plan), t, file_name, common, f);
   };
-  out = ops::run_restore(session, file, db, ro);
-  end_progress(common);
-  const bool text = !common.json;
-  if (common.json) report_json(out, file_name);
-  if (out.undo) print_undo_saved(*out.undo, common);
-  int code = kOk;
-  switch (out.stage) {
-    case S::failed:
-      code = exit_code_for(*out.error);
-      std::fprintf(stderr, "lmcfg restore: %s\n", out.error->message.c_str());
-      break;
-    case S::plan_refused:
-      if (text) std::fputs(ops::render_plan(out.plan).c_str(), stderr);
-      code = kPlanRefused;
-      break;
-    case S::dry_run:
-      if (text) std::fputs(ops::render_plan(out.plan).c_str(), stdout);
-      break;
-    case S::declined:
-      std::fprintf(stderr, "cancelled; nothing written\n");
-      break;
-    case S::nothing_to_do:
-      if (text && !common.quiet) {
-        for (const auto& s : out.plan.skipped) std::fprintf(stderr, "skip: %s\n", s.c_str());
-        if (out.skipped_any())
-          std::printf("nothing to do: the drive already matches %s except the skipped values\n",
-                      file_name.c_str());
-        else
-          std::printf("nothing to do: the drive already matches %s\n", file_name.c_str());
-      }
-      if (text) std::fputs(ops::render_skipped_incompatible(out.plan).c_str(), stdout);
-      if (out.skipped_any()) code = kRestoredExcept;
-      break;
-    case S::verify_mismatch:
-      if (text) {
-        std::fprintf(stderr, "lmcfg restore: verification found %zu mismatch(es)%s:\n",
-                     out.mismatches.size(),
-                     out.second_pass ? " after a second pass that wrote the tables again" : "");
-        for (const auto& m : out.mismatches) std::fprintf(stderr, "  %s\n", m.c_str());
-      }
-      code = kVerifyMismatch;
-      break;
-    case S::restored:
-      if (text && !common.quiet) {
-        if (out.plan.link_may_change && f.no_reset)
-          std::fprintf(stderr,
-                       "restore: the restored communication parameters act after the next "
-                       "restart\n");
-        if (out.relink && out.relink->changed)
-          std::fprintf(stderr,
-                       "restore: the restored link settings are active: %s; use them from now "
-                       "on\n",
-                       out.relink->summary.c_str());
-        if (out.second_pass)
-          std::fprintf(stderr,
-                       "restore: after the restart a table differed from the file (its flash "
-                       "held another one): second pass, %zu step(s) (write, save to flash, start "
-                       "MC)\n",
-                       out.second_pass->steps.size());
-        std::fprintf(stderr,
-                     "restore: %zu step(s) done, verified: the drive matches %s%s (%llu "
-                     "telegrams)\n",
-                     out.plan.steps.size(), file_name.c_str(),
-                     out.skipped_any() ? " except the skipped values" : "",
-                     static_cast<unsigned long long>(client.stats().requests));
-      }
-      if (text) std::fputs(ops::render_skipped_incompatible(out.plan).c_str(), stdout);
-      if (out.skipped_any()) code = kRestoredExcept;
-      break;
-  }
-  if (out.written) {
-    ops::JournalEntry e;
-    e.audit = audit_of(f.audit);
-    e.command = f.undo_name;
-    e.port = common.port;
-    e.macid = copt.id;
-    e.position = f.position;
-    e.file = file_name;
-    e.steps = ops::plan_json(out.plan)["steps"];
-    if (out.second_pass) {
-      // A named value: a range-for over a member of a temporary would read freed memory.
-      const auto second = ops::plan_json(*out.second_pass);
-      for (const auto& s : second["steps"]) e.steps.push_back(s);
-    }
-    e.outcome = ops::outcome_name(out);
-    e.exit_code = code;
-    if (out.error) e.error = out.error->message;
-    for (const auto& m : out.mismatches) e.error += (e.error.empty() ? "" : "; ") + m;
-    if (out.undo) e.undo = out.undo->path.string();
-    record_in_journal(f.undo_name == "fleet-restore" ? "fleet restore" : f.undo_name.c_str(),
-                      std::move(e));
-  }
-  return code;
+  out = ops::run_restore(session, file, db, *ro);
+  return finish_restore(out, t, file_name, common, f);
 }
 
 }  // namespace lmcfg::cli
