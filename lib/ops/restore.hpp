@@ -76,7 +76,7 @@ struct RestoreOptions {
   std::string port;  // for the record
 };
 
-// Why the plan writes a ROM value (PlanStep::why).
+// Why the plan writes a ROM value (PlanStep::reason).
 enum class WriteReason {
   differs,                 // the file's value differs from the target's
   leftover,                // modified on the target, not in the file: back to its default
@@ -109,11 +109,11 @@ struct PlanStep {
   std::uint32_t value = 0;  // ROM value
   std::string text;         // what a person reads in the plan
   // write_rom: the target's value before the write (nullopt: not known) and
-  // both values for people (scaled, with unit and label); `why` says where the
-  // write comes from.
+  // both values for people (scaled, with unit and label); `reason` says where
+  // the write comes from.
   std::optional<std::uint32_t> old_value;
   std::string old_display, new_display, name;
-  WriteReason why = WriteReason::differs;
+  WriteReason reason = WriteReason::differs;
 };
 
 // Why the target cannot take a value of the file (a firmware other than the

@@ -29,7 +29,7 @@ struct Write {
   config::Parameter p;
   std::optional<std::uint32_t> old;
   std::string old_note;  // " (default)" when `old` was inferred, not read
-  WriteReason why = WriteReason::differs;
+  WriteReason reason = WriteReason::differs;
 };
 
 // The plan under construction: its steps and their write telegrams.

@@ -411,11 +411,12 @@ void detail::Builder::add_write(int layer, const Write& w) {
   s.new_display = display_value(db, w.p.upid, w.p.value, w.p.type);
   s.old_display =
       w.old ? display_value(db, w.p.upid, *w.old, w.p.type) + w.old_note : std::string("?");
-  s.why = w.why;
-  s.text = "write ROM " + param_label(layer, w.p.upid, d, &w.p) + ": " + s.old_display + " -> " +
-           s.new_display +
-           (w.why == WriteReason::differs ? std::string()
-                                          : " (" + std::string(write_reason_text(w.why)) + ")");
+  s.reason = w.reason;
+  s.text =
+      "write ROM " + param_label(layer, w.p.upid, d, &w.p) + ": " + s.old_display + " -> " +
+      s.new_display +
+      (w.reason == WriteReason::differs ? std::string()
+                                        : " (" + std::string(write_reason_text(w.reason)) + ")");
   add(std::move(s), 1);
 }
 

@@ -133,7 +133,7 @@ nlohmann::ordered_json plan_json(const Plan& p) {
         else
           o["old"] = nullptr;
         o["new"] = {{"raw", s.value}, {"display", s.new_display}};
-        o["why"] = write_reason_text(s.why);
+        o["why"] = write_reason_text(s.reason);
         break;
       case PlanStep::Action::default_layer:
         o["layer"] = std::string(lmcfg::layers::name(s.layer));
