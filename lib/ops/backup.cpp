@@ -118,6 +118,38 @@ Result<void> describe_from_drive(client::Client& c, const db::Database& db, int 
 
 }  // namespace
 
+Result<std::vector<config::Curve>> read_curves(client::Client& c, std::uint16_t max_curve_id,
+                                               const Progress& progress, const std::string& phase) {
+  std::vector<config::Curve> out;
+  for (std::uint16_t id = 1; id <= max_curve_id; ++id) {
+    report(progress, phase, id, max_curve_id);
+    LMCFG_ASSIGN_OR_RETURN(auto read, c.read_curve(id));
+    if (read) out.push_back(config::Curve{id, std::move(read->info), std::move(read->data)});
+  }
+  return out;
+}
+
+Result<std::vector<config::CtEntry>> read_command_table(client::Client& c, const Progress& progress,
+                                                        const std::string& phase,
+                                                        std::vector<std::string>& notes) {
+  std::vector<config::CtEntry> out;
+  LMCFG_ASSIGN_OR_RETURN(auto entries, c.ct_defined_entries());
+  std::size_t n = 0;
+  for (auto e : entries) {
+    report(progress, phase, ++n, entries.size());
+    LMCFG_ASSIGN_OR_RETURN(auto raw, c.probe_ct_entry(e));
+    if (!raw) {
+      // Listed as defined, but the entry query says nothing is there.
+      notes.push_back("command table entry " + std::to_string(e) +
+                      ": listed as defined, but the drive answers its query with " +
+                      form_name(*c.probe_forms().empty_ct_entry) + ": left out");
+      continue;
+    }
+    out.push_back(config::CtEntry{e, std::move(*raw)});
+  }
+  return out;
+}
+
 config::DriveConfig new_capture(const client::Client& c, const db::Database& db) {
   config::DriveConfig cfg;
   char macid[8];
@@ -181,29 +213,11 @@ Result<config::DriveConfig> backup(client::Client& c, const BackupOptions& opt,
   if (opt.full) cfg.identity.upid_fingerprint = fingerprint(all_upids);
 
   if (opt.curves) {
-    for (std::uint16_t id = 1; id <= opt.max_curve_id; ++id) {
-      report(opt.progress, "curves", id, opt.max_curve_id);
-      auto read = c.read_curve(id);
-      if (!read.ok()) return std::move(read).error();
-      if (read.value())
-        cfg.curves.push_back(config::Curve{id, read.value()->info, read.value()->data});
-    }
+    LMCFG_ASSIGN_OR_RETURN(cfg.curves, read_curves(c, opt.max_curve_id, opt.progress, "curves"));
   }
   if (opt.command_table) {
-    LMCFG_ASSIGN_OR_RETURN(auto entries, c.ct_defined_entries());
-    std::size_t n = 0;
-    for (auto e : entries) {
-      report(opt.progress, "command table", ++n, entries.size());
-      LMCFG_ASSIGN_OR_RETURN(auto raw, c.probe_ct_entry(e));
-      if (!raw) {
-        // Listed as defined, but the entry query says nothing is there.
-        notes.push_back("command table entry " + std::to_string(e) +
-                        ": listed as defined, but the drive answers its query with " +
-                        form_name(*c.probe_forms().empty_ct_entry) + ": left out");
-        continue;
-      }
-      cfg.ct_entries.push_back(config::CtEntry{e, std::move(*raw)});
-    }
+    LMCFG_ASSIGN_OR_RETURN(cfg.ct_entries,
+                           read_command_table(c, opt.progress, "command table", notes));
   }
   if (opt.report) {
     auto& r = *opt.report;

@@ -56,6 +56,18 @@ struct BackupOptions {
 Result<config::DriveConfig> backup(client::Client& c, const BackupOptions& opt,
                                    const db::Database& db);
 
+// backup's readers, also used by verify (ops/restore.hpp), each reporting
+// progress under `phase`:
+// the curves of IDs 1..max_curve_id ("read sizes" probes each, §11: no message
+// lists curve IDs; the info and data blocks of those that exist);
+Result<std::vector<config::Curve>> read_curves(client::Client& c, std::uint16_t max_curve_id,
+                                               const Progress& progress, const std::string& phase);
+// every entry of the defined-entry list (§12); one listed as defined whose
+// query finds nothing is left out, with a sentence in `notes`.
+Result<std::vector<config::CtEntry>> read_command_table(client::Client& c, const Progress& progress,
+                                                        const std::string& phase,
+                                                        std::vector<std::string>& notes);
+
 // A capture of the drive behind `c` with its identity (MACID, capture time,
 // tool and database versions) and nothing in scope yet: what backup() and the
 // undo records (ops/undo.hpp) start from.

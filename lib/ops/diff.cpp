@@ -10,6 +10,7 @@
 #include "db/database.hpp"
 #include "db/value.hpp"
 #include "ops/backup.hpp"
+#include "ops/compare.hpp"
 #include "ops/devicenet.hpp"
 #include "ops/restore.hpp"
 
@@ -26,33 +27,6 @@ DiffItem make_item(DiffItem::Kind kind, std::string name, std::string a, std::st
   it.b = std::move(b);
   it.detail = std::move(detail);
   return it;
-}
-
-struct Effective {
-  enum class State { value, at_default, not_writable, unknown } state = State::unknown;
-  std::uint32_t value = 0;
-};
-
-// One capture's parameters of one layer, by UPID.
-using ByUpid = std::map<std::uint16_t, const config::Parameter*>;
-
-ByUpid by_upid(const config::DriveConfig& c, int layer) {
-  ByUpid m;
-  for (const auto& p : c.layer(layer)) m.emplace(p.upid, &p);
-  return m;
-}
-
-const config::Parameter* find_in(const ByUpid& m, std::uint16_t upid) {
-  auto it = m.find(upid);
-  return it == m.end() ? nullptr : it->second;
-}
-
-Effective effective(const config::DriveConfig& c, int layer, const ByUpid& params,
-                    std::uint16_t upid) {
-  if (!c.scope.layers[static_cast<std::size_t>(layer - 1)]) return {};
-  if (const auto* p = find_in(params, upid)) return {Effective::State::value, p->value};
-  if (c.scope.parameters == config::ParamSet::modified) return {Effective::State::at_default, 0};
-  return {Effective::State::not_writable, 0};
 }
 
 // Why a value cannot be what its side says it is ("" = valid): it does not fit
@@ -81,22 +55,21 @@ std::string raw_text(std::uint32_t v) {
   return buf;
 }
 
-std::string show(const Effective& e, const db::Database& db, std::uint16_t upid,
+std::string show(const ParamValue& v, const db::Database& db, std::uint16_t upid,
                  std::optional<std::uint32_t> def, std::optional<std::uint8_t> type,
                  const std::string& invalid) {
-  auto fmt = [&](std::uint32_t v) { return display_value(db, upid, v, type); };
-  switch (e.state) {
-    case Effective::State::value:
-      if (invalid.empty()) return fmt(e.value);
+  auto fmt = [&](std::uint32_t x) { return display_value(db, upid, x, type); };
+  switch (v.state) {
+    case ParamValue::State::value:
+      if (!v.value) return "not captured";
+      if (invalid.empty()) return fmt(*v.value);
       if (invalid.rfind("does not fit", 0) == 0 || invalid.rfind("type code", 0) == 0)
-        return raw_text(e.value) + " INVALID: " + invalid;
-      return fmt(e.value) + " INVALID: " + invalid;
-    case Effective::State::at_default:
+        return raw_text(*v.value) + " INVALID: " + invalid;
+      return fmt(*v.value) + " INVALID: " + invalid;
+    case ParamValue::State::at_default:
       return def ? "default " + fmt(*def) : "default";
-    case Effective::State::not_writable:
+    case ParamValue::State::not_writable:
       return "absent";
-    case Effective::State::unknown:
-      return "not captured";
   }
   return "";
 }
@@ -107,27 +80,6 @@ std::string type_text(std::optional<std::uint8_t> t) {
   return "type code " + std::to_string(*t);
 }
 
-// What the two captures record about one parameter (type, default, name).
-struct Recorded {
-  std::optional<std::uint8_t> type_a, type_b;
-  std::optional<std::uint32_t> default_value;
-  std::string name;
-};
-
-Recorded recorded(const ByUpid& a, const ByUpid& b, std::uint16_t upid) {
-  Recorded r;
-  const auto* pa = find_in(a, upid);
-  const auto* pb = find_in(b, upid);
-  if (pa) r.type_a = pa->type;
-  if (pb) r.type_b = pb->type;
-  for (const auto* p : {pa, pb}) {
-    if (!p) continue;
-    if (!r.default_value) r.default_value = p->default_value;
-    if (r.name.empty()) r.name = p->name;
-  }
-  return r;
-}
-
 std::string layer_list(const std::array<bool, lmcfg::layers::kCount>& layers) {
   std::string s;
   for (int l = 1; l <= lmcfg::layers::kCount; ++l)
@@ -136,10 +88,68 @@ std::string layer_list(const std::array<bool, lmcfg::layers::kCount>& layers) {
   return s.empty() ? "no layer" : s;
 }
 
+// A side's parameters of one layer for the comparison; without the
+// communication parameters when they are not compared (--ignore-unit).
+std::vector<config::Parameter> compared_params(const config::DriveConfig& c, int layer,
+                                               const db::Database& db, const DiffOptions& opt) {
+  std::vector<config::Parameter> out = c.layer(layer);
+  if (opt.ignore_unit)
+    std::erase_if(out, [&](const config::Parameter& p) { return is_comm_parameter(db, p.upid); });
+  return out;
+}
+
+// One parameter that differs (or both sides hold the same invalid value: a
+// note) as diff shows it.
+void add_parameter(const ParamRow& row, const db::Database& db, DiffResult& r) {
+  const std::uint16_t upid = row.upid;
+  const db::Parameter* d = db.find(upid);
+  const config::Parameter* pa = row.a.record;
+  const config::Parameter* pb = row.b.record;
+  const std::optional<std::uint8_t> rta = pa ? pa->type : std::nullopt;
+  const std::optional<std::uint8_t> rtb = pb ? pb->type : std::nullopt;
+  // Each side's value is shown and checked by its own recorded type (else the
+  // other side's, else the database's).
+  const auto ta = rta ? rta : rtb;
+  const auto tb = rtb ? rtb : rta;
+  const std::string bad_a = pa ? invalid_reason(d, ta, pa->value) : "";
+  const std::string bad_b = pb ? invalid_reason(d, tb, pb->value) : "";
+  std::string name = d && !d->name.empty() ? d->name : "";
+  for (const auto* p : {pa, pb})
+    if (name.empty() && p) name = p->name;
+  const auto def = row.def.value;
+  if (!row.differs()) {
+    if (!bad_a.empty())
+      r.notes.push_back(std::string(lmcfg::layers::name(row.layer)) + " " + hex(upid, 4, "h") +
+                        (name.empty() ? "" : " " + name) + ": both sides hold the invalid value " +
+                        show(row.a, db, upid, def, ta, bad_a));
+    return;
+  }
+  DiffItem it;
+  it.kind = DiffItem::Kind::parameter;
+  it.layer = row.layer;
+  it.key = upid;
+  it.name = name;
+  it.a = show(row.a, db, upid, def, ta, bad_a);
+  it.b = show(row.b, db, upid, def, tb, bad_b);
+  it.a_invalid = bad_a;
+  it.b_invalid = bad_b;
+  it.a_type = type_text(ta);
+  it.b_type = type_text(tb);
+  if (row.type_differs) it.detail = "type " + type_text(rta) + " -> " + type_text(rtb);
+  r.items.push_back(std::move(it));
+}
+
 void diff_parameters(const config::DriveConfig& a, const config::DriveConfig& b,
                      const db::Database& db, const DefaultLookup& defaults, const DiffOptions& opt,
                      DiffResult& r) {
   std::size_t from_files = 0, from_lookup = 0;
+  // Factory default: the rule (database, else a capture's record), else asked
+  // (the tools ask a connected drive, 05h 07h).
+  AskValue ask;
+  if (defaults)
+    ask = [&](std::uint16_t upid) -> Result<std::optional<std::uint32_t>> {
+      return defaults(upid);
+    };
   for (int layer = 1; layer <= 4; ++layer) {
     const bool in_a = a.scope.layers[static_cast<std::size_t>(layer - 1)];
     const bool in_b = b.scope.layers[static_cast<std::size_t>(layer - 1)];
@@ -157,70 +167,14 @@ void diff_parameters(const config::DriveConfig& a, const config::DriveConfig& b,
       continue;
     }
     if (!in_a) continue;
-    const ByUpid pa = by_upid(a, layer), pb = by_upid(b, layer);
-    std::set<std::uint16_t> upids;
-    for (const auto& [upid, p] : pa) upids.insert(upid);
-    for (const auto& [upid, p] : pb) upids.insert(upid);
-    for (auto upid : upids) {
-      const db::Parameter* d = db.find(upid);
-      if (opt.ignore_unit && is_comm_parameter(db, upid)) continue;
-      Effective ea = effective(a, layer, pa, upid), eb = effective(b, layer, pb, upid);
-      const Recorded rec = recorded(pa, pb, upid);
-      // Factory default: the database's, else the drive's own as a capture
-      // recorded it, else asked (the tools ask a connected drive, 05h 07h).
-      std::optional<std::uint32_t> def;
-      if (ea.state != eb.state) {
-        if (d && d->default_value) {
-          def = static_cast<std::uint32_t>(*d->default_value);
-        } else if (rec.default_value) {
-          def = rec.default_value;
-          ++from_files;
-        } else if (defaults) {
-          def = defaults(upid);
-          from_lookup += def ? 1 : 0;
-        }
-      }
-      auto resolve = [&](Effective& e) {
-        if (e.state == Effective::State::at_default && def) e = {Effective::State::value, *def};
-      };
-      Effective ra = ea, rb = eb;
-      resolve(ra);
-      resolve(rb);
-      // Each side's value is shown and checked by its own recorded type
-      // (else the other side's, else the database's).
-      const auto ta = rec.type_a ? rec.type_a : rec.type_b;
-      const auto tb = rec.type_b ? rec.type_b : rec.type_a;
-      const std::string bad_a =
-          ea.state == Effective::State::value ? invalid_reason(d, ta, ea.value) : "";
-      const std::string bad_b =
-          eb.state == Effective::State::value ? invalid_reason(d, tb, eb.value) : "";
-      const bool type_differs = rec.type_a && rec.type_b && *rec.type_a != *rec.type_b;
-      const bool same =
-          ra.state == rb.state && (ra.state != Effective::State::value || ra.value == rb.value);
-      const std::string name = d && !d->name.empty() ? d->name : rec.name;
-      if (same && !type_differs) {
-        if (!bad_a.empty())
-          r.notes.push_back(std::string(lmcfg::layers::name(layer)) + " " + hex(upid, 4, "h") +
-                            (name.empty() ? "" : " " + name) +
-                            ": both sides hold the invalid value " +
-                            show(ea, db, upid, def, ta, bad_a));
-        continue;
-      }
-      DiffItem it;
-      it.kind = DiffItem::Kind::parameter;
-      it.layer = layer;
-      it.key = upid;
-      it.name = name;
-      it.a = show(ea, db, upid, def, ta, bad_a);
-      it.b = show(eb, db, upid, def, tb, bad_b);
-      it.a_invalid = bad_a;
-      it.b_invalid = bad_b;
-      it.a_type = type_text(ta);
-      it.b_type = type_text(tb);
-      if (type_differs)
-        it.detail = "type " + type_text(rec.type_a) + " -> " + type_text(rec.type_b);
-      r.items.push_back(std::move(it));
-    }
+    const auto va = compared_params(a, layer, db, opt), vb = compared_params(b, layer, db, opt);
+    const ParamSide sa{&va, a.scope.parameters, Resolve::rule_then_ask, ask};
+    const ParamSide sb{&vb, b.scope.parameters, Resolve::rule_then_ask, ask};
+    // ask never fails: the lookup keeps its own errors.
+    const ParamCompare cmp = compare_parameters(layer, sa, sb, db).value();
+    from_files += cmp.defaults_recorded;
+    from_lookup += cmp.defaults_asked;
+    for (const auto& row : cmp.rows) add_parameter(row, db, r);
   }
   if (from_files)
     r.notes.push_back(std::to_string(from_files) +
@@ -290,16 +244,12 @@ void diff_curves(const config::DriveConfig& a, const config::DriveConfig& b, Dif
     return;
   }
   if (!a.scope.curves) return;
-  std::set<std::uint32_t> ids;
-  for (auto& c : a.curves) ids.insert(c.id);
-  for (auto& c : b.curves) ids.insert(c.id);
-  for (auto id : ids) {
-    const auto* ca = a.find_curve(id);
-    const auto* cb = b.find_curve(id);
-    if (ca && cb && *ca == *cb) continue;
+  for (const auto& row : compare_curves(a.curves, b.curves)) {
+    const auto* ca = row.a;
+    const auto* cb = row.b;
     DiffItem it;
     it.kind = DiffItem::Kind::curve;
-    it.key = id;
+    it.key = row.id;
     it.name = curve_label(ca ? *ca : *cb);
     it.a = ca ? curve_summary(*ca) : "absent";
     it.b = cb ? curve_summary(*cb) : "absent";
@@ -350,16 +300,12 @@ void diff_ct(const config::DriveConfig& a, const config::DriveConfig& b, const d
     return;
   }
   if (!a.scope.command_table) return;
-  std::set<std::uint32_t> ids;
-  for (auto& e : a.ct_entries) ids.insert(e.id);
-  for (auto& e : b.ct_entries) ids.insert(e.id);
-  for (auto id : ids) {
-    const auto* ea = a.find_ct_entry(id);
-    const auto* eb = b.find_ct_entry(id);
-    if (ea && eb && *ea == *eb) continue;
+  for (const auto& row : compare_ct_entries(a.ct_entries, b.ct_entries)) {
+    const auto* ea = row.a;
+    const auto* eb = row.b;
     DiffItem it;
     it.kind = DiffItem::Kind::ct_entry;
-    it.key = id;
+    it.key = row.id;
     it.name = config::ct_entry_name((ea ? ea : eb)->raw);
     it.a = ea ? ct_summary(db, *ea) : "absent";
     it.b = eb ? ct_summary(db, *eb) : "absent";

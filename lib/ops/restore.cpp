@@ -1,5 +1,7 @@
-// Restore: what the phases share. The phases live in restore_plan.cpp,
-// restore_execute.cpp, restore_verify.cpp and restore_render.cpp.
+// Restore: what the phases share. The phases live in restore_plan.cpp (with
+// restore_check.cpp and restore_tables.cpp), restore_execute.cpp,
+// restore_verify.cpp and restore_render.cpp; they compare through
+// ops/compare.hpp.
 #include "ops/restore.hpp"
 
 #include <cstdio>

@@ -1,7 +1,8 @@
 #pragma once
 // Restore (README) in three phases, one file each:
 //
-// plan_restore (restore_plan.cpp): reads only. Compares the target with the
+// plan_restore (restore_plan.cpp; the checks in restore_check.cpp, the tables
+// in restore_tables.cpp): reads only. Compares the target with the
 // file first (the target's modified list of each restored layer; a ROM read
 // for a file value the target may hold as its default; the target's curves and
 // command table entries), so only what differs is written. Every parameter it
@@ -26,8 +27,9 @@
 // interruption (Errc::interrupted) the error names the step and says the drive
 // is partially configured; running the same restore again converges.
 //
-// verify_restore (restore_verify.cpp): reads the target back and lists every
-// mismatch. render_plan / plan_json (restore_render.cpp): the plan for people
+// verify_restore (restore_verify.cpp): reads the written scope back with
+// backup's readers and lists every mismatch the comparison (ops/compare.hpp)
+// finds. render_plan / plan_json (restore_render.cpp): the plan for people
 // and as structured items (docs/restore.md).
 #include <array>
 #include <filesystem>
@@ -74,6 +76,17 @@ struct RestoreOptions {
   std::string port;  // for the record
 };
 
+// Why the plan writes a ROM value (PlanStep::reason).
+enum class WriteReason {
+  differs,                 // the file's value differs from the target's
+  leftover,                // modified on the target, not in the file: back to its default
+  again_after_defaulting,  // the target held the file's value before its layer is defaulted
+  kept_communication,      // the target's communication value, kept (without --include-comm)
+};
+// "differs", "leftover back to its default", "again after defaulting", "kept
+// communication value": the plan's text and `why` in plan_json.
+const char* write_reason_text(WriteReason r);
+
 struct PlanStep {
   enum class Action {
     stop_mc,
@@ -96,10 +109,11 @@ struct PlanStep {
   std::uint32_t value = 0;  // ROM value
   std::string text;         // what a person reads in the plan
   // write_rom: the target's value before the write (nullopt: not known) and
-  // both values for people (scaled, with unit and label); `why` says where the
-  // write comes from ("differs", "leftover", "kept communication value").
+  // both values for people (scaled, with unit and label); `reason` says where
+  // the write comes from.
   std::optional<std::uint32_t> old_value;
-  std::string old_display, new_display, name, why;
+  std::string old_display, new_display, name;
+  WriteReason reason = WriteReason::differs;
 };
 
 // Why the target cannot take a value of the file (a firmware other than the

@@ -15,7 +15,7 @@ Result<void> execute_plan(client::Client& c, const Plan& p, const RestoreOptions
     // flash saves it cannot see) and the communication values kept.
     RecoveryRecord rec{"restore", opt.port, c.options().id, utc_now(), {}, {}};
     for (const auto& s : p.steps)
-      if (s.action == Action::write_rom && s.why == "kept communication value")
+      if (s.action == Action::write_rom && s.reason == WriteReason::kept_communication)
         rec.keep.push_back({static_cast<std::uint16_t>(s.key), s.value});
     LMCFG_TRY(save_recovery(opt.recovery_path, rec));
   }

@@ -6,6 +6,7 @@
 #include "common/bytes.hpp"
 #include "common/layers.hpp"
 #include "db/database.hpp"
+#include "ops/compare.hpp"
 #include "ops/recovery.hpp"
 #include "ops/relink.hpp"
 #include "ops/restore.hpp"
@@ -15,246 +16,11 @@ namespace lmcfg::ops {
 
 using namespace detail;
 
-const char* reason_code(Incompatibility r) {
-  switch (r) {
-    case Incompatibility::upid_absent:
-      return "upid_absent";
-    case Incompatibility::type_differs:
-      return "type_differs";
-    case Incompatibility::out_of_range:
-      return "out_of_range";
-    case Incompatibility::not_rom_writable:
-      return "not_rom_writable";
-    case Incompatibility::curve_id_limit:
-      return "curve_id_limit";
-    case Incompatibility::curve_memory:
-      return "curve_memory";
-    case Incompatibility::ct_entry_id:
-      return "ct_entry_id";
-    case Incompatibility::ct_entry_size:
-      return "ct_entry_size";
-  }
-  return "?";
-}
-
 namespace {
 
 using Action = PlanStep::Action;
 
 bool is_comm(const db::Database& db, std::uint16_t upid) { return is_comm_parameter(db, upid); }
-
-bool refused(const Error& e) { return e.code == ErrorClass::drive_refusal; }
-
-std::string range_text(std::optional<std::int64_t> mn, std::optional<std::int64_t> mx) {
-  return (mn ? std::to_string(*mn) : std::string("?")) + ".." +
-         (mx ? std::to_string(*mx) : std::string("?"));
-}
-
-// A value of the file the target cannot take: a problem (its message as
-// `text`), or with skip_incompatible a skipped value.
-void incompatible(Plan& plan, const RestoreOptions& opt, SkippedValue v) {
-  if (opt.skip_incompatible)
-    plan.skipped_incompatible.push_back(std::move(v));
-  else
-    plan.problems.push_back(v.text);
-}
-
-SkippedValue skipped_value(SkippedValue::Kind kind, int layer, std::uint32_t key, std::string name,
-                           std::string label, Incompatibility reason, std::string why) {
-  SkippedValue v;
-  v.kind = kind;
-  v.layer = layer;
-  v.key = key;
-  v.name = std::move(name);
-  v.reason = reason;
-  v.text = std::move(label) + ": " + why;
-  v.why = std::move(why);
-  return v;
-}
-
-// Checks one parameter the restore will write against the target; appends
-// problems or incompatible values (and notes where the database disagrees
-// with the target). True when the target can take it. Link errors propagate.
-// `listed`: the target's UPID list of the layer (§10.3), read when the
-// database does not know every address usage; else the type is asked.
-Result<bool> check_parameter(client::Client& c, const db::Database& db, const RestoreOptions& opt,
-                             int layer, const config::Parameter& p,
-                             const std::map<std::uint16_t, client::UpidInfo>* listed, Plan& plan) {
-  const db::Parameter* d = db.find(p.upid);
-  const std::string label = param_label(layer, p.upid, d, &p);
-  auto cannot = [&](Incompatibility r, std::string why) {
-    incompatible(plan, opt,
-                 skipped_value(SkippedValue::Kind::parameter, layer, p.upid,
-                               param_name(p.upid, d, &p), label, r, std::move(why)));
-    return false;
-  };
-  std::uint16_t type = 0;
-  std::optional<db::AddressUsage> address_usage;
-  const char* au_source = "the UPID database's";
-  if (d) address_usage = d->address_usage;
-  if (listed) {
-    auto it = listed->find(p.upid);
-    if (it == listed->end()) {
-      return cannot(Incompatibility::upid_absent, "UPID does not exist on the target (not in its " +
-                                                      std::string(lmcfg::layers::name(layer)) +
-                                                      " UPID list, §10.3)");
-    }
-    type = it->second.type;
-    if (!address_usage) {
-      address_usage = db::AddressUsage{it->second.address_usage};
-      au_source = "the target's";
-    }
-  } else {
-    auto asked = c.get_type(p.upid);
-    if (!asked.ok()) {
-      if (asked.error().code == make_comm_state_error(0xC8)) {
-        return cannot(Incompatibility::upid_absent,
-                      "UPID does not exist on the target (type query answered C8h unknown UPID)");
-      }
-      if (refused(asked.error())) {
-        plan.problems.push_back(label +
-                                ": the target refused the type query: " + asked.error().message);
-        return false;
-      }
-      return std::move(asked).error();
-    }
-    type = *asked;
-  }
-  auto code = db::type_from_code(type);
-  if (!code) {
-    plan.problems.push_back(label + ": the target reports type code " + hex(type, 4, "h") +
-                            ", which seed 003 §10 does not define");
-    return false;
-  }
-  if (p.type && *p.type != type) {
-    return cannot(Incompatibility::type_differs,
-                  "type differs: the file has " +
-                      std::string(db::type_name(static_cast<db::TypeCode>(*p.type))) +
-                      ", the target has " + std::string(db::type_name(*code)));
-  }
-  if (d && d->spec.type && *d->spec.type != *code) {
-    plan.notes.push_back(label + ": the target's type " + std::string(db::type_name(*code)) +
-                         " differs from the UPID database's " +
-                         std::string(db::type_name(*d->spec.type)) + "; the target's applies");
-  }
-  if (address_usage && !address_usage->rom_write()) {
-    return cannot(Incompatibility::not_rom_writable,
-                  "read-only on the target (" + std::string(au_source) + " address usage " +
-                      hex(address_usage->raw, 4, "h") + " has no ROM write bit)");
-  }
-  auto value = db::field_integer(*code, p.value);
-  if (!value) {
-    return cannot(Incompatibility::out_of_range, "value " + hex(p.value, 4, "h") +
-                                                     " does not fit type " +
-                                                     std::string(db::type_name(*code)));
-  }
-  db::ValueSpec spec = d ? d->spec : db::ValueSpec{};
-  spec.type = *code;
-  if (!db::is_text_type(*code)) {
-    // The target's range is the truth (docs/restore.md): the database describes
-    // the firmware we know, the target may allow less (§10 05h 05h/06h).
-    auto mn = c.get_min(p.upid);
-    auto mx = mn.ok() ? c.get_max(p.upid) : Result<std::uint32_t>(mn.error());
-    if (!mn.ok() || !mx.ok()) {
-      Error e = !mn.ok() ? std::move(mn).error() : std::move(mx).error();
-      if (!refused(e)) return e;
-      plan.problems.push_back(label + ": the target refused the min/max query: " + e.message);
-      return false;
-    }
-    const auto tmin = db::field_integer(*code, *mn), tmax = db::field_integer(*code, *mx);
-    if (d && (d->spec.min || d->spec.max) && (d->spec.min != tmin || d->spec.max != tmax)) {
-      plan.notes.push_back(label + ": the target's range " + range_text(tmin, tmax) +
-                           " differs from the UPID database's " +
-                           range_text(d->spec.min, d->spec.max) + "; the target's applies");
-    }
-    spec.min = tmin;
-    spec.max = tmax;
-  }
-  if (auto r = db::check_range(spec, *value); !r.ok()) {
-    return cannot(Incompatibility::out_of_range,
-                  r.error().message + " (as the target reports it, §10 05h 05h/06h)");
-  }
-  return true;
-}
-
-// The file's curves and command table entries against the drive's limits.
-// Returns what the restore writes: the file, less (with skip_incompatible) the
-// curves and entries the target cannot take.
-config::DriveConfig check_tables(const config::DriveConfig& file, const RestoreOptions& opt,
-                                 Plan& plan) {
-  config::DriveConfig kept = file;
-  using Kind = SkippedValue::Kind;
-  auto cannot = [&](Kind kind, std::uint32_t id, std::string name, Incompatibility r,
-                    std::string why) {
-    const std::string label =
-        (kind == Kind::curve ? "curve " : "command table entry ") + std::to_string(id);
-    incompatible(plan, opt, skipped_value(kind, 0, id, std::move(name), label, r, std::move(why)));
-  };
-  if (file.scope.curves) {
-    if (file.curves.size() > opt.max_curve_id && !opt.skip_incompatible) {
-      plan.problems.push_back("the file holds " + std::to_string(file.curves.size()) +
-                              " curves; the drive stores at most " +
-                              std::to_string(opt.max_curve_id));
-    }
-    std::set<std::uint32_t> skip;
-    for (const auto& cv : file.curves) {
-      const std::string label = "curve " + std::to_string(cv.id);
-      if (cv.id < 1 || cv.id > opt.max_curve_id) {
-        cannot(Kind::curve, cv.id, curve_name(cv.info), Incompatibility::curve_id_limit,
-               "ID outside 1.." + std::to_string(opt.max_curve_id));
-        skip.insert(cv.id);
-      }
-      if (auto r = config::check_curve_blocks(cv); !r.ok())
-        plan.problems.push_back(label + ": " + r.error().message);
-      if (cv.info.size() > 0xFFFF || cv.data.size() > 0xFFFF) {
-        plan.problems.push_back(label +
-                                ": a block exceeds the 16-bit size field of §11 (65535 bytes)");
-      }
-    }
-    std::erase_if(kept.curves, [&](const config::Curve& cv) { return skip.count(cv.id) > 0; });
-    auto memory_of = [](const std::vector<config::Curve>& curves) {
-      std::size_t m = 0;
-      for (const auto& cv : curves) m += cv.info.size() + cv.data.size();
-      return m;
-    };
-    const std::size_t memory = memory_of(kept.curves);
-    if (memory > opt.curve_memory && !opt.skip_incompatible) {
-      plan.problems.push_back("curves need " + std::to_string(memory) +
-                              " bytes of curve memory; the drive has " +
-                              std::to_string(opt.curve_memory));
-    } else if (memory > opt.curve_memory) {
-      // Which curves to leave out is a choice: the highest IDs, until the rest fits.
-      std::sort(kept.curves.begin(), kept.curves.end(),
-                [](const config::Curve& x, const config::Curve& y) { return x.id < y.id; });
-      while (!kept.curves.empty() && memory_of(kept.curves) > opt.curve_memory) {
-        const config::Curve& last = kept.curves.back();
-        cannot(Kind::curve, last.id, curve_name(last.info), Incompatibility::curve_memory,
-               "the file's curves need " + std::to_string(memory) +
-                   " bytes of curve memory, the drive has " + std::to_string(opt.curve_memory) +
-                   "; left out from the highest ID down until the rest fits");
-        kept.curves.pop_back();
-      }
-    }
-  }
-  if (file.scope.command_table) {
-    std::set<std::uint32_t> skip;
-    for (const auto& e : file.ct_entries) {
-      if (e.id > config::kMaxCtEntryId) {
-        cannot(Kind::ct_entry, e.id, config::ct_entry_name(e.raw), Incompatibility::ct_entry_id,
-               "ID outside 0..255");
-        skip.insert(e.id);
-      }
-      if (e.raw.size() != opt.ct_entry_size) {
-        cannot(
-            Kind::ct_entry, e.id, config::ct_entry_name(e.raw), Incompatibility::ct_entry_size,
-            std::to_string(e.raw.size()) + " bytes, expected " + std::to_string(opt.ct_entry_size));
-        skip.insert(e.id);
-      }
-    }
-    std::erase_if(kept.ct_entries, [&](const config::CtEntry& e) { return skip.count(e.id) > 0; });
-  }
-  return kept;
-}
 
 // Communication parameters last: a restore interrupted before them leaves the
 // drive reachable with the settings it had. Among them, a value (2012h, 2076h)
@@ -282,8 +48,6 @@ void order_comm_writes_last(std::vector<PlanStep>& steps, std::size_t first,
                    [&](const PlanStep& a, const PlanStep& b) { return rank(a) < rank(b); });
 }
 
-std::size_t chunks(std::size_t n) { return (n + 3) / 4; }
-
 // Defaulting a layer: LinRS §10.4 "could be more than 1 s"; 1.2 s as modelled
 // by the simulator (docs/simulator.md). Only used to choose the cheaper way to
 // bring leftovers to their defaults.
@@ -295,157 +59,6 @@ double telegram_estimate_us(client::Client& c) {
   double bt = c.link().byte_time_us();
   if (bt <= 0.0) bt = 10.0 * 1e6 / 57600.0;
   return 23.0 * bt + 1000.0;
-}
-
-// One parameter the plan writes, with the target's value before.
-struct Write {
-  config::Parameter p;
-  std::optional<std::uint32_t> old;
-  std::string old_note;  // "(its default)" when `old` was inferred, not read
-  std::string why;
-};
-
-struct Builder {
-  client::Client& c;
-  const db::Database& db;
-  const RestoreOptions& opt;
-  Plan& plan;
-
-  void add(PlanStep s, std::size_t telegrams) {
-    plan.steps.push_back(std::move(s));
-    plan.write_telegrams += telegrams;
-  }
-  void add(Action a, std::uint32_t key, std::string text, std::size_t telegrams) {
-    PlanStep s;
-    s.action = a;
-    s.key = key;
-    s.text = std::move(text);
-    add(std::move(s), telegrams);
-  }
-  void add_write(int layer, const Write& w) {
-    const db::Parameter* d = db.find(w.p.upid);
-    PlanStep s;
-    s.action = Action::write_rom;
-    s.layer = layer;
-    s.key = w.p.upid;
-    s.value = w.p.value;
-    s.old_value = w.old;
-    s.name = param_name(w.p.upid, d, &w.p);
-    s.new_display = display_value(db, w.p.upid, w.p.value, w.p.type);
-    s.old_display =
-        w.old ? display_value(db, w.p.upid, *w.old, w.p.type) + w.old_note : std::string("?");
-    s.why = w.why;
-    s.text = "write ROM " + param_label(layer, w.p.upid, d, &w.p) + ": " + s.old_display + " -> " +
-             s.new_display + (w.why == "differs" ? std::string() : " (" + w.why + ")");
-    add(std::move(s), 1);
-  }
-};
-
-// The target's command table against the file's: entries that differ or are
-// missing are written, entries only on the target deleted, one flash save when
-// any is.
-Result<void> plan_command_table(Builder& b, const config::DriveConfig& file, bool force_save) {
-  LMCFG_ASSIGN_OR_RETURN(auto ids, b.c.ct_defined_entries());
-  std::map<std::uint32_t, Bytes> target;
-  std::size_t n = 0;
-  for (auto id : ids) {
-    if (b.opt.progress) b.opt.progress("plan: command table", ++n, ids.size());
-    LMCFG_ASSIGN_OR_RETURN(target[id], b.c.read_ct_entry(id));
-  }
-  b.plan.target.ct_entries = target;
-  std::vector<const config::CtEntry*> writes;
-  std::vector<std::uint32_t> deletes;
-  for (const auto& e : file.ct_entries) {
-    auto it = target.find(e.id);
-    if (it != target.end() && it->second == e.raw) continue;
-    if (it != target.end()) {
-      deletes.push_back(e.id);
-      b.plan.losses.push_back("command table entry " + std::to_string(e.id) + " '" +
-                              config::ct_entry_name(it->second) + "' replaced by the file's '" +
-                              config::ct_entry_name(e.raw) + "'");
-    }
-    writes.push_back(&e);
-  }
-  for (const auto& [id, raw] : target) {
-    if (file.find_ct_entry(id)) continue;
-    deletes.push_back(id);
-    b.plan.losses.push_back("command table entry " + std::to_string(id) + " '" +
-                            config::ct_entry_name(raw) + "' deleted (not in the file)");
-  }
-  if (writes.empty() && deletes.empty() && !force_save) return {};
-  std::sort(deletes.begin(), deletes.end());
-  for (auto id : deletes) {
-    b.add(Action::delete_ct, id,
-          "delete command table entry " + std::to_string(id) + " '" +
-              config::ct_entry_name(target[id]) + "' in RAM (§12 08h 02h)",
-          1);
-  }
-  for (const auto* e : writes) {
-    b.add(Action::write_ct, e->id,
-          "write command table entry " + std::to_string(e->id) + " '" +
-              config::ct_entry_name(e->raw) + "'",
-          1 + chunks(e->raw.size()));
-  }
-  b.add(Action::save_ct, 0,
-        "save the command table to flash (§12 08h 00h saves every entry; up to 10 s)", 1);
-  return {};
-}
-
-// The target's curves against the file's (IDs 1..max_curve_id): a curve is
-// compared by sizes, then info block, then data block, reading only as far as
-// needed; its name comes from the info block. Curves that differ are deleted
-// and written again, curves only on the target deleted, one flash save when
-// any is (§11 has per-curve delete and add, but saving always covers every
-// curve).
-Result<void> plan_curves(Builder& b, const config::DriveConfig& file, bool force_save) {
-  std::vector<const config::Curve*> writes;
-  std::vector<std::pair<std::uint32_t, std::string>> deletes;
-  auto& seen = b.plan.target.curves.emplace();
-  for (std::uint16_t id = 1; id <= b.opt.max_curve_id; ++id) {
-    if (b.opt.progress) b.opt.progress("plan: curves", id, b.opt.max_curve_id);
-    LMCFG_ASSIGN_OR_RETURN(auto sizes, b.c.curve_sizes(id));
-    const config::Curve* fc = file.find_curve(id);
-    if (!sizes) {
-      if (fc) writes.push_back(fc);
-      continue;
-    }
-    Bytes info;
-    if (sizes->info > 0) {
-      LMCFG_ASSIGN_OR_RETURN(info, b.c.read_curve_info(id, sizes->info));
-    }
-    bool same = false;
-    auto& s = seen.emplace_back(TargetSeen::CurveSeen{id, info, sizes->data, std::nullopt});
-    if (fc && fc->info == info && fc->data.size() == sizes->data) {
-      LMCFG_ASSIGN_OR_RETURN(auto data, b.c.read_curve_data(id, sizes->data));
-      same = data == fc->data;
-      s.data = std::move(data);
-    }
-    if (same) continue;
-    const std::string name = curve_name(info);
-    deletes.emplace_back(id, name);
-    if (fc) {
-      writes.push_back(fc);
-      b.plan.losses.push_back("curve " + std::to_string(id) + " '" + name +
-                              "' replaced by the file's '" + curve_name(fc->info) + "'");
-    } else {
-      b.plan.losses.push_back("curve " + std::to_string(id) + " '" + name +
-                              "' deleted (not in the file)");
-    }
-  }
-  if (writes.empty() && deletes.empty() && !force_save) return {};
-  for (const auto& [id, name] : deletes)
-    b.add(Action::delete_curve, id,
-          "delete curve " + std::to_string(id) + " '" + name + "' in RAM (§11 04h 02h)", 1);
-  for (const auto* cv : writes) {
-    b.add(Action::write_curve, cv->id,
-          "write curve " + std::to_string(cv->id) + " '" + curve_name(cv->info) + "'",
-          1 + chunks(cv->info.size()) + chunks(cv->data.size()));
-  }
-  b.add(Action::save_curves, 0,
-        "save curves to flash (§11 04h 00h saves every curve, there is no per-curve save; up to "
-        "10 s)",
-        1);
-  return {};
 }
 
 // Phase 0: what the target says about an earlier run. MC stopped (status word
@@ -497,51 +110,63 @@ struct CompareProgress {
   std::size_t total = 0, checked = 0;
 };
 
-// Phase 1a: compare first, what the target already holds is not written.
-// Sorts the file's parameters of the layer into skipped (communication),
-// same and writes; every restored one is expected afterwards.
-Result<void> compare_parameters(Builder& b, const config::DriveConfig& file, LayerWork& w,
-                                CompareProgress& progress) {
-  const db::Database& db = b.db;
-  const RestoreOptions& opt = b.opt;
-  const int layer = w.layer;
-  for (const auto& p : file.layer(layer)) {
-    const db::Parameter* d = db.find(p.upid);
-    if (is_comm(db, p.upid) && !opt.include_comm) {
+// The file's parameters of the layer that the restore writes: without the
+// communication parameters unless --include-comm (those are listed as skipped).
+std::vector<config::Parameter> restored_params(Builder& b, const config::DriveConfig& file,
+                                               LayerWork& w) {
+  std::vector<config::Parameter> out;
+  for (const auto& p : file.layer(w.layer)) {
+    if (is_comm(b.db, p.upid) && !b.opt.include_comm) {
       b.plan.skipped.push_back(
-          param_label(layer, p.upid, d, &p) +
+          param_label(w.layer, p.upid, b.db.find(p.upid), &p) +
           ": communication parameter, the target keeps its own value (use --include-comm)");
       continue;
     }
     w.restored.insert(p.upid);
     w.expected.push_back(p);
-    if (opt.progress)
-      opt.progress("plan: comparing parameters", ++progress.checked, progress.total);
-    if (auto it = w.on_target.find(p.upid); it != w.on_target.end()) {
-      if (it->second == p.value)
-        w.same.push_back(p);
-      else
-        w.writes.push_back(Write{p, it->second, "", "differs"});
+    out.push_back(p);
+  }
+  return out;
+}
+
+// Phase 1a: compare first, what the target already holds is not written.
+// Sorts the file's parameters of the layer into skipped (communication),
+// same and writes; every restored one is expected afterwards.
+Result<void> compare_parameters(Builder& b, const config::DriveConfig& file, LayerWork& w,
+                                CompareProgress& progress) {
+  const std::vector<config::Parameter> restored = restored_params(b, file, w);
+  std::vector<config::Parameter> listed;
+  for (const auto& m : w.target)
+    listed.push_back(config::Parameter{m.upid, m.value, std::nullopt, std::nullopt, {}, {}, {}});
+  // Not in the target's modified list: its ROM holds its default (§10.2). The
+  // default rule shows a difference; where it does not, the file's value may
+  // be the target's default: read it (05h 01h; a refusal: old value unknown,
+  // the checks will say why).
+  AskValue read_rom = [&](std::uint16_t upid) -> Result<std::optional<std::uint32_t>> {
+    auto rom = b.c.read_rom(upid);
+    if (rom.ok()) return std::optional<std::uint32_t>(*rom);
+    if (!refused(rom.error())) return std::move(rom).error();
+    return std::optional<std::uint32_t>();
+  };
+  const ParamSide target{&listed, config::ParamSet::modified, Resolve::rule_if_differs, read_rom};
+  const ParamSide in_file{&restored, config::ParamSet::modified, Resolve::none, {}};
+  auto visit = [&](std::uint16_t upid) {
+    if (b.opt.progress && w.restored.count(upid))
+      b.opt.progress("plan: comparing parameters", ++progress.checked, progress.total);
+  };
+  LMCFG_ASSIGN_OR_RETURN(const auto cmp,
+                         ops::compare_parameters(w.layer, target, in_file, b.db, visit));
+  for (const auto& row : cmp.rows) {
+    if (!row.b.record) continue;  // the target's alone: sort_target_values
+    const config::Parameter& p = *row.b.record;
+    const bool listed_on_target = row.a.state == ParamValue::State::value;
+    if (row.reason == Reason::same) {
+      if (listed_on_target) w.same.push_back(p);
       continue;
     }
-    // Not in the target's modified list: its ROM holds its default (§10.2).
-    std::optional<std::uint32_t> def;
-    if (d && d->default_value)
-      def = static_cast<std::uint32_t>(*d->default_value);
-    else if (p.default_value)
-      def = p.default_value;
-    if (def && *def != p.value) {
-      w.writes.push_back(Write{p, *def, " (default)", "differs"});
-      continue;
-    }
-    // The file's value may be the target's default: read it (05h 01h).
-    auto rom = b.c.read_rom(p.upid);
-    if (!rom.ok()) {
-      if (!refused(rom.error())) return std::move(rom).error();
-      w.writes.push_back(Write{p, std::nullopt, "", "differs"});  // the checks will say why
-      continue;
-    }
-    if (*rom != p.value) w.writes.push_back(Write{p, *rom, "", "differs"});
+    const bool inferred =
+        row.a.source == DefaultSource::database || row.a.source == DefaultSource::recorded;
+    w.writes.push_back(Write{p, row.a.value, inferred ? " (default)" : "", WriteReason::differs});
   }
   return {};
 }
@@ -575,7 +200,7 @@ void keep_recorded_values(const RecoveryRecord& rec, LayerWork& w) {
     if (listed != w.on_target.end() && listed->second == k.value)
       w.keep.push_back(kp);
     else
-      w.writes.push_back(Write{kp, std::nullopt, "", "kept communication value"});
+      w.writes.push_back(Write{kp, std::nullopt, "", WriteReason::kept_communication});
   }
 }
 
@@ -693,9 +318,9 @@ Result<bool> schedule_layer(Builder& b, const LayerWork& w, double tel_us) {
                            display_value(b.db, m->upid, m->value) + " goes back to its default");
     for (const auto& x : w.writes) b.add_write(w.layer, x);
     for (const auto& p : w.same)
-      b.add_write(w.layer, Write{p, std::nullopt, "", "again after defaulting"});
+      b.add_write(w.layer, Write{p, std::nullopt, "", WriteReason::again_after_defaulting});
     for (const auto& p : w.keep)
-      b.add_write(w.layer, Write{p, p.value, "", "kept communication value"});
+      b.add_write(w.layer, Write{p, p.value, "", WriteReason::kept_communication});
   } else {
     for (const auto& x : w.writes) b.add_write(w.layer, x);
     for (const auto* m : w.leftovers) {
@@ -708,7 +333,7 @@ Result<bool> schedule_layer(Builder& b, const LayerWork& w, double tel_us) {
         continue;
       }
       config::Parameter p{m->upid, *def, std::nullopt, std::nullopt, {}, {}, {}};
-      b.add_write(w.layer, Write{p, m->value, "", "leftover back to its default"});
+      b.add_write(w.layer, Write{p, m->value, "", WriteReason::leftover});
     }
   }
   order_comm_writes_last(plan.steps, first_step, w.expected, b.db);
@@ -773,6 +398,27 @@ void check_id_after_reset(Builder& b) {
 }
 
 }  // namespace
+
+void detail::Builder::add_write(int layer, const Write& w) {
+  const db::Parameter* d = db.find(w.p.upid);
+  PlanStep s;
+  s.action = Action::write_rom;
+  s.layer = layer;
+  s.key = w.p.upid;
+  s.value = w.p.value;
+  s.old_value = w.old;
+  s.name = param_name(w.p.upid, d, &w.p);
+  s.new_display = display_value(db, w.p.upid, w.p.value, w.p.type);
+  s.old_display =
+      w.old ? display_value(db, w.p.upid, *w.old, w.p.type) + w.old_note : std::string("?");
+  s.reason = w.reason;
+  s.text =
+      "write ROM " + param_label(layer, w.p.upid, d, &w.p) + ": " + s.old_display + " -> " +
+      s.new_display +
+      (w.reason == WriteReason::differs ? std::string()
+                                        : " (" + std::string(write_reason_text(w.reason)) + ")");
+  add(std::move(s), 1);
+}
 
 Result<Plan> plan_restore(client::Client& c, const config::DriveConfig& file,
                           const db::Database& db, const RestoreOptions& opt) {

@@ -40,6 +40,20 @@ const char* action_name(PlanStep::Action a) {
   return "?";
 }
 
+const char* write_reason_text(WriteReason r) {
+  switch (r) {
+    case WriteReason::differs:
+      return "differs";
+    case WriteReason::leftover:
+      return "leftover back to its default";
+    case WriteReason::again_after_defaulting:
+      return "again after defaulting";
+    case WriteReason::kept_communication:
+      return "kept communication value";
+  }
+  return "?";
+}
+
 namespace {
 
 nlohmann::ordered_json skipped_json(const SkippedValue& v) {
@@ -119,7 +133,7 @@ nlohmann::ordered_json plan_json(const Plan& p) {
         else
           o["old"] = nullptr;
         o["new"] = {{"raw", s.value}, {"display", s.new_display}};
-        o["why"] = s.why;
+        o["why"] = write_reason_text(s.reason);
         break;
       case PlanStep::Action::default_layer:
         o["layer"] = std::string(lmcfg::layers::name(s.layer));

@@ -1,5 +1,5 @@
-// diff flags invalid values, type and scope differences; convert is lossless
-// for every fixture; stdin and oversized inputs; one UPID syntax; the --json
+// convert is lossless for every fixture (diff's comparison itself:
+// tests/ops/test_diff.cpp); stdin and oversized inputs; one UPID syntax; the --json
 // reports validate against schemas/report-*.schema.json (real ajv).
 #include <unistd.h>
 
@@ -56,12 +56,6 @@ Parameter typed(std::uint16_t upid, std::uint32_t value, std::uint8_t type) {
   return p;
 }
 
-const ops::DiffItem* item(const ops::DiffResult& r, ops::DiffItem::Kind k) {
-  for (const auto& it : r.items)
-    if (it.kind == k) return &it;
-  return nullptr;
-}
-
 bool ajv_ready() {
   static const int ok = [] {
     return run("'" + (fs::path(LMCFG_SOURCE_DIR) / "scripts" / "install-node-deps.sh").string() +
@@ -82,82 +76,6 @@ bool valid_report(const Dir& d, const char* schema, const std::string& json) {
 }
 
 }  // namespace
-
-TEST_CASE(
-    "seed003 §9 §10 diff: a value that does not fit its type is flagged on its side, never "
-    "truncated",
-    "[diff]") {
-  DriveConfig a, b;
-  a.layer(2).push_back(typed(0x13A2, 70000, 3));  // UINT16 (§10 type 03h)
-  b.layer(2).push_back(typed(0x13A2, 15, 3));
-  auto r = ops::diff(a, b, db::Database::empty(), {}, {});
-  REQUIRE_FALSE(r.identical());
-  const auto* it = item(r, ops::DiffItem::Kind::parameter);
-  REQUIRE(it != nullptr);
-  CHECK(it->a == "70000 (00011170h) INVALID: does not fit type UINT16");
-  CHECK(it->a_invalid == "does not fit type UINT16");
-  CHECK(it->b == "15");
-  CHECK(it->b_invalid.empty());
-  CHECK(ops::render_text(r, "a.json", "b.json")
-            .find("  13A2h (name unknown): 70000 (00011170h) INVALID: does not fit type UINT16 -> "
-                  "15\n") != std::string::npos);
-  // The same invalid value on both sides: no difference, but said.
-  auto same = ops::diff(a, a, db::Database::empty(), {}, {});
-  CHECK(same.identical());
-  REQUIRE(same.notes.size() == 1);
-  CHECK(same.notes[0] ==
-        "MC 13A2h: both sides hold the invalid value 70000 (00011170h) INVALID: does not fit "
-        "type UINT16");
-  // SINT16 -5 may travel sign-extended: valid.
-  DriveConfig s;
-  s.layer(2).push_back(typed(0x13A2, 0xFFFFFFFB, 4));
-  auto sr = ops::diff(s, b, db::Database::empty(), {}, {});
-  REQUIRE(item(sr, ops::DiffItem::Kind::parameter) != nullptr);
-  CHECK(item(sr, ops::DiffItem::Kind::parameter)->a_invalid.empty());
-}
-
-TEST_CASE("seed003 §10 diff: a recorded type that differs is a difference", "[diff]") {
-  DriveConfig a, b;
-  a.layer(2).push_back(typed(0x13A2, 16, 3));  // UINT16
-  b.layer(2).push_back(typed(0x13A2, 16, 4));  // SINT16
-  auto r = ops::diff(a, b, db::Database::empty(), {}, {});
-  REQUIRE_FALSE(r.identical());
-  const auto* it = item(r, ops::DiffItem::Kind::parameter);
-  REQUIRE(it != nullptr);
-  CHECK(it->detail == "type UINT16 -> SINT16");
-  CHECK(it->a_type == "UINT16");
-  CHECK(it->b_type == "SINT16");
-  CHECK(ops::render_text(r, "a", "b")
-            .find("13A2h (name unknown): 16 -> 16 (type UINT16 -> SINT16)") != std::string::npos);
-}
-
-TEST_CASE("seed003 §10.2 §11 §12 diff: a scope one side lacks is stated and is a difference",
-          "[diff]") {
-  DriveConfig full, partial;
-  full.layer(1).push_back(param(0x0010, 1));
-  full.curves.push_back(Curve{1, sinrise_info(), sinrise_data()});
-  partial.scope.layers = {false, true, false, false};
-  partial.scope.curves = false;
-  auto r = ops::diff(full, partial, db::Database::empty(), {}, {});
-  CHECK_FALSE(r.identical());
-  std::size_t scope_items = 0;
-  for (const auto& it : r.items) scope_items += it.kind == ops::DiffItem::Kind::scope ? 1 : 0;
-  CHECK(scope_items == 4);  // OS, Intf, Appl, curves
-  const auto text = ops::render_text(r, "full.json", "partial.json");
-  CHECK(text.rfind("--- full.json (modified parameters of OS, MC, Intf, Appl; curves; command "
-                   "table)\n+++ partial.json (modified parameters of MC; no curves; command "
-                   "table)\ncompared: modified parameters of MC; no curves; command table\n",
-                   0) == 0);
-  CHECK(text.find("  layer OS: captured -> not captured (1 parameter(s) on the A side not "
-                  "compared)\n") != std::string::npos);
-  CHECK(text.find("  curves: captured -> not captured (1 curve(s) on the A side not compared)\n") !=
-        std::string::npos);
-  CHECK(text.find("\nidentical\n") == std::string::npos);
-  // Factory defaults take the other side's scope: nothing lacking.
-  auto d = ops::diff(ops::factory_defaults_config(partial.scope), partial, db::Database::empty(),
-                     {}, ops::DiffOptions{true, false});
-  CHECK(d.identical());
-}
 
 TEST_CASE("seed003 §12.1 command table entry name (off 38, \"Unnamed\") in the decoded view",
           "[config][convert]") {
