@@ -698,7 +698,8 @@ PYBIND11_MODULE(_lmcfg, m) {
       .def_readonly("name", &ops::PlanStep::name)
       .def_readonly("old", &ops::PlanStep::old_display)
       .def_readonly("new", &ops::PlanStep::new_display)
-      .def_readonly("why", &ops::PlanStep::why)
+      .def_property_readonly(
+          "why", [](const ops::PlanStep& s) { return ops::write_reason_text(s.reason); })
       .def("__repr__", [](const ops::PlanStep& s) {
         return std::string("<PlanStep ") + ops::action_name(s.action) + ": " + s.text + ">";
       });
