@@ -6,8 +6,9 @@
 // that writes those parameters and resets the drive can leave it talking with
 // other settings than the ones the tool opened the link with.
 //
-// expected_link() reads what the restored ROM values select, as far as the
-// database can tell; everything it cannot tell stays unknown. reconnect() then
+// expected_link() (ops/expected_link.hpp) reads what the restored ROM values
+// select, as far as the database can tell; everything it cannot tell stays
+// unknown. reconnect() then
 // tries candidate settings in a fixed order, one cheap read (the default
 // response request, LinRS §8) each, and keeps the first the drive answers.
 #include <cstdint>
@@ -16,7 +17,6 @@
 #include <vector>
 
 #include "codec/frame.hpp"
-#include "ops/restore.hpp"
 #include "ops/session.hpp"
 
 namespace lmcfg::ops {
@@ -29,9 +29,6 @@ struct ExpectedLink {
   std::optional<std::uint8_t> macid;
   std::vector<std::string> reasons;
 };
-
-// From `plan.expected` (a UPID absent from a restored layer holds its default).
-ExpectedLink expected_link(const Plan& plan, const db::Database& db);
 
 // Settings the user names for after the restore (--reconnect-baud/-id/-checksum);
 // they are tried first.

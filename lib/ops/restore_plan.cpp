@@ -7,7 +7,7 @@
 #include "common/layers.hpp"
 #include "db/database.hpp"
 #include "ops/recovery.hpp"
-#include "ops/relink.hpp"
+#include "ops/expected_link.hpp"
 #include "ops/restore.hpp"
 #include "ops/restore_internal.hpp"
 

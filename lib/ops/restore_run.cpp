@@ -1,5 +1,7 @@
 #include "ops/restore_run.hpp"
 
+#include "ops/expected_link.hpp"
+
 namespace lmcfg::ops {
 
 namespace {

@@ -17,7 +17,7 @@
 #include <string>
 #include <vector>
 
-#include "ops/backup.hpp"
+#include "common/progress.hpp"
 #include "ops/session.hpp"
 
 namespace lmcfg::ops {

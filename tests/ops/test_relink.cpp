@@ -13,6 +13,7 @@
 #include "e2e_support.hpp"
 #include "files.hpp"
 #include "ops/backup.hpp"
+#include "ops/expected_link.hpp"
 #include "ops/factory_reset.hpp"
 #include "ops/relink.hpp"
 #include "ops/restore.hpp"
