@@ -99,7 +99,7 @@ Timed backup(const fleet::Inventory& inv, const fs::path& dir, const db::Databas
   fleet::FleetOptions fo;
   fo.db = db;
   for (const auto& l : inv.lines) {
-    ops::LinkOptions link;
+    link::LinkOptions link;
     link.port = l.port;
     fo.links.push_back(link);
   }

@@ -52,8 +52,8 @@ std::optional<unsigned> baud_of_label(const db::Database& db, std::uint16_t upid
 
 }  // namespace
 
-ExpectedLink expected_link(const Plan& plan, const db::Database& db) {
-  ExpectedLink out;
+link::ExpectedLink expected_link(const Plan& plan, const db::Database& db) {
+  link::ExpectedLink out;
   if (db.is_empty())
     out.reasons.push_back(
         "no UPID database: the factory defaults of the LinRS parameters are unknown");

@@ -5,10 +5,10 @@
 #include <functional>
 #include <optional>
 
+#include "link/relink.hpp"
+#include "link/session.hpp"
 #include "ops/confirm.hpp"
-#include "ops/relink.hpp"
 #include "ops/restore.hpp"
-#include "ops/session.hpp"
 #include "ops/undo.hpp"
 
 namespace lmcfg::ops {
@@ -16,7 +16,7 @@ namespace lmcfg::ops {
 struct RestoreRunOptions {
   RestoreOptions restore;
   bool dry_run = false;
-  RelinkOverrides overrides;
+  link::RelinkOverrides overrides;
   // Called with an accepted plan that has steps, before any write: go on or
   // decline. Unset: go on.
   std::function<Result<Consent>(const Plan&)> confirm;
@@ -39,7 +39,7 @@ struct RestoreOutcome {
   Stage stage = Stage::failed;
   Plan plan;
   std::optional<Error> error;
-  std::optional<RelinkReport> relink;
+  std::optional<link::RelinkReport> relink;
   std::vector<std::string> mismatches;
   bool written = false;  // execute_plan ran (some steps may have been sent)
   // The verify found a table the plan did not write differing (RAM reloaded
@@ -52,7 +52,7 @@ struct RestoreOutcome {
   std::size_t set_commands = 0;   // a DeviceNet restore: the Set commands planned (`plan` is LinRS)
 };
 
-RestoreOutcome run_restore(Session& session, const config::DriveConfig& file,
+RestoreOutcome run_restore(link::Session& session, const config::DriveConfig& file,
                            const db::Database& db, const RestoreRunOptions& o);
 
 const char* stage_name(RestoreOutcome::Stage s);  // "restored and verified", ...

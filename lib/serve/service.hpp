@@ -21,7 +21,7 @@
 #include "fleet/inventory.hpp"
 #include "ops/audit.hpp"
 #include "ops/backup.hpp"
-#include "ops/session.hpp"
+#include "link/session.hpp"
 
 namespace lmcfg::serve {
 

@@ -133,7 +133,8 @@ int run_restore(const FleetCli& o) {
       return fail("fleet restore", dn.error());
   }
   int code = kOk;
-  fr.restore = [&](ops::Session& s, const config::DriveConfig& file, const std::string& file_name) {
+  fr.restore = [&](link::Session& s, const config::DriveConfig& file,
+                   const std::string& file_name) {
     ops::RestoreOutcome out;
     code = restore_on_session(s, file, file_name, common, flags, *overrides, fr.db, out);
     return out;

@@ -42,12 +42,12 @@ Result<ops::LinkChange> parse_change(const LinkCli& o) {
     ch.macid = static_cast<std::uint8_t>(*id);
   }
   if (!o.set_checksum.empty()) {
-    auto c = ops::parse_checksum(o.set_checksum);
+    auto c = link::parse_checksum(o.set_checksum);
     if (!c.ok()) return bad("--set-checksum", o.set_checksum, c.error().message);
     ch.checksum = *c;
   }
   if (!o.set_parity.empty()) {
-    auto p = ops::parse_parity(o.set_parity);
+    auto p = link::parse_parity(o.set_parity);
     if (!p.ok()) return bad("--set-parity", o.set_parity, p.error().message);
     ch.parity = *p;
   }
@@ -83,13 +83,13 @@ nlohmann::ordered_json settings_json(const ops::LinkState& st) {
   return arr;
 }
 
-fleet::LinkKeys keys_of(const ops::RelinkCandidate& c) {
+fleet::LinkKeys keys_of(const link::RelinkCandidate& c) {
   fleet::LinkKeys k;
   k.baud = c.line.baud;
   k.parity = std::string(transport::parity_name(c.line.parity));
   k.stop_bits = c.line.stop_bits;
-  k.checksum = ops::checksum_name({c.checksum.mode, c.checksum.crc_init, {}});
-  k.checksum_coverage = std::string(ops::coverage_name(c.checksum.coverage));
+  k.checksum = link::checksum_name({c.checksum.mode, c.checksum.crc_init, {}});
+  k.checksum_coverage = std::string(link::coverage_name(c.checksum.coverage));
   k.id = c.macid;
   return k;
 }
@@ -141,11 +141,11 @@ int run(LinkCli& o) {
   nlohmann::ordered_json j;
   j["drive"] = hex(now->in_use.macid, 2);
   j["port"] = o.common.port;
-  j["link_options"] = ops::link_options_of(now->in_use);
+  j["link_options"] = link::link_options_of(now->in_use);
   j["settings"] = settings_json(*now);
   auto print_state = [&](const ops::LinkState& st, const char* title) {
     std::printf("%s %s, talking at: %s\n", drive.c_str(), title,
-                ops::link_options_of(st.in_use).c_str());
+                link::link_options_of(st.in_use).c_str());
     for (std::size_t i = 0; i < ops::kLinkSettings; ++i)
       std::printf("  %s\n", value_line(static_cast<ops::LinkSetting>(i), st.values[i]).c_str());
   };
@@ -166,7 +166,7 @@ int run(LinkCli& o) {
   if (!plan.ok()) return fail("link", plan.error());
   j["plan"] = nlohmann::ordered_json::array();
   for (const auto& w : plan->writes) j["plan"].push_back(w.text);
-  j["new_link_options"] = ops::link_options_of(plan->after);
+  j["new_link_options"] = link::link_options_of(plan->after);
   std::optional<fleet::InventoryEdit> edit;
   if (inv) {
     auto e = fleet::link_inventory_edit(*inv, o.drive, keys_of(plan->after));
@@ -216,7 +216,7 @@ int run(LinkCli& o) {
       std::printf("%s\n", j.dump(2).c_str());
     } else {
       print_plan();
-      std::printf("link options after the reset: %s\n", ops::link_options_of(plan->after).c_str());
+      std::printf("link options after the reset: %s\n", link::link_options_of(plan->after).c_str());
       print_keys("would have");
       std::printf("dry run: nothing written\n");
     }
@@ -235,7 +235,7 @@ int run(LinkCli& o) {
   auto closed = (*session)->close();
   if (!rep.ok()) return fail("link", rep.error());
   if (!closed.ok()) return fail("link", closed.error());
-  const std::string options = ops::link_options_of(rep->relink.used);
+  const std::string options = link::link_options_of(rep->relink.used);
   if (o.common.json) {
     j["outcome"] = "changed";
     j["found"] = rep->relink.summary;

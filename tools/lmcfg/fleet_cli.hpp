@@ -7,7 +7,7 @@
 #include "fleet/inventory.hpp"
 #include "link_options.hpp"
 #include "ops/line.hpp"
-#include "ops/session.hpp"
+#include "link/session.hpp"
 
 namespace lmcfg::cli {
 

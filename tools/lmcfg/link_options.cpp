@@ -10,9 +10,9 @@
 
 #include "command.hpp"
 #include "common/layers.hpp"
+#include "link/link_advice.hpp"
 #include "link/port.hpp"
 #include "ops/devicenet.hpp"
-#include "ops/link_advice.hpp"
 
 namespace lmcfg::cli {
 
@@ -149,13 +149,13 @@ std::function<void(const std::string&, transport::Millis)> long_wait_reporter(
 }
 }  // namespace
 
-Result<ops::LinkOptions> link_options(const CommonOptions& o) {
-  ops::LinkOptions l;
+Result<link::LinkOptions> link_options(const CommonOptions& o) {
+  link::LinkOptions l;
   l.port = o.port;
   l.trace_path = o.trace;
   l.serial.baud = o.baud;
   l.serial.stop_bits = o.stop_bits;
-  LMCFG_ASSIGN_OR_RETURN(l.serial.parity, ops::parse_parity(o.parity));
+  LMCFG_ASSIGN_OR_RETURN(l.serial.parity, link::parse_parity(o.parity));
   // Line settings are checked for every kind of port: a gateway or the
   // simulated drive is configured with them too, and an absurd value is a
   // mistake wherever it is typed.
@@ -167,9 +167,9 @@ Result<ops::LinkOptions> link_options(const CommonOptions& o) {
     return Error(Errc::invalid_argument, "--id '" + o.id + "' is not a MACID 0..255 (0x00..0xFF)");
   }
   l.client.id = static_cast<std::uint8_t>(*id);
-  LMCFG_ASSIGN_OR_RETURN(l.client.checksum, ops::parse_checksum(o.checksum));
+  LMCFG_ASSIGN_OR_RETURN(l.client.checksum, link::parse_checksum(o.checksum));
   LMCFG_ASSIGN_OR_RETURN(l.client.checksum.coverage,
-                         ops::parse_checksum_coverage(o.checksum_coverage));
+                         link::parse_checksum_coverage(o.checksum_coverage));
   if (o.response_layout != "auto") {
     auto layout = codec::parse_layout_items(o.response_layout);
     if (!layout)
@@ -226,8 +226,8 @@ void add_reconnect_options(CLI::App* sub, ReconnectOptions& o) {
                   "with --include-comm: checksum to try first after the reset");
 }
 
-Result<ops::RelinkOverrides> relink_overrides(const ReconnectOptions& o) {
-  ops::RelinkOverrides r;
+Result<link::RelinkOverrides> relink_overrides(const ReconnectOptions& o) {
+  link::RelinkOverrides r;
   if (!o.baud.empty()) {
     transport::SerialSettings s;
     auto b = parse_number(o.baud, false);
@@ -244,7 +244,7 @@ Result<ops::RelinkOverrides> relink_overrides(const ReconnectOptions& o) {
     r.macid = static_cast<std::uint8_t>(*id);
   }
   if (!o.checksum.empty()) {
-    auto c = ops::parse_checksum(o.checksum);
+    auto c = link::parse_checksum(o.checksum);
     if (!c.ok()) return Error(Errc::invalid_argument, "--reconnect-checksum: " + c.error().message);
     r.checksum = *c;
   }
@@ -254,7 +254,7 @@ Result<ops::RelinkOverrides> relink_overrides(const ReconnectOptions& o) {
 namespace {
 // The session open_link opened last, while it lives, for fail()'s advice.
 struct OpenLink {
-  ops::Session* session = nullptr;
+  link::Session* session = nullptr;
   std::string port;
   bool verbose = false;
 };
@@ -265,7 +265,7 @@ OpenLink& open_link_state() {
 
 }  // namespace
 
-void ForgetOnDelete::operator()(ops::Session* s) const {
+void ForgetOnDelete::operator()(link::Session* s) const {
   if (open_link_state().session == s) open_link_state() = OpenLink{};
   delete s;
 }
@@ -278,7 +278,7 @@ Result<SessionHandle> open_link(const CommonOptions& o) {
                      "those; this command is for LinRS drives");
   }
   LMCFG_ASSIGN_OR_RETURN(auto l, link_options(o));
-  LMCFG_ASSIGN_OR_RETURN(auto s, ops::open_session(l));
+  LMCFG_ASSIGN_OR_RETURN(auto s, link::open_session(l));
   // A USB adapter whose latency timer stays above 2 ms: said once, with the fix.
   if (const auto* lat = s->low_latency(); lat && !lat->advice.empty() && !o.quiet)
     std::fprintf(stderr, "lmcfg: %s\n", lat->advice.c_str());
@@ -408,8 +408,8 @@ int exit_code_for(const Error& e) {
 
 int fail(const char* command, const Error& e) {
   auto& link = open_link_state();
-  if (link.session && ops::settings_suspect(*link.session, e)) {
-    if (auto advice = ops::link_advice(*link.session, link.port)) {
+  if (link.session && link::settings_suspect(*link.session, e)) {
+    if (auto advice = link::link_advice(*link.session, link.port)) {
       if (link.verbose) *advice += " (detail: " + e.message + ")";
       std::fprintf(stderr, "lmcfg %s: %s\n", command, advice->c_str());
       return exit_code_for(e);

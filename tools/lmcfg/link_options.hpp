@@ -7,9 +7,9 @@
 
 #include "common/result.hpp"
 #include "db/database.hpp"
+#include "link/relink.hpp"
+#include "link/session.hpp"
 #include "ops/backup.hpp"
-#include "ops/relink.hpp"
-#include "ops/session.hpp"
 
 namespace lmcfg::cli {
 
@@ -26,7 +26,7 @@ struct CommonOptions {
   int settle_ms = -1;  // -1: adaptive (the failed exchange's deadline, at most 500 ms)
   int retries = 2;
   int long_timeout_s = 0;  // 0: the client's defaults (defaulting 60 s, flash 30 s, reset 6 s)
-  std::string agreeing_reads = "auto";  // or 1..5 (ops::LinkOptions::agreeing_reads)
+  std::string agreeing_reads = "auto";  // or 1..5 (link::LinkOptions::agreeing_reads)
   std::string trace;
   bool quiet = false;
   bool json = false;
@@ -59,12 +59,12 @@ bool is_devicenet(const CommonOptions& o);
 void add_output_options(CLI::App* sub, CommonOptions& o);
 
 // Validates option values (baud 0, ID 300 ... are refused with a message).
-Result<ops::LinkOptions> link_options(const CommonOptions& o);
+Result<link::LinkOptions> link_options(const CommonOptions& o);
 // The session open_link opened, remembered for fail()'s advice while it lives.
 struct ForgetOnDelete {
-  void operator()(ops::Session* s) const;
+  void operator()(link::Session* s) const;
 };
-using SessionHandle = std::unique_ptr<ops::Session, ForgetOnDelete>;
+using SessionHandle = std::unique_ptr<link::Session, ForgetOnDelete>;
 Result<SessionHandle> open_link(const CommonOptions& o);
 
 // The database, or an empty one (db::Database::is_empty()) with a warning on
@@ -81,7 +81,7 @@ struct ReconnectOptions {
   std::string baud, id, checksum;
 };
 void add_reconnect_options(CLI::App* sub, ReconnectOptions& o);
-Result<ops::RelinkOverrides> relink_overrides(const ReconnectOptions& o);
+Result<link::RelinkOverrides> relink_overrides(const ReconnectOptions& o);
 
 // "os,mc,intf,appl" (any subset, case-insensitive) -> layer switches.
 Result<std::array<bool, 4>> parse_layers(const std::string& text);
@@ -94,7 +94,7 @@ Result<void> check_output_path(const std::string& path, const std::string& optio
 // "lmcfg backup: <message>" on stderr; returns the exit code for the error.
 // A link failure of a session opened by open_link (still alive) before the
 // drive ever answered is replaced by advice naming the likely wrong setting
-// (ops::link_advice); --verbose appends the protocol detail.
+// (link::link_advice); --verbose appends the protocol detail.
 int fail(const char* command, const Error& e);
 int exit_code_for(const Error& e);
 

@@ -64,9 +64,9 @@ void add_restore_flags(CLI::App* sub, RestoreFlags& f) {
   add_audit_options(sub, f.audit);
 }
 
-int restore_on_session(ops::Session& session, const config::DriveConfig& file,
+int restore_on_session(link::Session& session, const config::DriveConfig& file,
                        const std::string& file_name, const CommonOptions& common,
-                       const RestoreFlags& f, const ops::RelinkOverrides& overrides,
+                       const RestoreFlags& f, const link::RelinkOverrides& overrides,
                        const db::Database& db, ops::RestoreOutcome& out) {
   using S = ops::RestoreOutcome::Stage;
   auto& client = session.client();

@@ -43,9 +43,9 @@ void add_restore_flags(CLI::App* sub, RestoreFlags& f);
 void print_undo_saved(const ops::UndoSaved& u, const CommonOptions& common);
 nlohmann::ordered_json undo_json(const ops::UndoSaved& u);
 
-int restore_on_session(ops::Session& session, const config::DriveConfig& file,
+int restore_on_session(link::Session& session, const config::DriveConfig& file,
                        const std::string& file_name, const CommonOptions& common,
-                       const RestoreFlags& f, const ops::RelinkOverrides& overrides,
+                       const RestoreFlags& f, const link::RelinkOverrides& overrides,
                        const db::Database& db, ops::RestoreOutcome& out);
 
 }  // namespace lmcfg::cli

@@ -7,12 +7,12 @@
 
 #include "common/bytes.hpp"
 #include "link/port.hpp"
-#include "ops/session.hpp"
+#include "link/session.hpp"
 #include "sim/state_file.hpp"
 
 namespace {
 const bool kSimPortsRegistered = [] {
-  lmcfg::ops::register_link_scheme("sim", lmcfg::sim::state_file_link_factory());
+  link::register_scheme("sim", lmcfg::sim::state_file_link_factory());
   return true;
 }();
 }  // namespace
@@ -23,7 +23,7 @@ TEST_CASE("link schemes: a registered scheme opens its port, the factory's close
           "[session]") {
   REQUIRE(kSimPortsRegistered);
   int opened = 0, closed = 0;
-  ops::register_link_scheme(
+  link::register_scheme(
       "counting", [&](const transport::LinkRequest& req) -> Result<transport::OpenedLink> {
         ++opened;
         CHECK(req.address == "some/where");
@@ -37,10 +37,10 @@ TEST_CASE("link schemes: a registered scheme opens its port, the factory's close
         };
         return inner;
       });
-  ops::LinkOptions lo;
+  link::LinkOptions lo;
   lo.port = "counting:some/where";
   lo.real_time_sim = true;
-  auto s = ops::open_session(lo);
+  auto s = link::open_session(lo);
   REQUIRE(s.ok());
   CHECK(opened == 1);
   // The simulated drive dictates the line: its state file says 57600 8N1.
@@ -51,9 +51,9 @@ TEST_CASE("link schemes: a registered scheme opens its port, the factory's close
 }
 
 TEST_CASE("link schemes: an unregistered scheme is a serial device path", "[session]") {
-  ops::LinkOptions lo;
+  link::LinkOptions lo;
   lo.port = "nosuchscheme:/nowhere";
-  auto s = ops::open_session(lo);
+  auto s = link::open_session(lo);
   REQUIRE_FALSE(s.ok());
   CHECK(s.error().message.find("nosuchscheme:/nowhere") != std::string::npos);
 }
@@ -123,46 +123,46 @@ TEST_CASE("port schemes: slcan:tcp:// opens the adapter protocol over TCP, a CAN
   auto can = link::open_can_link("slcan:tcp://127.0.0.1:9", can::SlcanOptions{});
   REQUIRE_FALSE(can.ok());
   CHECK(can.error().message == "tcp 127.0.0.1:9: cannot connect: Connection refused");
-  ops::LinkOptions lo;
+  link::LinkOptions lo;
   lo.port = "slcan:tcp://127.0.0.1:9";
-  CHECK(ops::open_session(lo).error().message ==
+  CHECK(link::open_session(lo).error().message ==
         "port 'slcan:tcp://127.0.0.1:9' is a CAN link (DeviceNet controllers), not a LinRS "
         "serial line");
 }
 
 TEST_CASE("port schemes: the session opens byte links only, rfc2217 through its transport",
           "[session][link]") {
-  ops::LinkOptions lo;
+  link::LinkOptions lo;
   // Nothing listens on the discard port of loopback: the row tried the connection.
   lo.port = "rfc2217://127.0.0.1:9";
-  auto rfc = ops::open_session(lo);
+  auto rfc = link::open_session(lo);
   REQUIRE_FALSE(rfc.ok());
   CHECK(rfc.error().message == "rfc2217 127.0.0.1:9: cannot connect: Connection refused");
   lo.port = "can0";
-  auto can = ops::open_session(lo);
+  auto can = link::open_session(lo);
   REQUIRE_FALSE(can.ok());
   CHECK(can.error().code == Errc::invalid_argument);
   CHECK(can.error().message ==
         "port 'can0' is a CAN link (DeviceNet controllers), not a LinRS serial line");
   lo.port = "tcp://127.0.0.1:0";
-  CHECK(ops::open_session(lo).error().message ==
+  CHECK(link::open_session(lo).error().message ==
         "port 'tcp://127.0.0.1:0' is not tcp://HOST:PORT with PORT 1..65535");
 }
 
 TEST_CASE("port schemes: a registered factory gets the line settings and the holder",
           "[session][link]") {
   transport::LinkRequest seen;
-  ops::register_link_scheme(
-      "probe", [&](const transport::LinkRequest& req) -> Result<transport::OpenedLink> {
-        seen = req;
-        return Error(Errc::not_supported, "probe: recorded");
-      });
-  ops::LinkOptions lo;
+  link::register_scheme("probe",
+                        [&](const transport::LinkRequest& req) -> Result<transport::OpenedLink> {
+                          seen = req;
+                          return Error(Errc::not_supported, "probe: recorded");
+                        });
+  link::LinkOptions lo;
   lo.port = "probe:x";
   lo.serial.baud = 19200;
   lo.serial.parity = transport::Parity::even;
   lo.holder = "lmcfg backup";
-  CHECK(ops::open_session(lo).error().message == "probe: recorded");
+  CHECK(link::open_session(lo).error().message == "probe: recorded");
   CHECK(seen.address == "x");
   CHECK(seen.line.baud == 19200);
   CHECK(seen.line.parity == transport::Parity::even);

@@ -1,10 +1,8 @@
-#include "ops/session.hpp"
+#include "link/session.hpp"
 
 #include <optional>
 
-#include "link/port.hpp"
-
-namespace lmcfg::ops {
+namespace lmcfg::link {
 
 Result<codec::ChecksumConfig> parse_checksum(std::string_view t) {
   codec::ChecksumConfig c;
@@ -91,10 +89,6 @@ Result<transport::Parity> parse_parity(std::string_view t) {
                "parity '" + std::string(t) + "' is not one of none, even, odd");
 }
 
-void register_link_scheme(std::string scheme, transport::LinkFactory factory) {
-  link::register_scheme(std::move(scheme), std::move(factory));
-}
-
 Session::Session(LinkOptions opt, transport::OpenedLink link,
                  std::optional<transport::LowLatencyReport> latency)
     : latency_(std::move(latency)),
@@ -179,4 +173,4 @@ Result<std::unique_ptr<Session>> open_session(const LinkOptions& opt_in) {
   return std::make_unique<Session>(std::move(opt), std::move(opened), std::move(latency));
 }
 
-}  // namespace lmcfg::ops
+}  // namespace lmcfg::link

@@ -11,9 +11,10 @@
 
 #include "client/client.hpp"
 #include "config/model.hpp"
+#include "link/port.hpp"
 #include "transport/transport.hpp"
 
-namespace lmcfg::ops {
+namespace lmcfg::link {
 
 struct LinkOptions {
   std::string port;
@@ -47,11 +48,6 @@ std::string checksum_name(const codec::ChecksumConfig& c);
 // " --checksum-coverage start" when the coverage is not the default.
 std::string checksum_options(const codec::ChecksumConfig& c);
 Result<transport::Parity> parse_parity(std::string_view text);
-
-// Registers the factory for ports "SCHEME:..." (scheme without the colon, e.g.
-// "sim"), replacing an earlier one: link::register_scheme. Not thread-safe:
-// register at start-up.
-void register_link_scheme(std::string scheme, transport::LinkFactory factory);
 
 // One open link to one drive, with its client. Closing saves what the link's
 // factory asked to be saved (a simulated drive's state).
@@ -89,4 +85,4 @@ class Session {
 
 Result<std::unique_ptr<Session>> open_session(const LinkOptions& opt);
 
-}  // namespace lmcfg::ops
+}  // namespace lmcfg::link

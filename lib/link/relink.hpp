@@ -17,9 +17,9 @@
 #include <vector>
 
 #include "codec/frame.hpp"
-#include "ops/session.hpp"
+#include "link/session.hpp"
 
-namespace lmcfg::ops {
+namespace lmcfg::link {
 
 // What the restored parameters select after the reset. nullopt = the tool
 // cannot tell (hex switch settings, a code the database has no label for, no
@@ -73,4 +73,4 @@ struct RelinkReport {
 Result<RelinkReport> reconnect(Session& session, const ExpectedLink& expected,
                                const RelinkOverrides& overrides);
 
-}  // namespace lmcfg::ops
+}  // namespace lmcfg::link

@@ -1,4 +1,4 @@
-#include "ops/relink.hpp"
+#include "link/relink.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -6,7 +6,7 @@
 
 #include "common/bytes.hpp"
 
-namespace lmcfg::ops {
+namespace lmcfg::link {
 
 namespace {
 
@@ -116,4 +116,4 @@ Result<RelinkReport> reconnect(Session& session, const ExpectedLink& expected,
   return Error(Errc::timeout, msg);
 }
 
-}  // namespace lmcfg::ops
+}  // namespace lmcfg::link
