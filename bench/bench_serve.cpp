@@ -125,8 +125,8 @@ int main(int argc, char** argv) {
   so.inventory = *inv;
   so.archive = (tmp / "archive").string();
   for (const auto& l : inv->lines) {
-    link::LinkOptions link;
-    link.port = l.port;
+    link::LinkSpec link;
+    link.port = *link::parse_port(l.port);
     link.real_time_sim = true;
     so.links.push_back(link);
   }

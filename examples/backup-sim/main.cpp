@@ -20,11 +20,11 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "backup-sim: %s\n", db.error().message.c_str());
     return 2;
   }
-  lmcfg::link::LinkOptions link;
+  lmcfg::link::LinkSpec link;
   // The operations know serial ports and TCP gateways; "sim:" (the in-process
   // simulated drive) is registered by the program, as the lmcfg tool does.
-  link::register_scheme("sim", lmcfg::sim::state_file_link_factory());
-  link.port = std::string("sim:") + argv[1];
+  lmcfg::link::register_scheme("sim", lmcfg::sim::state_file_link_factory());
+  link.port = *lmcfg::link::parse_port(std::string("sim:") + argv[1]);
   auto session = lmcfg::link::open_session(link);
   if (!session) {
     std::fprintf(stderr, "backup-sim: %s\n", session.error().message.c_str());

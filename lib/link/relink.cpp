@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "common/bytes.hpp"
+#include "link/scan.hpp"
 
 namespace lmcfg::link {
 
@@ -20,6 +21,14 @@ std::string describe(const RelinkCandidate& c) {
 }
 
 }  // namespace
+
+std::string link_options_of(const RelinkCandidate& c) {
+  FoundDrive d;
+  d.id = c.macid;
+  d.line = c.line;
+  d.checksum = c.checksum;
+  return link_options_of(d);
+}
 
 std::vector<RelinkCandidate> relink_candidates(const ExpectedLink& expected,
                                                const RelinkOverrides& o,

@@ -47,6 +47,9 @@ struct RelinkCandidate {
   std::uint8_t macid = 0;
   codec::ChecksumConfig checksum;
 };
+// "--baud 115200 --id 0x11 --checksum crc-ffff" (+ parity, stop bits, coverage
+// when not the defaults): the link options of `c`.
+std::string link_options_of(const RelinkCandidate& c);
 
 // In the order they are tried: overrides, then the expected values, then the
 // settings in use; for an unknown baud rate every rate of LinRS §3.2.1 after

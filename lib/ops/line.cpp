@@ -21,9 +21,7 @@ Result<std::unique_ptr<LineSession>> LineSession::open(const LineLink& line_link
   auto s = std::unique_ptr<LineSession>(new LineSession);
   s->link_ = line_link;
   if (line_link.is_devicenet()) return s;
-  link::LinkOptions l = line_link.linrs;
-  l.client.id = first_id;
-  LMCFG_ASSIGN_OR_RETURN(s->linrs_, link::open_session(l));
+  LMCFG_ASSIGN_OR_RETURN(s->linrs_, link::open_session(line_link.linrs.for_macid(first_id)));
   return s;
 }
 

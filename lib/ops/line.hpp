@@ -18,8 +18,8 @@ namespace lmcfg::ops {
 
 struct LineLink {
   LineLink() = default;
-  LineLink(link::LinkOptions l) : linrs(std::move(l)) {}  // NOLINT: a LinRS line
-  link::LinkOptions linrs;                                // LinRS lines
+  LineLink(link::LinkSpec l) : linrs(std::move(l)) {}  // NOLINT: a LinRS line
+  link::LinkSpec linrs;                                // LinRS lines
   // CAN lines: the link and the master's options; the controller's MAC ID and
   // IO modules are each drive's (devicenet_link_for).
   std::optional<DevicenetLinkOptions> devicenet;

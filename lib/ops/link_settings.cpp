@@ -367,14 +367,6 @@ Result<LinkPlan> plan_link_change(link::Session& session, const LinkMap& map, co
   return plan;
 }
 
-std::string link_options_of(const link::RelinkCandidate& c) {
-  link::FoundDrive d;
-  d.id = c.macid;
-  d.line = c.line;
-  d.checksum = c.checksum;
-  return link_options_of(d);
-}
-
 Result<LinkApplyReport> apply_link_change(link::Session& session, const LinkMap& map,
                                           const LinkPlan& plan, const std::string& port,
                                           const std::filesystem::path& recovery) {

@@ -153,8 +153,5 @@ Result<LinkApplyReport> apply_link_change(link::Session& session, const LinkMap&
                                           const LinkPlan& plan, const std::string& port,
                                           const std::filesystem::path& recovery);
 
-// "--baud 115200 --id 0x11 --checksum crc-ffff" (+ parity, stop bits, coverage
-// when not the defaults): the link options of `c`.
-std::string link_options_of(const link::RelinkCandidate& c);
 
 }  // namespace lmcfg::ops

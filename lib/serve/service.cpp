@@ -224,10 +224,8 @@ struct Service::Impl {
   std::size_t line_index(const fleet::LineEntry* l) const {
     return static_cast<std::size_t>(l - opt.inventory.lines.data());
   }
-  link::LinkOptions link_for(std::size_t line, const fleet::DriveEntry& d) const {
-    link::LinkOptions l = opt.links[line].linrs;
-    l.client.id = d.id;
-    return l;
+  link::LinkSpec link_for(std::size_t line, const fleet::DriveEntry& d) const {
+    return opt.links[line].linrs.for_macid(d.id);
   }
 
   // Runs `fn` on the line's worker (after what is queued there) and waits for it.

@@ -24,6 +24,7 @@
 #include "config/config_io.hpp"
 #include "db/database.hpp"
 #include "link/session.hpp"
+#include "link/spec.hpp"
 #include "ops/backup.hpp"
 #include "ops/diff.hpp"
 #include "ops/recovery.hpp"
@@ -161,35 +162,23 @@ struct OpenArgs {
   std::string trace;
 };
 
-Result<link::LinkOptions> link_options(const OpenArgs& a) {
-  link::LinkOptions l;
-  l.port = a.port;
-  l.trace_path = a.trace;
-  l.holder = "a Python script (lmcfg module)";  // named to a second program on the port
-  l.serial.baud = a.baud;
-  l.serial.stop_bits = a.stop_bits;
-  LMCFG_ASSIGN_OR_RETURN(l.serial.parity, link::parse_parity(a.parity));
-  LMCFG_TRY(transport::validate(l.serial));
-  if (a.id < 0 || a.id > 0xFF)
-    return Error(Errc::invalid_argument,
-                 "id " + std::to_string(a.id) + " is not a MACID 0..255 (0x00..0xFF)");
-  l.client.id = static_cast<std::uint8_t>(a.id);
-  LMCFG_ASSIGN_OR_RETURN(l.client.checksum, link::parse_checksum(a.checksum));
-  LMCFG_ASSIGN_OR_RETURN(l.client.checksum.coverage,
-                         link::parse_checksum_coverage(a.checksum_coverage));
-  if (a.timeout_ms < 1 || a.timeout_ms > 60000)
-    return Error(Errc::invalid_argument,
-                 "timeout_ms " + std::to_string(a.timeout_ms) + " is outside 1..60000");
-  if (a.retries < 0 || a.retries > 10)
-    return Error(Errc::invalid_argument,
-                 "retries " + std::to_string(a.retries) + " is outside 0..10");
-  if (a.agreeing_reads < 0 || a.agreeing_reads > 5)
-    return Error(Errc::invalid_argument, "agreeing_reads " + std::to_string(a.agreeing_reads) +
-                                             " is not 0 (automatic) or 1..5");
-  l.client.timeout = transport::Millis(a.timeout_ms);
-  l.client.read_retries = a.retries;
-  l.agreeing_reads = a.agreeing_reads;
-  return l;
+// The tool's one check (link::make_link_spec), worded with the Python names;
+// agreeing_reads 0 is automatic.
+Result<link::LinkSpec> link_options(const OpenArgs& a) {
+  link::LinkInput in;
+  in.port = a.port;
+  in.trace = a.trace;
+  in.holder = "a Python script (lmcfg module)";  // named to a second program on the port
+  in.baud = a.baud;
+  in.stop_bits = a.stop_bits;
+  in.parity = a.parity;
+  in.id = std::to_string(a.id);
+  in.checksum = a.checksum;
+  in.checksum_coverage = a.checksum_coverage;
+  in.timeout_ms = a.timeout_ms;
+  in.retries = a.retries;
+  in.agreeing_reads = a.agreeing_reads == 0 ? "auto" : std::to_string(a.agreeing_reads);
+  return link::make_link_spec(in, link::kPythonNames);
 }
 
 // ---------------------------------------------------------------------------

@@ -296,8 +296,8 @@ TEST_CASE("the tools' sessions time adaptively, --settle-ms fixes the settle",
        std::to_string(std::chrono::steady_clock::now().time_since_epoch().count()));
   fs::create_directories(dir);
   fs::copy_file(test::sim_fixture("commissioned-axis.json"), dir / "axis.json");
-  link::LinkOptions lo;
-  lo.port = "sim:" + (dir / "axis.json").string();
+  link::LinkSpec lo;
+  lo.port = *link::parse_port("sim:" + (dir / "axis.json").string());
   {
     auto s = link::open_session(lo);
     REQUIRE(s.ok());

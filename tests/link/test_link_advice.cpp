@@ -54,10 +54,10 @@ class ParityLine final : public transport::Transport {
 // keeps its own. relink() reconfigures the line, as on a serial port.
 std::unique_ptr<link::Session> parity_session(std::shared_ptr<sim::Drive> drive,
                                               transport::SerialSettings line, bool mangle) {
-  link::LinkOptions lo;
-  lo.port = "/dev/ttyUSB0";
+  link::LinkSpec lo;
+  lo.port = *link::parse_port("/dev/ttyUSB0");
   lo.serial = line;
-  lo.serial.device = lo.port;
+  lo.serial.device = lo.port.address;
   lo.client.id = drive->macid();
   lo.client.timeout = transport::Millis(20);
   lo.client.read_retries = 0;
@@ -66,7 +66,7 @@ std::unique_ptr<link::Session> parity_session(std::shared_ptr<sim::Drive> drive,
   auto link = std::make_unique<ParityLine>(std::move(drive), mangle);
   REQUIRE(link->reconfigure(line).ok());
   opened.link = std::move(link);
-  return std::make_unique<link::Session>(lo, std::move(opened), std::nullopt);
+  return std::make_unique<link::Session>(lo, lo.serial, std::move(opened), std::nullopt);
 }
 
 struct Outcome {

@@ -45,8 +45,8 @@ struct Rig {
   std::unique_ptr<link::Session> session;
   explicit Rig(bool silent = false) {
     write_spare(state, silent);
-    link::LinkOptions lo;
-    lo.port = "sim:" + state.string();
+    link::LinkSpec lo;
+    lo.port = *link::parse_port("sim:" + state.string());
     lo.client.timeout = transport::Millis(50);
     auto s = link::open_session(lo);
     REQUIRE(s.ok());
@@ -212,8 +212,9 @@ TEST_CASE("link: a MACID another drive on the line answers to is refused (seed 0
   b->macid = 0x12;
   b->switches = sim::HexSwitches{0x12, 57600};
   REQUIRE(sim::save_state(*b, (dir.path / "b.json").string()).ok());
-  link::LinkOptions lo;
-  lo.port = "sim:" + (dir.path / "a.json").string() + "," + (dir.path / "b.json").string();
+  link::LinkSpec lo;
+  lo.port = *link::parse_port("sim:" + (dir.path / "a.json").string() + "," +
+                              (dir.path / "b.json").string());
   lo.client.timeout = transport::Millis(50);
   auto s = link::open_session(lo);
   REQUIRE(s.ok());
@@ -256,8 +257,8 @@ TEST_CASE(
   st->options.stop_bits_param = sim::Options::CommParam{0x20B2, {{0, "1"}, {1, "2"}}};
   const fs::path file = dir.path / "spare.json";
   REQUIRE(sim::save_state(*st, file.string()).ok());
-  link::LinkOptions lo;
-  lo.port = "sim:" + file.string();
+  link::LinkSpec lo;
+  lo.port = *link::parse_port("sim:" + file.string());
   lo.client.timeout = transport::Millis(50);
   auto s = link::open_session(lo);
   REQUIRE(s.ok());

@@ -50,8 +50,8 @@ struct Line {
 
   std::unique_ptr<link::Session> open(std::uint8_t id) const {
     link::register_scheme("sim", sim::state_file_link_factory());
-    link::LinkOptions lo;
-    lo.port = port();
+    link::LinkSpec lo;
+    lo.port = *link::parse_port(port());
     lo.client.id = id;
     auto s = link::open_session(lo);
     REQUIRE(s.ok());
@@ -128,8 +128,8 @@ TEST_CASE(
   // it is found there.
   test::ScratchDir solo("second-drive-solo");
   write_axis_leaving_11h(solo.path / "b.json", 0x12, "13A2", 55);
-  link::LinkOptions lo;
-  lo.port = "sim:" + (solo.path / "b.json").string();
+  link::LinkSpec lo;
+  lo.port = *link::parse_port("sim:" + (solo.path / "b.json").string());
   lo.client.id = 0x12;
   auto alone = link::open_session(lo);
   REQUIRE(alone.ok());

@@ -72,8 +72,8 @@ void restore(client::Client& c, const config::DriveConfig& file, const ops::Rest
 
 // A session on a simulated drive, as link::open_session makes one.
 std::unique_ptr<link::Session> sim_session(std::shared_ptr<sim::Drive> drive) {
-  link::LinkOptions lo;
-  lo.port = "sim:undo";
+  link::LinkSpec lo;
+  lo.port = *link::parse_port("sim:undo");
   lo.client.id = drive->macid();
   transport::OpenedLink opened;
   opened.link = std::make_unique<sim::SimLink>(std::move(drive));

@@ -106,8 +106,8 @@ struct ServiceRig {
     o.inventory = *inv;
     o.archive = (dir.path / "archive").string();
     for (const auto& l : inv->lines) {
-      link::LinkOptions link;
-      link.port = l.port;
+      link::LinkSpec link;
+      link.port = *link::parse_port(l.port);
       o.links.push_back(link);
     }
     o.clock = [this] { return now; };

@@ -133,9 +133,10 @@ int run(LinkCli& o) {
 
   auto session = open_link(o.common);
   if (!session.ok()) return fail("link", session.error());
-  if (auto l = ops::learn_from_drive(**session, *map); !l.ok()) return fail("link", l.error());
+  if (auto l = ops::learn_from_drive(**session, *map); !l.ok())
+    return session->fail("link", l.error());
   auto now = ops::read_link_settings(**session, *map);
-  if (!now.ok()) return fail("link", now.error());
+  if (!now.ok()) return session->fail("link", now.error());
   const std::string drive = "drive " + hex(now->in_use.macid, 2, "h") + " on " + o.common.port;
 
   nlohmann::ordered_json j;
@@ -152,7 +153,7 @@ int run(LinkCli& o) {
 
   if (!change->any()) {
     auto closed = (*session)->close();
-    if (!closed.ok()) return fail("link", closed.error());
+    if (!closed.ok()) return session->fail("link", closed.error());
     if (o.common.json) {
       j["outcome"] = "shown";
       std::printf("%s\n", j.dump(2).c_str());
@@ -163,14 +164,14 @@ int run(LinkCli& o) {
   }
 
   auto plan = ops::plan_link_change(**session, *map, *now, *change);
-  if (!plan.ok()) return fail("link", plan.error());
+  if (!plan.ok()) return session->fail("link", plan.error());
   j["plan"] = nlohmann::ordered_json::array();
   for (const auto& w : plan->writes) j["plan"].push_back(w.text);
   j["new_link_options"] = link::link_options_of(plan->after);
   std::optional<fleet::InventoryEdit> edit;
   if (inv) {
     auto e = fleet::link_inventory_edit(*inv, o.drive, keys_of(plan->after));
-    if (!e.ok()) return fail("link", e.error());
+    if (!e.ok()) return session->fail("link", e.error());
     edit = std::move(e).value();
   }
   auto print_plan = [&] {
@@ -198,7 +199,7 @@ int run(LinkCli& o) {
 
   if (plan->nothing_to_do()) {
     auto closed = (*session)->close();
-    if (!closed.ok()) return fail("link", closed.error());
+    if (!closed.ok()) return session->fail("link", closed.error());
     if (o.common.json) {
       j["outcome"] = "nothing_to_do";
       std::printf("%s\n", j.dump(2).c_str());
@@ -209,7 +210,7 @@ int run(LinkCli& o) {
   }
   if (o.dry_run) {
     auto closed = (*session)->close();
-    if (!closed.ok()) return fail("link", closed.error());
+    if (!closed.ok()) return session->fail("link", closed.error());
     if (o.common.json) {
       j["outcome"] = "dry_run";
       json_keys();
@@ -226,15 +227,15 @@ int run(LinkCli& o) {
   for (const auto& w : plan->writes) question += "\n  " + w.text;
   question += "\nto the ROM of " + drive + " and reset it (the axis stops)?";
   auto consent = ops::confirm(question, "change a drive's link settings", o.yes);
-  if (!consent.ok()) return fail("link", consent.error());
+  if (!consent.ok()) return session->fail("link", consent.error());
   if (*consent == ops::Consent::declined) {
     std::fprintf(stderr, "cancelled; nothing written\n");
     return kOk;
   }
   auto rep = ops::apply_link_change(**session, *map, *plan, o.common.port, *record);
   auto closed = (*session)->close();
-  if (!rep.ok()) return fail("link", rep.error());
-  if (!closed.ok()) return fail("link", closed.error());
+  if (!rep.ok()) return session->fail("link", rep.error());
+  if (!closed.ok()) return session->fail("link", closed.error());
   const std::string options = link::link_options_of(rep->relink.used);
   if (o.common.json) {
     j["outcome"] = "changed";

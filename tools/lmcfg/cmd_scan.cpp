@@ -31,12 +31,17 @@ int run(ScanCli& o) {
   so.checksum = lo->client.checksum;
   if (o.baud_given) so.bauds = {o.common.baud};
   if (o.timeout_given) so.deadline = transport::Millis(o.common.timeout_ms);
-  so.progress = make_progress(o.common);
-  lo->client.read_retries = 0;
-  auto session = link::open_session(*lo);
+  ProgressBar bar(o.common);
+  so.progress = bar.callback();
+  // One probe per ID: the scan's spec has no read retries.
+  CommonOptions once = o.common;
+  once.retries = 0;
+  auto spec = link_options(once);
+  if (!spec.ok()) return fail("scan", spec.error());
+  auto session = link::open_session(*spec);
   if (!session.ok()) return fail("scan", session.error());
   auto report = link::scan(**session, so);
-  end_progress(o.common);
+  bar.end();
   if (!report.ok()) return fail("scan", report.error());
   if (auto closed = (*session)->close(); !closed.ok()) return fail("scan", closed.error());
   const auto& r = *report;

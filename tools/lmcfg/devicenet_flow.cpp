@@ -105,9 +105,10 @@ Result<config::DriveConfig> devicenet_capture(const CommonOptions& o, const db::
   bo.live = c.live;
   bo.reset_coded_error = c.reset_coded_error;
   bo.notes = &notes;
-  bo.progress = make_progress(o);
+  ProgressBar bar(o);
+  bo.progress = bar.callback();
   auto cfg = ops::capture_devicenet(l, bo, db);
-  end_progress(o);
+  bar.end();
   print_notes(o, "devicenet", notes);
   return cfg;
 }
@@ -195,8 +196,9 @@ int restore_devicenet_on(ops::DevicenetSession& session, const config::DriveConf
   }
   if (auto i = interrupted_check(); !i.ok()) return failed(i.error());
   out.written = true;
-  auto mismatches = ops::execute_devicenet_plan(m, plan, file, db, make_progress(common));
-  end_progress(common);
+  ProgressBar bar(common);
+  auto mismatches = ops::execute_devicenet_plan(m, plan, file, db, bar.callback());
+  bar.end();
   {
     // Recorded once the Set commands went out; the caller closes the session.
     ops::JournalEntry e;

@@ -69,13 +69,13 @@ int restore_on_session(link::Session& session, const config::DriveConfig& file,
                        const RestoreFlags& f, const link::RelinkOverrides& overrides,
                        const db::Database& db, ops::RestoreOutcome& out) {
   using S = ops::RestoreOutcome::Stage;
-  auto& client = session.client();
-  auto copt = client.options();
-  copt.cancel = &ops::interrupt_flag();
-  client.set_options(copt);
+  // The session was opened with the interrupt flag (open_link, line_links):
+  // SIGINT/SIGTERM let the telegram in flight complete.
+  const std::uint8_t id = session.client().options().id;
+  ProgressBar bar(common);
 
   ops::RestoreRunOptions ro;
-  auto record = ops::recovery_path("restore", common.port, copt.id);
+  auto record = ops::recovery_path("restore", common.port, id);
   if (!record.ok()) return fail("restore", record.error());
   ro.restore.recovery_path = *record;
   ro.restore.port = common.port;
@@ -83,16 +83,16 @@ int restore_on_session(link::Session& session, const config::DriveConfig& file,
   ro.restore.include_comm = f.include_comm;
   ro.restore.reset_after = !f.no_reset;
   ro.restore.skip_incompatible = f.skip_incompatible;
-  ro.restore.progress = make_progress(common);
+  ro.restore.progress = bar.callback();
   ro.dry_run = f.dry_run;
   ro.overrides = overrides;
   if (!f.no_undo && !f.dry_run) {
     auto dir = ops::undo_dir();
     if (!dir.ok()) return fail("restore", dir.error());
-    ro.undo = ops::UndoOptions{true, *dir, common.port, copt.id, f.undo_name, ops::kUndoKeep};
+    ro.undo = ops::UndoOptions{true, *dir, common.port, id, f.undo_name, ops::kUndoKeep};
   }
   ro.confirm = [&](const ops::Plan& plan) {
-    end_progress(common);
+    bar.end();
     // The plan goes to stderr when stdout carries the JSON report.
     if (!f.yes) std::fputs(ops::render_plan(plan).c_str(), common.json ? stderr : stdout);
     std::fflush(stdout);
@@ -100,7 +100,7 @@ int restore_on_session(link::Session& session, const config::DriveConfig& file,
                         "restore " + file_name + " onto a drive", f.yes);
   };
   out = ops::run_restore(session, file, db, ro);
-  end_progress(common);
+  bar.end();
   const bool text = !common.json;
   if (common.json) report_json(out, file_name);
   if (out.undo) print_undo_saved(*out.undo, common);
@@ -174,7 +174,7 @@ int restore_on_session(link::Session& session, const config::DriveConfig& file,
     e.audit = audit_of(f.audit);
     e.command = f.undo_name;
     e.port = common.port;
-    e.macid = copt.id;
+    e.macid = id;
     e.position = f.position;
     e.file = file_name;
     e.steps = ops::plan_json(out.plan)["steps"];
