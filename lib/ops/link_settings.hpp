@@ -153,5 +153,4 @@ Result<LinkApplyReport> apply_link_change(link::Session& session, const LinkMap&
                                           const LinkPlan& plan, const std::string& port,
                                           const std::filesystem::path& recovery);
 
-
 }  // namespace lmcfg::ops
