@@ -77,7 +77,7 @@ std::unique_ptr<link::Session> sim_session(std::shared_ptr<sim::Drive> drive) {
   lo.client.id = drive->macid();
   transport::OpenedLink opened;
   opened.link = std::make_unique<sim::SimLink>(std::move(drive));
-  return std::make_unique<link::Session>(lo, std::move(opened), std::nullopt);
+  return std::make_unique<link::Session>(lo, lo.serial, std::move(opened), std::nullopt);
 }
 
 std::size_t files_in(const fs::path& dir) {
