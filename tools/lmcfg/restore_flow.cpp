@@ -71,7 +71,8 @@ int restore_on_session(link::Session& session, const config::DriveConfig& file,
   using S = ops::RestoreOutcome::Stage;
   // The session was opened with the interrupt flag (open_link, line_links):
   // SIGINT/SIGTERM let the telegram in flight complete.
-  const std::uint8_t id = session.client().options().id;
+  auto& client = session.client();
+  const std::uint8_t id = client.options().id;
   ProgressBar bar(common);
 
   ops::RestoreRunOptions ro;
