@@ -99,8 +99,8 @@ Timed backup(const fleet::Inventory& inv, const fs::path& dir, const db::Databas
   fleet::FleetOptions fo;
   fo.db = db;
   for (const auto& l : inv.lines) {
-    ops::LinkOptions link;
-    link.port = l.port;
+    link::LinkSpec link;
+    link.port = *link::parse_port(l.port);
     fo.links.push_back(link);
   }
   const auto start = Clock::now();

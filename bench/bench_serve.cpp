@@ -25,7 +25,7 @@
 #include <thread>
 
 #include "db/database.hpp"
-#include "ops/session.hpp"
+#include "link/session.hpp"
 #include "serve/http.hpp"
 #include "serve/service.hpp"
 #include "sim/state_file.hpp"
@@ -115,7 +115,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "%s\n", inv.error().message.c_str());
     return 2;
   }
-  ops::register_link_scheme("sim", sim::state_file_link_factory());
+  link::register_scheme("sim", sim::state_file_link_factory());
   auto db = db::Database::open(LMCFG_DB_PATH);
 
   std::mutex mu;
@@ -125,8 +125,8 @@ int main(int argc, char** argv) {
   so.inventory = *inv;
   so.archive = (tmp / "archive").string();
   for (const auto& l : inv->lines) {
-    ops::LinkOptions link;
-    link.port = l.port;
+    link::LinkSpec link;
+    link.port = *link::parse_port(l.port);
     link.real_time_sim = true;
     so.links.push_back(link);
   }

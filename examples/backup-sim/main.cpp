@@ -6,8 +6,8 @@
 
 #include "config/config_io.hpp"
 #include "db/database.hpp"
+#include "link/session.hpp"
 #include "ops/backup.hpp"
-#include "ops/session.hpp"
 #include "sim/state_file.hpp"
 
 int main(int argc, char** argv) {
@@ -20,12 +20,12 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "backup-sim: %s\n", db.error().message.c_str());
     return 2;
   }
-  lmcfg::ops::LinkOptions link;
+  lmcfg::link::LinkSpec link;
   // The operations know serial ports and TCP gateways; "sim:" (the in-process
   // simulated drive) is registered by the program, as the lmcfg tool does.
-  lmcfg::ops::register_link_scheme("sim", lmcfg::sim::state_file_link_factory());
-  link.port = std::string("sim:") + argv[1];
-  auto session = lmcfg::ops::open_session(link);
+  lmcfg::link::register_scheme("sim", lmcfg::sim::state_file_link_factory());
+  link.port = *lmcfg::link::parse_port(std::string("sim:") + argv[1]);
+  auto session = lmcfg::link::open_session(link);
   if (!session) {
     std::fprintf(stderr, "backup-sim: %s\n", session.error().message.c_str());
     return 4;

@@ -56,7 +56,7 @@ struct ClientOptions {
   // again; bytes that arrive late (while settling) count as a round trip. On a
   // link without a byte time (TCP gateway) the wire time is that of 4800 Bd.
   // false: every ordinary request waits `timeout` (a bare Client's default;
-  // the tools' sessions, ops::open_session, switch it on).
+  // the tools' sessions, link::open_session, switch it on).
   bool adaptive_deadline = false;
   double turnaround_max_ms = 1.5;  // §6.1.1.1: the drive answers within 0.5-1.5 ms
   double deadline_margin_ms = 2.0;
@@ -95,7 +95,7 @@ struct ClientOptions {
   // Every value that goes into a file is read this many times in agreement
   // (a further read breaks a tie). 0 = automatic: 2 when the checksum is off
   // and `link_has_parity` is false (nothing on the link detects a flipped bit),
-  // else 1. The tools' sessions (ops::open_session) use 0; a bare Client
+  // else 1. The tools' sessions (link::open_session) use 0; a bare Client
   // reads once unless told.
   int agreeing_reads = 1;
   // Automatic mode only: once the link has shown that it corrupts answers (a

@@ -475,9 +475,7 @@ Result<FleetRestoreResult> fleet_restore(const Inventory& inv, Archive& archive,
     res.outcome = opt.restore_devicenet(*session, f.config, f.file_name);
     closed = session->close();
   } else {
-    ops::LinkOptions link = opt.link.linrs;
-    link.client.id = d->id;
-    LMCFG_ASSIGN_OR_RETURN(auto session, ops::open_session(link));
+    LMCFG_ASSIGN_OR_RETURN(auto session, link::open_session(opt.link.linrs.for_macid(d->id)));
     res.outcome = opt.restore(*session, f.config, f.file_name);
     closed = session->close();
   }

@@ -13,12 +13,12 @@
 #include "db/database.hpp"
 #include "fleet/archive.hpp"
 #include "fleet/inventory.hpp"
+#include "link/session.hpp"
 #include "ops/audit.hpp"
 #include "ops/backup.hpp"
 #include "ops/diff.hpp"
 #include "ops/line.hpp"
 #include "ops/restore_run.hpp"
-#include "ops/session.hpp"
 
 namespace lmcfg::fleet {
 
@@ -118,7 +118,7 @@ struct FleetRestore {
   std::reference_wrapper<const db::Database> db = db::Database::empty();
   // Runs the normal restore (plan, confirmation, verify) of the archived file
   // on the open session and returns its outcome.
-  std::function<ops::RestoreOutcome(ops::Session&, const config::DriveConfig&,
+  std::function<ops::RestoreOutcome(link::Session&, const config::DriveConfig&,
                                     const std::string& file_name)>
       restore;
   // DeviceNet lines: the same for a controller, on its connection (the

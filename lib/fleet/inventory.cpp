@@ -2,6 +2,7 @@
 
 #include <toml++/toml.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -486,6 +487,43 @@ Result<void> check_position_name(std::string_view name) {
     start = slash + 1;
   }
   return {};
+}
+
+namespace {
+// The tool's options with the line's keys over them.
+link::LinkInput line_input(const LineEntry& line, link::LinkInput base) {
+  base.port = line.port;
+  auto set_int = [](const std::optional<std::int64_t>& v, auto& field) {
+    if (v)
+      field = static_cast<std::remove_reference_t<decltype(field)>>(
+          std::clamp<std::int64_t>(*v, -1, 100'000'000));
+  };
+  set_int(line.baud, base.baud);
+  set_int(line.stop_bits, base.stop_bits);
+  set_int(line.timeout_ms, base.timeout_ms);
+  set_int(line.retries, base.retries);
+  set_int(line.settle_ms, base.settle_ms);
+  if (line.agreeing_reads) base.agreeing_reads = std::to_string(*line.agreeing_reads);
+  if (line.parity) base.parity = *line.parity;
+  if (line.checksum) base.checksum = *line.checksum;
+  if (line.checksum_coverage) base.checksum_coverage = *line.checksum_coverage;
+  return base;
+}
+Error at_line(const LineEntry& line, const Error& e) {
+  return Error(e.code, line.at.str() + ": line '" + line.name + "': " + e.message);
+}
+}  // namespace
+
+Result<void> check_line_link(const LineEntry& line, link::LinkInput base) {
+  if (auto c = link::check_link_settings(line_input(line, std::move(base))); !c.ok())
+    return at_line(line, c.error());
+  return {};
+}
+
+Result<link::LinkSpec> line_link_spec(const LineEntry& line, link::LinkInput base) {
+  auto spec = link::make_link_spec(line_input(line, std::move(base)));
+  if (!spec.ok()) return at_line(line, spec.error());
+  return spec;
 }
 
 Result<void> check_ports(const Inventory& inv) {

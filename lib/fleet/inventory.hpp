@@ -38,6 +38,7 @@
 
 #include "common/result.hpp"
 #include "devicenet/command.hpp"
+#include "link/spec.hpp"
 
 namespace lmcfg::fleet {
 
@@ -141,6 +142,13 @@ struct InventoryEdit {
 // Errc::not_found when no drive is called `drive`.
 Result<InventoryEdit> link_inventory_edit(const Inventory& inv, std::string_view drive,
                                           const LinkKeys& after);
+
+// A LinRS line's link specification: `base` (the tool's options) with the
+// line's keys over it, checked by link::make_link_spec as the options are; a
+// bad value is an error at the line's position ("FILE:L:C: line 'NAME': ...").
+Result<link::LinkSpec> line_link_spec(const LineEntry& line, link::LinkInput base);
+// Its checks but the port's form (check_ports reports every line's port).
+Result<void> check_line_link(const LineEntry& line, link::LinkInput base);
 
 // Whether each line's port can be reached before any drive is talked to,
 // through the table of port schemes (link/port.hpp): its form ("tcp://HOST:PORT"

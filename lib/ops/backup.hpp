@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "client/client.hpp"
+#include "common/progress.hpp"
 #include "config/model.hpp"
 
 namespace lmcfg::db {
@@ -22,8 +23,8 @@ class Database;
 
 namespace lmcfg::ops {
 
-// Progress: phase name, items done, items expected (0 = unknown).
-using Progress = std::function<void(const std::string& phase, std::size_t done, std::size_t total)>;
+// Progress: phase name, items done, items expected (0 = unknown); common/progress.hpp.
+using Progress = lmcfg::Progress;
 
 // What a backup found out about the link and the drive, for the report.
 struct BackupReport {

@@ -16,14 +16,12 @@ DevicenetBackupOptions devicenet_read_for(const LineDrive& d) {
   return bo;
 }
 
-Result<std::unique_ptr<LineSession>> LineSession::open(const LineLink& link,
+Result<std::unique_ptr<LineSession>> LineSession::open(const LineLink& line_link,
                                                        std::uint8_t first_id) {
   auto s = std::unique_ptr<LineSession>(new LineSession);
-  s->link_ = link;
-  if (link.is_devicenet()) return s;
-  LinkOptions l = link.linrs;
-  l.client.id = first_id;
-  LMCFG_ASSIGN_OR_RETURN(s->linrs_, open_session(l));
+  s->link_ = line_link;
+  if (line_link.is_devicenet()) return s;
+  LMCFG_ASSIGN_OR_RETURN(s->linrs_, link::open_session(line_link.linrs.for_macid(first_id)));
   return s;
 }
 

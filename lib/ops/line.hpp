@@ -10,16 +10,16 @@
 #include <optional>
 #include <vector>
 
+#include "link/session.hpp"
 #include "ops/backup.hpp"
 #include "ops/devicenet.hpp"
-#include "ops/session.hpp"
 
 namespace lmcfg::ops {
 
 struct LineLink {
   LineLink() = default;
-  LineLink(LinkOptions l) : linrs(std::move(l)) {}  // NOLINT: a LinRS line
-  LinkOptions linrs;                                // LinRS lines
+  LineLink(link::LinkSpec l) : linrs(std::move(l)) {}  // NOLINT: a LinRS line
+  link::LinkSpec linrs;                                // LinRS lines
   // CAN lines: the link and the master's options; the controller's MAC ID and
   // IO modules are each drive's (devicenet_link_for).
   std::optional<DevicenetLinkOptions> devicenet;
@@ -46,7 +46,8 @@ class LineSession {
  public:
   // LinRS: opens the port, talking to `first_id`. DeviceNet: nothing is
   // opened until a drive is read.
-  static Result<std::unique_ptr<LineSession>> open(const LineLink& link, std::uint8_t first_id);
+  static Result<std::unique_ptr<LineSession>> open(const LineLink& line_link,
+                                                   std::uint8_t first_id);
   // Backs up drive `d` of the line: LinRS with `bo` (ops::backup) after
   // switching to its MACID, DeviceNet as capture_devicenet. The capture's
   // identity records the link.
@@ -59,7 +60,7 @@ class LineSession {
 
  private:
   LineLink link_;
-  std::unique_ptr<Session> linrs_;
+  std::unique_ptr<link::Session> linrs_;
 };
 
 }  // namespace lmcfg::ops

@@ -7,10 +7,10 @@
 #include <cstdio>
 
 #include "common/bytes.hpp"
+#include "link/scan.hpp"
 #include "ops/backup.hpp"
 #include "ops/recovery.hpp"
 #include "ops/restore.hpp"
-#include "ops/scan.hpp"
 
 namespace lmcfg::ops {
 
@@ -39,8 +39,8 @@ Result<std::string> canonical(S s, std::string_view value) {
   const std::string v = trim(value);
   switch (s) {
     case S::checksum: {
-      LMCFG_ASSIGN_OR_RETURN(auto c, parse_checksum(v));
-      return checksum_name(c);
+      LMCFG_ASSIGN_OR_RETURN(auto c, link::parse_checksum(v));
+      return link::checksum_name(c);
     }
     case S::parity:
       if (!transport::parity_from_name(v))
@@ -180,7 +180,7 @@ Result<LinkMap> link_map(const db::Database& db, const std::vector<std::string>&
   return m;
 }
 
-Result<void> learn_from_drive(Session& session, LinkMap& map) {
+Result<void> learn_from_drive(link::Session& session, LinkMap& map) {
   SettingMap& baud = map[S::baud];
   if (!baud.upid || baud.raw_of("57600")) return {};
   auto def = session.client().get_default(*baud.upid);
@@ -192,7 +192,7 @@ Result<void> learn_from_drive(Session& session, LinkMap& map) {
   return {};
 }
 
-Result<LinkState> read_link_settings(Session& session, const LinkMap& map) {
+Result<LinkState> read_link_settings(link::Session& session, const LinkMap& map) {
   auto& c = session.client();
   LinkState st;
   st.in_use = {session.line(), c.options().id, c.options().checksum};
@@ -248,7 +248,7 @@ Result<std::uint32_t> raw_for(const LinkMap& map, S s, const std::string& option
 }
 
 std::string checksum_value(const codec::ChecksumConfig& c) {
-  return checksum_name(codec::ChecksumConfig{c.mode, c.crc_init, {}});
+  return link::checksum_name(codec::ChecksumConfig{c.mode, c.crc_init, {}});
 }
 
 }  // namespace
@@ -281,7 +281,7 @@ Result<void> check_link_change(const LinkMap& map, const LinkChange& change) {
   return {};
 }
 
-Result<LinkPlan> plan_link_change(Session& session, const LinkMap& map, const LinkState& now,
+Result<LinkPlan> plan_link_change(link::Session& session, const LinkMap& map, const LinkState& now,
                                   const LinkChange& change) {
   LinkPlan plan;
   plan.after = now.in_use;
@@ -341,8 +341,8 @@ Result<LinkPlan> plan_link_change(Session& session, const LinkMap& map, const Li
     plan.after.macid = *change.macid;
   }
   if (change.checksum) {
-    const std::string name =
-        checksum_name(codec::ChecksumConfig{change.checksum->mode, change.checksum->crc_init, {}});
+    const std::string name = link::checksum_name(
+        codec::ChecksumConfig{change.checksum->mode, change.checksum->crc_init, {}});
     const std::string opt = "--set-checksum " + name;
     LMCFG_ASSIGN_OR_RETURN(auto raw, mapped(S::checksum, opt, name));
     want(S::checksum, raw, name);
@@ -367,19 +367,11 @@ Result<LinkPlan> plan_link_change(Session& session, const LinkMap& map, const Li
   return plan;
 }
 
-std::string link_options_of(const RelinkCandidate& c) {
-  FoundDrive d;
-  d.id = c.macid;
-  d.line = c.line;
-  d.checksum = c.checksum;
-  return link_options_of(d);
-}
-
-Result<LinkApplyReport> apply_link_change(Session& session, const LinkMap& map,
+Result<LinkApplyReport> apply_link_change(link::Session& session, const LinkMap& map,
                                           const LinkPlan& plan, const std::string& port,
                                           const std::filesystem::path& recovery) {
   auto& c = session.client();
-  const RelinkCandidate before{session.line(), c.options().id, c.options().checksum};
+  const link::RelinkCandidate before{session.line(), c.options().id, c.options().checksum};
   RecoveryRecord rec;
   rec.command = "link";
   rec.port = port;
@@ -424,26 +416,26 @@ Result<LinkApplyReport> apply_link_change(Session& session, const LinkMap& map,
   }
 
   LinkApplyReport rep;
-  ExpectedLink expected;
+  link::ExpectedLink expected;
   expected.baud = plan.after.line.baud;
   expected.macid = plan.after.macid;
-  RelinkOverrides o;
+  link::RelinkOverrides o;
   o.checksum = plan.after.checksum;
   o.parity = plan.after.line.parity;
   o.stop_bits = plan.after.line.stop_bits;
-  auto found = reconnect(session, expected, o);
+  auto found = link::reconnect(session, expected, o);
   if (found.ok()) {
     rep.relink = std::move(found).value();
   } else {
     if (found.error().code != ErrorClass::link_failure) return std::move(found).error();
     // Scanning if it must: the drive's MACID at every rate, checksum variant and
     // parity, in case the firmware reads a raw value otherwise than the map.
-    ScanOptions so;
+    link::ScanOptions so;
     so.first_id = so.last_id = plan.after.macid;
     so.checksum = plan.after.checksum;
-    auto sc = scan(session, so);
+    auto sc = link::scan(session, so);
     if (sc.ok() && !sc->found.empty()) {
-      const FoundDrive& d = sc->found.front();
+      const link::FoundDrive& d = sc->found.front();
       if (auto r = session.relink(d.line, d.id, d.checksum); !r.ok()) return std::move(r).error();
       rep.scanned = true;
       rep.relink.changed = true;

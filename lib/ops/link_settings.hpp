@@ -15,7 +15,7 @@
 // A change: plan (read the ROM values, refuse what the map cannot express or a
 // MACID another drive answers to), then apply: recovery record, stop MC, write
 // ROM (value before its source select), reset, find the drive at the new
-// settings (ops::reconnect, then ops::scan of its MACID), read the ROM values
+// settings (link::reconnect, then link::scan of its MACID), read the ROM values
 // back, delete the record.
 #include <array>
 #include <cstdint>
@@ -27,8 +27,8 @@
 
 #include "common/result.hpp"
 #include "db/database.hpp"
-#include "ops/relink.hpp"
-#include "ops/session.hpp"
+#include "link/relink.hpp"
+#include "link/session.hpp"
 
 namespace lmcfg::ops {
 
@@ -78,7 +78,7 @@ Result<LinkMap> link_map(const db::Database& db, const std::vector<std::string>&
 // default (§10 05h 07h) is 57600 Bit/s, "RS baud rate = 57600 Bit/s
 // (default)" (LinRS §15), so the drive's default raw value of 2012h is the
 // code of 57600 unless the map already has one. A refused read adds nothing.
-Result<void> learn_from_drive(Session& session, LinkMap& map);
+Result<void> learn_from_drive(link::Session& session, LinkMap& map);
 
 // One setting as the drive holds it.
 struct LinkValue {
@@ -91,14 +91,14 @@ struct LinkValue {
 struct LinkState {
   std::array<LinkValue, kLinkSettings> values;
   // The settings the session talks with (what the drive uses now).
-  RelinkCandidate in_use;
+  link::RelinkCandidate in_use;
   const LinkValue& operator[](LinkSetting s) const { return values[static_cast<std::size_t>(s)]; }
 };
 
 // Reads the ROM value of every setting whose UPID the map knows (§10 05h 00h).
 // A refused read (C8: this firmware has no such UPID) leaves the value unknown
 // with the reason; a link failure is an error.
-Result<LinkState> read_link_settings(Session& session, const LinkMap& map);
+Result<LinkState> read_link_settings(link::Session& session, const LinkMap& map);
 
 // What the user asks for; unset = keep.
 struct LinkChange {
@@ -120,7 +120,7 @@ struct LinkWrite {
 
 struct LinkPlan {
   std::vector<LinkWrite> writes;  // in the order written
-  RelinkCandidate after;          // the settings the drive talks with after its reset
+  link::RelinkCandidate after;    // the settings the drive talks with after its reset
   bool nothing_to_do() const { return writes.empty(); }
 };
 
@@ -134,12 +134,12 @@ Result<void> check_link_change(const LinkMap& map, const LinkChange& change);
 // value for, a setting without a UPID, or a MACID another drive on the line
 // already answers to (probed at the current settings, one default response
 // request).
-Result<LinkPlan> plan_link_change(Session& session, const LinkMap& map, const LinkState& now,
+Result<LinkPlan> plan_link_change(link::Session& session, const LinkMap& map, const LinkState& now,
                                   const LinkChange& change);
 
 struct LinkApplyReport {
-  RelinkReport relink;
-  bool scanned = false;  // found by ops::scan after reconnect's candidates failed
+  link::RelinkReport relink;
+  bool scanned = false;  // found by link::scan after reconnect's candidates failed
   LinkState after;
 };
 
@@ -149,12 +149,8 @@ struct LinkApplyReport {
 // Errors name the step, the drive's state, the record and the next command:
 // not found after the reset: Errc::timeout (exit 4); a value that reads back
 // differently: Errc::verify_mismatch.
-Result<LinkApplyReport> apply_link_change(Session& session, const LinkMap& map,
+Result<LinkApplyReport> apply_link_change(link::Session& session, const LinkMap& map,
                                           const LinkPlan& plan, const std::string& port,
                                           const std::filesystem::path& recovery);
-
-// "--baud 115200 --id 0x11 --checksum crc-ffff" (+ parity, stop bits, coverage
-// when not the defaults): the link options of `c`.
-std::string link_options_of(const RelinkCandidate& c);
 
 }  // namespace lmcfg::ops

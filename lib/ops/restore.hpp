@@ -170,7 +170,7 @@ struct Plan {
   config::DriveConfig expected;
   std::size_t write_telegrams = 0;  // estimate of write telegrams the steps send
   // --include-comm changes a communication parameter of the target: after the
-  // reset the drive may answer only with other link settings (ops/relink.hpp).
+  // reset the drive may answer only with other link settings (link/relink.hpp).
   // The reset's own answer may then be lost; execute_plan accepts that.
   bool link_may_change = false;
   // What the target loses or gets replaced: command table entries and curves

@@ -7,8 +7,8 @@
 #include "common/layers.hpp"
 #include "db/database.hpp"
 #include "ops/compare.hpp"
+#include "ops/expected_link.hpp"
 #include "ops/recovery.hpp"
-#include "ops/relink.hpp"
 #include "ops/restore.hpp"
 #include "ops/restore_internal.hpp"
 
@@ -372,12 +372,12 @@ void add_stop_and_start(Builder& b, bool rom_changed) {
 // the reset is completed") comes from the new ID and is skipped, and on a line
 // of several drives the new ID may be another drive's. Without --include-comm
 // the restore keeps the link, so such a plan is refused before any write; with
-// it, the tool follows the drive after the reset (ops/relink.hpp).
+// it, the tool follows the drive after the reset (link/relink.hpp).
 void check_id_after_reset(Builder& b) {
   const bool resets = std::any_of(b.plan.steps.begin(), b.plan.steps.end(),
                                   [](const PlanStep& s) { return s.action == Action::reset; });
   if (!resets || b.plan.link_may_change) return;
-  const ExpectedLink after = expected_link(b.plan, b.db);
+  const link::ExpectedLink after = expected_link(b.plan, b.db);
   const std::uint8_t now = b.c.options().id;
   if (!after.macid || *after.macid == now) return;
   if (b.opt.include_comm) {

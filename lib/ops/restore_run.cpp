@@ -1,5 +1,7 @@
 #include "ops/restore_run.hpp"
 
+#include "ops/expected_link.hpp"
+
 namespace lmcfg::ops {
 
 namespace {
@@ -50,7 +52,7 @@ std::string outcome_name(const RestoreOutcome& out) {
   return stage_name(out.stage);
 }
 
-RestoreOutcome run_restore(Session& session, const config::DriveConfig& file,
+RestoreOutcome run_restore(link::Session& session, const config::DriveConfig& file,
                            const db::Database& db, const RestoreRunOptions& o) {
   using S = RestoreOutcome::Stage;
   RestoreOutcome out;
@@ -98,7 +100,7 @@ RestoreOutcome run_restore(Session& session, const config::DriveConfig& file,
   if (auto r = execute_plan(client, out.plan, o.restore); !r.ok())
     return fail(std::move(r).error());
   if (out.plan.link_may_change && o.restore.reset_after) {
-    auto r = reconnect(session, expected_link(out.plan, db), o.overrides);
+    auto r = link::reconnect(session, expected_link(out.plan, db), o.overrides);
     if (!r.ok()) {
       return fail(Error(r.error().code,
                         "written, but the drive could not be found again: " + r.error().message +

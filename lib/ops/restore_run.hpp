@@ -5,11 +5,11 @@
 #include <functional>
 #include <optional>
 
+#include "link/relink.hpp"
+#include "link/session.hpp"
 #include "ops/confirm.hpp"
 #include "ops/devicenet.hpp"
-#include "ops/relink.hpp"
 #include "ops/restore.hpp"
-#include "ops/session.hpp"
 #include "ops/undo.hpp"
 
 namespace lmcfg::ops {
@@ -17,7 +17,7 @@ namespace lmcfg::ops {
 struct RestoreRunOptions {
   RestoreOptions restore;
   bool dry_run = false;
-  RelinkOverrides overrides;
+  link::RelinkOverrides overrides;
   // Called with an accepted plan that has steps, before any write: go on or
   // decline. Unset: go on.
   std::function<Result<Consent>(const Plan&)> confirm;
@@ -40,7 +40,7 @@ struct RestoreOutcome {
   Stage stage = Stage::failed;
   Plan plan;
   std::optional<Error> error;
-  std::optional<RelinkReport> relink;
+  std::optional<link::RelinkReport> relink;
   std::vector<std::string> mismatches;
   bool written = false;  // execute_plan ran (some steps may have been sent)
   // The verify found a table the plan did not write differing (RAM reloaded
@@ -56,7 +56,7 @@ struct RestoreOutcome {
   std::size_t set_commands = 0;  // a DeviceNet restore: the Set commands planned
 };
 
-RestoreOutcome run_restore(Session& session, const config::DriveConfig& file,
+RestoreOutcome run_restore(link::Session& session, const config::DriveConfig& file,
                            const db::Database& db, const RestoreRunOptions& o);
 
 const char* stage_name(RestoreOutcome::Stage s);  // "restored and verified", ...

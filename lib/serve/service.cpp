@@ -224,10 +224,8 @@ struct Service::Impl {
   std::size_t line_index(const fleet::LineEntry* l) const {
     return static_cast<std::size_t>(l - opt.inventory.lines.data());
   }
-  ops::LinkOptions link_for(std::size_t line, const fleet::DriveEntry& d) const {
-    ops::LinkOptions l = opt.links[line].linrs;
-    l.client.id = d.id;
-    return l;
+  link::LinkSpec link_for(std::size_t line, const fleet::DriveEntry& d) const {
+    return opt.links[line].linrs.for_macid(d.id);
   }
 
   // Runs `fn` on the line's worker (after what is queued there) and waits for it.
@@ -436,7 +434,7 @@ struct Service::Impl {
                                audit.ticket, cause,       skip};
     if (auto saved = save_pending(line, d, begun); !saved.ok()) {
       err = saved.error();
-    } else if (auto session = ops::open_session(link_for(li, d)); !session.ok()) {
+    } else if (auto session = link::open_session(link_for(li, d)); !session.ok()) {
       err = session.error();
     } else {
       ops::RestoreRunOptions ro;
@@ -1191,7 +1189,7 @@ Result<Json> Service::plan(const std::string& name, const std::string& rev,
   // The plan of `lmcfg restore --dry-run`, the values the target cannot take
   // listed apart (execute decides whether to leave them out).
   LMCFG_ASSIGN_OR_RETURN(sp.plan, s.on_worker<ops::Plan>(sp.line, [&]() -> Result<ops::Plan> {
-    LMCFG_ASSIGN_OR_RETURN(auto session, ops::open_session(s.link_for(sp.line, *d)));
+    LMCFG_ASSIGN_OR_RETURN(auto session, link::open_session(s.link_for(sp.line, *d)));
     ops::RestoreRunOptions ro;
     ro.restore = s.restore_options(*line, *d, true);
     ro.dry_run = true;

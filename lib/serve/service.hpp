@@ -19,9 +19,9 @@
 #include "db/database.hpp"
 #include "fleet/fleet.hpp"
 #include "fleet/inventory.hpp"
+#include "link/session.hpp"
 #include "ops/audit.hpp"
 #include "ops/backup.hpp"
-#include "ops/session.hpp"
 
 namespace lmcfg::serve {
 

@@ -26,7 +26,7 @@ Result<std::vector<DriveState>> load_line(const std::vector<std::string>& paths)
 Result<void> save_state(const DriveState& s, const std::string& path);
 
 // The factory of "sim:STATE.json" ports, which the tools register with
-// ops::register_link_scheme("sim", ...): loads the drive from STATE.json, wires
+// link::register_scheme("sim", ...): loads the drive from STATE.json, wires
 // the line at the drive's settings and saves the state back on a clean close.
 transport::LinkFactory state_file_link_factory();
 

@@ -182,7 +182,7 @@ class MemoryTrace : public TraceSink {
 };
 
 // A link opened by a port scheme the operations layer does not know itself
-// (ops::register_link_scheme): the tools register "sim:" this way, so the
+// (link::register_scheme): the tools register "sim:" this way, so the
 // operations never depend on the simulator.
 struct OpenedLink {
   std::unique_ptr<Transport> link;

@@ -2,7 +2,7 @@
 // (docs/python.md). The pure-Python package `lmcfg` (python/lmcfg/) re-exports
 // it and adds the idioms (Link, the module-level database).
 //
-// Every call goes through the functions the `lmcfg` tool calls (ops::open_session,
+// Every call goes through the functions the `lmcfg` tool calls (link::open_session,
 // ops::backup, ops::diff, ops::plan_restore, ops::run_restore, config::read/
 // write_config_file): the bindings only convert arguments and results. Drive I/O
 // runs with the GIL released; Python callbacks (progress, confirm) re-acquire it.
@@ -23,12 +23,13 @@
 #include "common/types.hpp"
 #include "config/config_io.hpp"
 #include "db/database.hpp"
+#include "link/session.hpp"
+#include "link/spec.hpp"
 #include "ops/backup.hpp"
 #include "ops/diff.hpp"
 #include "ops/recovery.hpp"
 #include "ops/restore.hpp"
 #include "ops/restore_run.hpp"
-#include "ops/session.hpp"
 #include "sim/state_file.hpp"
 
 namespace py = pybind11;
@@ -161,42 +162,30 @@ struct OpenArgs {
   std::string trace;
 };
 
-Result<ops::LinkOptions> link_options(const OpenArgs& a) {
-  ops::LinkOptions l;
-  l.port = a.port;
-  l.trace_path = a.trace;
-  l.holder = "a Python script (lmcfg module)";  // named to a second program on the port
-  l.serial.baud = a.baud;
-  l.serial.stop_bits = a.stop_bits;
-  LMCFG_ASSIGN_OR_RETURN(l.serial.parity, ops::parse_parity(a.parity));
-  LMCFG_TRY(transport::validate(l.serial));
-  if (a.id < 0 || a.id > 0xFF)
-    return Error(Errc::invalid_argument,
-                 "id " + std::to_string(a.id) + " is not a MACID 0..255 (0x00..0xFF)");
-  l.client.id = static_cast<std::uint8_t>(a.id);
-  LMCFG_ASSIGN_OR_RETURN(l.client.checksum, ops::parse_checksum(a.checksum));
-  LMCFG_ASSIGN_OR_RETURN(l.client.checksum.coverage,
-                         ops::parse_checksum_coverage(a.checksum_coverage));
-  if (a.timeout_ms < 1 || a.timeout_ms > 60000)
-    return Error(Errc::invalid_argument,
-                 "timeout_ms " + std::to_string(a.timeout_ms) + " is outside 1..60000");
-  if (a.retries < 0 || a.retries > 10)
-    return Error(Errc::invalid_argument,
-                 "retries " + std::to_string(a.retries) + " is outside 0..10");
-  if (a.agreeing_reads < 0 || a.agreeing_reads > 5)
-    return Error(Errc::invalid_argument, "agreeing_reads " + std::to_string(a.agreeing_reads) +
-                                             " is not 0 (automatic) or 1..5");
-  l.client.timeout = transport::Millis(a.timeout_ms);
-  l.client.read_retries = a.retries;
-  l.agreeing_reads = a.agreeing_reads;
-  return l;
+// The tool's one check (link::make_link_spec), worded with the Python names;
+// agreeing_reads 0 is automatic.
+Result<link::LinkSpec> link_options(const OpenArgs& a) {
+  link::LinkInput in;
+  in.port = a.port;
+  in.trace = a.trace;
+  in.holder = "a Python script (lmcfg module)";  // named to a second program on the port
+  in.baud = a.baud;
+  in.stop_bits = a.stop_bits;
+  in.parity = a.parity;
+  in.id = std::to_string(a.id);
+  in.checksum = a.checksum;
+  in.checksum_coverage = a.checksum_coverage;
+  in.timeout_ms = a.timeout_ms;
+  in.retries = a.retries;
+  in.agreeing_reads = a.agreeing_reads == 0 ? "auto" : std::to_string(a.agreeing_reads);
+  return link::make_link_spec(in, link::kPythonNames);
 }
 
 // ---------------------------------------------------------------------------
 // An open link to one drive (Python: lmcfg.Drive, a context manager).
 class Drive {
  public:
-  Drive(std::unique_ptr<ops::Session> s, std::string port, py::object db)
+  Drive(std::unique_ptr<link::Session> s, std::string port, py::object db)
       : session_(std::move(s)), port_(std::move(port)), db_(std::move(db)) {}
   Drive(const Drive&) = delete;
   Drive& operator=(const Drive&) = delete;
@@ -252,7 +241,7 @@ class Drive {
     CallbackGuard g{std::move(progress), py::none()};
     bo.progress = progress_of(&g);
     const auto& db = database();
-    auto cfg = run(g, [&](ops::Session& s) { return ops::backup(s.client(), bo, db); });
+    auto cfg = run(g, [&](link::Session& s) { return ops::backup(s.client(), bo, db); });
     g.rethrow_if_failed();
     auto out = value_or_raise(std::move(cfg));
     out.identity.link = session_->link_settings();
@@ -269,7 +258,7 @@ class Drive {
     ro.progress = progress_of(&g);
     const auto& db = database();
     auto plan =
-        run(g, [&](ops::Session& s) { return ops::plan_restore(s.client(), file, db, ro); });
+        run(g, [&](link::Session& s) { return ops::plan_restore(s.client(), file, db, ro); });
     g.rethrow_if_failed();
     return value_or_raise(std::move(plan));
   }
@@ -306,7 +295,7 @@ class Drive {
       }
     };
     const auto& db = database();
-    auto out = run(g, [&](ops::Session& s) { return ops::run_restore(s, file, db, ro); });
+    auto out = run(g, [&](link::Session& s) { return ops::run_restore(s, file, db, ro); });
     g.rethrow_if_failed();
     using S = ops::RestoreOutcome::Stage;
     if (out.stage == S::failed) {
@@ -349,14 +338,14 @@ class Drive {
     ok_or_raise(r);
   }
 
-  ops::Session& session() {
+  link::Session& session() {
     if (!session_) raise(Error(Errc::invalid_argument, "the drive's link is closed"));
     return *session_;
   }
   const std::string& port() const { return port_; }
 
  private:
-  std::unique_ptr<ops::Session> session_;
+  std::unique_ptr<link::Session> session_;
   std::string port_;
   py::object db_;
   std::mutex busy_;
@@ -367,10 +356,10 @@ std::unique_ptr<Drive> open_drive(const OpenArgs& a, py::object db_arg) {
   py::object db = database_or_default(std::move(db_arg));
   db.cast<const db::Database&>();  // a wrong type fails here, not in an operation
   auto opt = value_or_raise(link_options(a));
-  Result<std::unique_ptr<ops::Session>> s = Error(Errc::not_supported, "not opened");
+  Result<std::unique_ptr<link::Session>> s = Error(Errc::not_supported, "not opened");
   {
     py::gil_scoped_release nogil;
-    s = ops::open_session(opt);
+    s = link::open_session(opt);
   }
   return std::make_unique<Drive>(value_or_raise(std::move(s)), a.port, std::move(db));
 }
@@ -419,7 +408,7 @@ PYBIND11_MODULE(_lmcfg, m) {
       "lmcfg's C++ library for Python: back up, diff and restore LinMot drive configurations "
       "over LinRS. Use the package `lmcfg`, which re-exports this module.";
   // sim:STATE.json, the built-in simulated drive, as the lmcfg program registers it.
-  ops::register_link_scheme("sim", sim::state_file_link_factory());
+  link::register_scheme("sim", sim::state_file_link_factory());
 
   // Exceptions (exit codes: README "Exit codes").
   auto make = [&](const char* name, py::handle base, int code, const char* doc) {

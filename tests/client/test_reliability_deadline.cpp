@@ -20,8 +20,8 @@
 
 #include "common/layers.hpp"
 #include "db/database.hpp"
+#include "link/session.hpp"
 #include "ops/backup.hpp"
-#include "ops/session.hpp"
 #include "test_reliability_support.hpp"
 
 using namespace lmcfg;
@@ -296,10 +296,10 @@ TEST_CASE("the tools' sessions time adaptively, --settle-ms fixes the settle",
        std::to_string(std::chrono::steady_clock::now().time_since_epoch().count()));
   fs::create_directories(dir);
   fs::copy_file(test::sim_fixture("commissioned-axis.json"), dir / "axis.json");
-  ops::LinkOptions lo;
-  lo.port = "sim:" + (dir / "axis.json").string();
+  link::LinkSpec lo;
+  lo.port = *link::parse_port("sim:" + (dir / "axis.json").string());
   {
-    auto s = ops::open_session(lo);
+    auto s = link::open_session(lo);
     REQUIRE(s.ok());
     CHECK((*s)->client().options().adaptive_deadline);
     CHECK((*s)->client().options().adaptive_settle);
@@ -308,7 +308,7 @@ TEST_CASE("the tools' sessions time adaptively, --settle-ms fixes the settle",
   lo.fixed_settle = true;
   lo.client.settle = transport::Millis(50);
   {
-    auto s = ops::open_session(lo);
+    auto s = link::open_session(lo);
     REQUIRE(s.ok());
     CHECK((*s)->client().options().adaptive_deadline);
     CHECK_FALSE((*s)->client().options().adaptive_settle);

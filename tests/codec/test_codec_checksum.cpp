@@ -11,7 +11,7 @@
 
 #include "codec/frame.hpp"
 #include "codec/messages.hpp"
-#include "ops/session.hpp"
+#include "link/session.hpp"
 
 using namespace lmcfg;
 using namespace lmcfg::codec;
@@ -20,8 +20,8 @@ namespace {
 Bytes ascii(const char* s) { return Bytes(s, s + std::strlen(s)); }
 
 ChecksumConfig cfg(std::string_view name, std::string_view coverage) {
-  auto c = ops::parse_checksum(name).value();
-  c.coverage = ops::parse_checksum_coverage(coverage).value();
+  auto c = link::parse_checksum(name).value();
+  c.coverage = link::parse_checksum_coverage(coverage).value();
   return c;
 }
 }  // namespace
@@ -73,18 +73,18 @@ TEST_CASE("seed003 §9.1 read request framed with every checksum variant and cov
 }
 
 TEST_CASE("seed003 §15 checksum option names: existing ones stay accepted", "[codec][checksum]") {
-  CHECK(ops::parse_checksum("crc").value() == ops::parse_checksum("crc-ffff").value());
-  CHECK(ops::checksum_name(ops::parse_checksum("crc").value()) == "crc-ffff");
-  CHECK(ops::checksum_name(ops::parse_checksum("crc-kermit").value()) == "crc-kermit");
-  CHECK(ops::checksum_options(cfg("crc-0000", "start")) ==
+  CHECK(link::parse_checksum("crc").value() == link::parse_checksum("crc-ffff").value());
+  CHECK(link::checksum_name(link::parse_checksum("crc").value()) == "crc-ffff");
+  CHECK(link::checksum_name(link::parse_checksum("crc-kermit").value()) == "crc-kermit");
+  CHECK(link::checksum_options(cfg("crc-0000", "start")) ==
         "--checksum crc-0000 --checksum-coverage start");
-  CHECK(ops::checksum_options(cfg("none", "id")) == "--checksum none");
-  CHECK(ops::checksum_name(cfg("add", "data")) == "add coverage=data");
-  auto bad = ops::parse_checksum("crc16");
+  CHECK(link::checksum_options(cfg("none", "id")) == "--checksum none");
+  CHECK(link::checksum_name(cfg("add", "data")) == "add coverage=data");
+  auto bad = link::parse_checksum("crc16");
   REQUIRE_FALSE(bad.ok());
   CHECK(bad.error().message ==
         "checksum 'crc16' is not one of none, add, crc, crc-ffff, crc-0000, crc-kermit");
-  auto badcov = ops::parse_checksum_coverage("all");
+  auto badcov = link::parse_checksum_coverage("all");
   REQUIRE_FALSE(badcov.ok());
   CHECK(badcov.error().message == "checksum coverage 'all' is not one of id, start, data");
 }

@@ -8,9 +8,9 @@
 
 #include "e2e_support.hpp"
 #include "files.hpp"
+#include "link/session.hpp"
 #include "ops/link_settings.hpp"
 #include "ops/recovery.hpp"
-#include "ops/session.hpp"
 #include "sim/state_file.hpp"
 
 using namespace lmcfg;
@@ -42,13 +42,13 @@ struct Rig {
   test::ScratchDir dir{"link-settings"};
   fs::path state = dir.path / "spare.sim.json";
   fs::path record = dir.path / "link-record.json";
-  std::unique_ptr<ops::Session> session;
+  std::unique_ptr<link::Session> session;
   explicit Rig(bool silent = false) {
     write_spare(state, silent);
-    ops::LinkOptions lo;
-    lo.port = "sim:" + state.string();
+    link::LinkSpec lo;
+    lo.port = *link::parse_port("sim:" + state.string());
     lo.client.timeout = transport::Millis(50);
-    auto s = ops::open_session(lo);
+    auto s = link::open_session(lo);
     REQUIRE(s.ok());
     session = std::move(s).value();
   }
@@ -77,7 +77,7 @@ TEST_CASE("link: the settings as the drive holds them, with their sources (seed 
   CHECK((*st)[S::parity].note ==
         "UPID unknown: seed 003 §15 names the setting but not its UPID; give it with --map "
         "parity@UPID:VALUE=RAW,...");
-  CHECK(ops::link_options_of(st->in_use) == "--baud 57600 --id 0x11 --checksum none");
+  CHECK(link::link_options_of(st->in_use) == "--baud 57600 --id 0x11 --checksum none");
   // 2012h's default on the drive is 16: "57600 Bit/s (default)" (LinRS §15).
   REQUIRE(ops::learn_from_drive(*rig.session, *map).ok());
   CHECK((*map)[S::baud].raw_of("57600") == 16u);
@@ -118,7 +118,7 @@ TEST_CASE("link: what the map cannot express is refused before anything is writt
         "8; seed 003 states only 8 = 38400 Baud, §10.2); give it with --map baud:115200=RAW; "
         "nothing written");
   ops::LinkChange crc;
-  crc.checksum = ops::parse_checksum("crc").value();
+  crc.checksum = link::parse_checksum("crc").value();
   p = ops::plan_link_change(*rig.session, *map, *st, crc);
   REQUIRE_FALSE(p.ok());
   CHECK(p.error().message ==
@@ -143,14 +143,14 @@ TEST_CASE(
   REQUIRE(st.ok());
   ops::LinkChange ch;
   ch.baud = 38400;
-  ch.checksum = ops::parse_checksum("crc").value();
+  ch.checksum = link::parse_checksum("crc").value();
   auto plan = ops::plan_link_change(*rig.session, *map, *st, ch);
   REQUIRE(plan.ok());
   REQUIRE(plan->writes.size() == 3);
   CHECK(plan->writes[0].text == "2012h baud rate: 32 -> 8 (38400)");
   CHECK(plan->writes[1].text == "200Eh baud rate source: 1 (hex switch S1) -> 2 (By Parameter)");
   CHECK(plan->writes[2].text == "20A0h checksum: 0 (none) -> 2 (crc-ffff)");
-  CHECK(ops::link_options_of(plan->after) == "--baud 38400 --id 0x11 --checksum crc-ffff");
+  CHECK(link::link_options_of(plan->after) == "--baud 38400 --id 0x11 --checksum crc-ffff");
 
   auto rep = ops::apply_link_change(*rig.session, *map, *plan, "sim:spare", rig.record);
   REQUIRE(rep.ok());
@@ -176,7 +176,7 @@ TEST_CASE("link: a drive lost after the reset keeps its recovery record and says
   auto st = ops::read_link_settings(*rig.session, *map);
   REQUIRE(st.ok());
   ops::LinkChange ch;
-  ch.checksum = ops::parse_checksum("add").value();
+  ch.checksum = link::parse_checksum("add").value();
   auto plan = ops::plan_link_change(*rig.session, *map, *st, ch);
   REQUIRE(plan.ok());
   auto rep = ops::apply_link_change(*rig.session, *map, *plan, "sim:spare", rig.record);
@@ -212,10 +212,11 @@ TEST_CASE("link: a MACID another drive on the line answers to is refused (seed 0
   b->macid = 0x12;
   b->switches = sim::HexSwitches{0x12, 57600};
   REQUIRE(sim::save_state(*b, (dir.path / "b.json").string()).ok());
-  ops::LinkOptions lo;
-  lo.port = "sim:" + (dir.path / "a.json").string() + "," + (dir.path / "b.json").string();
+  link::LinkSpec lo;
+  lo.port = *link::parse_port("sim:" + (dir.path / "a.json").string() + "," +
+                              (dir.path / "b.json").string());
   lo.client.timeout = transport::Millis(50);
-  auto s = ops::open_session(lo);
+  auto s = link::open_session(lo);
   REQUIRE(s.ok());
   auto map = ops::link_map(db::Database::empty(), {});
   REQUIRE(map.ok());
@@ -256,10 +257,10 @@ TEST_CASE(
   st->options.stop_bits_param = sim::Options::CommParam{0x20B2, {{0, "1"}, {1, "2"}}};
   const fs::path file = dir.path / "spare.json";
   REQUIRE(sim::save_state(*st, file.string()).ok());
-  ops::LinkOptions lo;
-  lo.port = "sim:" + file.string();
+  link::LinkSpec lo;
+  lo.port = *link::parse_port("sim:" + file.string());
   lo.client.timeout = transport::Millis(50);
-  auto s = ops::open_session(lo);
+  auto s = link::open_session(lo);
   REQUIRE(s.ok());
   auto map = ops::link_map(db::Database::empty(),
                            {"parity@20B0:none=0,even=1,odd=2", "stop-bits@20B2:1=0,2=1"});
@@ -278,7 +279,7 @@ TEST_CASE(
   REQUIRE(rep.ok());
   CHECK(rep->relink.summary ==
         "the drive answers at 57600 Bd, MACID 11h, checksum none, parity even, 2 stop bits");
-  CHECK(ops::link_options_of(rep->relink.used) ==
+  CHECK(link::link_options_of(rep->relink.used) ==
         "--baud 57600 --parity even --stop-bits 2 --id 0x11 --checksum none");
   REQUIRE((*s)->close().ok());
   auto after = sim::load_state(file.string());

@@ -11,9 +11,9 @@
 #include "config/config_io.hpp"
 #include "e2e_support.hpp"
 #include "files.hpp"
+#include "link/session.hpp"
 #include "ops/backup.hpp"
 #include "ops/restore_run.hpp"
-#include "ops/session.hpp"
 #include "serve_rig.hpp"
 #include "sim/state_file.hpp"
 #include "subprocess.hpp"
@@ -48,12 +48,12 @@ struct Line {
   fs::path a = dir.path / "a.json", b = dir.path / "b.json";
   std::string port() const { return "sim:" + a.string() + "," + b.string(); }
 
-  std::unique_ptr<ops::Session> open(std::uint8_t id) const {
-    ops::register_link_scheme("sim", sim::state_file_link_factory());
-    ops::LinkOptions lo;
-    lo.port = port();
+  std::unique_ptr<link::Session> open(std::uint8_t id) const {
+    link::register_scheme("sim", sim::state_file_link_factory());
+    link::LinkSpec lo;
+    lo.port = *link::parse_port(port());
     lo.client.id = id;
-    auto s = ops::open_session(lo);
+    auto s = link::open_session(lo);
     REQUIRE(s.ok());
     return std::move(s).value();
   }
@@ -128,10 +128,10 @@ TEST_CASE(
   // it is found there.
   test::ScratchDir solo("second-drive-solo");
   write_axis_leaving_11h(solo.path / "b.json", 0x12, "13A2", 55);
-  ops::LinkOptions lo;
-  lo.port = "sim:" + (solo.path / "b.json").string();
+  link::LinkSpec lo;
+  lo.port = *link::parse_port("sim:" + (solo.path / "b.json").string());
   lo.client.id = 0x12;
-  auto alone = ops::open_session(lo);
+  auto alone = link::open_session(lo);
   REQUIRE(alone.ok());
   ro.restore.include_comm = true;
   const auto followed = ops::run_restore(**alone, file, *db, ro);

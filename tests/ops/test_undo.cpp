@@ -12,11 +12,11 @@
 #include "db/database.hpp"
 #include "e2e_support.hpp"
 #include "files.hpp"
+#include "link/session.hpp"
 #include "ops/backup.hpp"
 #include "ops/factory_reset.hpp"
 #include "ops/restore.hpp"
 #include "ops/restore_run.hpp"
-#include "ops/session.hpp"
 #include "ops/undo.hpp"
 
 using namespace lmcfg;
@@ -70,14 +70,14 @@ void restore(client::Client& c, const config::DriveConfig& file, const ops::Rest
   CHECK(v->ok());
 }
 
-// A session on a simulated drive, as ops::open_session makes one.
-std::unique_ptr<ops::Session> sim_session(std::shared_ptr<sim::Drive> drive) {
-  ops::LinkOptions lo;
-  lo.port = "sim:undo";
+// A session on a simulated drive, as link::open_session makes one.
+std::unique_ptr<link::Session> sim_session(std::shared_ptr<sim::Drive> drive) {
+  link::LinkSpec lo;
+  lo.port = *link::parse_port("sim:undo");
   lo.client.id = drive->macid();
   transport::OpenedLink opened;
   opened.link = std::make_unique<sim::SimLink>(std::move(drive));
-  return std::make_unique<ops::Session>(lo, std::move(opened), std::nullopt);
+  return std::make_unique<link::Session>(lo, lo.serial, std::move(opened), std::nullopt);
 }
 
 std::size_t files_in(const fs::path& dir) {

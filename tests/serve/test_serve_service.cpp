@@ -12,7 +12,7 @@
 
 #include "devicenet_sim.hpp"
 #include "files.hpp"
-#include "ops/session.hpp"
+#include "link/session.hpp"
 #include "promtool.hpp"
 #include "serve/http.hpp"
 #include "serve/notify.hpp"

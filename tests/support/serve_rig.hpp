@@ -16,7 +16,7 @@
 
 #include "common/bytes.hpp"
 #include "files.hpp"
-#include "ops/session.hpp"
+#include "link/session.hpp"
 #include "serve/http.hpp"
 #include "serve/service.hpp"
 #include "sim/state_file.hpp"
@@ -98,7 +98,7 @@ struct ServiceRig {
   // line on the line's port; `tweak` changes the options before it starts.
   void start(const std::string& inventory_text,
              const std::function<void(serve::ServiceOptions&)>& tweak = {}) {
-    ops::register_link_scheme("sim", sim::state_file_link_factory());
+    link::register_scheme("sim", sim::state_file_link_factory());
     auto inv = fleet::parse_inventory(inventory_text, "plant.toml");
     INFO((inv.ok() ? "" : inv.error().message));
     REQUIRE(inv.ok());
@@ -106,8 +106,8 @@ struct ServiceRig {
     o.inventory = *inv;
     o.archive = (dir.path / "archive").string();
     for (const auto& l : inv->lines) {
-      ops::LinkOptions link;
-      link.port = l.port;
+      link::LinkSpec link;
+      link.port = *link::parse_port(l.port);
       o.links.push_back(link);
     }
     o.clock = [this] { return now; };

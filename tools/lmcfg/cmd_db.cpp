@@ -459,28 +459,29 @@ int run_scan(ScanCli& o) {
   so.layers = *layers;
   so.names_from = o.names_from;
   so.date = o.date;
-  so.progress = make_progress(o.common);
+  ProgressBar bar(o.common);
+  so.progress = bar.callback();
   so.store = store->get();
   auto r = ops::scan_drive_profile((*session)->client(), d, so);
-  end_progress(o.common);
+  bar.end();
   auto closed = (*session)->close();
   if (!r.ok()) {
     if ((*store)->size() > 0)
       std::fprintf(stderr,
                    "lmcfg db scan: %zu UPID(s) kept in %s; rerun the same command to continue\n",
                    (*store)->size(), partial.c_str());
-    return fail("db scan", r.error());
+    return session->fail("db scan", r.error());
   }
-  if (!closed.ok()) return fail("db scan", closed.error());
+  if (!closed.ok()) return session->fail("db scan", closed.error());
   const std::string text = ops::scan_fragment_tsv(*r);
   if (auto w = config::write_file_atomic(o.output, text); !w.ok())
-    return fail("db scan", w.error());
+    return session->fail("db scan", w.error());
   if (auto rm = (*store)->remove(); !rm.ok() && !o.common.quiet)
     std::fprintf(stderr, "lmcfg db scan: warning: %s\n", rm.error().message.c_str());
   std::optional<ops::MergeReport> merged;
   if (!o.merge_into.empty()) {
     auto m = ops::merge_scan_fragment(o.merge_into, text);
-    if (!m.ok()) return fail("db scan", m.error());
+    if (!m.ok()) return session->fail("db scan", m.error());
     merged = *m;
   }
   const auto& st = (*session)->client().stats();

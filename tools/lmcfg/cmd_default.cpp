@@ -112,23 +112,21 @@ int run(DefaultCli& o) {
     if (!dir.ok()) return fail("default", dir.error());
     d.undo = ops::UndoOptions{true, *dir, o.common.port, lo->client.id, "default", ops::kUndoKeep};
   }
-  auto session = open_link(o.common);
+  auto session = open_link(o.common, &ops::interrupt_flag());
   if (!session.ok()) return fail("default", session.error());
   ops::install_interrupt_handlers();
   auto& client = (*session)->client();
-  auto copt = client.options();
-  copt.cancel = &ops::interrupt_flag();
-  client.set_options(copt);
-  d.progress = make_progress(o.common);
+  ProgressBar bar(o.common);
+  d.progress = bar.callback();
   auto rep = ops::default_drive(client, d, db);
-  end_progress(o.common);
+  bar.end();
   auto closed = (*session)->close();
   {
     ops::JournalEntry e;
     e.audit = audit_of(o.audit);
     e.command = "default";
     e.port = o.common.port;
-    e.macid = copt.id;
+    e.macid = client.options().id;
     e.steps = journal_steps(d, rep.ok() ? &*rep : nullptr, db);
     const Error* error = !rep.ok() ? &rep.error() : !closed.ok() ? &closed.error() : nullptr;
     e.outcome = error ? "failed" : "defaulted";
@@ -139,9 +137,9 @@ int run(DefaultCli& o) {
   }
   if (!rep.ok()) {
     if (o.common.json) report_json("failed", nullptr, db, rep.error().message);
-    return fail("default", rep.error());
+    return session->fail("default", rep.error());
   }
-  if (!closed.ok()) return fail("default", closed.error());
+  if (!closed.ok()) return session->fail("default", closed.error());
   if (rep->undo) print_undo_saved(*rep->undo, o.common);
   if (o.common.json) {
     report_json("defaulted", &*rep, db, "");

@@ -119,7 +119,8 @@ int run_restore(const FleetCli& o) {
   fr.rev = o.rev;
   fr.db = db;
   fr.audit = audit_of(o.flags.audit);
-  const auto links = *line_links(*inv, o.common);
+  // The restore lets the telegram in flight complete on SIGINT/SIGTERM.
+  const auto links = *line_links(*inv, o.common, &ops::interrupt_flag());
   fr.link = links[static_cast<std::size_t>(line - inv->lines.data())];
   CommonOptions common = o.common;  // the plan's prompt names the drive's port and MACID
   common.port = line->port;
@@ -133,7 +134,8 @@ int run_restore(const FleetCli& o) {
       return fail("fleet restore", dn.error());
   }
   int code = kOk;
-  fr.restore = [&](ops::Session& s, const config::DriveConfig& file, const std::string& file_name) {
+  fr.restore = [&](link::Session& s, const config::DriveConfig& file,
+                   const std::string& file_name) {
     ops::RestoreOutcome out;
     code = restore_on_session(s, file, file_name, common, flags, *overrides, fr.db, out);
     return out;
@@ -199,7 +201,8 @@ CLI::App* add_part(CLI::App* fleet, const char* name, const char* help, FleetCli
 // The line's link settings, checked as the command-line options are; a bad
 // value is reported at the line's position in the inventory.
 Result<std::vector<ops::LineLink>> line_links(const fleet::Inventory& inv,
-                                              const CommonOptions& base) {
+                                              const CommonOptions& base,
+                                              const std::atomic<bool>* cancel, bool check_only) {
   std::vector<ops::LineLink> links;
   for (const auto& l : inv.lines) {
     CommonOptions c = base;
@@ -230,19 +233,17 @@ Result<std::vector<ops::LineLink>> line_links(const fleet::Inventory& inv,
       links.push_back(std::move(link));
       continue;
     }
-    set_int(l.baud, c.baud);
-    set_int(l.stop_bits, c.stop_bits);
-    set_int(l.timeout_ms, c.timeout_ms);
-    set_int(l.retries, c.retries);
-    set_int(l.settle_ms, c.settle_ms);
-    if (l.agreeing_reads) c.agreeing_reads = std::to_string(*l.agreeing_reads);
-    if (l.parity) c.parity = *l.parity;
-    if (l.checksum) c.checksum = *l.checksum;
-    if (l.checksum_coverage) c.checksum_coverage = *l.checksum_coverage;
-    auto opt = link_options(c);
-    if (!opt.ok()) return at_line(opt.error());
-    opt->client.on_long_wait = nullptr;  // lines run in parallel: no shared progress line
-    links.push_back(std::move(opt).value());
+    // Lines run in parallel: no shared progress line for long waits.
+    link::LinkInput in = link_input(c);
+    in.cancel = cancel;
+    if (check_only) {
+      if (auto ok = fleet::check_line_link(l, std::move(in)); !ok.ok()) return ok.error();
+      links.emplace_back();
+      continue;
+    }
+    auto spec = fleet::line_link_spec(l, std::move(in));
+    if (!spec.ok()) return std::move(spec).error();
+    links.push_back(std::move(spec).value());
   }
   return links;
 }
@@ -250,7 +251,8 @@ Result<std::vector<ops::LineLink>> line_links(const fleet::Inventory& inv,
 Result<fleet::Inventory> load_checked_inventory(const std::string& path,
                                                 const CommonOptions& base) {
   LMCFG_ASSIGN_OR_RETURN(auto inv, fleet::load_inventory(path));
-  LMCFG_TRY(line_links(inv, base));
+  // Every line's settings first, then every port (all of their problems at once).
+  LMCFG_TRY(line_links(inv, base, nullptr, true));
   LMCFG_TRY(fleet::check_ports(inv));
   return inv;
 }

@@ -14,8 +14,8 @@ int run(CommonOptions& o) {
   if (!session.ok()) return fail("info", session.error());
   auto info = ops::read_drive_info((*session)->client(), db);
   auto closed = (*session)->close();
-  if (!info.ok()) return fail("info", info.error());
-  if (!closed.ok()) return fail("info", closed.error());
+  if (!info.ok()) return session->fail("info", info.error());
+  if (!closed.ok()) return session->fail("info", closed.error());
   std::fputs((o.json ? ops::render_info_json(*info) : ops::render_info(*info)).c_str(), stdout);
   return kOk;
 }

@@ -42,12 +42,12 @@ Result<ops::LinkChange> parse_change(const LinkCli& o) {
     ch.macid = static_cast<std::uint8_t>(*id);
   }
   if (!o.set_checksum.empty()) {
-    auto c = ops::parse_checksum(o.set_checksum);
+    auto c = link::parse_checksum(o.set_checksum);
     if (!c.ok()) return bad("--set-checksum", o.set_checksum, c.error().message);
     ch.checksum = *c;
   }
   if (!o.set_parity.empty()) {
-    auto p = ops::parse_parity(o.set_parity);
+    auto p = link::parse_parity(o.set_parity);
     if (!p.ok()) return bad("--set-parity", o.set_parity, p.error().message);
     ch.parity = *p;
   }
@@ -83,13 +83,13 @@ nlohmann::ordered_json settings_json(const ops::LinkState& st) {
   return arr;
 }
 
-fleet::LinkKeys keys_of(const ops::RelinkCandidate& c) {
+fleet::LinkKeys keys_of(const link::RelinkCandidate& c) {
   fleet::LinkKeys k;
   k.baud = c.line.baud;
   k.parity = std::string(transport::parity_name(c.line.parity));
   k.stop_bits = c.line.stop_bits;
-  k.checksum = ops::checksum_name({c.checksum.mode, c.checksum.crc_init, {}});
-  k.checksum_coverage = std::string(ops::coverage_name(c.checksum.coverage));
+  k.checksum = link::checksum_name({c.checksum.mode, c.checksum.crc_init, {}});
+  k.checksum_coverage = std::string(link::coverage_name(c.checksum.coverage));
   k.id = c.macid;
   return k;
 }
@@ -133,26 +133,27 @@ int run(LinkCli& o) {
 
   auto session = open_link(o.common);
   if (!session.ok()) return fail("link", session.error());
-  if (auto l = ops::learn_from_drive(**session, *map); !l.ok()) return fail("link", l.error());
+  if (auto l = ops::learn_from_drive(**session, *map); !l.ok())
+    return session->fail("link", l.error());
   auto now = ops::read_link_settings(**session, *map);
-  if (!now.ok()) return fail("link", now.error());
+  if (!now.ok()) return session->fail("link", now.error());
   const std::string drive = "drive " + hex(now->in_use.macid, 2, "h") + " on " + o.common.port;
 
   nlohmann::ordered_json j;
   j["drive"] = hex(now->in_use.macid, 2);
   j["port"] = o.common.port;
-  j["link_options"] = ops::link_options_of(now->in_use);
+  j["link_options"] = link::link_options_of(now->in_use);
   j["settings"] = settings_json(*now);
   auto print_state = [&](const ops::LinkState& st, const char* title) {
     std::printf("%s %s, talking at: %s\n", drive.c_str(), title,
-                ops::link_options_of(st.in_use).c_str());
+                link::link_options_of(st.in_use).c_str());
     for (std::size_t i = 0; i < ops::kLinkSettings; ++i)
       std::printf("  %s\n", value_line(static_cast<ops::LinkSetting>(i), st.values[i]).c_str());
   };
 
   if (!change->any()) {
     auto closed = (*session)->close();
-    if (!closed.ok()) return fail("link", closed.error());
+    if (!closed.ok()) return session->fail("link", closed.error());
     if (o.common.json) {
       j["outcome"] = "shown";
       std::printf("%s\n", j.dump(2).c_str());
@@ -163,14 +164,14 @@ int run(LinkCli& o) {
   }
 
   auto plan = ops::plan_link_change(**session, *map, *now, *change);
-  if (!plan.ok()) return fail("link", plan.error());
+  if (!plan.ok()) return session->fail("link", plan.error());
   j["plan"] = nlohmann::ordered_json::array();
   for (const auto& w : plan->writes) j["plan"].push_back(w.text);
-  j["new_link_options"] = ops::link_options_of(plan->after);
+  j["new_link_options"] = link::link_options_of(plan->after);
   std::optional<fleet::InventoryEdit> edit;
   if (inv) {
     auto e = fleet::link_inventory_edit(*inv, o.drive, keys_of(plan->after));
-    if (!e.ok()) return fail("link", e.error());
+    if (!e.ok()) return session->fail("link", e.error());
     edit = std::move(e).value();
   }
   auto print_plan = [&] {
@@ -198,7 +199,7 @@ int run(LinkCli& o) {
 
   if (plan->nothing_to_do()) {
     auto closed = (*session)->close();
-    if (!closed.ok()) return fail("link", closed.error());
+    if (!closed.ok()) return session->fail("link", closed.error());
     if (o.common.json) {
       j["outcome"] = "nothing_to_do";
       std::printf("%s\n", j.dump(2).c_str());
@@ -209,14 +210,14 @@ int run(LinkCli& o) {
   }
   if (o.dry_run) {
     auto closed = (*session)->close();
-    if (!closed.ok()) return fail("link", closed.error());
+    if (!closed.ok()) return session->fail("link", closed.error());
     if (o.common.json) {
       j["outcome"] = "dry_run";
       json_keys();
       std::printf("%s\n", j.dump(2).c_str());
     } else {
       print_plan();
-      std::printf("link options after the reset: %s\n", ops::link_options_of(plan->after).c_str());
+      std::printf("link options after the reset: %s\n", link::link_options_of(plan->after).c_str());
       print_keys("would have");
       std::printf("dry run: nothing written\n");
     }
@@ -226,16 +227,16 @@ int run(LinkCli& o) {
   for (const auto& w : plan->writes) question += "\n  " + w.text;
   question += "\nto the ROM of " + drive + " and reset it (the axis stops)?";
   auto consent = ops::confirm(question, "change a drive's link settings", o.yes);
-  if (!consent.ok()) return fail("link", consent.error());
+  if (!consent.ok()) return session->fail("link", consent.error());
   if (*consent == ops::Consent::declined) {
     std::fprintf(stderr, "cancelled; nothing written\n");
     return kOk;
   }
   auto rep = ops::apply_link_change(**session, *map, *plan, o.common.port, *record);
   auto closed = (*session)->close();
-  if (!rep.ok()) return fail("link", rep.error());
-  if (!closed.ok()) return fail("link", closed.error());
-  const std::string options = ops::link_options_of(rep->relink.used);
+  if (!rep.ok()) return session->fail("link", rep.error());
+  if (!closed.ok()) return session->fail("link", closed.error());
+  const std::string options = link::link_options_of(rep->relink.used);
   if (o.common.json) {
     j["outcome"] = "changed";
     j["found"] = rep->relink.summary;

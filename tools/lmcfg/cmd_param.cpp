@@ -110,8 +110,8 @@ int run_get(ParamCli& o) {
       v.ok() ? describe(c, o, "get", *upid, d, false) : Result<db::ValueSpec>(db::ValueSpec{});
   auto closed = (*session)->close();
   if (!v.ok()) return fail_with_state("get", v.error(), state);
-  if (!spec.ok()) return fail("get", spec.error());
-  if (!closed.ok()) return fail("get", closed.error());
+  if (!spec.ok()) return session->fail("get", spec.error());
+  if (!closed.ok()) return session->fail("get", closed.error());
   print_value(o, *upid, d, *spec, o.rom ? "ROM" : "RAM", *v);
   return kOk;
 }
@@ -165,9 +165,9 @@ int run_set(ParamCli& o) {
   if (!session.ok()) return fail("set", session.error());
   auto& c = (*session)->client();
   auto spec = describe(c, o, "set", *upid, d, true);
-  if (!spec.ok()) return fail("set", spec.error());
+  if (!spec.ok()) return session->fail("set", spec.error());
   auto value = db::parse_value(*spec, o.value_text);
-  if (!value.ok()) return fail("set", value.error());
+  if (!value.ok()) return session->fail("set", value.error());
   // A ROM value is what the drive starts with, so its old value is saved first.
   // A RAM value gets no undo record: "This change will affect the position
   // controller behavior only after a restart of the MC-SW" (LinRS §9.2, of a
@@ -178,14 +178,14 @@ int run_set(ParamCli& o) {
   std::optional<std::uint32_t> old;
   if (o.rom && !o.no_undo) {
     auto dir = ops::undo_dir();
-    if (!dir.ok()) return fail("set", dir.error());
+    if (!dir.ok()) return session->fail("set", dir.error());
     auto cfg = ops::undo_config_for_parameter(c, *upid, db);
-    if (!cfg.ok()) return fail("set", cfg.error());
+    if (!cfg.ok()) return session->fail("set", cfg.error());
     if (const auto* p = cfg->find_param(*upid)) old = p->value;
     auto saved = ops::save_undo(
         ops::UndoOptions{true, *dir, o.common.port, c.options().id, "set", ops::kUndoKeep}, *cfg,
         db);
-    if (!saved.ok()) return fail("set", saved.error());
+    if (!saved.ok()) return session->fail("set", saved.error());
     undo = std::move(saved).value();
   }
   if (*stop) {
@@ -230,8 +230,8 @@ int run_set(ParamCli& o) {
     record_in_journal("set", std::move(e));
   }
   if (!w.ok()) return fail_with_state("set", w.error(), state);
-  if (!started.ok()) return fail("set", started.error());
-  if (!closed.ok()) return fail("set", closed.error());
+  if (!started.ok()) return session->fail("set", started.error());
+  if (!closed.ok()) return session->fail("set", closed.error());
   if (comm && !o.common.quiet)
     std::fprintf(stderr,
                  "lmcfg set: warning: %04X is a communication parameter: the link changes when "

@@ -26,12 +26,12 @@ int run(RestoreCli& o) {
   if (is_devicenet(o.common)) return restore_devicenet(*file, o.file, o.common, o.flags, db);
   auto overrides = relink_overrides(o.flags.reconnect);
   if (!overrides.ok()) return fail("restore", overrides.error());
-  auto session = open_link(o.common);
+  auto session = open_link(o.common, &ops::interrupt_flag());
   if (!session.ok()) return fail("restore", session.error());
   ops::RestoreOutcome out;
   const int code =
       restore_on_session(**session, *file, o.file, o.common, o.flags, *overrides, db, out);
-  if (auto c = (*session)->close(); !c.ok()) return fail("restore", c.error());
+  if (auto c = (*session)->close(); !c.ok()) return session->fail("restore", c.error());
   return code;
 }
 

@@ -1,10 +1,10 @@
-// lmcfg scan: find drives whose link settings are unknown (ops::scan).
+// lmcfg scan: find drives whose link settings are unknown (link::scan).
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
 #include "command.hpp"
+#include "link/scan.hpp"
 #include "link_options.hpp"
-#include "ops/scan.hpp"
 
 namespace lmcfg::cli {
 namespace {
@@ -25,18 +25,23 @@ int run(ScanCli& o) {
   }
   auto lo = link_options(o.common);
   if (!lo.ok()) return fail("scan", lo.error());
-  ops::ScanOptions so;
+  link::ScanOptions so;
   so.first_id = static_cast<unsigned>(*first);
   so.last_id = static_cast<unsigned>(*last);
   so.checksum = lo->client.checksum;
   if (o.baud_given) so.bauds = {o.common.baud};
   if (o.timeout_given) so.deadline = transport::Millis(o.common.timeout_ms);
-  so.progress = make_progress(o.common);
-  lo->client.read_retries = 0;
-  auto session = ops::open_session(*lo);
+  ProgressBar bar(o.common);
+  so.progress = bar.callback();
+  // One probe per ID: the scan's spec has no read retries.
+  CommonOptions once = o.common;
+  once.retries = 0;
+  auto spec = link_options(once);
+  if (!spec.ok()) return fail("scan", spec.error());
+  auto session = link::open_session(*spec);
   if (!session.ok()) return fail("scan", session.error());
-  auto report = ops::scan(**session, so);
-  end_progress(o.common);
+  auto report = link::scan(**session, so);
+  bar.end();
   if (!report.ok()) return fail("scan", report.error());
   if (auto closed = (*session)->close(); !closed.ok()) return fail("scan", closed.error());
   const auto& r = *report;
@@ -48,15 +53,15 @@ int run(ScanCli& o) {
                             {"baud", d.line.baud},
                             {"parity", std::string(transport::parity_name(d.line.parity))},
                             {"stop_bits", d.line.stop_bits},
-                            {"checksum", ops::checksum_name(d.checksum)},
+                            {"checksum", link::checksum_name(d.checksum)},
                             {"response_bytes", d.response_bytes},
-                            {"options", ops::link_options_of(d)},
+                            {"options", link::link_options_of(d)},
                             {"how", d.how}});
     }
     j["passes"] = nlohmann::json::array();
     for (const auto& p : r.passes) {
       j["passes"].push_back({{"line", transport::format_settings(p.line)},
-                             {"checksum", ops::checksum_name(p.checksum)},
+                             {"checksum", link::checksum_name(p.checksum)},
                              {"ids", p.ids},
                              {"deadline_ms", p.deadline_ms},
                              {"seconds", p.seconds}});
@@ -69,7 +74,7 @@ int run(ScanCli& o) {
     for (const auto& d : r.found) {
       std::printf("drive at MACID 0x%02X (%u), %s, checksum %s: %s\n", d.id, d.id,
                   transport::format_settings(d.line).c_str(),
-                  ops::checksum_name(d.checksum).c_str(), ops::link_options_of(d).c_str());
+                  link::checksum_name(d.checksum).c_str(), link::link_options_of(d).c_str());
     }
     for (const auto& n : r.notes) std::printf("note: %s\n", n.c_str());
     if (r.found.empty()) {

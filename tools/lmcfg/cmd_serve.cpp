@@ -65,10 +65,9 @@ int run_serve(const ServeCli& o) {
   // a CLI user meets "port ... is in use by lmcfg serve (PID n)".
   CommonOptions common = o.common;
   common.holder = "lmcfg serve";
-  so.links = *line_links(*inv, common);
   // SIGTERM/SIGINT: the telegram in flight completes, the line stops there.
   // (DeviceNet lines: the master checks the same flag, devicenet_link_options.)
-  for (auto& l : so.links) l.linrs.client.cancel = &ops::interrupt_flag();
+  so.links = *line_links(*inv, common, &ops::interrupt_flag());
   const db::Database db = load_database(o.common);
   so.db = db;
   so.backup.curves = !o.no_curves;

@@ -13,7 +13,7 @@
 #include "command.hpp"
 #include "common/bytes.hpp"
 #include "link/port.hpp"
-#include "ops/session.hpp"
+#include "link/session.hpp"
 #include "sim/drive.hpp"
 #include "sim/server.hpp"
 #include "sim/state_file.hpp"
@@ -78,7 +78,7 @@ std::string link_options_for(const std::string& port, const sim::DriveState& s) 
   if (s.link.parity != transport::Parity::none)
     o += " --parity " + std::string(transport::parity_name(s.link.parity));
   if (s.link.stop_bits != 1) o += " --stop-bits " + std::to_string(s.link.stop_bits);
-  return o + " --id " + id + " " + ops::checksum_options(s.checksum);
+  return o + " --id " + id + " " + link::checksum_options(s.checksum);
 }
 
 // The drives on the served line: the demo axis, or one per --state file

@@ -97,13 +97,13 @@ int run(UndoCli& o) {
   const db::Database db = load_database(o.common);
   auto overrides = relink_overrides(o.flags.reconnect);
   if (!overrides.ok()) return fail("undo", overrides.error());
-  auto session = open_link(o.common);
+  auto session = open_link(o.common, &ops::interrupt_flag());
   if (!session.ok()) return fail("undo", session.error());
   if (!o.common.quiet && !o.common.json) std::fprintf(stderr, "undo: restoring %s\n", file.c_str());
   ops::RestoreOutcome out;
   const int code =
       restore_on_session(**session, *cfg, file, o.common, o.flags, *overrides, db, out);
-  if (auto c = (*session)->close(); !c.ok()) return fail("undo", c.error());
+  if (auto c = (*session)->close(); !c.ok()) return session->fail("undo", c.error());
   return code;
 }
 

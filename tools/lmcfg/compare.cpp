@@ -20,32 +20,34 @@ int load_and_compare(const char* command, const CompareOptions& o, const db::Dat
     session = std::move(*s);
   }
   if (o.a == "-" && o.b == "-")
-    return fail(command, Error(Errc::invalid_argument,
-                               "A and B are both standard input ('-'); at most one side can be"));
+    return session.fail(command,
+                        Error(Errc::invalid_argument,
+                              "A and B are both standard input ('-'); at most one side can be"));
   auto load = [&](const std::string& what) -> Result<config::DriveConfig> {
     if (what == "defaults") return ops::factory_defaults_config();
     if (what == "drive" && devicenet) return devicenet_capture(o.common, db, {});
     if (what == "drive") {
       ops::BackupOptions bo;
       bo.full = o.full;
-      bo.progress = make_progress(o.common);
+      ProgressBar bar(o.common);
+      bo.progress = bar.callback();
       auto r = ops::backup(session->client(), bo, db);
-      end_progress(o.common);
+      bar.end();
       return r;
     }
     return config::read_config_file(what);
   };
   auto a = load(o.a);
-  if (!a.ok()) return fail(command, a.error());
+  if (!a.ok()) return session.fail(command, a.error());
   out.a_name = o.a == "-" ? "(stdin)" : o.a;
   if (!two) {
     out.a = std::move(*a);
     if (session)
-      if (auto c = session->close(); !c.ok()) return fail(command, c.error());
+      if (auto c = session->close(); !c.ok()) return session.fail(command, c.error());
     return kOk;
   }
   auto b = load(o.b);
-  if (!b.ok()) return fail(command, b.error());
+  if (!b.ok()) return session.fail(command, b.error());
   out.b_name = o.b == "-" ? "(stdin)" : o.b;
   // Factory defaults are known for everything: compared within the other
   // side's scope, so a partial capture is not reported as lacking the rest.
@@ -72,9 +74,9 @@ int load_and_compare(const char* command, const CompareOptions& o, const db::Dat
   opt.b_is_defaults = o.b == "defaults";
   out.result = ops::diff(*a, *b, db, defaults, opt);
   if (session) {
-    if (auto c = session->close(); !c.ok()) return fail(command, c.error());
+    if (auto c = session->close(); !c.ok()) return session.fail(command, c.error());
   }
-  if (link_error) return fail(command, *link_error);
+  if (link_error) return session.fail(command, *link_error);
   out.a = std::move(*a);
   out.b = std::move(*b);
   return kOk;

@@ -98,9 +98,10 @@ Result<config::DriveConfig> devicenet_capture(const CommonOptions& o, const db::
   bo.live = c.live;
   bo.reset_coded_error = c.reset_coded_error;
   bo.notes = &notes;
-  bo.progress = make_progress(o);
+  ProgressBar bar(o);
+  bo.progress = bar.callback();
   auto cfg = ops::capture_devicenet(l, bo, db);
-  end_progress(o);
+  bar.end();
   print_notes(o, "devicenet", notes);
   return cfg;
 }
@@ -153,7 +154,9 @@ int restore_devicenet_on(ops::DevicenetSession& session, const config::DriveConf
   ops::DevicenetRestoreRunOptions ro;
   ro.read = std::move(read);
   ro.dry_run = f.dry_run;
-  ro.progress = make_progress(common);
+  ProgressBar bar(common);
+  ro.progress = bar.callback();
+  t.bar = &bar;
   ro.cancel = &ops::interrupt_flag();
   // The read's notes come before the plan, so a person sees what was not read
   // before being asked.
@@ -163,12 +166,12 @@ int restore_devicenet_on(ops::DevicenetSession& session, const config::DriveConf
     notes_shown = true;
   };
   ro.confirm = [&](const ops::DevicenetPlan& plan) {
-    end_progress(common);
+    bar.end();
     show_notes(plan);
     return confirm_restore(ops::render_devicenet_plan(plan, file_name), t, file_name, common, f);
   };
   out = ops::run_devicenet_restore(session, file, db, ro);
-  end_progress(common);
+  bar.end();
   if (out.devicenet) show_notes(*out.devicenet);
   return finish_restore(out, t, file_name, common, f);
 }

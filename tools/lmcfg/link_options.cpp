@@ -10,9 +10,9 @@
 
 #include "command.hpp"
 #include "common/layers.hpp"
+#include "link/link_advice.hpp"
 #include "link/port.hpp"
 #include "ops/devicenet.hpp"
-#include "ops/link_advice.hpp"
 
 namespace lmcfg::cli {
 
@@ -149,72 +149,35 @@ std::function<void(const std::string&, transport::Millis)> long_wait_reporter(
 }
 }  // namespace
 
-Result<ops::LinkOptions> link_options(const CommonOptions& o) {
-  ops::LinkOptions l;
-  l.port = o.port;
-  l.trace_path = o.trace;
-  l.serial.baud = o.baud;
-  l.serial.stop_bits = o.stop_bits;
-  LMCFG_ASSIGN_OR_RETURN(l.serial.parity, ops::parse_parity(o.parity));
-  // Line settings are checked for every kind of port: a gateway or the
-  // simulated drive is configured with them too, and an absurd value is a
-  // mistake wherever it is typed.
-  if (link::scheme_of(o.port).name == "serial") l.serial.device = o.port;
-  l.holder = o.holder;
-  LMCFG_TRY(transport::validate(l.serial));
-  auto id = parse_number(o.id, false);
-  if (!id || *id > 0xFF) {
-    return Error(Errc::invalid_argument, "--id '" + o.id + "' is not a MACID 0..255 (0x00..0xFF)");
+link::LinkInput link_input(const CommonOptions& o) {
+  link::LinkInput in;
+  in.port = o.port;
+  in.baud = o.baud;
+  in.parity = o.parity;
+  in.stop_bits = o.stop_bits;
+  in.id = o.id;
+  in.checksum = o.checksum;
+  in.checksum_coverage = o.checksum_coverage;
+  in.response_layout = o.response_layout;
+  in.timeout_ms = o.timeout_ms;
+  in.settle_ms = o.settle_ms;
+  in.retries = o.retries;
+  in.long_timeout_s = o.long_timeout_s;
+  in.agreeing_reads = o.agreeing_reads;
+  in.trace = o.trace;
+  in.holder = o.holder;
+  return in;
+}
+
+Result<link::LinkSpec> link_options(const CommonOptions& o, const std::atomic<bool>* cancel) {
+  link::LinkInput in = link_input(o);
+  in.cancel = cancel;
+  if (!o.quiet && !o.json) {
+    // The deadlines the reporter names are the spec's: checked first.
+    LMCFG_ASSIGN_OR_RETURN(const auto plain, link::make_link_spec(in));
+    in.on_long_wait = long_wait_reporter(plain.client);
   }
-  l.client.id = static_cast<std::uint8_t>(*id);
-  LMCFG_ASSIGN_OR_RETURN(l.client.checksum, ops::parse_checksum(o.checksum));
-  LMCFG_ASSIGN_OR_RETURN(l.client.checksum.coverage,
-                         ops::parse_checksum_coverage(o.checksum_coverage));
-  if (o.response_layout != "auto") {
-    auto layout = codec::parse_layout_items(o.response_layout);
-    if (!layout)
-      return Error(Errc::invalid_argument,
-                   "--response-layout '" + o.response_layout +
-                       "' is not auto, factory or a comma list of comm_state, status_word, "
-                       "state_var, error_code, warn_word, echo_header, monitoring_1, "
-                       "monitoring_2, mc_response");
-    l.client.layout = *layout;
-    l.client.adapt_layout = false;
-  }
-  if (o.timeout_ms < 1 || o.timeout_ms > 60000) {
-    return Error(Errc::invalid_argument,
-                 "--timeout-ms " + std::to_string(o.timeout_ms) + " is outside 1..60000");
-  }
-  if (o.retries < 0 || o.retries > 10) {
-    return Error(Errc::invalid_argument,
-                 "--retries " + std::to_string(o.retries) + " is outside 0..10");
-  }
-  l.client.timeout = transport::Millis(o.timeout_ms);
-  if (o.settle_ms != -1) {
-    if (o.settle_ms < 1 || o.settle_ms > 60000)
-      return Error(Errc::invalid_argument,
-                   "--settle-ms " + std::to_string(o.settle_ms) + " is outside 1..60000");
-    l.client.settle = transport::Millis(o.settle_ms);
-    l.fixed_settle = true;
-  }
-  l.client.read_retries = o.retries;
-  if (o.long_timeout_s < 0 || o.long_timeout_s > 3600) {
-    return Error(Errc::invalid_argument,
-                 "--long-timeout-s " + std::to_string(o.long_timeout_s) + " is outside 1..3600");
-  }
-  if (o.long_timeout_s > 0) {
-    const transport::Millis t(1000LL * o.long_timeout_s);
-    l.client.defaulting_timeout = l.client.flash_timeout = l.client.reset_timeout = t;
-  }
-  if (o.agreeing_reads != "auto") {
-    auto n = parse_number(o.agreeing_reads, false);
-    if (!n || *n < 1 || *n > 5)
-      return Error(Errc::invalid_argument,
-                   "--agreeing-reads '" + o.agreeing_reads + "' is not auto or 1..5");
-    l.agreeing_reads = static_cast<int>(*n);
-  }
-  if (!o.quiet && !o.json) l.client.on_long_wait = long_wait_reporter(l.client);
-  return l;
+  return link::make_link_spec(in);
 }
 
 void add_reconnect_options(CLI::App* sub, ReconnectOptions& o) {
@@ -226,8 +189,8 @@ void add_reconnect_options(CLI::App* sub, ReconnectOptions& o) {
                   "with --include-comm: checksum to try first after the reset");
 }
 
-Result<ops::RelinkOverrides> relink_overrides(const ReconnectOptions& o) {
-  ops::RelinkOverrides r;
+Result<link::RelinkOverrides> relink_overrides(const ReconnectOptions& o) {
+  link::RelinkOverrides r;
   if (!o.baud.empty()) {
     transport::SerialSettings s;
     auto b = parse_number(o.baud, false);
@@ -244,46 +207,37 @@ Result<ops::RelinkOverrides> relink_overrides(const ReconnectOptions& o) {
     r.macid = static_cast<std::uint8_t>(*id);
   }
   if (!o.checksum.empty()) {
-    auto c = ops::parse_checksum(o.checksum);
+    auto c = link::parse_checksum(o.checksum);
     if (!c.ok()) return Error(Errc::invalid_argument, "--reconnect-checksum: " + c.error().message);
     r.checksum = *c;
   }
   return r;
 }
 
-namespace {
-// The session open_link opened last, while it lives, for fail()'s advice.
-struct OpenLink {
-  ops::Session* session = nullptr;
-  std::string port;
-  bool verbose = false;
-};
-OpenLink& open_link_state() {
-  static OpenLink s;
-  return s;
+int SessionHandle::fail(const char* command, const Error& e) const {
+  if (session_ && link::settings_suspect(*session_, e)) {
+    if (auto advice = link::link_advice(*session_, port_)) {
+      if (verbose_) *advice += " (detail: " + e.message + ")";
+      std::fprintf(stderr, "lmcfg %s: %s\n", command, advice->c_str());
+      return exit_code_for(e);
+    }
+  }
+  return cli::fail(command, e);
 }
 
-}  // namespace
-
-void ForgetOnDelete::operator()(ops::Session* s) const {
-  if (open_link_state().session == s) open_link_state() = OpenLink{};
-  delete s;
-}
-
-Result<SessionHandle> open_link(const CommonOptions& o) {
+Result<SessionHandle> open_link(const CommonOptions& o, const std::atomic<bool>* cancel) {
   if (is_devicenet(o)) {
     return Error(Errc::not_supported,
                  "--port " + o.port +
                      " names a DeviceNet controller: backup, diff, restore and undo support "
                      "those; this command is for LinRS drives");
   }
-  LMCFG_ASSIGN_OR_RETURN(auto l, link_options(o));
-  LMCFG_ASSIGN_OR_RETURN(auto s, ops::open_session(l));
+  LMCFG_ASSIGN_OR_RETURN(const auto spec, link_options(o, cancel));
+  LMCFG_ASSIGN_OR_RETURN(auto s, link::open_session(spec));
   // A USB adapter whose latency timer stays above 2 ms: said once, with the fix.
   if (const auto* lat = s->low_latency(); lat && !lat->advice.empty() && !o.quiet)
     std::fprintf(stderr, "lmcfg: %s\n", lat->advice.c_str());
-  open_link_state() = OpenLink{s.get(), o.port, o.verbose};
-  return SessionHandle(s.release());
+  return SessionHandle(std::move(s), o.port, o.verbose);
 }
 
 db::Database load_database(const CommonOptions& o) {
@@ -297,28 +251,18 @@ db::Database load_database(const CommonOptions& o) {
   return std::move(r).value();
 }
 
-namespace {
-struct ProgressState {
-  std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
-  std::string phase;
-  bool drawn = false;
-};
-ProgressState& progress_state() {
-  static ProgressState s;
-  return s;
-}
-}  // namespace
+ProgressBar::ProgressBar(const CommonOptions& o)
+    : shown_(!o.quiet && !o.json && ::isatty(STDERR_FILENO)) {}
 
-ops::Progress make_progress(const CommonOptions& o) {
-  if (o.quiet || o.json || !::isatty(STDERR_FILENO)) return {};
-  return [](const std::string& phase, std::size_t done, std::size_t total) {
-    auto& s = progress_state();
-    if (phase != s.phase) {
-      s.phase = phase;
-      s.start = std::chrono::steady_clock::now();
+ops::Progress ProgressBar::callback() {
+  if (!shown_) return {};
+  return [this](const std::string& phase, std::size_t done, std::size_t total) {
+    if (phase != phase_) {
+      phase_ = phase;
+      start_ = std::chrono::steady_clock::now();
     }
     const double elapsed =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - s.start).count();
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
     char line[160];
     if (total > 0) {
       const int width = 30;
@@ -335,14 +279,13 @@ ops::Progress make_progress(const CommonOptions& o) {
       std::snprintf(line, sizeof line, "\r%-28.28s %zu ", phase.c_str(), done);
     }
     std::fputs(line, stderr);
-    s.drawn = true;
+    drawn_ = true;
   };
 }
 
-void end_progress(const CommonOptions& o) {
-  auto& s = progress_state();
-  if (s.drawn && !o.quiet) std::fputs("\n", stderr);
-  s.drawn = false;
+void ProgressBar::end() {
+  if (drawn_ && shown_) std::fputs("\n", stderr);
+  drawn_ = false;
 }
 
 Result<std::array<bool, 4>> parse_layers(const std::string& text) {
@@ -407,14 +350,6 @@ int exit_code_for(const Error& e) {
 }
 
 int fail(const char* command, const Error& e) {
-  auto& link = open_link_state();
-  if (link.session && ops::settings_suspect(*link.session, e)) {
-    if (auto advice = ops::link_advice(*link.session, link.port)) {
-      if (link.verbose) *advice += " (detail: " + e.message + ")";
-      std::fprintf(stderr, "lmcfg %s: %s\n", command, advice->c_str());
-      return exit_code_for(e);
-    }
-  }
   std::fprintf(stderr, "lmcfg %s: %s\n", command, e.message.c_str());
   return exit_code_for(e);
 }

@@ -2,14 +2,18 @@
 // Options every drive-facing subcommand shares (README): link, output mode,
 // database; the mapping from library errors to the documented exit codes.
 #include <CLI/CLI.hpp>
+#include <atomic>
+#include <chrono>
+#include <memory>
 #include <optional>
 #include <string>
 
 #include "common/result.hpp"
 #include "db/database.hpp"
+#include "link/relink.hpp"
+#include "link/session.hpp"
+#include "link/spec.hpp"
 #include "ops/backup.hpp"
-#include "ops/relink.hpp"
-#include "ops/session.hpp"
 
 namespace lmcfg::cli {
 
@@ -26,7 +30,7 @@ struct CommonOptions {
   int settle_ms = -1;  // -1: adaptive (the failed exchange's deadline, at most 500 ms)
   int retries = 2;
   int long_timeout_s = 0;  // 0: the client's defaults (defaulting 60 s, flash 30 s, reset 6 s)
-  std::string agreeing_reads = "auto";  // or 1..5 (ops::LinkOptions::agreeing_reads)
+  std::string agreeing_reads = "auto";  // or 1..5 (link::LinkSpec::agreeing_reads)
   std::string trace;
   bool quiet = false;
   bool json = false;
@@ -58,22 +62,60 @@ bool is_devicenet(const CommonOptions& o);
 // --quiet, --json, --db.
 void add_output_options(CLI::App* sub, CommonOptions& o);
 
-// Validates option values (baud 0, ID 300 ... are refused with a message).
-Result<ops::LinkOptions> link_options(const CommonOptions& o);
-// The session open_link opened, remembered for fail()'s advice while it lives.
-struct ForgetOnDelete {
-  void operator()(ops::Session* s) const;
+// The link part of the options as typed; link::make_link_spec checks it.
+link::LinkInput link_input(const CommonOptions& o);
+// The command's one link specification (link::make_link_spec: baud 0, ID 300
+// ... are refused with a message), with the progress of long waits on stderr
+// unless --quiet or --json, and `cancel` (a writing command's interrupt flag)
+// for its client.
+Result<link::LinkSpec> link_options(const CommonOptions& o,
+                                    const std::atomic<bool>* cancel = nullptr);
+
+// A command's open link, owned by its run: the session, and what fail() needs
+// to advise on a link failure (the --port text, --verbose).
+class SessionHandle {
+ public:
+  SessionHandle() = default;
+  SessionHandle(std::unique_ptr<link::Session> s, std::string port, bool verbose)
+      : session_(std::move(s)), port_(std::move(port)), verbose_(verbose) {}
+  link::Session* operator->() const { return session_.get(); }
+  link::Session& operator*() const { return *session_; }
+  explicit operator bool() const { return session_ != nullptr; }
+  // fail(command, e), except that a link failure before the drive ever
+  // answered is replaced by advice naming the likely wrong setting
+  // (link::link_advice); --verbose appends the protocol detail.
+  int fail(const char* command, const Error& e) const;
+
+ private:
+  std::unique_ptr<link::Session> session_;
+  std::string port_;
+  bool verbose_ = false;
 };
-using SessionHandle = std::unique_ptr<ops::Session, ForgetOnDelete>;
-Result<SessionHandle> open_link(const CommonOptions& o);
+Result<SessionHandle> open_link(const CommonOptions& o, const std::atomic<bool>* cancel = nullptr);
 
 // The database, or an empty one (db::Database::is_empty()) with a warning on
 // stderr: a missing database makes output less readable, never wrong.
 db::Database load_database(const CommonOptions& o);
 
-// Progress bar on stderr when it is a terminal and not --quiet; else nothing.
-ops::Progress make_progress(const CommonOptions& o);
-void end_progress(const CommonOptions& o);
+// A progress bar on stderr when it is a terminal and not --quiet or --json
+// (else nothing), owned by the run that shows it.
+class ProgressBar {
+ public:
+  explicit ProgressBar(const CommonOptions& o);
+  ProgressBar(const ProgressBar&) = delete;
+  ProgressBar& operator=(const ProgressBar&) = delete;
+  // The library's progress callback drawing this bar (empty when not shown);
+  // valid while the bar lives.
+  ops::Progress callback();
+  // Ends a drawn bar's line.
+  void end();
+
+ private:
+  bool shown_ = false;
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+  std::string phase_;
+  bool drawn_ = false;
+};
 
 // --reconnect-baud, --reconnect-id, --reconnect-checksum (restore --include-comm):
 // the link settings to try first after the drive's reset. Empty strings = not given.
@@ -81,7 +123,7 @@ struct ReconnectOptions {
   std::string baud, id, checksum;
 };
 void add_reconnect_options(CLI::App* sub, ReconnectOptions& o);
-Result<ops::RelinkOverrides> relink_overrides(const ReconnectOptions& o);
+Result<link::RelinkOverrides> relink_overrides(const ReconnectOptions& o);
 
 // "os,mc,intf,appl" (any subset, case-insensitive) -> layer switches.
 Result<std::array<bool, 4>> parse_layers(const std::string& text);
@@ -91,10 +133,8 @@ Result<std::array<bool, 4>> parse_layers(const std::string& text);
 // `option` names the option in the message ("-o").
 Result<void> check_output_path(const std::string& path, const std::string& option);
 
-// "lmcfg backup: <message>" on stderr; returns the exit code for the error.
-// A link failure of a session opened by open_link (still alive) before the
-// drive ever answered is replaced by advice naming the likely wrong setting
-// (ops::link_advice); --verbose appends the protocol detail.
+// "lmcfg backup: <message>" on stderr; returns the exit code for the error
+// (SessionHandle::fail while a link is open: with the link advice).
 int fail(const char* command, const Error& e);
 int exit_code_for(const Error& e);
 

@@ -2,7 +2,7 @@
 #include <exception>
 
 #include "command.hpp"
-#include "ops/session.hpp"
+#include "link/session.hpp"
 #include "sim/state_file.hpp"
 #include "version_info.hpp"
 
@@ -47,7 +47,7 @@ int main(int argc, char** argv) {
   for (auto add : kSubcommands) add(app, exit_code);
   // The operations layer knows serial ports and TCP gateways; the simulated
   // drive's port scheme is the tools' to add.
-  lmcfg::ops::register_link_scheme("sim", lmcfg::sim::state_file_link_factory());
+  lmcfg::link::register_scheme("sim", lmcfg::sim::state_file_link_factory());
   if (const char* word = unknown_subcommand(app, argc, argv)) {
     std::fprintf(stderr, "lmcfg: unknown subcommand '%s' (one of: %s; see lmcfg --help)\n", word,
                  subcommand_names(app).c_str());

@@ -189,8 +189,8 @@ void record_restore(const ops::RestoreOutcome& out, int code, const RestoreTarge
 // The LinRS run's options: the recovery record, the restore flags, the undo
 // record (none for a dry run).
 Result<ops::RestoreRunOptions> linrs_run_options(const CommonOptions& common, const RestoreFlags& f,
-                                                 const ops::RelinkOverrides& overrides,
-                                                 std::uint8_t id) {
+                                                 const link::RelinkOverrides& overrides,
+                                                 std::uint8_t id, ProgressBar& bar) {
   ops::RestoreRunOptions ro;
   LMCFG_ASSIGN_OR_RETURN(ro.restore.recovery_path, ops::recovery_path("restore", common.port, id));
   ro.restore.port = common.port;
@@ -198,7 +198,7 @@ Result<ops::RestoreRunOptions> linrs_run_options(const CommonOptions& common, co
   ro.restore.include_comm = f.include_comm;
   ro.restore.reset_after = !f.no_reset;
   ro.restore.skip_incompatible = f.skip_incompatible;
-  ro.restore.progress = make_progress(common);
+  ro.restore.progress = bar.callback();
   ro.dry_run = f.dry_run;
   ro.overrides = overrides;
   if (!f.no_undo && !f.dry_run) {
@@ -247,7 +247,7 @@ void add_restore_flags(CLI::App* sub, RestoreFlags& f) {
 Result<ops::Consent> confirm_restore(const std::string& plan, const RestoreTarget& t,
                                      const std::string& file_name, const CommonOptions& common,
                                      const RestoreFlags& f) {
-  end_progress(common);
+  if (t.bar) t.bar->end();
   // The plan goes to stderr when stdout carries the JSON report.
   if (!f.yes || (t.plan_with_yes && !common.quiet && !common.json))
     std::fputs(plan.c_str(), common.json ? stderr : stdout);
@@ -258,7 +258,7 @@ Result<ops::Consent> confirm_restore(const std::string& plan, const RestoreTarge
 int finish_restore(const ops::RestoreOutcome& out, const RestoreTarget& t,
                    const std::string& file_name, const CommonOptions& common,
                    const RestoreFlags& f) {
-  end_progress(common);
+  if (t.bar) t.bar->end();
   if (common.json) report_json(out, file_name);
   if (out.undo) print_undo_saved(*out.undo, common);
   print_outcome(out, file_name, common, f, t.telegrams ? t.telegrams() : 0);
@@ -267,20 +267,22 @@ int finish_restore(const ops::RestoreOutcome& out, const RestoreTarget& t,
   return code;
 }
 
-int restore_on_session(ops::Session& session, const config::DriveConfig& file,
+int restore_on_session(link::Session& session, const config::DriveConfig& file,
                        const std::string& file_name, const CommonOptions& common,
-                       const RestoreFlags& f, const ops::RelinkOverrides& overrides,
+                       const RestoreFlags& f, const link::RelinkOverrides& overrides,
                        const db::Database& db, ops::RestoreOutcome& out) {
+  // The session was opened with the interrupt flag (open_link, line_links):
+  // SIGINT/SIGTERM let the telegram in flight complete.
   auto& client = session.client();
-  auto copt = client.options();
-  copt.cancel = &ops::interrupt_flag();
-  client.set_options(copt);
-  auto ro = linrs_run_options(common, f, overrides, copt.id);
+  const std::uint8_t id = client.options().id;
+  ProgressBar bar(common);
+  auto ro = linrs_run_options(common, f, overrides, id, bar);
   if (!ro.ok()) return fail("restore", ro.error());
   RestoreTarget t;
+  t.bar = &bar;
   t.noun = "drive";
   t.question = "Write this plan to drive " + common.id + " on " + common.port + "?";
-  t.macid = copt.id;
+  t.macid = id;
   t.telegrams = [&client] { return static_cast<unsigned long long>(client.stats().requests); };
   ro->confirm = [&](const ops::Plan& plan) {
     return confirm_restore(ops::render_plan(plan), t, file_name, common, f);

@@ -47,6 +47,7 @@ struct RestoreTarget {
   // scripted restore should say what was written.
   bool plan_with_yes = false;
   std::function<unsigned long long()> telegrams;  // LinRS: for the summary
+  ProgressBar* bar = nullptr;  // the run's progress bar, ended before any output
 };
 
 // Before the first write: the plan (`plan`, its text; on stdout, on stderr when
@@ -73,9 +74,9 @@ int finish_restore(const ops::RestoreOutcome& out, const RestoreTarget& t,
 void print_undo_saved(const ops::UndoSaved& u, const CommonOptions& common);
 nlohmann::ordered_json undo_json(const ops::UndoSaved& u);
 
-int restore_on_session(ops::Session& session, const config::DriveConfig& file,
+int restore_on_session(link::Session& session, const config::DriveConfig& file,
                        const std::string& file_name, const CommonOptions& common,
-                       const RestoreFlags& f, const ops::RelinkOverrides& overrides,
+                       const RestoreFlags& f, const link::RelinkOverrides& overrides,
                        const db::Database& db, ops::RestoreOutcome& out);
 
 }  // namespace lmcfg::cli

@@ -1,4 +1,4 @@
-#include "ops/scan.hpp"
+#include "link/scan.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -7,7 +7,7 @@
 
 #include "codec/messages.hpp"
 
-namespace lmcfg::ops {
+namespace lmcfg::link {
 
 namespace {
 
@@ -228,4 +228,4 @@ Result<ScanReport> scan(Session& session, const ScanOptions& o) {
   return report;
 }
 
-}  // namespace lmcfg::ops
+}  // namespace lmcfg::link

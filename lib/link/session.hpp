@@ -11,27 +11,11 @@
 
 #include "client/client.hpp"
 #include "config/model.hpp"
+#include "link/port.hpp"
+#include "link/spec.hpp"
 #include "transport/transport.hpp"
 
-namespace lmcfg::ops {
-
-struct LinkOptions {
-  std::string port;
-  transport::SerialSettings serial;  // device filled from port for serial links
-  client::ClientOptions client;      // MACID, checksum, timeouts, retries
-  std::string trace_path;            // "" = no trace
-  bool real_time_sim = false;        // a simulated peer sleeps for the modelled wire time
-  // Who opens the port ("lmcfg backup"), recorded in its lock so that a
-  // second program is told who has it (transport::PortClaim).
-  std::string holder;
-  // open_session switches the client's adaptive answer deadline on (capped by
-  // client.timeout) and, unless fixed_settle, the adaptive settle (capped by
-  // client.settle). fixed_settle: every settle waits client.settle (--settle-ms).
-  bool fixed_settle = false;
-  // client.agreeing_reads for the session: 0 = automatic (ClientOptions), N =
-  // exactly N agreeing reads per value whatever the link (--agreeing-reads).
-  int agreeing_reads = 0;
-};
+namespace lmcfg::link {
 
 // "none", "add", "crc" (0xFFFF init), "crc-ffff", "crc-0000", "crc-kermit"
 // (reflected, init 0). The coverage stays the default (ID through last data byte).
@@ -48,16 +32,13 @@ std::string checksum_name(const codec::ChecksumConfig& c);
 std::string checksum_options(const codec::ChecksumConfig& c);
 Result<transport::Parity> parse_parity(std::string_view text);
 
-// Registers the factory for ports "SCHEME:..." (scheme without the colon, e.g.
-// "sim"), replacing an earlier one: link::register_scheme. Not thread-safe:
-// register at start-up.
-void register_link_scheme(std::string scheme, transport::LinkFactory factory);
-
 // One open link to one drive, with its client. Closing saves what the link's
 // factory asked to be saved (a simulated drive's state).
 class Session {
  public:
-  Session(LinkOptions opt, transport::OpenedLink link,
+  // The client talks at `line` (the spec's, or the one a simulated drive
+  // dictates) with the settings the spec gives.
+  Session(LinkSpec spec, transport::SerialSettings line, transport::OpenedLink link,
           std::optional<transport::LowLatencyReport> latency);
   Session(const Session&) = delete;
   Session& operator=(const Session&) = delete;
@@ -69,7 +50,12 @@ class Session {
   config::LinkSettings link_settings() const;
   // The line settings the tool talks with now (for sim: ports, the simulated
   // drive's settings at open; for tcp: ports, what --baud etc. said).
-  transport::SerialSettings line() const { return opt_.serial; }
+  transport::SerialSettings line() const { return line_; }
+  // The specification the session was opened with, as given.
+  const LinkSpec& spec() const { return spec_; }
+  // The specification of the link as it is now: the opened one with the line
+  // settings, MACID and checksum relink() moved to (to open it again later).
+  LinkSpec current_spec() const;
   // Talks to the drive with other settings from now on: the serial line is
   // reconfigured (Errc::not_supported on a TCP gateway when `line` differs),
   // the client takes the new MACID and checksum.
@@ -81,12 +67,15 @@ class Session {
 
  private:
   std::optional<transport::LowLatencyReport> latency_;
-  LinkOptions opt_;
+  const LinkSpec spec_;
+  transport::SerialSettings line_;
   std::unique_ptr<transport::Transport> link_;
   std::function<Result<void>()> on_close_;
   client::Client client_;
 };
 
-Result<std::unique_ptr<Session>> open_session(const LinkOptions& opt);
+// Opens the spec's port (link::open_byte_link) with its trace; the spec is
+// not changed.
+Result<std::unique_ptr<Session>> open_session(const LinkSpec& spec);
 
-}  // namespace lmcfg::ops
+}  // namespace lmcfg::link

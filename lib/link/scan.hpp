@@ -17,10 +17,10 @@
 #include <string>
 #include <vector>
 
-#include "ops/backup.hpp"
-#include "ops/session.hpp"
+#include "common/progress.hpp"
+#include "link/session.hpp"
 
-namespace lmcfg::ops {
+namespace lmcfg::link {
 
 struct ScanOptions {
   // Rates to try, in this order; empty = scan_rates() (every §3.2.1 rate,
@@ -78,4 +78,4 @@ std::vector<codec::ChecksumConfig> checksum_variants();
 // Errors: only link failures (closed, I/O); a silent line is a report with no drive.
 Result<ScanReport> scan(Session& session, const ScanOptions& o);
 
-}  // namespace lmcfg::ops
+}  // namespace lmcfg::link

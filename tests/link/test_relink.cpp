@@ -12,11 +12,12 @@
 #include "db/database.hpp"
 #include "e2e_support.hpp"
 #include "files.hpp"
+#include "link/relink.hpp"
+#include "link/session.hpp"
 #include "ops/backup.hpp"
+#include "ops/expected_link.hpp"
 #include "ops/factory_reset.hpp"
-#include "ops/relink.hpp"
 #include "ops/restore.hpp"
-#include "ops/session.hpp"
 #include "subprocess.hpp"
 
 using namespace lmcfg;
@@ -116,47 +117,11 @@ TEST_CASE("sim: a master at another baud rate gets no answer until it reconfigur
   CHECK(link.reconfigure(slow).error().message.find("12345") != std::string::npos);
 }
 
-TEST_CASE("relink: what the restored LinRS parameters select, and why", "[relink]") {
-  auto db = test::built_database();
-  REQUIRE(db);
-  ops::Plan plan;
-  plan.expected.scope.layers = {false, false, true, false};
-  auto& intf = plan.expected.layer(3);
-  intf = {config::Parameter{0x200E, 2, std::nullopt, std::nullopt, {}, {}, {}},
-          config::Parameter{0x2012, 8, std::nullopt, std::nullopt, {}, {}, {}},
-          config::Parameter{0x206C, 3, std::nullopt, std::nullopt, {}, {}, {}},
-          config::Parameter{0x2076, 0x22, std::nullopt, std::nullopt, {}, {}, {}}};
-  auto e = ops::expected_link(plan, *db);
-  CHECK(e.baud == 38400u);
-  CHECK(e.macid == std::uint8_t{0x22});
-  REQUIRE(e.reasons.size() == 2);
-  CHECK(e.reasons[0] == "MACID 22h: 206Ch = By Parameter, 2076h MACID Parameter Value = 34");
-  CHECK(e.reasons[1] == "baud rate 38400: 200Eh = By Parameter, 2012h Baud Rate Parameter Def = 8");
-
-  // 2076h absent: its database default 11h. 2012h = 16: a code the seeds do not give.
-  intf = {config::Parameter{0x200E, 2, std::nullopt, std::nullopt, {}, {}, {}},
-          config::Parameter{0x2012, 16, std::nullopt, std::nullopt, {}, {}, {}},
-          config::Parameter{0x206C, 3, std::nullopt, std::nullopt, {}, {}, {}}};
-  e = ops::expected_link(plan, *db);
-  CHECK(e.macid == std::uint8_t{0x11});
-  CHECK(e.reasons[0] ==
-        "MACID 11h: 206Ch = By Parameter, 2076h MACID Parameter Value = 17 (its default)");
-  CHECK_FALSE(e.baud);
-  CHECK(e.reasons[1] ==
-        "baud rate: 200Eh = By Parameter, but the database has no rate for 2012h = 16 (seed 003 "
-        "states only 8 = 38400 Baud)");
-
-  // Nothing in the file: factory defaults, the hex switches.
-  intf.clear();
-  e = ops::expected_link(plan, *db);
-  CHECK_FALSE(e.baud);
-  CHECK_FALSE(e.macid);
-  CHECK(e.reasons[0].find("factory default, the hex switches") != std::string::npos);
-
+TEST_CASE("relink: the candidates in the order they are tried", "[relink]") {
   // Candidates: overrides, expected, current; then every rate of §3.2.1.
-  ops::ExpectedLink known{38400u, std::uint8_t{0x22}, {}};
+  link::ExpectedLink known{38400u, std::uint8_t{0x22}, {}};
   transport::SerialSettings line;  // 57600 8N1
-  auto c = ops::relink_candidates(known, {}, line, 0x11, codec::ChecksumConfig{});
+  auto c = link::relink_candidates(known, {}, line, 0x11, codec::ChecksumConfig{});
   REQUIRE(c.size() == 12);  // 6 rates x 2 IDs
   CHECK(c[0].line.baud == 38400);
   CHECK(c[0].macid == 0x22);
@@ -164,10 +129,10 @@ TEST_CASE("relink: what the restored LinRS parameters select, and why", "[relink
   CHECK(c[1].macid == 0x11);
   CHECK(c[2].line.baud == 57600);
   CHECK(c[4].line.baud == 4800);
-  ops::RelinkOverrides o;
+  link::RelinkOverrides o;
   o.baud = 9600;
   o.macid = 0x05;
-  c = ops::relink_candidates(known, o, line, 0x11, codec::ChecksumConfig{});
+  c = link::relink_candidates(known, o, line, 0x11, codec::ChecksumConfig{});
   CHECK(c[0].line.baud == 9600);
   CHECK(c[0].macid == 0x05);
 }
@@ -181,9 +146,9 @@ TEST_CASE(
   const auto file = moved_axis_file(*db);
   const auto dir = temp_dir("relink-inproc");
   fs::copy_file(test::sim_fixture("used-spare.json"), dir / "spare.sim.json");
-  ops::LinkOptions lo;
-  lo.port = "sim:" + (dir / "spare.sim.json").string();
-  auto session = ops::open_session(lo);
+  link::LinkSpec lo;
+  lo.port = *link::parse_port("sim:" + (dir / "spare.sim.json").string());
+  auto session = link::open_session(lo);
   REQUIRE(session.ok());
   auto& client = (*session)->client();
 
@@ -213,7 +178,7 @@ TEST_CASE(
   REQUIRE_FALSE(lost.ok());
   CHECK(lost.error().code == make_error_code(Errc::timeout));
 
-  auto rep = ops::reconnect(**session, ops::expected_link(*plan, *db), {});
+  auto rep = link::reconnect(**session, ops::expected_link(*plan, *db), {});
   REQUIRE(rep.ok());
   CHECK(rep->changed);
   CHECK(rep->attempts == 1);
@@ -237,9 +202,9 @@ TEST_CASE("relink: a drive on an unknown hex-switch ID is not found, --reconnect
   spare->state().switches = sim::HexSwitches{0x33, 57600};
   set_rom(*spare, 0x206C, 3);
   REQUIRE(sim::save_state(spare->state(), (dir / "spare.sim.json").string()).ok());
-  ops::LinkOptions lo;
-  lo.port = "sim:" + (dir / "spare.sim.json").string();
-  auto session = ops::open_session(lo);
+  link::LinkSpec lo;
+  lo.port = *link::parse_port("sim:" + (dir / "spare.sim.json").string());
+  auto session = link::open_session(lo);
   REQUIRE(session.ok());
   auto& client = (*session)->client();
 
@@ -257,7 +222,7 @@ TEST_CASE("relink: a drive on an unknown hex-switch ID is not found, --reconnect
 
   const auto expected = ops::expected_link(*plan, *db);
   CHECK_FALSE(expected.macid);
-  auto none = ops::reconnect(**session, expected, {});
+  auto none = link::reconnect(**session, expected, {});
   REQUIRE_FALSE(none.ok());
   CHECK(none.error().code == make_error_code(Errc::timeout));
   CHECK(none.error().message.rfind(
@@ -269,9 +234,9 @@ TEST_CASE("relink: a drive on an unknown hex-switch ID is not found, --reconnect
         std::string::npos);
   CHECK(client.options().id == 0x11);  // back at the settings it had
 
-  ops::RelinkOverrides o;
+  link::RelinkOverrides o;
   o.macid = 0x33;
-  auto found = ops::reconnect(**session, expected, o);
+  auto found = link::reconnect(**session, expected, o);
   REQUIRE(found.ok());
   CHECK(found->summary == "the drive answers at 57600 Bd, MACID 33h, checksum none");
   auto verify = ops::verify_restore(client, *plan, ro);

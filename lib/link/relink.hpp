@@ -6,8 +6,9 @@
 // that writes those parameters and resets the drive can leave it talking with
 // other settings than the ones the tool opened the link with.
 //
-// expected_link() reads what the restored ROM values select, as far as the
-// database can tell; everything it cannot tell stays unknown. reconnect() then
+// expected_link() (ops/expected_link.hpp) reads what the restored ROM values
+// select, as far as the database can tell; everything it cannot tell stays
+// unknown. reconnect() then
 // tries candidate settings in a fixed order, one cheap read (the default
 // response request, LinRS §8) each, and keeps the first the drive answers.
 #include <cstdint>
@@ -16,10 +17,9 @@
 #include <vector>
 
 #include "codec/frame.hpp"
-#include "ops/restore.hpp"
-#include "ops/session.hpp"
+#include "link/session.hpp"
 
-namespace lmcfg::ops {
+namespace lmcfg::link {
 
 // What the restored parameters select after the reset. nullopt = the tool
 // cannot tell (hex switch settings, a code the database has no label for, no
@@ -29,9 +29,6 @@ struct ExpectedLink {
   std::optional<std::uint8_t> macid;
   std::vector<std::string> reasons;
 };
-
-// From `plan.expected` (a UPID absent from a restored layer holds its default).
-ExpectedLink expected_link(const Plan& plan, const db::Database& db);
 
 // Settings the user names for after the restore (--reconnect-baud/-id/-checksum);
 // they are tried first.
@@ -50,6 +47,9 @@ struct RelinkCandidate {
   std::uint8_t macid = 0;
   codec::ChecksumConfig checksum;
 };
+// "--baud 115200 --id 0x11 --checksum crc-ffff" (+ parity, stop bits, coverage
+// when not the defaults): the link options of `c`.
+std::string link_options_of(const RelinkCandidate& c);
 
 // In the order they are tried: overrides, then the expected values, then the
 // settings in use; for an unknown baud rate every rate of LinRS §3.2.1 after
@@ -76,4 +76,4 @@ struct RelinkReport {
 Result<RelinkReport> reconnect(Session& session, const ExpectedLink& expected,
                                const RelinkOverrides& overrides);
 
-}  // namespace lmcfg::ops
+}  // namespace lmcfg::link

@@ -1,11 +1,11 @@
-#include "ops/link_advice.hpp"
+#include "link/link_advice.hpp"
 
 #include <cstdio>
 
 #include "common/bytes.hpp"
-#include "ops/scan.hpp"
+#include "link/scan.hpp"
 
-namespace lmcfg::ops {
+namespace lmcfg::link {
 
 bool settings_suspect(Session& session, const Error& e) {
   // Answers lost or garbled, never one received: the settings may be wrong.
@@ -77,4 +77,4 @@ std::optional<std::string> link_advice(Session& session, const std::string& port
          "--parity), or " + scan_hint + " to try every MACID and rate";
 }
 
-}  // namespace lmcfg::ops
+}  // namespace lmcfg::link

@@ -1,10 +1,8 @@
-#include "ops/session.hpp"
+#include "link/session.hpp"
 
 #include <optional>
 
-#include "link/port.hpp"
-
-namespace lmcfg::ops {
+namespace lmcfg::link {
 
 Result<codec::ChecksumConfig> parse_checksum(std::string_view t) {
   codec::ChecksumConfig c;
@@ -91,17 +89,31 @@ Result<transport::Parity> parse_parity(std::string_view t) {
                "parity '" + std::string(t) + "' is not one of none, even, odd");
 }
 
-void register_link_scheme(std::string scheme, transport::LinkFactory factory) {
-  link::register_scheme(std::move(scheme), std::move(factory));
+namespace {
+// The client's settings for a session: the spec's, with what the link itself
+// decides. With parity the UART detects a flipped bit; without it and without
+// a checksum each value is read twice (Client::agreeing_reads), three times
+// once the line has corrupted an answer, unless the spec fixes the number.
+// Deadlines from the wire time and the measured round trips, capped by
+// --timeout-ms; the settle after a lost answer as long as its deadline.
+client::ClientOptions client_options(const LinkSpec& spec, const transport::SerialSettings& line) {
+  client::ClientOptions c = spec.client;
+  c.link_has_parity = line.parity != transport::Parity::none;
+  c.agreeing_reads = spec.agreeing_reads;
+  c.adaptive_deadline = true;
+  c.adaptive_settle = !spec.fixed_settle;
+  return c;
 }
+}  // namespace
 
-Session::Session(LinkOptions opt, transport::OpenedLink link,
+Session::Session(LinkSpec spec, transport::SerialSettings line, transport::OpenedLink link,
                  std::optional<transport::LowLatencyReport> latency)
     : latency_(std::move(latency)),
-      opt_(std::move(opt)),
+      spec_(std::move(spec)),
+      line_(line),
       link_(std::move(link.link)),
       on_close_(std::move(link.on_close)),
-      client_(*link_, opt_.client) {}
+      client_(*link_, client_options(spec_, line_)) {}
 
 Result<void> Session::close() {
   if (on_close_) {
@@ -114,69 +126,58 @@ Result<void> Session::close() {
 
 Result<void> Session::relink(const transport::SerialSettings& line, std::uint8_t id,
                              const codec::ChecksumConfig& checksum) {
-  const auto& cur = opt_.serial;
-  if (line.baud != cur.baud || line.parity != cur.parity || line.stop_bits != cur.stop_bits) {
+  if (line.baud != line_.baud || line.parity != line_.parity || line.stop_bits != line_.stop_bits) {
     LMCFG_TRY(link_->reconfigure(line));
-    const std::string device = opt_.serial.device;
-    opt_.serial = line;
-    opt_.serial.device = device;
+    const std::string device = line_.device;
+    line_ = line;
+    line_.device = device;
   }
   auto co = client_.options();
   co.id = id;
   co.checksum = checksum;
-  co.link_has_parity = opt_.serial.parity != transport::Parity::none;
+  co.link_has_parity = line_.parity != transport::Parity::none;
   client_.set_options(co);
-  opt_.client.id = id;
-  opt_.client.checksum = checksum;
   return {};
+}
+
+LinkSpec Session::current_spec() const {
+  LinkSpec s = spec_;
+  s.serial = line_;
+  s.client.id = client_.options().id;
+  s.client.checksum = client_.options().checksum;
+  return s;
 }
 
 config::LinkSettings Session::link_settings() const {
   config::LinkSettings s;
-  s.port = opt_.port;
-  s.baud = std::to_string(opt_.serial.baud);
-  s.parity = std::string(transport::parity_name(opt_.serial.parity));
-  s.stop_bits = std::to_string(opt_.serial.stop_bits);
-  s.checksum = checksum_name(opt_.client.checksum);
+  s.port = spec_.port.text;
+  s.baud = std::to_string(line_.baud);
+  s.parity = std::string(transport::parity_name(line_.parity));
+  s.stop_bits = std::to_string(line_.stop_bits);
+  s.checksum = checksum_name(client_.options().checksum);
   return s;
 }
 
-Result<std::unique_ptr<Session>> open_session(const LinkOptions& opt_in) {
-  LinkOptions opt = opt_in;
-  if (opt.port.empty())
-    return Error(Errc::invalid_argument,
-                 "no --port given (a serial device, tcp://host:port or sim:FILE)");
-  LMCFG_ASSIGN_OR_RETURN(const auto spec, link::parse_port(opt.port));
-  link::OpenRequest req;
-  req.line = opt.serial;
-  req.holder = opt.holder;
-  req.real_time_peer = opt.real_time_sim;
-  LMCFG_ASSIGN_OR_RETURN(auto opened, link::open_byte_link(spec, req));
-  if (spec.scheme_name() == "serial") opt.serial.device = spec.address;
+Result<std::unique_ptr<Session>> open_session(const LinkSpec& spec) {
+  OpenRequest req;
+  req.line = spec.serial;
+  req.holder = spec.holder;
+  req.real_time_peer = spec.real_time_sim;
+  LMCFG_ASSIGN_OR_RETURN(auto opened, open_byte_link(spec.port, req));
   // A simulated drive is wired at its own settings: the session talks with those.
+  transport::SerialSettings line = spec.serial;
   if (opened.line) {
-    opt.serial.baud = opened.line->baud;
-    opt.serial.parity = opened.line->parity;
-    opt.serial.stop_bits = opened.line->stop_bits;
+    line.baud = opened.line->baud;
+    line.parity = opened.line->parity;
+    line.stop_bits = opened.line->stop_bits;
   }
-  auto& link = opened.link;
   auto latency = std::move(opened.latency);
-  if (!opt.trace_path.empty()) {
-    std::shared_ptr<transport::TraceSink> sink = transport::make_file_trace(opt.trace_path);
-    if (!sink) return Error(Errc::file_error, "cannot open trace file '" + opt.trace_path + "'");
-    link = transport::make_traced(std::move(link), std::move(sink));
+  if (!spec.trace_path.empty()) {
+    std::shared_ptr<transport::TraceSink> sink = transport::make_file_trace(spec.trace_path);
+    if (!sink) return Error(Errc::file_error, "cannot open trace file '" + spec.trace_path + "'");
+    opened.link = transport::make_traced(std::move(opened.link), std::move(sink));
   }
-  // With parity the UART detects a flipped bit; without it and without a
-  // checksum each value is read twice (Client::agreeing_reads).
-  opt.client.link_has_parity = opt.serial.parity != transport::Parity::none;
-  // Automatic unless fixed: two agreeing reads when nothing detects a flipped
-  // bit, three once the line has corrupted an answer.
-  opt.client.agreeing_reads = opt.agreeing_reads;
-  // Deadlines from the wire time and the measured round trips, capped by
-  // --timeout-ms; the settle after a lost answer as long as its deadline.
-  opt.client.adaptive_deadline = true;
-  opt.client.adaptive_settle = !opt.fixed_settle;
-  return std::make_unique<Session>(std::move(opt), std::move(opened), std::move(latency));
+  return std::make_unique<Session>(spec, line, std::move(opened), std::move(latency));
 }
 
-}  // namespace lmcfg::ops
+}  // namespace lmcfg::link

@@ -7,56 +7,18 @@
 
 #include "common/bytes.hpp"
 #include "link/port.hpp"
-#include "ops/session.hpp"
+#include "link/session.hpp"
+#include "link/spec.hpp"
 #include "sim/state_file.hpp"
 
 namespace {
 const bool kSimPortsRegistered = [] {
-  lmcfg::ops::register_link_scheme("sim", lmcfg::sim::state_file_link_factory());
+  lmcfg::link::register_scheme("sim", lmcfg::sim::state_file_link_factory());
   return true;
 }();
 }  // namespace
 
 using namespace lmcfg;
-
-TEST_CASE("link schemes: a registered scheme opens its port, the factory's close runs once",
-          "[session]") {
-  REQUIRE(kSimPortsRegistered);
-  int opened = 0, closed = 0;
-  ops::register_link_scheme(
-      "counting", [&](const transport::LinkRequest& req) -> Result<transport::OpenedLink> {
-        ++opened;
-        CHECK(req.address == "some/where");
-        CHECK(req.real_time_peer);
-        LMCFG_ASSIGN_OR_RETURN(
-            auto inner, sim::state_file_link_factory()(transport::LinkRequest{
-                            LMCFG_SOURCE_DIR "/tests/fixtures/sim/commissioned-axis.json", false}));
-        inner.on_close = [&closed]() -> Result<void> {
-          ++closed;
-          return {};
-        };
-        return inner;
-      });
-  ops::LinkOptions lo;
-  lo.port = "counting:some/where";
-  lo.real_time_sim = true;
-  auto s = ops::open_session(lo);
-  REQUIRE(s.ok());
-  CHECK(opened == 1);
-  // The simulated drive dictates the line: its state file says 57600 8N1.
-  CHECK((*s)->line().baud == 57600);
-  REQUIRE((*s)->close().ok());
-  REQUIRE((*s)->close().ok());
-  CHECK(closed == 1);
-}
-
-TEST_CASE("link schemes: an unregistered scheme is a serial device path", "[session]") {
-  ops::LinkOptions lo;
-  lo.port = "nosuchscheme:/nowhere";
-  auto s = ops::open_session(lo);
-  REQUIRE_FALSE(s.ok());
-  CHECK(s.error().message.find("nosuchscheme:/nowhere") != std::string::npos);
-}
 
 TEST_CASE("hex: the one formatter pads, never truncates, and appends the suffix", "[common]") {
   CHECK(hex(0x13A2, 4) == "13A2");
@@ -123,46 +85,48 @@ TEST_CASE("port schemes: slcan:tcp:// opens the adapter protocol over TCP, a CAN
   auto can = link::open_can_link("slcan:tcp://127.0.0.1:9", can::SlcanOptions{});
   REQUIRE_FALSE(can.ok());
   CHECK(can.error().message == "tcp 127.0.0.1:9: cannot connect: Connection refused");
-  ops::LinkOptions lo;
-  lo.port = "slcan:tcp://127.0.0.1:9";
-  CHECK(ops::open_session(lo).error().message ==
+  link::LinkSpec lo;
+  lo.port = *link::parse_port("slcan:tcp://127.0.0.1:9");
+  CHECK(link::open_session(lo).error().message ==
         "port 'slcan:tcp://127.0.0.1:9' is a CAN link (DeviceNet controllers), not a LinRS "
         "serial line");
 }
 
 TEST_CASE("port schemes: the session opens byte links only, rfc2217 through its transport",
           "[session][link]") {
-  ops::LinkOptions lo;
+  link::LinkSpec lo;
   // Nothing listens on the discard port of loopback: the row tried the connection.
-  lo.port = "rfc2217://127.0.0.1:9";
-  auto rfc = ops::open_session(lo);
+  lo.port = *link::parse_port("rfc2217://127.0.0.1:9");
+  auto rfc = link::open_session(lo);
   REQUIRE_FALSE(rfc.ok());
   CHECK(rfc.error().message == "rfc2217 127.0.0.1:9: cannot connect: Connection refused");
-  lo.port = "can0";
-  auto can = ops::open_session(lo);
+  lo.port = *link::parse_port("can0");
+  auto can = link::open_session(lo);
   REQUIRE_FALSE(can.ok());
   CHECK(can.error().code == Errc::invalid_argument);
   CHECK(can.error().message ==
         "port 'can0' is a CAN link (DeviceNet controllers), not a LinRS serial line");
-  lo.port = "tcp://127.0.0.1:0";
-  CHECK(ops::open_session(lo).error().message ==
+  // A port its row cannot parse is refused where the spec is built, before any open.
+  link::LinkInput bad;
+  bad.port = "tcp://127.0.0.1:0";
+  CHECK(link::make_link_spec(bad).error().message ==
         "port 'tcp://127.0.0.1:0' is not tcp://HOST:PORT with PORT 1..65535");
 }
 
 TEST_CASE("port schemes: a registered factory gets the line settings and the holder",
           "[session][link]") {
   transport::LinkRequest seen;
-  ops::register_link_scheme(
-      "probe", [&](const transport::LinkRequest& req) -> Result<transport::OpenedLink> {
-        seen = req;
-        return Error(Errc::not_supported, "probe: recorded");
-      });
-  ops::LinkOptions lo;
-  lo.port = "probe:x";
+  link::register_scheme("probe",
+                        [&](const transport::LinkRequest& req) -> Result<transport::OpenedLink> {
+                          seen = req;
+                          return Error(Errc::not_supported, "probe: recorded");
+                        });
+  link::LinkSpec lo;
+  lo.port = *link::parse_port("probe:x");
   lo.serial.baud = 19200;
   lo.serial.parity = transport::Parity::even;
   lo.holder = "lmcfg backup";
-  CHECK(ops::open_session(lo).error().message == "probe: recorded");
+  CHECK(link::open_session(lo).error().message == "probe: recorded");
   CHECK(seen.address == "x");
   CHECK(seen.line.baud == 19200);
   CHECK(seen.line.parity == transport::Parity::even);

@@ -4,7 +4,7 @@
 // Why not over a pseudo-terminal: Linux ptys force CS8 and clear PARENB
 // (docs/transport.md), so the simulated drive behind `lmcfg sim` cannot see
 // the master's parity, and `--port sim:FILE` wires the line at the drive's own
-// settings. The decision (ops::settings_suspect + ops::link_advice, what
+// settings. The decision (link::settings_suspect + link::link_advice, what
 // `fail()` in tools/lmcfg/link_options.cpp prints as "lmcfg CMD: ADVICE",
 // exit 4 for a timeout or garbled answers) is therefore tested here on a
 // session whose simulated line runs at the tool's parity while the drive
@@ -13,8 +13,8 @@
 #include <catch2/catch.hpp>
 
 #include "e2e_support.hpp"
-#include "ops/link_advice.hpp"
-#include "ops/session.hpp"
+#include "link/link_advice.hpp"
+#include "link/session.hpp"
 #include "sim/link.hpp"
 
 using namespace lmcfg;
@@ -52,21 +52,21 @@ class ParityLine final : public transport::Transport {
 
 // A session on a simulated line at the tool's settings (`line`); the drive
 // keeps its own. relink() reconfigures the line, as on a serial port.
-std::unique_ptr<ops::Session> parity_session(std::shared_ptr<sim::Drive> drive,
-                                             transport::SerialSettings line, bool mangle) {
-  ops::LinkOptions lo;
-  lo.port = "/dev/ttyUSB0";
+std::unique_ptr<link::Session> parity_session(std::shared_ptr<sim::Drive> drive,
+                                              transport::SerialSettings line, bool mangle) {
+  link::LinkSpec lo;
+  lo.port = *link::parse_port("/dev/ttyUSB0");
   lo.serial = line;
-  lo.serial.device = lo.port;
+  lo.serial.device = lo.port.address;
   lo.client.id = drive->macid();
   lo.client.timeout = transport::Millis(20);
   lo.client.read_retries = 0;
-  lo.client.adaptive_deadline = lo.client.adaptive_settle = true;  // as ops::open_session
+  lo.client.adaptive_deadline = lo.client.adaptive_settle = true;  // as link::open_session
   transport::OpenedLink opened;
   auto link = std::make_unique<ParityLine>(std::move(drive), mangle);
   REQUIRE(link->reconfigure(line).ok());
   opened.link = std::move(link);
-  return std::make_unique<ops::Session>(lo, std::move(opened), std::nullopt);
+  return std::make_unique<link::Session>(lo, lo.serial, std::move(opened), std::nullopt);
 }
 
 struct Outcome {
@@ -86,8 +86,8 @@ Outcome first_read(transport::Parity drive_parity, transport::Parity tool_parity
   REQUIRE_FALSE(r.ok());
   Outcome o;
   o.error = r.error();
-  o.suspect = ops::settings_suspect(s, o.error);
-  if (o.suspect) o.advice = ops::link_advice(s, "/dev/ttyUSB0");
+  o.suspect = link::settings_suspect(s, o.error);
+  if (o.suspect) o.advice = link::link_advice(s, "/dev/ttyUSB0");
   return o;
 }
 
