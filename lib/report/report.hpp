@@ -35,7 +35,7 @@ namespace lmcfg::db {
 class Database;
 }
 
-namespace lmcfg::ops {
+namespace lmcfg::report {
 
 struct ReportOptions {
   std::string tool_version;  // "lmcfg 0.1.0 (git abc123)"; "" = not shown
@@ -56,4 +56,4 @@ std::string render_diff_report(const config::DriveConfig& a, const std::string& 
 // characters as \xNN (so nothing from a file can open a tag or an attribute).
 std::string html_escape(std::string_view s);
 
-}  // namespace lmcfg::ops
+}  // namespace lmcfg::report

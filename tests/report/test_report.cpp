@@ -29,7 +29,7 @@
 #include "db/database.hpp"
 #include "files.hpp"
 #include "ops/diff.hpp"
-#include "ops/report.hpp"
+#include "report/report.hpp"
 
 using namespace lmcfg;
 using test::slurp;
@@ -241,12 +241,12 @@ void check_diff_page(const Work& w, const fs::path& pa, const fs::path& pb, cons
 }  // namespace
 
 TEST_CASE("html_escape: markup, quotes, control bytes and bad UTF-8 become text", "[report]") {
-  CHECK(ops::html_escape(kScript) == "&lt;script&gt;alert(1)&lt;/script&gt;");
-  CHECK(ops::html_escape("a\"b'c&d") == "a&quot;b&#39;c&amp;d");
-  CHECK(ops::html_escape("x\ny\x7F") == "x\\x0Ay\\x7F");
-  CHECK(ops::html_escape("\xC2\xB5m \xE2\x86\x92") == "\xC2\xB5m \xE2\x86\x92");
-  CHECK(ops::html_escape("\xFF\xC0\x80\xED\xA0\x80") == "\\xFF\\xC0\\x80\\xED\\xA0\\x80");
-  CHECK(ops::html_escape("\xE2\x86") == "\\xE2\\x86");  // truncated sequence
+  CHECK(report::html_escape(kScript) == "&lt;script&gt;alert(1)&lt;/script&gt;");
+  CHECK(report::html_escape("a\"b'c&d") == "a&quot;b&#39;c&amp;d");
+  CHECK(report::html_escape("x\ny\x7F") == "x\\x0Ay\\x7F");
+  CHECK(report::html_escape("\xC2\xB5m \xE2\x86\x92") == "\xC2\xB5m \xE2\x86\x92");
+  CHECK(report::html_escape("\xFF\xC0\x80\xED\xA0\x80") == "\\xFF\\xC0\\x80\\xED\\xA0\\x80");
+  CHECK(report::html_escape("\xE2\x86") == "\\xE2\\x86");  // truncated sequence
 }
 
 TEST_CASE("report of the demo axis: every parameter, curve and entry, in a browser", "[report]") {
@@ -292,7 +292,7 @@ TEST_CASE("report of two large configurations: curves overlaid, entries side by 
   const auto t0 = std::chrono::steady_clock::now();
   const auto r = ops::diff(a, b, db ? *db : db::Database::empty(), {}, {});
   const std::string page =
-      ops::render_diff_report(a, "a", b, "b", r, db ? *db : db::Database::empty(), {});
+      report::render_diff_report(a, "a", b, "b", r, db ? *db : db::Database::empty(), {});
   const double ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   WARN("large diff report: " << page.size() << " bytes, " << r.items.size()
@@ -310,7 +310,7 @@ TEST_CASE("report of a large configuration: size, time, every setpoint, in a bro
   auto db = database();
   const auto t0 = std::chrono::steady_clock::now();
   const std::string page =
-      ops::render_report(cfg, "large.json", db ? *db : db::Database::empty(), {});
+      report::render_report(cfg, "large.json", db ? *db : db::Database::empty(), {});
   const double ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   WARN("large report: " << page.size() << " bytes, rendered in " << ms << " ms");
@@ -352,7 +352,7 @@ TEST_CASE("report: curves and entries that cannot be decoded say why, without a 
   e.id = 7;
   e.raw = {0x01, 0xA7, 0x07, 0x00};  // 4 bytes, links to itself
   c.ct_entries.push_back(e);
-  const std::string one = ops::render_report(c, "odd", db::Database::empty(), {});
+  const std::string one = report::render_report(c, "odd", db::Database::empty(), {});
   CHECK(one.find("not plotted: ") != std::string::npos);
   CHECK(one.find("UPID database: none") != std::string::npos);
   CHECK(one.find("not decoded (no UPID database)") != std::string::npos);
@@ -364,7 +364,7 @@ TEST_CASE("report: curves and entries that cannot be decoded say why, without a 
   b.curves[1] = reportbench::make_curve(2, 1, "one", 1);
   const auto r = ops::diff(c, b, db::Database::empty(), {}, {});
   REQUIRE(r.items.size() == 2);
-  const std::string two = ops::render_diff_report(c, "a", b, "b", r, db::Database::empty(), {});
+  const std::string two = report::render_diff_report(c, "a", b, "b", r, db::Database::empty(), {});
   CHECK(two.find("data-differences=\"2\"") != std::string::npos);
   CHECK(two.find("nan") == std::string::npos);
   CHECK(two.find("-9223372036854775808") == std::string::npos);  // lround(NaN)
