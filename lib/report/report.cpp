@@ -17,6 +17,13 @@
 
 namespace lmcfg::report {
 
+// Values and scopes read as lmcfg diff and lmcfg get show them.
+using ops::describe_scope;
+using ops::devicenet_value_name;
+using ops::devicenet_value_text;
+using ops::display_value;
+using ops::is_can_port;
+
 std::string html_escape(std::string_view s) {
   std::string out;
   out.reserve(s.size() + 8);

@@ -49,7 +49,7 @@ std::string render_report(const config::DriveConfig& cfg, const std::string& nam
 // Two configurations; `r` is ops::diff(a, b, ...) with the options the caller chose.
 std::string render_diff_report(const config::DriveConfig& a, const std::string& a_name,
                                const config::DriveConfig& b, const std::string& b_name,
-                               const DiffResult& r, const db::Database& db,
+                               const ops::DiffResult& r, const db::Database& db,
                                const ReportOptions& opt);
 
 // HTML text for any bytes: & < > " ' escaped; invalid UTF-8 and control

@@ -10,6 +10,12 @@ namespace lmcfg::db {
 class Database;
 }
 
+namespace lmcfg::report {
+// The report draws the comparison of ops::diff (lmcfg diff's).
+using ops::DiffItem;
+using ops::DiffResult;
+}  // namespace lmcfg::report
+
 namespace lmcfg::report::parts {
 
 // "13A2" (four hex digits, no suffix).
