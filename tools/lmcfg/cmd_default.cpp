@@ -6,8 +6,8 @@
 #include "audit_flow.hpp"
 #include "command.hpp"
 #include "common/layers.hpp"
+#include "confirm.hpp"
 #include "link_options.hpp"
-#include "ops/confirm.hpp"
 #include "ops/factory_reset.hpp"
 #include "ops/interrupt.hpp"
 #include "ops/recovery.hpp"
@@ -90,11 +90,11 @@ int run(DefaultCli& o) {
     return fail("default", Error(Errc::invalid_argument,
                                  "nothing to do: give --layers, --curves and/or --ct"));
   }
-  auto consent = ops::confirm("Set " + (o.layers.empty() ? std::string() : "layers " + o.layers) +
-                                  (o.curves ? ", delete all curves" : "") +
-                                  (o.ct ? ", delete the command table" : "") + " of drive " +
-                                  o.common.id + " on " + o.common.port + " to factory defaults?",
-                              "default a drive", o.yes);
+  auto consent = confirm("Set " + (o.layers.empty() ? std::string() : "layers " + o.layers) +
+                             (o.curves ? ", delete all curves" : "") +
+                             (o.ct ? ", delete the command table" : "") + " of drive " +
+                             o.common.id + " on " + o.common.port + " to factory defaults?",
+                         "default a drive", o.yes);
   if (!consent.ok()) return fail("default", consent.error());
   if (*consent == ops::Consent::declined) {
     std::fprintf(stderr, "cancelled; nothing written\n");

@@ -5,9 +5,9 @@
 
 #include "command.hpp"
 #include "common/bytes.hpp"
+#include "confirm.hpp"
 #include "fleet/inventory.hpp"
 #include "link_options.hpp"
-#include "ops/confirm.hpp"
 #include "ops/link_settings.hpp"
 #include "ops/recovery.hpp"
 
@@ -225,7 +225,7 @@ int run(LinkCli& o) {
   std::string question = "Write";
   for (const auto& w : plan->writes) question += "\n  " + w.text;
   question += "\nto the ROM of " + drive + " and reset it (the axis stops)?";
-  auto consent = ops::confirm(question, "change a drive's link settings", o.yes);
+  auto consent = confirm(question, "change a drive's link settings", o.yes);
   if (!consent.ok()) return fail("link", consent.error());
   if (*consent == ops::Consent::declined) {
     std::fprintf(stderr, "cancelled; nothing written\n");

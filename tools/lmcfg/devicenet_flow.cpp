@@ -8,8 +8,8 @@
 #include <memory>
 
 #include "command.hpp"
+#include "confirm.hpp"
 #include "devicenet/catalogue.hpp"
-#include "ops/confirm.hpp"
 #include "ops/interrupt.hpp"
 
 namespace lmcfg::cli {
@@ -184,9 +184,9 @@ int restore_devicenet_on(ops::DevicenetSession& session, const config::DriveConf
   // restore should say what was written.
   if (!common.quiet) std::fputs(text.c_str(), stdout);
   std::fflush(stdout);
-  auto consent = ops::confirm("Write these values to DeviceNet MAC ID " + common.devicenet_macid +
-                                  " on " + common.port + "?",
-                              "restore " + file_name + " onto a controller", f.yes);
+  auto consent = confirm("Write these values to DeviceNet MAC ID " + common.devicenet_macid +
+                             " on " + common.port + "?",
+                         "restore " + file_name + " onto a controller", f.yes);
   if (!consent.ok()) return failed(consent.error());
   if (*consent == ops::Consent::declined) {
     out.stage = S::declined;

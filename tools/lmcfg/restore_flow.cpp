@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "command.hpp"
+#include "confirm.hpp"
 #include "ops/interrupt.hpp"
 #include "ops/recovery.hpp"
 
@@ -96,8 +97,8 @@ int restore_on_session(ops::Session& session, const config::DriveConfig& file,
     // The plan goes to stderr when stdout carries the JSON report.
     if (!f.yes) std::fputs(ops::render_plan(plan).c_str(), common.json ? stderr : stdout);
     std::fflush(stdout);
-    return ops::confirm("Write this plan to drive " + common.id + " on " + common.port + "?",
-                        "restore " + file_name + " onto a drive", f.yes);
+    return confirm("Write this plan to drive " + common.id + " on " + common.port + "?",
+                   "restore " + file_name + " onto a drive", f.yes);
   };
   out = ops::run_restore(session, file, db, ro);
   end_progress(common);
