@@ -1,7 +1,6 @@
 // lmcfg link: show a drive's LinRS settings and change them safely
 // (ops::read_link_settings, ops::plan_link_change, ops::apply_link_change).
 #include <cstdio>
-#include <nlohmann/json.hpp>
 
 #include "command.hpp"
 #include "common/bytes.hpp"
@@ -10,6 +9,7 @@
 #include "link_options.hpp"
 #include "ops/link_settings.hpp"
 #include "ops/recovery.hpp"
+#include "report/json_reports.hpp"
 
 namespace lmcfg::cli {
 namespace {
@@ -67,22 +67,6 @@ std::string value_line(ops::LinkSetting s, const ops::LinkValue& v) {
   return line;
 }
 
-nlohmann::ordered_json settings_json(const ops::LinkState& st) {
-  auto arr = nlohmann::ordered_json::array();
-  for (std::size_t i = 0; i < ops::kLinkSettings; ++i) {
-    const auto s = static_cast<ops::LinkSetting>(i);
-    const auto& v = st.values[i];
-    nlohmann::ordered_json j;
-    j["setting"] = ops::setting_key(s);
-    j["upid"] = v.upid ? nlohmann::ordered_json(hex(*v.upid, 4)) : nlohmann::ordered_json();
-    j["rom"] = v.rom ? nlohmann::ordered_json(*v.rom) : nlohmann::ordered_json();
-    j["value"] = v.text;
-    j["note"] = v.note;
-    arr.push_back(std::move(j));
-  }
-  return arr;
-}
-
 fleet::LinkKeys keys_of(const ops::RelinkCandidate& c) {
   fleet::LinkKeys k;
   k.baud = c.line.baud;
@@ -138,11 +122,7 @@ int run(LinkCli& o) {
   if (!now.ok()) return fail("link", now.error());
   const std::string drive = "drive " + hex(now->in_use.macid, 2, "h") + " on " + o.common.port;
 
-  nlohmann::ordered_json j;
-  j["drive"] = hex(now->in_use.macid, 2);
-  j["port"] = o.common.port;
-  j["link_options"] = ops::link_options_of(now->in_use);
-  j["settings"] = settings_json(*now);
+  report::Json j = report::link_json(o.common.port, *now);
   auto print_state = [&](const ops::LinkState& st, const char* title) {
     std::printf("%s %s, talking at: %s\n", drive.c_str(), title,
                 ops::link_options_of(st.in_use).c_str());
@@ -164,9 +144,7 @@ int run(LinkCli& o) {
 
   auto plan = ops::plan_link_change(**session, *map, *now, *change);
   if (!plan.ok()) return fail("link", plan.error());
-  j["plan"] = nlohmann::ordered_json::array();
-  for (const auto& w : plan->writes) j["plan"].push_back(w.text);
-  j["new_link_options"] = ops::link_options_of(plan->after);
+  report::add_link_plan(j, *plan);
   std::optional<fleet::InventoryEdit> edit;
   if (inv) {
     auto e = fleet::link_inventory_edit(*inv, o.drive, keys_of(plan->after));
@@ -237,11 +215,7 @@ int run(LinkCli& o) {
   if (!closed.ok()) return fail("link", closed.error());
   const std::string options = ops::link_options_of(rep->relink.used);
   if (o.common.json) {
-    j["outcome"] = "changed";
-    j["found"] = rep->relink.summary;
-    j["scanned"] = rep->scanned;
-    j["new_link_options"] = options;
-    j["settings_after"] = settings_json(rep->after);
+    report::add_link_changed(j, *rep);
     json_keys();
     std::printf("%s\n", j.dump(2).c_str());
   } else {

@@ -1,10 +1,10 @@
 // lmcfg scan: find drives whose link settings are unknown (ops::scan).
 #include <cstdio>
-#include <nlohmann/json.hpp>
 
 #include "command.hpp"
 #include "link_options.hpp"
 #include "ops/scan.hpp"
+#include "report/json_reports.hpp"
 
 namespace lmcfg::cli {
 namespace {
@@ -35,36 +35,13 @@ int run(ScanCli& o) {
   lo->client.read_retries = 0;
   auto session = ops::open_session(*lo);
   if (!session.ok()) return fail("scan", session.error());
-  auto report = ops::scan(**session, so);
+  auto scanned = ops::scan(**session, so);
   end_progress(o.common);
-  if (!report.ok()) return fail("scan", report.error());
+  if (!scanned.ok()) return fail("scan", scanned.error());
   if (auto closed = (*session)->close(); !closed.ok()) return fail("scan", closed.error());
-  const auto& r = *report;
+  const auto& r = *scanned;
   if (o.common.json) {
-    nlohmann::json j;
-    j["found"] = nlohmann::json::array();
-    for (const auto& d : r.found) {
-      j["found"].push_back({{"id", d.id},
-                            {"baud", d.line.baud},
-                            {"parity", std::string(transport::parity_name(d.line.parity))},
-                            {"stop_bits", d.line.stop_bits},
-                            {"checksum", ops::checksum_name(d.checksum)},
-                            {"response_bytes", d.response_bytes},
-                            {"options", ops::link_options_of(d)},
-                            {"how", d.how}});
-    }
-    j["passes"] = nlohmann::json::array();
-    for (const auto& p : r.passes) {
-      j["passes"].push_back({{"line", transport::format_settings(p.line)},
-                             {"checksum", ops::checksum_name(p.checksum)},
-                             {"ids", p.ids},
-                             {"deadline_ms", p.deadline_ms},
-                             {"seconds", p.seconds}});
-    }
-    j["notes"] = r.notes;
-    j["seconds"] = r.seconds;
-    j["telegrams"] = r.telegrams;
-    std::printf("%s\n", j.dump(2).c_str());
+    std::printf("%s\n", report::scan_json(r).dump(2).c_str());
   } else {
     for (const auto& d : r.found) {
       std::printf("drive at MACID 0x%02X (%u), %s, checksum %s: %s\n", d.id, d.id,
