@@ -94,7 +94,8 @@ int main(int argc, char** argv) {
   ro.tool_version = "lmcfg_bench_report";
 
   std::string page;
-  const double single = median_ms(9, [&] { page = report::render_report(a, "large.json", db, ro); });
+  const double single =
+      median_ms(9, [&] { page = report::render_report(a, "large.json", db, ro); });
   std::printf(
       "large configuration: 5000 parameters, 100 curves x 1000 setpoints, 255 CT entries\n");
   std::printf("  one configuration: %.1f ms to generate (median of 9), %zu bytes (%.2f MB)\n",

@@ -1335,7 +1335,8 @@ Result<std::string> Service::diff_html(const std::string& name, const std::strin
   LMCFG_ASSIGN_OR_RETURN(auto d, diff_sides(*impl_, name, from, to));
   report::ReportOptions ro;
   ro.generated_at = iso_time(impl_->opt.clock());
-  return report::render_diff_report(d.a.config, d.a.file_name, d.b, d.b_name, d.r, impl_->opt.db, ro);
+  return report::render_diff_report(d.a.config, d.a.file_name, d.b, d.b_name, d.r, impl_->opt.db,
+                                    ro);
 }
 
 Result<std::string> Service::report_html(const std::string& name, const std::string& rev) const {
