@@ -18,7 +18,7 @@
 #include "config/atomic_file.hpp"
 #include "db/database.hpp"
 #include "ops/diff.hpp"
-#include "ops/report.hpp"
+#include "report/report.hpp"
 #include "report_workload.hpp"
 
 using namespace lmcfg;
@@ -90,11 +90,12 @@ int main(int argc, char** argv) {
   const db::Database& db = opened.ok() ? *opened : db::Database::empty();
   const auto a = reportbench::large_config();
   const auto b = reportbench::large_config_changed(a);
-  ops::ReportOptions ro;
+  report::ReportOptions ro;
   ro.tool_version = "lmcfg_bench_report";
 
   std::string page;
-  const double single = median_ms(9, [&] { page = ops::render_report(a, "large.json", db, ro); });
+  const double single =
+      median_ms(9, [&] { page = report::render_report(a, "large.json", db, ro); });
   std::printf(
       "large configuration: 5000 parameters, 100 curves x 1000 setpoints, 255 CT entries\n");
   std::printf("  one configuration: %.1f ms to generate (median of 9), %zu bytes (%.2f MB)\n",
@@ -106,7 +107,7 @@ int main(int argc, char** argv) {
   ops::DiffResult r;
   const double diffed = median_ms(9, [&] {
     r = ops::diff(a, b, db, {}, {});
-    page = ops::render_diff_report(a, "large-a.json", b, "large-b.json", r, db, ro);
+    page = report::render_diff_report(a, "large-a.json", b, "large-b.json", r, db, ro);
   });
   std::printf(
       "  diff page (%zu differences): %.1f ms to compare and generate, %zu bytes (%.2f MB)\n",

@@ -1,7 +1,7 @@
 #pragma once
 // The large configuration of the report benchmark (5,000 parameters, 100 curves of 1,000
 // setpoints, 255 command table entries) and a changed copy, for
-// lmcfg_bench_report and tests/ops/test_report.cpp (header-only so both use it).
+// lmcfg_bench_report and tests/report/test_report.cpp (header-only so both use it).
 // Names carry markup (`<script>alert(1)</script>` in a label; the longest
 // prefixes that fit in a curve name, 21 characters, and an entry name, 15) so
 // the pages show that every text is escaped.

@@ -1,17 +1,11 @@
 #pragma once
-// One confirmation for every command that changes a drive (`restore`,
-// `default`): with `yes` go on; on a terminal ask `question` on stderr and read
-// the answer from stdin; without a terminal refuse (Errc::invalid_argument,
-// exit 2) so a script never writes to a drive it did not mean to.
-#include <string>
-
-#include "common/result.hpp"
+// The answer to the confirmation every command that changes a drive asks for
+// (`restore`, `default`, `link`): the library takes it from a callback
+// (RestoreRunOptions::confirm) and never reads a terminal itself; the tools
+// ask on the terminal (tools/lmcfg/confirm.hpp), Python through its callback.
 
 namespace lmcfg::ops {
 
 enum class Consent { go, declined };
-
-// `action`: "default a drive", "restore FILE onto the drive" (for the refusal).
-Result<Consent> confirm(const std::string& question, const std::string& action, bool yes);
 
 }  // namespace lmcfg::ops

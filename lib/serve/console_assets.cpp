@@ -1,5 +1,5 @@
 // The console's stylesheet and script, embedded in the binary as the report
-// embeds its style (lib/ops/report.cpp): served by lmcfg itself, nothing
+// embeds its style (lib/report/report.cpp): served by lmcfg itself, nothing
 // from a CDN, no font, no framework.
 #include "serve/console.hpp"
 

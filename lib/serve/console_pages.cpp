@@ -4,13 +4,13 @@
 #include <ctime>
 #include <set>
 
-#include "ops/report.hpp"
+#include "report/report.hpp"
 
 namespace lmcfg::serve::pages {
 
 namespace {
 
-std::string esc(std::string_view s) { return ops::html_escape(s); }
+std::string esc(std::string_view s) { return report::html_escape(s); }
 
 std::string str(const Json& j, const char* key) {
   auto it = j.find(key);

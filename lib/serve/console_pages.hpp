@@ -1,7 +1,7 @@
 #pragma once
 // The console's HTML (serve/console.hpp): one function per page, from the
 // Service's JSON answers. Every text from the inventory, a drive or the
-// archive goes through ops::html_escape (attributes too), names in URLs
+// archive goes through report::html_escape (attributes too), names in URLs
 // through url_encode.
 #include <string>
 

@@ -19,9 +19,9 @@
 #include "fleet/history.hpp"
 #include "ops/diff.hpp"
 #include "ops/recovery.hpp"
-#include "ops/report.hpp"
 #include "ops/restore_run.hpp"
 #include "ops/undo.hpp"
+#include "report/report.hpp"
 #include "serve/console.hpp"  // url_encode
 
 namespace lmcfg::serve {
@@ -1331,9 +1331,10 @@ Result<Json> Service::diff(const std::string& name, const std::string& from,
 Result<std::string> Service::diff_html(const std::string& name, const std::string& from,
                                        const std::string& to) const {
   LMCFG_ASSIGN_OR_RETURN(auto d, diff_sides(*impl_, name, from, to));
-  ops::ReportOptions ro;
+  report::ReportOptions ro;
   ro.generated_at = iso_time(impl_->opt.clock());
-  return ops::render_diff_report(d.a.config, d.a.file_name, d.b, d.b_name, d.r, impl_->opt.db, ro);
+  return report::render_diff_report(d.a.config, d.a.file_name, d.b, d.b_name, d.r, impl_->opt.db,
+                                    ro);
 }
 
 Result<std::string> Service::report_html(const std::string& name, const std::string& rev) const {
@@ -1345,9 +1346,9 @@ Result<std::string> Service::report_html(const std::string& name, const std::str
     return fleet::load_archived(s.opt.inventory, s.archive, name, rev.empty() ? "HEAD" : rev);
   }();
   if (!f.ok()) return f.error();
-  ops::ReportOptions ro;
+  report::ReportOptions ro;
   ro.generated_at = iso_time(s.opt.clock());
-  return ops::render_report(f->config, f->file_name, s.opt.db, ro);
+  return report::render_report(f->config, f->file_name, s.opt.db, ro);
 }
 
 void Service::summarize(TimePoint now) {

@@ -2,7 +2,7 @@
 // Loads an lmcfg HTML report in headless Chromium through the DevTools
 // protocol (over --remote-debugging-pipe: no WebSocket, no npm package) and
 // prints what the page holds as one JSON object on stdout, for
-// tests/ops/test_report.cpp to compare with the configuration:
+// tests/report/test_report.cpp to compare with the configuration:
 //   load_ms (navigation start -> load event), render_ms (-> two animation
 //   frames after load: laid out and painted), console_errors (console.error,
 //   uncaught exceptions, browser log errors such as CSP violations), requests

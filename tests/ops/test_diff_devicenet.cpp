@@ -10,7 +10,7 @@
 #include "config/config_io.hpp"
 #include "db/database.hpp"
 #include "ops/diff.hpp"
-#include "ops/report.hpp"
+#include "report/report.hpp"
 #include "subprocess.hpp"
 #include "test_config_support.hpp"
 
@@ -307,7 +307,7 @@ TEST_CASE("lmcfg diff: DeviceNet files, --live, defaults and LinRS", "[diff][dev
 
 TEST_CASE("report: a DeviceNet capture's values, alone and against another",
           "[report][devicenet]") {
-  const auto one = ops::render_report(devicenet_capture(), "dn.json", real_db(), {});
+  const auto one = report::render_report(devicenet_capture(), "dn.json", real_db(), {});
   CHECK(one.find("<section class=\"page\" id=\"devicenet\"><h2>DeviceNet values</h2>") !=
         std::string::npos);
   CHECK(one.find("<a href=\"#command-table\">Command table</a><a href=\"#devicenet\">DeviceNet "
@@ -317,12 +317,12 @@ TEST_CASE("report: a DeviceNet capture's values, alone and against another",
                  "</td></tr>") != std::string::npos);
   CHECK(one.find("<tr><td>controller: Status Low Word (02h)</td><td>3</td><td>live (not "
                  "restored)</td></tr>") != std::string::npos);
-  CHECK(ops::render_report(golden_sinrise(), "rs.json", real_db(), {}).find("DeviceNet") ==
+  CHECK(report::render_report(golden_sinrise(), "rs.json", real_db(), {}).find("DeviceNet") ==
         std::string::npos);
   const auto a = devicenet_capture();
   const auto b = changed();
   const auto r = ops::diff(a, b, real_db(), {}, {});
-  const auto two = ops::render_diff_report(a, "a.json", b, "b.json", r, real_db(), {});
+  const auto two = report::render_diff_report(a, "a.json", b, "b.json", r, real_db(), {});
   CHECK(two.find("<a href=\"#devicenet\">DeviceNet values</a></nav>") != std::string::npos);
   CHECK(two.find("<tr data-summary=\"devicenet\"><td>DeviceNet values</td><td class=\"num\">2"
                  "</td>") != std::string::npos);

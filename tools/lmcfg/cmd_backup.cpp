@@ -1,12 +1,12 @@
 // lmcfg backup -o FILE: read a drive's configuration and write it to a file.
 #include <cstdio>
 #include <filesystem>
-#include <nlohmann/json.hpp>
 
 #include "command.hpp"
 #include "config/config_io.hpp"
 #include "devicenet_flow.hpp"
 #include "link_options.hpp"
+#include "report/json_reports.hpp"
 
 namespace lmcfg::cli {
 namespace {
@@ -44,11 +44,7 @@ int write_backup(const BackupCli& o, const config::DriveConfig& cfg,
   if (!cfg.devicenet) return kOk;
   const auto& dn = *cfg.devicenet;
   if (o.common.json) {
-    const nlohmann::ordered_json j{
-        {"file", o.output},           {"devicenet_macid", cfg.identity.macid},
-        {"motors", dn.motors.size()}, {"values", dn.values.size()},
-        {"live", dn.live.size()},     {"runtime_note", ops::kRuntimeNote}};
-    std::printf("%s\n", j.dump().c_str());
+    std::printf("%s\n", report::devicenet_backup_json(o.output, cfg).dump().c_str());
   } else if (!o.common.quiet) {
     std::fprintf(stderr,
                  "backup: DeviceNet MAC ID %s: %zu motor(s), %zu value(s), %zu live value(s) -> "
@@ -104,8 +100,8 @@ int run(BackupCli& o) {
   bo.ask_drive = !o.no_describe;
   ProgressBar bar(o.common);
   bo.progress = bar.callback();
-  ops::BackupReport report;
-  bo.report = &report;
+  ops::BackupReport notes;
+  bo.report = &notes;
   auto cfg = ops::backup((*session)->client(), bo, db);
   bar.end();
   auto closed = (*session)->close();
@@ -118,12 +114,7 @@ int run(BackupCli& o) {
   for (const auto& l : cfg->layers) params += l.size();
   const auto& st = (*session)->client().stats();
   if (o.common.json) {
-    const nlohmann::ordered_json j{{"file", o.output},
-                                   {"parameters", params},
-                                   {"curves", cfg->curves.size()},
-                                   {"ct_entries", cfg->ct_entries.size()},
-                                   {"telegrams", st.requests}};
-    std::printf("%s\n", j.dump().c_str());
+    std::printf("%s\n", report::backup_json(o.output, *cfg, st.requests).dump().c_str());
   } else if (!o.common.quiet) {
     std::fprintf(
         stderr,
@@ -131,7 +122,7 @@ int run(BackupCli& o) {
         params, cfg->curves.size(), cfg->ct_entries.size(),
         cfg->ct_entries.size() == 1 ? "y" : "ies", o.output.c_str(),
         static_cast<unsigned long long>(st.requests));
-    for (const auto& n : report.notes) std::fprintf(stderr, "backup: %s\n", n.c_str());
+    for (const auto& n : notes.notes) std::fprintf(stderr, "backup: %s\n", n.c_str());
   }
   return kOk;
 }

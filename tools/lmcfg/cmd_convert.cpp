@@ -5,7 +5,6 @@
 // round trip JSON -> XML -> JSON is byte-identical.
 #include <cstdio>
 #include <memory>
-#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 
@@ -13,6 +12,7 @@
 #include "config/atomic_file.hpp"
 #include "config/config_io.hpp"
 #include "link_options.hpp"
+#include "report/json_reports.hpp"
 
 namespace lmcfg::cli {
 namespace {
@@ -51,21 +51,8 @@ int run(const ConvertCli& o) {
   auto w = config::write_config_file(*cfg, o.out, *format, wo);
   if (!w.ok()) return fail("convert", w.error());
   if (o.common.json) {
-    std::size_t params = 0;
-    for (const auto& l : cfg->layers) params += l.size();
-    nlohmann::ordered_json j{{"input", config::input_name(o.in)},
-                             {"output", o.out},
-                             {"format", std::string(config::to_string(*format))},
-                             {"format_version", config::kFormatVersion},
-                             {"bytes", text->size()},
-                             {"parameters", params},
-                             {"curves", cfg->curves.size()},
-                             {"ct_entries", cfg->ct_entries.size()},
-                             {"ct_decoded", !db.is_empty()}};
-    if (cfg->devicenet) {
-      j["devicenet_values"] = cfg->devicenet->values.size();
-      j["devicenet_live"] = cfg->devicenet->live.size();
-    }
+    const auto j = report::convert_json(config::input_name(o.in), o.out, *format, text->size(),
+                                        *cfg, !db.is_empty());
     std::printf("%s\n", j.dump().c_str());
   }
   return kOk;

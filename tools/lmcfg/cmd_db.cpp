@@ -5,7 +5,6 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
-#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 
@@ -15,12 +14,12 @@
 #include "db/database.hpp"
 #include "link_options.hpp"
 #include "ops/db_scan.hpp"
+#include "report/json_reports.hpp"
 
 namespace lmcfg::cli {
 namespace {
 
 using lmcfg::db::Database;
-using nlohmann::json;
 
 struct DbOptions {
   std::string db_path;
@@ -42,9 +41,6 @@ std::optional<Database> open_db(const DbOptions& o, int& exit_code) {
   return std::move(r).value();
 }
 
-json prov_json(const db::Provenance& p) {
-  return {{"source", p.source}, {"file", p.file}, {"line", p.line}};
-}
 std::string prov_text(const db::Provenance& p) {
   return p.source + " (" + p.file + ":" + std::to_string(p.line) + ")";
 }
@@ -75,35 +71,6 @@ std::string raw_and_text(const db::Parameter& p, std::int64_t raw) {
   std::string t =
       p.format(static_cast<std::uint32_t>(static_cast<std::uint64_t>(raw) & 0xFFFFFFFFull));
   return t == r ? r : r + " = " + t;
-}
-
-json param_json(const db::Parameter& p) {
-  json j = {{"upid", hex(p.upid, 4)},
-            {"layer", std::string(db::layer_name(p.layer))},
-            {"name", p.name},
-            {"path", p.path},
-            {"profiles", p.profiles.empty() ? json::array({"*"}) : json(p.profiles)},
-            {"type", p.spec.type ? json(std::string(db::type_name(*p.spec.type))) : json(nullptr)},
-            {"unit", p.spec.unit},
-            {"scale", p.spec.scale ? json(*p.spec.scale) : json(nullptr)},
-            {"min", p.spec.min ? json(*p.spec.min) : json(nullptr)},
-            {"max", p.spec.max ? json(*p.spec.max) : json(nullptr)},
-            {"default", p.default_value ? json(*p.default_value) : json(nullptr)},
-            {"comm", p.comm},
-            {"description", p.description},
-            {"provenance", prov_json(p.prov)}};
-  if (p.address_usage) {
-    const auto& a = *p.address_usage;
-    j["address_usage"] = {{"raw", hex(a.raw, 4)},       {"ram_read", a.ram_read()},
-                          {"ram_write", a.ram_write()}, {"rom_read", a.rom_read()},
-                          {"rom_write", a.rom_write()}, {"no_hash", a.no_hash()}};
-  } else {
-    j["address_usage"] = nullptr;
-  }
-  json labels = json::array();
-  for (const auto& l : p.spec.labels) labels.push_back({{"raw", l.raw}, {"label", l.label}});
-  j["enum"] = labels;
-  return j;
 }
 
 void print_param(const db::Parameter& p) {
@@ -157,11 +124,7 @@ int run_show(const DbOptions& o) {
   for (const auto* p : d->find_all(upid))
     if (p->applies_to(o.profile)) found.push_back(p);
   if (o.json) {
-    json arr = json::array();
-    for (const auto* p : found) arr.push_back(param_json(*p));
-    json out = {{"upid", hex(upid, 4)}, {"known", !found.empty()}, {"definitions", arr}};
-    if (found.empty()) out["note"] = "unknown to the database; the drive can be asked";
-    std::cout << out.dump(2) << "\n";
+    std::cout << report::db_show_json(upid, found).dump(2) << "\n";
     return kOk;
   }
   if (found.empty()) {
@@ -183,9 +146,7 @@ int run_find(const DbOptions& o) {
   if (!d) return rc;
   auto v = d->search(o.needle);
   if (o.json) {
-    json arr = json::array();
-    for (const auto* p : v) arr.push_back(param_json(*p));
-    std::cout << arr.dump(2) << "\n";
+    std::cout << report::db_parameters_json(v).dump(2) << "\n";
     return kOk;
   }
   if (v.empty()) {
@@ -202,17 +163,7 @@ int run_errors(const DbOptions& o) {
   if (!d) return rc;
   auto v = d->errors(o.domain);
   if (o.json) {
-    json arr = json::array();
-    for (const auto* e : v)
-      arr.push_back({{"domain", e->domain},
-                     {"code", e->code_text},
-                     {"class", e->error_class},
-                     {"fatal", e->fatal()},
-                     {"text", e->text},
-                     {"description", e->description},
-                     {"action", e->action},
-                     {"provenance", prov_json(e->prov)}});
-    std::cout << arr.dump(2) << "\n";
+    std::cout << report::db_errors_json(v).dump(2) << "\n";
     return kOk;
   }
   std::printf("%-9s %-8s %s\n", "DOMAIN", "CODE", "TEXT");
@@ -227,31 +178,7 @@ int run_commands(const DbOptions& o) {
   if (!d) return rc;
   const auto& v = d->motion_commands();
   if (o.json) {
-    json arr = json::array();
-    for (const auto& c : v) {
-      json params = json::array();
-      for (const auto& p : c.params)
-        params.push_back(
-            {{"index", p.index},
-             {"offset", p.offset},
-             {"name", p.name},
-             {"type", p.spec.type ? json(std::string(db::type_name(*p.spec.type))) : json(nullptr)},
-             {"unit", p.spec.unit},
-             {"scale", p.spec.scale ? json(*p.spec.scale) : json(nullptr)},
-             {"range", p.range_text},
-             {"min", p.spec.min ? json(*p.spec.min) : json(nullptr)},
-             {"max", p.spec.max ? json(*p.spec.max) : json(nullptr)},
-             {"scaled", p.scaled},
-             {"provenance", prov_json(p.prov)}});
-      arr.push_back({{"header", hex(c.header() >> 4, 3) + "x"},
-                     {"master", hex(c.master, 2)},
-                     {"sub", hex(c.sub, 1)},
-                     {"name", c.name},
-                     {"products", c.products},
-                     {"parameters", params},
-                     {"provenance", prov_json(c.prov)}});
-    }
-    std::cout << arr.dump(2) << "\n";
+    std::cout << report::db_commands_json(v).dump(2) << "\n";
     return kOk;
   }
   std::printf("%-6s %-45s %s\n", "HEADER", "NAME", "PARAMETERS");
@@ -269,36 +196,10 @@ int run_commands(const DbOptions& o) {
   return kOk;
 }
 
-json spec_json(const db::ValueSpec& s) {
-  json labels = json::array();
-  for (const auto& l : s.labels) labels.push_back({{"raw", l.raw}, {"label", l.label}});
-  auto opt = [](const auto& v) { return v ? json(*v) : json(nullptr); };
-  return {{"type", s.type ? json(std::string(db::type_name(*s.type))) : json(nullptr)},
-          {"min", opt(s.min)},
-          {"max", opt(s.max)},
-          {"unit", s.unit},
-          {"scale", opt(s.scale)},
-          {"labels", labels}};
-}
-
 std::string range_text(const db::ValueSpec& s) {
   if (!s.min && !s.max) return "";
   return (s.min ? std::to_string(*s.min) : std::string("?")) + ".." +
          (s.max ? std::to_string(*s.max) : std::string("?"));
-}
-
-json devicenet_command_json(const db::DevicenetCommand& c) {
-  return {{"id", c.id_text},
-          {"direction", c.direction},
-          {"name", c.name},
-          {"table_name", c.table_name},
-          {"range", c.range_text},
-          {"unit_text", c.unit_text},
-          {"value", spec_json(c.spec)},
-          {"addressed", c.addressed},
-          {"direct", c.direct},
-          {"description", c.description},
-          {"provenance", prov_json(c.prov)}};
 }
 
 // Seed 000: the general-purpose command set (7-bit IDs) or the DeviceNet parameter tree.
@@ -308,17 +209,7 @@ int run_devicenet(const DbOptions& o) {
   if (!d) return rc;
   if (o.devicenet_params) {
     if (o.json) {
-      json arr = json::array();
-      for (const auto& p : d->devicenet_parameters())
-        arr.push_back({{"id", p.id},
-                       {"name", p.name},
-                       {"path", p.path},
-                       {"value", spec_json(p.spec)},
-                       {"default", p.default_value ? json(*p.default_value) : json(nullptr)},
-                       {"comm", p.comm},
-                       {"description", p.description},
-                       {"provenance", prov_json(p.prov)}});
-      std::cout << arr.dump(2) << "\n";
+      std::cout << report::db_devicenet_parameters_json(d->devicenet_parameters()).dump(2) << "\n";
       return kOk;
     }
     std::printf("%-55s %-8s %s\n", "PATH (OR NAME)", "RANGE", "NOTES");
@@ -344,7 +235,7 @@ int run_devicenet(const DbOptions& o) {
       return kOk;
     }
     if (o.json) {
-      std::cout << devicenet_command_json(*c).dump(2) << "\n";
+      std::cout << report::db_devicenet_command_json(*c).dump(2) << "\n";
       return kOk;
     }
     std::printf("%s %s\n", c->id_text.c_str(), c->name.c_str());
@@ -367,9 +258,7 @@ int run_devicenet(const DbOptions& o) {
     return kOk;
   }
   if (o.json) {
-    json arr = json::array();
-    for (const auto& c : d->devicenet_commands()) arr.push_back(devicenet_command_json(c));
-    std::cout << arr.dump(2) << "\n";
+    std::cout << report::db_devicenet_commands_json(d->devicenet_commands()).dump(2) << "\n";
     return kOk;
   }
   std::printf("%-5s %-4s %-45s %-22s %s\n", "ID", "DIR", "NAME", "RANGE", "UNIT");
@@ -385,15 +274,7 @@ int run_info(const DbOptions& o) {
   if (!d) return rc;
   const auto& i = d->info();
   if (o.json) {
-    json counts = json::object();
-    for (const auto& [k, n] : i.counts) counts[k] = n;
-    std::cout << json{{"path", i.path},
-                      {"schema_version", i.schema_version},
-                      {"content_hash", i.content_hash},
-                      {"built_from", i.built_from},
-                      {"counts", counts}}
-                     .dump(2)
-              << "\n";
+    std::cout << report::db_info_json(i).dump(2) << "\n";
     return kOk;
   }
   std::printf("database        %s\nschema version  %d\ncontent hash    %s\nbuilt from      %s\n",
@@ -486,22 +367,8 @@ int run_scan(ScanCli& o) {
   }
   const auto& st = (*session)->client().stats();
   if (o.common.json) {
-    json j = {{"file", o.output},
-              {"profile", r->profile.id},
-              {"source", r->source},
-              {"upids", r->rows.size()},
-              {"named", r->named},
-              {"asked", r->asked},
-              {"resumed", r->resumed},
-              {"refused", r->refused},
-              {"telegrams", st.requests},
-              {"layers",
-               {{"OS", r->per_layer[0]},
-                {"MC", r->per_layer[1]},
-                {"Intf", r->per_layer[2]},
-                {"Appl", r->per_layer[3]}}}};
-    if (merged) j["merged_into"] = o.merge_into;
-    std::cout << j.dump(2) << "\n";
+    std::cout << report::db_scan_json(o.output, *r, st.requests, merged ? o.merge_into : "").dump(2)
+              << "\n";
   } else if (!o.common.quiet) {
     std::fprintf(stderr,
                  "db scan: %zu UPID(s) (OS %zu, MC %zu, Intf %zu, Appl %zu), %zu named from the "
@@ -532,13 +399,7 @@ int run_merge(MergeCli& o) {
   auto m = ops::merge_scan_fragment(o.into, *text);
   if (!m.ok()) return fail("db merge", m.error());
   if (o.common.json) {
-    std::cout << json{{"profile", m->profile},
-                      {"into", o.into},
-                      {"parameters_added", m->parameters_added},
-                      {"parameters_replaced", m->parameters_replaced},
-                      {"profile_replaced", m->profile_replaced}}
-                     .dump(2)
-              << "\n";
+    std::cout << report::db_merge_json(o.into, *m).dump(2) << "\n";
   }
   print_merge(o.common, *m, o.into);
   return kOk;

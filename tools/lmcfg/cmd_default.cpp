@@ -1,16 +1,16 @@
 // lmcfg default: set chosen layers to factory defaults, optionally delete curves and the command
 // table.
 #include <cstdio>
-#include <nlohmann/json.hpp>
 
 #include "audit_flow.hpp"
 #include "command.hpp"
 #include "common/layers.hpp"
+#include "confirm.hpp"
 #include "link_options.hpp"
-#include "ops/confirm.hpp"
 #include "ops/factory_reset.hpp"
 #include "ops/interrupt.hpp"
 #include "ops/recovery.hpp"
+#include "report/json_reports.hpp"
 #include "restore_flow.hpp"
 
 namespace lmcfg::cli {
@@ -27,55 +27,6 @@ struct DefaultCli {
   AuditFlags audit;
 };
 
-// What default does, as the journal's steps (the shape of restore --json's
-// steps): each layer defaulted, the curves and command table deleted, the
-// communication values written back.
-nlohmann::ordered_json journal_steps(const ops::DefaultOptions& d, const ops::DefaultReport* rep,
-                                     const db::Database& db) {
-  nlohmann::ordered_json steps = nlohmann::ordered_json::array();
-  auto add = [&](nlohmann::ordered_json o) {
-    nlohmann::ordered_json step{{"step", steps.size() + 1}};
-    for (auto& [k, v] : o.items()) step[k] = v;
-    steps.push_back(std::move(step));
-  };
-  for (int layer = lmcfg::layers::kOS; layer <= lmcfg::layers::kAppl; ++layer)
-    if (d.layers[static_cast<std::size_t>(layer - 1)])
-      add({{"action", "default_layer"}, {"layer", std::string(lmcfg::layers::name(layer))}});
-  if (d.curves) add({{"action", "delete_all_curves"}});
-  if (d.command_table) add({{"action", "delete_all_ct"}});
-  if (rep) {
-    for (const auto& k : rep->kept)
-      add({{"action", "write_rom"},
-           {"upid", hex(k.upid, 4)},
-           {"new", {{"raw", k.value}, {"display", ops::display_value(db, k.upid, k.value)}}},
-           {"why", "kept communication value"}});
-  }
-  return steps;
-}
-
-void report_json(const char* outcome, const ops::DefaultReport* rep, const db::Database& db,
-                 const std::string& error) {
-  nlohmann::ordered_json j;
-  j["outcome"] = outcome;
-  j["steps"] = rep ? rep->done : std::vector<std::string>{};
-  j["kept"] = nlohmann::ordered_json::array();
-  if (rep) {
-    for (const auto& k : rep->kept) {
-      char upid[8];
-      std::snprintf(upid, sizeof upid, "%04X", k.upid);
-      j["kept"].push_back(
-          {{"upid", upid},
-           {"value", {{"raw", k.value}, {"display", ops::display_value(db, k.upid, k.value)}}}});
-    }
-    j["recovered"] = rep->recovered;
-    j["recovery"] = rep->recovery_note;
-    j["link_may_change"] = rep->link_may_change;
-    if (rep->undo) j["undo"] = undo_json(*rep->undo);
-  }
-  if (!error.empty()) j["error"] = error;
-  std::printf("%s\n", j.dump(2).c_str());
-}
-
 int run(DefaultCli& o) {
   ops::DefaultOptions d;
   if (!o.layers.empty()) {
@@ -90,11 +41,11 @@ int run(DefaultCli& o) {
     return fail("default", Error(Errc::invalid_argument,
                                  "nothing to do: give --layers, --curves and/or --ct"));
   }
-  auto consent = ops::confirm("Set " + (o.layers.empty() ? std::string() : "layers " + o.layers) +
-                                  (o.curves ? ", delete all curves" : "") +
-                                  (o.ct ? ", delete the command table" : "") + " of drive " +
-                                  o.common.id + " on " + o.common.port + " to factory defaults?",
-                              "default a drive", o.yes);
+  auto consent = confirm("Set " + (o.layers.empty() ? std::string() : "layers " + o.layers) +
+                             (o.curves ? ", delete all curves" : "") +
+                             (o.ct ? ", delete the command table" : "") + " of drive " +
+                             o.common.id + " on " + o.common.port + " to factory defaults?",
+                         "default a drive", o.yes);
   if (!consent.ok()) return fail("default", consent.error());
   if (*consent == ops::Consent::declined) {
     std::fprintf(stderr, "cancelled; nothing written\n");
@@ -127,7 +78,7 @@ int run(DefaultCli& o) {
     e.command = "default";
     e.port = o.common.port;
     e.macid = client.options().id;
-    e.steps = journal_steps(d, rep.ok() ? &*rep : nullptr, db);
+    e.steps = report::default_steps_json(d, rep.ok() ? &*rep : nullptr, db);
     const Error* error = !rep.ok() ? &rep.error() : !closed.ok() ? &closed.error() : nullptr;
     e.outcome = error ? "failed" : "defaulted";
     e.exit_code = error ? exit_code_for(*error) : kOk;
@@ -136,13 +87,15 @@ int run(DefaultCli& o) {
     record_in_journal("default", std::move(e));
   }
   if (!rep.ok()) {
-    if (o.common.json) report_json("failed", nullptr, db, rep.error().message);
+    if (o.common.json)
+      std::printf("%s\n",
+                  report::default_json("failed", nullptr, db, rep.error().message).dump(2).c_str());
     return session->fail("default", rep.error());
   }
   if (!closed.ok()) return session->fail("default", closed.error());
   if (rep->undo) print_undo_saved(*rep->undo, o.common);
   if (o.common.json) {
-    report_json("defaulted", &*rep, db, "");
+    std::printf("%s\n", report::default_json("defaulted", &*rep, db, "").dump(2).c_str());
   } else if (!o.common.quiet) {
     if (!rep->recovery_note.empty())
       std::fprintf(stderr, "recovery: %s\n", rep->recovery_note.c_str());

@@ -6,6 +6,7 @@
 #include "command.hpp"
 #include "link_options.hpp"
 #include "ops/journal.hpp"
+#include "report/json_reports.hpp"
 
 namespace lmcfg::cli {
 namespace {
@@ -61,10 +62,7 @@ int run(const JournalCli& o) {
   std::vector<nlohmann::ordered_json> newest(records->rbegin(), records->rend());
   if (o.limit > 0 && newest.size() > o.limit) newest.resize(o.limit);
   if (o.common.json) {
-    nlohmann::ordered_json j;
-    j["journal"] = path->string();
-    j["records"] = newest;
-    std::printf("%s\n", j.dump(2).c_str());
+    std::printf("%s\n", report::journal_json(*path, newest).dump(2).c_str());
     return kOk;
   }
   if (newest.empty()) {

@@ -1,15 +1,15 @@
 // lmcfg link: show a drive's LinRS settings and change them safely
 // (ops::read_link_settings, ops::plan_link_change, ops::apply_link_change).
 #include <cstdio>
-#include <nlohmann/json.hpp>
 
 #include "command.hpp"
 #include "common/bytes.hpp"
+#include "confirm.hpp"
 #include "fleet/inventory.hpp"
 #include "link_options.hpp"
-#include "ops/confirm.hpp"
 #include "ops/link_settings.hpp"
 #include "ops/recovery.hpp"
+#include "report/json_reports.hpp"
 
 namespace lmcfg::cli {
 namespace {
@@ -65,22 +65,6 @@ std::string value_line(ops::LinkSetting s, const ops::LinkValue& v) {
   line += hex(*v.upid, 4, "h") + " = " + std::to_string(*v.rom);
   line += v.text.empty() ? " (" + v.note + ")" : " (" + v.text + ")";
   return line;
-}
-
-nlohmann::ordered_json settings_json(const ops::LinkState& st) {
-  auto arr = nlohmann::ordered_json::array();
-  for (std::size_t i = 0; i < ops::kLinkSettings; ++i) {
-    const auto s = static_cast<ops::LinkSetting>(i);
-    const auto& v = st.values[i];
-    nlohmann::ordered_json j;
-    j["setting"] = ops::setting_key(s);
-    j["upid"] = v.upid ? nlohmann::ordered_json(hex(*v.upid, 4)) : nlohmann::ordered_json();
-    j["rom"] = v.rom ? nlohmann::ordered_json(*v.rom) : nlohmann::ordered_json();
-    j["value"] = v.text;
-    j["note"] = v.note;
-    arr.push_back(std::move(j));
-  }
-  return arr;
 }
 
 fleet::LinkKeys keys_of(const link::RelinkCandidate& c) {
@@ -139,11 +123,7 @@ int run(LinkCli& o) {
   if (!now.ok()) return session->fail("link", now.error());
   const std::string drive = "drive " + hex(now->in_use.macid, 2, "h") + " on " + o.common.port;
 
-  nlohmann::ordered_json j;
-  j["drive"] = hex(now->in_use.macid, 2);
-  j["port"] = o.common.port;
-  j["link_options"] = link::link_options_of(now->in_use);
-  j["settings"] = settings_json(*now);
+  report::Json j = report::link_json(o.common.port, *now);
   auto print_state = [&](const ops::LinkState& st, const char* title) {
     std::printf("%s %s, talking at: %s\n", drive.c_str(), title,
                 link::link_options_of(st.in_use).c_str());
@@ -165,9 +145,7 @@ int run(LinkCli& o) {
 
   auto plan = ops::plan_link_change(**session, *map, *now, *change);
   if (!plan.ok()) return session->fail("link", plan.error());
-  j["plan"] = nlohmann::ordered_json::array();
-  for (const auto& w : plan->writes) j["plan"].push_back(w.text);
-  j["new_link_options"] = link::link_options_of(plan->after);
+  report::add_link_plan(j, *plan);
   std::optional<fleet::InventoryEdit> edit;
   if (inv) {
     auto e = fleet::link_inventory_edit(*inv, o.drive, keys_of(plan->after));
@@ -226,7 +204,7 @@ int run(LinkCli& o) {
   std::string question = "Write";
   for (const auto& w : plan->writes) question += "\n  " + w.text;
   question += "\nto the ROM of " + drive + " and reset it (the axis stops)?";
-  auto consent = ops::confirm(question, "change a drive's link settings", o.yes);
+  auto consent = confirm(question, "change a drive's link settings", o.yes);
   if (!consent.ok()) return session->fail("link", consent.error());
   if (*consent == ops::Consent::declined) {
     std::fprintf(stderr, "cancelled; nothing written\n");
@@ -238,11 +216,7 @@ int run(LinkCli& o) {
   if (!closed.ok()) return session->fail("link", closed.error());
   const std::string options = link::link_options_of(rep->relink.used);
   if (o.common.json) {
-    j["outcome"] = "changed";
-    j["found"] = rep->relink.summary;
-    j["scanned"] = rep->scanned;
-    j["new_link_options"] = options;
-    j["settings_after"] = settings_json(rep->after);
+    report::add_link_changed(j, *rep);
     json_keys();
     std::printf("%s\n", j.dump(2).c_str());
   } else {

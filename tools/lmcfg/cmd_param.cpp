@@ -3,7 +3,6 @@
 
 #include <cstdio>
 #include <iostream>
-#include <nlohmann/json.hpp>
 
 #include "command.hpp"
 #include "link_options.hpp"
@@ -11,6 +10,7 @@
 #include "ops/param_info.hpp"
 #include "ops/restore.hpp"
 #include "ops/undo.hpp"
+#include "report/json_reports.hpp"
 #include "restore_flow.hpp"
 
 namespace lmcfg::cli {
@@ -49,25 +49,7 @@ void print_value(const ParamCli& o, std::uint16_t upid, const db::Parameter* d,
   const bool known = spec.type || !spec.labels.empty();
   const std::string text = known ? db::format_value(spec, v) : std::to_string(v);
   if (o.common.json) {
-    nlohmann::ordered_json j;
-    char hex[12];
-    std::snprintf(hex, sizeof hex, "%04X", upid);
-    j["upid"] = hex;
-    j["name"] = d ? d->name : "";
-    j["type"] = spec.type ? std::string(db::type_name(*spec.type)) : "";
-    j["memory"] = where;
-    j["raw"] = v;
-    std::snprintf(hex, sizeof hex, "%08X", v);
-    j["raw_hex"] = hex;
-    // The field as a number of its type (signed types sign-extended); null
-    // when the type is unknown, a text type, or the field does not fit it.
-    std::optional<std::int64_t> integer;
-    if (spec.type && !db::is_text_type(*spec.type) && *spec.type != db::TypeCode::LinFloat)
-      integer = db::field_integer(*spec.type, v);
-    j["integer"] = integer ? nlohmann::ordered_json(*integer) : nlohmann::ordered_json(nullptr);
-    j["unit"] = spec.unit;
-    j["value"] = text;
-    if (undo) j["undo"] = undo_json(*undo);
+    const auto j = report::param_json(upid, d, spec, where, v, text, undo);
     std::printf("%s\n", j.dump().c_str());
   } else {
     const char* name = !d                ? "(not in database)"
@@ -206,19 +188,10 @@ int run_set(ParamCli& o) {
     e.command = "set";
     e.port = o.common.port;
     e.macid = c.options().id;
-    const bool known = spec->type || !spec->labels.empty();
-    auto shown = [&](std::uint32_t v) {
-      return nlohmann::ordered_json{
-          {"raw", v}, {"display", known ? db::format_value(*spec, v) : std::to_string(v)}};
-    };
-    e.steps.push_back({{"step", 1},
-                       {"action", o.rom && o.ram ? "write_ram_rom"
-                                  : o.rom        ? "write_rom"
-                                                 : "write_ram"},
-                       {"upid", hex(*upid, 4)},
-                       {"name", d ? d->name : ""},
-                       {"old", old ? shown(*old) : nlohmann::ordered_json(nullptr)},
-                       {"new", shown(*value)}});
+    e.steps.push_back(report::param_write_step_json(o.rom && o.ram ? "write_ram_rom"
+                                                    : o.rom        ? "write_rom"
+                                                                   : "write_ram",
+                                                    *upid, d, *spec, old, *value));
     const Error* error = !w.ok()         ? &w.error()
                          : !started.ok() ? &started.error()
                          : !closed.ok()  ? &closed.error()

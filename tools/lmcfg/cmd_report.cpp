@@ -1,7 +1,7 @@
 // lmcfg report A [B] -o report.html: a configuration (or the difference of
 // two, compared exactly as `lmcfg diff` compares them) as one self-contained
 // HTML page with curve plots, for people: open it in a browser, print it,
-// attach it to a ticket. The page is built by ops::render_report /
+// attach it to a ticket. The page is built by report::render_report /
 // render_diff_report; this main only loads the sides and writes the file.
 #include <cstdio>
 #include <filesystem>
@@ -12,7 +12,7 @@
 #include "compare.hpp"
 #include "config/atomic_file.hpp"
 #include "ops/backup.hpp"
-#include "ops/report.hpp"
+#include "report/report.hpp"
 
 namespace lmcfg::cli {
 namespace {
@@ -29,13 +29,13 @@ int run(ReportCli& o) {
   Compared c;
   if (int rc = load_and_compare("report", o.cmp, db, c); rc != kOk) return rc;
 
-  ops::ReportOptions ro;
+  report::ReportOptions ro;
   ro.tool_version = std::string("lmcfg ") + kToolVersion;
   if (*kGitRevision) ro.tool_version += std::string(" (git ") + kGitRevision + ")";
   ro.generated_at = ops::utc_now();
   const std::string html =
-      c.b ? ops::render_diff_report(c.a, c.a_name, *c.b, c.b_name, *c.result, db, ro)
-          : ops::render_report(c.a, c.a_name, db, ro);
+      c.b ? report::render_diff_report(c.a, c.a_name, *c.b, c.b_name, *c.result, db, ro)
+          : report::render_report(c.a, c.a_name, db, ro);
   if (o.output == "-") {
     std::fwrite(html.data(), 1, html.size(), stdout);
     return std::fflush(stdout) == 0

@@ -1,10 +1,10 @@
 // lmcfg scan: find drives whose link settings are unknown (link::scan).
 #include <cstdio>
-#include <nlohmann/json.hpp>
 
 #include "command.hpp"
 #include "link/scan.hpp"
 #include "link_options.hpp"
+#include "report/json_reports.hpp"
 
 namespace lmcfg::cli {
 namespace {
@@ -40,36 +40,13 @@ int run(ScanCli& o) {
   if (!spec.ok()) return fail("scan", spec.error());
   auto session = link::open_session(*spec);
   if (!session.ok()) return fail("scan", session.error());
-  auto report = link::scan(**session, so);
+  auto scanned = link::scan(**session, so);
   bar.end();
-  if (!report.ok()) return fail("scan", report.error());
+  if (!scanned.ok()) return fail("scan", scanned.error());
   if (auto closed = (*session)->close(); !closed.ok()) return fail("scan", closed.error());
-  const auto& r = *report;
+  const auto& r = *scanned;
   if (o.common.json) {
-    nlohmann::json j;
-    j["found"] = nlohmann::json::array();
-    for (const auto& d : r.found) {
-      j["found"].push_back({{"id", d.id},
-                            {"baud", d.line.baud},
-                            {"parity", std::string(transport::parity_name(d.line.parity))},
-                            {"stop_bits", d.line.stop_bits},
-                            {"checksum", link::checksum_name(d.checksum)},
-                            {"response_bytes", d.response_bytes},
-                            {"options", link::link_options_of(d)},
-                            {"how", d.how}});
-    }
-    j["passes"] = nlohmann::json::array();
-    for (const auto& p : r.passes) {
-      j["passes"].push_back({{"line", transport::format_settings(p.line)},
-                             {"checksum", link::checksum_name(p.checksum)},
-                             {"ids", p.ids},
-                             {"deadline_ms", p.deadline_ms},
-                             {"seconds", p.seconds}});
-    }
-    j["notes"] = r.notes;
-    j["seconds"] = r.seconds;
-    j["telegrams"] = r.telegrams;
-    std::printf("%s\n", j.dump(2).c_str());
+    std::printf("%s\n", report::scan_json(r).dump(2).c_str());
   } else {
     for (const auto& d : r.found) {
       std::printf("drive at MACID 0x%02X (%u), %s, checksum %s: %s\n", d.id, d.id,

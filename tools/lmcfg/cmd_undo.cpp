@@ -1,7 +1,6 @@
 // lmcfg undo [FILE] / lmcfg undo --list: put back what a writing command saved
 // before its first write (ops/undo.hpp), through the normal restore.
 #include <cstdio>
-#include <nlohmann/json.hpp>
 
 #include "command.hpp"
 #include "config/config_io.hpp"
@@ -9,6 +8,7 @@
 #include "ops/interrupt.hpp"
 #include "ops/recovery.hpp"
 #include "ops/undo.hpp"
+#include "report/json_reports.hpp"
 #include "restore_flow.hpp"
 
 namespace lmcfg::cli {
@@ -32,16 +32,7 @@ int run_list(const UndoCli& o, const std::filesystem::path& dir) {
   auto records = ops::list_undo(dir, drive);
   if (!records.ok()) return fail("undo", records.error());
   if (o.common.json) {
-    nlohmann::ordered_json j;
-    j["dir"] = dir.string();
-    j["records"] = nlohmann::ordered_json::array();
-    for (const auto& r : *records)
-      j["records"].push_back({{"drive", r.drive},
-                              {"time", r.time},
-                              {"command", r.command},
-                              {"path", r.path.string()},
-                              {"holds", r.holds}});
-    std::printf("%s\n", j.dump(2).c_str());
+    std::printf("%s\n", report::undo_list_json(dir, *records).dump(2).c_str());
     return kOk;
   }
   if (records->empty()) {

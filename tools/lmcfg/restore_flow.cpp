@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "command.hpp"
+#include "confirm.hpp"
 #include "ops/devicenet_restore.hpp"
 #include "ops/interrupt.hpp"
 #include "ops/recovery.hpp"
@@ -252,7 +253,7 @@ Result<ops::Consent> confirm_restore(const std::string& plan, const RestoreTarge
   if (!f.yes || (t.plan_with_yes && !common.quiet && !common.json))
     std::fputs(plan.c_str(), common.json ? stderr : stdout);
   std::fflush(stdout);
-  return ops::confirm(t.question, "restore " + file_name + " onto a " + t.noun, f.yes);
+  return confirm(t.question, "restore " + file_name + " onto a " + t.noun, f.yes);
 }
 
 int finish_restore(const ops::RestoreOutcome& out, const RestoreTarget& t,

@@ -1,5 +1,5 @@
 #pragma once
-// Internal to the HTML report (ops/report.cpp, report_curves.cpp, report_ct.cpp).
+// Internal to the HTML report (report/report.cpp, report_curves.cpp, report_ct.cpp).
 #include <cstdint>
 #include <string>
 
@@ -10,7 +10,13 @@ namespace lmcfg::db {
 class Database;
 }
 
-namespace lmcfg::ops::report_parts {
+namespace lmcfg::report {
+// The report draws the comparison of ops::diff (lmcfg diff's).
+using ops::DiffItem;
+using ops::DiffResult;
+}  // namespace lmcfg::report
+
+namespace lmcfg::report::parts {
 
 // "13A2" (four hex digits, no suffix).
 // ' class="... diff" data-kind="parameter" data-key="13A2"' for a DiffItem.
@@ -32,4 +38,4 @@ void ct_section(std::string& out, const config::DriveConfig& cfg, const db::Data
 void ct_section_diff(std::string& out, const config::DriveConfig& a, const config::DriveConfig& b,
                      const DiffResult& r, const db::Database& db);
 
-}  // namespace lmcfg::ops::report_parts
+}  // namespace lmcfg::report::parts

@@ -1,7 +1,7 @@
-// The HTML report's page (ops/report.hpp): head and stylesheets, identity,
+// The HTML report's page (report/report.hpp): head and stylesheets, identity,
 // the diff summary and scope, parameters per layer. Curves: report_curves.cpp;
 // command table: report_ct.cpp.
-#include "ops/report.hpp"
+#include "report/report.hpp"
 
 #include <array>
 #include <map>
@@ -13,9 +13,16 @@
 #include "db/value.hpp"
 #include "ops/backup.hpp"
 #include "ops/devicenet.hpp"
-#include "ops/report_parts.hpp"
+#include "report/report_parts.hpp"
 
-namespace lmcfg::ops {
+namespace lmcfg::report {
+
+// Values and scopes read as lmcfg diff and lmcfg get show them.
+using ops::describe_scope;
+using ops::devicenet_value_name;
+using ops::devicenet_value_text;
+using ops::display_value;
+using ops::is_can_port;
 
 std::string html_escape(std::string_view s) {
   std::string out;
@@ -77,7 +84,7 @@ std::string html_escape(std::string_view s) {
   return out;
 }
 
-namespace report_parts {
+namespace parts {
 
 std::string diff_key(const DiffItem& it) {
   std::string key;
@@ -105,11 +112,11 @@ std::string diff_key(const DiffItem& it) {
   return s;
 }
 
-}  // namespace report_parts
+}  // namespace parts
 
 namespace {
 
-using namespace report_parts;
+using namespace parts;
 
 constexpr const char* kStyle = R"css(
 :root{--a:#1f5fbf;--b:#d9480f}
@@ -640,4 +647,4 @@ std::string render_diff_report(const config::DriveConfig& a, const std::string& 
   return out;
 }
 
-}  // namespace lmcfg::ops
+}  // namespace lmcfg::report

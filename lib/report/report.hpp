@@ -35,7 +35,7 @@ namespace lmcfg::db {
 class Database;
 }
 
-namespace lmcfg::ops {
+namespace lmcfg::report {
 
 struct ReportOptions {
   std::string tool_version;  // "lmcfg 0.1.0 (git abc123)"; "" = not shown
@@ -49,11 +49,11 @@ std::string render_report(const config::DriveConfig& cfg, const std::string& nam
 // Two configurations; `r` is ops::diff(a, b, ...) with the options the caller chose.
 std::string render_diff_report(const config::DriveConfig& a, const std::string& a_name,
                                const config::DriveConfig& b, const std::string& b_name,
-                               const DiffResult& r, const db::Database& db,
+                               const ops::DiffResult& r, const db::Database& db,
                                const ReportOptions& opt);
 
 // HTML text for any bytes: & < > " ' escaped; invalid UTF-8 and control
 // characters as \xNN (so nothing from a file can open a tag or an attribute).
 std::string html_escape(std::string_view s);
 
-}  // namespace lmcfg::ops
+}  // namespace lmcfg::report

@@ -1,4 +1,4 @@
-// Command table of the HTML report (ops/report.hpp): one row per entry with
+// Command table of the HTML report (report/report.hpp): one row per entry with
 // its name, the motion command decoded through the database's catalogue
 // (parameters with units), the link to the next entry as an in-page link, and
 // the chains the links form; in a diff, A and B side by side with the fields
@@ -9,10 +9,10 @@
 
 #include "db/ct_entry.hpp"
 #include "db/database.hpp"
-#include "ops/report.hpp"
-#include "ops/report_parts.hpp"
+#include "report/report.hpp"
+#include "report/report_parts.hpp"
 
-namespace lmcfg::ops::report_parts {
+namespace lmcfg::report::parts {
 namespace {
 
 constexpr int kNoLink = -1;
@@ -204,4 +204,4 @@ void ct_section_diff(std::string& out, const config::DriveConfig& a, const confi
   out += "</tbody></table>\n";
 }
 
-}  // namespace lmcfg::ops::report_parts
+}  // namespace lmcfg::report::parts

@@ -1,14 +1,14 @@
-#include "ops/confirm.hpp"
+#include "confirm.hpp"
 
 #include <unistd.h>
 
 #include <cstdio>
 #include <iostream>
 
-namespace lmcfg::ops {
+namespace lmcfg::cli {
 
-Result<Consent> confirm(const std::string& question, const std::string& action, bool yes) {
-  if (yes) return Consent::go;
+Result<ops::Consent> confirm(const std::string& question, const std::string& action, bool yes) {
+  if (yes) return ops::Consent::go;
   if (!::isatty(STDIN_FILENO)) {
     return Error(Errc::invalid_argument, "refusing to " + action +
                                              " without --yes when stdin is not a terminal; "
@@ -18,8 +18,8 @@ Result<Consent> confirm(const std::string& question, const std::string& action, 
   std::fflush(stderr);
   std::string answer;
   std::getline(std::cin, answer);
-  if (answer == "y" || answer == "Y" || answer == "yes") return Consent::go;
-  return Consent::declined;
+  if (answer == "y" || answer == "Y" || answer == "yes") return ops::Consent::go;
+  return ops::Consent::declined;
 }
 
-}  // namespace lmcfg::ops
+}  // namespace lmcfg::cli

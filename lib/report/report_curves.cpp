@@ -1,4 +1,4 @@
-// Curve plots of the HTML report (ops/report.hpp): inline SVG, one polyline
+// Curve plots of the HTML report (report/report.hpp): inline SVG, one polyline
 // per curve and side with one vertex per setpoint, each vertex marked (SVG
 // markers: no element per setpoint, so 100 curves of 1,000 setpoints stay a
 // few hundred kB). Axes in the curve's own units: X in ms over the curve's
@@ -11,10 +11,10 @@
 #include <optional>
 #include <vector>
 
-#include "ops/report.hpp"
-#include "ops/report_parts.hpp"
+#include "report/report.hpp"
+#include "report/report_parts.hpp"
 
-namespace lmcfg::ops::report_parts {
+namespace lmcfg::report::parts {
 namespace {
 
 // Plot area inside the figure's SVG (px), and the data coordinates' scale:
@@ -356,4 +356,4 @@ void curve_figure_diff(std::string& out, const config::Curve* a, const config::C
   out += "</table></div></figure>\n";
 }
 
-}  // namespace lmcfg::ops::report_parts
+}  // namespace lmcfg::report::parts
