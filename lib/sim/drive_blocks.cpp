@@ -10,7 +10,6 @@ namespace lmcfg::sim {
 
 using codec::CtOp;
 using codec::CurveOp;
-using codec::Main;
 using codec::Telegram;
 namespace st = codec::state;
 
