@@ -375,11 +375,13 @@ std::string link_options_of(const RelinkCandidate& c) {
   return link_options_of(d);
 }
 
-Result<LinkApplyReport> apply_link_change(Session& session, const LinkMap& map,
-                                          const LinkPlan& plan, const std::string& port,
-                                          const std::filesystem::path& recovery) {
-  auto& c = session.client();
-  const RelinkCandidate before{session.line(), c.options().id, c.options().checksum};
+namespace {
+
+// The recovery record of a link change (the values before it), saved before
+// the first write; returns the sentence that names it in every error.
+Result<std::string> save_link_record(const LinkPlan& plan, const std::string& port,
+                                     const std::filesystem::path& recovery,
+                                     const RelinkCandidate& before) {
   RecoveryRecord rec;
   rec.command = "link";
   rec.port = port;
@@ -389,9 +391,13 @@ Result<LinkApplyReport> apply_link_change(Session& session, const LinkMap& map,
   for (const auto& w : plan.writes)
     if (w.old_value) rec.keep.push_back({w.upid, *w.old_value});
   LMCFG_TRY(save_recovery(recovery, rec));
-  const std::string kept = "the recovery record " + recovery.string() +
-                           " holds the previous values (" + link_options_of(before) + ")";
+  return "the recovery record " + recovery.string() + " holds the previous values (" +
+         link_options_of(before) + ")";
+}
 
+// MC stopped, the ROM values written, the drive reset.
+Result<void> write_and_reset(client::Client& c, const LinkPlan& plan, const RelinkCandidate& before,
+                             const std::string& kept) {
   // "For configuring it is needed to stop the MC-SW of the servo controller
   // first" (LinRS §10). "The configuration parameters affects the behavior of
   // its SW instance only after a restart of it. A Reset command or Power cycle
@@ -422,8 +428,13 @@ Result<LinkApplyReport> apply_link_change(Session& session, const LinkMap& map,
     e.message = "reset refused after writing every value: " + e.message + "; " + kept;
     return e;
   }
+  return {};
+}
 
-  LinkApplyReport rep;
+// The drive after its reset: at the planned settings, else found by scanning
+// its MACID; not found: the link goes back to the settings before.
+Result<void> find_again(Session& session, const LinkPlan& plan, const RelinkCandidate& before,
+                        const std::string& port, const std::string& kept, LinkApplyReport& rep) {
   ExpectedLink expected;
   expected.baud = plan.after.line.baud;
   expected.macid = plan.after.macid;
@@ -434,39 +445,41 @@ Result<LinkApplyReport> apply_link_change(Session& session, const LinkMap& map,
   auto found = reconnect(session, expected, o);
   if (found.ok()) {
     rep.relink = std::move(found).value();
-  } else {
-    if (found.error().code != ErrorClass::link_failure) return std::move(found).error();
-    // Scanning if it must: the drive's MACID at every rate, checksum variant and
-    // parity, in case the firmware reads a raw value otherwise than the map.
-    ScanOptions so;
-    so.first_id = so.last_id = plan.after.macid;
-    so.checksum = plan.after.checksum;
-    auto sc = scan(session, so);
-    if (sc.ok() && !sc->found.empty()) {
-      const FoundDrive& d = sc->found.front();
-      if (auto r = session.relink(d.line, d.id, d.checksum); !r.ok()) return std::move(r).error();
-      rep.scanned = true;
-      rep.relink.changed = true;
-      rep.relink.used = {d.line, d.id, d.checksum};
-      rep.relink.summary = "the drive answers at " + link_options_of(rep.relink.used) +
-                           " (found by scanning MACID " + hex(d.id, 2, "h") + ")";
-    } else {
-      (void)session.relink(before.line, before.macid, before.checksum);
-      std::string written;
-      for (const auto& w : plan.writes)
-        written +=
-            (written.empty() ? "" : ", ") + hex(w.upid, 4, "h") + " = " + std::to_string(w.value);
-      return Error(
-          Errc::timeout,
-          "written and reset, but the drive was not found again: " + found.error().message +
-              "; a scan of MACID " + hex(plan.after.macid, 2, "h") +
-              " at every rate, checksum and parity found nothing. The drive holds " + written +
-              " in ROM and restarted with them (expected: " + link_options_of(plan.after) + "); " +
-              kept + ". Find it with: lmcfg scan --port " + port);
-    }
+    return {};
   }
+  if (found.error().code != ErrorClass::link_failure) return std::move(found).error();
+  // Scanning if it must: the drive's MACID at every rate, checksum variant and
+  // parity, in case the firmware reads a raw value otherwise than the map.
+  ScanOptions so;
+  so.first_id = so.last_id = plan.after.macid;
+  so.checksum = plan.after.checksum;
+  auto sc = scan(session, so);
+  if (sc.ok() && !sc->found.empty()) {
+    const FoundDrive& d = sc->found.front();
+    if (auto r = session.relink(d.line, d.id, d.checksum); !r.ok()) return std::move(r).error();
+    rep.scanned = true;
+    rep.relink.changed = true;
+    rep.relink.used = {d.line, d.id, d.checksum};
+    rep.relink.summary = "the drive answers at " + link_options_of(rep.relink.used) +
+                         " (found by scanning MACID " + hex(d.id, 2, "h") + ")";
+    return {};
+  }
+  (void)session.relink(before.line, before.macid, before.checksum);
+  std::string written;
+  for (const auto& w : plan.writes)
+    written +=
+        (written.empty() ? "" : ", ") + hex(w.upid, 4, "h") + " = " + std::to_string(w.value);
+  return Error(Errc::timeout,
+               "written and reset, but the drive was not found again: " + found.error().message +
+                   "; a scan of MACID " + hex(plan.after.macid, 2, "h") +
+                   " at every rate, checksum and parity found nothing. The drive holds " + written +
+                   " in ROM and restarted with them (expected: " + link_options_of(plan.after) +
+                   "); " + kept + ". Find it with: lmcfg scan --port " + port);
+}
 
-  // Verify: the ROM values the drive now holds.
+// Verify: the ROM values the drive now holds.
+Result<void> read_back(Session& session, const LinkMap& map, const LinkPlan& plan,
+                       const std::string& kept, LinkApplyReport& rep) {
   auto after = read_link_settings(session, map);
   if (!after.ok()) {
     Error e = std::move(after).error();
@@ -484,6 +497,21 @@ Result<LinkApplyReport> apply_link_change(Session& session, const LinkMap& map,
                        (v.rom ? std::to_string(*v.rom) : std::string("nothing")) + ", not " +
                        std::to_string(w.value) + "; " + kept);
   }
+  return {};
+}
+
+}  // namespace
+
+Result<LinkApplyReport> apply_link_change(Session& session, const LinkMap& map,
+                                          const LinkPlan& plan, const std::string& port,
+                                          const std::filesystem::path& recovery) {
+  auto& c = session.client();
+  const RelinkCandidate before{session.line(), c.options().id, c.options().checksum};
+  LMCFG_ASSIGN_OR_RETURN(const std::string kept, save_link_record(plan, port, recovery, before));
+  LMCFG_TRY(write_and_reset(c, plan, before, kept));
+  LinkApplyReport rep;
+  LMCFG_TRY(find_again(session, plan, before, port, kept, rep));
+  LMCFG_TRY(read_back(session, map, plan, kept, rep));
   LMCFG_TRY(remove_recovery(recovery));
   return rep;
 }
