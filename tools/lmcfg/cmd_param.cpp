@@ -140,6 +140,50 @@ Result<bool> confirm_stop_mc(const ParamCli& o, std::uint16_t upid) {
   return true;
 }
 
+// The undo record of `set --rom`: the parameter's layer as it is now.
+Result<void> save_set_undo(const ParamCli& o, client::Client& c, std::uint16_t upid,
+                           const db::Database& db, std::optional<ops::UndoSaved>& undo,
+                           std::optional<std::uint32_t>& old) {
+  LMCFG_ASSIGN_OR_RETURN(auto dir, ops::undo_dir());
+  LMCFG_ASSIGN_OR_RETURN(auto cfg, ops::undo_config_for_parameter(c, upid, db));
+  if (const auto* p = cfg.find_param(upid)) old = p->value;
+  LMCFG_ASSIGN_OR_RETURN(
+      undo, ops::save_undo(
+                ops::UndoOptions{true, dir, o.common.port, c.options().id, "set", ops::kUndoKeep},
+                cfg, db));
+  return {};
+}
+
+// The journal's record of a `set` (`error`: the first failure, or none).
+void journal_set(const ParamCli& o, std::uint8_t macid, std::uint16_t upid, const db::Parameter* d,
+                 const db::ValueSpec& spec, std::uint32_t value,
+                 const std::optional<std::uint32_t>& old, const std::optional<ops::UndoSaved>& undo,
+                 const Error* error) {
+  ops::JournalEntry e;
+  e.audit = audit_of(o.audit);
+  e.command = "set";
+  e.port = o.common.port;
+  e.macid = macid;
+  const bool known = spec.type || !spec.labels.empty();
+  auto shown = [&](std::uint32_t v) {
+    return nlohmann::ordered_json{
+        {"raw", v}, {"display", known ? db::format_value(spec, v) : std::to_string(v)}};
+  };
+  e.steps.push_back({{"step", 1},
+                     {"action", o.rom && o.ram ? "write_ram_rom"
+                                : o.rom        ? "write_rom"
+                                               : "write_ram"},
+                     {"upid", hex(upid, 4)},
+                     {"name", d ? d->name : ""},
+                     {"old", old ? shown(*old) : nlohmann::ordered_json(nullptr)},
+                     {"new", shown(value)}});
+  e.outcome = error ? "failed" : "written";
+  e.exit_code = error ? exit_code_for(*error) : kOk;
+  if (error) e.error = error->message;
+  if (undo) e.undo = undo->path.string();
+  record_in_journal("set", std::move(e));
+}
+
 int run_set(ParamCli& o) {
   auto upid = parse_upid(o.upid_text);
   if (!upid.ok()) return fail("set", upid.error());
@@ -177,16 +221,8 @@ int run_set(ParamCli& o) {
   // list (read for the undo record) holds it when it is not the default.
   std::optional<std::uint32_t> old;
   if (o.rom && !o.no_undo) {
-    auto dir = ops::undo_dir();
-    if (!dir.ok()) return fail("set", dir.error());
-    auto cfg = ops::undo_config_for_parameter(c, *upid, db);
-    if (!cfg.ok()) return fail("set", cfg.error());
-    if (const auto* p = cfg->find_param(*upid)) old = p->value;
-    auto saved = ops::save_undo(
-        ops::UndoOptions{true, *dir, o.common.port, c.options().id, "set", ops::kUndoKeep}, *cfg,
-        db);
-    if (!saved.ok()) return fail("set", saved.error());
-    undo = std::move(saved).value();
+    if (auto saved = save_set_undo(o, c, *upid, db, undo, old); !saved.ok())
+      return fail("set", saved.error());
   }
   if (*stop) {
     if (auto r = c.stop_mc(); !r.ok())
@@ -200,35 +236,11 @@ int run_set(ParamCli& o) {
   if (*stop) started = c.start_mc();  // also after a failed write: leave MC as found
   auto closed = (*session)->close();
   if (undo) print_undo_saved(*undo, o.common);
-  {
-    ops::JournalEntry e;
-    e.audit = audit_of(o.audit);
-    e.command = "set";
-    e.port = o.common.port;
-    e.macid = c.options().id;
-    const bool known = spec->type || !spec->labels.empty();
-    auto shown = [&](std::uint32_t v) {
-      return nlohmann::ordered_json{
-          {"raw", v}, {"display", known ? db::format_value(*spec, v) : std::to_string(v)}};
-    };
-    e.steps.push_back({{"step", 1},
-                       {"action", o.rom && o.ram ? "write_ram_rom"
-                                  : o.rom        ? "write_rom"
-                                                 : "write_ram"},
-                       {"upid", hex(*upid, 4)},
-                       {"name", d ? d->name : ""},
-                       {"old", old ? shown(*old) : nlohmann::ordered_json(nullptr)},
-                       {"new", shown(*value)}});
-    const Error* error = !w.ok()         ? &w.error()
-                         : !started.ok() ? &started.error()
-                         : !closed.ok()  ? &closed.error()
-                                         : nullptr;
-    e.outcome = error ? "failed" : "written";
-    e.exit_code = error ? exit_code_for(*error) : kOk;
-    if (error) e.error = error->message;
-    if (undo) e.undo = undo->path.string();
-    record_in_journal("set", std::move(e));
-  }
+  const Error* error = !w.ok()         ? &w.error()
+                       : !started.ok() ? &started.error()
+                       : !closed.ok()  ? &closed.error()
+                                       : nullptr;
+  journal_set(o, c.options().id, *upid, d, *spec, *value, old, undo, error);
   if (!w.ok()) return fail_with_state("set", w.error(), state);
   if (!started.ok()) return fail("set", started.error());
   if (!closed.ok()) return fail("set", closed.error());
