@@ -310,6 +310,15 @@ class Client {
   template <class T, class F, class N>
   Result<T> agreed(F&& read, N&& need_for);
   Result<std::vector<ModifiedParam>> modified_list_once(int layer);
+  // The steps of modified_list (lists.cpp): one pass of "get next" after a
+  // "start" (the outer error ends the list, the inner one only the pass, with
+  // `reached` the position it got to), and the vote over complete passes (a
+  // result once decided, nullopt while another pass is needed).
+  struct ModifiedPass;
+  Result<std::optional<Error>> modified_pass(int layer, ModifiedPass& pass, std::size_t& reached);
+  std::optional<Result<std::vector<ModifiedParam>>> vote_modified(
+      std::vector<std::vector<ModifiedParam>>& complete, ModifiedPass& pass,
+      const std::string& lname);
   Result<std::vector<UpidInfo>> upid_list_once(int layer,
                                                const std::function<void(std::size_t)>& progress);
   // One pass of a block read; fills votes; see blocks.cpp.

@@ -216,122 +216,146 @@ void load_profiles(const Table& t, Model& m) {
   }
 }
 
+// Column 'profiles' of parameters.tsv: a comma list of known profile ids, or *.
+bool read_profiles(const Table& t, const Row& r, const std::set<std::string>& known, Parameter& p) {
+  const Field& pf = t.get(r, "profiles");
+  if (pf.text.empty()) {
+    t.error(r, pf, "missing profile list in column 'profiles' (a comma list of profile ids, or *)");
+    return false;
+  }
+  if (pf.text == "*") return true;
+  bool ok = true;
+  std::string_view rest = pf.text;
+  while (true) {
+    std::size_t comma = rest.find(',');
+    std::string id(rest.substr(0, comma));
+    while (!id.empty() && id.front() == ' ') id.erase(id.begin());
+    while (!id.empty() && id.back() == ' ') id.pop_back();
+    if (!known.count(id)) {
+      t.error(r, pf, "unknown profile \"" + id + "\" in column 'profiles' (not in profiles.tsv)");
+      ok = false;
+    } else {
+      p.profiles.push_back(id);
+    }
+    if (comma == std::string_view::npos) break;
+    rest = rest.substr(comma + 1);
+  }
+  return ok;
+}
+
+// Column 'layer': a layer name that matches the UPID's range (`has_upid`: the
+// UPID column was read).
+bool read_layer(const Table& t, const Row& r, bool has_upid, Parameter& p) {
+  const Field& lf = t.get(r, "layer");
+  auto layer = layer_from_name(lf.text);
+  if (!layer) {
+    t.error(
+        r, lf,
+        "unknown layer \"" + std::string(lf.text) + "\" (expected OS, MC, Intf, Appl or Other)");
+    return false;
+  }
+  if (!has_upid) return true;
+  auto actual = layer_of_upid(p.upid);
+  if (!actual && *layer != Layer::Other) {
+    t.error(r, lf,
+            "UPID " + hex(p.upid, 4) +
+                " is outside every layer range (OS 0000-0EFF, MC 1000-1EFF, Intf 2000-2EFF, "
+                "Appl 3000-3EFF): its layer must be Other");
+    return false;
+  }
+  if (actual && *actual != *layer) {
+    unsigned base = layer_base_upid(*actual);
+    t.error(r, lf,
+            "layer \"" + std::string(lf.text) + "\" does not match UPID " + hex(p.upid, 4) +
+                " (in the " + std::string(layer_name(*actual)) + " range " + hex(base, 4) + "-" +
+                hex(base + 0x0EFF, 4) + ")");
+    return false;
+  }
+  p.layer = *layer;
+  return true;
+}
+
+// Column 'address_usage': empty, or 4 hex digits.
+bool read_address_usage(const Table& t, const Row& r, Parameter& p) {
+  const Field& af = t.get(r, "address_usage");
+  if (af.text.empty()) return true;
+  auto au = parse_hex_digits(af.text, 4, 4);
+  if (!au) {
+    t.error(r, af,
+            "bad hex \"" + std::string(af.text) +
+                "\" in column 'address_usage' (expected 4 hex digits, e.g. 000D)");
+    return false;
+  }
+  p.address_usage = AddressUsage{static_cast<std::uint16_t>(*au)};
+  return true;
+}
+
+// Every column of a parameters.tsv row into `p`; false (errors reported) when one is bad.
+bool read_parameter(const Table& t, const Row& r, const std::set<std::string>& known,
+                    Parameter& p) {
+  bool ok = true;
+  const Field& uf = t.get(r, "upid");
+  auto upid = parse_hex_digits(uf.text, 4, 4);
+  if (!upid) {
+    t.error(r, uf,
+            "bad hex \"" + std::string(uf.text) +
+                "\" in column 'upid' (expected 4 hex digits, e.g. 13A2)");
+    ok = false;
+  } else {
+    p.upid = static_cast<std::uint16_t>(*upid);
+  }
+  if (!read_profiles(t, r, known, p)) ok = false;
+  if (!read_layer(t, r, upid.has_value(), p)) ok = false;
+  p.name = std::string(t.get(r, "name").text);  // may be unknown (empty)
+  p.path = std::string(t.get(r, "path").text);
+  const Field& tf = t.get(r, "type");
+  if (!tf.text.empty()) {
+    p.spec.type = read_type(t, r, false);
+    if (!p.spec.type) ok = false;
+  }
+  if (!read_address_usage(t, r, p)) ok = false;
+  if (!read_range(t, r, p.spec, &p.default_value)) ok = false;
+  if (!read_scale_unit(t, r, p.spec)) ok = false;
+  if (!read_enum(t, r, p.spec)) ok = false;
+  if (!read_flag(t, r, "comm", "1", p.comm)) ok = false;
+  p.description = std::string(t.get(r, "description").text);
+  if (!require(t, r, "source", "source (provenance)")) ok = false;
+  p.prov = prov_of(t, r);
+  return ok;
+}
+
+// UPID -> (profile or "*", line) already defined.
+using DefinedUpids = std::map<std::uint16_t, std::vector<std::pair<std::string, int>>>;
+
+// A UPID defined twice for a profile ('*' overlaps every profile) is an error;
+// otherwise the row's profiles are recorded in `defined`.
+bool record_unique(const Table& t, const Row& r, const Parameter& p, DefinedUpids& defined) {
+  auto& prev = defined[p.upid];
+  std::vector<std::string> mine = p.profiles.empty() ? std::vector<std::string>{"*"} : p.profiles;
+  for (const auto& [other, line] : prev) {
+    for (const auto& id : mine) {
+      if (id == other || id == "*" || other == "*") {
+        std::string which = id == "*" ? other : id;
+        t.error(r, t.get(r, "upid"),
+                "duplicate UPID " + hex(p.upid, 4) +
+                    (which == "*" ? std::string(" for every profile") : " for profile " + which) +
+                    " (first at " + t.name() + ":" + std::to_string(line) + ")");
+        return false;
+      }
+    }
+  }
+  for (const auto& id : mine) prev.emplace_back(id, r.line);
+  return true;
+}
+
 void load_parameters(const Table& t, Model& m) {
   std::set<std::string> known;
   for (const auto& p : m.profiles) known.insert(p.id);
-  // UPID -> (profile or "*", line) already defined.
-  std::map<std::uint16_t, std::vector<std::pair<std::string, int>>> defined;
+  DefinedUpids defined;
   for (const auto& r : t.rows()) {
-    bool ok = true;
     Parameter p;
-    const Field& uf = t.get(r, "upid");
-    auto upid = parse_hex_digits(uf.text, 4, 4);
-    if (!upid) {
-      t.error(r, uf,
-              "bad hex \"" + std::string(uf.text) +
-                  "\" in column 'upid' (expected 4 hex digits, e.g. 13A2)");
-      ok = false;
-    } else {
-      p.upid = static_cast<std::uint16_t>(*upid);
-    }
-    // profiles
-    const Field& pf = t.get(r, "profiles");
-    if (pf.text.empty()) {
-      t.error(r, pf,
-              "missing profile list in column 'profiles' (a comma list of profile ids, or *)");
-      ok = false;
-    } else if (pf.text != "*") {
-      std::string_view rest = pf.text;
-      while (true) {
-        std::size_t comma = rest.find(',');
-        std::string id(rest.substr(0, comma));
-        while (!id.empty() && id.front() == ' ') id.erase(id.begin());
-        while (!id.empty() && id.back() == ' ') id.pop_back();
-        if (!known.count(id)) {
-          t.error(r, pf,
-                  "unknown profile \"" + id + "\" in column 'profiles' (not in profiles.tsv)");
-          ok = false;
-        } else {
-          p.profiles.push_back(id);
-        }
-        if (comma == std::string_view::npos) break;
-        rest = rest.substr(comma + 1);
-      }
-    }
-    // layer
-    const Field& lf = t.get(r, "layer");
-    auto layer = layer_from_name(lf.text);
-    if (!layer) {
-      t.error(
-          r, lf,
-          "unknown layer \"" + std::string(lf.text) + "\" (expected OS, MC, Intf, Appl or Other)");
-      ok = false;
-    } else if (upid) {
-      auto actual = layer_of_upid(p.upid);
-      if (!actual && *layer != Layer::Other) {
-        t.error(r, lf,
-                "UPID " + hex(p.upid, 4) +
-                    " is outside every layer range (OS 0000-0EFF, MC 1000-1EFF, Intf 2000-2EFF, "
-                    "Appl 3000-3EFF): its layer must be Other");
-        ok = false;
-      } else if (actual && *actual != *layer) {
-        unsigned base = layer_base_upid(*actual);
-        t.error(r, lf,
-                "layer \"" + std::string(lf.text) + "\" does not match UPID " + hex(p.upid, 4) +
-                    " (in the " + std::string(layer_name(*actual)) + " range " + hex(base, 4) +
-                    "-" + hex(base + 0x0EFF, 4) + ")");
-        ok = false;
-      } else {
-        p.layer = *layer;
-      }
-    }
-    p.name = std::string(t.get(r, "name").text);  // may be unknown (empty)
-    p.path = std::string(t.get(r, "path").text);
-    const Field& tf = t.get(r, "type");
-    if (!tf.text.empty()) {
-      p.spec.type = read_type(t, r, false);
-      if (!p.spec.type) ok = false;
-    }
-    const Field& af = t.get(r, "address_usage");
-    if (!af.text.empty()) {
-      auto au = parse_hex_digits(af.text, 4, 4);
-      if (!au) {
-        t.error(r, af,
-                "bad hex \"" + std::string(af.text) +
-                    "\" in column 'address_usage' (expected 4 hex digits, e.g. 000D)");
-        ok = false;
-      } else {
-        p.address_usage = AddressUsage{static_cast<std::uint16_t>(*au)};
-      }
-    }
-    if (!read_range(t, r, p.spec, &p.default_value)) ok = false;
-    if (!read_scale_unit(t, r, p.spec)) ok = false;
-    if (!read_enum(t, r, p.spec)) ok = false;
-    if (!read_flag(t, r, "comm", "1", p.comm)) ok = false;
-    p.description = std::string(t.get(r, "description").text);
-    if (!require(t, r, "source", "source (provenance)")) ok = false;
-    p.prov = prov_of(t, r);
-    if (!ok) continue;
-    // Duplicate UPID per profile: '*' overlaps every profile.
-    auto& prev = defined[p.upid];
-    std::vector<std::string> mine = p.profiles.empty() ? std::vector<std::string>{"*"} : p.profiles;
-    bool dup = false;
-    for (const auto& [other, line] : prev) {
-      for (const auto& id : mine) {
-        if (id == other || id == "*" || other == "*") {
-          std::string which = id == "*" ? other : id;
-          t.error(r, uf,
-                  "duplicate UPID " + hex(p.upid, 4) +
-                      (which == "*" ? std::string(" for every profile") : " for profile " + which) +
-                      " (first at " + t.name() + ":" + std::to_string(line) + ")");
-          dup = true;
-          break;
-        }
-      }
-      if (dup) break;
-    }
-    if (dup) continue;
-    for (const auto& id : mine) prev.emplace_back(id, r.line);
+    if (!read_parameter(t, r, known, p)) continue;
+    if (!record_unique(t, r, p, defined)) continue;
     m.params.push_back(std::move(p));
   }
 }

@@ -116,6 +116,92 @@ Result<void> describe_from_drive(client::Client& c, const db::Database& db, int 
   return {};
 }
 
+// One layer's parameters: the modified list (and what the drive says of
+// their types and defaults), or with `full` every ROM-writable UPID of the
+// UPID list (collected into `all_upids` for the fingerprint).
+Result<void> read_layer(client::Client& c, const BackupOptions& opt, const db::Database& db,
+                        int layer, config::DriveConfig& cfg,
+                        std::vector<client::UpidInfo>& all_upids) {
+  const std::string phase = "parameters " + std::string(lmcfg::layers::name(layer));
+  auto& out = cfg.layer(layer);
+  if (!opt.full) {
+    LMCFG_ASSIGN_OR_RETURN(auto mods, c.modified_list(layer));
+    for (const auto& m : mods)
+      out.push_back(config::Parameter{m.upid, m.value, std::nullopt, std::nullopt, {}, {}, {}});
+    report(opt.progress, phase, mods.size(), mods.size());
+    if (opt.ask_drive) LMCFG_TRY(describe_from_drive(c, db, layer, out, nullptr, opt.progress));
+    return {};
+  }
+  LMCFG_ASSIGN_OR_RETURN(auto list, c.upid_list(layer, [&](std::size_t n) {
+    report(opt.progress, phase + " list", n, 0);
+  }));
+  all_upids.insert(all_upids.end(), list.begin(), list.end());
+  auto rom_write = [](const client::UpidInfo& u) {
+    return db::AddressUsage{u.address_usage}.rom_write();
+  };
+  const auto rom_writable =
+      static_cast<std::size_t>(std::count_if(list.begin(), list.end(), rom_write));
+  for (const auto& u : list) {
+    if (!rom_write(u)) continue;  // bit 3 ROM write (§10.3: only those form a configuration)
+    LMCFG_ASSIGN_OR_RETURN(auto v, c.read_rom(u.upid));
+    out.push_back(config::Parameter{u.upid, v, file_type_code(u.type), std::nullopt, {}, {}, {}});
+    report(opt.progress, phase, out.size(), rom_writable);
+  }
+  if (opt.ask_drive) {
+    LMCFG_ASSIGN_OR_RETURN(auto mods, c.modified_list(layer));
+    std::set<std::uint16_t> modified;
+    for (const auto& m : mods) modified.insert(m.upid);
+    LMCFG_TRY(describe_from_drive(c, db, layer, out, &modified, opt.progress));
+  }
+  return {};
+}
+
+// The sentence for people on how far a value read from this link can be
+// trusted: whether the link detects a flipped bit, and how many agreeing reads
+// each value took. Empty: nothing to say.
+std::string reads_note(const client::Client& c, int reads_per_value) {
+  const bool detects_flips =
+      c.options().checksum.mode != codec::ChecksumMode::none || c.options().link_has_parity;
+  const bool fixed = c.options().agreeing_reads > 0;
+  const std::string n = std::to_string(reads_per_value);
+  if (detects_flips) {
+    if (reads_per_value > 1)
+      return "each value read until " + n + " reads agreed (--agreeing-reads " + n + ")";
+    return "";
+  }
+  if (reads_per_value == 1) {
+    return "no checksum on this link and --agreeing-reads 1: a flipped bit in a value goes into "
+           "the file undetected; enable CRC on the drive (§15)";
+  }
+  if (fixed) {
+    return "no checksum on this link: each value read until " + n +
+           " reads agreed (--agreeing-reads " + n + ")" +
+           (c.noise_seen() && reads_per_value == 2
+                ? "; the line corrupted answers, and the same flipped bit in two answers goes "
+                  "unnoticed (auto reads 3 here)"
+                : "");
+  }
+  if (reads_per_value == 2) {
+    return "no checksum on this link: each value read twice; enable CRC on the drive (§15) to "
+           "halve backup time";
+  }
+  return "no checksum on this link, and it corrupted answers: each value read until " + n +
+         " reads agreed; enable CRC on the drive (§15) to read each value once";
+}
+
+// BackupOptions::report: how the values were read, and the notes for people.
+void fill_report(const client::Client& c, const std::vector<std::string>& notes, BackupReport& r) {
+  r.reads_per_value = c.agreeing_reads();
+  r.empty_curve_form = c.probe_forms().empty_curve;
+  r.empty_ct_form = c.probe_forms().empty_ct_entry;
+  if (auto note = reads_note(c, r.reads_per_value); !note.empty()) r.notes.push_back(note);
+  if (r.empty_curve_form && *r.empty_curve_form != 0) {
+    r.notes.push_back("this drive answers a probe of an empty curve ID with " +
+                      form_name(*r.empty_curve_form) + " (taken as: no curve there)");
+  }
+  r.notes.insert(r.notes.end(), notes.begin(), notes.end());
+}
+
 }  // namespace
 
 Result<std::vector<config::Curve>> read_curves(client::Client& c, std::uint16_t max_curve_id,
@@ -178,40 +264,9 @@ Result<config::DriveConfig> backup(client::Client& c, const BackupOptions& opt,
   std::vector<std::string> notes;
   for (int layer = 1; layer <= 4; ++layer) {
     if (!opt.layers[static_cast<std::size_t>(layer - 1)]) continue;
-    const std::string phase = "parameters " + std::string(lmcfg::layers::name(layer));
-    auto& out = cfg.layer(layer);
-    if (!opt.full) {
-      LMCFG_ASSIGN_OR_RETURN(auto mods, c.modified_list(layer));
-      for (const auto& m : mods)
-        out.push_back(config::Parameter{m.upid, m.value, std::nullopt, std::nullopt, {}, {}, {}});
-      report(opt.progress, phase, mods.size(), mods.size());
-      if (opt.ask_drive) LMCFG_TRY(describe_from_drive(c, db, layer, out, nullptr, opt.progress));
-      continue;
-    }
-    LMCFG_ASSIGN_OR_RETURN(auto list, c.upid_list(layer, [&](std::size_t n) {
-      report(opt.progress, phase + " list", n, 0);
-    }));
-    all_upids.insert(all_upids.end(), list.begin(), list.end());
-    auto rom_write = [](const client::UpidInfo& u) {
-      return db::AddressUsage{u.address_usage}.rom_write();
-    };
-    const auto rom_writable =
-        static_cast<std::size_t>(std::count_if(list.begin(), list.end(), rom_write));
-    for (const auto& u : list) {
-      if (!rom_write(u)) continue;  // bit 3 ROM write (§10.3: only those form a configuration)
-      LMCFG_ASSIGN_OR_RETURN(auto v, c.read_rom(u.upid));
-      out.push_back(config::Parameter{u.upid, v, file_type_code(u.type), std::nullopt, {}, {}, {}});
-      report(opt.progress, phase, out.size(), rom_writable);
-    }
-    if (opt.ask_drive) {
-      LMCFG_ASSIGN_OR_RETURN(auto mods, c.modified_list(layer));
-      std::set<std::uint16_t> modified;
-      for (const auto& m : mods) modified.insert(m.upid);
-      LMCFG_TRY(describe_from_drive(c, db, layer, out, &modified, opt.progress));
-    }
+    LMCFG_TRY(read_layer(c, opt, db, layer, cfg, all_upids));
   }
   if (opt.full) cfg.identity.upid_fingerprint = fingerprint(all_upids);
-
   if (opt.curves) {
     LMCFG_ASSIGN_OR_RETURN(cfg.curves, read_curves(c, opt.max_curve_id, opt.progress, "curves"));
   }
@@ -219,46 +274,7 @@ Result<config::DriveConfig> backup(client::Client& c, const BackupOptions& opt,
     LMCFG_ASSIGN_OR_RETURN(cfg.ct_entries,
                            read_command_table(c, opt.progress, "command table", notes));
   }
-  if (opt.report) {
-    auto& r = *opt.report;
-    r.reads_per_value = c.agreeing_reads();
-    r.empty_curve_form = c.probe_forms().empty_curve;
-    r.empty_ct_form = c.probe_forms().empty_ct_entry;
-    const bool detects_flips =
-        c.options().checksum.mode != codec::ChecksumMode::none || c.options().link_has_parity;
-    const bool fixed = c.options().agreeing_reads > 0;
-    const std::string n = std::to_string(r.reads_per_value);
-    if (detects_flips) {
-      if (r.reads_per_value > 1)
-        r.notes.push_back("each value read until " + n + " reads agreed (--agreeing-reads " + n +
-                          ")");
-    } else if (r.reads_per_value == 1) {
-      r.notes.push_back(
-          "no checksum on this link and --agreeing-reads 1: a flipped bit in a value goes into "
-          "the file undetected; enable CRC on the drive (§15)");
-    } else if (fixed) {
-      r.notes.push_back(
-          "no checksum on this link: each value read until " + n +
-          " reads agreed (--agreeing-reads " + n + ")" +
-          (c.noise_seen() && r.reads_per_value == 2
-               ? "; the line corrupted answers, and the same flipped bit in two answers goes "
-                 "unnoticed (auto reads 3 here)"
-               : ""));
-    } else if (r.reads_per_value == 2) {
-      r.notes.push_back(
-          "no checksum on this link: each value read twice; enable CRC on the drive (§15) to halve "
-          "backup time");
-    } else {
-      r.notes.push_back(
-          "no checksum on this link, and it corrupted answers: each value read until " + n +
-          " reads agreed; enable CRC on the drive (§15) to read each value once");
-    }
-    if (r.empty_curve_form && *r.empty_curve_form != 0) {
-      r.notes.push_back("this drive answers a probe of an empty curve ID with " +
-                        form_name(*r.empty_curve_form) + " (taken as: no curve there)");
-    }
-    r.notes.insert(r.notes.end(), notes.begin(), notes.end());
-  }
+  if (opt.report) fill_report(c, notes, *opt.report);
   if (!db.is_empty()) annotate(cfg, db);
   config::canonicalize(cfg);
   return cfg;

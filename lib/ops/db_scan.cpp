@@ -434,114 +434,137 @@ std::string text_of(const std::vector<std::string>& lines) {
   return s;
 }
 
-}  // namespace
-
-Result<MergeReport> merge_scan_fragment(const std::string& source_dir,
-                                        const std::string& fragment_text) {
-  // Parse the fragment.
+// A fragment `lmcfg db scan` wrote: its #@profiles.tsv header and row, and
+// its parameters header and rows.
+struct Fragment {
   std::vector<std::string> prof_cols, param_cols;
   std::string prof_row;
   std::vector<std::string> param_rows;
+  std::string profile;
+};
+
+Result<Fragment> parse_fragment(const std::string& fragment_text) {
+  Fragment fr;
   for (std::string_view l : db::tsv::lines(fragment_text)) {
     if (l.rfind(kProfilesMark, 0) == 0) {
       std::string_view body = l.substr(std::string_view(kProfilesMark).size());
-      if (prof_cols.empty()) {
-        for (auto f : split(body)) prof_cols.emplace_back(f);
-      } else if (prof_row.empty()) {
-        prof_row = std::string(body);
+      if (fr.prof_cols.empty()) {
+        for (auto f : split(body)) fr.prof_cols.emplace_back(f);
+      } else if (fr.prof_row.empty()) {
+        fr.prof_row = std::string(body);
       } else {
         return Error(Errc::parse_error, "fragment: more than one #@profiles.tsv row");
       }
       continue;
     }
     if (!is_data_line(l)) continue;
-    if (param_cols.empty()) {
-      for (auto f : split(l)) param_cols.emplace_back(f);
+    if (fr.param_cols.empty()) {
+      for (auto f : split(l)) fr.param_cols.emplace_back(f);
     } else {
-      param_rows.emplace_back(l);
+      fr.param_rows.emplace_back(l);
     }
   }
-  if (prof_row.empty() || param_cols.empty())
+  if (fr.prof_row.empty() || fr.param_cols.empty())
     return Error(Errc::parse_error,
                  "not a lmcfg db scan fragment: no #@profiles.tsv row or no parameters header");
+  return fr;
+}
+
+// The fragment holds one scanned profile, and parameters of that profile only.
+Result<void> check_fragment(Fragment& fr) {
+  const auto& prof_cols = fr.prof_cols;
   auto pi = std::find(prof_cols.begin(), prof_cols.end(), "profile");
   auto ps = std::find(prof_cols.begin(), prof_cols.end(), "source");
   if (pi == prof_cols.end() || ps == prof_cols.end())
     return Error(Errc::parse_error, "fragment: the #@profiles.tsv header lacks profile or source");
-  auto pf = split(prof_row);
+  auto pf = split(fr.prof_row);
   const auto id_col = static_cast<std::size_t>(pi - prof_cols.begin());
   const auto src_col = static_cast<std::size_t>(ps - prof_cols.begin());
   if (pf.size() != prof_cols.size())
     return Error(Errc::parse_error, "fragment: the #@profiles.tsv row has the wrong field count");
-  MergeReport rep;
-  rep.profile = std::string(pf[id_col]);
+  fr.profile = std::string(pf[id_col]);
   if (!is_scanned_source(pf[src_col]))
     return Error(Errc::parse_error,
                  "fragment: the profile's source is not \"scanned from a drive: ...\"");
-  auto upc = std::find(param_cols.begin(), param_cols.end(), "profiles");
-  if (upc == param_cols.end())
+  auto upc = std::find(fr.param_cols.begin(), fr.param_cols.end(), "profiles");
+  if (upc == fr.param_cols.end())
     return Error(Errc::parse_error, "fragment: the parameters header lacks column profiles");
-  for (const auto& row : param_rows) {
+  for (const auto& row : fr.param_rows) {
     auto f = split(row);
-    auto k = static_cast<std::size_t>(upc - param_cols.begin());
-    if (f.size() != param_cols.size() || f[k] != rep.profile) {
+    auto k = static_cast<std::size_t>(upc - fr.param_cols.begin());
+    if (f.size() != fr.param_cols.size() || f[k] != fr.profile) {
       return Error(Errc::parse_error,
-                   "fragment: a parameters row is not of profile " + rep.profile + ": " + row);
+                   "fragment: a parameters row is not of profile " + fr.profile + ": " + row);
     }
   }
+  return {};
+}
+
+// profiles.tsv: replace an earlier scan's row, refuse any other definition.
+Result<void> merge_profile(const fs::path& path, TsvFile& profiles, const Fragment& fr,
+                           MergeReport& rep) {
+  const int c_id = profiles.column("profile"), c_src = profiles.column("source");
+  std::vector<std::string> kept;
+  for (std::size_t i = 0; i < profiles.lines.size(); ++i) {
+    const auto& l = profiles.lines[i];
+    if (static_cast<std::ptrdiff_t>(i) > profiles.header && is_data_line(l)) {
+      auto f = split(l);
+      if (f.size() > static_cast<std::size_t>(std::max(c_id, c_src)) &&
+          f[static_cast<std::size_t>(c_id)] == rep.profile) {
+        if (!is_scanned_source(f[static_cast<std::size_t>(c_src)])) {
+          return Error(Errc::validation_failed,
+                       path.string() + ":" + std::to_string(i + 1) + ": profile '" + rep.profile +
+                           "' is defined there other than by a scan; not replaced");
+        }
+        rep.profile_replaced = true;
+        continue;
+      }
+    }
+    kept.push_back(l);
+  }
+  kept.push_back(remap(fr.prof_cols, fr.prof_row, profiles));
+  profiles.lines = std::move(kept);
+  return {};
+}
+
+// parameters.tsv: drop the earlier scan's rows of this profile, append ours.
+void merge_parameters(TsvFile& params, const Fragment& fr, MergeReport& rep) {
+  const int c_prof = params.column("profiles");
+  std::vector<std::string> kept;
+  for (std::size_t i = 0; i < params.lines.size(); ++i) {
+    const auto& l = params.lines[i];
+    if (static_cast<std::ptrdiff_t>(i) > params.header && is_data_line(l)) {
+      auto f = split(l);
+      if (f.size() > static_cast<std::size_t>(c_prof) &&
+          f[static_cast<std::size_t>(c_prof)] == rep.profile) {
+        ++rep.parameters_replaced;
+        continue;
+      }
+    }
+    kept.push_back(l);
+  }
+  for (const auto& row : fr.param_rows) kept.push_back(remap(fr.param_cols, row, params));
+  rep.parameters_added = fr.param_rows.size();
+  params.lines = std::move(kept);
+}
+
+}  // namespace
+
+Result<MergeReport> merge_scan_fragment(const std::string& source_dir,
+                                        const std::string& fragment_text) {
+  LMCFG_ASSIGN_OR_RETURN(auto fr, parse_fragment(fragment_text));
+  LMCFG_TRY(check_fragment(fr));
+  MergeReport rep;
+  rep.profile = fr.profile;
 
   const fs::path dir(source_dir);
   std::error_code ec;
   if (!fs::is_directory(dir, ec)) return Error(Errc::file_error, source_dir + ": not a directory");
-
-  // profiles.tsv: replace an earlier scan's row, refuse any other definition.
   LMCFG_ASSIGN_OR_RETURN(auto profiles, read_tsv(dir / "profiles.tsv", db::tsv::profile_columns()));
-  {
-    const int c_id = profiles.column("profile"), c_src = profiles.column("source");
-    std::vector<std::string> kept;
-    for (std::size_t i = 0; i < profiles.lines.size(); ++i) {
-      const auto& l = profiles.lines[i];
-      if (static_cast<std::ptrdiff_t>(i) > profiles.header && is_data_line(l)) {
-        auto f = split(l);
-        if (f.size() > static_cast<std::size_t>(std::max(c_id, c_src)) &&
-            f[static_cast<std::size_t>(c_id)] == rep.profile) {
-          if (!is_scanned_source(f[static_cast<std::size_t>(c_src)])) {
-            return Error(Errc::validation_failed,
-                         (dir / "profiles.tsv").string() + ":" + std::to_string(i + 1) +
-                             ": profile '" + rep.profile +
-                             "' is defined there other than by a scan; not replaced");
-          }
-          rep.profile_replaced = true;
-          continue;
-        }
-      }
-      kept.push_back(l);
-    }
-    kept.push_back(remap(prof_cols, prof_row, profiles));
-    profiles.lines = std::move(kept);
-  }
-  // parameters.tsv: drop the earlier scan's rows of this profile, append ours.
+  LMCFG_TRY(merge_profile(dir / "profiles.tsv", profiles, fr, rep));
   LMCFG_ASSIGN_OR_RETURN(auto params,
                          read_tsv(dir / "parameters.tsv", db::tsv::parameter_columns()));
-  {
-    const int c_prof = params.column("profiles");
-    std::vector<std::string> kept;
-    for (std::size_t i = 0; i < params.lines.size(); ++i) {
-      const auto& l = params.lines[i];
-      if (static_cast<std::ptrdiff_t>(i) > params.header && is_data_line(l)) {
-        auto f = split(l);
-        if (f.size() > static_cast<std::size_t>(c_prof) &&
-            f[static_cast<std::size_t>(c_prof)] == rep.profile) {
-          ++rep.parameters_replaced;
-          continue;
-        }
-      }
-      kept.push_back(l);
-    }
-    for (const auto& row : param_rows) kept.push_back(remap(param_cols, row, params));
-    rep.parameters_added = param_rows.size();
-    params.lines = std::move(kept);
-  }
+  merge_parameters(params, fr, rep);
   // Profile first: a parameters.tsv naming an unknown profile would not compile.
   LMCFG_TRY(config::write_file_atomic(dir / "profiles.tsv", text_of(profiles.lines)));
   LMCFG_TRY(config::write_file_atomic(dir / "parameters.tsv", text_of(params.lines)));

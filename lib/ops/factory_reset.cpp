@@ -10,124 +10,180 @@
 
 namespace lmcfg::ops {
 
-Result<DefaultReport> default_drive(client::Client& c, const DefaultOptions& opt,
-                                    const db::Database& db) {
-  DefaultReport rep;
-  bool record_saved = false, mc_stopped = false;
-  const std::string record = opt.recovery_path.string();
-  auto step = [&](const std::string& what, Result<void> r) -> Result<void> {
-    if (!r.ok()) {
-      Error e = std::move(r).error();
-      const bool interrupted = e.code == make_error_code(Errc::interrupted);
-      e.message = std::string(interrupted ? "interrupted at step '" : "stopped at step '") + what +
-                  "': " + e.message +
-                  (interrupted ? " (the telegram in flight was completed)" : "") +
-                  ". The drive is partially defaulted" + (mc_stopped ? " (MC stopped)" : "") +
-                  ": run the same command again" +
-                  (record_saved ? "; it finishes from the recovery record " + record : "") +
-                  (rep.undo ? "; the previous values are in the undo record " +
-                                  rep.undo->path.string() + " (" + rep.undo->command + ")"
-                            : std::string()) +
-                  ".";
-      return e;
-    }
-    rep.done.push_back(what);
-    if (opt.progress) opt.progress("default", rep.done.size(), 0);
-    return {};
-  };
+namespace {
+
+// One run of default_drive: its steps, and what a step that fails says.
+class DefaultRun {
+ public:
+  DefaultRun(client::Client& c, const DefaultOptions& opt, const db::Database& db)
+      : c_(c), opt_(opt), db_(db), record_(opt.recovery_path.string()) {}
+
+  // Reads only: the communication values to keep, the undo record.
+  Result<void> read_before();
+  // The recovery record of an interrupted run, or a new one of the values to keep.
+  Result<void> load_or_save_record();
+  Result<void> default_layers();
+  Result<void> write_back_kept();
+  Result<void> delete_tables();
+  Result<void> restart();
+  DefaultReport& report() { return rep_; }
+
+ private:
+  bool selected(int layer) const { return opt_.layers[static_cast<std::size_t>(layer - 1)]; }
+  Result<void> step(const std::string& what, Result<void> r);
+
+  client::Client& c_;
+  const DefaultOptions& opt_;
+  const db::Database& db_;
+  const std::string record_;
+  DefaultReport rep_;
+  bool record_saved_ = false, mc_stopped_ = false, rom_changed_ = false;
   // The communication values to keep, read before anything changes.
-  std::map<std::uint16_t, std::uint32_t> keep;
+  std::map<std::uint16_t, std::uint32_t> keep_;
+};
+
+Result<void> DefaultRun::step(const std::string& what, Result<void> r) {
+  if (!r.ok()) {
+    Error e = std::move(r).error();
+    const bool interrupted = e.code == make_error_code(Errc::interrupted);
+    e.message = std::string(interrupted ? "interrupted at step '" : "stopped at step '") + what +
+                "': " + e.message + (interrupted ? " (the telegram in flight was completed)" : "") +
+                ". The drive is partially defaulted" + (mc_stopped_ ? " (MC stopped)" : "") +
+                ": run the same command again" +
+                (record_saved_ ? "; it finishes from the recovery record " + record_ : "") +
+                (rep_.undo ? "; the previous values are in the undo record " +
+                                 rep_.undo->path.string() + " (" + rep_.undo->command + ")"
+                           : std::string()) +
+                ".";
+    return e;
+  }
+  rep_.done.push_back(what);
+  if (opt_.progress) opt_.progress("default", rep_.done.size(), 0);
+  return {};
+}
+
+Result<void> DefaultRun::read_before() {
   std::array<std::optional<std::vector<client::ModifiedParam>>, 4> seen;  // for the undo record
   for (int layer = 1; layer <= 4; ++layer) {
-    if (!opt.layers[static_cast<std::size_t>(layer - 1)]) continue;
-    LMCFG_ASSIGN_OR_RETURN(auto mods, c.modified_list(layer));
+    if (!selected(layer)) continue;
+    LMCFG_ASSIGN_OR_RETURN(auto mods, c_.modified_list(layer));
     seen[static_cast<std::size_t>(layer - 1)] = mods;
     for (const auto& m : mods) {
-      if (!is_comm_parameter(db, m.upid)) continue;
-      if (opt.include_comm)
-        rep.link_may_change = true;
+      if (!is_comm_parameter(db_, m.upid)) continue;
+      if (opt_.include_comm)
+        rep_.link_may_change = true;
       else
-        keep[m.upid] = m.value;
+        keep_[m.upid] = m.value;
     }
   }
-  if (opt.undo.enabled) {
-    auto cfg = undo_config_for_default(c, seen, opt.curves, opt.command_table, db);
+  if (opt_.undo.enabled) {
+    auto cfg = undo_config_for_default(c_, seen, opt_.curves, opt_.command_table, db_);
     if (!cfg.ok()) return std::move(cfg).error();  // reads only: nothing written
-    LMCFG_ASSIGN_OR_RETURN(rep.undo, save_undo(opt.undo, *cfg, db));
+    LMCFG_ASSIGN_OR_RETURN(rep_.undo, save_undo(opt_.undo, *cfg, db_));
   }
+  return {};
+}
+
+Result<void> DefaultRun::load_or_save_record() {
+  if (opt_.recovery_path.empty()) return {};
   // An earlier run stopped after defaulting: the drive no longer shows the
   // values it had; the record holds them.
-  if (!opt.recovery_path.empty()) {
-    LMCFG_ASSIGN_OR_RETURN(auto found, load_recovery(opt.recovery_path));
-    if (found && !opt.include_comm) {
-      for (const auto& k : found->keep) {
-        const int layer = lmcfg::layers::of_upid(k.upid);
-        if (layer != 0 && opt.layers[static_cast<std::size_t>(layer - 1)]) keep[k.upid] = k.value;
-      }
-      rep.recovered = true;
-      rep.recovery_note = "found the recovery record " + record + " of an interrupted run (" +
-                          found->created + "): writing back the values it recorded";
+  LMCFG_ASSIGN_OR_RETURN(auto found, load_recovery(opt_.recovery_path));
+  if (found && !opt_.include_comm) {
+    for (const auto& k : found->keep) {
+      const int layer = lmcfg::layers::of_upid(k.upid);
+      if (layer != 0 && selected(layer)) keep_[k.upid] = k.value;
     }
-    if (!keep.empty() && !found) {
-      RecoveryRecord r{"default", opt.port, c.options().id, utc_now(), {}, {}};
-      for (const auto& [upid, value] : keep) r.keep.push_back({upid, value});
-      LMCFG_TRY(save_recovery(opt.recovery_path, r));
-      rep.recovery_note = "recorded the values to keep in " + record;
-    }
-    record_saved = !keep.empty() || found.has_value();
+    rep_.recovered = true;
+    rep_.recovery_note = "found the recovery record " + record_ + " of an interrupted run (" +
+                         found->created + "): writing back the values it recorded";
   }
-  LMCFG_TRY(step("stop MC", c.stop_mc()));
-  mc_stopped = true;
-  bool rom_changed = false;
+  if (!keep_.empty() && !found) {
+    RecoveryRecord r{"default", opt_.port, c_.options().id, utc_now(), {}, {}};
+    for (const auto& [upid, value] : keep_) r.keep.push_back({upid, value});
+    LMCFG_TRY(save_recovery(opt_.recovery_path, r));
+    rep_.recovery_note = "recorded the values to keep in " + record_;
+  }
+  record_saved_ = !keep_.empty() || found.has_value();
+  return {};
+}
+
+Result<void> DefaultRun::default_layers() {
+  LMCFG_TRY(step("stop MC", c_.stop_mc()));
+  mc_stopped_ = true;
   for (int layer = 1; layer <= 4; ++layer) {
-    if (!opt.layers[static_cast<std::size_t>(layer - 1)]) continue;
+    if (!selected(layer)) continue;
     LMCFG_TRY(step("default " + std::string(lmcfg::layers::name(layer)) + " layer",
-                   c.default_layer(layer)));
-    rom_changed = true;
+                   c_.default_layer(layer)));
+    rom_changed_ = true;
   }
-  for (const auto& [upid, value] : keep) {
+  return {};
+}
+
+Result<void> DefaultRun::write_back_kept() {
+  for (const auto& [upid, value] : keep_) {
     char what[64];
     std::snprintf(what, sizeof what, "keep communication parameter %04Xh = %u", upid, value);
-    LMCFG_TRY(step(what, c.write_rom_confirmed(upid, value)));
+    LMCFG_TRY(step(what, c_.write_rom_confirmed(upid, value)));
   }
   // Every kept value read back (§10 05h 01h) before the record goes.
-  for (const auto& [upid, value] : keep) {
+  for (const auto& [upid, value] : keep_) {
     char what[64];
     std::snprintf(what, sizeof what, "read back kept %04Xh", upid);
-    auto back = c.read_rom(upid);
+    auto back = c_.read_rom(upid);
     if (back.ok() && *back != value) {
       back = Error(Errc::verify_mismatch, "the drive holds " + std::to_string(*back) +
                                               ", expected " + std::to_string(value));
     }
     LMCFG_TRY(step(what, back.ok() ? Result<void>() : Result<void>(std::move(back).error())));
-    rep.kept.push_back({upid, value});
+    rep_.kept.push_back({upid, value});
   }
-  if (record_saved) {
-    LMCFG_TRY(remove_recovery(opt.recovery_path));
-    rep.recovery_note += rep.recovery_note.empty() ? "" : "; ";
-    rep.recovery_note += "every kept value read back, record deleted";
+  if (record_saved_) {
+    LMCFG_TRY(remove_recovery(opt_.recovery_path));
+    rep_.recovery_note += rep_.recovery_note.empty() ? "" : "; ";
+    rep_.recovery_note += "every kept value read back, record deleted";
   }
-  if (opt.command_table) {
-    LMCFG_TRY(step("delete all command table entries", c.delete_all_ct()));
-    LMCFG_TRY(step("save command table to flash", c.save_ct()));
+  return {};
+}
+
+Result<void> DefaultRun::delete_tables() {
+  if (opt_.command_table) {
+    LMCFG_TRY(step("delete all command table entries", c_.delete_all_ct()));
+    LMCFG_TRY(step("save command table to flash", c_.save_ct()));
   }
-  if (opt.curves) {
-    LMCFG_TRY(step("delete all curves", c.delete_all_curves()));
-    LMCFG_TRY(step("save curves to flash", c.save_curves()));
+  if (opt_.curves) {
+    LMCFG_TRY(step("delete all curves", c_.delete_all_curves()));
+    LMCFG_TRY(step("save curves to flash", c_.save_curves()));
   }
-  LMCFG_TRY(step("start MC", c.start_mc()));
-  mc_stopped = false;
-  if (rom_changed) {
-    auto r = c.reset();
-    // The drive answers after its restart (§13.1), already with its switch
-    // settings; with the old link settings that answer can be lost.
-    if (!r.ok() && rep.link_may_change && r.error().code == make_error_code(Errc::timeout)) {
-      rep.done.push_back("reset (defaults become active; no answer with the old link settings)");
-    } else {
-      LMCFG_TRY(step("reset (defaults become active)", std::move(r)));
-    }
+  return {};
+}
+
+Result<void> DefaultRun::restart() {
+  LMCFG_TRY(step("start MC", c_.start_mc()));
+  mc_stopped_ = false;
+  if (!rom_changed_) return {};
+  auto r = c_.reset();
+  // The drive answers after its restart (§13.1), already with its switch
+  // settings; with the old link settings that answer can be lost.
+  if (!r.ok() && rep_.link_may_change && r.error().code == make_error_code(Errc::timeout)) {
+    rep_.done.push_back("reset (defaults become active; no answer with the old link settings)");
+    return {};
   }
-  return rep;
+  return step("reset (defaults become active)", std::move(r));
+}
+
+}  // namespace
+
+Result<DefaultReport> default_drive(client::Client& c, const DefaultOptions& opt,
+                                    const db::Database& db) {
+  DefaultRun run(c, opt, db);
+  LMCFG_TRY(run.read_before());
+  LMCFG_TRY(run.load_or_save_record());
+  LMCFG_TRY(run.default_layers());
+  LMCFG_TRY(run.write_back_kept());
+  LMCFG_TRY(run.delete_tables());
+  LMCFG_TRY(run.restart());
+  return std::move(run.report());
 }
 
 }  // namespace lmcfg::ops

@@ -367,23 +367,29 @@ Result<LinkPlan> plan_link_change(link::Session& session, const LinkMap& map, co
   return plan;
 }
 
-Result<LinkApplyReport> apply_link_change(link::Session& session, const LinkMap& map,
-                                          const LinkPlan& plan, const std::string& port,
-                                          const std::filesystem::path& recovery) {
-  auto& c = session.client();
-  const link::RelinkCandidate before{session.line(), c.options().id, c.options().checksum};
+namespace {
+
+// The recovery record of a link change (the values before it), saved before
+// the first write; returns the sentence that names it in every error.
+Result<std::string> save_link_record(const LinkPlan& plan, const std::string& port,
+                                     const std::filesystem::path& recovery,
+                                     const link::RelinkCandidate& before) {
   RecoveryRecord rec;
   rec.command = "link";
   rec.port = port;
   rec.macid = before.macid;
   rec.created = utc_now();
-  rec.expect = link_options_of(plan.after);
+  rec.expect = link::link_options_of(plan.after);
   for (const auto& w : plan.writes)
     if (w.old_value) rec.keep.push_back({w.upid, *w.old_value});
   LMCFG_TRY(save_recovery(recovery, rec));
-  const std::string kept = "the recovery record " + recovery.string() +
-                           " holds the previous values (" + link_options_of(before) + ")";
+  return "the recovery record " + recovery.string() + " holds the previous values (" +
+         link::link_options_of(before) + ")";
+}
 
+// MC stopped, the ROM values written, the drive reset.
+Result<void> write_and_reset(client::Client& c, const LinkPlan& plan,
+                             const link::RelinkCandidate& before, const std::string& kept) {
   // "For configuring it is needed to stop the MC-SW of the servo controller
   // first" (LinRS §10). "The configuration parameters affects the behavior of
   // its SW instance only after a restart of it. A Reset command or Power cycle
@@ -401,8 +407,9 @@ Result<LinkApplyReport> apply_link_change(link::Session& session, const LinkMap&
       (void)c.start_mc();  // leave MC as found; the written values act only after a reset
       e.message = "write " + std::to_string(i + 1) + " of " + std::to_string(plan.writes.size()) +
                   " (" + w.text + ") failed: " + e.message + ". The drive still talks at " +
-                  link_options_of(before) + " until its next reset, with " + std::to_string(i) +
-                  " value(s) written to ROM; " + kept + ": run the same command again";
+                  link::link_options_of(before) + " until its next reset, with " +
+                  std::to_string(i) + " value(s) written to ROM; " + kept +
+                  ": run the same command again";
       return e;
     }
   }
@@ -414,8 +421,14 @@ Result<LinkApplyReport> apply_link_change(link::Session& session, const LinkMap&
     e.message = "reset refused after writing every value: " + e.message + "; " + kept;
     return e;
   }
+  return {};
+}
 
-  LinkApplyReport rep;
+// The drive after its reset: at the planned settings, else found by scanning
+// its MACID; not found: the link goes back to the settings before.
+Result<void> find_again(link::Session& session, const LinkPlan& plan,
+                        const link::RelinkCandidate& before, const std::string& port,
+                        const std::string& kept, LinkApplyReport& rep) {
   link::ExpectedLink expected;
   expected.baud = plan.after.line.baud;
   expected.macid = plan.after.macid;
@@ -426,43 +439,46 @@ Result<LinkApplyReport> apply_link_change(link::Session& session, const LinkMap&
   auto found = link::reconnect(session, expected, o);
   if (found.ok()) {
     rep.relink = std::move(found).value();
-  } else {
-    if (found.error().code != ErrorClass::link_failure) return std::move(found).error();
-    // Scanning if it must: the drive's MACID at every rate, checksum variant and
-    // parity, in case the firmware reads a raw value otherwise than the map.
-    link::ScanOptions so;
-    so.first_id = so.last_id = plan.after.macid;
-    so.checksum = plan.after.checksum;
-    auto sc = link::scan(session, so);
-    if (sc.ok() && !sc->found.empty()) {
-      const link::FoundDrive& d = sc->found.front();
-      if (auto r = session.relink(d.line, d.id, d.checksum); !r.ok()) return std::move(r).error();
-      rep.scanned = true;
-      rep.relink.changed = true;
-      rep.relink.used = {d.line, d.id, d.checksum};
-      rep.relink.summary = "the drive answers at " + link_options_of(rep.relink.used) +
-                           " (found by scanning MACID " + hex(d.id, 2, "h") + ")";
-    } else {
-      (void)session.relink(before.line, before.macid, before.checksum);
-      std::string written;
-      for (const auto& w : plan.writes)
-        written +=
-            (written.empty() ? "" : ", ") + hex(w.upid, 4, "h") + " = " + std::to_string(w.value);
-      return Error(
-          Errc::timeout,
-          "written and reset, but the drive was not found again: " + found.error().message +
-              "; a scan of MACID " + hex(plan.after.macid, 2, "h") +
-              " at every rate, checksum and parity found nothing. The drive holds " + written +
-              " in ROM and restarted with them (expected: " + link_options_of(plan.after) + "); " +
-              kept + ". Find it with: lmcfg scan --port " + port);
-    }
+    return {};
   }
+  if (found.error().code != ErrorClass::link_failure) return std::move(found).error();
+  // Scanning if it must: the drive's MACID at every rate, checksum variant and
+  // parity, in case the firmware reads a raw value otherwise than the map.
+  link::ScanOptions so;
+  so.first_id = so.last_id = plan.after.macid;
+  so.checksum = plan.after.checksum;
+  auto sc = link::scan(session, so);
+  if (sc.ok() && !sc->found.empty()) {
+    const link::FoundDrive& d = sc->found.front();
+    if (auto r = session.relink(d.line, d.id, d.checksum); !r.ok()) return std::move(r).error();
+    rep.scanned = true;
+    rep.relink.changed = true;
+    rep.relink.used = {d.line, d.id, d.checksum};
+    rep.relink.summary = "the drive answers at " + link::link_options_of(rep.relink.used) +
+                         " (found by scanning MACID " + hex(d.id, 2, "h") + ")";
+    return {};
+  }
+  (void)session.relink(before.line, before.macid, before.checksum);
+  std::string written;
+  for (const auto& w : plan.writes)
+    written +=
+        (written.empty() ? "" : ", ") + hex(w.upid, 4, "h") + " = " + std::to_string(w.value);
+  return Error(
+      Errc::timeout,
+      "written and reset, but the drive was not found again: " + found.error().message +
+          "; a scan of MACID " + hex(plan.after.macid, 2, "h") +
+          " at every rate, checksum and parity found nothing. The drive holds " + written +
+          " in ROM and restarted with them (expected: " + link::link_options_of(plan.after) +
+          "); " + kept + ". Find it with: lmcfg scan --port " + port);
+}
 
-  // Verify: the ROM values the drive now holds.
+// Verify: the ROM values the drive now holds.
+Result<void> read_back(link::Session& session, const LinkMap& map, const LinkPlan& plan,
+                       const std::string& kept, LinkApplyReport& rep) {
   auto after = read_link_settings(session, map);
   if (!after.ok()) {
     Error e = std::move(after).error();
-    e.message = "the drive answers at " + link_options_of(rep.relink.used) +
+    e.message = "the drive answers at " + link::link_options_of(rep.relink.used) +
                 " but reading its settings back failed: " + e.message + "; " + kept;
     return e;
   }
@@ -471,11 +487,26 @@ Result<LinkApplyReport> apply_link_change(link::Session& session, const LinkMap&
     const LinkValue& v = rep.after[w.setting];
     if (!v.rom || *v.rom != w.value)
       return Error(Errc::verify_mismatch,
-                   "the drive answers at " + link_options_of(rep.relink.used) + " but " +
+                   "the drive answers at " + link::link_options_of(rep.relink.used) + " but " +
                        hex(w.upid, 4, "h") + " reads back " +
                        (v.rom ? std::to_string(*v.rom) : std::string("nothing")) + ", not " +
                        std::to_string(w.value) + "; " + kept);
   }
+  return {};
+}
+
+}  // namespace
+
+Result<LinkApplyReport> apply_link_change(link::Session& session, const LinkMap& map,
+                                          const LinkPlan& plan, const std::string& port,
+                                          const std::filesystem::path& recovery) {
+  auto& c = session.client();
+  const link::RelinkCandidate before{session.line(), c.options().id, c.options().checksum};
+  LMCFG_ASSIGN_OR_RETURN(const std::string kept, save_link_record(plan, port, recovery, before));
+  LMCFG_TRY(write_and_reset(c, plan, before, kept));
+  LinkApplyReport rep;
+  LMCFG_TRY(find_again(session, plan, before, port, kept, rep));
+  LMCFG_TRY(read_back(session, map, plan, kept, rep));
   LMCFG_TRY(remove_recovery(recovery));
   return rep;
 }

@@ -78,38 +78,38 @@ std::string field(const httplib::Params& p, const char* key) {
   return it == p.end() ? "" : it->second;
 }
 
-}  // namespace
+// The signed-in user, or the answer that sends the browser to sign in.
+std::optional<ConsoleUser> signed_in(Console* c, const httplib::Request& req,
+                                     httplib::Response& res) {
+  auto u = c->user(cookie(req, kSessionCookie));
+  // After signing in, back to the page asked for (a form's POST: the overview).
+  if (!u)
+    see_other(res, "/signin?next=" + url_encode(req.method == "GET" ? path_and_query(req) : "/"));
+  return u;
+}
 
-void register_console_routes(httplib::Server& server, Console& console) {
-  Console* c = &console;
-  // The signed-in user, or the answer that sends the browser to sign in.
-  auto who = [c](const httplib::Request& req, httplib::Response& res) {
-    auto u = c->user(cookie(req, kSessionCookie));
-    // After signing in, back to the page asked for (a form's POST: the overview).
-    if (!u)
-      see_other(res, "/signin?next=" + url_encode(req.method == "GET" ? path_and_query(req) : "/"));
-    return u;
-  };
-  // A POST's user: signed in, with the form's CSRF token; an operator for
-  // anything that changes something.
-  auto poster = [c, who](const httplib::Request& req, httplib::Response& res,
-                         const httplib::Params& f) -> std::optional<ConsoleUser> {
-    auto u = who(req, res);
-    if (!u) return u;
-    if (!Console::csrf_ok(*u, field(f, "csrf"))) {
-      page(res, c->error_page(&*u, 403, "Refused",
-                              "the form's CSRF token is missing or not this session's: reload "
-                              "the page and try again"));
-      return std::nullopt;
-    }
-    if (u->role != Role::operator_) {
-      page(res, c->error_page(&*u, 403, "Refused",
-                              "'" + u->who + "' has role viewer: this needs role operator"));
-      return std::nullopt;
-    }
-    return u;
-  };
+// A POST's user: signed in, with the form's CSRF token; an operator for
+// anything that changes something.
+std::optional<ConsoleUser> operator_post(Console* c, const httplib::Request& req,
+                                         httplib::Response& res, const httplib::Params& f) {
+  auto u = signed_in(c, req, res);
+  if (!u) return u;
+  if (!Console::csrf_ok(*u, field(f, "csrf"))) {
+    page(res, c->error_page(&*u, 403, "Refused",
+                            "the form's CSRF token is missing or not this session's: reload "
+                            "the page and try again"));
+    return std::nullopt;
+  }
+  if (u->role != Role::operator_) {
+    page(res, c->error_page(&*u, 403, "Refused",
+                            "'" + u->who + "' has role viewer: this needs role operator"));
+    return std::nullopt;
+  }
+  return u;
+}
 
+// The stylesheet, the script and the (absent) icon.
+void register_assets(httplib::Server& server) {
   server.Get("/console.css", [](const httplib::Request&, httplib::Response& res) {
     headers(res, Console::content_security_policy(), "max-age=300");
     res.set_content(std::string(Console::stylesheet()), "text/css; charset=utf-8");
@@ -124,6 +124,9 @@ void register_console_routes(httplib::Server& server, Console& console) {
     headers(res);
     res.status = 204;
   });
+}
+
+void register_signin(httplib::Server& server, Console* c) {
   server.Get("/signin", [c](const httplib::Request& req, httplib::Response& res) {
     if (!c->sign_in_needed()) return see_other(res, "/");
     page(res, c->signin_page("", local_path(req.get_param_value("next"))));
@@ -141,9 +144,9 @@ void register_console_routes(httplib::Server& server, Console& console) {
                                      std::to_string(s->max_age));
     see_other(res, next);
   });
-  server.Post("/signout", [c, who](const httplib::Request& req, httplib::Response& res) {
+  server.Post("/signout", [c](const httplib::Request& req, httplib::Response& res) {
     const auto f = form(req);
-    auto u = who(req, res);
+    auto u = signed_in(c, req, res);
     if (!u) return;
     if (!Console::csrf_ok(*u, field(f, "csrf")))
       return page(res, c->error_page(&*u, 403, "Refused",
@@ -153,22 +156,36 @@ void register_console_routes(httplib::Server& server, Console& console) {
                    std::string(kSessionCookie) + "=; HttpOnly; SameSite=Strict; Path=/; Max-Age=0");
     see_other(res, "/signin");
   });
-  server.Get("/", [c, who](const httplib::Request& req, httplib::Response& res) {
-    if (auto u = who(req, res))
+}
+
+// The pages that only show something.
+void register_pages(httplib::Server& server, Console* c) {
+  server.Get("/", [c](const httplib::Request& req, httplib::Response& res) {
+    if (auto u = signed_in(c, req, res))
       page(res, c->overview(*u, req.get_param_value("line"), req.get_param_value("status")));
   });
-  server.Get("/position", [c, who](const httplib::Request& req, httplib::Response& res) {
-    if (auto u = who(req, res)) page(res, c->position(*u, req.get_param_value("name")));
+  server.Get("/position", [c](const httplib::Request& req, httplib::Response& res) {
+    if (auto u = signed_in(c, req, res)) page(res, c->position(*u, req.get_param_value("name")));
   });
-  server.Get("/job", [c, who](const httplib::Request& req, httplib::Response& res) {
-    if (auto u = who(req, res))
+  server.Get("/job", [c](const httplib::Request& req, httplib::Response& res) {
+    if (auto u = signed_in(c, req, res))
       page(res, c->job_page(*u, req.get_param_value("id"), req.get_param_value("name")));
   });
-  // A form that starts something: the page it leads to (303), or the failure as a page.
-  auto action = [c, poster](const char* title, auto start) {
-    return [c, poster, title, start](const httplib::Request& req, httplib::Response& res) {
+  server.Get("/replace", [c](const httplib::Request& req, httplib::Response& res) {
+    if (auto u = signed_in(c, req, res))
+      page(res, c->replace_page(*u, req.get_param_value("name"), req.get_param_value("rev")));
+  });
+  server.Get("/plan", [c](const httplib::Request& req, httplib::Response& res) {
+    if (auto u = signed_in(c, req, res)) page(res, c->plan_page(*u, req.get_param_value("id")));
+  });
+}
+
+// The forms that start something: the page each leads to (303), or the failure as a page.
+void register_actions(httplib::Server& server, Console* c) {
+  auto action = [c](const char* title, auto start) {
+    return [c, title, start](const httplib::Request& req, httplib::Response& res) {
       const auto f = form(req);
-      auto u = poster(req, res, f);
+      auto u = operator_post(c, req, res, f);
       if (!u) return;
       Result<std::string> location = start(*u, f);
       location.ok() ? see_other(res, *location)
@@ -182,10 +199,6 @@ void register_console_routes(httplib::Server& server, Console& console) {
                        LMCFG_ASSIGN_OR_RETURN(auto id, c->start_backup(u, name));
                        return "/job?id=" + url_encode(id) + "&name=" + url_encode(name);
                      }));
-  server.Get("/replace", [c, who](const httplib::Request& req, httplib::Response& res) {
-    if (auto u = who(req, res))
-      page(res, c->replace_page(*u, req.get_param_value("name"), req.get_param_value("rev")));
-  });
   // Planning reads the drive: a POST (it makes a plan on the server), then
   // the plan's own page.
   server.Post(
@@ -194,9 +207,6 @@ void register_console_routes(httplib::Server& server, Console& console) {
         LMCFG_ASSIGN_OR_RETURN(auto id, c->make_plan(u, field(f, "name"), field(f, "rev")));
         return "/plan?id=" + url_encode(id);
       }));
-  server.Get("/plan", [c, who](const httplib::Request& req, httplib::Response& res) {
-    if (auto u = who(req, res)) page(res, c->plan_page(*u, req.get_param_value("id")));
-  });
   server.Post("/execute",
               action("Not restored",
                      [c](const ConsoleUser& u, const httplib::Params& f) -> Result<std::string> {
@@ -206,10 +216,13 @@ void register_console_routes(httplib::Server& server, Console& console) {
                                                      field(f, "skip_incompatible") == "1"));
                        return "/job?id=" + url_encode(id) + "&name=" + url_encode(field(f, "name"));
                      }));
-  // The report's pages: a revision's, and the diff of two (or of one and the drive).
-  auto report_route = [c, who](const char* title, auto render) {
-    return [c, who, title, render](const httplib::Request& req, httplib::Response& res) {
-      auto u = who(req, res);
+}
+
+// The report's pages: a revision's, and the diff of two (or of one and the drive).
+void register_reports(httplib::Server& server, Console* c) {
+  auto report_route = [c](const char* title, auto render) {
+    return [c, title, render](const httplib::Request& req, httplib::Response& res) {
+      auto u = signed_in(c, req, res);
       if (!u) return;
       auto html = render(req);
       html.ok() ? report(res, *html) : page(res, c->failure_page(*u, title, html.error()));
@@ -222,6 +235,16 @@ void register_console_routes(httplib::Server& server, Console& console) {
                return c->diff(req.get_param_value("name"), req.get_param_value("from"),
                               req.get_param_value("to"));
              }));
+}
+
+}  // namespace
+
+void register_console_routes(httplib::Server& server, Console& console) {
+  register_assets(server);
+  register_signin(server, &console);
+  register_pages(server, &console);
+  register_actions(server, &console);
+  register_reports(server, &console);
 }
 
 }  // namespace lmcfg::serve

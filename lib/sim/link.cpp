@@ -59,19 +59,6 @@ std::vector<TimedAnswer> Bus::transmit(ByteView bytes, std::int64_t now_ns) {
   return out;
 }
 
-std::vector<Fault> FaultPlan::take(std::size_t exchange, ByteView request) {
-  std::vector<Fault> out;
-  if (auto it = planned_.find(exchange); it != planned_.end()) {
-    out = std::move(it->second);
-    planned_.erase(it);
-  }
-  if (cb_) {
-    auto more = cb_(exchange, request);
-    out.insert(out.end(), more.begin(), more.end());
-  }
-  return out;
-}
-
 SimLink::SimLink(std::shared_ptr<Drive> drive) : bus_(std::make_shared<Bus>(drive->state().link)) {
   bus_->add(std::move(drive));
 }
@@ -110,112 +97,58 @@ std::string SimLink::describe() const {
   return s;
 }
 
+namespace {
+// The addressed drive: the ID byte of the first frame in the request.
+std::shared_ptr<Drive> addressed(const Bus& bus, ByteView bytes) {
+  for (std::size_t i = 0; i + 1 < bytes.size(); ++i)
+    if (bytes[i] == codec::kStartHeader) return bus.drive(bytes[i + 1]);
+  return nullptr;
+}
+}  // namespace
+
 Result<void> SimLink::write(ByteView bytes) {
   if (closed_) return closed_error();
   const std::size_t exchange = stats_.write_calls++;
   auto faults = faults_.take(exchange, bytes);
-  auto& fc = faults_.counters();
+  count_request(bytes);
   auto& clock = bus_->clock();
+  clock.advance_ns(wire_time_ns(bytes.size(), bus_->line()));
+  const std::int64_t now = clock.now_ns();
 
+  const RequestFaults rf =
+      apply_request_faults(faults, *bus_, addressed(*bus_, bytes), now, faults_.counters());
+  if (rf.close_link) {
+    closed_ = true;
+    return closed_error();
+  }
+  if (rf.drop_request) return {};
+  for (auto& a : bus_->transmit(bytes, now)) {
+    Bytes prefix;
+    if (apply_answer_faults(rf.answer_faults, *bus_, a, prefix, faults_.counters()))
+      put_on_line(std::move(prefix), a);
+  }
+  return {};
+}
+
+// The master's request as the line statistics count it.
+void SimLink::count_request(ByteView bytes) {
   stats_.request_bytes += bytes.size();
   if (!bus_->drives().empty()) monitor_.set_checksum(bus_->drives().front()->state().checksum);
   monitor_.feed(bytes);
   while (auto r = monitor_.next())
     if (r->ok()) ++stats_.request_telegrams;
+}
 
-  clock.advance_ns(wire_time_ns(bytes.size(), bus_->line()));
-  const std::int64_t now = clock.now_ns();
-
-  // The addressed drive: the ID byte of the first frame in the request.
-  std::shared_ptr<Drive> target;
-  for (std::size_t i = 0; i + 1 < bytes.size(); ++i)
-    if (bytes[i] == codec::kStartHeader) {
-      target = bus_->drive(bytes[i + 1]);
-      break;
-    }
-
-  bool drop_request = false;
-  std::vector<const Fault*> answer_faults;
-  for (const auto& f : faults) {
-    switch (f.kind) {
-      case Fault::Kind::close_link:
-        closed_ = true;
-        ++fc.link_closures;
-        return closed_error();
-      case Fault::Kind::drop_request:
-        drop_request = true;
-        ++fc.dropped_requests;
-        break;
-      case Fault::Kind::reset_drive:
-        for (const auto& d : bus_->drives())
-          if (!target || d == target) d->reset(now, !f.instant_reset);
-        ++fc.drive_resets;
-        break;
-      case Fault::Kind::slow_flash:
-        for (const auto& d : bus_->drives())
-          if (!target || d == target) d->make_next_flash_save_slow();
-        ++fc.slow_flash_saves;
-        break;
-      default:
-        answer_faults.push_back(&f);
-        break;
-    }
-  }
-  if (drop_request) return {};
-
-  for (auto& a : bus_->transmit(bytes, now)) {
-    bool dropped = false;
-    Bytes prefix;
-    for (const Fault* f : answer_faults) {
-      switch (f->kind) {
-        case Fault::Kind::drop_answer:
-          dropped = true;
-          ++fc.dropped_answers;
-          break;
-        case Fault::Kind::corrupt_answer:
-          if (!a.bytes.empty()) {
-            const std::size_t i =
-                f->byte_index < a.bytes.size() ? f->byte_index : a.bytes.size() / 2;
-            a.bytes[i] = static_cast<std::uint8_t>(a.bytes[i] ^ f->xor_mask);
-            ++fc.corrupted_answers;
-          }
-          break;
-        case Fault::Kind::delay_answer:
-          a.ready_ns += static_cast<std::int64_t>(f->delay_ms) * 1'000'000;
-          ++fc.delayed_answers;
-          break;
-        case Fault::Kind::garbage_burst:
-          prefix.insert(prefix.end(), f->garbage.begin(), f->garbage.end());
-          ++fc.garbage_bursts;
-          break;
-        case Fault::Kind::wrong_id: {
-          auto d = bus_->drive(a.from);
-          const auto cfg = d ? d->state().checksum : codec::ChecksumConfig{};
-          auto t = codec::decode(a.bytes, cfg);
-          if (t.ok()) {
-            t->id = f->id != 0 ? f->id : static_cast<std::uint8_t>(a.from ^ 0x01);
-            if (auto enc = codec::encode(*t, cfg); enc.ok()) a.bytes = std::move(enc).value();
-          } else if (a.bytes.size() > 1) {
-            a.bytes[1] = f->id != 0 ? f->id : static_cast<std::uint8_t>(a.from ^ 0x01);
-          }
-          ++fc.wrong_id_answers;
-          break;
-        }
-        default:
-          break;
-      }
-    }
-    if (dropped) continue;
-    Chunk c;
-    c.bytes = std::move(prefix);
-    c.bytes.insert(c.bytes.end(), a.bytes.begin(), a.bytes.end());
-    c.start_ns = std::max(a.ready_ns, line_free_ns_);
-    line_free_ns_ = c.start_ns + wire_time_ns(c.bytes.size(), bus_->line());
-    ++stats_.answer_telegrams;
-    stats_.answer_bytes += c.bytes.size();
-    pending_.push_back(std::move(c));
-  }
-  return {};
+// The answer goes on the line when it is ready and the line is free.
+void SimLink::put_on_line(Bytes prefix, const TimedAnswer& a) {
+  Chunk c;
+  c.bytes = std::move(prefix);
+  c.bytes.insert(c.bytes.end(), a.bytes.begin(), a.bytes.end());
+  c.start_ns = std::max(a.ready_ns, line_free_ns_);
+  line_free_ns_ = c.start_ns + wire_time_ns(c.bytes.size(), bus_->line());
+  ++stats_.answer_telegrams;
+  stats_.answer_bytes += c.bytes.size();
+  pending_.push_back(std::move(c));
 }
 
 Result<Bytes> SimLink::read_some(transport::Millis timeout) {

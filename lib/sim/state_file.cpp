@@ -380,6 +380,64 @@ void read_tables_and_log(const json& j, DriveState& s) {
   }
 }
 
+// "options" of the state file.
+json options_json(const Options& O) {
+  json j = {{"empty_list_state", hex8(O.empty_list_state)},
+            {"empty_list_upid", hex16(O.empty_list_upid)},
+            {"missing_curve_zero_sizes", O.missing_curve_zero_sizes},
+            {"write_policy", policy_name(O.write_policy)},
+            {"reject_state", hex8(O.reject_state)},
+            {"flash_refused_state", hex8(O.flash_refused_state)},
+            {"missing_object_state", hex8(O.missing_object_state)},
+            {"respond_on_checksum_error", O.respond_on_checksum_error},
+            {"respond_on_end_missing", O.respond_on_end_missing},
+            {"reload_tables_on_start", O.reload_tables_on_start},
+            {"ignore_while_busy", O.ignore_while_busy}};
+  j["missing_ct_entry_zero_size"] = O.missing_ct_entry_zero_size;
+  j["empty_list_echo_upid"] = O.empty_list_echo_upid;
+  if (O.refusal_fields != RefusalFields::echo)
+    j["refusal_fields"] = O.refusal_fields == RefusalFields::zeros ? "zeros" : "arbitrary";
+  j["refuse_config_while_mc_runs"] = O.refuse_config_while_mc_runs;
+  j["config_refused_state"] = hex8(O.config_refused_state);
+  if (O.baud_codes != Options::default_baud_codes()) {
+    json codes = json::object();
+    for (const auto& [code, rate] : O.baud_codes) codes[std::to_string(code)] = rate;
+    j["baud_codes"] = std::move(codes);
+  }
+  auto comm_param = [&](const char* key, const std::optional<Options::CommParam>& p) {
+    if (!p) return;
+    json codes = json::object();
+    for (const auto& [code, name] : p->codes) codes[std::to_string(code)] = name;
+    j[key] = {{"upid", hex16(p->upid)}, {"codes", std::move(codes)}};
+  };
+  comm_param("checksum_param", O.checksum_param);
+  comm_param("parity_param", O.parity_param);
+  comm_param("stop_bits_param", O.stop_bits_param);
+  if (O.silent_after_reset) j["silent_after_reset"] = true;
+  return j;
+}
+
+// "parameters" of the state file.
+json parameters_json(const std::map<std::uint16_t, Parameter>& ps) {
+  json params = json::array();
+  for (const auto& [upid, p] : ps) {
+    json q = {{"upid", hex16(upid)}};
+    if (!p.name.empty()) q["name"] = p.name;
+    if (auto t = type_from_code(p.type))
+      q["type"] = std::string(type_name(*t));
+    else
+      q["type"] = p.type;  // a code §10 does not list, kept as the number
+    q["address_usage"] = hex16(p.address_usage);
+    q["min"] = p.min;
+    q["max"] = p.max;
+    q["default"] = p.def;
+    q["rom"] = p.rom;
+    q["ram"] = p.ram;
+    params.push_back(std::move(q));
+  }
+  return params;
+}
+
 }  // namespace
 
 json to_json(const DriveState& s) {
@@ -411,57 +469,8 @@ json to_json(const DriveState& s) {
                     {"flash_save", T.flash_save_us}, {"flash_save_max", T.flash_save_max_us},
                     {"reset", T.reset_us},           {"start", T.start_us},
                     {"rx_timeout", T.rx_timeout_us}};
-  const auto& O = s.options;
-  j["options"] = {{"empty_list_state", hex8(O.empty_list_state)},
-                  {"empty_list_upid", hex16(O.empty_list_upid)},
-                  {"missing_curve_zero_sizes", O.missing_curve_zero_sizes},
-                  {"write_policy", policy_name(O.write_policy)},
-                  {"reject_state", hex8(O.reject_state)},
-                  {"flash_refused_state", hex8(O.flash_refused_state)},
-                  {"missing_object_state", hex8(O.missing_object_state)},
-                  {"respond_on_checksum_error", O.respond_on_checksum_error},
-                  {"respond_on_end_missing", O.respond_on_end_missing},
-                  {"reload_tables_on_start", O.reload_tables_on_start},
-                  {"ignore_while_busy", O.ignore_while_busy}};
-  j["options"]["missing_ct_entry_zero_size"] = O.missing_ct_entry_zero_size;
-  j["options"]["empty_list_echo_upid"] = O.empty_list_echo_upid;
-  if (O.refusal_fields != RefusalFields::echo)
-    j["options"]["refusal_fields"] =
-        O.refusal_fields == RefusalFields::zeros ? "zeros" : "arbitrary";
-  j["options"]["refuse_config_while_mc_runs"] = O.refuse_config_while_mc_runs;
-  j["options"]["config_refused_state"] = hex8(O.config_refused_state);
-  if (O.baud_codes != Options::default_baud_codes()) {
-    json codes = json::object();
-    for (const auto& [code, rate] : O.baud_codes) codes[std::to_string(code)] = rate;
-    j["options"]["baud_codes"] = std::move(codes);
-  }
-  auto comm_param = [&](const char* key, const std::optional<Options::CommParam>& p) {
-    if (!p) return;
-    json codes = json::object();
-    for (const auto& [code, name] : p->codes) codes[std::to_string(code)] = name;
-    j["options"][key] = {{"upid", hex16(p->upid)}, {"codes", std::move(codes)}};
-  };
-  comm_param("checksum_param", O.checksum_param);
-  comm_param("parity_param", O.parity_param);
-  comm_param("stop_bits_param", O.stop_bits_param);
-  if (O.silent_after_reset) j["options"]["silent_after_reset"] = true;
-  json params = json::array();
-  for (const auto& [upid, p] : s.params) {
-    json q = {{"upid", hex16(upid)}};
-    if (!p.name.empty()) q["name"] = p.name;
-    if (auto t = type_from_code(p.type))
-      q["type"] = std::string(type_name(*t));
-    else
-      q["type"] = p.type;  // a code §10 does not list, kept as the number
-    q["address_usage"] = hex16(p.address_usage);
-    q["min"] = p.min;
-    q["max"] = p.max;
-    q["default"] = p.def;
-    q["rom"] = p.rom;
-    q["ram"] = p.ram;
-    params.push_back(std::move(q));
-  }
-  j["parameters"] = std::move(params);
+  j["options"] = options_json(s.options);
+  j["parameters"] = parameters_json(s.params);
   j["curves"] = {{"flash", curves_json(s.curves_flash)}, {"ram", curves_json(s.curves_ram)}};
   j["command_table"] = {{"flash", ct_json(s.ct_flash)}, {"ram", ct_json(s.ct_ram)}};
   json log = json::array();

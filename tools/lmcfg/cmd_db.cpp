@@ -405,6 +405,61 @@ int run_merge(MergeCli& o) {
   return kOk;
 }
 
+// lmcfg db scan: a profile learnt from a drive.
+void add_scan(CLI::App* db, int& exit_code) {
+  auto so = std::make_shared<ScanCli>();
+  auto* scan = db->add_subcommand(
+      "scan", "Learn a new firmware profile from a drive: UPID list, min/max/default");
+  scan->footer(
+      "Examples:\n"
+      "  lmcfg db scan --port /dev/ttyUSB0 --profile e1100-fw-x --names-from e1100-mc-linrs -o "
+      "scan-e1100-fw-x.tsv\n"
+      "  lmcfg db scan --port sim:drive.json --profile e1100-fw-x -o scan.tsv --merge-into "
+      "upid-db\n"
+      "Walks the UPID list of each layer (address usage, type) and asks min, max and default of "
+      "every UPID;\n"
+      "names, paths, units, scales, enum labels and the comm flag come from the database row of "
+      "the same UPID.\n"
+      "Writes a upid-db fragment (upid-db/FORMAT.md; docs/upid-db.md \"Scanning a drive\") "
+      "atomically. Progress is\n"
+      "kept in OUTPUT.partial: an interrupted scan continues when the same command is run again "
+      "(--restart: start\n"
+      "over). Sends read telegrams only. Exit codes as for backup: 2 bad input, 4 link failure, 5 "
+      "drive refused.");
+  add_link_options(scan, so->common);
+  add_output_options(scan, so->common);
+  scan->add_option("--profile", so->profile, "id of the new profile, e.g. e1100-fw-x")->required();
+  scan->add_option("-o,--output", so->output, "fragment file to write (.tsv)")->required();
+  scan->add_option("--family", so->family, "profile family (default: that of --names-from)");
+  scan->add_option("--software", so->software,
+                   "firmware / interface software (default: that of --names-from)");
+  scan->add_option("--version", so->version, "firmware version text");
+  scan->add_option("--description", so->description,
+                   "profile description (default: a summary of the scan)");
+  scan->add_option("--names-from", so->names_from,
+                   "known profile whose rows give names (default: any row of the UPID)");
+  scan->add_option("--layers", so->layers, "layers to scan: os,mc,intf,appl")
+      ->capture_default_str();
+  scan->add_option("--date", so->date, "date in the provenance (default: today, UTC)");
+  scan->add_option("--merge-into", so->merge_into,
+                   "also merge the fragment into this upid-db source directory");
+  scan->add_flag("--restart", so->restart, "ignore OUTPUT.partial and scan from the start");
+  scan->callback([so, &exit_code] { exit_code = run_scan(*so); });
+}
+
+// lmcfg db merge: a scan's fragment into the upid-db sources.
+void add_merge(CLI::App* db, int& exit_code) {
+  auto mo = std::make_shared<MergeCli>();
+  auto* merge = db->add_subcommand(
+      "merge",
+      "Merge a `db scan` fragment into the upid-db sources (profiles.tsv, parameters.tsv)");
+  merge->add_option("fragment", mo->fragment, "fragment written by lmcfg db scan")->required();
+  merge->add_option("--into", mo->into, "upid-db source directory")->capture_default_str();
+  merge->add_flag("--quiet,-q", mo->common.quiet, "no summary");
+  merge->add_flag("--json", mo->common.json, "machine-readable report on stdout");
+  merge->callback([mo, &exit_code] { exit_code = run_merge(*mo); });
+}
+
 void setup(CLI::App& app, int& exit_code) {
   auto o = std::make_shared<DbOptions>();
   auto* db = app.add_subcommand(
@@ -457,54 +512,8 @@ void setup(CLI::App& app, int& exit_code) {
   info->callback([o, &exit_code] { exit_code = run_info(*o); });
   for (auto* s : {show, find, errors, commands, devicenet, info}) common(s);
 
-  auto so = std::make_shared<ScanCli>();
-  auto* scan = db->add_subcommand(
-      "scan", "Learn a new firmware profile from a drive: UPID list, min/max/default");
-  scan->footer(
-      "Examples:\n"
-      "  lmcfg db scan --port /dev/ttyUSB0 --profile e1100-fw-x --names-from e1100-mc-linrs -o "
-      "scan-e1100-fw-x.tsv\n"
-      "  lmcfg db scan --port sim:drive.json --profile e1100-fw-x -o scan.tsv --merge-into "
-      "upid-db\n"
-      "Walks the UPID list of each layer (address usage, type) and asks min, max and default of "
-      "every UPID;\n"
-      "names, paths, units, scales, enum labels and the comm flag come from the database row of "
-      "the same UPID.\n"
-      "Writes a upid-db fragment (upid-db/FORMAT.md; docs/upid-db.md \"Scanning a drive\") "
-      "atomically. Progress is\n"
-      "kept in OUTPUT.partial: an interrupted scan continues when the same command is run again "
-      "(--restart: start\n"
-      "over). Sends read telegrams only. Exit codes as for backup: 2 bad input, 4 link failure, 5 "
-      "drive refused.");
-  add_link_options(scan, so->common);
-  add_output_options(scan, so->common);
-  scan->add_option("--profile", so->profile, "id of the new profile, e.g. e1100-fw-x")->required();
-  scan->add_option("-o,--output", so->output, "fragment file to write (.tsv)")->required();
-  scan->add_option("--family", so->family, "profile family (default: that of --names-from)");
-  scan->add_option("--software", so->software,
-                   "firmware / interface software (default: that of --names-from)");
-  scan->add_option("--version", so->version, "firmware version text");
-  scan->add_option("--description", so->description,
-                   "profile description (default: a summary of the scan)");
-  scan->add_option("--names-from", so->names_from,
-                   "known profile whose rows give names (default: any row of the UPID)");
-  scan->add_option("--layers", so->layers, "layers to scan: os,mc,intf,appl")
-      ->capture_default_str();
-  scan->add_option("--date", so->date, "date in the provenance (default: today, UTC)");
-  scan->add_option("--merge-into", so->merge_into,
-                   "also merge the fragment into this upid-db source directory");
-  scan->add_flag("--restart", so->restart, "ignore OUTPUT.partial and scan from the start");
-  scan->callback([so, &exit_code] { exit_code = run_scan(*so); });
-
-  auto mo = std::make_shared<MergeCli>();
-  auto* merge = db->add_subcommand(
-      "merge",
-      "Merge a `db scan` fragment into the upid-db sources (profiles.tsv, parameters.tsv)");
-  merge->add_option("fragment", mo->fragment, "fragment written by lmcfg db scan")->required();
-  merge->add_option("--into", mo->into, "upid-db source directory")->capture_default_str();
-  merge->add_flag("--quiet,-q", mo->common.quiet, "no summary");
-  merge->add_flag("--json", mo->common.json, "machine-readable report on stdout");
-  merge->callback([mo, &exit_code] { exit_code = run_merge(*mo); });
+  add_scan(db, exit_code);
+  add_merge(db, exit_code);
 }
 }  // namespace
 

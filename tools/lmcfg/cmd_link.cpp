@@ -78,6 +78,139 @@ fleet::LinkKeys keys_of(const link::RelinkCandidate& c) {
   return k;
 }
 
+// The inventory of --inventory (with --drive), or none.
+Result<std::optional<fleet::Inventory>> inventory_of(const LinkCli& o) {
+  if (o.drive.empty() != o.inventory.empty())
+    return Error(Errc::invalid_argument,
+                 "--inventory and --drive go together (the inventory's keys of "
+                 "that drive's line are printed); nothing written");
+  if (o.inventory.empty()) return std::optional<fleet::Inventory>();
+  LMCFG_ASSIGN_OR_RETURN(auto inv, fleet::load_inventory(o.inventory));
+  if (!inv.find_drive(o.drive))
+    return Error(Errc::invalid_argument,
+                 o.inventory + ": no drive is called '" + o.drive + "' (--drive)");
+  return std::optional<fleet::Inventory>(std::move(inv));
+}
+
+// What lmcfg link prints: the drive's settings, the plan, the inventory's
+// keys, as text or as one JSON document.
+struct LinkReport {
+  LinkReport(const LinkCli& opt, const ops::LinkState& now)
+      : o(opt), drive("drive " + hex(now.in_use.macid, 2, "h") + " on " + opt.common.port) {
+    j = report::link_json(o.common.port, now);
+  }
+  void state(const ops::LinkState& st, const char* title) const {
+    std::printf("%s %s, talking at: %s\n", drive.c_str(), title,
+                link::link_options_of(st.in_use).c_str());
+    for (std::size_t i = 0; i < ops::kLinkSettings; ++i)
+      std::printf("  %s\n", value_line(static_cast<ops::LinkSetting>(i), st.values[i]).c_str());
+  }
+  void set_plan(const ops::LinkPlan& p) {
+    plan = &p;
+    report::add_link_plan(j, p);
+  }
+  void print_plan() const {
+    std::printf("%s: write to ROM (MC stopped, seed 003 §10), then reset (§13.1):\n",
+                drive.c_str());
+    for (const auto& w : plan->writes) std::printf("  %s\n", w.text.c_str());
+  }
+  void print_keys(const char* verb) const {
+    if (!edit) {
+      std::printf(
+          "fleet: for an inventory, run with --inventory FILE --drive NAME to see the keys "
+          "to change\n");
+      return;
+    }
+    if (edit->keys.empty()) std::printf("inventory: no key %s to change\n", verb);
+    for (const auto& k : edit->keys) std::printf("inventory: %s\n", k.c_str());
+    for (const auto& w : edit->warnings)
+      std::fprintf(stderr, "lmcfg link: warning: %s\n", w.c_str());
+  }
+  void json_keys() {
+    if (!edit) return;
+    j["inventory"] = edit->keys;
+    j["warnings"] = edit->warnings;
+  }
+  // "outcome" comes before what the outcome adds.
+  void outcome(const char* what) { j["outcome"] = what; }
+  void print_json() const { std::printf("%s\n", j.dump(2).c_str()); }
+
+  const LinkCli& o;
+  const std::string drive;
+  report::Json j;
+  const ops::LinkPlan* plan = nullptr;
+  std::optional<fleet::InventoryEdit> edit;
+};
+
+// No --set-*: the settings as the ROM holds them.
+int show(const SessionHandle& session, LinkReport& r, const ops::LinkState& now) {
+  auto closed = session->close();
+  if (!closed.ok()) return session.fail("link", closed.error());
+  if (r.o.common.json) {
+    r.outcome("shown");
+    r.print_json();
+  } else {
+    r.state(now, "(ROM values)");
+  }
+  return kOk;
+}
+
+// A plan that writes nothing, or --dry-run: the plan, and nothing written.
+int without_writing(const SessionHandle& session, LinkReport& r) {
+  auto closed = session->close();
+  if (!closed.ok()) return session.fail("link", closed.error());
+  if (r.plan->nothing_to_do()) {
+    if (r.o.common.json) {
+      r.outcome("nothing_to_do");
+      r.print_json();
+    } else {
+      std::printf("nothing to do: %s already holds these settings\n", r.drive.c_str());
+    }
+    return kOk;
+  }
+  if (r.o.common.json) {
+    r.outcome("dry_run");
+    r.json_keys();
+    r.print_json();
+  } else {
+    r.print_plan();
+    std::printf("link options after the reset: %s\n", link::link_options_of(r.plan->after).c_str());
+    r.print_keys("would have");
+    std::printf("dry run: nothing written\n");
+  }
+  return kOk;
+}
+
+// Asks (or --yes), writes, resets, finds the drive again and reads back.
+int change_settings(const SessionHandle& session, LinkReport& r, const ops::LinkMap& map,
+                    const std::filesystem::path& record) {
+  std::string question = "Write";
+  for (const auto& w : r.plan->writes) question += "\n  " + w.text;
+  question += "\nto the ROM of " + r.drive + " and reset it (the axis stops)?";
+  auto consent = confirm(question, "change a drive's link settings", r.o.yes);
+  if (!consent.ok()) return session.fail("link", consent.error());
+  if (*consent == ops::Consent::declined) {
+    std::fprintf(stderr, "cancelled; nothing written\n");
+    return kOk;
+  }
+  auto rep = ops::apply_link_change(*session, map, *r.plan, r.o.common.port, record);
+  auto closed = session->close();
+  if (!rep.ok()) return session.fail("link", rep.error());
+  if (!closed.ok()) return session.fail("link", closed.error());
+  const std::string options = link::link_options_of(rep->relink.used);
+  if (r.o.common.json) {
+    report::add_link_changed(r.j, *rep);
+    r.json_keys();
+    r.print_json();
+  } else {
+    r.print_plan();
+    std::printf("%s; read back: every value as written\n", rep->relink.summary.c_str());
+    std::printf("link options: --port %s %s\n", r.o.common.port.c_str(), options.c_str());
+    r.print_keys("has");
+  }
+  return kOk;
+}
+
 int run(LinkCli& o) {
   if (is_devicenet(o.common))
     return fail("link", Error(Errc::invalid_argument,
@@ -88,19 +221,8 @@ int run(LinkCli& o) {
                                   "(seed 000 §1.1); nothing written"));
   auto change = parse_change(o);
   if (!change.ok()) return fail("link", change.error());
-  if (o.drive.empty() != o.inventory.empty())
-    return fail("link", Error(Errc::invalid_argument,
-                              "--inventory and --drive go together (the inventory's keys of "
-                              "that drive's line are printed); nothing written"));
-  std::optional<fleet::Inventory> inv;
-  if (!o.inventory.empty()) {
-    auto i = fleet::load_inventory(o.inventory);
-    if (!i.ok()) return fail("link", i.error());
-    if (!i->find_drive(o.drive))
-      return fail("link", Error(Errc::invalid_argument,
-                                o.inventory + ": no drive is called '" + o.drive + "' (--drive)"));
-    inv = std::move(i).value();
-  }
+  auto inv = inventory_of(o);
+  if (!inv.ok()) return fail("link", inv.error());
   const db::Database db = load_database(o.common);
   auto map = ops::link_map(db, o.maps);
   if (!map.ok()) return fail("link", map.error());
@@ -121,111 +243,19 @@ int run(LinkCli& o) {
     return session->fail("link", l.error());
   auto now = ops::read_link_settings(**session, *map);
   if (!now.ok()) return session->fail("link", now.error());
-  const std::string drive = "drive " + hex(now->in_use.macid, 2, "h") + " on " + o.common.port;
-
-  report::Json j = report::link_json(o.common.port, *now);
-  auto print_state = [&](const ops::LinkState& st, const char* title) {
-    std::printf("%s %s, talking at: %s\n", drive.c_str(), title,
-                link::link_options_of(st.in_use).c_str());
-    for (std::size_t i = 0; i < ops::kLinkSettings; ++i)
-      std::printf("  %s\n", value_line(static_cast<ops::LinkSetting>(i), st.values[i]).c_str());
-  };
-
-  if (!change->any()) {
-    auto closed = (*session)->close();
-    if (!closed.ok()) return session->fail("link", closed.error());
-    if (o.common.json) {
-      j["outcome"] = "shown";
-      std::printf("%s\n", j.dump(2).c_str());
-    } else {
-      print_state(*now, "(ROM values)");
-    }
-    return kOk;
-  }
+  LinkReport r(o, *now);
+  if (!change->any()) return show(*session, r, *now);
 
   auto plan = ops::plan_link_change(**session, *map, *now, *change);
   if (!plan.ok()) return session->fail("link", plan.error());
-  report::add_link_plan(j, *plan);
-  std::optional<fleet::InventoryEdit> edit;
-  if (inv) {
-    auto e = fleet::link_inventory_edit(*inv, o.drive, keys_of(plan->after));
+  r.set_plan(*plan);
+  if (*inv) {
+    auto e = fleet::link_inventory_edit(**inv, o.drive, keys_of(plan->after));
     if (!e.ok()) return session->fail("link", e.error());
-    edit = std::move(e).value();
+    r.edit = std::move(e).value();
   }
-  auto print_plan = [&] {
-    std::printf("%s: write to ROM (MC stopped, seed 003 §10), then reset (§13.1):\n",
-                drive.c_str());
-    for (const auto& w : plan->writes) std::printf("  %s\n", w.text.c_str());
-  };
-  auto print_keys = [&](const char* verb) {
-    if (!edit) {
-      std::printf(
-          "fleet: for an inventory, run with --inventory FILE --drive NAME to see the keys "
-          "to change\n");
-      return;
-    }
-    if (edit->keys.empty()) std::printf("inventory: no key %s to change\n", verb);
-    for (const auto& k : edit->keys) std::printf("inventory: %s\n", k.c_str());
-    for (const auto& w : edit->warnings)
-      std::fprintf(stderr, "lmcfg link: warning: %s\n", w.c_str());
-  };
-  auto json_keys = [&] {
-    if (!edit) return;
-    j["inventory"] = edit->keys;
-    j["warnings"] = edit->warnings;
-  };
-
-  if (plan->nothing_to_do()) {
-    auto closed = (*session)->close();
-    if (!closed.ok()) return session->fail("link", closed.error());
-    if (o.common.json) {
-      j["outcome"] = "nothing_to_do";
-      std::printf("%s\n", j.dump(2).c_str());
-    } else {
-      std::printf("nothing to do: %s already holds these settings\n", drive.c_str());
-    }
-    return kOk;
-  }
-  if (o.dry_run) {
-    auto closed = (*session)->close();
-    if (!closed.ok()) return session->fail("link", closed.error());
-    if (o.common.json) {
-      j["outcome"] = "dry_run";
-      json_keys();
-      std::printf("%s\n", j.dump(2).c_str());
-    } else {
-      print_plan();
-      std::printf("link options after the reset: %s\n", link::link_options_of(plan->after).c_str());
-      print_keys("would have");
-      std::printf("dry run: nothing written\n");
-    }
-    return kOk;
-  }
-  std::string question = "Write";
-  for (const auto& w : plan->writes) question += "\n  " + w.text;
-  question += "\nto the ROM of " + drive + " and reset it (the axis stops)?";
-  auto consent = confirm(question, "change a drive's link settings", o.yes);
-  if (!consent.ok()) return session->fail("link", consent.error());
-  if (*consent == ops::Consent::declined) {
-    std::fprintf(stderr, "cancelled; nothing written\n");
-    return kOk;
-  }
-  auto rep = ops::apply_link_change(**session, *map, *plan, o.common.port, *record);
-  auto closed = (*session)->close();
-  if (!rep.ok()) return session->fail("link", rep.error());
-  if (!closed.ok()) return session->fail("link", closed.error());
-  const std::string options = link::link_options_of(rep->relink.used);
-  if (o.common.json) {
-    report::add_link_changed(j, *rep);
-    json_keys();
-    std::printf("%s\n", j.dump(2).c_str());
-  } else {
-    print_plan();
-    std::printf("%s; read back: every value as written\n", rep->relink.summary.c_str());
-    std::printf("link options: --port %s %s\n", o.common.port.c_str(), options.c_str());
-    print_keys("has");
-  }
-  return kOk;
+  if (plan->nothing_to_do() || o.dry_run) return without_writing(*session, r);
+  return change_settings(*session, r, *map, *record);
 }
 
 }  // namespace

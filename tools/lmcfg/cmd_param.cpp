@@ -122,6 +122,41 @@ Result<bool> confirm_stop_mc(const ParamCli& o, std::uint16_t upid) {
   return true;
 }
 
+// The undo record of `set --rom`: the parameter's layer as it is now.
+Result<void> save_set_undo(const ParamCli& o, client::Client& c, std::uint16_t upid,
+                           const db::Database& db, std::optional<ops::UndoSaved>& undo,
+                           std::optional<std::uint32_t>& old) {
+  LMCFG_ASSIGN_OR_RETURN(auto dir, ops::undo_dir());
+  LMCFG_ASSIGN_OR_RETURN(auto cfg, ops::undo_config_for_parameter(c, upid, db));
+  if (const auto* p = cfg.find_param(upid)) old = p->value;
+  LMCFG_ASSIGN_OR_RETURN(
+      undo, ops::save_undo(
+                ops::UndoOptions{true, dir, o.common.port, c.options().id, "set", ops::kUndoKeep},
+                cfg, db));
+  return {};
+}
+
+// The journal's record of a `set` (`error`: the first failure, or none).
+void journal_set(const ParamCli& o, std::uint8_t macid, std::uint16_t upid, const db::Parameter* d,
+                 const db::ValueSpec& spec, std::uint32_t value,
+                 const std::optional<std::uint32_t>& old, const std::optional<ops::UndoSaved>& undo,
+                 const Error* error) {
+  ops::JournalEntry e;
+  e.audit = audit_of(o.audit);
+  e.command = "set";
+  e.port = o.common.port;
+  e.macid = macid;
+  e.steps.push_back(report::param_write_step_json(o.rom && o.ram ? "write_ram_rom"
+                                                  : o.rom        ? "write_rom"
+                                                                 : "write_ram",
+                                                  upid, d, spec, old, value));
+  e.outcome = error ? "failed" : "written";
+  e.exit_code = error ? exit_code_for(*error) : kOk;
+  if (error) e.error = error->message;
+  if (undo) e.undo = undo->path.string();
+  record_in_journal("set", std::move(e));
+}
+
 int run_set(ParamCli& o) {
   auto upid = parse_upid(o.upid_text);
   if (!upid.ok()) return fail("set", upid.error());
@@ -159,16 +194,8 @@ int run_set(ParamCli& o) {
   // list (read for the undo record) holds it when it is not the default.
   std::optional<std::uint32_t> old;
   if (o.rom && !o.no_undo) {
-    auto dir = ops::undo_dir();
-    if (!dir.ok()) return session->fail("set", dir.error());
-    auto cfg = ops::undo_config_for_parameter(c, *upid, db);
-    if (!cfg.ok()) return session->fail("set", cfg.error());
-    if (const auto* p = cfg->find_param(*upid)) old = p->value;
-    auto saved = ops::save_undo(
-        ops::UndoOptions{true, *dir, o.common.port, c.options().id, "set", ops::kUndoKeep}, *cfg,
-        db);
-    if (!saved.ok()) return session->fail("set", saved.error());
-    undo = std::move(saved).value();
+    if (auto saved = save_set_undo(o, c, *upid, db, undo, old); !saved.ok())
+      return session->fail("set", saved.error());
   }
   if (*stop) {
     if (auto r = c.stop_mc(); !r.ok())
@@ -182,26 +209,11 @@ int run_set(ParamCli& o) {
   if (*stop) started = c.start_mc();  // also after a failed write: leave MC as found
   auto closed = (*session)->close();
   if (undo) print_undo_saved(*undo, o.common);
-  {
-    ops::JournalEntry e;
-    e.audit = audit_of(o.audit);
-    e.command = "set";
-    e.port = o.common.port;
-    e.macid = c.options().id;
-    e.steps.push_back(report::param_write_step_json(o.rom && o.ram ? "write_ram_rom"
-                                                    : o.rom        ? "write_rom"
-                                                                   : "write_ram",
-                                                    *upid, d, *spec, old, *value));
-    const Error* error = !w.ok()         ? &w.error()
-                         : !started.ok() ? &started.error()
-                         : !closed.ok()  ? &closed.error()
-                                         : nullptr;
-    e.outcome = error ? "failed" : "written";
-    e.exit_code = error ? exit_code_for(*error) : kOk;
-    if (error) e.error = error->message;
-    if (undo) e.undo = undo->path.string();
-    record_in_journal("set", std::move(e));
-  }
+  const Error* error = !w.ok()         ? &w.error()
+                       : !started.ok() ? &started.error()
+                       : !closed.ok()  ? &closed.error()
+                                       : nullptr;
+  journal_set(o, c.options().id, *upid, d, *spec, *value, old, undo, error);
   if (!w.ok()) return fail_with_state("set", w.error(), state);
   if (!started.ok()) return session->fail("set", started.error());
   if (!closed.ok()) return session->fail("set", closed.error());

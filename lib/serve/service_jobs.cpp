@@ -1,0 +1,398 @@
+// Backups and drift checks of the service (docs/serve.md), one worker per
+// line: the line read, compared with the archive, committed (a backup), each
+// position's state and events; the job's progress as GET /jobs/{id} shows it.
+#include <algorithm>
+
+#include "common/bytes.hpp"
+#include "ops/diff.hpp"
+#include "serve/console.hpp"  // url_encode
+#include "serve/service_impl.hpp"
+
+namespace lmcfg::serve {
+
+namespace detail {
+
+namespace {
+
+// Factory state as LinRS can see it: "With this functionality the whole
+// parameter configuration of the servo controller could be read out" (LinRS
+// §10.2): nothing modified means factory values. The MACID and baud rate a
+// technician must set to put a new drive at the position (LinRS §3.2 "By
+// Parameter", §10.2's example lists exactly those) and the position's ignored
+// UPIDs do not count; no curve, no command table entry.
+bool fresh_upid(std::uint16_t upid, const db::Database& db,
+                const std::vector<std::uint16_t>& ignored) {
+  return ops::is_comm_parameter(db, upid) ||
+         std::find(ignored.begin(), ignored.end(), upid) != ignored.end();
+}
+
+}  // namespace
+
+bool factory_fresh(const config::DriveConfig& cfg, const db::Database& db,
+                   const std::vector<std::uint16_t>& ignored) {
+  if (cfg.devicenet || !cfg.curves.empty() || !cfg.ct_entries.empty()) return false;
+  for (const auto& layer : cfg.layers)
+    for (const auto& p : layer)
+      if (!fresh_upid(p.upid, db, ignored)) return false;
+  return true;
+}
+// The same of what a restore plan read of the target.
+bool factory_fresh(const ops::TargetSeen& t, const db::Database& db,
+                   const std::vector<std::uint16_t>& ignored) {
+  if ((t.ct_entries && !t.ct_entries->empty()) || (t.curves && !t.curves->empty())) return false;
+  for (const auto& layer : t.layers)
+    for (const auto& p : layer.value_or(std::vector<client::ModifiedParam>{}))
+      if (!fresh_upid(p.upid, db, ignored)) return false;
+  return true;
+}
+
+}  // namespace detail
+
+// A factory-fresh drive where the archive holds a file: state `replaced`,
+// the event once.
+void Service::Impl::record_replaced(Kind kind, const fleet::DriveResult& r, bool restoring) {
+  bool send = false;
+  {
+    std::lock_guard<std::mutex> lock(mu);
+    auto& st = states[r.name];
+    st.last_attempt = opt.clock();
+    st.last_kind = kind_name(kind);
+    st.last_ok = true;
+    st.last_exit_code = 0;
+    st.status = "replaced";
+    st.message = "a factory-fresh drive answers at this position; the archive holds its file";
+    st.differences = r.diff.items.size();
+    st.differing.clear();
+    for (const auto& it : r.diff.items) st.differing.push_back(fleet::item_line(it));
+    send = st.notified != "replaced";
+    st.notified = "replaced";
+  }
+  if (send) {
+    emit("replaced", r,
+         {{"job", kind_name(kind)},
+          {"differences", r.diff.items.size()},
+          {"on_replaced", restoring ? "restore" : "notify"}});
+  }
+}
+
+// One drive's outcome: its state, and an event when the state changed.
+void Service::Impl::record(Kind kind, const fleet::DriveResult& r,
+                           const std::optional<std::string>& commit) {
+  using S = fleet::DriveResult::Status;
+  const TimePoint now = opt.clock();
+  std::string event;
+  Json details;
+  {
+    std::lock_guard<std::mutex> lock(mu);
+    auto& st = states[r.name];
+    st.last_attempt = now;
+    st.last_kind = kind_name(kind);
+    st.last_ok = r.status != S::failed;
+    st.last_exit_code = r.error ? exit_code(*r.error) : 0;
+    if (r.status == S::failed) {
+      st.status = "failed";
+      st.message = r.error ? r.error->message : "unknown error";
+      if (st.notified != "failed") {
+        event = "backup_failed";
+        details = {
+            {"job", kind_name(kind)}, {"reason", st.message}, {"exit_code", st.last_exit_code}};
+        st.notified = "failed";
+      }
+    } else {
+      if (kind == Kind::backup) st.last_backup = now;
+      st.differing.clear();
+      for (const auto& it : r.diff.items) st.differing.push_back(fleet::item_line(it));
+      st.differences = r.diff.items.size();
+      if (r.status == S::changed && kind == Kind::status) {
+        st.status = "drift";
+        st.message = fleet::counts_line(r) + " differ from the archive";
+        if (st.notified != "drift") {
+          event = "drift";
+          st.notified = "drift";
+        }
+      } else if (r.status == S::changed) {
+        // A backup archives what it found: the position matches the archive
+        // again, and the event says the change was committed.
+        st.status = "ok";
+        st.message = "changed, archived";
+        event = "drift";
+        st.notified = "ok";
+        st.differences = 0;
+      } else if (r.status == S::added && kind == Kind::status) {
+        st.status = "unknown";
+        st.message = "not in the archive yet (no backup)";
+      } else {
+        const bool was_off =
+            st.notified == "drift" || st.notified == "failed" || st.notified == "replaced";
+        st.status = "ok";
+        st.message = r.status == S::added ? "new, archived" : "matches the archive";
+        st.differences = 0;
+        if (was_off) {
+          event = "recovered";
+          details = {{"job", kind_name(kind)}, {"previous", st.notified}};
+        }
+        st.notified = "ok";
+      }
+      if (event == "drift") {
+        details = {{"job", kind_name(kind)},
+                   {"parameters", r.count(ops::DiffItem::Kind::parameter)},
+                   {"curves", r.count(ops::DiffItem::Kind::curve)},
+                   {"ct_entries", r.count(ops::DiffItem::Kind::ct_entry)},
+                   {"differences", r.diff.items.size()}};
+        Json upids = Json::array();
+        for (const auto& it : r.diff.items) {
+          if (it.kind != ops::DiffItem::Kind::parameter) continue;
+          upids.push_back({{"upid", hex(it.key, 4, "h")},
+                           {"name", it.name},
+                           {"archived", it.a},
+                           {"live", it.b}});
+        }
+        details["upids"] = upids;
+        if (commit) details["committed"] = *commit;
+        // The diff rendered as lmcfg report does it: the archive against the
+        // drive now, or (a backup committed it) the commit against its parent.
+        details["report"] =
+            base_url + "/diff?name=" + url_encode(r.name) +
+            (commit ? "&from=" + *commit + "~1&to=" + *commit : std::string("&from=HEAD&to=live"));
+      }
+    }
+  }
+  if (!event.empty()) emit(event, r, details);
+}
+
+void Service::Impl::run_task(std::size_t line_index, Task& task) {
+  const auto& line = opt.inventory.lines[line_index];
+  auto& job = *task.job;
+  fleet::FleetOptions fo;
+  fo.db = opt.db;
+  fo.backup = opt.backup;
+  fo.on_drive = [this, &job](const fleet::DriveResult&, std::size_t, std::size_t) {
+    std::lock_guard<std::mutex> lock(mu);
+    ++job.done;
+  };
+  resume_waiting(line_index, task.only);
+  log(std::string(kind_name(job.kind)) + " job " + job.id + ": line " + line.name + " started");
+  fleet::LineRun run = fleet::read_line(line, opt.links[line_index], fo, task.only);
+  LineArchived la(run.drives.size());
+  {
+    std::lock_guard<std::mutex> lock(archive_mu);
+    la.archived = archive_run(line, job, run, la);
+  }
+  std::vector<std::size_t> to_restore;
+  const std::size_t failed = record_run(line, job.kind, run, la, to_restore);
+  if (la.commit) want_push();
+  count_run(line_index, job, run, la, failed);
+  for (std::size_t i : to_restore) restore_replaced(line_index, *run.entries[i]);
+}
+
+// The restores a stopped service left unfinished on the drives in scope.
+void Service::Impl::resume_waiting(std::size_t li, const std::vector<std::string>& only) {
+  std::vector<std::string> waiting;
+  for (const auto& d : opt.inventory.lines[li].drives) {
+    const bool in_scope = only.empty() || std::find(only.begin(), only.end(), d.name) != only.end();
+    if (in_scope && is_pending(d.name)) waiting.push_back(d.name);
+  }
+  resume(li, waiting);
+}
+
+// Caller holds archive_mu.
+Result<void> Service::Impl::archive_run(const fleet::LineEntry& line, const Job& job,
+                                        fleet::LineRun& run, LineArchived& la) {
+  using S = fleet::DriveResult::Status;
+  LMCFG_TRY(fleet::compare_line(line, archive, "HEAD", opt.db, run));
+  for (std::size_t i = 0; i < run.drives.size(); ++i) {
+    // LinRS drives only: a DeviceNet capture has no modified lists (DeviceNet §5.2
+    // values, read whole), so "factory-fresh" says nothing of it.
+    la.replaced[i] =
+        !line.devicenet && run.drives[i].status == S::changed && run.configs[i] &&
+        factory_fresh(*run.configs[i], opt.db, fleet::ignored_upids(line, *run.entries[i]));
+    // A drive a restore has not finished on is half configured: never archived.
+    la.unfinished[i] = is_pending(run.entries[i]->name);
+  }
+  if (job.kind != Kind::backup) return {};
+  // A replaced drive's factory state never overwrites the archived file.
+  fleet::LineRun keep;
+  for (std::size_t i = 0; i < run.drives.size(); ++i) {
+    if (la.replaced[i] || la.unfinished[i]) continue;
+    keep.entries.push_back(run.entries[i]);
+    keep.drives.push_back(run.drives[i]);
+    keep.configs.push_back(run.configs[i]);
+  }
+  LMCFG_ASSIGN_OR_RETURN(auto paths, fleet::write_line(archive, opt.db, keep));
+  fleet::FleetRun fr;
+  fr.drives = keep.drives;
+  std::string message = fleet::commit_message(fr);
+  const std::string tr = ops::trailers(ops::Audit{job.who, "", ""});
+  if (!tr.empty()) message += "\n" + tr;
+  LMCFG_ASSIGN_OR_RETURN(auto made, archive.commit(paths, message));
+  if (made) la.commit = made->id;
+  return {};
+}
+
+// Each drive's state and event; the drives to restore (replaced, on_replaced =
+// "restore") into `to_restore`. Returns how many failed.
+std::size_t Service::Impl::record_run(const fleet::LineEntry& line, Kind kind, fleet::LineRun& run,
+                                      LineArchived& la, std::vector<std::size_t>& to_restore) {
+  using S = fleet::DriveResult::Status;
+  std::size_t failed = 0;
+  for (std::size_t i = 0; i < run.drives.size(); ++i) {
+    auto& r = run.drives[i];
+    // A stop asked for mid-read is not the drive's failure: no state, no event.
+    if (r.error && r.error->code == Errc::interrupted) continue;
+    if (!la.archived.ok() && r.status != S::failed) {
+      r.status = S::failed;
+      r.error = la.archived.error();
+      la.replaced[i] = false;
+    }
+    failed += r.status == S::failed;
+    if (la.unfinished[i]) {
+      // Its state is the restore's (failed, with the reason) until a restore finishes.
+      continue;
+    }
+    if (la.replaced[i]) {
+      const bool restore = fleet::restore_when_replaced(line, *run.entries[i]);
+      record_replaced(kind, r, restore);
+      if (restore) to_restore.push_back(i);
+    } else {
+      record(kind, r, la.commit);
+    }
+  }
+  return failed;
+}
+
+void Service::Impl::count_run(std::size_t li, Job& job, const fleet::LineRun& run,
+                              const LineArchived& la, std::size_t failed) {
+  using S = fleet::DriveResult::Status;
+  const auto& line = opt.inventory.lines[li];
+  std::lock_guard<std::mutex> lock(mu);
+  auto& m = line_metrics[li];
+  m.telegrams += run.stats.requests;
+  m.retries += run.stats.retries;
+  m.timeouts += run.stats.timeouts;
+  m.errors += failed;
+  ++m.runs;
+  m.run_seconds += run.seconds;
+  m.last_run_seconds = run.seconds;
+  for (std::size_t i = 0; i < run.drives.size(); ++i) {
+    const auto& r = run.drives[i];
+    job.changed += r.status == S::changed && !la.replaced[i];
+    job.replaced += la.replaced[i];
+    job.unchanged += r.status == S::unchanged;
+    job.added += r.status == S::added;
+    job.failed += r.status == S::failed;
+    if (r.error) job.errors.push_back(r.name + ": " + r.error->message);
+  }
+  if (la.commit) job.commits.push_back(*la.commit);
+  if (--job.lines_left == 0) job.finished = opt.clock();
+  char secs[32];
+  std::snprintf(secs, sizeof secs, "%.1f", run.seconds);
+  log(std::string(kind_name(job.kind)) + " job " + job.id + ": line " + line.name + " done in " +
+      secs + " s: " + std::to_string(run.drives.size()) + " drive(s), " + std::to_string(failed) +
+      " failed" + (la.commit ? ", committed " + la.commit->substr(0, 12) : std::string()));
+}
+
+void Service::Impl::fail_job(Job& job, const Error& e) {
+  std::lock_guard<std::mutex> lock(mu);
+  job.started = true;
+  job.finished = opt.clock();
+  job.failed_job = true;
+  job.outcome = "failed";
+  job.message = e.message;
+  job.exit_code = exit_code(e);
+  log(std::string(kind_name(job.kind)) + " job " + job.id + ": failed: " + e.message);
+}
+
+void Service::Impl::worker(std::size_t line) {
+  std::unique_lock<std::mutex> lock(mu);
+  for (;;) {
+    cv.wait(lock, [&] { return stopping || !queues[line].empty(); });
+    if (stopping) {
+      // Waiting callers learn that nothing will run; queued jobs say so.
+      std::deque<Task> left = std::move(queues[line]);
+      queues[line].clear();
+      for (auto& t : left) {
+        if (t.job && !t.job->finished) {
+          t.job->finished = opt.clock();
+          t.job->failed_job = true;
+          t.job->message = "the service stopped before the job ran";
+        }
+      }
+      lock.unlock();
+      for (auto& t : left)
+        if (t.fn) t.fn(false);
+      return;
+    }
+    Task task = std::move(queues[line].front());
+    queues[line].pop_front();
+    busy[line] = true;
+    if (task.job && !task.fn) task.job->started = true;
+    lock.unlock();
+    if (task.fn)
+      task.fn(true);
+    else
+      run_task(line, task);
+    lock.lock();
+    busy[line] = false;
+    cv.notify_all();
+  }
+}
+
+Json Service::Impl::job_json(const Job& j) const {
+  const char* state =
+      j.finished ? (j.failed_job ? "failed" : "done") : (j.started ? "running" : "queued");
+  Json out{{"id", j.id},
+           {"kind", kind_name(j.kind)},
+           {"scope", j.scope},
+           {"state", state},
+           {"created", iso_time(j.created)},
+           {"finished", j.finished ? Json(iso_time(*j.finished)) : Json(nullptr)},
+           {"who", j.who.empty() ? Json(nullptr) : Json(j.who)}};
+  if (j.kind == Kind::restore) {
+    out["progress"] = {{"done", j.step_done}, {"total", j.step_total}, {"step", j.step}};
+    out["outcome"] = j.outcome.empty() ? Json(nullptr) : Json(j.outcome);
+    out["message"] = j.message;
+    out["exit_code"] = j.exit_code ? Json(*j.exit_code) : Json(nullptr);
+    out["commit"] = j.commit.empty() ? Json(nullptr) : Json(j.commit);
+    return out;
+  }
+  out["progress"] = {{"done", j.done}, {"total", j.total}, {"step", ""}};
+  out["outcome"] = j.finished ? Json(j.failed ? "some drives failed" : "done") : Json(nullptr);
+  out["message"] = j.message;
+  out["commit"] = j.commits.empty() ? Json(nullptr) : Json(j.commits.back());
+  out["drives"] = j.total;
+  out["done"] = j.done;
+  out["counts"] = {{"unchanged", j.unchanged},
+                   {"changed", j.changed},
+                   {"new", j.added},
+                   {"failed", j.failed},
+                   {"replaced", j.replaced}};
+  out["commits"] = j.commits;
+  out["errors"] = j.errors;
+  return out;
+}
+
+Json Service::Impl::drive_json(const fleet::LineEntry& line, const fleet::DriveEntry& d) const {
+  const DriveState* st = nullptr;
+  static const DriveState kUnknown;
+  auto it = states.find(d.name);
+  st = it == states.end() ? &kUnknown : &it->second;
+  Json j{{"name", d.name},
+         {"line", line.name},
+         {"id", d.id},
+         {"status", st->status},
+         {"last_backup", st->last_backup ? Json(iso_time(*st->last_backup)) : Json(nullptr)}};
+  if (st->last_attempt) {
+    j["last_attempt"] = {{"time", iso_time(*st->last_attempt)},
+                         {"job", st->last_kind},
+                         {"result", st->last_ok ? "ok" : "failed"},
+                         {"exit_code", st->last_exit_code}};
+  } else {
+    j["last_attempt"] = nullptr;
+  }
+  j["differences"] = st->differences;
+  j["message"] = st->message;
+  if (st->status == "drift") j["differing"] = st->differing;
+  return j;
+}
+
+}  // namespace lmcfg::serve

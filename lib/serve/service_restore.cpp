@@ -1,0 +1,395 @@
+// Restore jobs of the service (docs/serve.md): an API plan executed, an
+// automatic restore of a replaced drive, and restores a stopped service left
+// unfinished; each through the normal restore, recorded as a commit.
+#include <algorithm>
+
+#include "common/bytes.hpp"
+#include "config/atomic_file.hpp"
+#include "config/config_io.hpp"
+#include "fleet/history.hpp"
+#include "ops/recovery.hpp"
+#include "ops/undo.hpp"
+#include "report/report.hpp"
+#include "serve/service_impl.hpp"
+
+namespace lmcfg::serve {
+
+namespace {
+
+// Who an automatic restore records as its operator, and why.
+constexpr const char* kAutomatic = "lmcfg serve (automatic)";
+constexpr const char* kReplacedCause = "factory-fresh drive found at the position";
+
+// "press3/z" and MACID 11h on line "line1": "line1-11h.json" (names are
+// archive paths, so '/' cannot be in a file name; a line's MACIDs are unique).
+std::string pending_name(const fleet::LineEntry& line, const fleet::DriveEntry& d) {
+  std::string n = line.name + "-" + hex(d.id, 2, "h") + ".json";
+  for (char& c : n)
+    if (c == '/') c = '_';
+  return n;
+}
+
+// The plan the API showed and the target as a restore reads it now: the
+// error that refuses the restore when they differ.
+std::optional<Error> plan_changed(const ops::Plan& planned, const ops::Plan& now,
+                                  const std::string& plan_id) {
+  const std::string what = ops::target_change(planned, now);
+  if (what.empty()) return std::nullopt;
+  return Error(Errc::plan_refused, "the target changed since plan " + plan_id + " was made (" +
+                                       what + "); nothing written: make a new plan");
+}
+
+// The error a finished restore ends with: failed, refused, or read back different.
+std::optional<Error> restore_failure(const ops::RestoreOutcome& out) {
+  using S = ops::RestoreOutcome::Stage;
+  if (out.stage == S::failed && out.error) return out.error;
+  if (out.stage == S::plan_refused) {
+    std::string all;
+    for (const auto& p : out.plan.problems) all += (all.empty() ? "" : "; ") + p;
+    return Error(Errc::plan_refused, "restore refused: " + all + "; nothing written");
+  }
+  if (out.stage == S::verify_mismatch) {
+    std::string all;
+    for (const auto& m : out.mismatches) all += (all.empty() ? "" : "; ") + m;
+    return Error(Errc::verify_mismatch, "written, but the drive reads back differently: " + all);
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
+Result<void> Service::Impl::save_pending(const fleet::LineEntry& line, const fleet::DriveEntry& d,
+                                         const PendingRestore& p) {
+  const Json j{{"drive", p.drive},
+               {"commit", p.commit},
+               {"who", p.who},
+               {"reason", p.reason},
+               {"ticket", p.ticket},
+               {"cause", p.cause},
+               {"skip_incompatible", p.skip_incompatible}};
+  std::error_code ec;
+  std::filesystem::create_directories(state_dir / "pending", ec);
+  LMCFG_TRY(
+      config::write_file_atomic(state_dir / "pending" / pending_name(line, d), j.dump() + "\n"));
+  std::lock_guard<std::mutex> lock(mu);
+  pending[d.name] = p;
+  return {};
+}
+void Service::Impl::remove_pending(const fleet::LineEntry& line, const fleet::DriveEntry& d) {
+  std::error_code ec;
+  std::filesystem::remove(state_dir / "pending" / pending_name(line, d), ec);
+  std::lock_guard<std::mutex> lock(mu);
+  pending.erase(d.name);
+}
+
+// Runs a restore of `f` on this line's worker thread (the caller is it):
+// the normal restore (plan against the target, undo record, execute,
+// verify), recorded as a commit with the audit trailers. `planned`: the plan
+// the API showed; the target must still read as it found it.
+void Service::Impl::run_restore_job(Job& job, std::size_t li, const fleet::ArchivedFile& f,
+                                    const ops::Audit& audit, bool skip, const std::string& cause,
+                                    const ops::Plan* planned, const std::string& plan_id) {
+  const auto& line = opt.inventory.lines[li];
+  const auto& d = *f.drive;
+  {
+    std::lock_guard<std::mutex> lock(mu);
+    job.started = true;
+    if (planned) job.step_total = planned->steps.size();
+  }
+  log("restore job " + job.id + ": " + d.name + " <- " + f.file_name + " started" +
+      (audit.who.empty() ? "" : " for " + audit.who));
+  RestoreAttempt a;
+  const PendingRestore begun{d.name,       f.source.id, audit.who, audit.reason,
+                             audit.ticket, cause,       skip};
+  if (auto saved = save_pending(line, d, begun); !saved.ok())
+    a.err = saved.error();
+  else
+    attempt_restore(a, job, li, f, audit, skip, cause, planned, plan_id);
+  if (!a.err) a.err = restore_failure(a.out);
+  // Stopped by SIGTERM/SIGINT: the record stays, the next start finishes it;
+  // the drive did not answer (busy resetting or saving when a killed service
+  // left it): the next run of the line tries again.
+  const bool interrupted = a.err && a.err->code == Errc::interrupted;
+  const bool stays = interrupted || (a.err && a.err->code == ErrorClass::link_failure);
+  if (!stays) remove_pending(line, d);
+  finish_restore_job(job, li, f, audit, cause, a, interrupted);
+}
+
+void Service::Impl::attempt_restore(RestoreAttempt& a, Job& job, std::size_t li,
+                                    const fleet::ArchivedFile& f, const ops::Audit& audit,
+                                    bool skip, const std::string& cause, const ops::Plan* planned,
+                                    const std::string& plan_id) {
+  using S = ops::RestoreOutcome::Stage;
+  auto session = link::open_session(link_for(li, *f.drive));
+  if (!session.ok()) {
+    a.err = session.error();
+    return;
+  }
+  a.out = ops::run_restore(**session, f.config, opt.db,
+                           restore_run_options(job, li, *f.drive, skip, planned, plan_id));
+  if (planned && a.out.stage != S::failed && !a.out.written) {
+    if (auto e = plan_changed(*planned, a.out.plan, plan_id)) {
+      a.out.stage = S::failed;
+      a.out.error = *e;
+    }
+  }
+  auto closed = (*session)->close();
+  if (!closed.ok() && a.out.stage != S::failed) a.err = closed.error();
+  if (a.out.written) {
+    std::lock_guard<std::mutex> lock(archive_mu);
+    auto made = archive.commit({}, fleet::restore_record_message(f, a.out, audit, cause), true);
+    if (made.ok())
+      a.record = *made;
+    else
+      a.err = made.error();
+  }
+  if (a.record) want_push();  // outside archive_mu: want_push takes mu
+}
+
+ops::RestoreRunOptions Service::Impl::restore_run_options(Job& job, std::size_t li,
+                                                          const fleet::DriveEntry& d, bool skip,
+                                                          const ops::Plan* planned,
+                                                          const std::string& plan_id) {
+  const auto& line = opt.inventory.lines[li];
+  ops::RestoreRunOptions ro;
+  ro.restore = restore_options(line, d, skip);
+  ro.restore.progress = [this, &job, planned](const std::string& phase, std::size_t done,
+                                              std::size_t total) {
+    std::lock_guard<std::mutex> lock(mu);
+    if (phase != "restore") {
+      job.step = phase;
+      return;
+    }
+    // Called as step `done` (1-based) begins.
+    job.step_done = done > 0 ? done - 1 : 0;
+    job.step_total = total;
+    job.step = planned && done > 0 && done <= planned->steps.size()
+                   ? planned->steps[done - 1].text
+                   : "step " + std::to_string(done) + " of " + std::to_string(total);
+  };
+  ro.undo = ops::UndoOptions{
+      true, state_dir / "lmcfg" / "undo", line.port, d.id, "serve-restore", ops::kUndoKeep};
+  if (planned) {
+    ro.confirm = [planned, plan_id](const ops::Plan& now) -> Result<ops::Consent> {
+      if (auto e = plan_changed(*planned, now, plan_id)) return *e;
+      return ops::Consent::go;
+    };
+  }
+  return ro;
+}
+
+void Service::Impl::finish_restore_job(Job& job, std::size_t li, const fleet::ArchivedFile& f,
+                                       const ops::Audit& audit, const std::string& cause,
+                                       const RestoreAttempt& a, bool interrupted) {
+  using S = ops::RestoreOutcome::Stage;
+  const auto& line = opt.inventory.lines[li];
+  const auto& d = *f.drive;
+  const auto& out = a.out;
+  const auto& err = a.err;
+  const std::string outcome =
+      err ? (out.written ? "failed after writing" : "failed") : ops::outcome_name(out);
+  const int code = err ? exit_code(*err) : (out.skipped_any() ? 7 : 0);
+  std::string event;
+  Json details{{"job", job.id},
+               {"source", f.path + "@" + f.source.id.substr(0, 12)},
+               {"outcome", outcome},
+               {"automatic", !cause.empty()},
+               {"operator", audit.who}};
+  if (a.record) details["commit"] = a.record->id;
+  {
+    std::lock_guard<std::mutex> lock(mu);
+    job.finished = opt.clock();
+    job.failed_job = err.has_value();
+    job.outcome = outcome;
+    job.exit_code = code;
+    if (out.stage != S::failed || out.written) job.step_done = job.step_total;
+    job.step = "";
+    job.message = err ? err->message
+                      : (out.stage == S::nothing_to_do
+                             ? "nothing to do: the drive already matches " + f.file_name
+                             : "restored " + f.file_name + " onto " + d.name + " and verified");
+    if (a.record) {
+      job.commit = a.record->id;
+      job.commits.push_back(a.record->id);
+    }
+    if (!interrupted) event = record_restore_state(d.name, a, code, f.file_name, details);
+  }
+  log("restore job " + job.id + ": " + d.name + ": " + outcome +
+      (err ? ": " + err->message : std::string()) +
+      (a.record ? ", committed " + a.record->id.substr(0, 12) : std::string()));
+  if (!event.empty()) emit(event, d.name, line.name, details);
+}
+
+// Caller holds mu. The position's state after a restore; the event to send, if any.
+std::string Service::Impl::record_restore_state(const std::string& name, const RestoreAttempt& a,
+                                                int code, const std::string& file_name,
+                                                Json& details) {
+  using S = ops::RestoreOutcome::Stage;
+  std::string event;
+  auto& st = states[name];
+  st.last_attempt = opt.clock();
+  st.last_kind = "restore";
+  st.last_ok = !a.err;
+  st.last_exit_code = code;
+  if (a.err) {
+    st.status = "failed";
+    st.message = a.err->message;
+    event = "restore_failed";
+    details["reason"] = a.err->message;
+    details["exit_code"] = code;
+    st.notified = "failed";
+  } else {
+    st.status = "ok";
+    st.message =
+        a.out.stage == S::nothing_to_do ? "matches the archive" : "restored from " + file_name;
+    st.differences = 0;
+    st.differing.clear();
+    if (a.out.written) event = "restored";
+    st.notified = "ok";
+  }
+  return event;
+}
+
+// on_replaced = "restore": the archived file at HEAD, restored at once on this worker.
+void Service::Impl::restore_replaced(std::size_t li, const fleet::DriveEntry& d) {
+  std::shared_ptr<Job> job;
+  {
+    std::lock_guard<std::mutex> lock(mu);
+    if (stopping) return;
+    job = new_job(Kind::restore, "drive " + d.name);
+    job->who = kAutomatic;
+    job->total = 1;
+  }
+  Result<fleet::ArchivedFile> f = [&] {
+    std::lock_guard<std::mutex> lock(archive_mu);
+    return fleet::load_archived(opt.inventory, archive, d.name, "HEAD");
+  }();
+  if (!f.ok()) {
+    fail_job(*job, f.error());
+    return;
+  }
+  run_restore_job(*job, li, *f, ops::Audit{kAutomatic, kReplacedCause, ""}, false,
+                  "automatic: factory-fresh drive found", nullptr, "");
+}
+
+// Restores a previous run began and did not finish (killed, or stopped by a
+// signal mid-restore): loaded at start and queued first on their lines.
+void Service::Impl::load_pending() {
+  std::error_code ec;
+  for (const auto& entry : std::filesystem::directory_iterator(state_dir / "pending", ec)) {
+    const auto path = entry.path();
+    if (path.extension() != ".json") continue;
+    auto text = config::read_text_file(path, 1 << 16);
+    Json j = text.ok() ? Json::parse(*text, nullptr, false) : Json();
+    const fleet::LineEntry* line = nullptr;
+    const fleet::DriveEntry* d =
+        j.is_object() && j["drive"].is_string()
+            ? opt.inventory.find_drive(j["drive"].get<std::string>(), &line)
+            : nullptr;
+    if (!d) {
+      log("unfinished restore record " + path.string() +
+          " names no drive of the inventory; left as it is");
+      continue;
+    }
+    pending[d->name] = PendingRestore{j.value("drive", ""),
+                                      j.value("commit", ""),
+                                      j.value("who", ""),
+                                      j.value("reason", ""),
+                                      j.value("ticket", ""),
+                                      j.value("cause", ""),
+                                      j.value("skip_incompatible", false)};
+    const std::size_t li = line_index(line);
+    const std::string name = d->name;
+    queues[li].push_back(Task{nullptr, {}, [this, li, name](bool run) {
+                                if (run) resume(li, {name});
+                              }});
+  }
+}
+
+// Runs the unfinished restores of `names` again (on this line's worker): the
+// same revision, who and why. Running a restore again converges
+// (docs/restore.md); one stopped by a link failure (the drive was resetting
+// or saving to flash when the service died) stays pending for the next run.
+void Service::Impl::resume(std::size_t li, const std::vector<std::string>& names) {
+  for (const auto& name : names) {
+    std::optional<PendingRestore> pr;
+    std::shared_ptr<Job> job;
+    {
+      std::lock_guard<std::mutex> lock(mu);
+      auto it = pending.find(name);
+      if (it == pending.end() || stopping) continue;
+      pr = it->second;
+      job = new_job(Kind::restore, "drive " + name);
+      job->who = pr->who;
+      job->total = 1;
+    }
+    Result<fleet::ArchivedFile> f = [&] {
+      std::lock_guard<std::mutex> lock(archive_mu);
+      return fleet::load_archived(opt.inventory, archive, name, pr->commit);
+    }();
+    if (!f.ok()) {
+      fail_job(*job,
+               Error(f.error().code, "resuming the unfinished restore: " + f.error().message));
+      continue;
+    }
+    log("restore job " + job->id + ": resuming the unfinished restore of " + name + " <- " +
+        f->file_name);
+    run_restore_job(*job, li, *f, ops::Audit{pr->who, pr->reason, pr->ticket},
+                    pr->skip_incompatible, pr->cause, nullptr, "");
+  }
+}
+
+// A plan for the API: the CLI's plan_json items (restore --dry-run --json),
+// each step with its `kind` and the old and new values for people.
+Json Service::Impl::plan_to_json(const StoredPlan& sp) const {
+  const auto& line = opt.inventory.lines[sp.line];
+  const auto& d = *sp.file.drive;
+  const auto items = ops::plan_json(sp.plan);
+  Json steps = Json::array();
+  for (const auto& st : items["steps"]) {
+    Json o;
+    o["kind"] = st["action"];
+    for (auto& [k, v] : st.items()) {
+      if (k == "old" || k == "new") {
+        o[k] = v.is_null() ? Json(nullptr) : Json(v["display"]);
+        o[k + "_raw"] = v.is_null() ? Json(nullptr) : Json(v["raw"]);
+      } else if (k != "action") {
+        o[k] = v;
+      }
+    }
+    if (st.contains("upid")) {
+      const auto* p = opt.db.get().find(
+          static_cast<std::uint16_t>(std::stoul(st["upid"].get<std::string>(), nullptr, 16)));
+      o["unit"] = p ? p->spec.unit : "";
+    }
+    steps.push_back(std::move(o));
+  }
+  Json problems = Json::array();
+  for (const auto& p : sp.plan.problems) problems.push_back({{"kind", "plan"}, {"message", p}});
+  Json incompatible = Json::array();
+  std::size_t n = 0;
+  for (const auto& v : items["skipped_incompatible"]) {
+    Json o = v;
+    o["message"] = sp.plan.skipped_incompatible[n++].text;
+    incompatible.push_back(std::move(o));
+  }
+  return Json{
+      {"plan_id", sp.id},
+      {"drive", d.name},
+      {"line", line.name},
+      {"id", hex(d.id, 2, "h")},
+      {"rev", sp.file.rev},
+      {"commit", sp.file.source.id},
+      {"file", sp.file.file_name},
+      {"who", sp.who},
+      {"expires", iso_time(sp.expires)},
+      {"nothing_to_do", sp.plan.nothing_to_do()},
+      {"steps", steps},
+      {"losses", items["losses"]},
+      {"notes", items["notes"]},
+      {"problems", problems},
+      {"incompatible", incompatible},
+      {"factory_fresh", factory_fresh(sp.plan.target, opt.db, fleet::ignored_upids(line, d))}};
+}
+
+}  // namespace lmcfg::serve
