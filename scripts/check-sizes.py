@@ -30,13 +30,8 @@ ALLOWED_FUNCTIONS = {
     # A table: one case per LinRS request (LinRS §8-§12), the one request/answer
     # table the client and the simulator share; splitting it scatters the table.
     ("lib/codec/requests.cpp", "std::optional<RequestSpec> request_spec("): "table",
-    # being split (another change moves the LinRS and DeviceNet restores onto one path)
-    ("tools/lmcfg/restore_flow.cpp", "int restore_on_session("): "being split",
 }
-ALLOWED_FILES = {
-    # being split (another change splits plan, compare and verify)
-    "lib/ops/restore_plan.cpp": "being split",
-}
+ALLOWED_FILES = {}
 
 
 def strip(text):

@@ -182,6 +182,7 @@ Result<std::optional<CommitInfo>> Archive::commit(const std::vector<std::string>
 
 std::vector<std::pair<std::string, std::string>> message_trailers(const std::string& message) {
   std::vector<std::pair<std::string, std::string>> out;
+  init_libgit2();  // callable before any Archive exists
   git_message_trailer_array arr{};
   if (git_message_trailers(&arr, message.c_str()) != 0) return out;
   for (std::size_t i = 0; i < arr.count; ++i)

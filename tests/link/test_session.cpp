@@ -57,7 +57,7 @@ TEST_CASE("link schemes: an unregistered scheme is a serial device path", "[sess
   CHECK(s.error().message.find("nosuchscheme:/nowhere") != std::string::npos);
 }
 
-TEST_CASE("link spec: a session never changes its spec; relink gives the spec of the link now",
+TEST_CASE("link spec: a session never changes its spec, relink gives the spec of the link now",
           "[link][spec][session]") {
   REQUIRE(kSimPortsRegistered);
   test::ScratchDir dir("session");

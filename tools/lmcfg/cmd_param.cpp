@@ -71,9 +71,11 @@ std::string refusal_state(client::Client& c, const char* cmd, const Error& e) {
          "\n";
 }
 
-// fail(), then the drive's state after a refusal.
-int fail_with_state(const char* cmd, const Error& e, const std::string& state) {
-  const int rc = fail(cmd, e);
+// The session's fail() (with the link advice), then the drive's state after a
+// refusal.
+int fail_with_state(const SessionHandle& session, const char* cmd, const Error& e,
+                    const std::string& state) {
+  const int rc = session.fail(cmd, e);
   std::fputs(state.c_str(), stderr);
   return rc;
 }
@@ -91,7 +93,7 @@ int run_get(ParamCli& o) {
   auto spec =
       v.ok() ? describe(c, o, "get", *upid, d, false) : Result<db::ValueSpec>(db::ValueSpec{});
   auto closed = (*session)->close();
-  if (!v.ok()) return fail_with_state("get", v.error(), state);
+  if (!v.ok()) return fail_with_state(*session, "get", v.error(), state);
   if (!spec.ok()) return session->fail("get", spec.error());
   if (!closed.ok()) return session->fail("get", closed.error());
   print_value(o, *upid, d, *spec, o.rom ? "ROM" : "RAM", *v);
@@ -199,7 +201,7 @@ int run_set(ParamCli& o) {
   }
   if (*stop) {
     if (auto r = c.stop_mc(); !r.ok())
-      return fail_with_state("set", r.error(), refusal_state(c, "set", r.error()));
+      return fail_with_state(*session, "set", r.error(), refusal_state(c, "set", r.error()));
   }
   Result<void> w = o.rom && o.ram ? c.write_ram_rom(*upid, *value)
                    : o.rom        ? c.write_rom(*upid, *value)
@@ -214,7 +216,7 @@ int run_set(ParamCli& o) {
                        : !closed.ok()  ? &closed.error()
                                        : nullptr;
   journal_set(o, c.options().id, *upid, d, *spec, *value, old, undo, error);
-  if (!w.ok()) return fail_with_state("set", w.error(), state);
+  if (!w.ok()) return fail_with_state(*session, "set", w.error(), state);
   if (!started.ok()) return session->fail("set", started.error());
   if (!closed.ok()) return session->fail("set", closed.error());
   if (comm && !o.common.quiet)
