@@ -84,7 +84,8 @@ TEST_CASE("config: SinRise decodes", "[config]") {
     CHECK(v->setpoints[i] > v->setpoints[i - 1]);
 }
 
-TEST_CASE("config: a curve name byte that is not printable ASCII decodes as an escape", "[config]") {
+TEST_CASE("config: a curve name byte that is not printable ASCII decodes as an escape",
+          "[config]") {
   // A drive may hold any byte in the name field (info off 8, char[22]); the
   // decoded view is UTF-8 text in both file formats.
   Curve c{1, sinrise_info(), sinrise_data()};

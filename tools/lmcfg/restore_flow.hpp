@@ -47,7 +47,7 @@ struct RestoreTarget {
   // scripted restore should say what was written.
   bool plan_with_yes = false;
   std::function<unsigned long long()> telegrams;  // LinRS: for the summary
-  ProgressBar* bar = nullptr;  // the run's progress bar, ended before any output
+  ProgressBar* bar = nullptr;                     // the run's progress bar, ended before any output
 };
 
 // Before the first write: the plan (`plan`, its text; on stdout, on stderr when
