@@ -234,7 +234,7 @@ Result<std::vector<ops::LineLink>> line_links(const fleet::Inventory& inv,
       continue;
     }
     // Lines run in parallel: no shared progress line for long waits.
-    link::LinkInput in = link_input(c);
+    link::LinkInput in = c;  // the link part of the options, as typed
     in.cancel = cancel;
     if (check_only) {
       if (auto ok = fleet::check_line_link(l, std::move(in)); !ok.ok()) return ok.error();

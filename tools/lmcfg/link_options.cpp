@@ -149,35 +149,13 @@ std::function<void(const std::string&, transport::Millis)> long_wait_reporter(
 }
 }  // namespace
 
-link::LinkInput link_input(const CommonOptions& o) {
-  link::LinkInput in;
-  in.port = o.port;
-  in.baud = o.baud;
-  in.parity = o.parity;
-  in.stop_bits = o.stop_bits;
-  in.id = o.id;
-  in.checksum = o.checksum;
-  in.checksum_coverage = o.checksum_coverage;
-  in.response_layout = o.response_layout;
-  in.timeout_ms = o.timeout_ms;
-  in.settle_ms = o.settle_ms;
-  in.retries = o.retries;
-  in.long_timeout_s = o.long_timeout_s;
-  in.agreeing_reads = o.agreeing_reads;
-  in.trace = o.trace;
-  in.holder = o.holder;
-  return in;
-}
-
 Result<link::LinkSpec> link_options(const CommonOptions& o, const std::atomic<bool>* cancel) {
-  link::LinkInput in = link_input(o);
+  link::LinkInput in = o;  // the link part, as typed
   in.cancel = cancel;
-  if (!o.quiet && !o.json) {
-    // The deadlines the reporter names are the spec's: checked first.
-    LMCFG_ASSIGN_OR_RETURN(const auto plain, link::make_link_spec(in));
-    in.on_long_wait = long_wait_reporter(plain.client);
-  }
-  return link::make_link_spec(in);
+  LMCFG_ASSIGN_OR_RETURN(auto spec, link::make_link_spec(in));
+  // The reporter names the spec's deadlines, so it is added once they are known.
+  if (!o.quiet && !o.json) spec.client.on_long_wait = long_wait_reporter(spec.client);
+  return spec;
 }
 
 void add_reconnect_options(CLI::App* sub, ReconnectOptions& o) {

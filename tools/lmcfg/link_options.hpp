@@ -17,21 +17,11 @@
 
 namespace lmcfg::cli {
 
-struct CommonOptions {
-  std::string port;
-  unsigned baud = 57600;
-  std::string parity = "none";
-  unsigned stop_bits = 1;
-  std::string id = "0x11";
-  std::string checksum = "none";
-  std::string checksum_coverage = "id";
-  std::string response_layout = "auto";
-  int timeout_ms = 200;
-  int settle_ms = -1;  // -1: adaptive (the failed exchange's deadline, at most 500 ms)
-  int retries = 2;
-  int long_timeout_s = 0;  // 0: the client's defaults (defaulting 60 s, flash 30 s, reset 6 s)
-  std::string agreeing_reads = "auto";  // or 1..5 (link::LinkSpec::agreeing_reads)
-  std::string trace;
+// The link settings as typed (link::LinkInput: --port ... --trace; its holder,
+// "lmcfg <subcommand>" for the port's lock, is set when the subcommand is
+// parsed by add_link_options, add_output_options) and the options every
+// subcommand shares.
+struct CommonOptions : link::LinkInput {
   bool quiet = false;
   bool json = false;
   bool verbose = false;  // link errors keep their protocol detail
@@ -44,9 +34,6 @@ struct CommonOptions {
   std::string io_modules;          // "" = the default layout
   std::string devicenet_motors;    // "" = detect by probing A..D
   bool no_module_values = false;
-  // Who opens the port, recorded in its lock: "lmcfg <subcommand>", set when
-  // the subcommand is parsed (add_link_options, add_output_options).
-  std::string holder = "lmcfg";
 };
 
 // --port, --baud, --parity, --stop-bits, --id, --checksum, --checksum-coverage,
@@ -62,8 +49,6 @@ bool is_devicenet(const CommonOptions& o);
 // --quiet, --json, --db.
 void add_output_options(CLI::App* sub, CommonOptions& o);
 
-// The link part of the options as typed; link::make_link_spec checks it.
-link::LinkInput link_input(const CommonOptions& o);
 // The command's one link specification (link::make_link_spec: baud 0, ID 300
 // ... are refused with a message), with the progress of long waits on stderr
 // unless --quiet or --json, and `cancel` (a writing command's interrupt flag)
