@@ -6,6 +6,7 @@
 #include "common/bytes.hpp"
 #include "common/layers.hpp"
 #include "db/database.hpp"
+#include "ops/compare.hpp"
 
 namespace lmcfg::ops {
 
@@ -26,9 +27,8 @@ Known value_after(const Plan& plan, const db::Database& db, std::uint16_t upid) 
   if (layer == 0 || !plan.expected.scope.layers[static_cast<std::size_t>(layer - 1)]) return {};
   for (const auto& p : plan.expected.layer(layer))
     if (p.upid == upid) return {p.value, false};
-  const db::Parameter* d = db.find(upid);
-  if (d && d->default_value) return {static_cast<std::uint32_t>(*d->default_value), true};
-  return {std::nullopt, true};
+  // Not in the file: no recorded default either, so the database's.
+  return {default_of(db, upid, std::nullopt).value, true};
 }
 
 // "38400 Baud" -> 38400, when the label starts with one of the §3.2.1 rates.

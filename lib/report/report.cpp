@@ -12,6 +12,7 @@
 #include "db/database.hpp"
 #include "db/value.hpp"
 #include "ops/backup.hpp"
+#include "ops/compare.hpp"
 #include "ops/devicenet.hpp"
 #include "report/report_parts.hpp"
 
@@ -188,10 +189,7 @@ ParamInfo param_info(const config::Parameter& p, const db::Database& db) {
   ParamInfo i;
   const db::Parameter* d = db.find(p.upid);
   i.name = d && !d->name.empty() ? d->name : p.name;
-  if (d && d->default_value)
-    i.def = static_cast<std::uint32_t>(*d->default_value);
-  else
-    i.def = p.default_value;
+  i.def = ops::default_of(db, p.upid, p.default_value).value;
   if (p.type) {
     auto t = db::type_from_code(*p.type);
     i.type = t ? std::string(db::type_name(*t)) : "code " + std::to_string(*p.type);
