@@ -37,6 +37,27 @@ std::optional<std::uint64_t> parse_hex_digits(std::string_view s, std::size_t mi
   return v;
 }
 
+// Column `col` of row `r` as hex of min_digits..max_digits digits; nullopt,
+// with the error reported at the field ("bad hex ... (expected 4 hex digits,
+// e.g. 13A2)"), when it is not.
+std::optional<std::uint64_t> hex_column(const Table& t, const Row& r, std::string_view col,
+                                        std::size_t min_digits, std::size_t max_digits,
+                                        std::string_view example) {
+  const Field& f = t.get(r, col);
+  auto v = parse_hex_digits(f.text, min_digits, max_digits);
+  if (!v) {
+    const std::string digits =
+        min_digits != max_digits
+            ? std::to_string(min_digits) + " to " + std::to_string(max_digits) + " hex digits"
+        : min_digits == 1 ? std::string("1 hex digit")
+                          : std::to_string(min_digits) + " hex digits";
+    t.error(r, f,
+            "bad hex \"" + std::string(f.text) + "\" in column '" + std::string(col) +
+                "' (expected " + digits + ", e.g. " + std::string(example) + ")");
+  }
+  return v;
+}
+
 std::optional<std::int64_t> parse_dec(std::string_view s) {
   bool neg = false;
   if (!s.empty() && (s[0] == '-' || s[0] == '+')) {
@@ -277,15 +298,9 @@ bool read_layer(const Table& t, const Row& r, bool has_upid, Parameter& p) {
 
 // Column 'address_usage': empty, or 4 hex digits.
 bool read_address_usage(const Table& t, const Row& r, Parameter& p) {
-  const Field& af = t.get(r, "address_usage");
-  if (af.text.empty()) return true;
-  auto au = parse_hex_digits(af.text, 4, 4);
-  if (!au) {
-    t.error(r, af,
-            "bad hex \"" + std::string(af.text) +
-                "\" in column 'address_usage' (expected 4 hex digits, e.g. 000D)");
-    return false;
-  }
+  if (t.get(r, "address_usage").text.empty()) return true;
+  auto au = hex_column(t, r, "address_usage", 4, 4, "000D");
+  if (!au) return false;
   p.address_usage = AddressUsage{static_cast<std::uint16_t>(*au)};
   return true;
 }
@@ -294,12 +309,8 @@ bool read_address_usage(const Table& t, const Row& r, Parameter& p) {
 bool read_parameter(const Table& t, const Row& r, const std::set<std::string>& known,
                     Parameter& p) {
   bool ok = true;
-  const Field& uf = t.get(r, "upid");
-  auto upid = parse_hex_digits(uf.text, 4, 4);
+  auto upid = hex_column(t, r, "upid", 4, 4, "13A2");
   if (!upid) {
-    t.error(r, uf,
-            "bad hex \"" + std::string(uf.text) +
-                "\" in column 'upid' (expected 4 hex digits, e.g. 13A2)");
     ok = false;
   } else {
     p.upid = static_cast<std::uint16_t>(*upid);
@@ -375,11 +386,8 @@ void load_errors(const Table& t, Model& m) {
       ok = false;
     }
     const Field& cf = t.get(r, "code");
-    auto code = parse_hex_digits(cf.text, 1, 8);
+    auto code = hex_column(t, r, "code", 1, 8, "000C");
     if (!code) {
-      t.error(r, cf,
-              "bad hex \"" + std::string(cf.text) +
-                  "\" in column 'code' (expected 1 to 8 hex digits, e.g. 000C)");
       ok = false;
     } else {
       e.code = static_cast<std::uint32_t>(*code);
@@ -424,22 +432,14 @@ struct CmdKey {
 
 CmdKey read_cmd_key(const Table& t, const Row& r) {
   CmdKey k{0, 0, true};
-  const Field& mf = t.get(r, "master");
-  auto master = parse_hex_digits(mf.text, 2, 2);
+  auto master = hex_column(t, r, "master", 2, 2, "01");
   if (!master) {
-    t.error(r, mf,
-            "bad hex \"" + std::string(mf.text) +
-                "\" in column 'master' (expected 2 hex digits, e.g. 01)");
     k.ok = false;
   } else {
     k.master = static_cast<std::uint8_t>(*master);
   }
-  const Field& sf = t.get(r, "sub");
-  auto sub = parse_hex_digits(sf.text, 1, 1);
+  auto sub = hex_column(t, r, "sub", 1, 1, "0");
   if (!sub) {
-    t.error(
-        r, sf,
-        "bad hex \"" + std::string(sf.text) + "\" in column 'sub' (expected 1 hex digit, e.g. 0)");
     k.ok = false;
   } else {
     k.sub = static_cast<std::uint8_t>(*sub);
