@@ -23,11 +23,14 @@ namespace lmcfg::link {
 
 // What the restored parameters select after the reset. nullopt = the tool
 // cannot tell (hex switch settings, a code the database has no label for, no
-// database); `reasons` says how each known value was derived, or why not.
+// database); `reasons` says how each known value was derived, or why not, in
+// the order shown; `macid_reason` and `baud_reason` are the ones of each
+// setting among them (for a message about one of them).
 struct ExpectedLink {
   std::optional<unsigned> baud;
   std::optional<std::uint8_t> macid;
   std::vector<std::string> reasons;
+  std::string macid_reason, baud_reason;
 };
 
 // Settings the user names for after the restore (--reconnect-baud/-id/-checksum);

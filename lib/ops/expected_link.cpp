@@ -59,58 +59,59 @@ link::ExpectedLink expected_link(const Plan& plan, const db::Database& db) {
         "no UPID database: the factory defaults of the LinRS parameters are unknown");
   const Known id_src = value_after(plan, db, kMacidSource);
   if (!id_src.value) {
-    out.reasons.push_back(
+    out.macid_reason =
         "MACID: " + hex(kMacidSource, 4, "h") +
         " MACID Source Select is at its factory default, the hex switches (seed 003 §15); their "
-        "setting is not known to the tool");
+        "setting is not known to the tool";
   } else if (*id_src.value == kMacidByParameter) {
     const Known id = value_after(plan, db, kMacidValue);
     if (id.value && *id.value <= 0xFF) {
       out.macid = static_cast<std::uint8_t>(*id.value);
-      out.reasons.push_back("MACID " + hex(*out.macid, 2, "h") + ": " + hex(kMacidSource, 4, "h") +
-                            " = By Parameter, " + hex(kMacidValue, 4, "h") +
-                            " MACID Parameter Value = " + std::to_string(*id.value) +
-                            (id.from_default ? " (its default)" : ""));
+      out.macid_reason = "MACID " + hex(*out.macid, 2, "h") + ": " + hex(kMacidSource, 4, "h") +
+                         " = By Parameter, " + hex(kMacidValue, 4, "h") +
+                         " MACID Parameter Value = " + std::to_string(*id.value) +
+                         (id.from_default ? " (its default)" : "");
     } else {
-      out.reasons.push_back("MACID: " + hex(kMacidSource, 4, "h") +
-                            " = By Parameter, but the value of " + hex(kMacidValue, 4, "h") +
-                            " is not known");
+      out.macid_reason = "MACID: " + hex(kMacidSource, 4, "h") +
+                         " = By Parameter, but the value of " + hex(kMacidValue, 4, "h") +
+                         " is not known";
     }
   } else {
-    out.reasons.push_back("MACID: " + hex(kMacidSource, 4, "h") + " = " +
-                          std::to_string(*id_src.value) +
-                          " selects the hex switches, whose setting is not known to the tool");
+    out.macid_reason = "MACID: " + hex(kMacidSource, 4, "h") + " = " +
+                       std::to_string(*id_src.value) +
+                       " selects the hex switches, whose setting is not known to the tool";
   }
+  out.reasons.push_back(out.macid_reason);
 
   const Known baud_src = value_after(plan, db, kBaudSource);
   if (!baud_src.value) {
-    out.reasons.push_back(
+    out.baud_reason =
         "baud rate: " + hex(kBaudSource, 4, "h") +
         " Baud Rate Source Select is at its factory default, hex switch S1 (seed 003 §15); its "
-        "setting is not known to the tool");
+        "setting is not known to the tool";
   } else if (*baud_src.value == kBaudRateByParameter) {
     const Known code = value_after(plan, db, kBaudCode);
     if (code.value) out.baud = baud_of_label(db, kBaudCode, *code.value);
     if (out.baud) {
-      out.reasons.push_back("baud rate " + std::to_string(*out.baud) + ": " +
-                            hex(kBaudSource, 4, "h") + " = By Parameter, " +
-                            hex(kBaudCode, 4, "h") +
-                            " Baud Rate Parameter Def = " + std::to_string(*code.value));
+      out.baud_reason = "baud rate " + std::to_string(*out.baud) + ": " + hex(kBaudSource, 4, "h") +
+                        " = By Parameter, " + hex(kBaudCode, 4, "h") +
+                        " Baud Rate Parameter Def = " + std::to_string(*code.value);
     } else if (code.value) {
-      out.reasons.push_back("baud rate: " + hex(kBaudSource, 4, "h") +
-                            " = By Parameter, but the database has no rate for " +
-                            hex(kBaudCode, 4, "h") + " = " + std::to_string(*code.value) +
-                            " (seed 003 states only 8 = 38400 Baud)");
+      out.baud_reason = "baud rate: " + hex(kBaudSource, 4, "h") +
+                        " = By Parameter, but the database has no rate for " +
+                        hex(kBaudCode, 4, "h") + " = " + std::to_string(*code.value) +
+                        " (seed 003 states only 8 = 38400 Baud)";
     } else {
-      out.reasons.push_back("baud rate: " + hex(kBaudSource, 4, "h") +
-                            " = By Parameter, but the raw value of " + hex(kBaudCode, 4, "h") +
-                            " (its default, 57600 Bit/s by seed 003 §15) is not known");
+      out.baud_reason = "baud rate: " + hex(kBaudSource, 4, "h") +
+                        " = By Parameter, but the raw value of " + hex(kBaudCode, 4, "h") +
+                        " (its default, 57600 Bit/s by seed 003 §15) is not known";
     }
   } else {
-    out.reasons.push_back("baud rate: " + hex(kBaudSource, 4, "h") + " = " +
-                          std::to_string(*baud_src.value) +
-                          " selects hex switch S1, whose setting is not known to the tool");
+    out.baud_reason = "baud rate: " + hex(kBaudSource, 4, "h") + " = " +
+                      std::to_string(*baud_src.value) +
+                      " selects hex switch S1, whose setting is not known to the tool";
   }
+  out.reasons.push_back(out.baud_reason);
   return out;
 }
 

@@ -384,13 +384,11 @@ void check_id_after_reset(Builder& b) {
     b.plan.link_may_change = true;
     return;
   }
-  std::string why;
-  for (const auto& r : after.reasons)
-    if (r.rfind("MACID ", 0) == 0) why = " (" + r + ")";
   b.plan.problems.push_back(
       "the drive answers at MACID " + hex(now, 2, "h") + ", but its ROM selects MACID " +
-      hex(*after.macid, 2, "h") + why + ": the restore's reset would move it to " +
-      hex(*after.macid, 2, "h") + ", where another drive of the line may answer. Write the MACID " +
+      hex(*after.macid, 2, "h") + " (" + after.macid_reason +
+      "): the restore's reset would move it to " + hex(*after.macid, 2, "h") +
+      ", where another drive of the line may answer. Write the MACID " +
       "it keeps first ('lmcfg set " + hex(kMacidValue, 4, "h") + " " + std::to_string(now) +
       " --rom --include-comm'), or, on a line of its own, restore with --include-comm to "
       "follow it");

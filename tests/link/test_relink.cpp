@@ -119,7 +119,7 @@ TEST_CASE("sim: a master at another baud rate gets no answer until it reconfigur
 
 TEST_CASE("relink: the candidates in the order they are tried", "[relink]") {
   // Candidates: overrides, expected, current; then every rate of §3.2.1.
-  link::ExpectedLink known{38400u, std::uint8_t{0x22}, {}};
+  link::ExpectedLink known{38400u, std::uint8_t{0x22}, {}, {}, {}};
   transport::SerialSettings line;  // 57600 8N1
   auto c = link::relink_candidates(known, {}, line, 0x11, codec::ChecksumConfig{});
   REQUIRE(c.size() == 12);  // 6 rates x 2 IDs

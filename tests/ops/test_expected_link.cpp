@@ -25,6 +25,9 @@ TEST_CASE("relink: what the restored LinRS parameters select, and why", "[relink
   REQUIRE(e.reasons.size() == 2);
   CHECK(e.reasons[0] == "MACID 22h: 206Ch = By Parameter, 2076h MACID Parameter Value = 34");
   CHECK(e.reasons[1] == "baud rate 38400: 200Eh = By Parameter, 2012h Baud Rate Parameter Def = 8");
+  // Each setting's own reason, for a message about that setting alone.
+  CHECK(e.macid_reason == e.reasons[0]);
+  CHECK(e.baud_reason == e.reasons[1]);
 
   // 2076h absent: its database default 11h. 2012h = 16: a code the seeds do not give.
   intf = {config::Parameter{0x200E, 2, std::nullopt, std::nullopt, {}, {}, {}},
@@ -45,4 +48,23 @@ TEST_CASE("relink: what the restored LinRS parameters select, and why", "[relink
   CHECK_FALSE(e.baud);
   CHECK_FALSE(e.macid);
   CHECK(e.reasons[0].find("factory default, the hex switches") != std::string::npos);
+  CHECK(e.macid_reason == e.reasons[0]);
+}
+
+TEST_CASE("relink: without a database the settings' own reasons follow the database's",
+          "[relink]") {
+  ops::Plan plan;
+  plan.expected.scope.layers = {false, false, true, false};
+  plan.expected.layer(3) = {config::Parameter{0x206C, 3, std::nullopt, std::nullopt, {}, {}, {}},
+                            config::Parameter{0x2076, 0x22, std::nullopt, std::nullopt, {}, {}, {}}};
+  const auto e = ops::expected_link(plan, db::Database::empty());
+  REQUIRE(e.reasons.size() == 3);
+  CHECK(e.reasons[0] ==
+        "no UPID database: the factory defaults of the LinRS parameters are unknown");
+  CHECK(e.macid == std::uint8_t{0x22});
+  CHECK(e.macid_reason == "MACID 22h: 206Ch = By Parameter, 2076h MACID Parameter Value = 34");
+  CHECK(e.reasons[1] == e.macid_reason);
+  CHECK_FALSE(e.baud);
+  CHECK(e.reasons[2] == e.baud_reason);
+  CHECK(e.baud_reason.rfind("baud rate: 200Eh", 0) == 0);
 }
