@@ -10,6 +10,7 @@
 #include "link/session.hpp"
 #include "ops/backup.hpp"
 #include "ops/devicenet.hpp"
+#include "ops/devicenet_restore.hpp"
 #include "transport/transport.hpp"
 
 namespace lmcfg::report {
@@ -57,6 +58,44 @@ Json convert_json(const std::string& input, const std::string& output, config::F
     j["devicenet_live"] = cfg.devicenet->live.size();
   }
   return j;
+}
+
+Json restore_json(const ops::RestoreOutcome& out, const std::string& file) {
+  Json j;
+  j["file"] = file;
+  j["outcome"] = ops::outcome_name(out);
+  if (out.relink)
+    j["link_after"] = {{"changed", out.relink->changed},
+                       {"summary", out.relink->summary},
+                       {"reasons", out.relink->reasons}};
+  // Named: alive while its items are copied.
+  const Json plan =
+      out.devicenet ? ops::devicenet_plan_json(*out.devicenet) : ops::plan_json(out.plan);
+  for (const auto& [k, v] : plan.items()) j[k] = v;
+  if (out.second_pass) j["second_pass"] = ops::plan_json(*out.second_pass)["steps"];
+  j["mismatches"] = out.mismatches;
+  if (out.undo) j["undo"] = undo_json(*out.undo);
+  if (out.error) j["error"] = out.error->message;
+  return j;
+}
+
+Json restore_steps_json(const ops::RestoreOutcome& out) {
+  if (out.devicenet) {
+    Json steps = ops::devicenet_plan_json(*out.devicenet)["steps"];
+    for (auto& s : steps) {
+      s.erase("name");
+      s["old"] = Json(s["old"]["raw"]);
+      s["new"] = Json(s["new"]["raw"]);
+    }
+    return steps;
+  }
+  Json steps = ops::plan_json(out.plan)["steps"];
+  if (out.second_pass) {
+    // Named: a range-for over a member of a temporary would read freed memory.
+    const Json second = ops::plan_json(*out.second_pass);
+    for (const auto& s : second["steps"]) steps.push_back(s);
+  }
+  return steps;
 }
 
 Json undo_json(const ops::UndoSaved& u) {

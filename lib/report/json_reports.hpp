@@ -21,6 +21,7 @@
 #include "ops/db_scan.hpp"
 #include "ops/factory_reset.hpp"
 #include "ops/link_settings.hpp"
+#include "ops/restore_run.hpp"
 #include "ops/undo.hpp"
 
 namespace lmcfg::report {
@@ -35,6 +36,15 @@ Json devicenet_backup_json(const std::string& file, const config::DriveConfig& c
 // convert --json: input, output, format and what the written file holds.
 Json convert_json(const std::string& input, const std::string& output, config::FileFormat format,
                   std::size_t bytes, const config::DriveConfig& cfg, bool ct_decoded);
+
+// restore --json (and undo, fleet restore): the file, the outcome, the link
+// after a relink, the plan's items (LinRS or DeviceNet), the second pass's
+// steps, the mismatches, the undo record and the error.
+Json restore_json(const ops::RestoreOutcome& out, const std::string& file);
+// The restore's steps as the journal records them: the report's, the second
+// pass's after the first; a DeviceNet Set command's old and new as raw words
+// (docs/audit.md).
+Json restore_steps_json(const ops::RestoreOutcome& out);
 
 // {"path", "command"} of an undo record saved before a write.
 Json undo_json(const ops::UndoSaved& u);

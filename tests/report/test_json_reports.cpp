@@ -6,6 +6,7 @@
 
 #include "config/model.hpp"
 #include "db/database.hpp"
+#include "ops/restore_run.hpp"
 #include "report/json_reports.hpp"
 
 using namespace lmcfg;
@@ -140,4 +141,46 @@ TEST_CASE("json reports: db show of an unknown UPID and db merge, members sorted
   CHECK(report::db_merge_json("upid-db", m).dump() ==
         R"({"into":"upid-db","parameters_added":3,"parameters_replaced":0,)"
         R"("profile":"e1100-fw-x","profile_replaced":false})");
+}
+
+TEST_CASE("json reports: restore --json and the journal's steps, with a second pass",
+          "[report][json]") {
+  ops::RestoreOutcome out;
+  out.stage = ops::RestoreOutcome::Stage::verify_mismatch;
+  out.written = true;
+  ops::PlanStep stop;
+  stop.action = ops::PlanStep::Action::stop_mc;
+  stop.text = "stop motion control";
+  ops::PlanStep start = stop;
+  start.action = ops::PlanStep::Action::start_mc;
+  start.text = "start motion control";
+  out.plan.steps = {stop, start};
+  ops::PlanStep save;
+  save.action = ops::PlanStep::Action::save_ct;
+  save.text = "save the command table";
+  out.second_pass.emplace().steps = {save};
+  out.mismatches = {"command table entry 3 differs"};
+  out.undo.emplace();
+  out.undo->path = "/u/rec.json";
+  out.undo->command = "lmcfg undo --port /dev/ttyS0";
+  out.error = Error(Errc::verify_mismatch, "read back differently");
+
+  const auto j = report::restore_json(out, "axis.json");
+  CHECK(j.dump() ==
+        R"({"file":"axis.json","outcome":"verify mismatch","problems":[],"nothing_to_do":false,)"
+        R"("steps":[{"step":1,"action":"stop_mc","text":"stop motion control"},)"
+        R"({"step":2,"action":"start_mc","text":"start motion control"}],)"
+        R"("losses":[],"skipped":[],"skipped_incompatible":[],"notes":[],)"
+        R"("second_pass":[{"step":1,"action":"save_ct","text":"save the command table"}],)"
+        R"("mismatches":["command table entry 3 differs"],)"
+        R"("undo":{"path":"/u/rec.json","command":"lmcfg undo --port /dev/ttyS0"},)"
+        R"("error":"read back differently"})");
+
+  // The journal: the first pass's steps, then the second pass's.
+  const auto steps = report::restore_steps_json(out);
+  REQUIRE(steps.size() == 3);
+  CHECK(steps[0]["action"] == "stop_mc");
+  CHECK(steps[1]["action"] == "start_mc");
+  CHECK(steps[2]["action"] == "save_ct");
+  CHECK(steps[2]["step"] == 1);
 }

@@ -12,6 +12,7 @@
 #include "ops/devicenet_restore.hpp"
 #include "ops/interrupt.hpp"
 #include "ops/recovery.hpp"
+#include "report/json_reports.hpp"
 
 namespace lmcfg::cli {
 namespace {
@@ -20,27 +21,6 @@ namespace {
 std::string plan_text(const ops::RestoreOutcome& out, const std::string& file_name) {
   return out.devicenet ? ops::render_devicenet_plan(*out.devicenet, file_name)
                        : ops::render_plan(out.plan);
-}
-
-nlohmann::ordered_json plan_items(const ops::RestoreOutcome& out) {
-  return out.devicenet ? ops::devicenet_plan_json(*out.devicenet) : ops::plan_json(out.plan);
-}
-
-void report_json(const ops::RestoreOutcome& out, const std::string& file) {
-  nlohmann::ordered_json j;
-  j["file"] = file;
-  j["outcome"] = ops::outcome_name(out);
-  if (out.relink)
-    j["link_after"] = {{"changed", out.relink->changed},
-                       {"summary", out.relink->summary},
-                       {"reasons", out.relink->reasons}};
-  const auto plan = plan_items(out);  // alive while its items are copied
-  for (const auto& [k, v] : plan.items()) j[k] = v;
-  if (out.second_pass) j["second_pass"] = ops::plan_json(*out.second_pass)["steps"];
-  j["mismatches"] = out.mismatches;
-  if (out.undo) j["undo"] = undo_json(*out.undo);
-  if (out.error) j["error"] = out.error->message;
-  std::printf("%s\n", j.dump(2).c_str());
 }
 
 // The documented exit code of an outcome (README "Exit codes").
@@ -146,27 +126,6 @@ void print_outcome(const ops::RestoreOutcome& out, const std::string& file_name,
   }
 }
 
-// The steps as the journal records them: the report's; a DeviceNet Set
-// command's old and new as raw words (docs/audit.md).
-nlohmann::ordered_json journal_steps(const ops::RestoreOutcome& out) {
-  if (out.devicenet) {
-    auto steps = ops::devicenet_plan_json(*out.devicenet)["steps"];
-    for (auto& s : steps) {
-      s.erase("name");
-      s["old"] = nlohmann::ordered_json(s["old"]["raw"]);
-      s["new"] = nlohmann::ordered_json(s["new"]["raw"]);
-    }
-    return steps;
-  }
-  auto steps = ops::plan_json(out.plan)["steps"];
-  if (out.second_pass) {
-    // A named value: a range-for over a member of a temporary would read freed memory.
-    const auto second = ops::plan_json(*out.second_pass);
-    for (const auto& s : second["steps"]) steps.push_back(s);
-  }
-  return steps;
-}
-
 void record_restore(const ops::RestoreOutcome& out, int code, const RestoreTarget& t,
                     const std::string& file_name, const CommonOptions& common,
                     const RestoreFlags& f) {
@@ -177,7 +136,7 @@ void record_restore(const ops::RestoreOutcome& out, int code, const RestoreTarge
   e.macid = t.macid;
   e.position = f.position;
   e.file = file_name;
-  e.steps = journal_steps(out);
+  e.steps = report::restore_steps_json(out);
   e.outcome = ops::outcome_name(out);
   e.exit_code = code;
   if (out.error) e.error = out.error->message;
@@ -215,10 +174,6 @@ void print_undo_saved(const ops::UndoSaved& u, const CommonOptions& common) {
   if (common.quiet || common.json) return;
   std::fprintf(stderr, "undo: saved the target's previous values to %s; to put them back: %s\n",
                u.path.c_str(), u.command.c_str());
-}
-
-nlohmann::ordered_json undo_json(const ops::UndoSaved& u) {
-  return {{"path", u.path.string()}, {"command", u.command}};
 }
 
 void add_restore_flags(CLI::App* sub, RestoreFlags& f) {
@@ -260,7 +215,7 @@ int finish_restore(const ops::RestoreOutcome& out, const RestoreTarget& t,
                    const std::string& file_name, const CommonOptions& common,
                    const RestoreFlags& f) {
   if (t.bar) t.bar->end();
-  if (common.json) report_json(out, file_name);
+  if (common.json) std::printf("%s\n", report::restore_json(out, file_name).dump(2).c_str());
   if (out.undo) print_undo_saved(*out.undo, common);
   print_outcome(out, file_name, common, f, t.telegrams ? t.telegrams() : 0);
   const int code = exit_code_of(out);

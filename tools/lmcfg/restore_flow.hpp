@@ -72,7 +72,6 @@ int finish_restore(const ops::RestoreOutcome& out, const RestoreTarget& t,
 // "undo: saved the target's previous values to PATH; to put them back: CMD"
 // on stderr (unless --quiet or --json).
 void print_undo_saved(const ops::UndoSaved& u, const CommonOptions& common);
-nlohmann::ordered_json undo_json(const ops::UndoSaved& u);
 
 int restore_on_session(link::Session& session, const config::DriveConfig& file,
                        const std::string& file_name, const CommonOptions& common,
