@@ -1,5 +1,8 @@
 // Restore: whether the target still reads as a plan found it (target_change,
 // restore.hpp). The plan's reads are the comparison: no second kind of read.
+// This is identity of two reads of one drive (its answers as they came), not a
+// comparison of two configurations: no default stands for an unlisted UPID and
+// nothing is decoded, so the comparison engine (compare.hpp) does not apply.
 #include "common/bytes.hpp"
 #include "common/layers.hpp"
 #include "ops/restore.hpp"
