@@ -99,8 +99,9 @@ std::string render_info(const DriveInfo& i) {
   const auto& r = i.response;
   if (r.state_var) {
     const unsigned main = *r.state_var >> 8;
-    std::snprintf(buf, sizeof buf, "state:        %u %s (state var %04Xh)\n", main,
-                  state_name(main).c_str(), *r.state_var);
+    const std::string name = state_name(main);
+    std::snprintf(buf, sizeof buf, "state:        %u%s%s (state var %04Xh)\n", main,
+                  name.empty() ? "" : " ", name.c_str(), *r.state_var);
     out += buf;
   }
   if (r.status_word) {

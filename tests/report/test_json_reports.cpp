@@ -130,19 +130,6 @@ TEST_CASE("json reports: undo --list and backup --json", "[report][json]") {
         R"({"file":"a.json","parameters":4,"curves":2,"ct_entries":3,"telegrams":120})");
 }
 
-TEST_CASE("json reports: db show of an unknown UPID and db merge, members sorted by name",
-          "[report][json][db]") {
-  CHECK(report::db_show_json(0x1234, {}).dump() ==
-        R"({"definitions":[],"known":false,"note":"unknown to the database; the drive can be )"
-        R"(asked","upid":"1234"})");
-  ops::MergeReport m;
-  m.profile = "e1100-fw-x";
-  m.parameters_added = 3;
-  CHECK(report::db_merge_json("upid-db", m).dump() ==
-        R"({"into":"upid-db","parameters_added":3,"parameters_replaced":0,)"
-        R"("profile":"e1100-fw-x","profile_replaced":false})");
-}
-
 TEST_CASE("json reports: restore --json and the journal's steps, with a second pass",
           "[report][json]") {
   ops::RestoreOutcome out;
