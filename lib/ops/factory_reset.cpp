@@ -97,6 +97,11 @@ Result<void> DefaultRun::load_or_save_record() {
     rep_.recovered = true;
     rep_.recovery_note = "found the recovery record " + record_ + " of an interrupted run (" +
                          found->created + "): writing back the values it recorded";
+  } else if (found) {
+    rep_.recovery_note = "found the recovery record " + record_ + " of an interrupted run (" +
+                         found->created +
+                         "): --include-comm defaults the communication values too, nothing to "
+                         "write back";
   }
   if (!keep_.empty() && !found) {
     RecoveryRecord r{"default", opt_.port, c_.options().id, utc_now(), {}, {}};
@@ -141,7 +146,8 @@ Result<void> DefaultRun::write_back_kept() {
   if (record_saved_) {
     LMCFG_TRY(remove_recovery(opt_.recovery_path));
     rep_.recovery_note += rep_.recovery_note.empty() ? "" : "; ";
-    rep_.recovery_note += "every kept value read back, record deleted";
+    rep_.recovery_note +=
+        keep_.empty() ? "record deleted" : "every kept value read back, record deleted";
   }
   return {};
 }
@@ -166,8 +172,8 @@ Result<void> DefaultRun::restart() {
   // The drive answers after its restart (§13.1), already with its switch
   // settings; with the old link settings that answer can be lost.
   if (!r.ok() && rep_.link_may_change && r.error().code == make_error_code(Errc::timeout)) {
-    rep_.done.push_back("reset (defaults become active; no answer with the old link settings)");
-    return {};
+    return step("reset (defaults become active; no answer with the old link settings)",
+                Result<void>());
   }
   return step("reset (defaults become active)", std::move(r));
 }

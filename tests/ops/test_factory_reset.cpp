@@ -186,6 +186,32 @@ TEST_CASE("factory_reset: --include-comm defaults the communication values too",
         Steps{"stop MC", "default Intf layer", "start MC", "reset (defaults become active)"});
 }
 
+TEST_CASE(
+    "factory_reset: --include-comm finishes an interrupted run's record without writing it back",
+    "[factory_reset]") {
+  test::ScratchDir dir("factory-reset-include-comm-record");
+  test::SimRig rig("commissioned-axis.json");
+  rig.drive->state().switches = sim::HexSwitches{0x11, 57600};
+  ops::DefaultOptions d;
+  d.layers = {false, false, true, false};
+  d.include_comm = true;
+  d.recovery_path = dir.path / "default-sim-11h.json";
+  d.port = "sim";
+  ops::RecoveryRecord rec{"default", "sim", 0x11, "2026-11-24T17:15:00Z", {}, {}};
+  rec.keep = {{0x200E, 2}, {0x206C, 3}};
+  REQUIRE(ops::save_recovery(d.recovery_path, rec).ok());
+  auto rep = ops::default_drive(*rig.client, d, db::Database::empty());
+  REQUIRE(rep.ok());
+  CHECK_FALSE(rep->recovered);
+  CHECK(rep->kept.empty());
+  CHECK(rep->recovery_note == "found the recovery record " + d.recovery_path.string() +
+                                  " of an interrupted run (2026-11-24T17:15:00Z): --include-comm "
+                                  "defaults the communication values too, nothing to write "
+                                  "back; record deleted");
+  CHECK(modified(*rig.drive, 0x2000).empty());
+  CHECK_FALSE(std::filesystem::exists(d.recovery_path));
+}
+
 TEST_CASE("factory_reset: an interrupt between two steps names the step and the undo record",
           "[factory_reset]") {
   test::ScratchDir dir("factory-reset-interrupt");
