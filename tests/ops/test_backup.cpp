@@ -33,6 +33,15 @@ std::size_t requests_of(const test::WireRecorder& w, std::uint8_t main) {
   return n;
 }
 
+// A whole backup's report.
+ops::BackupReport report_of(client::Client& c) {
+  ops::BackupReport report;
+  ops::BackupOptions bo;
+  bo.report = &report;
+  REQUIRE(ops::backup(c, bo, db::Database::empty()).ok());
+  return report;
+}
+
 }  // namespace
 
 TEST_CASE("e2e: a backup records each parameter's type and default, asked from the drive",
@@ -210,10 +219,7 @@ TEST_CASE("backup: the report says how many reads each value took and what that 
     client::ClientOptions co;
     co.agreeing_reads = 0;
     test::SimRig rig("commissioned-axis.json", co);
-    ops::BackupReport report;
-    ops::BackupOptions bo;
-    bo.report = &report;
-    REQUIRE(ops::backup(*rig.client, bo, db::Database::empty()).ok());
+    const auto report = report_of(*rig.client);
     CHECK(report.reads_per_value == 2);
     REQUIRE_FALSE(report.notes.empty());
     CHECK(report.notes[0] ==
@@ -224,10 +230,7 @@ TEST_CASE("backup: the report says how many reads each value took and what that 
     client::ClientOptions co;
     co.agreeing_reads = 3;
     test::SimRig rig("commissioned-axis.json", co);
-    ops::BackupReport report;
-    ops::BackupOptions bo;
-    bo.report = &report;
-    REQUIRE(ops::backup(*rig.client, bo, db::Database::empty()).ok());
+    const auto report = report_of(*rig.client);
     CHECK(report.reads_per_value == 3);
     REQUIRE_FALSE(report.notes.empty());
     CHECK(report.notes[0] ==
@@ -235,10 +238,7 @@ TEST_CASE("backup: the report says how many reads each value took and what that 
   }
   SECTION("--agreeing-reads 1 (a bare client's default) without a checksum: the warning") {
     test::SimRig rig("commissioned-axis.json");
-    ops::BackupReport report;
-    ops::BackupOptions bo;
-    bo.report = &report;
-    REQUIRE(ops::backup(*rig.client, bo, db::Database::empty()).ok());
+    const auto report = report_of(*rig.client);
     CHECK(report.reads_per_value == 1);
     REQUIRE_FALSE(report.notes.empty());
     CHECK(report.notes[0] ==
@@ -249,10 +249,7 @@ TEST_CASE("backup: the report says how many reads each value took and what that 
     auto state = test::load_sim_drive("commissioned-axis.json")->state();
     state.checksum.mode = codec::ChecksumMode::crc_ccitt;
     test::FaultRig rig(std::make_shared<sim::Drive>(state));
-    ops::BackupReport report;
-    ops::BackupOptions bo;
-    bo.report = &report;
-    REQUIRE(ops::backup(*rig.client, bo, db::Database::empty()).ok());
+    const auto report = report_of(*rig.client);
     CHECK(report.reads_per_value == 1);
     for (const auto& n : report.notes) CHECK(n.find("checksum") == std::string::npos);
   }
