@@ -60,9 +60,6 @@ ALLOWED = {
 # tests/tools/ end-to-end tests and the older ops/serve test files); each is
 # to get its tests/<layer>/test_<name>.cpp.
 PENDING = {
-    "ops/backup.cpp", "ops/interrupt.cpp", "ops/recovery.cpp",
-    "ops/restore.cpp", "ops/restore_execute.cpp", "ops/restore_render.cpp",
-    "ops/restore_run.cpp",
     "serve/console_assets.cpp", "serve/console_http.cpp", "serve/console_pages.cpp",
     "serve/http.cpp", "serve/notify.cpp", "serve/sha256.cpp",
 }

@@ -1,7 +1,9 @@
 #include "ops/recovery.hpp"
 
+#include <cstdio>
 #include <cstdlib>
 #include <nlohmann/json.hpp>
+#include <stdexcept>
 #include <system_error>
 
 #include "config/atomic_file.hpp"
@@ -38,6 +40,35 @@ Result<fs::path> recovery_path(const std::string& command, const std::string& po
   return dir / (command + "-" + drive_key(port, macid) + ".json");
 }
 
+namespace {
+
+// The record's values are written back to the drive: one that does not fit
+// its field (a hand-edited or damaged file) is refused, never truncated onto
+// another UPID or value.
+std::uint32_t unsigned_member(const nlohmann::json& j, const char* name, std::uint32_t max,
+                              const std::string& where = {}) {
+  const auto& v = j.at(name);
+  const std::string field = where.empty() ? name : where + "." + name;
+  if (!v.is_number_unsigned() || v.get<std::uint64_t>() > max)
+    throw std::runtime_error(field + " is " + v.dump() + ", expected an integer 0.." +
+                             std::to_string(max));
+  return static_cast<std::uint32_t>(v.get<std::uint64_t>());
+}
+
+// "200E": the UPID as save_recovery writes it, four hexadecimal digits.
+std::uint16_t upid_member(const nlohmann::json& k, const std::string& where) {
+  const auto& v = k.at("upid");
+  const std::string text = v.is_string() ? v.get<std::string>() : std::string();
+  const bool hex4 =
+      text.size() == 4 && text.find_first_not_of("0123456789abcdefABCDEF") == std::string::npos;
+  if (!hex4)
+    throw std::runtime_error(where + ".upid is " + v.dump() +
+                             ", expected 4 hexadecimal digits (\"200E\")");
+  return static_cast<std::uint16_t>(std::stoul(text, nullptr, 16));
+}
+
+}  // namespace
+
 Result<std::optional<RecoveryRecord>> load_recovery(const fs::path& path) {
   std::error_code ec;
   if (!fs::exists(path, ec)) return std::optional<RecoveryRecord>();
@@ -47,13 +78,14 @@ Result<std::optional<RecoveryRecord>> load_recovery(const fs::path& path) {
     RecoveryRecord r;
     r.command = j.at("command").get<std::string>();
     r.port = j.at("port").get<std::string>();
-    r.macid = j.at("macid").get<std::uint8_t>();
+    r.macid = static_cast<std::uint8_t>(unsigned_member(j, "macid", 0xFF));
     r.created = j.at("created").get<std::string>();
     r.expect = j.value("expect", std::string());
+    std::size_t n = 0;
     for (const auto& k : j.at("keep")) {
-      r.keep.push_back(client::ModifiedParam{
-          static_cast<std::uint16_t>(std::stoul(k.at("upid").get<std::string>(), nullptr, 16)),
-          k.at("value").get<std::uint32_t>()});
+      const std::string where = "keep[" + std::to_string(n++) + "]";
+      r.keep.push_back(client::ModifiedParam{upid_member(k, where),
+                                             unsigned_member(k, "value", 0xFFFFFFFF, where)});
     }
     return std::optional<RecoveryRecord>(std::move(r));
   } catch (const std::exception& e) {

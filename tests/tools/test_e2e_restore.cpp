@@ -12,7 +12,6 @@
 #include <map>
 #include <set>
 
-#include "config/config_io.hpp"
 #include "db/compiler.hpp"
 #include "db/database.hpp"
 #include "e2e_support.hpp"
@@ -176,39 +175,6 @@ TEST_CASE("e2e: bad inputs refuse the restore with zero write telegrams on the w
       CHECK(spare.drive->state().params == before.params);
     }
   }
-}
-
-TEST_CASE("e2e: a backup records each parameter's type and default, asked from the drive",
-          "[e2e]") {
-  test::SimRig source("commissioned-axis.json");
-  const auto file = backup_of(source, db::Database::empty());
-  std::size_t n = 0;
-  for (int layer = 1; layer <= 4; ++layer) {
-    for (const auto& p : file.layer(layer)) {
-      const auto& truth = source.drive->state().params.at(p.upid);
-      INFO("UPID " << p.upid);
-      CHECK(p.type == std::optional<std::uint8_t>(static_cast<std::uint8_t>(truth.type)));
-      CHECK(p.default_value == std::optional<std::uint32_t>(truth.def));
-      ++n;
-    }
-  }
-  CHECK(n == modified_rom(*source.drive).size());
-  // The records survive the file formats.
-  for (auto fmt : {config::FileFormat::json, config::FileFormat::xml}) {
-    auto text = config::write_config_text(file, fmt);
-    REQUIRE(text.ok());
-    auto back = config::read_config_text(*text, "mem", fmt);
-    REQUIRE(back.ok());
-    CHECK(back->layers == file.layers);
-  }
-  // --no-describe: nothing is asked; only what a database knows is recorded.
-  test::SimRig again("commissioned-axis.json");
-  ops::BackupOptions bo;
-  bo.ask_drive = false;
-  auto bare = ops::backup(*again.client, bo, db::Database::empty());
-  REQUIRE(bare.ok());
-  for (const auto& l : bare->layers)
-    for (const auto& p : l) CHECK_FALSE((p.type || p.default_value));
 }
 
 TEST_CASE("e2e: offline diff against defaults uses the defaults a capture recorded", "[e2e]") {
