@@ -64,8 +64,6 @@ PENDING = {
     "ops/interrupt.cpp", "ops/line.cpp", "ops/param_info.cpp", "ops/recovery.cpp",
     "ops/restore.cpp", "ops/restore_execute.cpp", "ops/restore_render.cpp",
     "ops/restore_run.cpp", "ops/restore_target.cpp", "report/json_db.cpp",
-    "serve/console_assets.cpp", "serve/console_http.cpp", "serve/console_pages.cpp",
-    "serve/http.cpp", "serve/notify.cpp", "serve/sha256.cpp",
 }
 
 
