@@ -64,7 +64,8 @@ TEST_CASE("console pages: age from an ISO 8601 UTC time, past and future",
   CHECK(pages::age("2027-01-15T08:15:00Z", kNow) == "in 15 min");
   CHECK(pages::age("2027-01-15T09:01:00Z", kNow) == "in 1 h 1 min");
   // Not a UTC time as the service writes it: nothing rather than a wrong age.
-  for (const std::string bad : {"", "yesterday", "2027-01-15 08:00:00Z", "2027-01-15T08:00:00",
+  for (const std::string& bad :
+       std::vector<std::string>{"", "yesterday", "2027-01-15 08:00:00Z", "2027-01-15T08:00:00",
                                 "2027-01-15T08:00:00+02:00", "2027-01-15T08:00:00Zjunk"}) {
     INFO(bad);
     CHECK(pages::age(bad, kNow).empty());
