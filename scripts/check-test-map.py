@@ -3,8 +3,7 @@
 lib/<layer>/<name>.cpp the file tests/<layer>/test_<name>.cpp exists, unless
 ALLOWED below says why not (no logic of its own, or tested under another name:
 then the files named there must exist). An allowlist entry whose source is
-gone, or that now has its test file, is stale and fails too (entries under
-PENDING only print a note: the layers other work is reorganising).
+gone, or that now has its test file, is stale and fails too.
 usage: check-test-map.py SOURCE_DIR"""
 import os, sys
 
@@ -56,15 +55,6 @@ ALLOWED = {
                       "scan over a pseudo-terminal and through ser2net"),
 }
 
-# Pending: sources whose tests still live in files named otherwise (mostly
-# tests/tools/ end-to-end tests and the older ops/serve test files); each is
-# to get its tests/<layer>/test_<name>.cpp.
-PENDING = {
-    "serve/console_assets.cpp", "serve/console_http.cpp", "serve/console_pages.cpp",
-    "serve/http.cpp", "serve/notify.cpp", "serve/sha256.cpp",
-}
-
-
 def main(source):
     lib = os.path.join(source, "lib")
     sources = set()
@@ -75,7 +65,7 @@ def main(source):
         for f in sorted(os.listdir(d)):
             if f.endswith(".cpp"):
                 sources.add(f"{layer}/{f}")
-    failures, notes = [], []
+    failures = []
     for src in sorted(sources):
         layer, name = src.split("/")
         test = f"tests/{layer}/test_{name}"
@@ -89,22 +79,17 @@ def main(source):
                 if not os.path.exists(os.path.join(source, w)):
                     failures.append(f"lib/{src}: ALLOWED says it is tested in {w}, "
                                     "which does not exist")
-        elif src in PENDING:
-            if has_test:
-                notes.append(f"note: lib/{src} has {test}; its PENDING entry can go")
         elif not has_test:
             failures.append(f"lib/{src}: no {test}; write it (or list the source in ALLOWED "
                             "of scripts/check-test-map.py with the file that tests it)")
-    for src in sorted((set(ALLOWED) | PENDING) - sources):
+    for src in sorted(set(ALLOWED) - sources):
         failures.append(f"scripts/check-test-map.py: lib/{src} does not exist; remove its entry")
-    for n in notes:
-        print(n)
     for f in failures:
         print(f, file=sys.stderr)
     covered = sum(1 for s in sources
                   if os.path.exists(os.path.join(source, "tests", s.replace("/", "/test_", 1))))
     print(f"{covered} of {len(sources)} lib sources have tests/<layer>/test_<name>.cpp, "
-          f"{len(ALLOWED)} are tested under another name, {len(PENDING)} pending")
+          f"{len(ALLOWED)} are tested under another name")
     return 1 if failures else 0
 
 

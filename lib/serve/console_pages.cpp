@@ -114,8 +114,12 @@ std::string shown_status(const Json& d) {
 
 std::string age(const std::string& iso, TimePoint now) {
   std::tm tm{};
-  if (std::sscanf(iso.c_str(), "%4d-%2d-%2dT%2d:%2d:%2dZ", &tm.tm_year, &tm.tm_mon, &tm.tm_mday,
-                  &tm.tm_hour, &tm.tm_min, &tm.tm_sec) != 6)
+  // sscanf counts conversions only: without %n a missing 'Z' (a local time,
+  // "+02:00") or text after it would pass and be read as UTC.
+  int end = -1;
+  if (std::sscanf(iso.c_str(), "%4d-%2d-%2dT%2d:%2d:%2dZ%n", &tm.tm_year, &tm.tm_mon, &tm.tm_mday,
+                  &tm.tm_hour, &tm.tm_min, &tm.tm_sec, &end) != 6 ||
+      end != static_cast<int>(iso.size()))
     return "";
   tm.tm_year -= 1900;
   tm.tm_mon -= 1;

@@ -1,6 +1,9 @@
 #include "serve/http.hpp"
 
+#include <arpa/inet.h>
 #include <httplib.h>
+
+#include <cctype>
 
 #include "serve/console_http.hpp"
 
@@ -15,6 +18,7 @@ Result<ListenAddress> parse_listen(const std::string& text) {
   a.host = text.substr(0, colon);
   if (a.host.size() >= 2 && a.host.front() == '[' && a.host.back() == ']')
     a.host = a.host.substr(1, a.host.size() - 2);
+  if (a.host.empty()) return Error(Errc::invalid_argument, expected);  // "[]:8470"
   const std::string digits = text.substr(colon + 1);
   if (digits.empty() || digits.size() > 5 ||
       digits.find_first_not_of("0123456789") != std::string::npos || std::stoi(digits) > 65535)
@@ -24,7 +28,14 @@ Result<ListenAddress> parse_listen(const std::string& text) {
 }
 
 bool is_loopback(const std::string& host) {
-  return host == "localhost" || host == "::1" || host.rfind("127.", 0) == 0;
+  if (host == "localhost") return true;
+  // Addresses, not names that look like them: "127.example.com" resolves to
+  // whatever its DNS says, and would otherwise pass as loopback without
+  // tokens or TLS.
+  in_addr v4{};
+  if (::inet_pton(AF_INET, host.c_str(), &v4) == 1) return (ntohl(v4.s_addr) >> 24) == 127;
+  in6_addr v6{};
+  return ::inet_pton(AF_INET6, host.c_str(), &v6) == 1 && IN6_IS_ADDR_LOOPBACK(&v6);
 }
 
 Result<void> check_exposure(const HttpOptions& opt, const std::string& listen_text) {
@@ -102,18 +113,27 @@ struct HttpServer::Impl {
     res.set_content(j.dump(2) + "\n", "application/json");
   }
 
+  // "Bearer TOKEN": RFC 7235 §2.1, "It uses a case-insensitive token as a
+  // means to identify the authentication scheme" (curl and browsers send
+  // "Bearer", other clients may not).
+  static bool bearer(std::string_view header) {
+    constexpr std::string_view kBearer = "bearer ";
+    if (header.size() < kBearer.size()) return false;
+    for (std::size_t i = 0; i < kBearer.size(); ++i)
+      if (std::tolower(static_cast<unsigned char>(header[i])) != kBearer[i]) return false;
+    return true;
+  }
+
   // true: allowed; false: the 401 or 403 answer is written.
   bool authorized(const httplib::Request& req, httplib::Response& res) const {
     if (!opt.tokens) return true;
     const auto header = req.get_header_value("Authorization");
-    constexpr std::string_view kBearer = "Bearer ";
-    if (header.rfind(kBearer, 0) != 0) {
+    if (!bearer(header)) {
       res.set_header("WWW-Authenticate", "Bearer");
       error(res, 401, "a bearer token is needed (Authorization: Bearer TOKEN)", 2);
       return false;
     }
-    const TokenEntry* who =
-        find_token(*opt.tokens, std::string_view(header).substr(kBearer.size()));
+    const TokenEntry* who = find_token(*opt.tokens, std::string_view(header).substr(7));
     if (!who) {
       res.set_header("WWW-Authenticate", "Bearer error=\"invalid_token\"");
       error(res, 401, "the bearer token is not in the tokens file", 2);
@@ -252,6 +272,13 @@ struct HttpServer::Impl {
           std::to_string(res.status));
     });
     server.set_payload_max_length(opt.max_body);
+    // cpp-httplib's default sets SO_REUSEPORT, with which a second lmcfg serve
+    // on the same port binds as well and the kernel shares the connections
+    // between the two: SO_REUSEADDR only (a restart still binds at once).
+    server.set_socket_options([](socket_t sock) {
+      int yes = 1;
+      ::setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
+    });
   }
 };
 

@@ -23,7 +23,8 @@ struct ListenAddress {
 // "127.0.0.1:8470", "[::1]:8470", "localhost:0" (0: any free port).
 // Errc::invalid_argument saying what is expected.
 Result<ListenAddress> parse_listen(const std::string& text);
-// 127.0.0.0/8, ::1 and "localhost".
+// An address in 127.0.0.0/8 (dotted quad), ::1 (in any IPv6 spelling) or
+// "localhost"; a host name is not (whatever it resolves to).
 bool is_loopback(const std::string& host);
 
 struct HttpOptions {

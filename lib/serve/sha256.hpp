@@ -1,7 +1,7 @@
 #pragma once
 // SHA-256 (FIPS 180-4 §6.2) for the service's bearer tokens: the tokens file
 // stores only the hash of each token. Small and self-contained; tested with
-// the FIPS 180-4 example vectors (tests/serve/test_serve_tokens.cpp).
+// the FIPS 180-4 example vectors (tests/serve/test_sha256.cpp).
 #include <array>
 #include <cstdint>
 #include <string>

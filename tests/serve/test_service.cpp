@@ -1,23 +1,19 @@
 // lmcfg serve's service over a simulated RS485 line (sim:A.json,B.json state
 // files changed behind its back): the schedule with an injected clock, events
-// on state changes only, the REST API over real HTTP on 127.0.0.1, bearer
-// tokens, /metrics through promtool and a webhook receiver.
+// on state changes only, /metrics through promtool (the REST API's routes
+// are tested in test_http.cpp, event delivery in test_notify.cpp).
 #include <httplib.h>
 
 #include <catch2/catch.hpp>
-#include <cstdlib>
 #include <mutex>
 #include <nlohmann/json.hpp>
-#include <thread>
 
 #include "devicenet_sim.hpp"
 #include "files.hpp"
 #include "link/session.hpp"
 #include "promtool.hpp"
 #include "serve/http.hpp"
-#include "serve/notify.hpp"
 #include "serve/service.hpp"
-#include "serve/tokens.hpp"
 #include "serve_rig.hpp"
 #include "sim/state_file.hpp"
 
@@ -140,105 +136,6 @@ TEST_CASE("serve: a backup that finds a change commits it and says so once", "[s
         "no line named 'line9' in the inventory");
 }
 
-TEST_CASE("serve: the REST API over HTTP on 127.0.0.1", "[serve][http]") {
-  Rig rig;
-  rig.at(rig.now);
-  Server server(*rig.service);
-  httplib::Client c("127.0.0.1", server.port);
-
-  auto res = c.Get("/api/v1/drives");
-  REQUIRE(res);
-  CHECK(res->status == 200);
-  auto all = nlohmann::json::parse(res->body);
-  REQUIRE(all.size() == 2);
-  CHECK(all[0]["name"] == "press3/z");
-  CHECK(all[0]["line"] == "line1");
-  CHECK(all[0]["status"] == "ok");
-  CHECK(all[0]["message"] == "matches the archive");
-  CHECK(all[0]["differences"] == 0);
-
-  res = c.Get("/api/v1/drives/press3/x");
-  REQUIRE(res);
-  CHECK(res->status == 200);
-  CHECK(nlohmann::json::parse(res->body)["name"] == "press3/x");
-
-  res = c.Get("/api/v1/drives/press3/x/history");
-  REQUIRE(res);
-  CHECK(res->status == 200);
-  CHECK(nlohmann::json::parse(res->body).size() == 1);
-
-  res = c.Get("/api/v1/drives/press9/q");
-  REQUIRE(res);
-  CHECK(res->status == 404);
-  CHECK(nlohmann::json::parse(res->body) ==
-        nlohmann::json{{"error", "no drive named 'press9/q' in the inventory"}, {"exit_code", 2}});
-
-  res = c.Post("/api/v1/lines/line1/backup", "", "application/json");
-  REQUIRE(res);
-  CHECK(res->status == 202);
-  const std::string id = nlohmann::json::parse(res->body)["job"];
-  rig.service->wait_idle();
-  res = c.Get(("/api/v1/jobs/" + id).c_str());
-  REQUIRE(res);
-  auto job = nlohmann::json::parse(res->body);
-  CHECK(job["state"] == "done");
-  CHECK(job["drives"] == 2);
-  CHECK(job["done"] == 2);
-  CHECK(job["counts"]["unchanged"] == 2);
-
-  res = c.Post("/api/v1/drives/press3/z/backup", "", "application/json");
-  REQUIRE(res);
-  CHECK(res->status == 202);
-  rig.service->wait_idle();
-
-  res = c.Get("/api/v1/jobs/999");
-  REQUIRE(res);
-  CHECK(res->status == 404);
-  CHECK(nlohmann::json::parse(res->body)["error"] == "no job 999");
-  res = c.Get("/api/v2/nothing");
-  REQUIRE(res);
-  CHECK(res->status == 404);
-  CHECK(nlohmann::json::parse(res->body)["error"] == "no such resource: GET /api/v2/nothing");
-  res = c.Post("/api/v1/lines/line1/backup", std::string(10000, 'x'), "application/json");
-  REQUIRE(res);
-  CHECK(res->status == 413);
-}
-
-TEST_CASE("serve: bearer tokens: 401 without or with a bad token, 403 for a viewer's POST",
-          "[serve][http]") {
-  Rig rig;
-  const std::string file = (rig.dir.path / "tokens").string();
-  const auto viewer = *serve::add_token(file, "grafana", serve::Role::viewer);
-  const auto op = *serve::add_token(file, "ops", serve::Role::operator_);
-  Server server(*rig.service, *serve::load_tokens(file));
-  httplib::Client c("127.0.0.1", server.port);
-
-  auto res = c.Get("/api/v1/drives");
-  REQUIRE(res);
-  CHECK(res->status == 401);
-  CHECK(nlohmann::json::parse(res->body)["error"] ==
-        "a bearer token is needed (Authorization: Bearer TOKEN)");
-  res = c.Get("/metrics", {{"Authorization", "Bearer " + std::string(64, '0')}});
-  REQUIRE(res);
-  CHECK(res->status == 401);
-  CHECK(nlohmann::json::parse(res->body)["error"] == "the bearer token is not in the tokens file");
-  res = c.Get("/api/v1/drives", {{"Authorization", "Bearer " + viewer}});
-  REQUIRE(res);
-  CHECK(res->status == 200);
-  res = c.Post("/api/v1/lines/line1/backup", {{"Authorization", "Bearer " + viewer}}, "",
-               "application/json");
-  REQUIRE(res);
-  CHECK(res->status == 403);
-  CHECK(nlohmann::json::parse(res->body) ==
-        nlohmann::json{{"error", "token 'grafana' has role viewer: POST needs role operator"},
-                       {"exit_code", 2}});
-  res = c.Post("/api/v1/lines/line1/backup", {{"Authorization", "Bearer " + op}}, "",
-               "application/json");
-  REQUIRE(res);
-  CHECK(res->status == 202);
-  rig.service->wait_idle();
-}
-
 TEST_CASE("serve: /metrics passes promtool check metrics", "[serve][metrics]") {
   Rig rig;
   rig.at(rig.now);
@@ -263,77 +160,6 @@ TEST_CASE("serve: /metrics passes promtool check metrics", "[serve][metrics]") {
   CHECK(text.find("lmcfg_line_telegrams_total{line=\"line1\"} 0\n") == std::string::npos);
 
   test::check_with_promtool(text, rig.dir.path);
-}
-
-TEST_CASE("serve: a webhook receives the event JSON, a dead one is retried, then given up",
-          "[serve][notify]") {
-  httplib::Server receiver;
-  std::mutex mu;
-  std::vector<nlohmann::json> got;
-  receiver.Post("/hook", [&](const httplib::Request& req, httplib::Response& res) {
-    std::lock_guard<std::mutex> lock(mu);
-    got.push_back(nlohmann::json::parse(req.body));
-    res.status = 204;
-  });
-  const int port = receiver.bind_to_any_port("127.0.0.1");
-  REQUIRE(port > 0);
-  std::thread t([&] { receiver.listen_after_bind(); });
-
-  {
-    Rig rig;
-    serve::NotifyOptions no;
-    no.webhook = "http://127.0.0.1:" + std::to_string(port) + "/hook";
-    std::vector<std::string> log;
-    no.log = [&](const std::string& s) { log.push_back(s); };
-    serve::Notifier notifier(no);
-    rig.at(rig.now);
-    // The service's events go to the notifier as the tool wires them.
-    write_axis(rig.dir.path / "b.json", 0x12, "0010", 7);
-    rig.at(rig.now + 15min);
-    for (auto& e : rig.take_events()) notifier.send(e.dump());
-    notifier.flush();
-    CHECK(log.empty());
-  }
-  {
-    std::lock_guard<std::mutex> lock(mu);
-    REQUIRE(got.size() == 1);
-    CHECK(got[0]["event"] == "drift");
-    CHECK(got[0]["drive"] == "press3/x");
-    CHECK(got[0]["upids"][0]["upid"] == "0010h");
-  }
-  receiver.stop();
-  t.join();
-
-  // Nobody listening any more: three attempts (10 ms, 20 ms apart), then given up and logged.
-  serve::NotifyOptions dead;
-  dead.webhook = "http://127.0.0.1:" + std::to_string(port) + "/hook";
-  dead.attempts = 3;
-  dead.backoff_ms = 10;
-  std::vector<std::string> log;
-  dead.log = [&](const std::string& s) { log.push_back(s); };
-  serve::Notifier notifier(dead);
-  notifier.send(R"({"event":"drift"})");
-  notifier.flush();
-  REQUIRE(log.size() == 3);
-  CHECK(log[0].find("; attempt 1 of 3, next in 10 ms") != std::string::npos);
-  CHECK(log[1].find("; attempt 2 of 3, next in 20 ms") != std::string::npos);
-  CHECK(log[2].find("; gave up after 3 attempt(s), event dropped: {\"event\":\"drift\"}") !=
-        std::string::npos);
-}
-
-TEST_CASE("serve: the notify command gets the event JSON on stdin", "[serve][notify]") {
-  test::ScratchDir d("serve-command");
-  const auto script = d.path / "hook.sh";
-  test::spit(script, "#!/bin/sh\ncat > '" + (d.path / "got.json").string() + "'\n");
-  fs::permissions(script, fs::perms::owner_all);
-  REQUIRE(serve::run_with_stdin(script.string(), "{\"event\":\"recovered\"}\n").ok());
-  CHECK(test::slurp(d.path / "got.json") == "{\"event\":\"recovered\"}\n");
-  test::spit(d.path / "fail.sh", "#!/bin/sh\nexit 3\n");
-  fs::permissions(d.path / "fail.sh", fs::perms::owner_all);
-  auto failed = serve::run_with_stdin((d.path / "fail.sh").string(), "{}");
-  REQUIRE_FALSE(failed.ok());
-  CHECK(failed.error().message ==
-        "notify command " + (d.path / "fail.sh").string() + " failed (exit 3)");
 }
 
 TEST_CASE(

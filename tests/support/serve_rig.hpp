@@ -155,13 +155,11 @@ struct Server {
   std::thread thread;
   int port = 0;
   Server(serve::Service& s, std::optional<std::vector<serve::TokenEntry>> tokens = std::nullopt,
-         serve::ConsoleOptions console = {}) {
-    serve::HttpOptions o;
-    o.console = std::move(console);
-    o.listen = {"127.0.0.1", 0};
-    o.tokens = std::move(tokens);
-    o.exit_code = exit_code_of;
-    http = std::make_unique<serve::HttpServer>(s, o);
+         serve::ConsoleOptions console = {})
+      : Server(s, options(std::move(tokens), std::move(console))) {}
+  // The server with these options (tests of the options themselves).
+  Server(serve::Service& s, serve::HttpOptions o) {
+    http = std::make_unique<serve::HttpServer>(s, std::move(o));
     auto p = http->bind();
     REQUIRE(p.ok());
     port = *p;
@@ -170,6 +168,16 @@ struct Server {
   ~Server() {
     http->stop();
     thread.join();
+  }
+  // 127.0.0.1, any port, the CLI's exit codes.
+  static serve::HttpOptions options(std::optional<std::vector<serve::TokenEntry>> tokens = {},
+                                    serve::ConsoleOptions console = {}) {
+    serve::HttpOptions o;
+    o.console = std::move(console);
+    o.listen = {"127.0.0.1", 0};
+    o.tokens = std::move(tokens);
+    o.exit_code = exit_code_of;
+    return o;
   }
 };
 

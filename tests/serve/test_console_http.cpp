@@ -1,0 +1,300 @@
+// The console's routes (lib/serve/console_http.cpp) on a bare cpp-httplib
+// server of their own (no REST API beside them), over real HTTP on
+// 127.0.0.1: the headers of every answer, the session cookie found among
+// others, where sign-in sends the browser back to (never another host), the
+// redirect after every form, and failures as pages with their status.
+#include <httplib.h>
+
+#include <catch2/catch.hpp>
+#include <regex>
+
+#include "serve/console.hpp"
+#include "serve/console_http.hpp"
+#include "serve/tokens.hpp"
+#include "serve_rig.hpp"
+
+using namespace lmcfg;
+using namespace lmcfg::test;
+using namespace std::chrono_literals;
+
+namespace {
+
+// register_console_routes on a server of its own, on 127.0.0.1, any port.
+struct ConsoleServer {
+  httplib::Server server;
+  std::unique_ptr<serve::Console> console;
+  std::thread thread;
+  int port = 0;
+  ConsoleServer(serve::Service& s, std::optional<std::vector<serve::TokenEntry>> tokens,
+                serve::ConsoleOptions opt = {}) {
+    auto c = serve::Console::create(s, std::move(tokens), std::move(opt));
+    REQUIRE(c.ok());
+    console = std::move(c).value();
+    serve::register_console_routes(server, *console);
+    port = server.bind_to_any_port("127.0.0.1");
+    REQUIRE(port > 0);
+    thread = std::thread([this] { server.listen_after_bind(); });
+  }
+  ~ConsoleServer() {
+    server.stop();
+    thread.join();
+  }
+};
+
+httplib::Headers with_cookie(const std::string& cookie) { return {{"Cookie", cookie}}; }
+
+std::string csrf_of(const std::string& html) {
+  std::smatch m;
+  REQUIRE(std::regex_search(html, m, std::regex("name=\"csrf\" value=\"([0-9A-F]{64})\"")));
+  return m[1];
+}
+
+// The security headers every console answer has, each once.
+void check_headers(const httplib::Response& res, const std::string& cache = "no-store") {
+  CHECK(res.get_header_value("Content-Security-Policy") ==
+        std::string(serve::Console::content_security_policy()));
+  CHECK(res.get_header_value_count("Content-Security-Policy") == 1);
+  CHECK(res.get_header_value("X-Content-Type-Options") == "nosniff");
+  CHECK(res.get_header_value("Referrer-Policy") == "no-referrer");
+  CHECK(res.get_header_value("Cache-Control") == cache);
+  CHECK(res.get_header_value_count("Cache-Control") == 1);
+}
+
+}  // namespace
+
+TEST_CASE("console http: assets, favicon and pages with their headers, without tokens",
+          "[serve][console_http]") {
+  Rig rig;
+  ConsoleServer s(*rig.service, std::nullopt);
+  httplib::Client c("127.0.0.1", s.port);
+
+  auto res = c.Get("/console.css");
+  REQUIRE(res);
+  CHECK(res->status == 200);
+  CHECK(res->get_header_value("Content-Type") == "text/css; charset=utf-8");
+  CHECK(res->body == serve::Console::stylesheet());
+  check_headers(*res, "max-age=300");
+  res = c.Get("/console.js");
+  REQUIRE(res);
+  CHECK(res->get_header_value("Content-Type") == "text/javascript; charset=utf-8");
+  check_headers(*res, "max-age=300");
+  res = c.Get("/favicon.ico");
+  REQUIRE(res);
+  CHECK(res->status == 204);
+  CHECK(res->body.empty());
+  check_headers(*res);
+
+  res = c.Get("/");
+  REQUIRE(res);
+  CHECK(res->status == 200);
+  CHECK(res->get_header_value("Content-Type") == "text/html; charset=utf-8");
+  check_headers(*res);
+  CHECK(res->get_header_value("Set-Cookie").empty());  // no sign-in, no session
+
+  // Without tokens there is nothing to sign in to: back to the console (or next).
+  res = c.Get("/signin?next=%2Fposition");
+  REQUIRE(res);
+  CHECK(res->status == 303);
+  CHECK(res->get_header_value("Location") == "/");
+  res = c.Post("/signin", "next=%2Fjob%3Fid%3D1", "application/x-www-form-urlencoded");
+  REQUIRE(res);
+  CHECK(res->status == 303);
+  CHECK(res->get_header_value("Location") == "/job?id=1");
+  check_headers(*res);
+
+  // A page of a position not in the inventory: the 404 page, with the headers.
+  res = c.Get("/position?name=press9%2Fq");
+  REQUIRE(res);
+  CHECK(res->status == 404);
+  check_headers(*res);
+  CHECK(res->body.find("<h1>No such position</h1>") != std::string::npos);
+  res = c.Get("/plan?id=0123abcd");
+  REQUIRE(res);
+  CHECK(res->status == 404);
+  CHECK(res->body.find("no plan &#39;0123abcd&#39; (executed already, or made too long ago)") !=
+        std::string::npos);
+  res = c.Get("/job?id=999");
+  REQUIRE(res);
+  CHECK(res->status == 404);
+  CHECK(res->body.find("<h1>No such job</h1>") != std::string::npos);
+}
+
+TEST_CASE("console http: the session cookie is found among others, by its exact name",
+          "[serve][console_http]") {
+  Rig rig;
+  const std::string file = (rig.dir.path / "tokens").string();
+  const auto op = *serve::add_token(file, "night-shift", serve::Role::operator_);
+  ConsoleServer s(*rig.service, *serve::load_tokens(file));
+  auto session = s.console->sign_in(op);
+  REQUIRE(session.ok());
+  const std::string id = session->id;
+  httplib::Client c("127.0.0.1", s.port);
+
+  for (const std::string& cookie : std::vector<std::string>{
+           "lmcfg_session=" + id, "theme=dark; lmcfg_session=" + id,
+           "theme=dark;lmcfg_session=" + id + "; lang=de", "a=1;   lmcfg_session=" + id}) {
+    INFO(cookie);
+    auto res = c.Get("/", with_cookie(cookie));
+    REQUIRE(res);
+    CHECK(res->status == 200);
+    CHECK(res->body.find("night-shift (operator)") != std::string::npos);
+  }
+  for (const std::string& cookie : std::vector<std::string>{
+           std::string(), "lmcfg_session=", "lmcfg_sessionx=" + id, "xlmcfg_session=" + id,
+           "lmcfg_session " + id, "lmcfg_session=" + id + "0", "other=lmcfg_session=" + id}) {
+    INFO(cookie);
+    auto res = c.Get("/", with_cookie(cookie));
+    REQUIRE(res);
+    CHECK(res->status == 303);
+    CHECK(res->get_header_value("Location") == "/signin?next=/");
+  }
+}
+
+TEST_CASE("console http: sign-in sends the browser back to a path of this console only",
+          "[serve][console_http]") {
+  Rig rig;
+  const std::string file = (rig.dir.path / "tokens").string();
+  const auto op = *serve::add_token(file, "night-shift", serve::Role::operator_);
+  serve::ConsoleOptions copt;
+  copt.session_ttl = 2h;
+  ConsoleServer s(*rig.service, *serve::load_tokens(file), copt);
+  httplib::Client c("127.0.0.1", s.port);
+
+  // A page asked for without a session: sign in, then back to it with its query.
+  auto res = c.Get("/job?name=press3%2Fz&id=3");
+  REQUIRE(res);
+  CHECK(res->status == 303);
+  // (the client decodes the Location once: on the wire the next is encoded again)
+  CHECK(res->get_header_value("Location") == "/signin?next=/job?id=3&name=press3%2Fz");
+  // A form posted without a session goes back to the overview.
+  res = c.Post("/backup", "name=press3%2Fz", "application/x-www-form-urlencoded");
+  REQUIRE(res);
+  CHECK(res->status == 303);
+  CHECK(res->get_header_value("Location") == "/signin?next=/");
+
+  res = c.Get("/signin?next=%2Fposition%3Fname%3Dpress3%252Fz");
+  REQUIRE(res);
+  CHECK(res->status == 200);
+  CHECK(res->body.find("name=\"next\" value=\"/position?name=press3%2Fz\"") != std::string::npos);
+  const std::string csrf = csrf_of(res->body);
+  for (const std::string& next : std::vector<std::string>{"//evil.example/", "/\\evil.example",
+                                                          "https://evil.example/", "evil", ""}) {
+    INFO("next=" << next);
+    res = c.Get(("/signin?next=" + serve::url_encode(next)).c_str());
+    REQUIRE(res);
+    CHECK(res->body.find("name=\"next\" value=\"/\"") != std::string::npos);
+  }
+
+  httplib::Params form{{"csrf", csrf}, {"token", op}, {"next", "/\\evil.example"}};
+  res = c.Post("/signin", form);
+  REQUIRE(res);
+  CHECK(res->status == 303);
+  CHECK(res->get_header_value("Location") == "/");
+  const std::string set = res->get_header_value("Set-Cookie");
+  CHECK(std::regex_match(
+      set, std::regex("lmcfg_session=[0-9A-F]{64}; HttpOnly; SameSite=Strict; Path=/; "
+                      "Max-Age=7200")));
+  form = {{"csrf", csrf}, {"token", op}, {"next", "/position?name=press3%2Fz"}};
+  res = c.Post("/signin", form);
+  REQUIRE(res);
+  CHECK(res->get_header_value("Location") == "/position?name=press3/z");  // decoded by the client
+
+  // A stale form (another process's CSRF value) and a wrong token: the page
+  // again with the reason, no cookie.
+  form = {{"csrf", std::string(64, 'A')}, {"token", op}};
+  res = c.Post("/signin", form);
+  REQUIRE(res);
+  CHECK(res->status == 403);
+  CHECK(res->body.find("the form is out of date: sign in again") != std::string::npos);
+  CHECK(res->get_header_value("Set-Cookie").empty());
+  check_headers(*res);
+  form = {{"csrf", csrf}, {"token", std::string(64, '0')}};
+  res = c.Post("/signin", form);
+  REQUIRE(res);
+  CHECK(res->status == 401);
+  CHECK(res->body.find("that token is not in the tokens file") != std::string::npos);
+  CHECK(res->get_header_value("Set-Cookie").empty());
+}
+
+TEST_CASE("console http: forms answer with a redirect, failures as pages with their status",
+          "[serve][console_http]") {
+  Rig rig;
+  rig.at(rig.now);
+  ConsoleServer s(*rig.service, std::nullopt);
+  httplib::Client c("127.0.0.1", s.port);
+  const std::string csrf = s.console->anonymous_csrf();
+
+  auto res = c.Post("/backup", httplib::Params{{"csrf", csrf}, {"name", "press3/z"}});
+  REQUIRE(res);
+  CHECK(res->status == 303);
+  CHECK(res->body.empty());
+  check_headers(*res);
+  const std::string location = res->get_header_value("Location");
+  CHECK(std::regex_match(location, std::regex("/job\\?id=[0-9]+&name=press3/z")));
+  rig.service->wait_idle();
+  res = c.Get(location.substr(0, location.find("&name")).c_str());
+  REQUIRE(res);
+  CHECK(res->status == 200);
+  CHECK(res->body.find("data-state=\"done\"") != std::string::npos);
+
+  res = c.Post("/backup", httplib::Params{{"csrf", csrf}, {"name", "press9/q"}});
+  REQUIRE(res);
+  CHECK(res->status == 404);
+  CHECK(res->get_header_value("Location").empty());
+  CHECK(res->body.find("<h1>Cannot back up</h1>") != std::string::npos);
+  CHECK(res->body.find("no drive named &#39;press9/q&#39; in the inventory") != std::string::npos);
+  res = c.Post("/plan", httplib::Params{{"csrf", csrf}, {"name", "press9/q"}, {"rev", ""}});
+  REQUIRE(res);
+  CHECK(res->status == 404);
+  CHECK(res->body.find("<h1>No plan</h1>") != std::string::npos);
+  res = c.Post(
+      "/execute",
+      httplib::Params{
+          {"csrf", csrf}, {"plan", "0123abcd"}, {"reason", "r"}, {"skip_incompatible", "1"}});
+  REQUIRE(res);
+  CHECK(res->status == 404);
+  CHECK(res->body.find("<h1>Not restored</h1>") != std::string::npos);
+  CHECK(res->body.find("no plan &#39;0123abcd&#39;") != std::string::npos);
+
+  // The report's pages: the report's own policy; a failure is a console page.
+  res = c.Get("/report?name=press3%2Fz&rev=HEAD");
+  REQUIRE(res);
+  CHECK(res->status == 200);
+  CHECK(res->get_header_value("Content-Security-Policy") ==
+        std::string(serve::Console::report_security_policy()));
+  CHECK(res->get_header_value_count("Content-Security-Policy") == 1);
+  CHECK(res->get_header_value("Cache-Control") == "no-store");
+  res = c.Get("/diff?name=press3%2Fz&from=nosuchrev&to=HEAD");
+  REQUIRE(res);
+  CHECK(res->status == 404);
+  CHECK(res->body.find("<h1>No diff</h1>") != std::string::npos);
+  check_headers(*res);
+}
+
+TEST_CASE("console http: sign-out needs the session's CSRF value and clears the cookie",
+          "[serve][console_http]") {
+  Rig rig;
+  const std::string file = (rig.dir.path / "tokens").string();
+  const auto viewer = *serve::add_token(file, "grafana", serve::Role::viewer);
+  ConsoleServer s(*rig.service, *serve::load_tokens(file));
+  auto session = s.console->sign_in(viewer);
+  REQUIRE(session.ok());
+  httplib::Client c("127.0.0.1", s.port);
+  const auto cookie = with_cookie("lmcfg_session=" + session->id);
+
+  auto res = c.Post("/signout", cookie, httplib::Params{{"csrf", s.console->anonymous_csrf()}});
+  REQUIRE(res);
+  CHECK(res->status == 403);
+  CHECK(res->body.find("the form&#39;s CSRF token is missing or not this session&#39;s") !=
+        std::string::npos);
+  CHECK(s.console->user(session->id).has_value());  // still signed in
+
+  // A viewer may sign out (it changes nothing on the plant).
+  res = c.Post("/signout", cookie, httplib::Params{{"csrf", session->user.csrf}});
+  REQUIRE(res);
+  CHECK(res->status == 303);
+  CHECK(res->get_header_value("Location") == "/signin");
+  CHECK(res->get_header_value("Set-Cookie") ==
+        "lmcfg_session=; HttpOnly; SameSite=Strict; Path=/; Max-Age=0");
+  CHECK_FALSE(s.console->user(session->id).has_value());
+}
