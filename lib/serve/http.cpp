@@ -3,7 +3,10 @@
 #include <arpa/inet.h>
 #include <httplib.h>
 
+#include <atomic>
 #include <cctype>
+#include <chrono>
+#include <thread>
 
 #include "serve/console_http.hpp"
 
@@ -80,6 +83,8 @@ struct HttpServer::Impl {
   std::unique_ptr<httplib::Server> owned;
   httplib::Server& server;
   std::unique_ptr<Console> console;  // its routes are registered by bind()
+  // serve() and stop() from two threads (HttpServer::stop).
+  std::atomic<bool> entered{false}, stop_asked{false}, returned{false};
   Impl(Service& s, HttpOptions o)
       : service(s),
         opt(std::move(o)),
@@ -304,7 +309,22 @@ Result<int> HttpServer::bind() {
   return port;
 }
 
-void HttpServer::serve() { impl_->server.listen_after_bind(); }
-void HttpServer::stop() { impl_->server.stop(); }
+// cpp-httplib's stop() acts only on a server whose loop runs: a stop() that
+// comes before the loop starts would be lost and serve() would never return
+// (a SIGTERM right after the start, a test's short-lived server). Each side
+// announces itself before it looks at the other, so one of them sees the other.
+void HttpServer::serve() {
+  impl_->entered = true;
+  if (!impl_->stop_asked) impl_->server.listen_after_bind();
+  impl_->returned = true;
+}
+
+void HttpServer::stop() {
+  impl_->stop_asked = true;
+  if (!impl_->entered) return;  // serve() has not begun: it will see stop_asked
+  while (!impl_->server.is_running() && !impl_->returned)
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  impl_->server.stop();
+}
 
 }  // namespace lmcfg::serve

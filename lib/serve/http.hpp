@@ -55,7 +55,8 @@ class HttpServer {
   // console finds no random bytes for its CSRF token);
   // Errc::file_error naming the files when the certificate or key cannot be loaded.
   Result<int> bind();
-  // Serves until stop() (from another thread).
+  // Serves until stop() (from another thread; a stop() before serve() has
+  // begun makes serve() return at once).
   void serve();
   void stop();
 
