@@ -262,6 +262,10 @@ struct HttpServer::Impl {
                  auto j = service.job(req.matches[1]);
                  j.ok() ? json(res, *j) : error(res, j.error());
                }));
+  }
+
+  // Errors as JSON, the request log, the body limit and the socket options.
+  void server_options() {
     server.set_error_handler([](const httplib::Request& req, httplib::Response& res) {
       if (!res.body.empty()) return;  // a handler's own answer
       if (res.status == 413) {
@@ -290,6 +294,7 @@ struct HttpServer::Impl {
 HttpServer::HttpServer(Service& service, HttpOptions opt)
     : impl_(std::make_unique<Impl>(service, std::move(opt))) {
   impl_->routes();
+  impl_->server_options();
 }
 HttpServer::~HttpServer() = default;
 
