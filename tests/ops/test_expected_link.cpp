@@ -55,8 +55,9 @@ TEST_CASE("relink: without a database the settings' own reasons follow the datab
           "[relink]") {
   ops::Plan plan;
   plan.expected.scope.layers = {false, false, true, false};
-  plan.expected.layer(3) = {config::Parameter{0x206C, 3, std::nullopt, std::nullopt, {}, {}, {}},
-                            config::Parameter{0x2076, 0x22, std::nullopt, std::nullopt, {}, {}, {}}};
+  plan.expected.layer(3) = {
+      config::Parameter{0x206C, 3, std::nullopt, std::nullopt, {}, {}, {}},
+      config::Parameter{0x2076, 0x22, std::nullopt, std::nullopt, {}, {}, {}}};
   const auto e = ops::expected_link(plan, db::Database::empty());
   REQUIRE(e.reasons.size() == 3);
   CHECK(e.reasons[0] ==
