@@ -320,6 +320,16 @@ Result<std::vector<std::string>> execute_devicenet_plan(Master& m, const Devicen
                                                         const config::DriveConfig& file,
                                                         const db::Database& db,
                                                         const Progress& progress) {
+  // A refused plan, or a file that is no controller's capture, sends nothing.
+  if (p.refused()) {
+    std::string all;
+    for (const auto& pr : p.problems) all += (all.empty() ? "" : "; ") + pr;
+    return Error(Errc::plan_refused, "restore refused: " + all + "; nothing written");
+  }
+  if (!file.devicenet)
+    return Error(
+        Errc::plan_refused,
+        "the file is a LinRS drive capture, not a DeviceNet controller's; nothing written");
   std::size_t done = 0;
   const std::size_t total = p.writes.size() + file.devicenet->values.size();
   for (const auto& w : p.writes) {

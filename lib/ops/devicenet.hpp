@@ -133,6 +133,8 @@ std::string render_devicenet_plan(const DevicenetPlan& p, const std::string& fil
 // Sends each Set command (a refusal names the controller's coded error and
 // stops: the values before it were written, the rest not), then reads every
 // value of the file back. Mismatches are returned as text ("" = verified).
+// A refused plan, or a file without DeviceNet values, is Errc::plan_refused
+// and sends nothing.
 Result<std::vector<std::string>> execute_devicenet_plan(devicenet::Master& m,
                                                         const DevicenetPlan& p,
                                                         const config::DriveConfig& file,

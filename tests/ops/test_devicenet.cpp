@@ -378,3 +378,27 @@ TEST_CASE("devicenet: a Set the controller refuses stops the restore and says ho
         "run the restore again)");
   CHECK(rig.controller.value(Motor::A, 0x34) == 1000);
 }
+
+TEST_CASE("devicenet: a refused plan or a LinRS file sends no command", "[devicenet_ops]") {
+  Rig rig;
+  ops::DevicenetPlan plan;
+  ops::DevicenetWrite w{0, 0x34, 0, 1000, "motor A: Controller P (34h): ... -> ...", "", "", ""};
+  plan.writes = {w};
+  const std::string problem = "motor C is in the file but not configured on the controller";
+  plan.problems = {problem};
+  rig.controller.set_value(Motor::A, 0x34, 500);  // the plan would set 1000
+  auto r = ops::execute_devicenet_plan(rig.master, plan, config::testing::devicenet_capture(),
+                                       real_db(), {});
+  REQUIRE_FALSE(r.ok());
+  CHECK(r.error().code == make_error_code(Errc::plan_refused));
+  CHECK(r.error().message == "restore refused: " + problem + "; nothing written");
+  CHECK(rig.controller.value(Motor::A, 0x34) == 500);
+
+  plan.problems.clear();
+  r = ops::execute_devicenet_plan(rig.master, plan, config::DriveConfig{}, real_db(), {});
+  REQUIRE_FALSE(r.ok());
+  CHECK(r.error().code == make_error_code(Errc::plan_refused));
+  CHECK(r.error().message ==
+        "the file is a LinRS drive capture, not a DeviceNet controller's; nothing written");
+  CHECK(rig.controller.value(Motor::A, 0x34) == 500);
+}
