@@ -9,14 +9,7 @@
 #include "link/port.hpp"
 #include "link/session.hpp"
 #include "link/spec.hpp"
-#include "sim/state_file.hpp"
-
-namespace {
-const bool kSimPortsRegistered = [] {
-  lmcfg::link::register_scheme("sim", lmcfg::sim::state_file_link_factory());
-  return true;
-}();
-}  // namespace
+#include "sim_ports.hpp"
 
 using namespace lmcfg;
 
@@ -31,7 +24,7 @@ TEST_CASE("hex: the one formatter pads, never truncates, and appends the suffix"
 
 TEST_CASE("port schemes: one row per kind of port, each with its parser, kind and line rate",
           "[session][link]") {
-  REQUIRE(kSimPortsRegistered);
+  REQUIRE(test::kSimPortsRegistered);
   struct Row {
     const char* port;
     const char* scheme;

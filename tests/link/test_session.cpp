@@ -8,19 +8,13 @@
 #include "link/session.hpp"
 #include "link/spec.hpp"
 #include "sim/state_file.hpp"
-
-namespace {
-const bool kSimPortsRegistered = [] {
-  lmcfg::link::register_scheme("sim", lmcfg::sim::state_file_link_factory());
-  return true;
-}();
-}  // namespace
+#include "sim_ports.hpp"
 
 using namespace lmcfg;
 
 TEST_CASE("link schemes: a registered scheme opens its port, the factory's close runs once",
           "[session]") {
-  REQUIRE(kSimPortsRegistered);
+  REQUIRE(test::kSimPortsRegistered);
   int opened = 0, closed = 0;
   link::register_scheme(
       "counting", [&](const transport::LinkRequest& req) -> Result<transport::OpenedLink> {
@@ -59,7 +53,7 @@ TEST_CASE("link schemes: an unregistered scheme is a serial device path", "[sess
 
 TEST_CASE("link spec: a session never changes its spec, relink gives the spec of the link now",
           "[link][spec][session]") {
-  REQUIRE(kSimPortsRegistered);
+  REQUIRE(test::kSimPortsRegistered);
   test::ScratchDir dir("session");
   std::filesystem::copy_file(test::sim_fixture("commissioned-axis.json"), dir.path / "axis.json");
   link::LinkInput in;

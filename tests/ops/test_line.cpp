@@ -10,15 +10,11 @@
 #include "files.hpp"
 #include "ops/line.hpp"
 #include "sim/state_file.hpp"
+#include "sim_ports.hpp"
 
 using namespace lmcfg;
 
 namespace {
-
-const bool kSimPortsRegistered = [] {
-  link::register_scheme("sim", sim::state_file_link_factory());
-  return true;
-}();
 
 std::optional<std::uint32_t> value_of(const config::DriveConfig& cfg, std::uint16_t upid) {
   for (const auto& layer : cfg.layers)
@@ -80,7 +76,7 @@ TEST_CASE("line: each controller's DeviceNet options from the line's and its own
 }
 
 TEST_CASE("line: two LinRS drives on one line read through one session", "[line]") {
-  REQUIRE(kSimPortsRegistered);
+  REQUIRE(test::kSimPortsRegistered);
   test::ScratchDir dir("line-linrs");
   const auto a = (dir.path / "a.json").string(), b = (dir.path / "b.json").string();
   std::filesystem::copy_file(test::sim_fixture("commissioned-axis.json"), a);

@@ -49,7 +49,6 @@ struct Line {
   std::string port() const { return "sim:" + a.string() + "," + b.string(); }
 
   std::unique_ptr<link::Session> open(std::uint8_t id) const {
-    link::register_scheme("sim", sim::state_file_link_factory());
     link::LinkSpec lo;
     lo.port = *link::parse_port(port());
     lo.client.id = id;

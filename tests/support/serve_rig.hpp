@@ -19,7 +19,6 @@
 #include "link/session.hpp"
 #include "serve/http.hpp"
 #include "serve/service.hpp"
-#include "sim/state_file.hpp"
 
 namespace lmcfg::test {
 
@@ -98,7 +97,6 @@ struct ServiceRig {
   // line on the line's port; `tweak` changes the options before it starts.
   void start(const std::string& inventory_text,
              const std::function<void(serve::ServiceOptions&)>& tweak = {}) {
-    link::register_scheme("sim", sim::state_file_link_factory());
     auto inv = fleet::parse_inventory(inventory_text, "plant.toml");
     INFO((inv.ok() ? "" : inv.error().message));
     REQUIRE(inv.ok());
