@@ -305,6 +305,21 @@ bool read_address_usage(const Table& t, const Row& r, Parameter& p) {
   return true;
 }
 
+// The columns a UPID row (parameters.tsv) and a DeviceNet parameter row share:
+// range and default, scale and unit, enum labels, the comm flag, the
+// description and the provenance; false (errors reported) when one is bad.
+template <class P>
+bool read_value_columns(const Table& t, const Row& r, P& p) {
+  bool ok = read_range(t, r, p.spec, &p.default_value);
+  if (!read_scale_unit(t, r, p.spec)) ok = false;
+  if (!read_enum(t, r, p.spec)) ok = false;
+  if (!read_flag(t, r, "comm", "1", p.comm)) ok = false;
+  p.description = std::string(t.get(r, "description").text);
+  if (!require(t, r, "source", "source (provenance)")) ok = false;
+  p.prov = prov_of(t, r);
+  return ok;
+}
+
 // Every column of a parameters.tsv row into `p`; false (errors reported) when one is bad.
 bool read_parameter(const Table& t, const Row& r, const std::set<std::string>& known,
                     Parameter& p) {
@@ -325,13 +340,7 @@ bool read_parameter(const Table& t, const Row& r, const std::set<std::string>& k
     if (!p.spec.type) ok = false;
   }
   if (!read_address_usage(t, r, p)) ok = false;
-  if (!read_range(t, r, p.spec, &p.default_value)) ok = false;
-  if (!read_scale_unit(t, r, p.spec)) ok = false;
-  if (!read_enum(t, r, p.spec)) ok = false;
-  if (!read_flag(t, r, "comm", "1", p.comm)) ok = false;
-  p.description = std::string(t.get(r, "description").text);
-  if (!require(t, r, "source", "source (provenance)")) ok = false;
-  p.prov = prov_of(t, r);
+  if (!read_value_columns(t, r, p)) ok = false;
   return ok;
 }
 
@@ -567,13 +576,7 @@ void load_devicenet_parameters(const Table& t, Model& m) {
     p.path = std::string(t.get(r, "path").text);
     p.spec.type = read_type(t, r, false);
     if (!p.spec.type && !t.get(r, "type").text.empty()) ok = false;
-    if (!read_range(t, r, p.spec, &p.default_value)) ok = false;
-    if (!read_scale_unit(t, r, p.spec)) ok = false;
-    if (!read_enum(t, r, p.spec)) ok = false;
-    if (!read_flag(t, r, "comm", "1", p.comm)) ok = false;
-    p.description = std::string(t.get(r, "description").text);
-    if (!require(t, r, "source", "source (provenance)")) ok = false;
-    p.prov = prov_of(t, r);
+    if (!read_value_columns(t, r, p)) ok = false;
     if (!ok) continue;
     if (auto [it, ins] = seen.emplace(p.id, r.line); !ins) {
       t.error(r, t.get(r, "id"),
