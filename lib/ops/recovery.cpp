@@ -7,6 +7,7 @@
 #include <system_error>
 
 #include "config/atomic_file.hpp"
+#include "config/io_common.hpp"
 
 namespace lmcfg::ops {
 
@@ -58,13 +59,12 @@ std::uint32_t unsigned_member(const nlohmann::json& j, const char* name, std::ui
 // "200E": the UPID as save_recovery writes it, four hexadecimal digits.
 std::uint16_t upid_member(const nlohmann::json& k, const std::string& where) {
   const auto& v = k.at("upid");
-  const std::string text = v.is_string() ? v.get<std::string>() : std::string();
-  const bool hex4 =
-      text.size() == 4 && text.find_first_not_of("0123456789abcdefABCDEF") == std::string::npos;
-  if (!hex4)
+  const auto upid =
+      v.is_string() ? config::detail::parse_upid_hex(v.get<std::string>()) : std::nullopt;
+  if (!upid)
     throw std::runtime_error(where + ".upid is " + v.dump() +
                              ", expected 4 hexadecimal digits (\"200E\")");
-  return static_cast<std::uint16_t>(std::stoul(text, nullptr, 16));
+  return *upid;
 }
 
 }  // namespace
@@ -109,9 +109,7 @@ Result<void> save_recovery(const fs::path& path, const RecoveryRecord& rec) {
   if (!rec.expect.empty()) j["expect"] = rec.expect;
   j["keep"] = nlohmann::ordered_json::array();
   for (const auto& k : rec.keep) {
-    char upid[8];
-    std::snprintf(upid, sizeof upid, "%04X", k.upid);
-    j["keep"].push_back({{"upid", upid}, {"value", k.value}});
+    j["keep"].push_back({{"upid", config::detail::upid_hex(k.upid)}, {"value", k.value}});
   }
   return config::write_file_atomic(path, j.dump(2) + "\n");
 }
