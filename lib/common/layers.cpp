@@ -1,7 +1,8 @@
 #include "common/layers.hpp"
 
 #include <array>
-#include <cctype>
+
+#include "common/bytes.hpp"
 
 namespace lmcfg::layers {
 
@@ -25,16 +26,8 @@ std::string_view name(int layer) noexcept {
 }
 
 std::optional<int> from_name(std::string_view text) noexcept {
-  for (int l = 1; l <= kCount; ++l) {
-    const auto n = kNames[static_cast<std::size_t>(l - 1)];
-    if (n.size() != text.size()) continue;
-    bool same = true;
-    for (std::size_t i = 0; i < n.size() && same; ++i) {
-      same = std::tolower(static_cast<unsigned char>(n[i])) ==
-             std::tolower(static_cast<unsigned char>(text[i]));
-    }
-    if (same) return l;
-  }
+  for (int l = 1; l <= kCount; ++l)
+    if (iequals(kNames[static_cast<std::size_t>(l - 1)], text)) return l;
   return std::nullopt;
 }
 

@@ -4,10 +4,10 @@
 #include <httplib.h>
 
 #include <atomic>
-#include <cctype>
 #include <chrono>
 #include <thread>
 
+#include "common/bytes.hpp"
 #include "serve/console_http.hpp"
 
 namespace lmcfg::serve {
@@ -121,12 +121,9 @@ struct HttpServer::Impl {
   // "Bearer TOKEN": RFC 7235 §2.1, "It uses a case-insensitive token as a
   // means to identify the authentication scheme" (curl and browsers send
   // "Bearer", other clients may not).
+  static constexpr std::string_view kBearer = "Bearer ";
   static bool bearer(std::string_view header) {
-    constexpr std::string_view kBearer = "bearer ";
-    if (header.size() < kBearer.size()) return false;
-    for (std::size_t i = 0; i < kBearer.size(); ++i)
-      if (std::tolower(static_cast<unsigned char>(header[i])) != kBearer[i]) return false;
-    return true;
+    return iequals(header.substr(0, kBearer.size()), kBearer);
   }
 
   // true: allowed; false: the 401 or 403 answer is written.
@@ -138,7 +135,8 @@ struct HttpServer::Impl {
       error(res, 401, "a bearer token is needed (Authorization: Bearer TOKEN)", 2);
       return false;
     }
-    const TokenEntry* who = find_token(*opt.tokens, std::string_view(header).substr(7));
+    const TokenEntry* who =
+        find_token(*opt.tokens, std::string_view(header).substr(kBearer.size()));
     if (!who) {
       res.set_header("WWW-Authenticate", "Bearer error=\"invalid_token\"");
       error(res, 401, "the bearer token is not in the tokens file", 2);
@@ -156,7 +154,7 @@ struct HttpServer::Impl {
   std::string who(const httplib::Request& req) const {
     if (!opt.tokens) return "local";
     const auto header = req.get_header_value("Authorization");
-    const TokenEntry* t = find_token(*opt.tokens, std::string_view(header).substr(7));
+    const TokenEntry* t = find_token(*opt.tokens, std::string_view(header).substr(kBearer.size()));
     return t ? t->name : "local";
   }
   // The request's JSON object body ("" = {}); false: the 400 answer is written.
