@@ -89,19 +89,21 @@ Result<void> DefaultRun::load_or_save_record() {
   // An earlier run stopped after defaulting: the drive no longer shows the
   // values it had; the record holds them.
   LMCFG_ASSIGN_OR_RETURN(auto found, load_recovery(opt_.recovery_path));
-  if (found && !opt_.include_comm) {
-    for (const auto& k : found->keep) {
-      const int layer = lmcfg::layers::of_upid(k.upid);
-      if (layer != 0 && selected(layer)) keep_[k.upid] = k.value;
+  if (found) {
+    rep_.recovery_note = "found the recovery record " + record_ + " of an interrupted run (" +
+                         found->created + "): ";
+    if (opt_.include_comm) {
+      rep_.recovery_note +=
+          "--include-comm defaults the communication values too, nothing to "
+          "write back";
+    } else {
+      for (const auto& k : found->keep) {
+        const int layer = lmcfg::layers::of_upid(k.upid);
+        if (layer != 0 && selected(layer)) keep_[k.upid] = k.value;
+      }
+      rep_.recovered = true;
+      rep_.recovery_note += "writing back the values it recorded";
     }
-    rep_.recovered = true;
-    rep_.recovery_note = "found the recovery record " + record_ + " of an interrupted run (" +
-                         found->created + "): writing back the values it recorded";
-  } else if (found) {
-    rep_.recovery_note = "found the recovery record " + record_ + " of an interrupted run (" +
-                         found->created +
-                         "): --include-comm defaults the communication values too, nothing to "
-                         "write back";
   }
   if (!keep_.empty() && !found) {
     RecoveryRecord r{"default", opt_.port, c_.options().id, utc_now(), {}, {}};
