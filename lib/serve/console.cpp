@@ -1,5 +1,6 @@
 #include "serve/console.hpp"
 
+#include <algorithm>
 #include <deque>
 #include <map>
 #include <mutex>
@@ -32,6 +33,7 @@ struct Console::Impl {
   };
   std::mutex mu;
   std::map<std::string, Session, std::less<>> sessions;
+  std::map<std::string, TimePoint, std::less<>> signin_nonces;  // value -> expiry
   // The plans made here, until executed (the service checks their expiry;
   // the oldest go beyond kPlansKept).
   static constexpr std::size_t kPlansKept = 64;
@@ -57,6 +59,30 @@ bool Console::sign_in_needed() const { return impl_->tokens.has_value(); }
 
 const std::string& Console::anonymous_csrf() const { return impl_->anonymous_csrf; }
 
+Result<std::string> Console::signin_nonce(std::string_view current) {
+  LMCFG_ASSIGN_OR_RETURN(std::string v, random_hex(32));
+  const TimePoint now = impl_->opt.clock();
+  std::lock_guard<std::mutex> lock(impl_->mu);
+  auto& n = impl_->signin_nonces;
+  for (auto it = n.begin(); it != n.end();) it = it->second <= now ? n.erase(it) : std::next(it);
+  if (auto it = n.find(current); !current.empty() && it != n.end()) return it->first;
+  while (n.size() >= kSigninNonces)
+    n.erase(
+        std::min_element(n.begin(), n.end(), [](auto& a, auto& b) { return a.second < b.second; }));
+  n[v] = now + std::chrono::minutes(10);
+  return v;
+}
+
+bool Console::signin_nonce_ok(std::string_view cookie_value, std::string_view form_value) {
+  if (!same(cookie_value, form_value)) return false;
+  std::lock_guard<std::mutex> lock(impl_->mu);
+  auto it = impl_->signin_nonces.find(form_value);
+  if (it == impl_->signin_nonces.end()) return false;
+  const bool fresh = it->second > impl_->opt.clock();
+  impl_->signin_nonces.erase(it);
+  return fresh;
+}
+
 Result<ConsoleSession> Console::sign_in(std::string_view token) {
   if (!impl_->tokens) return Error(Errc::invalid_argument, "this console has no sign-in");
   const TokenEntry* e = find_token(*impl_->tokens, token);
@@ -73,6 +99,11 @@ Result<ConsoleSession> Console::sign_in(std::string_view token) {
   // number of people signed in during one session's life.
   for (auto it = impl_->sessions.begin(); it != impl_->sessions.end();)
     it = it->second.expires <= now ? impl_->sessions.erase(it) : std::next(it);
+  // A bound whoever signs in: the session that expires first makes room.
+  while (impl_->sessions.size() >= kMaxSessions)
+    impl_->sessions.erase(
+        std::min_element(impl_->sessions.begin(), impl_->sessions.end(),
+                         [](auto& a, auto& b) { return a.second.expires < b.second.expires; }));
   impl_->sessions[s.id] = {s.user, now + impl_->opt.session_ttl};
   return s;
 }
@@ -177,8 +208,9 @@ Page Console::failure_page(const ConsoleUser& u, const std::string& title, const
   return error_page(&u, status, title, e.message);
 }
 
-Page Console::signin_page(const std::string& message, const std::string& next, int status) const {
-  return {status, pages::signin(message, next, impl_->anonymous_csrf)};
+Page Console::signin_page(const std::string& message, const std::string& next,
+                          const std::string& csrf, int status) const {
+  return {status, pages::signin(message, next, csrf)};
 }
 
 Page Console::overview(const ConsoleUser& u, const std::string& line,

@@ -64,8 +64,21 @@ class Console {
   void sign_out(std::string_view session_id);
   // The form's CSRF value is the user's (compared in constant time).
   static bool csrf_ok(const ConsoleUser& u, std::string_view form_value);
-  // The CSRF value of the sign-in form (nobody is signed in yet).
+  // The CSRF value of every form without tokens (one random value per
+  // process: every visitor is the same anonymous operator).
   const std::string& anonymous_csrf() const;
+  // The CSRF value for a sign-in form (nobody is signed in yet): `current`
+  // (the visitor's cookie) while it is one this console issued and has not
+  // taken, so that a reload or a second tab keeps the form that is already
+  // open valid; else a new one, valid for 10 minutes and one sign-in. The
+  // newest kSigninNonces are kept. Errc::io_error when no random bytes can be read.
+  Result<std::string> signin_nonce(std::string_view current = {});
+  // Whether the sign-in form's value and its cookie's are equal and one this
+  // console issued and has not yet taken (it is taken: one use).
+  bool signin_nonce_ok(std::string_view cookie_value, std::string_view form_value);
+  static constexpr std::size_t kSigninNonces = 256;
+  // Sessions kept at most; a sign-in beyond evicts the one that expires first.
+  static constexpr std::size_t kMaxSessions = 256;
 
   // Actions (the caller has checked the role and the CSRF token). The job id;
   // Errc::not_found for a name not in the inventory.
@@ -81,7 +94,8 @@ class Console {
                                     bool skip_incompatible);
 
   // Pages. `next` is where to go after signing in (a path of this console).
-  Page signin_page(const std::string& message, const std::string& next, int status = 200) const;
+  Page signin_page(const std::string& message, const std::string& next, const std::string& csrf,
+                   int status = 200) const;
   Page overview(const ConsoleUser& u, const std::string& line, const std::string& status) const;
   Page position(const ConsoleUser& u, const std::string& name) const;
   // The replace/restore flow's first page: which revision, then "check and plan".

@@ -1,14 +1,19 @@
 #include "serve/http.hpp"
 
 #include <arpa/inet.h>
-#include <httplib.h>
 
+#include <algorithm>
 #include <atomic>
+#include <cctype>
 #include <chrono>
+#include <mutex>
 #include <thread>
 
 #include "common/bytes.hpp"
 #include "serve/console_http.hpp"
+#include "serve/web_router.hpp"
+#include "serve/web_server.hpp"
+#include "serve/web_tls.hpp"
 
 namespace lmcfg::serve {
 
@@ -60,38 +65,46 @@ Result<void> check_exposure(const HttpOptions& opt, const std::string& listen_te
                    missing + "; docs/serve.md \"Security model\")");
 }
 
-namespace {
-Error tls_files_error(const HttpOptions& opt) {
-  return Error(Errc::file_error, "--tls-cert " + opt.tls_cert + " / --tls-key " + opt.tls_key +
-                                     ": cannot load them as a PEM certificate and its private "
-                                     "key (readable files, the key matching the certificate)");
-}
-}  // namespace
-
 Result<void> check_tls_files(const HttpOptions& opt) {
   if (opt.tls_cert.empty()) return {};
-  // SSLServer loads both files in its constructor; is_valid() is false when
-  // either cannot be read or the key does not belong to the certificate.
-  if (!httplib::SSLServer(opt.tls_cert.c_str(), opt.tls_key.c_str()).is_valid())
-    return tls_files_error(opt);
+  LMCFG_ASSIGN_OR_RETURN(auto ctx, web::TlsContext::load(opt.tls_cert, opt.tls_key));
+  (void)ctx;
   return {};
 }
+
+namespace {
+
+using web::Request;
+using web::Response;
+
+// nlohmann::json throws on a string that is not UTF-8; every text that
+// reaches an answer is UTF-8 by the parser's checks, and whatever a lower
+// layer adds (an archive's commit message) is replaced, never thrown.
+std::string dump(const Json& j, int indent) {
+  return j.dump(indent, ' ', false, Json::error_handler_t::replace);
+}
+
+std::string lower(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+bool safe_method(const std::string& m) { return m == "GET" || m == "HEAD" || m == "OPTIONS"; }
+
+}  // namespace
 
 struct HttpServer::Impl {
   Service& service;
   HttpOptions opt;
-  std::unique_ptr<httplib::Server> owned;
-  httplib::Server& server;
+  web::Router router;
+  std::unique_ptr<web::Server> server;
+  std::shared_ptr<web::TlsContext> tls;
   std::unique_ptr<Console> console;  // its routes are registered by bind()
-  // serve() and stop() from two threads (HttpServer::stop).
-  std::atomic<bool> entered{false}, stop_asked{false}, returned{false};
-  Impl(Service& s, HttpOptions o)
-      : service(s),
-        opt(std::move(o)),
-        owned(opt.tls_cert.empty() ? std::make_unique<httplib::Server>()
-                                   : std::make_unique<httplib::SSLServer>(opt.tls_cert.c_str(),
-                                                                          opt.tls_key.c_str())),
-        server(*owned) {}
+  int port = 0;                      // bound
+  std::vector<std::string> hosts;    // the Host values served without tokens
+  std::mutex mu;                     // server, stop_asked (stop() from another thread)
+  bool stop_asked = false;
+  Impl(Service& s, HttpOptions o) : service(s), opt(std::move(o)) {}
 
   void log(const std::string& s) const {
     if (opt.log) opt.log(s);
@@ -105,17 +118,17 @@ struct HttpServer::Impl {
     return 500;
   }
   // {"error": message, "exit_code": N}: N is the CLI's exit code for the same error.
-  static void error(httplib::Response& res, int status, const std::string& message, int exit_code) {
+  static void error(Response& res, int status, const std::string& message, int exit_code) {
     res.status = status;
-    res.set_content(Json{{"error", message}, {"exit_code", exit_code}}.dump() + "\n",
+    res.set_content(dump(Json{{"error", message}, {"exit_code", exit_code}}, -1) + "\n",
                     "application/json");
   }
-  void error(httplib::Response& res, const Error& e) const {
+  void error(Response& res, const Error& e) const {
     error(res, status_of(e), e.message, opt.exit_code ? opt.exit_code(e) : 70);
   }
-  static void json(httplib::Response& res, const Json& j, int status = 200) {
+  static void json(Response& res, const Json& j, int status = 200) {
     res.status = status;
-    res.set_content(j.dump(2) + "\n", "application/json");
+    res.set_content(dump(j, 2) + "\n", "application/json");
   }
 
   // "Bearer TOKEN": RFC 7235 §2.1, "It uses a case-insensitive token as a
@@ -127,7 +140,7 @@ struct HttpServer::Impl {
   }
 
   // true: allowed; false: the 401 or 403 answer is written.
-  bool authorized(const httplib::Request& req, httplib::Response& res) const {
+  bool authorized(const Request& req, Response& res) const {
     if (!opt.tokens) return true;
     const auto header = req.get_header_value("Authorization");
     if (!bearer(header)) {
@@ -142,7 +155,7 @@ struct HttpServer::Impl {
       error(res, 401, "the bearer token is not in the tokens file", 2);
       return false;
     }
-    if (req.method != "GET" && req.method != "HEAD" && who->role != Role::operator_) {
+    if (!safe_method(req.method) && who->role != Role::operator_) {
       error(res, 403,
             "token '" + who->name + "' has role viewer: " + req.method + " needs role operator", 2);
       return false;
@@ -151,14 +164,14 @@ struct HttpServer::Impl {
   }
 
   // Who is asking: the token's name; without tokens "local".
-  std::string who(const httplib::Request& req) const {
+  std::string who(const Request& req) const {
     if (!opt.tokens) return "local";
     const auto header = req.get_header_value("Authorization");
     const TokenEntry* t = find_token(*opt.tokens, std::string_view(header).substr(kBearer.size()));
     return t ? t->name : "local";
   }
   // The request's JSON object body ("" = {}); false: the 400 answer is written.
-  static bool body(const httplib::Request& req, httplib::Response& res, Json& out) {
+  static bool body(const Request& req, Response& res, Json& out) {
     if (req.body.empty()) {
       out = Json::object();
       return true;
@@ -170,7 +183,7 @@ struct HttpServer::Impl {
     }
     return true;
   }
-  static std::string text(const Json& j, const char* key, httplib::Response& res, bool& ok) {
+  static std::string text(const Json& j, const char* key, Response& res, bool& ok) {
     if (!j.contains(key) || j[key].is_null()) return "";
     if (j[key].is_string()) return j[key].get<std::string>();
     error(res, 400, std::string("\"") + key + "\" must be a string", 2);
@@ -178,156 +191,257 @@ struct HttpServer::Impl {
     return "";
   }
 
-  void routes() {
-    auto guard = [this](auto handler) {
-      return [this, handler](const httplib::Request& req, httplib::Response& res) {
-        if (authorized(req, res)) handler(req, res);
-      };
-    };
-    server.Get("/metrics", guard([this](const httplib::Request&, httplib::Response& res) {
-                 res.set_content(service.metrics(), "text/plain; version=0.0.4; charset=utf-8");
-               }));
-    server.Get("/api/v1/drives", guard([this](const httplib::Request&, httplib::Response& res) {
-                 json(res, service.drives());
-               }));
-    // Drive names contain '/', so {name} is the rest of the path; the
-    // /history and /backup endpoints are the same path with a suffix.
-    server.Get(R"(/api/v1/drives/(.+)/history)",
-               guard([this](const httplib::Request& req, httplib::Response& res) {
-                 auto h = service.history(req.matches[1]);
-                 h.ok() ? json(res, *h) : error(res, h.error());
-               }));
-    server.Get(R"(/api/v1/drives/(.+)/diff)",
-               guard([this](const httplib::Request& req, httplib::Response& res) {
-                 if (!req.has_param("from")) {
-                   error(res, 400, "from=REV is needed (to=REV or to=live, default live)", 2);
-                   return;
-                 }
-                 const std::string to = req.has_param("to") ? req.get_param_value("to") : "live";
-                 auto d = service.diff(req.matches[1], req.get_param_value("from"), to);
-                 d.ok() ? json(res, *d) : error(res, d.error());
-               }));
-    server.Get(R"(/api/v1/drives/(.+)/report)",
-               guard([this](const httplib::Request& req, httplib::Response& res) {
-                 auto r = service.report_html(req.matches[1], req.get_param_value("rev"));
-                 if (!r.ok()) return error(res, r.error());
-                 res.set_content(*r, "text/html; charset=utf-8");
-               }));
-    server.Get(R"(/api/v1/drives/(.+))",
-               guard([this](const httplib::Request& req, httplib::Response& res) {
-                 auto d = service.drive(req.matches[1]);
-                 d.ok() ? json(res, *d) : error(res, d.error());
-               }));
-    server.Post(R"(/api/v1/drives/(.+)/backup)",
-                guard([this](const httplib::Request& req, httplib::Response& res) {
-                  auto id = service.backup_drive(req.matches[1], who(req));
-                  id.ok() ? json(res, Json{{"job", *id}}, 202) : error(res, id.error());
-                }));
-    server.Post(R"(/api/v1/lines/(.+)/backup)",
-                guard([this](const httplib::Request& req, httplib::Response& res) {
-                  auto id = service.backup_line(req.matches[1], who(req));
-                  id.ok() ? json(res, Json{{"job", *id}}, 202) : error(res, id.error());
-                }));
-    server.Post(R"(/api/v1/drives/(.+)/plan)",
-                guard([this](const httplib::Request& req, httplib::Response& res) {
-                  Json b;
-                  bool ok = body(req, res, b);
-                  const std::string rev = ok ? text(b, "rev", res, ok) : "";
-                  if (!ok) return;
-                  auto p = service.plan(req.matches[1], rev, who(req));
-                  p.ok() ? json(res, *p) : error(res, p.error());
-                }));
-    server.Post(R"(/api/v1/plans/([0-9a-f]+)/execute)",
-                guard([this](const httplib::Request& req, httplib::Response& res) {
-                  Json b;
-                  bool ok = body(req, res, b);
-                  Service::ExecuteRequest er;
-                  er.plan_id = req.matches[1];
-                  er.audit.who = who(req);
-                  if (ok) er.audit.reason = text(b, "reason", res, ok);
-                  if (ok) er.audit.ticket = text(b, "ticket", res, ok);
-                  if (!ok) return;
-                  if (b.contains("skip_incompatible")) {
-                    if (!b["skip_incompatible"].is_boolean())
-                      return error(res, 400, "\"skip_incompatible\" must be true or false", 2);
-                    er.skip_incompatible = b["skip_incompatible"].get<bool>();
-                  }
-                  auto id = service.execute(er);
-                  id.ok() ? json(res, Json{{"job", *id}}, 202) : error(res, id.error());
-                }));
-    server.Get(R"(/api/v1/jobs/([0-9]+))",
-               guard([this](const httplib::Request& req, httplib::Response& res) {
-                 auto j = service.job(req.matches[1]);
-                 j.ok() ? json(res, *j) : error(res, j.error());
-               }));
+  void routes();
+
+  // ---- the checks every request passes before its route (docs/serve.md "Security model")
+
+  // Without tokens every client is an operator, which only loopback makes
+  // acceptable; but a web page in a browser on the same host is a client too.
+  // Through DNS rebinding (evil.example resolving to 127.0.0.1) its requests
+  // reach this port with its own name as Host: only this service's own names
+  // are served.
+  bool host_ok(const Request& req, Response& res) const {
+    if (opt.tokens) return true;
+    const std::string host = lower(req.get_header_value("Host"));
+    if (std::find(hosts.begin(), hosts.end(), host) != hosts.end()) return true;
+    error(res, 421,
+          "the Host header '" + host + "' is not this service's address (" + hosts.front() +
+              "): without --tokens only requests to the listen address are served, so that a "
+              "web page cannot reach the drives through another name",
+          2);
+    return false;
+  }
+  // A state-changing request from a browser must come from a page of this
+  // service; curl and scripts send neither header and are served as before.
+  // Sec-Fetch-Site, which a page cannot set, decides where a browser sends
+  // it; otherwise Origin must be this service's. (The console's pages have
+  // Referrer-Policy: no-referrer, under which a browser's form POST carries
+  // "Origin: null": Sec-Fetch-Site says same-origin for it.)
+  bool origin_ok(const Request& req, Response& res) const {
+    if (safe_method(req.method)) return true;
+    if (req.has_header("Sec-Fetch-Site")) {
+      const std::string site = lower(req.get_header_value("Sec-Fetch-Site"));
+      if (site == "same-origin" || site == "none") return true;
+      error(res, 403,
+            "cross-site request refused: Sec-Fetch-Site is '" + site +
+                "', a state-changing request must come from this service's own pages",
+            2);
+      return false;
+    }
+    const std::string own =
+        std::string(req.tls ? "https://" : "http://") + lower(req.get_header_value("Host"));
+    if (req.has_header("Origin") && lower(req.get_header_value("Origin")) != own) {
+      error(res, 403,
+            "cross-origin request refused: Origin '" + req.get_header_value("Origin") +
+                "' is not this service's origin '" + own + "'",
+            2);
+      return false;
+    }
+    return true;
   }
 
-  // Errors as JSON, the request log, the body limit and the socket options.
-  void server_options() {
-    server.set_error_handler([](const httplib::Request& req, httplib::Response& res) {
-      if (!res.body.empty()) return;  // a handler's own answer
-      if (res.status == 413) {
-        error(res, 413, "request body too large", 2);
-      } else if (res.status == 404) {
-        error(res, 404, "no such resource: " + req.method + " " + req.path, 2);
-      } else {
-        error(res, res.status, "HTTP " + std::to_string(res.status), 2);
+  void handle(Request& req, Response& res) {
+    if (host_ok(req, res) && origin_ok(req, res)) {
+      std::string allow;
+      switch (router.dispatch(req, res, &allow)) {
+        case web::Router::Outcome::handled:
+          break;
+        case web::Router::Outcome::not_found:
+          error(res, 404, "no such resource: " + req.method + " " + req.path, 2);
+          break;
+        case web::Router::Outcome::method_not_allowed:
+          res.set_header("Allow", allow);
+          error(res, 405, req.method + " is not allowed on " + req.path + " (only " + allow + ")",
+                2);
+          break;
       }
-    });
-    server.set_logger([this](const httplib::Request& req, const httplib::Response& res) {
-      log("http " + req.remote_addr + " " + req.method + " " + req.path + " " +
-          std::to_string(res.status));
-    });
-    server.set_payload_max_length(opt.max_body);
-    // cpp-httplib's default sets SO_REUSEPORT, with which a second lmcfg serve
-    // on the same port binds as well and the kernel shares the connections
-    // between the two: SO_REUSEADDR only (a restart still binds at once).
-    server.set_socket_options([](socket_t sock) {
-      int yes = 1;
-      ::setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
-    });
+    }
+    // RFC 6797: browsers that came over HTTPS keep to it.
+    if (req.tls) res.set_header("Strict-Transport-Security", "max-age=31536000");
+    log("http " + req.remote_addr + " " + web::printable(req.method) + " " +
+        web::printable(req.target) + " " + std::to_string(res.status));
   }
 };
+
+void HttpServer::Impl::routes() {
+  // API POSTs carry JSON: a form or text/plain body (what a cross-site HTML
+  // form can send without asking) is refused before any route runs.
+  auto guard = [this](auto handler) {
+    return [this, handler](const Request& req, Response& res) {
+      if (!authorized(req, res)) return;
+      if (!safe_method(req.method) && (req.has_header("Content-Type") || !req.body.empty())) {
+        const std::string type = lower(req.get_header_value("Content-Type"));
+        if (type.substr(0, type.find(';')) != "application/json")
+          return error(res, 415,
+                       "the request body must be application/json, not '" +
+                           req.get_header_value("Content-Type") + "'",
+                       2);
+      }
+      handler(req, res);
+    };
+  };
+  router.Get("/metrics", guard([this](const Request&, Response& res) {
+               res.set_content(service.metrics(), "text/plain; version=0.0.4; charset=utf-8");
+             }));
+  router.Get("/api/v1/drives",
+             guard([this](const Request&, Response& res) { json(res, service.drives()); }));
+  // Drive names contain '/', so {name} is the rest of the path; the
+  // /history and /backup endpoints are the same path with a suffix.
+  router.Get("/api/v1/drives/{any}/history", guard([this](const Request& req, Response& res) {
+               auto h = service.history(req.matches[1]);
+               h.ok() ? json(res, *h) : error(res, h.error());
+             }));
+  router.Get("/api/v1/drives/{any}/diff", guard([this](const Request& req, Response& res) {
+               if (!req.has_param("from")) {
+                 error(res, 400, "from=REV is needed (to=REV or to=live, default live)", 2);
+                 return;
+               }
+               const std::string to = req.has_param("to") ? req.get_param_value("to") : "live";
+               auto d = service.diff(req.matches[1], req.get_param_value("from"), to);
+               d.ok() ? json(res, *d) : error(res, d.error());
+             }));
+  router.Get("/api/v1/drives/{any}/report", guard([this](const Request& req, Response& res) {
+               auto r = service.report_html(req.matches[1], req.get_param_value("rev"));
+               if (!r.ok()) return error(res, r.error());
+               res.set_content(*r, "text/html; charset=utf-8");
+             }));
+  router.Get("/api/v1/drives/{any}", guard([this](const Request& req, Response& res) {
+               auto d = service.drive(req.matches[1]);
+               d.ok() ? json(res, *d) : error(res, d.error());
+             }));
+  router.Post("/api/v1/drives/{any}/backup", guard([this](const Request& req, Response& res) {
+                auto id = service.backup_drive(req.matches[1], who(req));
+                id.ok() ? json(res, Json{{"job", *id}}, 202) : error(res, id.error());
+              }));
+  router.Post("/api/v1/lines/{any}/backup", guard([this](const Request& req, Response& res) {
+                auto id = service.backup_line(req.matches[1], who(req));
+                id.ok() ? json(res, Json{{"job", *id}}, 202) : error(res, id.error());
+              }));
+  router.Post("/api/v1/drives/{any}/plan", guard([this](const Request& req, Response& res) {
+                Json b;
+                bool ok = body(req, res, b);
+                const std::string rev = ok ? text(b, "rev", res, ok) : "";
+                if (!ok) return;
+                auto p = service.plan(req.matches[1], rev, who(req));
+                p.ok() ? json(res, *p) : error(res, p.error());
+              }));
+  router.Post("/api/v1/plans/{hex}/execute", guard([this](const Request& req, Response& res) {
+                Json b;
+                bool ok = body(req, res, b);
+                Service::ExecuteRequest er;
+                er.plan_id = req.matches[1];
+                er.audit.who = who(req);
+                if (ok) er.audit.reason = text(b, "reason", res, ok);
+                if (ok) er.audit.ticket = text(b, "ticket", res, ok);
+                if (!ok) return;
+                if (b.contains("skip_incompatible")) {
+                  if (!b["skip_incompatible"].is_boolean())
+                    return error(res, 400, "\"skip_incompatible\" must be true or false", 2);
+                  er.skip_incompatible = b["skip_incompatible"].get<bool>();
+                }
+                auto id = service.execute(er);
+                id.ok() ? json(res, Json{{"job", *id}}, 202) : error(res, id.error());
+              }));
+  router.Get("/api/v1/jobs/{num}", guard([this](const Request& req, Response& res) {
+               auto j = service.job(req.matches[1]);
+               j.ok() ? json(res, *j) : error(res, j.error());
+             }));
+}
 
 HttpServer::HttpServer(Service& service, HttpOptions opt)
     : impl_(std::make_unique<Impl>(service, std::move(opt))) {
   impl_->routes();
-  impl_->server_options();
 }
 HttpServer::~HttpServer() = default;
 
 Result<int> HttpServer::bind() {
-  if (!impl_->console) {
-    LMCFG_ASSIGN_OR_RETURN(impl_->console,
-                           Console::create(impl_->service, impl_->opt.tokens, impl_->opt.console));
-    register_console_routes(impl_->server, *impl_->console);
+  auto& im = *impl_;
+  if (!im.console) {
+    LMCFG_ASSIGN_OR_RETURN(im.console, Console::create(im.service, im.opt.tokens, im.opt.console));
+    register_console_routes(im.router, *im.console);
   }
-  const auto& a = impl_->opt.listen;
-  if (!impl_->server.is_valid()) return tls_files_error(impl_->opt);
-  const int port = a.port == 0 ? impl_->server.bind_to_any_port(a.host.c_str())
-                               : (impl_->server.bind_to_port(a.host.c_str(), a.port) ? a.port : -1);
-  if (port < 0)
-    return Error(Errc::io_error, "cannot listen on " + a.host + ":" + std::to_string(a.port) +
-                                     " (address in use or not on this host)");
-  return port;
+  if (!im.opt.tls_cert.empty() && !im.tls) {
+    LMCFG_ASSIGN_OR_RETURN(im.tls, web::TlsContext::load(im.opt.tls_cert, im.opt.tls_key));
+  }
+  web::ServerOptions so = im.opt.server;
+  so.limits.max_body = im.opt.max_body;
+  so.tls = im.tls;
+  so.handle = [&im](Request& req, Response& res) { im.handle(req, res); };
+  so.error_page = [](int status, const std::string& message, Response& res) {
+    Impl::error(res, status, message, 2);
+  };
+  so.log = im.opt.log;
+  {
+    std::lock_guard<std::mutex> lock(im.mu);
+    im.server = std::make_unique<web::Server>(std::move(so));
+  }
+  const auto& a = im.opt.listen;
+  LMCFG_ASSIGN_OR_RETURN(im.port, im.server->bind(a.host, a.port));
+  // The names a browser may use for this service: the listen address, and
+  // for a loopback address "localhost" and the loopback address of its family.
+  const std::string p = ":" + std::to_string(im.port);
+  auto add = [&](const std::string& h) {
+    const bool v6 = h.find(':') != std::string::npos;
+    im.hosts.push_back(lower(v6 ? "[" + h + "]" : h) + p);
+  };
+  add(a.host);
+  for (const auto& h : im.opt.allowed_hosts) im.hosts.push_back(lower(h));
+  if (is_loopback(a.host)) {
+    add("localhost");
+    if (a.host == "localhost") {
+      add("127.0.0.1");
+      add("::1");
+    }
+  }
+  return im.port;
 }
 
-// cpp-httplib's stop() acts only on a server whose loop runs: a stop() that
-// comes before the loop starts would be lost and serve() would never return
-// (a SIGTERM right after the start, a test's short-lived server). Each side
-// announces itself before it looks at the other, so one of them sees the other.
+// stop() may come from another thread at any moment, before bind() too:
+// the server object is made under the lock, and web::Server::serve returns
+// at once after a stop() that came before it.
 void HttpServer::serve() {
-  impl_->entered = true;
-  if (!impl_->stop_asked) impl_->server.listen_after_bind();
-  impl_->returned = true;
+  web::Server* s = nullptr;
+  {
+    std::lock_guard<std::mutex> lock(impl_->mu);
+    if (impl_->stop_asked || !impl_->server) return;
+    s = impl_->server.get();
+  }
+  s->serve();
 }
 
 void HttpServer::stop() {
+  std::lock_guard<std::mutex> lock(impl_->mu);
   impl_->stop_asked = true;
-  if (!impl_->entered) return;  // serve() has not begun: it will see stop_asked
-  while (!impl_->server.is_running() && !impl_->returned)
-    std::this_thread::sleep_for(std::chrono::milliseconds(1));
-  impl_->server.stop();
+  if (impl_->server) impl_->server->stop();
+}
+
+std::string HttpServer::answer(std::string_view bytes, const std::string& remote_addr, bool tls) {
+  web::Limits limits = impl_->opt.server.limits;
+  limits.max_body = impl_->opt.max_body;
+  web::RequestParser parser(limits);
+  std::string out;
+  auto state = parser.feed(bytes);
+  while (state == web::RequestParser::State::complete) {
+    Request req = std::move(parser.request());
+    req.remote_addr = remote_addr;
+    req.tls = tls;
+    Response res;
+    impl_->handle(req, res);
+    out += web::serialize(res, req.method == "HEAD");
+    parser.next();
+    state = parser.parse();
+  }
+  if (state == web::RequestParser::State::error) {
+    Response res;
+    Impl::error(res, parser.error_status(), parser.error_message(), 2);
+    res.close = true;
+    out += web::serialize(res, false);
+  }
+  return out;
+}
+
+web::ServerStats HttpServer::stats() const {
+  return impl_->server ? impl_->server->stats() : web::ServerStats{};
 }
 
 }  // namespace lmcfg::serve

@@ -1,18 +1,25 @@
 #pragma once
-// The HTTP side of lmcfg serve (docs/serve.md "API"): cpp-httplib's server,
-// a thin adapter from routes to Service calls. Authorization: with tokens, a
+// The HTTP side of lmcfg serve (docs/serve.md "API", "Security model"): the
+// routes of the REST API and the console on lmcfg's own server
+// (serve/web_server.hpp), a thin adapter from routes to Service calls, and the
+// checks every request passes first: without tokens only this service's own
+// Host names are served (421 otherwise); a state-changing request that a
+// browser marks as coming from another origin (Origin, Sec-Fetch-Site) is
+// refused (403); API bodies are application/json (415). Authorization: with tokens, a
 // bearer token is required (viewer: GET, operator: also POST); without, every
 // client is an operator, which only a loopback address makes acceptable (the
 // tool refuses anything else).
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "common/result.hpp"
 #include "serve/console.hpp"
 #include "serve/service.hpp"
 #include "serve/tokens.hpp"
+#include "serve/web_server.hpp"
 
 namespace lmcfg::serve {
 
@@ -33,7 +40,12 @@ struct HttpOptions {
   std::size_t max_body = 4096;                    // request bodies above are refused (413)
   std::function<void(const std::string&)> log;
   std::function<int(const Error&)> exit_code;  // the CLI's exit code of an error (for "exit_code")
-  // HTTPS (cpp-httplib's SSLServer, OpenSSL) with this PEM certificate (chain)
+  // Without tokens, Host values served besides the listen address's own
+  // ("plant-pc:8470", "localhost:9000" for an ssh tunnel); lower case.
+  std::vector<std::string> allowed_hosts;
+  // The connection limits and timeouts (max_body above wins over server.limits).
+  web::ServerOptions server;
+  // HTTPS (OpenSSL, serve/web_tls.hpp) with this PEM certificate (chain)
   // and private key; both empty: plain HTTP.
   std::string tls_cert, tls_key;
   ConsoleOptions console;  // the web console's sessions (docs/console.md)
@@ -59,6 +71,13 @@ class HttpServer {
   // begun makes serve() return at once).
   void serve();
   void stop();
+  web::ServerStats stats() const;
+  // The answers to one connection's bytes as the server would send them,
+  // without a socket: each complete request through the same checks, routes
+  // and handlers, then the refusal of bytes the parser refuses (nothing for
+  // an unfinished request). After bind() (the console, the port). For the
+  // fuzz target (fuzz/fuzz_http.cpp) and tests.
+  std::string answer(std::string_view bytes, const std::string& remote_addr, bool tls);
 
   struct Impl;
 

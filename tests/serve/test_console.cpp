@@ -5,6 +5,7 @@
 #include <httplib.h>
 
 #include <catch2/catch.hpp>
+#include <map>
 #include <regex>
 
 #include "serve/console.hpp"
@@ -23,19 +24,31 @@ std::string csrf_of(const std::string& html) {
   return m[1];
 }
 
-// A browser's side: the session cookie it was given, sent back with every request.
+// A browser's side: the cookies it was given (the session's and the sign-in
+// form's), sent back with every request.
 struct Browser {
   httplib::Client c;
-  std::string cookie;
+  std::string cookie;                      // the session's
+  std::map<std::string, std::string> jar;  // every cookie by name
   explicit Browser(int port) : c("127.0.0.1", port) {}
   httplib::Headers headers() const {
-    return cookie.empty()
-               ? httplib::Headers{}
-               : httplib::Headers{{"Cookie", std::string(serve::kSessionCookie) + "=" + cookie}};
+    std::string all;
+    for (const auto& [k, v] : jar)
+      if (!v.empty()) all += (all.empty() ? "" : "; ") + k + "=" + v;
+    return all.empty() ? httplib::Headers{} : httplib::Headers{{"Cookie", all}};
   }
-  httplib::Result get(const std::string& path) { return c.Get(path.c_str(), headers()); }
+  httplib::Result keep(httplib::Result res) {
+    if (!res) return res;
+    for (std::size_t i = 0; i < res->get_header_value_count("Set-Cookie"); ++i) {
+      const std::string set = res->get_header_value("Set-Cookie", i);
+      const auto eq = set.find('='), semi = set.find(';');
+      jar[set.substr(0, eq)] = set.substr(eq + 1, semi - eq - 1);
+    }
+    return res;
+  }
+  httplib::Result get(const std::string& path) { return keep(c.Get(path.c_str(), headers())); }
   httplib::Result post(const std::string& path, const httplib::Params& form) {
-    return c.Post(path.c_str(), headers(), form);
+    return keep(c.Post(path.c_str(), headers(), form));
   }
   // Signs in with `token` through the sign-in form; the Set-Cookie header.
   std::string sign_in(const std::string& token) {
@@ -187,17 +200,18 @@ TEST_CASE(
   CHECK(res->status == 401);
 
   SECTION("a wrong token, a sign-in without the form's CSRF token, an outside next") {
-    const std::string csrf = csrf_of(b.get("/signin")->body);
-    res = b.post("/signin", {{"csrf", csrf}, {"token", "not-a-token"}});
+    res = b.post("/signin", {{"csrf", csrf_of(b.get("/signin")->body)}, {"token", "not-a-token"}});
     REQUIRE(res);
     CHECK(res->status == 401);
     CHECK(res->body.find("that token is not in the tokens file") != std::string::npos);
-    CHECK(res->get_header_value("Set-Cookie").empty());
+    CHECK(b.jar.count("lmcfg_session") == 0);
     res = b.post("/signin", {{"token", tokens.op}});
     REQUIRE(res);
     CHECK(res->status == 403);
-    CHECK(res->get_header_value("Set-Cookie").empty());
-    res = b.post("/signin", {{"csrf", csrf}, {"token", tokens.op}, {"next", "//evil.example/"}});
+    CHECK(b.jar.count("lmcfg_session") == 0);
+    res = b.post("/signin", {{"csrf", csrf_of(b.get("/signin")->body)},
+                             {"token", tokens.op},
+                             {"next", "//evil.example/"}});
     REQUIRE(res);
     CHECK(res->get_header_value("Location") == "/");
   }

@@ -11,6 +11,8 @@
 #include "serve/console.hpp"
 #include "serve/console_http.hpp"
 #include "serve/tokens.hpp"
+#include "serve/web_router.hpp"
+#include "serve/web_server.hpp"
 #include "serve_rig.hpp"
 
 using namespace lmcfg;
@@ -19,9 +21,10 @@ using namespace std::chrono_literals;
 
 namespace {
 
-// register_console_routes on a server of its own, on 127.0.0.1, any port.
+// register_console_routes on a router and server of their own, on 127.0.0.1, any port.
 struct ConsoleServer {
-  httplib::Server server;
+  serve::web::Router router;
+  std::unique_ptr<serve::web::Server> server;
   std::unique_ptr<serve::Console> console;
   std::thread thread;
   int port = 0;
@@ -30,24 +33,41 @@ struct ConsoleServer {
     auto c = serve::Console::create(s, std::move(tokens), std::move(opt));
     REQUIRE(c.ok());
     console = std::move(c).value();
-    serve::register_console_routes(server, *console);
-    port = server.bind_to_any_port("127.0.0.1");
-    REQUIRE(port > 0);
-    thread = std::thread([this] { server.listen_after_bind(); });
+    serve::register_console_routes(router, *console);
+    serve::web::ServerOptions so;
+    so.handle = [this](serve::web::Request& req, serve::web::Response& res) {
+      if (router.dispatch(req, res) != serve::web::Router::Outcome::handled) res.status = 404;
+    };
+    server = std::make_unique<serve::web::Server>(std::move(so));
+    auto p = server->bind("127.0.0.1", 0);
+    REQUIRE(p.ok());
+    port = *p;
+    thread = std::thread([this] { server->serve(); });
   }
   ~ConsoleServer() {
-    server.stop();
+    server->stop();
     thread.join();
   }
 };
 
-httplib::Headers with_cookie(const std::string& cookie) { return {{"Cookie", cookie}}; }
-
-std::string csrf_of(const std::string& html) {
+// A fresh sign-in form: its CSRF value and the cookie that goes with it.
+struct SigninForm {
+  std::string csrf;
+  httplib::Headers cookie;
+};
+SigninForm signin_form(httplib::Client& c) {
+  auto res = c.Get("/signin");
+  REQUIRE(res);
+  REQUIRE(res->status == 200);
+  const std::string set = res->get_header_value("Set-Cookie");
   std::smatch m;
-  REQUIRE(std::regex_search(html, m, std::regex("name=\"csrf\" value=\"([0-9A-F]{64})\"")));
-  return m[1];
+  REQUIRE(std::regex_match(set, m,
+                           std::regex("lmcfg_signin=([0-9A-F]{64}); HttpOnly; SameSite=Strict; "
+                                      "Path=/signin; Max-Age=600")));
+  return {m[1], {{"Cookie", "lmcfg_signin=" + std::string(m[1])}}};
 }
+
+httplib::Headers with_cookie(const std::string& cookie) { return {{"Cookie", cookie}}; }
 
 // The security headers every console answer has, each once.
 void check_headers(const httplib::Response& res, const std::string& cache = "no-store") {
@@ -176,44 +196,110 @@ TEST_CASE("console http: sign-in sends the browser back to a path of this consol
   REQUIRE(res);
   CHECK(res->status == 200);
   CHECK(res->body.find("name=\"next\" value=\"/position?name=press3%2Fz\"") != std::string::npos);
-  const std::string csrf = csrf_of(res->body);
-  for (const std::string& next : std::vector<std::string>{"//evil.example/", "/\\evil.example",
-                                                          "https://evil.example/", "evil", ""}) {
+  for (const std::string& next : std::vector<std::string>{
+           "//evil.example/", "/\\evil.example", "https://evil.example/", "evil", "", "/ /x"}) {
     INFO("next=" << next);
     res = c.Get(("/signin?next=" + serve::url_encode(next)).c_str());
     REQUIRE(res);
     CHECK(res->body.find("name=\"next\" value=\"/\"") != std::string::npos);
   }
 
-  httplib::Params form{{"csrf", csrf}, {"token", op}, {"next", "/\\evil.example"}};
-  res = c.Post("/signin", form);
-  REQUIRE(res);
-  CHECK(res->status == 303);
-  CHECK(res->get_header_value("Location") == "/");
+  // A tab or line break in a query is refused at the edge (400) ...
+  for (const std::string& next : std::vector<std::string>{"/\t/evil.example", "/\n/evil.example"}) {
+    res = c.Get(("/signin?next=" + serve::url_encode(next)).c_str());
+    REQUIRE(res);
+    CHECK(res->status == 400);
+  }
+  // ... and through the form (where tabs pass the edge) it leads to the console, not off-site.
+  for (const std::string& next : std::vector<std::string>{"/\\evil.example", "/\t/evil.example"}) {
+    auto f = signin_form(c);
+    res = c.Post("/signin", f.cookie,
+                 httplib::Params{{"csrf", f.csrf}, {"token", op}, {"next", next}});
+    REQUIRE(res);
+    CHECK(res->status == 303);
+    CHECK(res->get_header_value("Location") == "/");
+  }
+  auto f = signin_form(c);
+  res =
+      c.Post("/signin", f.cookie, httplib::Params{{"csrf", f.csrf}, {"token", op}, {"next", "/"}});
   const std::string set = res->get_header_value("Set-Cookie");
   CHECK(std::regex_match(
       set, std::regex("lmcfg_session=[0-9A-F]{64}; HttpOnly; SameSite=Strict; Path=/; "
                       "Max-Age=7200")));
-  form = {{"csrf", csrf}, {"token", op}, {"next", "/position?name=press3%2Fz"}};
-  res = c.Post("/signin", form);
+  f = signin_form(c);
+  res = c.Post(
+      "/signin", f.cookie,
+      httplib::Params{{"csrf", f.csrf}, {"token", op}, {"next", "/position?name=press3%2Fz"}});
   REQUIRE(res);
   CHECK(res->get_header_value("Location") == "/position?name=press3/z");  // decoded by the client
+}
 
-  // A stale form (another process's CSRF value) and a wrong token: the page
-  // again with the reason, no cookie.
-  form = {{"csrf", std::string(64, 'A')}, {"token", op}};
-  res = c.Post("/signin", form);
-  REQUIRE(res);
-  CHECK(res->status == 403);
-  CHECK(res->body.find("the form is out of date: sign in again") != std::string::npos);
-  CHECK(res->get_header_value("Set-Cookie").empty());
-  check_headers(*res);
-  form = {{"csrf", csrf}, {"token", std::string(64, '0')}};
-  res = c.Post("/signin", form);
+TEST_CASE("console http: the sign-in form's CSRF value is the visitor's own, used once",
+          "[serve][console_http]") {
+  Rig rig;
+  const std::string file = (rig.dir.path / "tokens").string();
+  const auto op = *serve::add_token(file, "night-shift", serve::Role::operator_);
+  ConsoleServer s(*rig.service, *serve::load_tokens(file));
+  httplib::Client c("127.0.0.1", s.port);
+  auto refused = [&](const httplib::Headers& cookie, const std::string& csrf) {
+    auto res = c.Post("/signin", cookie, httplib::Params{{"csrf", csrf}, {"token", op}});
+    REQUIRE(res);
+    CHECK(res->status == 403);
+    CHECK(res->body.find("the form is out of date: sign in again") != std::string::npos);
+    // a fresh form, never a session
+    CHECK(res->get_header_value("Set-Cookie").rfind("lmcfg_signin=", 0) == 0);
+    check_headers(*res);
+  };
+  const SigninForm a = signin_form(c), b = signin_form(c);
+  CHECK(a.csrf != b.csrf);
+  // A reload (or a second tab) with the cookie keeps the form that is open valid.
+  auto again = c.Get("/signin", a.cookie);
+  REQUIRE(again);
+  CHECK(again->body.find(a.csrf) != std::string::npos);
+  refused({}, a.csrf);        // no cookie
+  refused(a.cookie, b.csrf);  // another visitor's value
+  refused({{"Cookie", "lmcfg_signin=" + std::string(64, 'A')}},
+          std::string(64, 'A'));  // not issued
+  auto res = c.Post("/signin", a.cookie,
+                    httplib::Params{{"csrf", a.csrf}, {"token", std::string(64, '0')}});
   REQUIRE(res);
   CHECK(res->status == 401);
   CHECK(res->body.find("that token is not in the tokens file") != std::string::npos);
-  CHECK(res->get_header_value("Set-Cookie").empty());
+  CHECK(res->get_header_value("Set-Cookie").rfind("lmcfg_signin=", 0) == 0);
+  refused(a.cookie, a.csrf);  // used once already
+  res = c.Post("/signin", b.cookie, httplib::Params{{"csrf", b.csrf}, {"token", op}});
+  REQUIRE(res);
+  CHECK(res->status == 303);
+  // A form that is not a form, or not UTF-8.
+  res = c.Post("/signin", "csrf=x", "text/plain");
+  REQUIRE(res);
+  CHECK(res->status == 415);
+  res = c.Post("/signin", "csrf=%FF", "application/x-www-form-urlencoded");
+  REQUIRE(res);
+  CHECK(res->status == 400);
+  CHECK(res->body.find("the form&#39;s field &#39;csrf=%FF&#39; is malformed, not valid UTF-8 or "
+                       "has a control character") != std::string::npos);
+}
+
+TEST_CASE("console http: sessions are bounded, the one that expires first makes room",
+          "[serve][console_http]") {
+  Rig rig;
+  const std::string file = (rig.dir.path / "tokens").string();
+  const auto op = *serve::add_token(file, "night-shift", serve::Role::operator_);
+  serve::TimePoint now = serve::Clock::from_time_t(1'800'000'000);
+  serve::ConsoleOptions copt;
+  copt.clock = [&] { return now; };
+  auto console = serve::Console::create(*rig.service, *serve::load_tokens(file), copt);
+  REQUIRE(console.ok());
+  std::vector<std::string> ids;
+  for (std::size_t i = 0; i < serve::Console::kMaxSessions + 10; ++i) {
+    now += 1s;
+    auto session = (*console)->sign_in(op);
+    REQUIRE(session.ok());
+    ids.push_back(session->id);
+  }
+  for (std::size_t i = 0; i < 10; ++i) CHECK_FALSE((*console)->user(ids[i]).has_value());
+  for (std::size_t i = 10; i < ids.size(); ++i) CHECK((*console)->user(ids[i]).has_value());
 }
 
 TEST_CASE("console http: forms answer with a redirect, failures as pages with their status",

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "files.hpp"
+#include "raw_http.hpp"
 #include "serve/http.hpp"
 #include "serve/tokens.hpp"
 #include "serve_rig.hpp"
@@ -405,7 +406,8 @@ TEST_CASE("http: bodies and parameters are checked: 400 with the message and exi
                "application/json");
   REQUIRE(res);
   CHECK(res->status == 413);
-  CHECK(body_of(res) == error("request body too large", 2));
+  CHECK(body_of(res) ==
+        error("the request body has 4210 bytes, more than the 4096 this service accepts", 2));
 }
 
 TEST_CASE(
@@ -490,4 +492,145 @@ TEST_CASE("http: a viewer may HEAD and GET, any case of Bearer, the token's name
   res = c.Get(("/api/v1/jobs/" + id).c_str(), {{"Authorization", "Bearer " + viewer}});
   REQUIRE(res);
   CHECK(body_of(res)["who"] == "night-shift");
+}
+
+namespace {
+// The JSON error of a raw answer (its body after the head).
+nlohmann::json raw_body(const std::string& answer) {
+  const auto at = answer.find("\r\n\r\n");
+  REQUIRE(at != std::string::npos);
+  return nlohmann::json::parse(answer.substr(at + 4));
+}
+std::string status_line(const std::string& answer) { return answer.substr(0, answer.find("\r\n")); }
+}  // namespace
+
+TEST_CASE("http: without tokens only this service's own Host names are served (421)",
+          "[serve][http]") {
+  Rig rig;
+  rig.at(rig.now);
+  Server server(*rig.service);
+  const std::string port = std::to_string(server.port);
+  auto ask = [&](const std::string& host) {
+    RawClient c(server.port);
+    c.send("GET /api/v1/drives HTTP/1.1\r\nHost: " + host + "\r\nConnection: close\r\n\r\n");
+    return c.response(5000);
+  };
+  for (const std::string& host :
+       std::vector<std::string>{"127.0.0.1:" + port, "localhost:" + port, "LOCALHOST:" + port})
+    CHECK(status_line(ask(host)) == "HTTP/1.1 200 OK");
+  // DNS rebinding: evil.example resolves to 127.0.0.1, the browser sends its own name.
+  for (const std::string& host :
+       std::vector<std::string>{"evil.example:" + port, "127.0.0.1", "127.0.0.1:1",
+                                "127.0.0.2:" + port, "[::1]:" + port}) {
+    INFO(host);
+    const std::string a = ask(host);
+    CHECK(status_line(a) == "HTTP/1.1 421 Misdirected Request");
+    CHECK(raw_body(a) ==
+          nlohmann::json{{"error", "the Host header '" + host +
+                                       "' is not this service's address (127.0.0.1:" + port +
+                                       "): without --tokens only requests to the listen address "
+                                       "are served, so that a web page cannot reach the drives "
+                                       "through another name"},
+                         {"exit_code", 2}});
+  }
+  // The console's pages too.
+  RawClient c(server.port);
+  c.send("GET / HTTP/1.1\r\nHost: evil.example\r\n\r\n");
+  CHECK(status_line(c.response(5000)) == "HTTP/1.1 421 Misdirected Request");
+}
+
+TEST_CASE(
+    "http: a state-changing request from another origin is refused (403); API bodies are JSON "
+    "(415)",
+    "[serve][http]") {
+  Rig rig;
+  rig.at(rig.now);
+  Server server(*rig.service);
+  const std::string own = "127.0.0.1:" + std::to_string(server.port);
+  auto post = [&](const std::string& path, const std::string& headers, const std::string& body) {
+    RawClient c(server.port);
+    c.send("POST " + path + " HTTP/1.1\r\nHost: " + own + "\r\nConnection: close\r\n" + headers +
+           "Content-Length: " + std::to_string(body.size()) + "\r\n\r\n" + body);
+    return c.response(5000);
+  };
+  std::string a = post("/api/v1/lines/line1/backup", "Origin: http://evil.example\r\n", "");
+  CHECK(status_line(a) == "HTTP/1.1 403 Forbidden");
+  CHECK(raw_body(a)["error"] ==
+        "cross-origin request refused: Origin 'http://evil.example' is not "
+        "this service's origin 'http://" +
+            own + "'");
+  a = post("/backup", "Origin: null\r\nContent-Type: application/x-www-form-urlencoded\r\n",
+           "name=press3%2Fz");
+  CHECK(status_line(a) == "HTTP/1.1 403 Forbidden");
+  a = post("/api/v1/lines/line1/backup",
+           "Sec-Fetch-Site: cross-site\r\nOrigin: http://" + own + "\r\n", "");
+  CHECK(status_line(a) == "HTTP/1.1 403 Forbidden");
+  CHECK(raw_body(a)["error"] ==
+        "cross-site request refused: Sec-Fetch-Site is 'cross-site', a "
+        "state-changing request must come from this service's own pages");
+  // A browser's own form under Referrer-Policy: no-referrer: "Origin: null",
+  // and Sec-Fetch-Site, which a page cannot set, says same-origin.
+  a = post("/backup",
+           "Origin: null\r\nSec-Fetch-Site: same-origin\r\nContent-Type: "
+           "application/x-www-form-urlencoded\r\n",
+           "name=press3%2Fz");
+  CHECK(status_line(a) == "HTTP/1.1 403 Forbidden");  // the console's CSRF check, not the origin's
+  CHECK(a.find("CSRF") != std::string::npos);
+  // A plain cross-site form's text/plain body never reaches a route.
+  a = post("/api/v1/drives/press3/z/plan", "Content-Type: text/plain\r\n", "{\"rev\": \"\"}");
+  CHECK(status_line(a) == "HTTP/1.1 415 Unsupported Media Type");
+  CHECK(raw_body(a)["error"] == "the request body must be application/json, not 'text/plain'");
+  a = post("/api/v1/drives/press3/z/plan", "", "{\"rev\": \"\"}");
+  CHECK(status_line(a) == "HTTP/1.1 415 Unsupported Media Type");
+  // The same origin, and curl without Origin: served.
+  a = post("/api/v1/lines/line1/backup",
+           "Origin: http://" + own + "\r\nSec-Fetch-Site: same-origin\r\n", "");
+  CHECK(status_line(a) == "HTTP/1.1 202 Accepted");
+  a = post("/api/v1/lines/line1/backup", "Content-Type: application/json; charset=utf-8\r\n", "");
+  CHECK(status_line(a) == "HTTP/1.1 202 Accepted");
+  rig.service->wait_idle();
+}
+
+TEST_CASE(
+    "http: every byte 0x00-0xFF in a path, a header and a body field; the service answers after "
+    "each",
+    "[serve][http]") {
+  Rig rig;
+  rig.at(rig.now);
+  Server server(*rig.service);
+  const std::string host = "Host: 127.0.0.1:" + std::to_string(server.port) + "\r\n";
+  int answered = 0;
+  for (int b = 0; b < 256; ++b) {
+    const std::string byte(1, static_cast<char>(b));
+    char enc[4];
+    std::snprintf(enc, sizeof enc, "%%%02X", b);
+    const std::string body =
+        std::string("{\"reason\": \"a") + byte + "b\", \"rev\": \"" + enc + "\"}";
+    for (const std::string& request : std::vector<std::string>{
+             "GET /api/v1/drives/" + std::string(enc) + "x HTTP/1.1\r\n" + host + "\r\n",
+             "GET /api/v1/drives/a" + byte + "x HTTP/1.1\r\n" + host + "\r\n",
+             "GET /api/v1/drives/press3/z/diff?to=HEAD&from=" + std::string(enc) + " HTTP/1.1\r\n" +
+                 host + "\r\n",
+             "GET /api/v1/drives HTTP/1.1\r\n" + host + "X-Any: a" + byte + "b\r\n\r\n",
+             "POST /api/v1/plans/0123abcd/execute HTTP/1.1\r\n" + host +
+                 "Content-Type: application/json\r\nContent-Length: " +
+                 std::to_string(body.size()) + "\r\n\r\n" + body,
+             "POST /execute HTTP/1.1\r\n" + host +
+                 "Content-Type: application/x-www-form-urlencoded\r\nContent-Length: "
+                 "25\r\n\r\nplan=0123abcd&reason=a" +
+                 enc}) {
+      RawClient c(server.port);
+      c.send(request);
+      const std::string a = c.response(5000);
+      INFO(serve::web::printable(request) << " -> " << serve::web::printable(a));
+      REQUIRE(a.rfind("HTTP/1.1 ", 0) == 0);
+      ++answered;
+    }
+  }
+  CHECK(answered == 256 * 6);
+  // ... and it still answers.
+  httplib::Client c("127.0.0.1", server.port);
+  auto res = c.Get("/api/v1/drives");
+  REQUIRE(res);
+  CHECK(res->status == 200);
 }

@@ -22,6 +22,7 @@ struct ServeCli {
   std::string inventory, archive, listen = "127.0.0.1:8470", tokens, tls_cert, tls_key;
   bool no_curves = false, no_ct = false, full = false;
   std::string token_name, role;
+  std::vector<std::string> allow_hosts;
 };
 
 // One line per event on stderr, with the time (several threads log).
@@ -44,6 +45,7 @@ int run_serve(const ServeCli& o) {
   http.exit_code = exit_code_for;
   http.tls_cert = o.tls_cert;
   http.tls_key = o.tls_key;
+  http.allowed_hosts = o.allow_hosts;
   if (!o.tokens.empty()) {
     auto tokens = serve::load_tokens(o.tokens);
     if (!tokens.ok()) return fail("serve", tokens.error());
@@ -143,6 +145,9 @@ void add_serve(CLI::App& app, int& exit_code) {
           "HOST:PORT to serve on; other than loopback needs --tokens and --tls-cert/--tls-key")
       ->capture_default_str();
   serve->add_option("--tokens", o->tokens, "bearer tokens file (lmcfg serve token add)");
+  serve->add_option("--allow-host", o->allow_hosts,
+                    "without --tokens, also serve requests whose Host is HOST:PORT (an ssh "
+                    "tunnel's localhost:9000); only the listen address's names otherwise");
   serve->add_option("--tls-cert", o->tls_cert,
                     "serve HTTPS with this PEM certificate (chain); needs --tls-key");
   serve->add_option("--tls-key", o->tls_key, "the PEM private key of --tls-cert");

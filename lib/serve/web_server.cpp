@@ -1,0 +1,599 @@
+#include "serve/web_server.hpp"
+
+#include <arpa/inet.h>
+#include <fcntl.h>
+#include <netdb.h>
+#include <netinet/in.h>
+#include <netinet/tcp.h>
+#include <poll.h>
+#include <signal.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cctype>
+#include <condition_variable>
+#include <cstring>
+#include <deque>
+#include <map>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+namespace lmcfg::serve::web {
+
+namespace {
+
+using SteadyClock = std::chrono::steady_clock;
+using SteadyTime = SteadyClock::time_point;
+
+void set_nonblocking(int fd) { ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL, 0) | O_NONBLOCK); }
+
+std::string address_text(const sockaddr_storage& sa) {
+  char buf[INET6_ADDRSTRLEN] = "";
+  if (sa.ss_family == AF_INET) {
+    ::inet_ntop(AF_INET, &reinterpret_cast<const sockaddr_in&>(sa).sin_addr, buf, sizeof buf);
+  } else if (sa.ss_family == AF_INET6) {
+    const auto& a6 = reinterpret_cast<const sockaddr_in6&>(sa).sin6_addr;
+    if (IN6_IS_ADDR_V4MAPPED(&a6)) {
+      ::inet_ntop(AF_INET, &a6.s6_addr[12], buf, sizeof buf);
+    } else {
+      ::inet_ntop(AF_INET6, &a6, buf, sizeof buf);
+    }
+  }
+  return buf;
+}
+
+enum class Phase { handshake, reading, handling, writing };
+
+struct Connection {
+  int fd = -1;
+  std::uint64_t id = 0;
+  std::string addr;
+  std::unique_ptr<TlsStream> tls;
+  RequestParser parser;
+  Phase phase = Phase::reading;
+  SteadyTime since;            // start of the current wait (connection, request, head, write)
+  bool request_begun = false;  // bytes of a request have arrived
+  std::string out;             // bytes to write
+  std::size_t out_pos = 0;
+  bool close_after = false;  // close once `out` is written
+  std::size_t served = 0;
+  bool want_write = false;  // TLS: the last step wants the socket writable
+  explicit Connection(const Limits& l) : parser(l) {}
+};
+
+struct Done {
+  std::uint64_t id;
+  std::string bytes;
+  bool close;
+};
+
+}  // namespace
+
+struct Server::Impl {
+  ServerOptions opt;
+  int listen_fd = -1;
+  int wake[2] = {-1, -1};
+  std::atomic<bool> stop_asked{false}, entered{false};
+  std::map<std::uint64_t, std::unique_ptr<Connection>> conns;
+  std::uint64_t next_id = 1;
+
+  // Workers: requests in, answers out.
+  std::mutex mu;
+  std::condition_variable cv;
+  std::deque<std::pair<std::uint64_t, Request>> queue;
+  std::deque<Done> done;
+  bool workers_stop = false;
+  std::vector<std::thread> workers;
+
+  mutable std::mutex stats_mu;
+  ServerStats st;
+  SteadyTime last_refusal_log{};
+
+  explicit Impl(ServerOptions o) : opt(std::move(o)) {}
+
+  void log(const std::string& s) const {
+    if (opt.log) opt.log(s);
+  }
+  void poke() const {
+    const char c = 1;
+    [[maybe_unused]] auto n = ::write(wake[1], &c, 1);
+  }
+  template <typename F>
+  void count(F f) {
+    std::lock_guard<std::mutex> lock(stats_mu);
+    f(st);
+  }
+
+  Response error_response(int status, const std::string& message) const {
+    Response res;
+    res.status = status;
+    if (opt.error_page) {
+      opt.error_page(status, message, res);
+    } else {
+      res.set_content(message + "\n", "text/plain; charset=utf-8");
+    }
+    res.close = true;
+    return res;
+  }
+
+  // ---- workers
+
+  void worker() {
+    while (true) {
+      std::pair<std::uint64_t, Request> job;
+      {
+        std::unique_lock<std::mutex> lock(mu);
+        cv.wait(lock, [&] { return workers_stop || !queue.empty(); });
+        if (queue.empty()) return;
+        job = std::move(queue.front());
+        queue.pop_front();
+      }
+      Request& req = job.second;
+      Response res;
+      try {
+        opt.handle(req, res);
+      } catch (const std::exception& e) {
+        count([](ServerStats& s) { ++s.handler_errors; });
+        log("http " + req.remote_addr + " " + req.method + " " + printable(req.target) +
+            ": internal error: " + printable(e.what()));
+        res = error_response(500,
+                             "internal error while answering this request; the service "
+                             "goes on (its log has the details)");
+        res.close = false;
+      } catch (...) {
+        count([](ServerStats& s) { ++s.handler_errors; });
+        res = error_response(500, "internal error while answering this request");
+        res.close = false;
+      }
+      const bool keep = wants_keep_alive(req) && !res.close;
+      res.close = !keep;
+      Done d{job.first, serialize(res, req.method == "HEAD"), !keep};
+      {
+        std::lock_guard<std::mutex> lock(mu);
+        done.push_back(std::move(d));
+      }
+      poke();
+    }
+  }
+
+  static bool wants_keep_alive(const Request& req) {
+    const std::string c = req.get_header_value("Connection");
+    const auto has = [&](const char* word) {
+      std::string lc;
+      for (char ch : c)
+        lc.push_back(static_cast<char>(std::tolower(static_cast<unsigned char>(ch))));
+      return lc.find(word) != std::string::npos;
+    };
+    if (req.version_minor == 0) return has("keep-alive");
+    return !has("close");
+  }
+
+  // ---- connections
+
+  void close_conn(std::uint64_t id) {
+    auto it = conns.find(id);
+    if (it == conns.end()) return;
+    it->second->tls.reset();
+    ::close(it->second->fd);
+    conns.erase(it);
+  }
+
+  // The oldest connection without a request in progress (waiting for its
+  // first byte, idle between requests, or still sending its head or TLS
+  // handshake), from `addr` or, with "", from anyone.
+  Connection* victim(const std::string& addr) {
+    Connection* best = nullptr;
+    for (auto& [id, c] : conns) {
+      const bool waiting = c->phase == Phase::handshake ||
+                           (c->phase == Phase::reading && !c->parser.head_complete());
+      if (!waiting || (!addr.empty() && c->addr != addr)) continue;
+      if (!best || c->since < best->since) best = c.get();
+    }
+    return best;
+  }
+
+  void refuse(int fd, const std::string& addr, const std::string& why) {
+    count([](ServerStats& s) { ++s.refused; });
+    if (!opt.tls) {
+      Response r = error_response(503, "too many connections: " + why + "; try again later");
+      r.set_header("Retry-After", "1");
+      const std::string bytes = serialize(r, false);
+      [[maybe_unused]] auto n = ::send(fd, bytes.data(), bytes.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
+    }
+    ::close(fd);
+    const auto now = SteadyClock::now();
+    if (now - last_refusal_log > std::chrono::seconds(1)) {
+      last_refusal_log = now;
+      log("http " + addr + ": connection refused (" + why + ")");
+    }
+  }
+
+  void accept_all() {
+    while (true) {
+      sockaddr_storage sa{};
+      socklen_t len = sizeof sa;
+      const int fd = ::accept(listen_fd, reinterpret_cast<sockaddr*>(&sa), &len);
+      if (fd < 0) return;  // EAGAIN, or a resource limit: the next poll tries again
+      set_nonblocking(fd);
+      int one = 1;
+      ::setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
+      const std::string addr = address_text(sa);
+      const auto from_addr = static_cast<std::size_t>(std::count_if(
+          conns.begin(), conns.end(), [&](auto& kv) { return kv.second->addr == addr; }));
+      if (from_addr >= opt.max_per_address || conns.size() >= opt.max_connections) {
+        const bool per_addr = from_addr >= opt.max_per_address;
+        Connection* v = victim(per_addr ? addr : "");
+        if (!v) {
+          refuse(fd, addr,
+                 per_addr ? std::to_string(from_addr) + " open from " + addr
+                          : std::to_string(conns.size()) + " open in all");
+          continue;
+        }
+        count([](ServerStats& s) { ++s.evicted; });
+        close_conn(v->id);
+      }
+      auto c = std::make_unique<Connection>(opt.limits);
+      c->fd = fd;
+      c->id = next_id++;
+      c->addr = addr;
+      c->since = SteadyClock::now();
+      if (opt.tls) {
+        c->tls = std::make_unique<TlsStream>(*opt.tls, fd);
+        if (!c->tls->valid()) {
+          ::close(fd);
+          continue;
+        }
+        c->phase = Phase::handshake;
+      }
+      count([](ServerStats& s) { ++s.accepted; });
+      conns.emplace(c->id, std::move(c));
+    }
+  }
+
+  IoStep read_some(Connection& c, char* buf, std::size_t size) {
+    if (c.tls) return c.tls->read(buf, size);
+    IoStep r;
+    const ssize_t n = ::recv(c.fd, buf, size, 0);
+    if (n > 0) {
+      r.n = static_cast<std::size_t>(n);
+    } else if (n == 0) {
+      r.closed = true;
+    } else if (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR) {
+      r.want_read = true;
+    } else {
+      r.closed = true;
+      r.error = std::strerror(errno);
+    }
+    return r;
+  }
+
+  IoStep write_some(Connection& c, const char* buf, std::size_t size) {
+    if (c.tls) return c.tls->write(buf, size);
+    IoStep r;
+    const ssize_t n = ::send(c.fd, buf, size, MSG_NOSIGNAL);
+    if (n >= 0) {
+      r.n = static_cast<std::size_t>(n);
+      if (n == 0) r.want_write = true;
+    } else if (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR) {
+      r.want_write = true;
+    } else {
+      r.closed = true;
+      r.error = std::strerror(errno);
+    }
+    return r;
+  }
+
+  // Queues a response written by the loop itself (parser errors, 503s).
+  void answer_now(Connection& c, const Response& res) {
+    c.out = serialize(res, false);
+    c.out_pos = 0;
+    c.close_after = true;
+    c.phase = Phase::writing;
+    c.since = SteadyClock::now();
+  }
+
+  // The parser's outcome on `c`: a request to the workers, an error answer,
+  // a 100 Continue, or nothing yet. false: `c` was closed.
+  bool after_parse(Connection& c, RequestParser::State s) {
+    if (s == RequestParser::State::error) {
+      answer_now(c, error_response(c.parser.error_status(), c.parser.error_message()));
+      log("http " + c.addr + " refused: " + std::to_string(c.parser.error_status()) + " " +
+          c.parser.error_message());
+      return true;
+    }
+    if (s == RequestParser::State::need_more) {
+      if (c.parser.started() && !c.request_begun) {
+        // A connection's first request has head_timeout from the connection's
+        // start; a later one from its first byte.
+        c.request_begun = true;
+        if (c.served > 0) c.since = SteadyClock::now();
+      }
+      if (c.parser.wants_continue()) {
+        c.parser.continued();
+        c.out = "HTTP/1.1 100 Continue\r\n\r\n";
+        c.out_pos = 0;
+        c.close_after = false;
+        flush(c);  // small; whatever does not go now goes with the answer
+      }
+      return true;
+    }
+    // complete
+    Request req = std::move(c.parser.request());
+    req.remote_addr = c.addr;
+    req.tls = static_cast<bool>(c.tls);
+    c.phase = Phase::handling;
+    ++c.served;
+    std::unique_lock<std::mutex> lock(mu);
+    if (queue.size() >= opt.queued_max) {
+      lock.unlock();
+      answer_now(c, error_response(503, "the service is busy (" + std::to_string(opt.queued_max) +
+                                            " requests waiting): try again in a moment"));
+      return true;
+    }
+    if (c.served >= opt.max_requests_per_connection) req.headers.emplace("Connection", "close");
+    queue.emplace_back(c.id, std::move(req));
+    lock.unlock();
+    cv.notify_one();
+    return true;
+  }
+
+  // Writes what it can of c.out; false: closed.
+  bool flush(Connection& c) {
+    while (c.out_pos < c.out.size()) {
+      const IoStep r = write_some(c, c.out.data() + c.out_pos, c.out.size() - c.out_pos);
+      if (r.closed) {
+        close_conn(c.id);
+        return false;
+      }
+      if (r.want_write || r.want_read) {
+        c.want_write = r.want_write;
+        return true;
+      }
+      c.out_pos += r.n;
+    }
+    c.out.clear();
+    c.out_pos = 0;
+    return true;
+  }
+
+  void on_readable(Connection& c) {
+    if (c.phase == Phase::handshake) {
+      const IoStep r = c.tls->handshake();
+      if (r.closed) return close_conn(c.id);
+      c.want_write = r.want_write;
+      if (r.n == 1) {
+        c.phase = Phase::reading;
+        c.since = SteadyClock::now();
+      } else {
+        return;
+      }
+    }
+    if (c.phase != Phase::reading) return;
+    char buf[8192];
+    for (int round = 0; round < 8; ++round) {
+      const IoStep r = read_some(c, buf, sizeof buf);
+      if (r.closed) return close_conn(c.id);
+      if (r.want_read || r.want_write) {
+        c.want_write = r.want_write;
+        return;
+      }
+      const auto s = c.parser.feed(std::string_view(buf, r.n));
+      const std::uint64_t id = c.id;
+      if (!after_parse(c, s) || !conns.count(id)) return;
+      if (c.phase != Phase::reading) return;
+    }
+  }
+
+  void on_writable(Connection& c) {
+    if (c.phase == Phase::handshake) return on_readable(c);
+    if (c.out.empty()) {
+      c.want_write = false;
+      if (c.phase == Phase::reading) on_readable(c);  // TLS read that wanted a write
+      return;
+    }
+    const std::uint64_t id = c.id;
+    if (!flush(c) || !conns.count(id)) return;
+    if (!c.out.empty() || c.phase != Phase::writing) return;
+    if (c.close_after) return close_conn(id);
+    // The answer is out: the next request (perhaps already buffered).
+    c.parser.next();
+    c.phase = Phase::reading;
+    c.request_begun = c.parser.buffered() > 0;
+    c.since = SteadyClock::now();
+    if (c.parser.buffered() > 0) after_parse(c, c.parser.parse());
+  }
+
+  void collect_done() {
+    std::deque<Done> ready;
+    {
+      std::lock_guard<std::mutex> lock(mu);
+      ready.swap(done);
+    }
+    for (auto& d : ready) {
+      auto it = conns.find(d.id);
+      if (it == conns.end()) continue;
+      Connection& c = *it->second;
+      c.out = std::move(d.bytes);
+      c.out_pos = 0;
+      c.close_after = d.close;
+      c.phase = Phase::writing;
+      c.since = SteadyClock::now();
+      on_writable(c);
+    }
+  }
+
+  void expire() {
+    const auto now = SteadyClock::now();
+    std::vector<std::uint64_t> idle;
+    for (auto& [id, cp] : conns) {
+      Connection& c = *cp;
+      if (c.phase == Phase::handling) continue;
+      if (c.phase == Phase::writing) {
+        if (now - c.since > opt.write_timeout) idle.push_back(id);
+        continue;
+      }
+      if (c.phase == Phase::handshake) {
+        if (now - c.since > opt.head_timeout) idle.push_back(id);
+        continue;
+      }
+      const bool first = c.served == 0;
+      if (!c.request_begun) {
+        // Nothing sent yet: an idle keep-alive connection, or a new one that
+        // says nothing (the first request's head has head_timeout).
+        if (now - c.since > (first ? opt.head_timeout : opt.idle_timeout)) idle.push_back(id);
+        continue;
+      }
+      const auto limit = c.parser.head_complete() ? opt.body_timeout : opt.head_timeout;
+      if (now - c.since > limit) {
+        count([](ServerStats& s) { ++s.timed_out; });
+        const auto ms = std::chrono::duration_cast<std::chrono::milliseconds>(limit).count();
+        const std::string span =
+            ms % 1000 ? std::to_string(ms) + " ms" : std::to_string(ms / 1000) + " s";
+        const char* part = c.parser.head_complete() ? "body" : "head";
+        log("http " + c.addr + ": the request's " + part + " did not arrive within " + span +
+            ", closed (408)");
+        answer_now(c, error_response(408, std::string("the request's ") + part +
+                                              " did not arrive within " + span));
+        c.since = now;
+        if (flush(c) && conns.count(id) && c.out.empty()) idle.push_back(id);
+      }
+    }
+    for (auto id : idle) close_conn(id);
+  }
+
+  void loop() {
+    std::vector<pollfd> fds;
+    std::vector<std::uint64_t> ids;
+    while (!stop_asked) {
+      fds.clear();
+      ids.clear();
+      fds.push_back({wake[0], POLLIN, 0});
+      fds.push_back({listen_fd, POLLIN, 0});
+      bool pending_tls = false;
+      for (auto& [id, c] : conns) {
+        short ev = 0;
+        if (c->phase == Phase::handshake || c->phase == Phase::reading) ev |= POLLIN;
+        if (c->want_write || (c->phase == Phase::writing && !c->out.empty())) ev |= POLLOUT;
+        // A connection whose request is with a worker is not watched: a
+        // client that hangs up then would make poll report POLLHUP at once,
+        // round after round, until the answer is ready.
+        if (c->phase == Phase::handling) continue;
+        if (c->tls && c->phase == Phase::reading && c->tls->has_buffered()) pending_tls = true;
+        fds.push_back({c->fd, ev, 0});
+        ids.push_back(id);
+      }
+      const int n = ::poll(fds.data(), fds.size(), pending_tls ? 0 : 250);
+      if (n < 0 && errno != EINTR) break;
+      if (fds[0].revents & POLLIN) {
+        char drain[256];
+        while (::read(wake[0], drain, sizeof drain) > 0) {
+        }
+      }
+      collect_done();
+      for (std::size_t i = 2; i < fds.size(); ++i) {
+        auto it = conns.find(ids[i - 2]);
+        if (it == conns.end()) continue;
+        Connection& c = *it->second;
+        const short re = fds[i].revents;
+        const bool tls_pending = c.tls && c.phase == Phase::reading && c.tls->has_buffered();
+        if (re & (POLLERR | POLLNVAL)) {
+          close_conn(c.id);
+          continue;
+        }
+        if (re & POLLOUT) {
+          const std::uint64_t id = c.id;
+          on_writable(c);
+          if (!conns.count(id)) continue;
+        }
+        if (re & (POLLIN | POLLHUP) || tls_pending) on_readable(c);
+      }
+      if (fds[1].revents & POLLIN) accept_all();
+      expire();
+      count([&](ServerStats& s) { s.open = conns.size(); });
+    }
+  }
+};
+
+Server::Server(ServerOptions opt) : impl_(std::make_unique<Impl>(std::move(opt))) {}
+
+Server::~Server() {
+  if (impl_->listen_fd >= 0) ::close(impl_->listen_fd);
+  for (int fd : impl_->wake)
+    if (fd >= 0) ::close(fd);
+}
+
+Result<int> Server::bind(const std::string& host, int port) {
+  const Error cannot(Errc::io_error, "cannot listen on " + host + ":" + std::to_string(port) +
+                                         " (address in use or not on this host)");
+  addrinfo hints{};
+  hints.ai_family = AF_UNSPEC;
+  hints.ai_socktype = SOCK_STREAM;
+  hints.ai_flags = AI_PASSIVE;
+  addrinfo* res = nullptr;
+  if (::getaddrinfo(host.c_str(), std::to_string(port).c_str(), &hints, &res) != 0 || !res)
+    return cannot;
+  int fd = -1;
+  for (addrinfo* a = res; a && fd < 0; a = a->ai_next) {
+    fd = ::socket(a->ai_family, a->ai_socktype | SOCK_CLOEXEC, a->ai_protocol);
+    if (fd < 0) continue;
+    // SO_REUSEADDR only: with SO_REUSEPORT a second lmcfg serve would bind
+    // the same port and the kernel would share the connections between them.
+    int yes = 1;
+    ::setsockopt(fd, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
+    if (::bind(fd, a->ai_addr, a->ai_addrlen) != 0 || ::listen(fd, 256) != 0) {
+      ::close(fd);
+      fd = -1;
+    }
+  }
+  ::freeaddrinfo(res);
+  if (fd < 0) return cannot;
+  sockaddr_storage sa{};
+  socklen_t len = sizeof sa;
+  ::getsockname(fd, reinterpret_cast<sockaddr*>(&sa), &len);
+  const int bound = ntohs(sa.ss_family == AF_INET6 ? reinterpret_cast<sockaddr_in6&>(sa).sin6_port
+                                                   : reinterpret_cast<sockaddr_in&>(sa).sin_port);
+  set_nonblocking(fd);
+  if (::pipe2(impl_->wake, O_NONBLOCK | O_CLOEXEC) != 0) {
+    ::close(fd);
+    return Error(Errc::io_error, "cannot create the server's wake-up pipe");
+  }
+  impl_->listen_fd = fd;
+  return bound;
+}
+
+void Server::serve() {
+  impl_->entered = true;
+  if (impl_->stop_asked || impl_->listen_fd < 0) return;
+  // A client that closes while its answer is written must not end the
+  // process (TLS writes go through OpenSSL's socket BIO, which cannot pass
+  // MSG_NOSIGNAL).
+  ::signal(SIGPIPE, SIG_IGN);
+  for (int i = 0; i < std::max(1, impl_->opt.workers); ++i)
+    impl_->workers.emplace_back([this] { impl_->worker(); });
+  impl_->loop();
+  {
+    std::lock_guard<std::mutex> lock(impl_->mu);
+    impl_->workers_stop = true;
+    impl_->queue.clear();
+  }
+  impl_->cv.notify_all();
+  for (auto& t : impl_->workers) t.join();
+  impl_->workers.clear();
+  std::vector<std::uint64_t> ids;
+  for (auto& kv : impl_->conns) ids.push_back(kv.first);
+  for (auto id : ids) impl_->close_conn(id);
+}
+
+void Server::stop() {
+  impl_->stop_asked = true;
+  if (impl_->wake[1] >= 0) impl_->poke();
+}
+
+ServerStats Server::stats() const {
+  std::lock_guard<std::mutex> lock(impl_->stats_mu);
+  return impl_->st;
+}
+
+}  // namespace lmcfg::serve::web
