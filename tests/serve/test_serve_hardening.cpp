@@ -215,10 +215,14 @@ TEST_CASE("serve: a history entry that is not UTF-8 (made by hand with git) is s
   Rig rig;
   rig.at(rig.now);
   const auto archive = rig.dir.path / "archive";
+  // Latin-1, declared so: git keeps the bytes (under its default UTF-8 it would
+  // re-encode them), libgit2 hands them over as they are.
   spit(rig.dir.path / "msg", std::string("fleet restore: press3/z <- by hand \xFF\xFE\n\n"
                                          "Operator: h\xE9lène\n"));
-  git(archive, "-c user.name=hand -c user.email=hand@plant commit -q --allow-empty -F '" +
-                   (rig.dir.path / "msg").string() + "'");
+  git(archive,
+      "-c user.name=hand -c user.email=hand@plant -c i18n.commitEncoding=ISO-8859-1 commit -q "
+      "--allow-empty -F '" +
+          (rig.dir.path / "msg").string() + "'");
   auto h = rig.service->history("press3/z");
   REQUIRE(h.ok());
   const std::string text = h->dump();  // would throw type_error.316 on raw bytes
