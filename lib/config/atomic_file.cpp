@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <cstdlib>
 #include <cstring>
 #include <vector>
 
@@ -30,12 +31,30 @@ bool write_all(int fd, std::string_view content) {
   }
   return true;
 }
+// The process's umask without changing it (umask(2) can only set it, and
+// setting it back races with other threads creating files): the "Umask:"
+// line of /proc/self/status (Linux 4.7 and later), else the usual 022.
+mode_t current_umask() {
+  int fd = ::open("/proc/self/status", O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return 022;
+  char buf[4096];
+  const ssize_t n = ::read(fd, buf, sizeof buf - 1);
+  ::close(fd);
+  if (n <= 0) return 022;
+  buf[n] = '\0';
+  const char* at = std::strstr(buf, "Umask:");
+  if (!at) return 022;
+  return static_cast<mode_t>(std::strtoul(at + 6, nullptr, 8) & 0777);
+}
 }  // namespace
 
 Result<void> write_file_atomic(const fs::path& path, std::string_view content) {
   if (path.empty()) return Error(Errc::file_error, "empty output path; expected a file path");
   struct stat st {};
-  mode_t mode = 0644;
+  // A new file gets what open(2) would give it (0666 less the umask: an
+  // administrator's umask 077 keeps the archive and state private); a file
+  // replaced keeps its mode. mkstemp alone would make every file 0600.
+  mode_t mode = 0666 & ~current_umask();
   if (::stat(path.c_str(), &st) == 0) {
     if (S_ISDIR(st.st_mode))
       return Error(Errc::file_error, path.string() + ": is a directory; expected a file path");

@@ -10,6 +10,8 @@
 
 namespace lmcfg::config {
 
+// A new file's mode is 0666 less the process's umask, as open(2) would make
+// it; a replaced file keeps its mode.
 // Errors (Errc::file_error) name the path and the failing step, e.g.
 // "out.json: is a directory; expected a file path".
 Result<void> write_file_atomic(const std::filesystem::path& path, std::string_view content);

@@ -5,6 +5,9 @@
 #include <filesystem>
 #include <mutex>
 
+#include "common/bytes.hpp"
+#include "common/text.hpp"
+
 namespace lmcfg::fleet {
 namespace {
 
@@ -56,7 +59,11 @@ std::string oid_hex(const git_oid& oid) {
 CommitInfo info_of(const git_commit* c) {
   const char* summary = git_commit_summary(const_cast<git_commit*>(c));
   const char* message = git_commit_message(c);
-  return CommitInfo{oid_hex(*git_commit_id(c)), summary ? summary : "", message ? message : ""};
+  // A message made by hand (git commit) may hold any bytes: shown with the
+  // bytes that are not UTF-8 escaped ("\\xFF"), so every page, JSON answer and
+  // `fleet log --json` can carry it.
+  return CommitInfo{oid_hex(*git_commit_id(c)), escape_invalid_utf8(summary ? summary : ""),
+                    escape_invalid_utf8(message ? message : "")};
 }
 
 bool unborn(git_repository* repo) { return git_repository_head_unborn(repo) == 1; }
@@ -224,11 +231,39 @@ Result<std::vector<HistoryEntry>> Archive::history(
     auto info = info_of(c.p);
     if (!changed && !(also && also(info))) continue;
     const git_signature* a = git_commit_author(c.p);
-    out.push_back(HistoryEntry{
-        std::move(info), static_cast<std::int64_t>(git_commit_time(c.p)),
-        std::string(a->name ? a->name : "") + " <" + (a->email ? a->email : "") + ">"});
+    out.push_back(HistoryEntry{std::move(info), static_cast<std::int64_t>(git_commit_time(c.p)),
+                               escape_invalid_utf8(std::string(a->name ? a->name : "") + " <" +
+                                                   (a->email ? a->email : "") + ">")});
   }
   return out;
+}
+
+Result<std::string> Archive::work_path(const std::string& path) const {
+  namespace fs = std::filesystem;
+  fs::path at = dir_;
+  const fs::path rel(path);
+  bool exists = true;  // so far; below a missing folder nothing can be a link
+  for (const auto& part : rel) {
+    at /= part;
+    if (part == "." || part == ".." || iequals(part.string(), ".git") || part.empty()) {
+      return Error(Errc::file_error, "archive " + dir_ + ": will not write " + path + " (its '" +
+                                         part.string() +
+                                         "' leaves the work tree or enters git's folder)");
+    }
+    if (!exists) continue;
+    std::error_code ec;
+    const auto st = fs::symlink_status(at, ec);
+    exists = !ec && st.type() != fs::file_type::not_found;
+    if (exists && st.type() == fs::file_type::symlink) {
+      const auto target = fs::read_symlink(at, ec);
+      return Error(Errc::file_error,
+                   "archive " + dir_ + ": " + at.lexically_relative(dir_).string() +
+                       " is a symbolic link (to " + target.string() +
+                       "); the archive writes no file through a link: replace it with a folder "
+                       "or remove it");
+    }
+  }
+  return (fs::path(dir_) / rel).string();
 }
 
 Result<std::vector<std::string>> Archive::remove_stale_locks() {

@@ -61,6 +61,11 @@ class Archive {
   Result<std::vector<HistoryEntry>> history(
       const std::string& path, std::size_t limit = 100,
       const std::function<bool(const CommitInfo&)>& also = {}) const;
+  // Where to write `path` (relative to the top, '/'-separated) in the work
+  // tree. Errc::file_error when the file or a folder on its way is a symbolic
+  // link, or is ".git": the archive never writes through a link (out of
+  // itself) or into git's own folder. Folders that do not exist yet are fine.
+  Result<std::string> work_path(const std::string& path) const;
   // Stages `paths` (files the caller wrote in the work tree) and commits them
   // with `message`. nullopt, and no commit, when the tree equals HEAD's,
   // unless allow_empty (a record such as "restored press3/z-axis").

@@ -9,6 +9,7 @@
 
 #include "common/bytes.hpp"
 #include "common/layers.hpp"
+#include "common/text.hpp"
 #include "config/config_io.hpp"
 
 namespace lmcfg::fleet {
@@ -243,7 +244,8 @@ Result<std::vector<std::string>> write_line(Archive& archive, const db::Database
     using S = DriveResult::Status;
     if (run.drives[i].status != S::changed && run.drives[i].status != S::added) continue;
     const auto& d = *run.entries[i];
-    const std::filesystem::path file = std::filesystem::path(archive.dir()) / archive_path(d);
+    LMCFG_ASSIGN_OR_RETURN(const std::string where, archive.work_path(archive_path(d)));
+    const std::filesystem::path file = where;
     std::error_code ec;
     std::filesystem::create_directories(file.parent_path(), ec);
     if (ec) return Error(Errc::file_error, file.parent_path().string() + ": " + ec.message());
@@ -324,7 +326,8 @@ std::string commit_message(const FleetRun& run) {
   for (const auto& r : run.drives) {
     if (r.status == S::failed) {
       s += "\nfailed " + where(r) +
-           ", previous file kept: " + (r.error ? r.error->message : "unknown error") + "\n";
+           ", previous file kept: " + (r.error ? one_line(r.error->message) : "unknown error") +
+           "\n";
     }
   }
   return s;
@@ -424,10 +427,13 @@ Result<ArchivedFile> load_archived(const Inventory& inv, const Archive& archive,
   ArchivedFile f;
   f.drive = d;
   f.line = line;
-  f.rev = rev;
   LMCFG_ASSIGN_OR_RETURN(auto source, archive.resolve(rev));
   if (!source) return Error(Errc::not_found, "archive " + archive.dir() + " has no commit yet");
   f.source = *source;
+  // The commit id, never the text asked: git's revision syntax takes any text
+  // ("HEAD^{/...}" a line break too), and this goes into commit messages,
+  // job records and pages.
+  f.rev = source->id;
   f.path = archive_path(*d);
   LMCFG_ASSIGN_OR_RETURN(auto text, archive.read(f.path, source->id));
   if (!text) {
@@ -444,9 +450,10 @@ std::string restore_record_message(const ArchivedFile& f, const ops::RestoreOutc
                                    const ops::Audit& audit, const std::string& cause) {
   const std::string at = f.source.id.substr(0, 12);
   std::string message = "fleet restore: " + f.drive->name + " <- " + f.path + " at " + at;
-  // The outcome follows the revision asked for; an automatic restore names its cause
-  // in the subject and the outcome in the body.
-  message += cause.empty() ? " (" + f.rev + "): " + ops::outcome_name(outcome) + "\n"
+  // The outcome follows the commit; an automatic restore names its cause in the
+  // subject and the outcome in the body. No text a user typed goes into the
+  // subject (the revision asked is resolved to `at`, the commit id).
+  message += cause.empty() ? ": " + ops::outcome_name(outcome) + "\n"
                            : " (" + cause + ")\n\n" + ops::outcome_name(outcome) + "\n";
   const std::string steps = f.line->devicenet
                                 ? std::to_string(outcome.set_commands) + " Set command(s)"
@@ -454,7 +461,8 @@ std::string restore_record_message(const ArchivedFile& f, const ops::RestoreOutc
   message += "\nline " + f.line->name + " (" + f.line->port + "), " +
              (f.line->devicenet ? "DeviceNet MAC ID " : "MACID ") + hex(f.drive->id, 2, "h") +
              ", " + steps + "\n" + skipped_lines(outcome.plan);
-  if (outcome.error) message += "\n" + outcome.error->message + "\n";
+  // One line: an error message may quote what a peer or a user sent.
+  if (outcome.error) message += "\n" + one_line(outcome.error->message) + "\n";
   const std::string tr = ops::trailers(audit);
   if (!tr.empty()) message += "\n" + tr;
   return message;

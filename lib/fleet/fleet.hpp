@@ -138,7 +138,7 @@ struct FleetRestoreResult {
 struct ArchivedFile {
   const DriveEntry* drive = nullptr;  // in the inventory it was loaded from
   const LineEntry* line = nullptr;
-  std::string rev;        // as asked ("HEAD", a hash ...)
+  std::string rev;        // the full commit id the revision asked resolved to
   CommitInfo source;      // the commit it names
   std::string path;       // "<name>.json"
   std::string file_name;  // "<name>.json@<12 hex digits>" (messages, undo records)
@@ -149,8 +149,9 @@ struct ArchivedFile {
 Result<ArchivedFile> load_archived(const Inventory& inv, const Archive& archive,
                                    const std::string& drive, const std::string& rev);
 // The message of the commit recording a restore of `f`: "fleet restore: NAME
-// <- NAME.json at REV (rev asked): OUTCOME", or with a `cause` "fleet restore:
-// NAME <- NAME.json at REV (CAUSE)" and the outcome in the body; the line,
+// <- NAME.json at ID12: OUTCOME" (ID12: the commit's id, 12 digits), or with a
+// `cause` "fleet restore: NAME <- NAME.json at ID12 (CAUSE)" and the outcome in
+// the body; the line,
 // MACID, steps, skipped values, the error of a failed restore, the audit trailers.
 std::string restore_record_message(const ArchivedFile& f, const ops::RestoreOutcome& outcome,
                                    const ops::Audit& audit, const std::string& cause);

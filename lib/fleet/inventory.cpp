@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "common/bytes.hpp"
+#include "common/text.hpp"
 #include "config/io_common.hpp"
 #include "devicenet/catalogue.hpp"
 #include "link/port.hpp"
@@ -272,7 +273,18 @@ void read_drive(Checker& c, const toml::table& t, LineEntry& line) {
           c.problem(v.source(), "label '" + std::string(k.str()) + "' must be a string");
           continue;
         }
-        d.labels[std::string(k.str())] = *v.value<std::string>();
+        // Labels go into the archived file, pages and events: one line each.
+        const std::string key(k.str());
+        const std::string value = *v.value<std::string>();
+        if (auto ok = check_line("label name '" + key + "'", key, kMaxLabelBytes); !ok.ok()) {
+          c.problem(v.source(), ok.error().message);
+          continue;
+        }
+        if (auto ok = check_line("label '" + key + "'", value, kMaxLabelBytes); !ok.ok()) {
+          c.problem(v.source(), ok.error().message);
+          continue;
+        }
+        d.labels[key] = value;
       }
     }
   }
@@ -286,6 +298,10 @@ void read_line(Checker& c, const toml::table& t, std::size_t index, Inventory& i
   line.at = c.at(t.source());
   const std::string fallback = "line " + std::to_string(index + 1);
   line.name = c.string(t, "name", fallback, true).value_or(fallback);
+  if (t.get("name") && t.get("name")->is_string()) {
+    if (auto ok = check_line_name(line.name); !ok.ok())
+      c.problem(t.get("name")->source(), ok.error().message);
+  }
   line.port = c.string(t, "port", "line '" + line.name + "'", true).value_or("");
   // The port's row in the table of port schemes says the protocol.
   line.devicenet = !line.port.empty() && link::is_can_port(line.port);
@@ -376,12 +392,28 @@ void read_service_tables(Checker& c, const toml::table& root, Inventory& inv) {
   }
 }
 
+// ASCII lower case: drive names are ASCII (check_position_name).
+std::string folded(std::string s) {
+  for (char& ch : s) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  return s;
+}
+
 void check_unique(Checker& c, const Inventory& inv) {
   std::map<std::string, Position> line_names, drive_names;
+  // By folded name: on a case-insensitive file system (a clone of the archive
+  // on macOS or Windows) "Press3/Z.json" and "press3/z.json" are one file.
+  std::map<std::string, const DriveEntry*> drive_folded;
   for (const auto& line : inv.lines) {
     if (auto [it, fresh] = line_names.emplace(line.name, line.at); !fresh) {
       c.problem(line.at,
                 "duplicate line name '" + line.name + "' (first at " + it->second.str() + ")");
+    }
+    for (const auto& other : inv.lines) {
+      if (&other == &line) break;
+      if (other.name != line.name && iequals(other.name, line.name)) {
+        c.problem(line.at, "line names '" + other.name + "' (" + other.at.str() + ") and '" +
+                               line.name + "' differ only in case: rename one");
+      }
     }
     std::map<std::uint8_t, const DriveEntry*> ids;
     for (const auto& d : line.drives) {
@@ -389,6 +421,11 @@ void check_unique(Checker& c, const Inventory& inv) {
       if (auto [it, fresh] = drive_names.emplace(d.name, d.at); !fresh) {
         c.problem(d.at, "duplicate drive name '" + d.name + "' at " + d.at.str() + " (first at " +
                             it->second.str() + ")");
+      } else if (auto [f, first] = drive_folded.emplace(folded(d.name), &d); !first) {
+        c.problem(d.at, "drive names '" + f->second->name + "' (" + f->second->at.str() +
+                            ") and '" + d.name +
+                            "' differ only in case: one file on a case-insensitive file "
+                            "system; rename one");
       }
       if (auto [it, fresh] = ids.emplace(d.id, &d); !fresh) {
         c.problem(d.at, "line '" + line.name + "': drives '" + it->second->name + "' (" +
@@ -461,32 +498,6 @@ std::vector<std::uint16_t> ignored_upids(const LineEntry& line, const DriveEntry
   std::vector<std::uint16_t> all = line.ignore;
   all.insert(all.end(), d.ignore.begin(), d.ignore.end());
   return all;
-}
-
-Result<void> check_position_name(std::string_view name) {
-  const std::string quoted = "drive name '" + std::string(name) + "'";
-  if (name.empty()) return Error(Errc::invalid_argument, "drive name is empty");
-  std::size_t start = 0;
-  while (start <= name.size()) {
-    const auto slash = name.find('/', start);
-    const auto seg =
-        name.substr(start, slash == std::string_view::npos ? name.npos : slash - start);
-    if (seg.empty() || seg == "." || seg == "..") {
-      return Error(Errc::invalid_argument,
-                   quoted + " must be path segments separated by '/', none empty, '.' or '..'");
-    }
-    for (char ch : seg) {
-      const bool ok = (ch >= 'a' && ch <= 'z') || (ch >= 'A' && ch <= 'Z') ||
-                      (ch >= '0' && ch <= '9') || ch == '.' || ch == '_' || ch == '-';
-      if (!ok) {
-        return Error(Errc::invalid_argument, quoted + " contains '" + std::string(1, ch) +
-                                                 "' (allowed: letters, digits, . _ - and /)");
-      }
-    }
-    if (slash == std::string_view::npos) break;
-    start = slash + 1;
-  }
-  return {};
 }
 
 namespace {

@@ -38,6 +38,7 @@
 
 #include "common/result.hpp"
 #include "devicenet/command.hpp"
+#include "fleet/names.hpp"
 #include "link/spec.hpp"
 
 namespace lmcfg::fleet {
@@ -167,8 +168,6 @@ bool restore_when_replaced(const LineEntry& line, const DriveEntry& d);
 // The UPIDs a drive's comparison skips: its own `ignore` and its line's.
 std::vector<std::uint16_t> ignored_upids(const LineEntry& line, const DriveEntry& d);
 
-// Whether `name` can be a position name: segments of [A-Za-z0-9._-] separated
-// by '/', none empty, "." or "..". The message says what is wrong.
-Result<void> check_position_name(std::string_view name);
+// check_position_name, check_line_name: fleet/names.hpp
 
 }  // namespace lmcfg::fleet

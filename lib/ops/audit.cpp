@@ -6,18 +6,9 @@
 #include <cstdlib>
 #include <vector>
 
+#include "common/text.hpp"
+
 namespace lmcfg::ops {
-
-namespace {
-
-std::string one_line(std::string s) {
-  for (char& c : s) {
-    if (c == '\n' || c == '\r') c = ' ';
-  }
-  return s;
-}
-
-}  // namespace
 
 std::string trailers(const Audit& a) {
   std::string out;

@@ -13,8 +13,12 @@ struct Audit {
 };
 
 // The trailers block "Operator: who\nReason: ...\nTicket: ...\n", empty fields
-// left out; "" when all are empty. Line breaks inside a field become spaces so
-// that each trailer stays one line (git interpret-trailers reads them so).
+// left out; "" when all are empty. git interpret-trailers reads a trailer as
+// "Key: value" on its own line of the last paragraph, a line that begins with
+// whitespace continuing it: each field is made one line of valid UTF-8
+// (common/text.hpp one_line: control characters, line breaks among them,
+// become spaces, invalid bytes "\xNN"), so no value can start a line that
+// reads as another trailer. The service checks them first (check_line).
 std::string trailers(const Audit& a);
 
 // The OS user running this program: the name of the effective uid

@@ -93,9 +93,6 @@ void Notifier::flush() {
 }
 
 void Notifier::run() {
-  auto log = [this](const std::string& s) {
-    if (opt_.log) opt_.log(s);
-  };
   std::unique_lock<std::mutex> lock(mu_);
   for (;;) {
     cv_.wait(lock, [this] { return stopping_ || !queue_.empty(); });
@@ -104,36 +101,48 @@ void Notifier::run() {
     queue_.pop_front();
     busy_ = true;
     lock.unlock();
-    if (!opt_.command.empty()) {
-      if (auto ran = run_with_stdin(opt_.command, json + "\n"); !ran.ok()) log(ran.error().message);
-    }
-    if (!opt_.webhook.empty()) {
-      int wait_ms = opt_.backoff_ms;
-      for (int attempt = 1; attempt <= opt_.attempts; ++attempt) {
-        auto posted = post_json(opt_.webhook, json);
-        if (posted.ok()) break;
-        if (attempt == opt_.attempts) {
-          log(posted.error().message + "; gave up after " + std::to_string(attempt) +
-              " attempt(s), event dropped: " + json);
-          break;
-        }
-        log(posted.error().message + "; attempt " + std::to_string(attempt) + " of " +
-            std::to_string(opt_.attempts) + ", next in " + std::to_string(wait_ms) + " ms");
-        // Waits for the back-off, or less when the service stops.
-        std::unique_lock<std::mutex> w(mu_);
-        if (cv_.wait_for(w, std::chrono::milliseconds(wait_ms), [this] { return stopping_; })) {
-          w.unlock();
-          // Stopping: one last try without waiting, then give up.
-          if (!post_json(opt_.webhook, json).ok())
-            log("webhook " + opt_.webhook + ": stopping, event dropped: " + json);
-          break;
-        }
-        wait_ms *= 2;
-      }
+    // A delivery that throws (a bug, a library throwing) drops that event,
+    // said in the log; the thread goes on with the next (it must never end
+    // the service).
+    try {
+      deliver(json);
+    } catch (const std::exception& e) {
+      log(std::string("notify: delivery failed (") + e.what() + "), event dropped: " + json);
+    } catch (...) {
+      log("notify: delivery failed (an exception of unknown type), event dropped: " + json);
     }
     lock.lock();
     busy_ = false;
     cv_.notify_all();
+  }
+}
+
+void Notifier::deliver(const std::string& json) {
+  if (!opt_.command.empty()) {
+    if (auto ran = run_with_stdin(opt_.command, json + "\n"); !ran.ok()) log(ran.error().message);
+  }
+  if (opt_.webhook.empty()) return;
+  int wait_ms = opt_.backoff_ms;
+  for (int attempt = 1; attempt <= opt_.attempts; ++attempt) {
+    auto posted = post_json(opt_.webhook, json);
+    if (posted.ok()) return;
+    if (attempt == opt_.attempts) {
+      log(posted.error().message + "; gave up after " + std::to_string(attempt) +
+          " attempt(s), event dropped: " + json);
+      return;
+    }
+    log(posted.error().message + "; attempt " + std::to_string(attempt) + " of " +
+        std::to_string(opt_.attempts) + ", next in " + std::to_string(wait_ms) + " ms");
+    // Waits for the back-off, or less when the service stops.
+    std::unique_lock<std::mutex> w(mu_);
+    if (cv_.wait_for(w, std::chrono::milliseconds(wait_ms), [this] { return stopping_; })) {
+      w.unlock();
+      // Stopping: one last try without waiting, then give up.
+      if (!post_json(opt_.webhook, json).ok())
+        log("webhook " + opt_.webhook + ": stopping, event dropped: " + json);
+      return;
+    }
+    wait_ms *= 2;
   }
 }
 

@@ -41,6 +41,11 @@ class Notifier {
 
  private:
   void run();
+  // One event to the command and the webhook (with the webhook's retries).
+  void deliver(const std::string& json);
+  void log(const std::string& s) const {
+    if (opt_.log) opt_.log(s);
+  }
   NotifyOptions opt_;
   std::mutex mu_;
   std::condition_variable cv_;

@@ -10,6 +10,7 @@
 #include <random>
 
 #include "common/bytes.hpp"
+#include "common/text.hpp"
 #include "fleet/history.hpp"
 #include "ops/diff.hpp"
 #include "report/report.hpp"
@@ -34,6 +35,17 @@ std::string random_id() {
   for (int i = 0; i < 4; ++i) id += hex(rd(), 8, "");
   for (char& c : id) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   return id;
+}
+
+// The free text of a request, before it reaches a commit message, a job record
+// or a page (common/text.hpp; docs/serve.md "Security model"): one line of
+// UTF-8 without control characters, length-limited. Errc::invalid_argument
+// (HTTP 400) naming the field.
+Result<void> check_who(const std::string& who) { return check_line("who", who, kMaxWhoBytes); }
+Result<void> check_audit(const ops::Audit& a) {
+  LMCFG_TRY(check_who(a.who));
+  LMCFG_TRY(check_line("reason", a.reason, kMaxReasonBytes));
+  return check_line("ticket", a.ticket, kMaxTicketBytes);
 }
 
 }  // namespace
@@ -140,6 +152,7 @@ std::optional<TimePoint> Service::next_status() const {
 }
 
 Result<std::string> Service::backup_drive(const std::string& name, const std::string& who) {
+  LMCFG_TRY(check_who(who));
   const fleet::LineEntry* line = nullptr;
   if (!impl_->opt.inventory.find_drive(name, &line))
     return Error(Errc::not_found, "no drive named '" + name + "' in the inventory");
@@ -153,6 +166,7 @@ Result<std::string> Service::backup_drive(const std::string& name, const std::st
 }
 
 Result<std::string> Service::backup_line(const std::string& name, const std::string& who) {
+  LMCFG_TRY(check_who(who));
   const auto& lines = impl_->opt.inventory.lines;
   for (std::size_t l = 0; l < lines.size(); ++l) {
     if (lines[l].name != name) continue;
@@ -205,6 +219,8 @@ const fleet::Inventory& Service::inventory() const { return impl_->opt.inventory
 
 Result<Json> Service::plan(const std::string& name, const std::string& rev,
                            const std::string& who) {
+  LMCFG_TRY(check_line("rev", rev, kMaxRevBytes));
+  LMCFG_TRY(check_who(who));
   auto& s = *impl_;
   const fleet::LineEntry* line = nullptr;
   const auto* d = s.opt.inventory.find_drive(name, &line);
@@ -251,6 +267,7 @@ Result<Json> Service::plan(const std::string& name, const std::string& rev,
 }
 
 Result<std::string> Service::execute(const ExecuteRequest& req) {
+  LMCFG_TRY(check_audit(req.audit));
   auto& s = *impl_;
   std::lock_guard<std::mutex> lock(s.mu);
   if (s.stopping) return Error(Errc::interrupted, "the service is stopping");
@@ -318,6 +335,8 @@ struct DiffSides {
 
 static Result<DiffSides> diff_sides(Service::Impl& s, const std::string& name,
                                     const std::string& from, const std::string& to) {
+  LMCFG_TRY(check_line("from", from, kMaxRevBytes));
+  LMCFG_TRY(check_line("to", to, kMaxRevBytes));
   const fleet::LineEntry* line = nullptr;
   const auto* d = s.opt.inventory.find_drive(name, &line);
   if (!d) return Error(Errc::not_found, "no drive named '" + name + "' in the inventory");
@@ -373,6 +392,7 @@ Result<std::string> Service::diff_html(const std::string& name, const std::strin
 }
 
 Result<std::string> Service::report_html(const std::string& name, const std::string& rev) const {
+  LMCFG_TRY(check_line("rev", rev, kMaxRevBytes));
   auto& s = *impl_;
   if (!s.opt.inventory.find_drive(name))
     return Error(Errc::not_found, "no drive named '" + name + "' in the inventory");

@@ -72,6 +72,12 @@ class Service {
   std::optional<TimePoint> next_backup() const;
   std::optional<TimePoint> next_status() const;
 
+  // Free text (who, reason, ticket, revisions) is checked first (common/text.hpp
+  // check_line): one line of UTF-8 without control characters, at most
+  // kMaxWhoBytes / kMaxReasonBytes / kMaxTicketBytes / kMaxRevBytes bytes;
+  // Errc::invalid_argument naming the field otherwise. Revisions are resolved to
+  // commit ids before they reach a commit message, a job record or a page.
+  //
   // API: Errc::not_found for a name not in the inventory. The job's id.
   // `who` asked for it: the backup's commit carries it as its Operator trailer
   // ("" = a scheduled run, no trailer).

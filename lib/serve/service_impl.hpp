@@ -13,6 +13,7 @@
 #include <optional>
 #include <thread>
 
+#include "common/text.hpp"
 #include "fleet/archive.hpp"
 #include "ops/recovery.hpp"
 #include "ops/restore_run.hpp"
@@ -177,16 +178,37 @@ struct Service::Impl {
     {
       std::lock_guard<std::mutex> lock(mu);
       if (stopping) return Error(Errc::interrupted, "the service is stopping");
-      queues[line].push_back(Task{nullptr, {}, [promise, fn](bool run) {
-                                    if (run)
-                                      promise->set_value(fn());
-                                    else
+      queues[line].push_back(Task{nullptr, {}, [this, line, promise, fn](bool run) {
+                                    if (!run) {
                                       promise->set_value(
                                           Error(Errc::interrupted, "the service is stopping"));
+                                      return;
+                                    }
+                                    // The caller waits on the promise: a throw answers it too.
+                                    std::optional<std::string> threw;
+                                    try {
+                                      promise->set_value(fn());
+                                      return;
+                                    } catch (const std::exception& e) {
+                                      threw = e.what();
+                                    } catch (...) {
+                                      threw = "an exception of unknown type";
+                                    }
+                                    promise->set_value(thrown_error(line, *threw));
                                   }});
       cv.notify_all();
     }
     return future.get();
+  }
+
+  // What a task that threw fails with; logged.
+  Error thrown_error(std::size_t line, const std::string& what) const {
+    log("line " + opt.inventory.lines[line].name + ": a task threw (" + what +
+        "); it failed, the service goes on");
+    return Error(Errc::cancelled, "internal error on line " + opt.inventory.lines[line].name +
+                                      ": " + one_line(what) +
+                                      "; nothing more was done for this request (a bug: "
+                                      "please report it with the service's log)");
   }
 
   // The restore options of a position: its recovery record in the state directory.
@@ -259,7 +281,19 @@ struct Service::Impl {
            {"time", iso_time(opt.clock())}};
     for (auto& [k, v] : details.items()) j[k] = v;
     log("event " + event + (drive.empty() ? "" : ": " + drive + " (line " + line + ")"));
-    if (opt.notify) opt.notify(j);
+    notify(j);
+  }
+  // The event to opt.notify; what it throws is logged, never passed on (the
+  // caller is a line's worker, the push thread or the schedule).
+  void notify(const Json& j) const {
+    if (!opt.notify) return;
+    try {
+      opt.notify(j);
+    } catch (const std::exception& e) {
+      log(std::string("event not sent: ") + e.what());
+    } catch (...) {
+      log("event not sent: an exception of unknown type");
+    }
   }
   void emit(const std::string& event, const fleet::DriveResult& r, Json details) {
     emit(event, r.name, r.line, std::move(details));
@@ -319,7 +353,11 @@ struct Service::Impl {
   // or saving to flash when the service died) stays pending for the next run.
   void resume(std::size_t li, const std::vector<std::string>& names);
 
-  void fail_job(Job& job, const Error& e);
+  // `code`: the exit code the job's record shows (default: exit_code(e)).
+  void fail_job(Job& job, const Error& e, std::optional<int> code = std::nullopt);
+  // A task that threw (a bug, or a library throwing where it should return an
+  // error): its job fails with `what`, it is logged, the worker goes on.
+  void task_threw(std::size_t line, Task& task, const std::string& what);
 
   void worker(std::size_t line);
 

@@ -291,15 +291,21 @@ void Service::Impl::count_run(std::size_t li, Job& job, const fleet::LineRun& ru
       " failed" + (la.commit ? ", committed " + la.commit->substr(0, 12) : std::string()));
 }
 
-void Service::Impl::fail_job(Job& job, const Error& e) {
+void Service::Impl::fail_job(Job& job, const Error& e, std::optional<int> code) {
   std::lock_guard<std::mutex> lock(mu);
   job.started = true;
   job.finished = opt.clock();
   job.failed_job = true;
   job.outcome = "failed";
   job.message = e.message;
-  job.exit_code = exit_code(e);
+  job.exit_code = code ? *code : exit_code(e);
   log(std::string(kind_name(job.kind)) + " job " + job.id + ": failed: " + e.message);
+}
+
+void Service::Impl::task_threw(std::size_t line, Task& task, const std::string& what) {
+  const Error e = thrown_error(line, what);
+  // 70: the CLI's exit code for a bug (README "Exit codes").
+  if (task.job) fail_job(*task.job, e, 70);
 }
 
 void Service::Impl::worker(std::size_t line) {
@@ -327,10 +333,18 @@ void Service::Impl::worker(std::size_t line) {
     busy[line] = true;
     if (task.job && !task.fn) task.job->started = true;
     lock.unlock();
-    if (task.fn)
-      task.fn(true);
-    else
-      run_task(line, task);
+    // Nothing a job throws ends the process: the job fails and says why, the
+    // line's next job runs.
+    try {
+      if (task.fn)
+        task.fn(true);
+      else
+        run_task(line, task);
+    } catch (const std::exception& e) {
+      task_threw(line, task, e.what());
+    } catch (...) {
+      task_threw(line, task, "an exception of unknown type");
+    }
     lock.lock();
     busy[line] = false;
     cv.notify_all();
@@ -356,7 +370,9 @@ Json Service::Impl::job_json(const Job& j) const {
     return out;
   }
   out["progress"] = {{"done", j.done}, {"total", j.total}, {"step", ""}};
-  out["outcome"] = j.finished ? Json(j.failed ? "some drives failed" : "done") : Json(nullptr);
+  out["outcome"] = j.finished
+                       ? Json(j.failed_job ? "failed" : (j.failed ? "some drives failed" : "done"))
+                       : Json(nullptr);
   out["message"] = j.message;
   out["commit"] = j.commits.empty() ? Json(nullptr) : Json(j.commits.back());
   out["drives"] = j.total;

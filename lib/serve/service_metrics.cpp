@@ -36,7 +36,7 @@ void Service::Impl::emit_archive(const std::string& event, Json details) {
   Json j{{"event", event}, {"remote", opt.inventory.archive.push}, {"time", iso_time(opt.clock())}};
   for (auto& [k, v] : details.items()) j[k] = v;
   log("event " + event + ": push to " + opt.inventory.archive.push);
-  if (opt.notify) opt.notify(j);
+  notify(j);
 }
 
 // The push thread. Its own handle on the repository: a slow or unreachable
@@ -52,7 +52,13 @@ void Service::Impl::push_loop() {
     if (stopping) return;
     const std::uint64_t asked = push.wanted;
     lock.unlock();
-    Result<void> pushed = repo.ok() ? repo->push(remote) : Result<void>(repo.error());
+    Result<void> pushed = repo.ok() ? Result<void>() : Result<void>(repo.error());
+    // A throw on this thread would end the process: it is a failed push.
+    try {
+      if (repo.ok()) pushed = repo->push(remote);
+    } catch (const std::exception& e) {
+      pushed = Error(Errc::io_error, std::string("push: internal error: ") + e.what());
+    }
     lock.lock();
     if (pushed.ok()) {
       push.done = std::max(push.done, asked);

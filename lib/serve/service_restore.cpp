@@ -69,8 +69,11 @@ Result<void> Service::Impl::save_pending(const fleet::LineEntry& line, const fle
                {"skip_incompatible", p.skip_incompatible}};
   std::error_code ec;
   std::filesystem::create_directories(state_dir / "pending", ec);
+  // The fields are checked UTF-8 (Service::execute); a resumed record's too.
+  // Should one not be, U+FFFD stands for its bad bytes rather than a throw.
   LMCFG_TRY(
-      config::write_file_atomic(state_dir / "pending" / pending_name(line, d), j.dump() + "\n"));
+      config::write_file_atomic(state_dir / "pending" / pending_name(line, d),
+                                j.dump(-1, ' ', false, Json::error_handler_t::replace) + "\n"));
   std::lock_guard<std::mutex> lock(mu);
   pending[d.name] = p;
   return {};
@@ -291,13 +294,19 @@ void Service::Impl::load_pending() {
           " names no drive of the inventory; left as it is");
       continue;
     }
-    pending[d->name] = PendingRestore{j.value("drive", ""),
-                                      j.value("commit", ""),
-                                      j.value("who", ""),
-                                      j.value("reason", ""),
-                                      j.value("ticket", ""),
-                                      j.value("cause", ""),
-                                      j.value("skip_incompatible", false)};
+    // A record edited by hand: a field of another type reads as empty, not a throw at start.
+    auto text_of = [&j](const char* key) {
+      return j.contains(key) && j[key].is_string() ? j[key].get<std::string>() : std::string();
+    };
+    pending[d->name] =
+        PendingRestore{text_of("drive"),
+                       text_of("commit"),
+                       text_of("who"),
+                       text_of("reason"),
+                       text_of("ticket"),
+                       text_of("cause"),
+                       j.contains("skip_incompatible") && j["skip_incompatible"].is_boolean() &&
+                           j["skip_incompatible"].get<bool>()};
     const std::size_t li = line_index(line);
     const std::string name = d->name;
     queues[li].push_back(Task{nullptr, {}, [this, li, name](bool run) {

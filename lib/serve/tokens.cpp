@@ -1,14 +1,17 @@
 #include "serve/tokens.hpp"
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <sstream>
 
 #include "common/bytes.hpp"
+#include "common/text.hpp"
 #include "serve/sha256.hpp"
 
 namespace lmcfg::serve {
@@ -23,6 +26,16 @@ Result<Role> parse_role(std::string_view text) {
 }
 
 Result<std::vector<TokenEntry>> load_tokens(const std::string& path) {
+  // Whoever can write the file can give themselves a token: only its owner may.
+  struct stat st {};
+  if (::stat(path.c_str(), &st) == 0 && (st.st_mode & (S_IWGRP | S_IWOTH)) != 0) {
+    char mode[8];
+    std::snprintf(mode, sizeof mode, "%04o", static_cast<unsigned>(st.st_mode & 07777));
+    return Error(Errc::file_error,
+                 path + ": the tokens file is writable by " +
+                     ((st.st_mode & S_IWOTH) ? "others" : "its group") + " (mode " + mode +
+                     "), so anyone there could add a token: run chmod 600 " + path);
+  }
   std::ifstream in(path);
   if (!in) return Error(Errc::file_error, path + ": cannot open the tokens file");
   std::vector<TokenEntry> out;
@@ -39,6 +52,9 @@ Result<std::vector<TokenEntry>> load_tokens(const std::string& path) {
                                           ": expected NAME ROLE SHA256 (written by lmcfg serve "
                                           "token add)");
     }
+    // The name is who asked in commits, job records and pages (common/text.hpp).
+    if (auto ok = check_line("token name", e.name, kMaxWhoBytes); !ok.ok())
+      return Error(Errc::parse_error, path + ":" + std::to_string(n) + ": " + ok.error().message);
     e.role = *r;
     out.push_back(std::move(e));
   }
@@ -46,6 +62,7 @@ Result<std::vector<TokenEntry>> load_tokens(const std::string& path) {
 }
 
 Result<std::string> add_token(const std::string& path, const std::string& name, Role role) {
+  LMCFG_TRY(check_line("token name", name, kMaxWhoBytes));
   if (name.empty() || name.find_first_of(" \t\r\n#") != std::string::npos)
     return Error(Errc::invalid_argument,
                  "token name '" + name + "' must be one word without blanks or '#'");

@@ -20,7 +20,9 @@ struct TokenEntry {
   std::string hash;  // sha256_hex of the token
 };
 
-// Errc::file_error when unreadable, Errc::parse_error naming FILE:LINE for a bad line.
+// Errc::file_error when unreadable or writable by its group or others (the
+// message names the fix, chmod 600 FILE), Errc::parse_error naming FILE:LINE
+// for a bad line.
 Result<std::vector<TokenEntry>> load_tokens(const std::string& path);
 // A new random token (32 bytes from /dev/urandom as hex) for `name`, its hash
 // appended to `path` (created with mode 0600). Returns the token, shown once.

@@ -1,4 +1,5 @@
 // Atomic file replacement and bounded file reading (lib/config/atomic_file.cpp).
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <catch2/catch.hpp>
@@ -135,4 +136,21 @@ TEST_CASE("atomic file: a stream is read up to the limit, its head checked once 
   });
   REQUIRE(seen.ok());
   CHECK(calls == 1);
+}
+
+TEST_CASE("config: atomic write gives a new file the mode open(2) would, the umask honoured",
+          "[config]") {
+  TempDir d;
+  const mode_t old = ::umask(027);  // the test binary's own threads create no files meanwhile
+  auto r = write_file_atomic(d.path / "private.json", "x");
+  ::umask(022);
+  auto r2 = write_file_atomic(d.path / "usual.json", "x");
+  ::umask(old);
+  REQUIRE(r.ok());
+  REQUIRE(r2.ok());
+  CHECK((fs::status(d.path / "private.json").permissions() & fs::perms::all) ==
+        (fs::perms::owner_read | fs::perms::owner_write | fs::perms::group_read));
+  CHECK((fs::status(d.path / "usual.json").permissions() & fs::perms::all) ==
+        (fs::perms::owner_read | fs::perms::owner_write | fs::perms::group_read |
+         fs::perms::others_read));
 }

@@ -162,3 +162,31 @@ TEST_CASE("archive: stale lock files left by a killed process are removed, commi
   CHECK(*second);
   CHECK(a.remove_stale_locks().value().empty());
 }
+
+TEST_CASE("archive: a file is never written through a symbolic link or into .git",
+          "[fleet][archive]") {
+  test::ScratchDir d("archive-links");
+  const auto dir = d.path / "archive";
+  auto a = open_new(dir);
+  fs::create_directories(d.path / "outside");
+  fs::create_directory_symlink(d.path / "outside", dir / "press3");
+  fs::create_symlink(d.path / "outside" / "x.json", dir / "x.json");
+
+  auto through = a.work_path("press3/z.json");
+  REQUIRE_FALSE(through.ok());
+  CHECK(through.error().code == Errc::file_error);
+  CHECK(through.error().message == "archive " + dir.string() + ": press3 is a symbolic link (to " +
+                                       (d.path / "outside").string() +
+                                       "); the archive writes no file through a link: replace "
+                                       "it with a folder or remove it");
+  CHECK(a.work_path("x.json").error().message ==
+        "archive " + dir.string() + ": x.json is a symbolic link (to " +
+            (d.path / "outside" / "x.json").string() +
+            "); the archive writes no file through a link: replace it with a folder or remove it");
+  CHECK(a.work_path("new/deeper/z.json").value() == (dir / "new/deeper/z.json").string());
+  CHECK(a.work_path("new/.Git/z.json").error().message ==
+        "archive " + dir.string() +
+            ": will not write new/.Git/z.json (its '.Git' leaves the work tree or enters git's "
+            "folder)");
+  CHECK(fs::is_empty(d.path / "outside"));
+}

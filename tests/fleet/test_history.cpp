@@ -112,3 +112,27 @@ TEST_CASE("history: the JSON the service returns and the text fleet log prints",
   CHECK(j[1]["ticket"].is_null());
   CHECK(fleet::history_json({}).dump() == "[]");
 }
+
+TEST_CASE("history: a message or author that is not UTF-8 is shown escaped, never an error",
+          "[fleet][history]") {
+  test::ScratchDir d("history-bytes");
+  const auto dir = d.path / "arch";
+  auto archive = fleet::Archive::open(dir.string(), true);
+  REQUIRE(archive.ok());
+  test::set_git_identity(dir);
+  test::spit(dir / "z.json", "1\n");
+  // As `git commit` makes it by hand: bytes in Latin-1, not UTF-8.
+  REQUIRE(archive->commit({"z.json"}, "fleet backup: caf\xE9\n\nOperator: Jos\xE9\n").value());
+  fleet::DriveEntry z;
+  z.name = "z";
+  auto events = fleet::position_history(*archive, z);
+  REQUIRE(events.ok());
+  REQUIRE(events->size() == 1);
+  CHECK((*events)[0].entry.commit.summary == "fleet backup: caf\\xE9");
+  CHECK((*events)[0].who == "Jos\\xE9");
+  // `lmcfg fleet log --json` writes this dump: it must not throw (type_error.316).
+  const std::string text = fleet::history_json(*events).dump(2);
+  const auto j = nlohmann::ordered_json::parse(text);
+  CHECK(j[0]["subject"] == "fleet backup: caf\\xE9");
+  CHECK(j[0]["message"] == "fleet backup: caf\\xE9\n\nOperator: Jos\\xE9\n");
+}

@@ -129,6 +129,54 @@ id = 0x11
        "plant.toml:4:1)");
 }
 
+TEST_CASE("fleet inventory: names that do not fit the archive, labels with control characters",
+          "[fleet][inventory][names]") {
+  CHECK(problems(R"([[line]]
+name = "l1\nOperator: x"
+port = "/dev/ttyUSB0"
+[[line.drive]]
+name = ".git/hooks/pre-commit"
+id = 0x11
+[[line.drive]]
+name = "press3/z"
+id = 0x12
+labels = { note = "a\u0007b" }
+)") == "plant.toml:2:8: line name contains a control character (0x0A at offset 2): give one "
+       "line without control characters\n"
+       "plant.toml:5:8: drive name '.git/hooks/pre-commit' has a '.git' segment: that is git's "
+       "own folder in the archive; rename the drive\n"
+       "plant.toml:10:19: label 'note' contains a control character (0x07 at offset 1): give "
+       "one line without control characters");
+  CHECK(problems("[[line]]\nname = \"a\\\\b\"\nport = \"/dev/null\"\n[[line.drive]]\nname = "
+                 "\"x\"\nid = 1\n") ==
+        "plant.toml:2:8: line name 'a\\b' contains '\\': use '/' or another character");
+}
+
+TEST_CASE("fleet inventory: drive or line names that differ only in case are refused",
+          "[fleet][inventory][names]") {
+  // One file on a case-insensitive file system (a clone of the archive on
+  // macOS or Windows): press3/Z.json and press3/z.json.
+  CHECK(problems(R"([[line]]
+name = "L2"
+port = "/dev/ttyUSB0"
+[[line.drive]]
+name = "press3/Z"
+id = 0x12
+[[line.drive]]
+name = "press3/z"
+id = 0x13
+[[line]]
+name = "l2"
+port = "/dev/ttyUSB1"
+[[line.drive]]
+name = "y"
+id = 1
+)") == "plant.toml:7:1: drive names 'press3/Z' (plant.toml:4:1) and 'press3/z' differ only in "
+       "case: one file on a case-insensitive file system; rename one\n"
+       "plant.toml:10:1: line names 'L2' (plant.toml:1:1) and 'l2' differ only in case: "
+       "rename one");
+}
+
 TEST_CASE("fleet inventory: ports that cannot be reached are found before any drive is read",
           "[fleet][inventory]") {
   auto inv = fleet::parse_inventory(R"([[line]]

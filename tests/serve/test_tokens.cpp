@@ -48,3 +48,38 @@ TEST_CASE("serve: token add stores only the hash, tokens are found by role", "[s
   CHECK(bad.error().message ==
         file + ":3: expected NAME ROLE SHA256 (written by lmcfg serve token add)");
 }
+
+TEST_CASE("serve: a tokens file others may write is refused with the fix, names are text",
+          "[serve][tokens]") {
+  test::ScratchDir d("serve-tokens-mode");
+  const std::string file = (d.path / "tokens").string();
+  REQUIRE(serve::add_token(file, "ops", serve::Role::operator_).ok());
+  REQUIRE(::chmod(file.c_str(), 0620) == 0);
+  auto group = serve::load_tokens(file);
+  REQUIRE_FALSE(group.ok());
+  CHECK(group.error().code == Errc::file_error);
+  CHECK(group.error().message ==
+        file +
+            ": the tokens file is writable by its group (mode 0620), so anyone there could "
+            "add a token: run chmod 600 " +
+            file);
+  REQUIRE(::chmod(file.c_str(), 0646) == 0);
+  CHECK(serve::load_tokens(file).error().message ==
+        file +
+            ": the tokens file is writable by others (mode 0646), so anyone there could add "
+            "a token: run chmod 600 " +
+            file);
+  // token add appends to it only once it is fixed.
+  CHECK_FALSE(serve::add_token(file, "two", serve::Role::viewer).ok());
+  REQUIRE(::chmod(file.c_str(), 0640) == 0);  // group may read: not a way in
+  CHECK(serve::load_tokens(file).ok());
+
+  CHECK(serve::add_token(file, "ops\xFF", serve::Role::viewer).error().message ==
+        "token name is not valid UTF-8 (byte 0xFF at offset 3): send UTF-8 text");
+  REQUIRE(::chmod(file.c_str(), 0600) == 0);
+  test::spit(file, test::slurp(file) + "o\x01ps viewer " + std::string(64, 'a') + "\n");
+  CHECK(serve::load_tokens(file).error().message ==
+        file +
+            ":2: token name contains a control character (0x01 at offset 1): give one line "
+            "without control characters");
+}

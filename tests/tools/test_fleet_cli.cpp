@@ -191,7 +191,7 @@ TEST_CASE(
         std::string::npos);
   auto record = archive->resolve("HEAD").value();
   CHECK(record->summary == "fleet restore: bench/b <- bench/b.json at " + head2->id.substr(0, 12) +
-                               " (HEAD): restored and verified");
+                               ": restored and verified");
   auto after = test::run_tool_in(dir, "fleet status plant.toml --archive arch --json");
   const auto aj = nlohmann::json::parse(after.out);
   CHECK(aj["drives"][5]["status"] == "unchanged");
@@ -422,7 +422,7 @@ TEST_CASE(
     auto record = archive->resolve("HEAD").value();
     REQUIRE(record);
     CHECK(record->summary == "fleet restore: press6/controller <- press6/controller.json at " +
-                                 head1->id.substr(0, 12) + " (HEAD): restored and verified");
+                                 head1->id.substr(0, 12) + ": restored and verified");
     CHECK(record->message.find("\nline can-gw (" + gw.port +
                                "), DeviceNet MAC ID 07h, 2 Set command(s)\n") != std::string::npos);
     CHECK(test::run_tool_in(dir, "fleet status plant.toml --archive arch").exit_code == 0);

@@ -82,7 +82,11 @@ int run_serve(const ServeCli& o) {
   no.command = inv->notify.command;
   no.log = log_line;
   serve::Notifier notifier(no);
-  so.notify = [&notifier](const serve::Json& event) { notifier.send(event.dump()); };
+  // Events quote drives' and peers' messages: a byte that is not UTF-8 becomes
+  // U+FFFD instead of an exception on a line's worker.
+  so.notify = [&notifier](const serve::Json& event) {
+    notifier.send(event.dump(-1, ' ', false, serve::Json::error_handler_t::replace));
+  };
   auto service = serve::Service::create(std::move(so));
   if (!service.ok()) return fail("serve", service.error());
   serve::HttpServer server(**service, http);
