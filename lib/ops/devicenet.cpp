@@ -83,8 +83,11 @@ Result<std::vector<int>> configured_motors(Master& m) {
       motors.push_back(i);
       continue;
     }
+    // Absent: refused with 8111h "Drive not master" or 8110h, or not taken
+    // at all (the readings of docs/devicenet.md "A motor the controller does
+    // not have"), recognised by the master rather than waited for.
     const auto code = m.last_coded_error();
-    if (refused(r.error()) && (code == 0x8111 || code == 0x8110)) continue;
+    if (refused(r.error()) && (code == 0x8111 || code == 0x8110 || m.last_not_taken())) continue;
     return std::move(r).error();
   }
   return motors;
