@@ -231,6 +231,7 @@ Result<std::uint16_t> Master::command(std::array<bool, 4> motors, std::uint8_t i
   }
   last_coded_error_ = 0;
   not_taken_ = false;
+  witnessed_ = false;
   if (!have_status_) LMCFG_TRY(poll(last_command_));
   const auto target = first_motor(motors);
   const bool error_before = status_.error_pending();
@@ -267,7 +268,12 @@ Result<std::uint16_t> Master::command(std::array<bool, 4> motors, std::uint8_t i
     }
     if (echoed) {
       if (!target) controller_toggle_ = c.addressed.toggle;
-      if (follows) return r.addressed_value;
+      if (follows) {
+        // The flipped resend carries the toggle the motor already showed:
+        // its Command Toggle cannot witness it.
+        witnessed_ = target && !resent;
+        return r.addressed_value;
+      }
       // Echoed, but the motor's Command Toggle does not take it (a status a
       // poll behind is given kStalePolls polls): a motor without a drive.
       if (++unfollowed > kStalePolls) return not_taken(id, motors, true);

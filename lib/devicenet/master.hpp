@@ -89,6 +89,13 @@ class Master {
   // readings of docs/devicenet.md "A motor the controller does not have".
   bool last_not_taken() const { return not_taken_; }
 
+  // The last motor command ran and its motor's Command Toggle changed to the
+  // toggle sent. False after the resend with the toggle flipped (which
+  // carries the toggle the motor already showed): then only the echo said
+  // it ran, as it also does for a motor the controller does not have under
+  // the echo-only reading.
+  bool last_toggle_witnessed() const { return witnessed_; }
+
   static constexpr int kPollsForEcho = 50;
   static constexpr int kStalePolls = 5;
 
@@ -119,6 +126,7 @@ class Master {
   Error refusal(std::uint8_t id);
   Error not_taken(std::uint8_t id, const std::array<bool, 4>& motors, bool echoed);
   bool not_taken_ = false;
+  bool witnessed_ = false;
   // While the 02h after a command not taken is polled: whether the echo
   // showed that command after all (its ID and motors, either toggle).
   std::optional<CommandWord> watch_;

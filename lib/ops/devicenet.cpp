@@ -79,6 +79,10 @@ Result<std::vector<int>> configured_motors(Master& m) {
   for (Motor mo : devicenet::kMotors) {
     const int i = static_cast<int>(mo);
     auto r = m.command(select(i), 0x24, 0);
+    // Taken only on the resend with the toggle flipped, the motor's Command
+    // Toggle did not change: asked once more (now with the inverse of the
+    // toggle it shows), a present motor's toggle follows.
+    if (r.ok() && !m.last_toggle_witnessed()) r = m.command(select(i), 0x24, 0);
     if (r.ok()) {
       motors.push_back(i);
       continue;
