@@ -25,22 +25,41 @@ class SlcanLink final : public Link {
   ~SlcanLink() override { (void)serial_->write(as_bytes(slcan::kClose)); }
 
   // "C" first (an open channel from an earlier run refuses "Sn"); its answer
-  // does not matter. Then the bit rate and "O", each acknowledged.
+  // does not matter. "V" (the version, when the adapter tells it). Then the
+  // bit rate and "O": a BEL is a refusal; an adapter that answered neither
+  // "C" nor "V" is one that answers no command (field-facts.md §6), so its
+  // silence is not waited for.
   Result<void> open() {
     LMCFG_TRY(serial_->write(as_bytes(slcan::kClose)));
     (void)await_ack("C", transport::Millis(100), true);
+    bool answered = acks_ + bells_ > 0;
     serial_->discard_input();
     decoder_.reset();
+    last_unknown_.clear();
+    bells_ = 0;
+    LMCFG_TRY(serial_->write(as_bytes("V\r")));
+    const auto until = Clock::now() + opt_.ack_timeout;
+    while (bells_ == 0 && !(last_unknown_.size() > 1 && last_unknown_[0] == 'V')) {
+      const auto left = std::chrono::duration_cast<transport::Millis>(until - Clock::now());
+      if (left.count() <= 0) break;
+      LMCFG_TRY(pump(left));
+    }
+    if (last_unknown_.size() > 1 && last_unknown_[0] == 'V') version_ = last_unknown_.substr(1);
+    answered = answered || bells_ > 0 || !version_.empty();
+    silent_ = !answered;
     LMCFG_ASSIGN_OR_RETURN(auto rate, slcan::bitrate_command(opt_.bitrate));
     LMCFG_TRY(command(rate));
     return command(std::string(slcan::kOpen));
   }
 
+  // Not waited for unless expect_transmit_ack: the Linux slcan driver and
+  // python-can never wait, and adapters differ (CR, "z", or nothing;
+  // field-facts.md §6). Acknowledgements that come are read and dropped.
   Result<void> send(const Frame& f) override {
     LMCFG_TRY(validate(f));
     const std::string line = slcan::encode(f);
     LMCFG_TRY(serial_->write(as_bytes(line)));
-    if (!opt_.expect_transmit_ack) return {};
+    if (!opt_.expect_transmit_ack || silent_) return {};
     return await_ack(line.substr(0, line.size() - 1), opt_.ack_timeout, false);
   }
 
@@ -78,12 +97,17 @@ class SlcanLink final : public Link {
   }
 
   std::string describe() const override {
-    return "slcan " + serial_->describe() + " " + std::to_string(opt_.bitrate / 1000) + " kbit/s";
+    std::string d =
+        "slcan " + serial_->describe() + " " + std::to_string(opt_.bitrate / 1000) + " kbit/s";
+    if (!version_.empty()) d += " (adapter version " + version_ + ")";
+    if (silent_) d += " (an adapter that answers no command)";
+    return d;
   }
 
  private:
   Result<void> command(const std::string& line) {
     LMCFG_TRY(serial_->write(as_bytes(line)));
+    if (silent_) return {};
     return await_ack(line.substr(0, line.size() - 1), opt_.ack_timeout, false);
   }
 
@@ -134,6 +158,8 @@ class SlcanLink final : public Link {
   std::deque<Frame> frames_;
   unsigned acks_ = 0, bells_ = 0;
   std::string last_unknown_;
+  std::string version_;  // "V" answered: "1013"
+  bool silent_ = false;  // answered neither "C" nor "V"
 };
 
 class SocketCanLink final : public Link {

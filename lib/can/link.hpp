@@ -19,7 +19,8 @@ namespace lmcfg::can {
 class Link {
  public:
   virtual ~Link() = default;
-  // Queues one frame for the bus (slcan: acknowledged by the adapter).
+  // Queues one frame for the bus (slcan: the adapter's acknowledgement is
+  // waited for only with SlcanOptions::expect_transmit_ack).
   virtual Result<void> send(const Frame& f) = 0;
   // The next frame from the bus, waiting at most `timeout`; nullopt on timeout.
   virtual Result<std::optional<Frame>> receive(transport::Millis timeout) = 0;
@@ -34,14 +35,20 @@ class Link {
 
 struct SlcanOptions {
   unsigned bitrate = 125000;
-  // Lawicel adapters acknowledge each transmitted frame ("z\r", some "\r");
-  // false: do not wait for it (adapters that stay silent).
-  bool expect_transmit_ack = true;
+  // Lawicel adapters acknowledge each transmitted frame ("z\r", some "\r"),
+  // others send nothing (field-facts.md §6). false (the default, as the
+  // Linux slcan driver and python-can): do not wait, drop the acknowledgements
+  // that come; true: wait for each (never for an adapter that answered
+  // neither "C" nor "V" when opened).
+  bool expect_transmit_ack = false;
   transport::Millis ack_timeout{200};
 };
 
 // Sets the bit rate and opens the channel on an adapter behind `serial`
-// ("C", "Sn", "O"); closes the channel ("C") when destroyed.
+// ("C", "V", "Sn", "O"); closes the channel ("C") when destroyed. The
+// adapter's answers are used when it gives them (a BEL to "Sn" or "O" is a
+// refusal; the version goes into describe()), never required: an adapter
+// that answers nothing is opened, and describe() says so.
 Result<std::unique_ptr<Link>> open_slcan(std::unique_ptr<transport::Transport> serial,
                                          const SlcanOptions& opt);
 // SocketCAN interface by name; its bit rate is the interface's (ip link set

@@ -17,15 +17,20 @@ std::optional<Motor> first_motor(const std::array<bool, 4>& motors) {
   return std::nullopt;
 }
 
-// The echo shows the command, and each selected motor's Command Toggle
-// reports the toggle sent (§5.1 "Motor X Command Toggle: Actual state of the
-// command toggle bit").
-bool ran(const PollResponse& r, const CommandWord& sent) {
-  if (!(r.addressed_echo == sent)) return false;
+// Each selected motor's Command Toggle reports the toggle sent (§5.1 "Motor
+// X Command Toggle: Actual state of the command toggle bit").
+bool toggles_follow(const PollResponse& r, const CommandWord& sent) {
   for (Motor m : kMotors)
     if (sent.motors[static_cast<std::size_t>(m)] && !command_done(r.status, m, sent.toggle))
       return false;
   return true;
+}
+
+std::string motor_names(const std::array<bool, 4>& motors) {
+  std::string out;
+  for (Motor m : kMotors)
+    if (motors[static_cast<std::size_t>(m)]) out += (out.empty() ? "" : " and ") + target_name(m);
+  return out;
 }
 
 // Commands that may run twice without harm: No Command, a Get, the Set of a
@@ -206,6 +211,7 @@ Result<PollResponse> Master::poll(const PollCommand& c) {
       status_ = r.status;
       echo_ = r.addressed_echo;
       have_status_ = true;
+      if (watch_ && echo_.id == watch_->id && echo_.motors == watch_->motors) watch_seen_ = true;
       if (first_motor(echo_.motors) == std::nullopt) controller_toggle_ = echo_.toggle;
       return r;
     }
@@ -224,6 +230,8 @@ Result<std::uint16_t> Master::command(std::array<bool, 4> motors, std::uint8_t i
                  "the controller's module layout has no Addressed In/Out: commands need both");
   }
   last_coded_error_ = 0;
+  not_taken_ = false;
+  witnessed_ = false;
   if (!have_status_) LMCFG_TRY(poll(last_command_));
   const auto target = first_motor(motors);
   const bool error_before = status_.error_pending();
@@ -238,44 +246,100 @@ Result<std::uint16_t> Master::command(std::array<bool, 4> motors, std::uint8_t i
                              : !(controller_toggle_ ? *controller_toggle_ : false);
   c.addressed = CommandWord{motors, toggle, static_cast<std::uint8_t>(id & 0x7F)};
   c.addressed_value = value;
+  // Completion is what §5.2 guarantees for every command: "In the response
+  // the LinMot servo controller simply echoes the command" (the Addressed Out
+  // echo shows its ID, motors and toggle). Only when the echo already showed
+  // this very word before it was sent does the Command Toggle decide.
+  const bool echo_was_word = previous == c.addressed;
   // A repeated poll carries the same toggle, which the controller has already
   // taken, so polling until the echo matches never executes a command twice.
   bool resent = false;
-  int stale = 0;
+  int stale = 0, unfollowed = 0;
   for (int i = 0; i < kPollsForEcho; ++i) {
     last_command_ = c;
     LMCFG_ASSIGN_OR_RETURN(auto r, poll(c));
-    if (!ran(r, c.addressed)) {
-      stale = r.addressed_echo == previous ? stale + 1 : 0;
-      if (stale >= kStalePolls && !resent && may_repeat(id)) {
-        // Not taken: this controller compares the toggle with something
-        // else (one toggle for the whole module, a controller-level toggle
-        // this master has not seen). Once more with the other toggle; a Get
-        // or a Set of a value is harmless should both run.
-        c.addressed.toggle = !c.addressed.toggle;
-        resent = true;
+    const bool follows = toggles_follow(r, c.addressed);
+    const bool echoed = r.addressed_echo == c.addressed && (!echo_was_word || follows);
+    // A motor command after which ERROR Pending appears is refused, echoed or
+    // not (seed 000 does not say whether a refused command is echoed).
+    if (r.status.error_pending() && !error_before && id != 0x0A && (echoed || target)) {
+      if (echoed && !target) controller_toggle_ = c.addressed.toggle;
+      return refusal(id);
+    }
+    if (echoed) {
+      if (!target) controller_toggle_ = c.addressed.toggle;
+      if (follows) {
+        // The flipped resend carries the toggle the motor already showed:
+        // its Command Toggle cannot witness it.
+        witnessed_ = target && !resent;
+        return r.addressed_value;
       }
+      // Echoed, but the motor's Command Toggle does not take it (a status a
+      // poll behind is given kStalePolls polls): a motor without a drive.
+      if (++unfollowed > kStalePolls) return not_taken(id, motors, true);
       continue;
     }
-    if (!target) controller_toggle_ = c.addressed.toggle;
-    if (r.status.error_pending() && !error_before && id != 0x0A) {
-      auto coded = command({}, 0x0A, 0);
-      const std::uint16_t code = coded.ok() ? *coded : 0;
-      if (coded.ok()) LMCFG_TRY(command({}, 0x0B, 0));
-      last_coded_error_ = code;
-      std::string text = "command " + hex(id, 2, "h") + " to " + mac_name(opt_.slave_mac) +
-                         ": the controller reports an error";
-      if (coded.ok()) {
-        text += ", coded error " + hex(code, 4, "h");
-        if (auto t = coded_error_text(code); !t.empty()) text += " " + std::string(t);
-      }
-      return Error(Errc::drive_refused, text);
+    stale = r.addressed_echo == previous ? stale + 1 : 0;
+    if (stale < kStalePolls || !may_repeat(id)) continue;
+    stale = 0;
+    if (!resent) {
+      // Not taken: this controller compares the toggle with something
+      // else (one toggle for the whole module, a controller-level toggle
+      // this master has not seen). Once more with the other toggle; a Get
+      // or a Set of a value is harmless should both run.
+      c.addressed.toggle = !c.addressed.toggle;
+      resent = true;
+    } else if (target) {
+      // Not taken with either toggle: the controller is asked a
+      // controller-level Get. Taking that one while this command's echo
+      // never came is the answer (a controller that ignores commands for a
+      // motor it does not have), not a time-out.
+      // A slow controller that shows this command's echo late, while the
+      // 02h is polled, had taken it after all: the command is asked again.
+      watch_ = c.addressed;
+      watch_seen_ = false;
+      auto fence = command({}, 0x02, 0);
+      watch_.reset();
+      LMCFG_TRY(fence);
+      if (watch_seen_) return command(motors, id, value);
+      return not_taken(id, motors, false);
     }
-    return r.addressed_value;
   }
   return Error(Errc::timeout, "command " + hex(id, 2, "h") + " to " + mac_name(opt_.slave_mac) +
                                   ": the Addressed Out echo did not show it after " +
                                   std::to_string(kPollsForEcho) + " polls");
+}
+
+Error Master::refusal(std::uint8_t id) {
+  auto coded = command({}, 0x0A, 0);
+  const std::uint16_t code = coded.ok() ? *coded : 0;
+  if (coded.ok()) {
+    auto reset = command({}, 0x0B, 0);
+    if (!reset.ok()) return std::move(reset).error();
+  }
+  last_coded_error_ = code;
+  std::string text = "command " + hex(id, 2, "h") + " to " + mac_name(opt_.slave_mac) +
+                     ": the controller reports an error";
+  if (coded.ok()) {
+    text += ", coded error " + hex(code, 4, "h");
+    if (auto t = coded_error_text(code); !t.empty()) text += " " + std::string(t);
+  }
+  return Error(Errc::drive_refused, text);
+}
+
+Error Master::not_taken(std::uint8_t id, const std::array<bool, 4>& motors, bool echoed) {
+  not_taken_ = true;
+  const std::string m = motor_names(motors);
+  return Error(Errc::drive_refused,
+               "command " + hex(id, 2, "h") + " to " + m + " of " + mac_name(opt_.slave_mac) +
+                   " was not taken: " +
+                   (echoed ? "the Addressed Out echo shows it, but " + m +
+                                 "'s Command Toggle did not follow (seed 000 §5.1: \"Actual "
+                                 "state of the command toggle bit\")"
+                           : "the Addressed Out echo kept showing the previous command with "
+                             "either toggle, and the controller took the next command (02h) "
+                             "instead") +
+                   "; " + m + " is probably not a master drive of this controller");
 }
 
 }  // namespace lmcfg::devicenet

@@ -65,16 +65,36 @@ class Master {
   // high word (one poll first when no status has been seen); a command to the
   // controller (no motor bit) carries the inverse of the toggle of the last
   // controller-level command the Addressed Out echo showed. It has run when
-  // the echo shows its ID, motors and toggle and, for a motor command, the
-  // motor's Command Toggle reports the toggle sent. A Get or value-Set whose
-  // echo still shows the previous command after kStalePolls good polls is
-  // sent once more with the toggle flipped (a controller whose rule differs);
-  // the toggle commands of toggle_command() never are. A command after which
-  // the controller reports ERROR Pending is followed by Get Coded Error (0Ah)
+  // the echo shows its ID, motors and toggle (§5.2: "In the response the
+  // LinMot servo controller simply echoes the command") and, for a motor
+  // command, the motor's Command Toggle reports the toggle sent; echoed
+  // without the toggle following for kStalePolls more polls, it was not
+  // taken (last_not_taken()). A Get or value-Set whose echo still shows the
+  // previous command after kStalePolls good polls is sent once more with the
+  // toggle flipped (a controller whose rule differs); the toggle commands of
+  // toggle_command() never are. A motor command not taken with either toggle
+  // is followed by Get Status Low Word (02h): when the controller takes that,
+  // the motor did not take its command (last_not_taken()), without waiting
+  // out kPollsForEcho. A command after which the controller reports ERROR
+  // Pending (a motor command: echoed or not) is followed by Get Coded Error (0Ah)
   // and Reset Coded Error (0Bh: the error is this command's, and the next
   // command must not be blamed for it), and fails with Errc::drive_refused
   // naming the code and its text; coded_error() then holds the code.
   Result<std::uint16_t> command(std::array<bool, 4> motors, std::uint8_t id, std::uint16_t value);
+
+  // The command was refused without a coded error because the selected
+  // motor did not take it (echoed without its Command Toggle following, or
+  // never echoed while the controller took a controller-level Get after it):
+  // a motor that is not a master drive of this controller, under the
+  // readings of docs/devicenet.md "A motor the controller does not have".
+  bool last_not_taken() const { return not_taken_; }
+
+  // The last motor command ran and its motor's Command Toggle changed to the
+  // toggle sent. False after the resend with the toggle flipped (which
+  // carries the toggle the motor already showed): then only the echo said
+  // it ran, as it also does for a motor the controller does not have under
+  // the echo-only reading.
+  bool last_toggle_witnessed() const { return witnessed_; }
 
   static constexpr int kPollsForEcho = 50;
   static constexpr int kStalePolls = 5;
@@ -101,6 +121,16 @@ class Master {
   CommandWord echo_;
   Result<void> check_connection_sizes();
   Error silence(const std::string& what);
+  // Get Coded Error and Reset Coded Error after command `id` raised ERROR
+  // Pending: Errc::drive_refused naming the code.
+  Error refusal(std::uint8_t id);
+  Error not_taken(std::uint8_t id, const std::array<bool, 4>& motors, bool echoed);
+  bool not_taken_ = false;
+  bool witnessed_ = false;
+  // While the 02h after a command not taken is polled: whether the echo
+  // showed that command after all (its ID and motors, either toggle).
+  std::optional<CommandWord> watch_;
+  bool watch_seen_ = false;
 
   std::uint16_t granted_rate_ = 0;
   std::uint16_t last_coded_error_ = 0;

@@ -79,12 +79,19 @@ Result<std::vector<int>> configured_motors(Master& m) {
   for (Motor mo : devicenet::kMotors) {
     const int i = static_cast<int>(mo);
     auto r = m.command(select(i), 0x24, 0);
+    // Taken only on the resend with the toggle flipped, the motor's Command
+    // Toggle did not change: asked once more (now with the inverse of the
+    // toggle it shows), a present motor's toggle follows.
+    if (r.ok() && !m.last_toggle_witnessed()) r = m.command(select(i), 0x24, 0);
     if (r.ok()) {
       motors.push_back(i);
       continue;
     }
+    // Absent: refused with 8111h "Drive not master" or 8110h, or not taken
+    // at all (the readings of docs/devicenet.md "A motor the controller does
+    // not have"), recognised by the master rather than waited for.
     const auto code = m.last_coded_error();
-    if (refused(r.error()) && (code == 0x8111 || code == 0x8110)) continue;
+    if (refused(r.error()) && (code == 0x8111 || code == 0x8110 || m.last_not_taken())) continue;
     return std::move(r).error();
   }
   return motors;

@@ -82,7 +82,8 @@ Result<config::DriveConfig> capture_devicenet(const DevicenetLinkOptions& l,
                                               const db::Database& db);
 
 // Which motors are configured (unless given): a motor the controller refuses
-// with 8111h "Drive not master" (or 8110h) for Get (Rise) Curve Number is not.
+// with 8111h "Drive not master" (or 8110h) for Get (Rise) Curve Number, or
+// does not take it (devicenet::Master::last_not_taken), is not.
 // The controller's coded error pending before the backup refuses it (the
 // reads could not be told from refusals) unless reset_coded_error. A
 // controller that was in RUN state and is not after the reads (a refusal may

@@ -55,6 +55,28 @@ std::optional<ToggleRule> parse_toggle_rule(std::string_view name) {
   return std::nullopt;
 }
 
+namespace {
+struct AbsentName {
+  const char* name;
+  AbsentMotor reading;
+};
+constexpr AbsentName kAbsentNames[] = {
+    {"coded-error", AbsentMotor::coded_error}, {"coded-error-8110", AbsentMotor::coded_error_8110},
+    {"no-toggle", AbsentMotor::no_toggle},     {"error-no-echo", AbsentMotor::error_no_echo},
+    {"echo-only", AbsentMotor::echo_only},     {"ignore", AbsentMotor::ignore},
+};
+}  // namespace
+
+std::optional<AbsentMotor> parse_absent_motor(std::string_view name) {
+  for (const auto& n : kAbsentNames)
+    if (name == n.name) return n.reading;
+  return std::nullopt;
+}
+
+const char* absent_motor_names() {
+  return "coded-error, coded-error-8110, no-toggle, error-no-echo, echo-only, ignore";
+}
+
 void DeviceNetController::attach(can::VirtualBus& bus) {
   bus.attach([this](const can::Frame& f, can::VirtualBus& b) { on_frame(f, b); });
 }
@@ -287,6 +309,64 @@ bool DeviceNetController::takes(const devicenet::CommandWord& w, std::uint16_t v
   return false;
 }
 
+bool DeviceNetController::selects_absent(const devicenet::CommandWord& w) const {
+  for (Motor m : devicenet::kMotors)
+    if (w.motors[static_cast<int>(m)] && !opt_.motors[static_cast<int>(m)]) return true;
+  return false;
+}
+
+bool DeviceNetController::run(const devicenet::CommandWord& w, std::uint16_t value) {
+  const bool absent = w.id != 0x00 && selects_absent(w);
+  const auto reading = absent ? opt_.absent_motor : AbsentMotor::coded_error;
+  if (reading == AbsentMotor::ignore) return true;
+  bool echo = true, toggles_absent = true;
+  switch (reading) {
+    case AbsentMotor::coded_error_8110:
+      ++executed_;
+      coded_error(0x8110);  // Drive not specified
+      echo_value_ = 0;
+      break;
+    case AbsentMotor::echo_only:
+      ++executed_;
+      echo_value_ = 0;
+      toggles_absent = false;
+      break;
+    case AbsentMotor::error_no_echo:
+    case AbsentMotor::no_toggle:
+      echo = reading == AbsentMotor::no_toggle;
+      toggles_absent = false;
+      [[fallthrough]];
+    default:
+      // 8111h "Drive not master" (or 8110h for several motors) from execute().
+      if (echo) {
+        echo_value_ = execute(w, value);
+      } else {
+        ++executed_;
+        coded_error(0x8111);
+      }
+      break;
+  }
+  if (opt_.reset_after_sets != 0 && sets_ == opt_.reset_after_sets) {
+    opt_.reset_after_sets = 0;
+    reset();
+    return false;
+  }
+  if (!echo) return true;
+  echo_ = w;
+  // §5.1 "Motor X Command Toggle: Actual state of the command toggle bit":
+  // the toggle of the command the motor last took.
+  bool any_motor = false;
+  for (Motor m : devicenet::kMotors) {
+    if (!w.motors[static_cast<int>(m)]) continue;
+    any_motor = true;
+    if (!toggles_absent && !opt_.motors[static_cast<int>(m)]) continue;
+    const auto bit = static_cast<std::uint16_t>(0x8u << (4 * static_cast<int>(m)));
+    status_.high = w.toggle ? (status_.high | bit) : (status_.high & ~bit);
+  }
+  if (!any_motor) controller_toggle_ = w.toggle;
+  return true;
+}
+
 void DeviceNetController::poll(const can::Frame& f, can::VirtualBus& bus) {
   auto whole = reassembler_.feed(f.payload(), opt_.layout.command_size() > 8);
   if (!whole.ok() || !*whole) return;
@@ -294,25 +374,7 @@ void DeviceNetController::poll(const can::Frame& f, can::VirtualBus& bus) {
   if (!command.ok()) return;
   if (opt_.layout.addressed_in) {
     const auto& w = command->addressed;
-    if (takes(w, command->addressed_value)) {
-      echo_value_ = execute(w, command->addressed_value);
-      if (opt_.reset_after_sets != 0 && sets_ == opt_.reset_after_sets) {
-        opt_.reset_after_sets = 0;
-        reset();
-        return;
-      }
-      echo_ = w;
-      // §5.1 "Motor X Command Toggle: Actual state of the command toggle
-      // bit": the toggle of the command the motor last took.
-      bool any_motor = false;
-      for (Motor m : devicenet::kMotors) {
-        if (!w.motors[static_cast<int>(m)]) continue;
-        any_motor = true;
-        const auto bit = static_cast<std::uint16_t>(0x8u << (4 * static_cast<int>(m)));
-        status_.high = w.toggle ? (status_.high | bit) : (status_.high & ~bit);
-      }
-      if (!any_motor) controller_toggle_ = w.toggle;
-    }
+    if (takes(w, command->addressed_value) && !run(w, command->addressed_value)) return;
     seen_command_ = true;
     last_toggle_ = w.toggle;
     last_word_ = w.encode();

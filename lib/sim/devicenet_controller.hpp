@@ -38,6 +38,34 @@ enum class ToggleRule {
 // "seed", "get-set-ignore", "module"; nullopt for anything else.
 std::optional<ToggleRule> parse_toggle_rule(std::string_view name);
 
+// What the controller does with an Addressed command that selects a motor it
+// does not have (not a master drive). Seed 000 lists the coded error 8111h
+// "Drive not master" (Get Coded Error, §5.2) but says nothing of when it is
+// raised, which toggle the command is compared with, what the Addressed Out
+// echo and the status words show; the readings (docs/devicenet.md "A motor
+// the controller does not have"):
+enum class AbsentMotor {
+  // Executed and refused: echoed, the motor's Command Toggle follows,
+  // ERROR Pending with coded error 8111h (the default).
+  coded_error,
+  // As coded_error with 8110h "Drive not specified".
+  coded_error_8110,
+  // Echoed with ERROR Pending and 8111h, but the absent motor's Command
+  // Toggle stays (there is no drive to hold it).
+  no_toggle,
+  // ERROR Pending and 8111h only: the echo keeps the previous command.
+  error_no_echo,
+  // Echoed (value 0), no error, the absent motor's Command Toggle stays.
+  echo_only,
+  // Ignored entirely: no echo, no status change, no error.
+  ignore,
+};
+// "coded-error", "coded-error-8110", "no-toggle", "error-no-echo",
+// "echo-only", "ignore"; nullopt for anything else.
+std::optional<AbsentMotor> parse_absent_motor(std::string_view name);
+// The names above, comma-separated, for messages and help.
+const char* absent_motor_names();
+
 struct DeviceNetControllerOptions {
   std::uint8_t mac = 0x3F;
   devicenet::IoLayout layout;
@@ -54,6 +82,7 @@ struct DeviceNetControllerOptions {
   // commands, once; 0 = never. The connection is gone, values are kept.
   std::uint64_t reset_after_sets = 0;
   ToggleRule toggle_rule = ToggleRule::seed;
+  AbsentMotor absent_motor = AbsentMotor::coded_error;
 };
 
 class DeviceNetController {
@@ -90,6 +119,12 @@ class DeviceNetController {
   void coded_error(std::uint16_t code);
   // Whether this poll's Addressed In command executes, by opt_.toggle_rule.
   bool takes(const devicenet::CommandWord& w, std::uint16_t value) const;
+  // The command selects a motor this controller does not have.
+  bool selects_absent(const devicenet::CommandWord& w) const;
+  // Runs a command taken by takes(): its value, echo and Command Toggles,
+  // played by opt_.absent_motor when it selects an absent motor. False: the
+  // controller reset (reset_after_sets) and sends no response.
+  bool run(const devicenet::CommandWord& w, std::uint16_t value);
 
   DeviceNetControllerOptions opt_;
   std::optional<std::uint8_t> allocated_by_;

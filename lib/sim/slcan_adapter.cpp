@@ -21,7 +21,7 @@ Result<void> serve_slcan(can::VirtualBus& bus, transport::Transport& serial,
           out += '\a';
           continue;
         }
-        if (opt.transmit_ack) out += f->extended ? "Z\r" : "z\r";
+        if (opt.transmit_ack && !opt.silent) out += f->extended ? "Z\r" : "z\r";
         if (bitrate != opt.bus_bitrate) {
           bus_errors = true;  // no node can acknowledge a frame at the wrong rate
           continue;
@@ -42,6 +42,8 @@ Result<void> serve_slcan(can::VirtualBus& bus, transport::Transport& serial,
         } else if (line == "F") {
           out += bus_errors ? "FA0\r" : "F00\r";
           bus_errors = false;  // reading the flags clears them
+        } else if (line == "V") {
+          out += "V" + opt.version + "\r";
         } else {
           out += '\a';
         }
@@ -49,6 +51,7 @@ Result<void> serve_slcan(can::VirtualBus& bus, transport::Transport& serial,
         out += '\r';  // an empty command line: acknowledged, as adapters do
       }
     }
+    if (opt.silent) out.clear();  // took the commands, answers none
     // Whatever the bus's nodes answered goes back to the master.
     for (;;) {
       LMCFG_ASSIGN_OR_RETURN(auto f, endpoint->receive(transport::Millis(0)));

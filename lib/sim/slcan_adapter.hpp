@@ -14,6 +14,13 @@ struct SlcanAdapterOptions {
   transport::Millis poll{20};
   std::function<bool()> should_stop;  // nullptr: until the transport fails
   bool transmit_ack = true;           // "z\r" after each transmitted frame
+  // An adapter that answers no command at all (field-facts.md §6: whether an
+  // adapter acknowledges is open; the Linux slcan driver and python-can never
+  // wait for it): no CR/BEL to C, Sn, O, no "z", no answer to V or F. It
+  // still takes the commands.
+  bool silent = false;
+  // "V": the hardware and software version an adapter reports ("V1013").
+  std::string version = "1013";
   // The bus's bit rate. An adapter opened at another rate ("Sn") hears nothing
   // and its frames are never acknowledged: it counts bus errors, which "F"
   // (read status flags) reports as bit 7 (bus error) and bit 5 (error

@@ -20,9 +20,11 @@ Bytes bytes(std::string_view s) { return Bytes(s.begin(), s.end()); }
 // An slcan adapter on the master side of a pty: acknowledges "Sn" and "O"
 // with CR (or refuses the bit rate with BEL), answers "C" on a closed channel
 // with BEL, acknowledges each transmitted frame with "z\r" and puts a reply
-// frame (ID + 1, same data) on the "bus".
+// frame (ID + 1, same data) on the "bus". no_transmit_ack: answers "V" with
+// "V0100" and acknowledges no transmitted frame; silent: answers nothing, but
+// still replies to frames.
 struct FakeAdapter {
-  enum class Mode { normal, refuse_bitrate, silent };
+  enum class Mode { normal, refuse_bitrate, silent, no_transmit_ack };
   std::string slave;
   transport::UniqueFd slave_fd;  // held open: without it the master reads EIO until a client opens
   std::unique_ptr<transport::FdTransport> master;
@@ -57,6 +59,15 @@ struct FakeAdapter {
           }
           std::string answer;
           if (mode == Mode::silent) {
+            if (line == "O") open = true;
+            if (line[0] == 't' && open) {
+              if (auto f = can::slcan::parse_frame_line(line)) {
+                f->id += 1;
+                answer = can::slcan::encode(*f);
+              }
+            }
+          } else if (line == "V" && mode == Mode::no_transmit_ack) {
+            answer = "V0100\r";
           } else if (line == "C") {
             answer = open ? "\r" : "\a";
             open = false;
@@ -67,7 +78,7 @@ struct FakeAdapter {
             open = true;
           } else if (line[0] == 't' && open) {
             auto f = can::slcan::parse_frame_line(line);
-            answer = "z\r";
+            answer = mode == Mode::no_transmit_ack ? "" : "z\r";
             if (f) {
               f->id += 1;
               answer += can::slcan::encode(*f);
@@ -119,26 +130,78 @@ TEST_CASE("can: an slcan adapter on a pty: open, send with acknowledgement, rece
                                           "RX 42F [6] 00 4B 03 01 03 00  (reply)"});
   CHECK(traced.describe().rfind("slcan ", 0) == 0);
   CHECK(traced.describe().find("250 kbit/s") != std::string::npos);
-  const std::vector<std::string> opening{"C", "S5", "O", "t42E6004B03010300"};
+  const std::vector<std::string> opening{"C", "V", "S5", "O", "t42E6004B03010300"};
   const auto heard = adapter.heard_so_far();
-  REQUIRE(heard.size() >= 4);
-  CHECK(std::vector<std::string>(heard.begin(), heard.begin() + 4) == opening);
+  REQUIRE(heard.size() >= 5);
+  CHECK(std::vector<std::string>(heard.begin(), heard.begin() + 5) == opening);
 }
 
-TEST_CASE("can: an adapter that refuses the bit rate or says nothing is named", "[can][pty]") {
+TEST_CASE("can: an adapter that refuses the bit rate is named", "[can][pty]") {
   {
     FakeAdapter adapter(FakeAdapter::Mode::refuse_bitrate);
     auto link = can::open_slcan(serial(adapter.slave), {125000, true, transport::Millis(500)});
     REQUIRE_FALSE(link.ok());
     CHECK(link.error().message.find(": the slcan adapter refused 'S4' (BEL)") != std::string::npos);
   }
+}
+
+namespace {
+
+// Sends an Allocate and receives the adapter's reply frame, ID + 1.
+void send_and_receive(can::Link& link) {
+  const std::uint8_t alloc[] = {0x00, 0x4B, 0x03, 0x01, 0x03, 0x00};
+  REQUIRE(link.send(can::Frame::standard(0x42E, alloc)).ok());
+  auto got = link.receive(transport::Millis(1000));
+  REQUIRE(got.ok());
+  REQUIRE(*got);
+  CHECK(**got == can::Frame::standard(0x42F, alloc));
+}
+
+}  // namespace
+
+TEST_CASE(
+    "can: field-facts.md §6 adapters that do not acknowledge transmitted frames, or answer "
+    "nothing at all, carry frames; the version is used when given",
+    "[can][pty]") {
   {
+    // Answers its commands and "V", never a transmitted frame: not waited
+    // for by default (as the Linux slcan driver and python-can).
+    FakeAdapter adapter(FakeAdapter::Mode::no_transmit_ack);
+    auto link = can::open_slcan(serial(adapter.slave), {125000, false, transport::Millis(100)});
+    REQUIRE(link.ok());
+    send_and_receive(**link);
+    CHECK((*link)->describe().find(" 125 kbit/s (adapter version 0100)") != std::string::npos);
+    auto flags = (*link)->status_flags();  // "F" refused with BEL: not known, not an error
+    REQUIRE(flags.ok());
+    CHECK_FALSE(*flags);
+  }
+  {
+    // Asked to wait for each acknowledgement, it names the frame it missed.
+    FakeAdapter adapter(FakeAdapter::Mode::no_transmit_ack);
+    auto link = can::open_slcan(serial(adapter.slave), {125000, true, transport::Millis(100)});
+    REQUIRE(link.ok());
+    const std::uint8_t one[] = {0x01};
+    auto sent = (*link)->send(can::Frame::standard(0x42E, one));
+    REQUIRE_FALSE(sent.ok());
+    CHECK(sent.error().message.find(": the slcan adapter did not answer 't42E101' within 100 ms") !=
+          std::string::npos);
+  }
+  {
+    // Answers nothing, not even "C" or "V": opened without waiting for
+    // acknowledgements (even when asked to), and said so.
     FakeAdapter adapter(FakeAdapter::Mode::silent);
     auto link = can::open_slcan(serial(adapter.slave), {125000, true, transport::Millis(100)});
-    REQUIRE_FALSE(link.ok());
-    CHECK(link.error().code == make_error_code(Errc::timeout));
-    CHECK(link.error().message.find(": the slcan adapter did not answer 'S4' within 100 ms (is "
-                                    "it an slcan adapter? it sent nothing)") != std::string::npos);
+    REQUIRE(link.ok());
+    send_and_receive(**link);
+    CHECK((*link)->describe().find(" 125 kbit/s (an adapter that answers no command)") !=
+          std::string::npos);
+    auto flags = (*link)->status_flags();
+    REQUIRE(flags.ok());
+    CHECK_FALSE(*flags);
+    const auto heard = adapter.heard_so_far();
+    REQUIRE(heard.size() >= 4);
+    CHECK(std::vector<std::string>(heard.begin(), heard.begin() + 4) ==
+          std::vector<std::string>{"C", "V", "S4", "O"});
   }
 }
 

@@ -34,18 +34,21 @@ struct Rig {
   }
   static sim::DeviceNetControllerOptions controller_options(const devicenet::IoLayout& layout,
                                                             std::array<bool, 4> motors,
-                                                            sim::ToggleRule rule) {
+                                                            sim::ToggleRule rule,
+                                                            sim::AbsentMotor absent) {
     sim::DeviceNetControllerOptions o;
     o.mac = 0x3F;
     o.layout = layout;
     o.motors = motors;
     o.toggle_rule = rule;
+    o.absent_motor = absent;
     return o;
   }
   explicit Rig(devicenet::IoLayout layout = {},
                std::array<bool, 4> motors = {true, false, false, false},
-               sim::ToggleRule rule = sim::ToggleRule::seed)
-      : controller(controller_options(layout, motors, rule)),
+               sim::ToggleRule rule = sim::ToggleRule::seed,
+               sim::AbsentMotor absent = sim::AbsentMotor::coded_error)
+      : controller(controller_options(layout, motors, rule, absent)),
         link(bus->open("master")),
         traced(std::make_unique<can::TraceLink>(
             std::move(link), [this](const std::string& l) { trace.push_back(l); },
@@ -345,5 +348,96 @@ TEST_CASE(
     CHECK(rig.controller.curves_started() == 2);
     REQUIRE(rig.master.command(kMotorA, 0x22, 4).ok());
     CHECK(rig.controller.curves_started() == 3);
+  }
+}
+
+namespace {
+
+std::size_t polls(const std::vector<std::string>& trace) {
+  std::size_t n = 0;
+  for (const auto& line : trace)
+    if (line.rfind("TX 5FD ", 0) == 0) ++n;
+  return n;
+}
+
+constexpr const char* kAbsentReadings[] = {"coded-error",   "coded-error-8110", "no-toggle",
+                                           "error-no-echo", "echo-only",        "ignore"};
+
+}  // namespace
+
+TEST_CASE(
+    "devicenet master: seed 000 §5.2 a command for a motor the controller does not have is "
+    "recognised, not waited for, under each toggle and absent-motor reading",
+    "[devicenet][master][absent]") {
+  for (const char* rule : {"seed", "get-set-ignore", "module"}) {
+    for (const char* absent : kAbsentReadings) {
+      INFO("toggle rule " << rule << ", absent motor " << absent);
+      Rig rig({}, {true, false, false, false}, *sim::parse_toggle_rule(rule),
+              *sim::parse_absent_motor(absent));
+      rig.controller.set_value(Motor::A, 0x24, 11);
+      REQUIRE(rig.master.connect().ok());
+      REQUIRE(rig.master.command({}, 0x0A, 0).ok());
+      REQUIRE(rig.master.command(kMotorA, 0x24, 0).ok());
+      const auto before = polls(rig.trace);
+      auto b = rig.master.command(kMotorB, 0x24, 0);  // Get (Rise) Curve Number, motor B
+      REQUIRE_FALSE(b.ok());
+      CHECK(b.error().code == make_error_code(Errc::drive_refused));
+      const auto code = rig.master.last_coded_error();
+      CHECK((code == 0x8111 || code == 0x8110 || rig.master.last_not_taken()));
+      // Recognised: at most the stale polls, the resend's, and the 02h
+      // (with its own resend) that follows; never the 50 of a time-out.
+      const auto used = polls(rig.trace) - before;
+      CHECK(used <= 4 * devicenet::Master::kStalePolls + 4);
+      CHECK(used < static_cast<std::size_t>(devicenet::Master::kPollsForEcho));
+      // Motor A still answers, and no error is left pending.
+      auto a = rig.master.command(kMotorA, 0x24, 0);
+      REQUIRE(a.ok());
+      CHECK(*a == 11);
+      CHECK_FALSE(rig.master.last_status().error_pending());
+    }
+  }
+}
+
+TEST_CASE("devicenet master: what a command not taken by an absent motor says",
+          "[devicenet][master][absent]") {
+  {
+    Rig rig({}, {true, false, false, false}, sim::ToggleRule::seed, sim::AbsentMotor::ignore);
+    REQUIRE(rig.master.connect().ok());
+    auto r = rig.master.command(kMotorB, 0x24, 0);
+    REQUIRE_FALSE(r.ok());
+    CHECK(rig.master.last_not_taken());
+    CHECK(rig.master.last_coded_error() == 0);
+    CHECK(r.error().message ==
+          "command 24h to motor B of DeviceNet MAC ID 63 was not taken: the Addressed Out echo "
+          "kept showing the previous command with either toggle, and the controller took the "
+          "next command (02h) instead; motor B is probably not a master drive of this "
+          "controller");
+    // The Get was sent with both toggles, kStalePolls polls each, then 02h once.
+    CHECK(polls_with(rig.trace, 0x20A4) == devicenet::Master::kStalePolls);
+    CHECK(polls_with(rig.trace, 0x2024) == devicenet::Master::kStalePolls);
+    CHECK(polls_with(rig.trace, 0x0082) == 1);
+  }
+  {
+    Rig rig({}, {true, false, false, false}, sim::ToggleRule::seed, sim::AbsentMotor::echo_only);
+    REQUIRE(rig.master.connect().ok());
+    auto r = rig.master.command(kMotorB, 0x24, 0);
+    REQUIRE_FALSE(r.ok());
+    CHECK(rig.master.last_not_taken());
+    CHECK(r.error().message ==
+          "command 24h to motor B of DeviceNet MAC ID 63 was not taken: the Addressed Out echo "
+          "shows it, but motor B's Command Toggle did not follow (seed 000 §5.1: \"Actual state "
+          "of the command toggle bit\"); motor B is probably not a master drive of this "
+          "controller");
+  }
+  for (auto absent : {sim::AbsentMotor::no_toggle, sim::AbsentMotor::error_no_echo}) {
+    Rig rig({}, {true, false, false, false}, sim::ToggleRule::seed, absent);
+    REQUIRE(rig.master.connect().ok());
+    auto r = rig.master.command(kMotorB, 0x24, 0);
+    REQUIRE_FALSE(r.ok());
+    CHECK_FALSE(rig.master.last_not_taken());
+    CHECK(rig.master.last_coded_error() == 0x8111);
+    CHECK(r.error().message ==
+          "command 24h to DeviceNet MAC ID 63: the controller reports an error, coded error "
+          "8111h Drive not master");
   }
 }

@@ -9,6 +9,7 @@
 #include "db/database.hpp"
 #include "devicenet/catalogue.hpp"
 #include "ops/devicenet.hpp"
+#include "ops/diff.hpp"
 #include "sim/devicenet_controller.hpp"
 #include "test_config_support.hpp"
 
@@ -401,4 +402,83 @@ TEST_CASE("devicenet: a refused plan or a LinRS file sends no command", "[device
   CHECK(r.error().message ==
         "the file is a LinRS drive capture, not a DeviceNet controller's; nothing written");
   CHECK(rig.controller.value(Motor::A, 0x34) == 500);
+}
+
+namespace {
+
+// A controller with the first `motors` of A..D, commissioned, under one
+// toggle and one absent-motor reading, and a connected master.
+struct ReadingRig {
+  std::shared_ptr<can::VirtualBus> bus = std::make_shared<can::VirtualBus>();
+  sim::DeviceNetController controller;
+  std::unique_ptr<can::Link> link;
+  devicenet::Master master;
+  static sim::DeviceNetControllerOptions options(int motors, sim::ToggleRule rule,
+                                                 sim::AbsentMotor absent) {
+    sim::DeviceNetControllerOptions o;
+    o.mac = 0x3F;
+    o.motors = {motors > 0, motors > 1, motors > 2, motors > 3};
+    o.toggle_rule = rule;
+    o.absent_motor = absent;
+    return o;
+  }
+  ReadingRig(int motors, sim::ToggleRule rule, sim::AbsentMotor absent)
+      : controller(options(motors, rule, absent)),
+        link(bus->open("master")),
+        master(*link, Rig::master_options()) {
+    controller.attach(*bus);
+    controller.commission();
+    REQUIRE(master.connect().ok());
+  }
+  config::DriveConfig backup() {
+    auto cfg = ops::devicenet_backup(master, {}, real_db());
+    INFO((cfg.ok() ? std::string() : cfg.error().message));
+    REQUIRE(cfg.ok());
+    return std::move(cfg).value();
+  }
+};
+
+}  // namespace
+
+TEST_CASE(
+    "devicenet: seed 000 §5.2 controllers with 1 to 4 motors backed up, diffed and restored "
+    "under every toggle and absent-motor reading",
+    "[devicenet_ops][absent]") {
+  const char* absent_readings[] = {"coded-error",   "coded-error-8110", "no-toggle",
+                                   "error-no-echo", "echo-only",        "ignore"};
+  for (int motors = 1; motors <= 4; ++motors) {
+    for (const char* rule : {"seed", "get-set-ignore", "module"}) {
+      for (const char* absent : absent_readings) {
+        INFO(motors << " motor(s), toggle " << rule << ", absent motor " << absent);
+        ReadingRig rig(motors, *sim::parse_toggle_rule(rule), *sim::parse_absent_motor(absent));
+        const auto file = rig.backup();
+        std::vector<int> expected;
+        for (int m = 0; m < motors; ++m) expected.push_back(m);
+        CHECK(file.devicenet->motors == expected);
+        CHECK(ops::diff(file, rig.backup(), real_db(), {}, {}).identical());
+
+        // Another master changes motor A's Controller P and the last motor's
+        // Filter Maximal Speed.
+        const auto last = static_cast<Motor>(motors - 1);
+        const auto p = rig.controller.value(Motor::A, 0x34);
+        const auto speed = rig.controller.value(last, 0x50);
+        rig.controller.set_value(Motor::A, 0x34, static_cast<std::uint16_t>(p + 7));
+        rig.controller.set_value(last, 0x50, static_cast<std::uint16_t>(speed + 9));
+        const auto changed = rig.backup();
+        const auto d = ops::diff(file, changed, real_db(), {}, {});
+        CHECK(d.items.size() == 2);
+
+        const auto plan = ops::plan_devicenet_restore(file, changed, real_db());
+        REQUIRE_FALSE(plan.refused());
+        CHECK(plan.writes.size() == 2);
+        auto done = ops::execute_devicenet_plan(rig.master, plan, file, real_db(), {});
+        INFO((done.ok() ? std::string() : done.error().message));
+        REQUIRE(done.ok());
+        CHECK(done->empty());
+        CHECK(rig.controller.value(Motor::A, 0x34) == p);
+        CHECK(rig.controller.value(last, 0x50) == speed);
+        CHECK(ops::diff(file, rig.backup(), real_db(), {}, {}).identical());
+      }
+    }
+  }
 }

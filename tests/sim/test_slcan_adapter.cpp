@@ -27,7 +27,7 @@ struct Rig {
   Result<void> served;
   std::vector<can::Frame> heard;  // what the bus's node received
 
-  Rig() {
+  explicit Rig(bool silent = false) {
     int fds[2];
     REQUIRE(::socketpair(AF_UNIX, SOCK_STREAM, 0, fds) == 0);
     adapter_side = std::make_unique<transport::FdTransport>(transport::UniqueFd(fds[0]), "adapter");
@@ -41,6 +41,7 @@ struct Rig {
     });
     sim::SlcanAdapterOptions opt;
     opt.poll = transport::Millis(5);
+    opt.silent = silent;
     opt.should_stop = [this] { return stop.load(); };
     thread = std::thread([this, opt] { served = sim::serve_slcan(*bus, *adapter_side, opt); });
   }
@@ -106,4 +107,22 @@ TEST_CASE("sim slcan adapter: at another bit rate frames reach no node and the f
   CHECK(rig.heard.empty());
   CHECK(rig.say("F\r", 4) == "FA0\r");
   CHECK(rig.say("F\r", 4) == "F00\r");  // reading the flags clears them
+}
+
+TEST_CASE("sim slcan adapter: V reports the version", "[sim][slcan]") {
+  Rig rig;
+  CHECK(rig.say("V\r", 6) == "V1013\r");
+}
+
+TEST_CASE(
+    "sim slcan adapter: field-facts.md §6 a silent adapter takes its commands and carries frames, "
+    "answering nothing itself",
+    "[sim][slcan]") {
+  Rig rig(true);
+  CHECK(rig.say("C\rV\rS4\rO\r", 0).empty());
+  // No transmit acknowledgement: only the node's answer comes back.
+  CHECK(rig.say("t1232AABB\r", 10) == "t1242AABB\r");
+  REQUIRE(rig.heard.size() == 1);
+  CHECK(rig.say("F\r", 0).empty());
+  CHECK(rig.say("X\r", 0).empty());
 }

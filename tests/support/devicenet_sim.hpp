@@ -23,13 +23,13 @@ struct DevicenetSim {
   std::string port;  // what --port takes: "slcan:/dev/pts/3", "slcan:tcp://127.0.0.1:4711"
   std::string announced, options;  // the sim's two lines: the pty's path or TCP port; link options
   int mac = 5;
-  // A controller at MAC ID `mac` with motors A and B, plus `extra` options.
+  // A controller at MAC ID `mac` with `motors` (A and B), plus `extra` options.
   explicit DevicenetSim(std::vector<std::string> extra = {}, Where where = Where::pty,
-                        int mac_id = 5)
+                        int mac_id = 5, const std::string& motors = "A,B")
       : mac(mac_id) {
     std::vector<std::string> argv{
         LMCFG_TOOL_PATH,      "sim", "--devicenet", "--devicenet-macid", std::to_string(mac_id),
-        "--devicenet-motors", "A,B"};
+        "--devicenet-motors", motors};
     if (where == Where::tcp) {
       argv.push_back("--tcp");
       argv.push_back("127.0.0.1:0");
@@ -63,6 +63,21 @@ inline void change_two_values(const DevicenetSim& sim) {
   REQUIRE(m.connect().ok());
   REQUIRE(m.command({true, false, false, false}, 0x35, 2000).ok());  // Set Controller P, motor A
   REQUIRE(m.command({false, true, false, false}, 0x51, 5243).ok());  // Set Filter Max Speed, B
+  REQUIRE(m.release().ok());
+}
+
+// Another master sets motor A's Controller P to 2000 (any controller has motor A).
+inline void change_motor_a(const DevicenetSim& sim) {
+  auto link = link::open_can_link(sim.port, {125000, false, transport::Millis(1000)});
+  REQUIRE(link.ok());
+  devicenet::MasterOptions o;
+  o.slave_mac = static_cast<std::uint8_t>(sim.mac);
+  o.own_mac = 61;
+  o.timeout = transport::Millis(100);
+  o.retries = 5;
+  devicenet::Master m(**link, o);
+  REQUIRE(m.connect().ok());
+  REQUIRE(m.command({true, false, false, false}, 0x35, 2000).ok());  // Set Controller P, motor A
   REQUIRE(m.release().ok());
 }
 

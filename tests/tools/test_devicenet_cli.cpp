@@ -122,7 +122,8 @@ TEST_CASE("DeviceNet §5.2 a wrong bit rate, a wrong MAC ID, a second master",
           "lmcfg backup: no answer from DeviceNet MAC ID 5 to Allocate_Master/Slave_Connection_Set "
           "within 100 ms on slcan serial " +
               sim.pty +
-              " 115200 8N1 250 kbit/s: the adapter reports CAN bus errors (status flags A0h): no "
+              " 115200 8N1 250 kbit/s (adapter version 1013): the adapter reports CAN bus errors "
+              "(status flags A0h): no "
               "node acknowledged the frames, so the bit rate is probably wrong: check "
               "--can-bitrate (125000, 250000 or 500000, the controller's DeviceNet\\Baudrate) and "
               "that the adapter is connected to the DeviceNet bus\n");
@@ -299,5 +300,82 @@ TEST_CASE("devicenet: lmcfg sim --devicenet refuses a --tcp that is not HOST:POR
   auto state = test::run_tool_in(dir, "sim --devicenet --state axis.json");
   CHECK(state.exit_code == 2);
   CHECK(state.err == "lmcfg sim: --devicenet simulates a controller of its own, without --state\n");
+  fs::remove_all(dir);
+}
+
+namespace {
+
+// Backup (the motors found by probing), another master changes motor A,
+// diff (one difference), restore (one Set command, verified), diff identical.
+void backup_restore_motors(const DnSim& sim, int motors, const std::string& dir_name) {
+  const auto dir = test::temp_dir(dir_name);
+  auto backup = test::run_tool_in(dir, "backup " + sim.link() + " -o ctl.json");
+  INFO(backup.err);
+  REQUIRE(backup.exit_code == 0);
+  CHECK(backup.err.find("backup: DeviceNet MAC ID 5: " + std::to_string(motors) + " motor(s), ") !=
+        std::string::npos);
+  auto file = config::read_config_file((dir / "ctl.json").string());
+  REQUIRE(file.ok());
+  REQUIRE(file->devicenet);
+  std::vector<int> expected;
+  for (int m = 0; m < motors; ++m) expected.push_back(m);
+  CHECK(file->devicenet->motors == expected);
+  test::change_motor_a(sim);
+  auto changed = test::run_tool_in(dir, "diff ctl.json drive " + sim.link());
+  INFO(changed.out << changed.err);
+  CHECK(changed.exit_code == 1);
+  CHECK(changed.out.find("motor A: Controller P (34h): ") != std::string::npos);
+  auto restore = test::run_tool_in(dir, "restore ctl.json --yes " + sim.link());
+  INFO(restore.out << restore.err);
+  REQUIRE(restore.exit_code == 0);
+  CHECK(count(restore.out, "  set ") == 1);
+  CHECK(restore.err.find("restore: 1 Set command(s) sent, verified") != std::string::npos);
+  auto again = test::run_tool_in(dir, "diff ctl.json drive " + sim.link());
+  INFO(again.out << again.err);
+  CHECK(again.exit_code == 0);
+  fs::remove_all(dir);
+}
+
+}  // namespace
+
+TEST_CASE(
+    "devicenet: seed 000 §5.2 backup, diff and restore of controllers with 1 to 4 motors under "
+    "each reading of a command for a motor the controller does not have",
+    "[devicenet][cli][pty][absent]") {
+  const char* motor_lists[] = {"A", "A,B", "A,B,C", "A,B,C,D"};
+  for (int n = 1; n <= 4; ++n) {
+    for (const char* absent :
+         {"coded-error", "coded-error-8110", "no-toggle", "error-no-echo", "echo-only", "ignore"}) {
+      if (n == 4 && std::string(absent) != "coded-error") continue;  // no motor is absent
+      INFO(motor_lists[n - 1] << ", --devicenet-absent-motor " << absent);
+      DnSim sim({"--devicenet-absent-motor", absent}, DnSim::Where::pty, 5, motor_lists[n - 1]);
+      backup_restore_motors(sim, n, "dn-absent");
+    }
+  }
+}
+
+TEST_CASE(
+    "devicenet: field-facts.md §6 an slcan adapter that answers no command: backup, diff and "
+    "restore",
+    "[devicenet][cli][pty][slcan]") {
+  {
+    DnSim sim({"--slcan-silent"});
+    backup_change_restore(sim, "dn-silent", "");
+  }
+  DnSim one(
+      {"--slcan-silent", "--devicenet-absent-motor", "ignore", "--devicenet-toggle", "module"},
+      DnSim::Where::pty, 5, "A");
+  backup_restore_motors(one, 1, "dn-silent-one");
+}
+
+TEST_CASE("devicenet: lmcfg sim refuses an unknown --devicenet-absent-motor",
+          "[devicenet][cli][absent]") {
+  const auto dir = test::temp_dir("dn-absent-bad");
+  auto r = test::run_tool_in(dir, "sim --devicenet --devicenet-absent-motor crash");
+  CHECK(r.exit_code == 2);
+  CHECK(r.err ==
+        "lmcfg sim: --devicenet-absent-motor 'crash' is not one of coded-error, "
+        "coded-error-8110, no-toggle, error-no-echo, echo-only, ignore\n");
+  CHECK(r.out.empty());
   fs::remove_all(dir);
 }

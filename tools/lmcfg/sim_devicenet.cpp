@@ -35,6 +35,12 @@ Result<sim::DeviceNetControllerOptions> controller_options(const DevicenetSimArg
                                              "' is not one of seed, get-set-ignore, module");
   }
   o.toggle_rule = *rule;
+  const auto absent = sim::parse_absent_motor(a.absent);
+  if (!absent) {
+    return Error(Errc::invalid_argument, "--devicenet-absent-motor '" + a.absent +
+                                             "' is not one of " + sim::absent_motor_names());
+  }
+  o.absent_motor = *absent;
   return o;
 }
 
@@ -77,10 +83,18 @@ void add_devicenet_sim_options(CLI::App* sim, CLI::Option* devicenet_flag, Devic
                   "run on any change of the Addressed In words), module (one toggle for the "
                   "whole module)")
       ->capture_default_str();
-  for (const char* name :
-       {"--devicenet-macid", "--devicenet-motors", "--can-bitrate", "--io-modules",
-        "--encoder-module", "--factory", "--lose-polls", "--seed", "--error-leaves-run",
-        "--reset-after-sets", "--held-by", "--devicenet-toggle"})
+  sim->add_option("--devicenet-absent-motor", a.absent,
+                  std::string("with --devicenet: what the controller does with a command for a "
+                              "motor it does not have (seed 000 leaves it open): ") +
+                      sim::absent_motor_names())
+      ->capture_default_str();
+  sim->add_flag("--slcan-silent", a.silent_adapter,
+                "with --devicenet: the slcan adapter answers no command (no acknowledgement of "
+                "transmitted frames, of C/Sn/O, no version or status), as some firmwares");
+  for (const char* name : {"--devicenet-macid", "--devicenet-motors", "--can-bitrate",
+                           "--io-modules", "--encoder-module", "--factory", "--lose-polls",
+                           "--seed", "--error-leaves-run", "--reset-after-sets", "--held-by",
+                           "--devicenet-toggle", "--devicenet-absent-motor", "--slcan-silent"})
     sim->get_option(name)->needs(devicenet_flag);
 }
 
@@ -105,6 +119,7 @@ int run_devicenet_sim(const DevicenetSimArgs& a, const std::function<bool()>& sh
   sim::SlcanAdapterOptions o;
   o.should_stop = should_stop;
   o.bus_bitrate = a.bus_bitrate;
+  o.silent = a.silent_adapter;
   // Line 1: where (the pty's path, or the TCP port); line 2: the link options.
   auto announce = [&](const std::string& where, const std::string& port) {
     std::printf("%s\n", where.c_str());

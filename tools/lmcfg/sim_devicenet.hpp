@@ -20,8 +20,10 @@ struct DevicenetSimArgs {
   std::string held_by;  // another master's MAC ID holding the connection
   bool error_leaves_run = false;
   unsigned reset_after = 0;
-  std::string toggle = "seed";  // seed | get-set-ignore | module
-  std::string tcp;              // --tcp HOST:PORT; "" = a new pty
+  std::string toggle = "seed";         // seed | get-set-ignore | module
+  std::string absent = "coded-error";  // sim::parse_absent_motor
+  bool silent_adapter = false;         // the slcan adapter answers nothing but frames
+  std::string tcp;                     // --tcp HOST:PORT; "" = a new pty
 };
 
 // The options of `lmcfg sim --devicenet`; each needs `devicenet_flag`.
