@@ -4,7 +4,7 @@
 # tests/CMakeLists.txt). docs/cli.md has a heading naming each (sub)command
 # ("## lmcfg backup", "### lmcfg db show, lmcfg db find"), and names each of its
 # options in that section (up to the next "lmcfg" heading), its parent's, or
-# "## Link options".
+# one of the shared sections "## Link options" and "## DeviceNet controllers".
 #   tests/cli-docs-test.sh LMCFG_BINARY MAN_PAGE COMPLETION CLI_MD
 set -euo pipefail
 lmcfg=$1 man_page=$2 completion=$3 cli_md=$4
@@ -35,8 +35,9 @@ md_section() {
              n = split(h, names, ", "); for (i = 1; i <= n; ++i) if (names[i] == c) on = 1 }
     on' "$cli_md"
 }
-link_md="$(awk '/^## / {on = ($0 == "## Link options")} on' "$cli_md")"
-[[ -n "$link_md" ]] || { echo "$cli_md: no section '## Link options'"; fail=1; }
+link_md="$(awk '/^## / {on = ($0 == "## Link options" || $0 == "## DeviceNet controllers")} on' "$cli_md")"
+grep -q '^## DeviceNet controllers$' "$cli_md" && grep -q '^## Link options$' "$cli_md" ||
+  { echo "$cli_md: no section '## Link options' or '## DeviceNet controllers'"; fail=1; }
 for c in "${commands[@]}"; do
   text="$(md_section "$c")"
   [[ -n "$text" ]] || { echo "$cli_md: no heading naming 'lmcfg $c'"; fail=1; continue; }

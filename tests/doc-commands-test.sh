@@ -46,7 +46,8 @@ done
 cp "$src/tests/fixtures/sim/commissioned-axis.json" "$work/axis.sim.json"
 cd "$work"
 export XDG_STATE_HOME="$work/state"
-"$lmcfg" sim --state axis.sim.json >sim.out 2>sim.err &
+: >sim.out
+"$lmcfg" sim --state axis.sim.json >sim.out 2>sim.err </dev/null &
 sim_pid=$!
 for _ in $(seq 100); do (($(wc -l <sim.out) >= 2)) && break; sleep 0.1; done
 pty="$(sed -n 1p sim.out)"
@@ -94,7 +95,7 @@ for doc in "$@"; do
     cmd="${line%%  #*}" comment=""
     [[ "$cmd" != "$line" ]] && comment="${line#*  #}"
     cmd="${cmd%"${cmd##*[! ]}"}"
-    [[ -n "$cmd" ]] || continue
+    [[ -n "$cmd" && "$cmd" != '#'* ]] || continue
     if [[ "$cmd" != lmcfg\ * ]]; then
       if [[ "$cmd" == ./scripts/* ]]; then
         [[ -x "$src/${cmd%% *}" ]] || bad "$doc: ${cmd%% *} is not an executable script"
