@@ -1,9 +1,13 @@
 #!/usr/bin/env bash
-# The man page and the bash completion cover every subcommand and option that
-# `lmcfg --help` lists (registered with ctest: tests/CMakeLists.txt).
-#   tests/cli-docs-test.sh LMCFG_BINARY MAN_PAGE COMPLETION
+# The man page, the bash completion and the reference docs/cli.md cover every
+# subcommand and option that `lmcfg --help` lists (registered with ctest:
+# tests/CMakeLists.txt). docs/cli.md has a heading naming each (sub)command
+# ("## lmcfg backup", "### lmcfg db show, lmcfg db find"), and names each of its
+# options in that section (up to the next "lmcfg" heading), its parent's, or
+# one of the shared sections "## Link options" and "## DeviceNet controllers".
+#   tests/cli-docs-test.sh LMCFG_BINARY MAN_PAGE COMPLETION CLI_MD
 set -euo pipefail
-lmcfg=$1 man_page=$2 completion=$3
+lmcfg=$1 man_page=$2 completion=$3 cli_md=$4
 fail=0
 section() { awk -v s="$1" '$0 == s {on=1; next} /^[^ ]/ {on=0} on && /^  [^ ]/ {print $1}'; }
 # Every option line of every option group ("Options:", "DeviceNet (...):").
@@ -21,6 +25,28 @@ for c in "${commands[@]}"; do
   # shellcheck disable=SC2086
   for o in $("$lmcfg" $c --help | options); do
     grep -q -- "$o" <<<"$page" || { echo "man page: 'lmcfg $c' option $o missing"; fail=1; }
+  done
+done
+
+# docs/cli.md: the section of a (sub)command, from its heading to the next "lmcfg" heading.
+md_section() {
+  awk -v c="lmcfg $1" '
+    /^#+ / { h = $0; sub(/^#+ /, "", h); if (on && h ~ /^lmcfg /) on = 0
+             n = split(h, names, ", "); for (i = 1; i <= n; ++i) if (names[i] == c) on = 1 }
+    on' "$cli_md"
+}
+link_md="$(awk '/^## / {on = ($0 == "## Link options" || $0 == "## DeviceNet controllers")} on' "$cli_md")"
+grep -q '^## DeviceNet controllers$' "$cli_md" && grep -q '^## Link options$' "$cli_md" ||
+  { echo "$cli_md: no section '## Link options' or '## DeviceNet controllers'"; fail=1; }
+for c in "${commands[@]}"; do
+  text="$(md_section "$c")"
+  [[ -n "$text" ]] || { echo "$cli_md: no heading naming 'lmcfg $c'"; fail=1; continue; }
+  [[ "$c" == *" "* ]] && text+=$'\n'"$(md_section "${c% *}")"  # the parent's section
+  text+=$'\n'"$link_md"
+  # shellcheck disable=SC2086
+  for o in $("$lmcfg" $c --help | options); do
+    [[ "$o" == --help || "$o" == -h ]] && continue
+    grep -qE -- "(^|[^a-z-])$o([^a-z-]|\$)" <<<"$text" || { echo "$cli_md: 'lmcfg $c' option $o missing"; fail=1; }
   done
 done
 
@@ -45,5 +71,5 @@ for c in "${commands[@]}"; do
 done
 expect "lmcfg backup --port /dev/ttyUSB0 --no-<TAB>" "$(printf -- '--no-ct\n--no-curves\n--no-describe\n--no-module-values')" \
   "$(complete_words lmcfg backup --port /dev/ttyUSB0 --no-)"
-((fail == 0)) && echo "man page and completion cover ${#commands[@]} (sub)commands"
+((fail == 0)) && echo "man page, completion and $cli_md cover ${#commands[@]} (sub)commands"
 exit $fail

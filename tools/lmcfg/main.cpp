@@ -1,5 +1,7 @@
 #include <cstdio>
 #include <exception>
+#include <string>
+#include <vector>
 
 #include "command.hpp"
 #include "link/session.hpp"
@@ -27,6 +29,30 @@ const char* unknown_subcommand(const CLI::App& app, int argc, char** argv) {
   }
   return nullptr;
 }
+// What `lmcfg` alone (on stderr, exit 2) and `lmcfg help` (on stdout, exit 0)
+// print: one line per subcommand, from the table above and each subcommand's
+// own description, so it cannot drift from --help; then where to start.
+std::string overview(const CLI::App& app) {
+  std::string text = app.get_description() +
+                     "\n\nUsage: lmcfg SUBCOMMAND [OPTIONS]\n"
+                     "       lmcfg help SUBCOMMAND   (the same as lmcfg SUBCOMMAND --help)\n\n"
+                     "Subcommands:\n";
+  for (const auto* sub : app.get_subcommands({})) {
+    std::string name = "  " + sub->get_name();
+    name.resize(12, ' ');
+    text += name + sub->get_description() + "\n";
+  }
+  text +=
+      "\nFirst commands to try, on a drive at its factory link (README \"Your first real "
+      "drive\"):\n"
+      "  lmcfg scan --port /dev/ttyUSB0\n"
+      "      finds the drives on the port and prints the link options of each\n"
+      "  lmcfg backup --port /dev/ttyUSB0 --baud 57600 --id 0x11 -o axis.json\n"
+      "      backs one up, with the link options scan printed\n"
+      "No drive at hand: 'lmcfg sim' serves a simulated one and prints its --port.\n"
+      "Every subcommand has --help with examples; all of them: 'man lmcfg', docs/cli.md.\n";
+  return text;
+}
 std::string subcommand_names(const CLI::App& app) {
   std::string names;
   for (const auto* sub : app.get_subcommands({}))
@@ -48,6 +74,23 @@ int main(int argc, char** argv) {
   // The operations layer knows serial ports and TCP gateways; the simulated
   // drive's port scheme is the tools' to add.
   lmcfg::link::register_scheme("sim", lmcfg::sim::state_file_link_factory());
+  // `lmcfg help SUBCOMMAND...` is `lmcfg SUBCOMMAND... --help`.
+  std::vector<char*> args(argv, argv + argc);
+  static char help_flag[] = "--help";
+  if (argc == 1) {
+    std::fputs(overview(app).c_str(), stderr);
+    return kInvalidInput;  // a subcommand is required, as before
+  }
+  if (std::string(argv[1]) == "help") {
+    if (argc == 2) {
+      std::fputs(overview(app).c_str(), stdout);
+      return kOk;
+    }
+    args.erase(args.begin() + 1);
+    args.push_back(help_flag);
+    argc = static_cast<int>(args.size());
+    argv = args.data();
+  }
   if (const char* word = unknown_subcommand(app, argc, argv)) {
     std::fprintf(stderr, "lmcfg: unknown subcommand '%s' (one of: %s; see lmcfg --help)\n", word,
                  subcommand_names(app).c_str());
