@@ -53,16 +53,7 @@ class RawClient {
       const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
                             end - std::chrono::steady_clock::now())
                             .count();
-      if (left <= 0) break;
-      pollfd p{fd_, POLLIN, 0};
-      if (::poll(&p, 1, static_cast<int>(left)) <= 0) break;
-      char buf[65536];
-      const ssize_t n = ::recv(fd_, buf, sizeof buf, 0);
-      if (n <= 0) {
-        closed_ = true;
-        break;
-      }
-      out.append(buf, static_cast<std::size_t>(n));
+      if (left <= 0 || !read_once(static_cast<int>(left), out)) break;
       if (!until.empty() && out.find(until) != std::string::npos) break;
     }
     return out;
@@ -75,16 +66,7 @@ class RawClient {
     const auto cl = out.find("Content-Length: ");
     if (cl == std::string::npos || cl > head_end) return out;
     const std::size_t len = std::stoul(out.substr(cl + 16));
-    while (out.size() < head_end + 4 + len && !closed_) {
-      pollfd p{fd_, POLLIN, 0};
-      if (::poll(&p, 1, ms) <= 0) break;
-      char buf[65536];
-      const ssize_t n = ::recv(fd_, buf, sizeof buf, 0);
-      if (n <= 0) {
-        closed_ = true;
-        break;
-      }
-      out.append(buf, static_cast<std::size_t>(n));
+    while (out.size() < head_end + 4 + len && !closed_ && read_once(ms, out)) {
     }
     return out;
   }
@@ -95,6 +77,21 @@ class RawClient {
   }
 
  private:
+  // One poll and one read into `out`; false when nothing came within `ms`
+  // or the server closed.
+  bool read_once(int ms, std::string& out) {
+    pollfd p{fd_, POLLIN, 0};
+    if (::poll(&p, 1, ms) <= 0) return false;
+    char buf[65536];
+    const ssize_t n = ::recv(fd_, buf, sizeof buf, 0);
+    if (n <= 0) {
+      closed_ = true;
+      return false;
+    }
+    out.append(buf, static_cast<std::size_t>(n));
+    return true;
+  }
+
   int fd_ = -1;
   bool connected_ = false, closed_ = false;
 };
