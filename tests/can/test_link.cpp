@@ -161,7 +161,7 @@ void send_and_receive(can::Link& link) {
 
 TEST_CASE(
     "can: field-facts.md §6 adapters that do not acknowledge transmitted frames, or answer "
-    "nothing at all, carry frames; the version is used when given",
+    "nothing at all, carry frames, the version is used when given",
     "[can][pty]") {
   {
     // Answers its commands and "V", never a transmitted frame: not waited

@@ -540,7 +540,7 @@ TEST_CASE("http: without tokens only this service's own Host names are served (4
 }
 
 TEST_CASE(
-    "http: a state-changing request from another origin is refused (403); API bodies are JSON "
+    "http: a state-changing request from another origin is refused (403), API bodies are JSON "
     "(415)",
     "[serve][http]") {
   Rig rig;
@@ -592,7 +592,7 @@ TEST_CASE(
 }
 
 TEST_CASE(
-    "http: every byte 0x00-0xFF in a path, a header and a body field; the service answers after "
+    "http: every byte 0x00-0xFF in a path, a header and a body field, the service answers after "
     "each",
     "[serve][http]") {
   Rig rig;

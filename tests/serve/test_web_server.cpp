@@ -63,7 +63,7 @@ bool starts_with(const std::string& s, const std::string& p) { return s.rfind(p,
 
 }  // namespace
 
-TEST_CASE("web server: a slow client gets 408 and is closed; others are answered meanwhile",
+TEST_CASE("web server: a slow client gets 408 and is closed, others are answered meanwhile",
           "[serve][web_server]") {
   TestServer s(quick());
   RawClient slow(s.port);
