@@ -48,11 +48,11 @@ struct DevicenetSim {
   }
 };
 
-// Another tool on the same controller between two runs of lmcfg (a PLC, a
-// technician with LinTalk): sets motor A's Controller P to 2000 and motor B's
-// Filter Maximal Speed to 5243 with the library's master.
-inline void change_two_values(const DevicenetSim& sim) {
-  auto link = link::open_can_link(sim.port, {125000, true, transport::Millis(1000)});
+// Another master on the controller (a PLC, a technician with LinTalk), as
+// the library's master: connected, `change` run, released.
+template <class Change>
+inline void as_another_master(const DevicenetSim& sim, bool expect_transmit_ack, Change change) {
+  auto link = link::open_can_link(sim.port, {125000, expect_transmit_ack, transport::Millis(1000)});
   REQUIRE(link.ok());
   devicenet::MasterOptions o;
   o.slave_mac = static_cast<std::uint8_t>(sim.mac);
@@ -61,24 +61,24 @@ inline void change_two_values(const DevicenetSim& sim) {
   o.retries = 5;
   devicenet::Master m(**link, o);
   REQUIRE(m.connect().ok());
-  REQUIRE(m.command({true, false, false, false}, 0x35, 2000).ok());  // Set Controller P, motor A
-  REQUIRE(m.command({false, true, false, false}, 0x51, 5243).ok());  // Set Filter Max Speed, B
+  change(m);
   REQUIRE(m.release().ok());
+}
+
+// Another tool between two runs of lmcfg sets motor A's Controller P to 2000
+// and motor B's Filter Maximal Speed to 5243.
+inline void change_two_values(const DevicenetSim& sim) {
+  as_another_master(sim, true, [](devicenet::Master& m) {
+    REQUIRE(m.command({true, false, false, false}, 0x35, 2000).ok());  // Set Controller P, motor A
+    REQUIRE(m.command({false, true, false, false}, 0x51, 5243).ok());  // Set Filter Max Speed, B
+  });
 }
 
 // Another master sets motor A's Controller P to 2000 (any controller has motor A).
 inline void change_motor_a(const DevicenetSim& sim) {
-  auto link = link::open_can_link(sim.port, {125000, false, transport::Millis(1000)});
-  REQUIRE(link.ok());
-  devicenet::MasterOptions o;
-  o.slave_mac = static_cast<std::uint8_t>(sim.mac);
-  o.own_mac = 61;
-  o.timeout = transport::Millis(100);
-  o.retries = 5;
-  devicenet::Master m(**link, o);
-  REQUIRE(m.connect().ok());
-  REQUIRE(m.command({true, false, false, false}, 0x35, 2000).ok());  // Set Controller P, motor A
-  REQUIRE(m.release().ok());
+  as_another_master(sim, false, [](devicenet::Master& m) {
+    REQUIRE(m.command({true, false, false, false}, 0x35, 2000).ok());  // Set Controller P, motor A
+  });
 }
 
 // A backup of `sim` in dir/ctl.json, and dir/bad.json: the same with motor B's
