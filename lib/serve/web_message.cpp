@@ -3,18 +3,14 @@
 #include <algorithm>
 #include <cstdio>
 
+#include "common/bytes.hpp"
+#include "common/text.hpp"
+
 namespace lmcfg::serve::web {
 
 namespace {
 
 char lower(char c) { return (c >= 'A' && c <= 'Z') ? static_cast<char>(c - 'A' + 'a') : c; }
-
-bool iequal(std::string_view a, std::string_view b) {
-  if (a.size() != b.size()) return false;
-  for (std::size_t i = 0; i < a.size(); ++i)
-    if (lower(a[i]) != lower(b[i])) return false;
-  return true;
-}
 
 // RFC 9110 §5.6.2: tchar.
 bool is_tchar(unsigned char c) {
@@ -151,7 +147,7 @@ std::string serialize(const Response& res, bool head_request) {
   std::string out = "HTTP/1.1 " + std::to_string(res.status) + " " +
                     std::string(reason_phrase(res.status)) + "\r\n";
   for (const auto& [k, v] : res.headers) {
-    if (iequal(k, "Content-Length") || iequal(k, "Connection") || iequal(k, "Transfer-Encoding"))
+    if (iequals(k, "Content-Length") || iequals(k, "Connection") || iequals(k, "Transfer-Encoding"))
       continue;  // the server's own
     out += header_text(k) + ": " + header_text(v) + "\r\n";
   }
@@ -193,39 +189,9 @@ bool url_decode(std::string_view in, std::string& out, bool plus_is_space) {
 }
 
 bool valid_utf8(std::string_view s, std::size_t* where) noexcept {
-  std::size_t i = 0;
-  const auto bad = [&] {
-    if (where) *where = i;
-    return false;
-  };
-  while (i < s.size()) {
-    const auto c = static_cast<unsigned char>(s[i]);
-    if (c < 0x80) {
-      ++i;
-      continue;
-    }
-    std::size_t n;
-    unsigned min;
-    unsigned cp;
-    if (c >= 0xC2 && c <= 0xDF) {
-      n = 1, min = 0x80, cp = c & 0x1Fu;
-    } else if (c >= 0xE0 && c <= 0xEF) {
-      n = 2, min = 0x800, cp = c & 0x0Fu;
-    } else if (c >= 0xF0 && c <= 0xF4) {
-      n = 3, min = 0x10000, cp = c & 0x07u;
-    } else {
-      return bad();
-    }
-    if (s.size() - i <= n) return bad();
-    for (std::size_t k = 1; k <= n; ++k) {
-      const auto cc = static_cast<unsigned char>(s[i + k]);
-      if ((cc & 0xC0) != 0x80) return bad();
-      cp = (cp << 6) | (cc & 0x3Fu);
-    }
-    if (cp < min || cp > 0x10FFFF || (cp >= 0xD800 && cp <= 0xDFFF)) return bad();
-    i += n + 1;
-  }
-  return true;
+  const std::size_t at = invalid_utf8_at(s);
+  if (where && at != std::string_view::npos) *where = at;
+  return at == std::string_view::npos;
 }
 
 std::string printable(std::string_view s) {
@@ -449,7 +415,7 @@ RequestParser::State RequestParser::after_head() {
   if (has_te) {
     if (req_.version_minor == 0) return fail(400, "Transfer-Encoding in an HTTP/1.0 request");
     if (req_.headers.count("Transfer-Encoding") > 1 ||
-        !iequal(req_.get_header_value("Transfer-Encoding"), "chunked"))
+        !iequals(req_.get_header_value("Transfer-Encoding"), "chunked"))
       return fail(501, "Transfer-Encoding '" + req_.get_header_value("Transfer-Encoding") +
                            "' is not supported (only chunked)");
     stage_ = Stage::chunk_size;
@@ -472,7 +438,7 @@ RequestParser::State RequestParser::after_head() {
     stage_ = Stage::done;
   }
   if (req_.has_header("Expect")) {
-    if (!iequal(req_.get_header_value("Expect"), "100-continue"))
+    if (!iequals(req_.get_header_value("Expect"), "100-continue"))
       return fail(417, "Expect: '" + req_.get_header_value("Expect") +
                            "' is not supported (only 100-continue)");
     expect_continue_ = true;
