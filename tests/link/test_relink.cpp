@@ -335,14 +335,15 @@ TEST_CASE("field-facts.md §5.2 relink: a drive silent 90 s after its reset is f
       // The reset's answer (at the new settings) was waited for 6 s only.
       CHECK((client.link().now_ns() - t0) / 1'000'000'000 < 20);
       const auto expected = ops::expected_link(*plan, *db);
+      const auto t1 = client.link().now_ns();  // 6 s after the reset was sent
       auto rep =
           link::reconnect_within(**session, expected, {}, transport::Millis(budget_s * 1000));
-      const double took_s = static_cast<double>(client.link().now_ns() - t0) / 1e9;
+      const double took_s = static_cast<double>(client.link().now_ns() - t1) / 1e9;
       if (budget_s == 180) {
         REQUIRE(rep.ok());
         CHECK(rep->summary == "the drive answers at 38400 Bd, MACID 22h, checksum none");
-        CHECK(took_s >= 90.0);
-        CHECK(took_s < 100.0);
+        CHECK(took_s >= 83.0);  // the drive's 90 s, less the reset's 6 s wait
+        CHECK(took_s < 95.0);   // found within a round of candidates after it wakes
         auto verify = ops::verify_restore(client, *plan, ro);
         REQUIRE(verify.ok());
         CHECK(verify->ok());
@@ -352,7 +353,8 @@ TEST_CASE("field-facts.md §5.2 relink: a drive silent 90 s after its reset is f
         CHECK(rep.error().message.rfind("after the reset the drive answered none of the ", 0) == 0);
         const std::string tail = "; looked for it for 30 s (--recover-timeout-s)";
         CHECK(rep.error().message.substr(rep.error().message.size() - tail.size()) == tail);
-        CHECK(took_s < 90.0);
+        CHECK(took_s >= 30.0);
+        CHECK(took_s < 45.0);
       }
       fs::remove_all(dir);
     }
