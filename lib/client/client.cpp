@@ -529,6 +529,33 @@ Result<Telegram> Client::transact_long(const Telegram& req, Millis timeout,
   return r;
 }
 
+Result<Millis> Client::find_again(const std::string& what) {
+  const std::string waiting =
+      "waiting for drive " + hexid("%02Xh", opt_.id) + " to answer again after " + what;
+  const std::int64_t start_ns = link_.now_ns();
+  const std::int64_t budget_ns =
+      static_cast<std::int64_t>(opt_.recover_timeout.count()) * 1'000'000;
+  std::int64_t reported_s = 0;
+  for (;;) {
+    auto r = transact(make_response_request(opt_.id, ResponseRequest::default_response),
+                      opt_.timeout, false);
+    const Millis waited((link_.now_ns() - start_ns) / 1'000'000);
+    // Any valid answer shows the drive is back, a refusal too (it has a state).
+    if (r.ok() || r.error().code == ErrorClass::drive_refusal) return waited;
+    if (!is_link_error(r.error())) return std::move(r).error();  // closed, interrupted
+    if (link_.now_ns() - start_ns >= budget_ns) {
+      return Error(Errc::timeout,
+                   "drive " + hexid("%02Xh", opt_.id) + " did not answer again within " +
+                       std::to_string(opt_.recover_timeout.count() / 1000) + " s after " + what +
+                       " (polled with §6 default response requests)");
+    }
+    if (opt_.on_long_wait && waited.count() / 1000 > reported_s) {
+      reported_s = waited.count() / 1000;
+      opt_.on_long_wait(waiting, waited);
+    }
+  }
+}
+
 // ---- program handling (§13) ----
 
 Result<void> Client::stop_mc() {
@@ -542,10 +569,11 @@ Result<void> Client::start_mc() {
   LMCFG_TRY(decode_program_response(t));
   return {};
 }
-Result<void> Client::reset() {
-  LMCFG_ASSIGN_OR_RETURN(auto t,
-                         transact_long(make_program(opt_.id, ProgramOp::reset_after_completion),
-                                       opt_.reset_timeout, "resetting the drive"));
+Result<void> Client::reset() { return reset(opt_.reset_timeout); }
+Result<void> Client::reset(Millis timeout) {
+  LMCFG_ASSIGN_OR_RETURN(
+      auto t, transact_long(make_program(opt_.id, ProgramOp::reset_after_completion), timeout,
+                            "resetting the drive"));
   LMCFG_TRY(decode_program_response(t));
   return {};
 }

@@ -60,11 +60,27 @@ struct ClientOptions {
   bool adaptive_deadline = false;
   double turnaround_max_ms = 1.5;  // §6.1.1.1: the drive answers within 0.5-1.5 ms
   double deadline_margin_ms = 2.0;
-  // §10.4: "could be more than 1 s", no upper bound: generous (a drive that
-  // takes several seconds must never be abandoned with MC stopped).
-  Millis defaulting_timeout{60000};
-  Millis flash_timeout{30000};  // §11/§12: saving to flash, "timeout 10s"; 3x margin
-  Millis reset_timeout{6000};   // §13.1: "ca. 3 s"
+  // Long operations: their answer deadlines. The manual gives §10.4 "could be
+  // more than 1 s" (no upper bound), §11/§12 "timeout 10s", §13.1 "ca. 3 s";
+  // real drives took longer (field-facts.md §5): "A command table flash save
+  // took about 39 s and was never acknowledged", and "ROM writes and flash
+  // saves left drives unresponsive for 30-90 s". 120 s covers the longest
+  // silence measured (90 s) with a third to spare, for every long operation
+  // (a reset or MC start after ROM writes meets the same silence). No
+  // deadline may turn a slow, healthy drive into a failure (docs/field.md).
+  Millis defaulting_timeout{120000};
+  Millis flash_timeout{120000};
+  Millis reset_timeout{120000};  // reset and MC start
+  // A reset whose answer is expected to be lost (it comes at the new link
+  // settings the reset takes, §13.1): waited this long (§13.1 "ca. 3 s", x2;
+  // at most reset_timeout), then the drive is looked for at its new settings
+  // for up to recover_timeout (link::reconnect_within).
+  Millis relink_reset_timeout{6000};
+  // After a long operation whose answer never came: how long find_again()
+  // polls for the drive to answer again. 180 s: with the 120 s deadline the
+  // 5 minutes the C1250 notes' client polls (field-facts.md §5.2). 0: no
+  // polling (the long operation's timeout is final).
+  Millis recover_timeout{180000};
   int read_retries = 2;
   // Quiet time required after a lost/garbled answer before the next request.
   // With `adaptive_settle` on a link with a byte time (serial, simulated), the
@@ -238,6 +254,19 @@ class Client {
   // ROM of a layer to defaults (§10.4); answer after completion (> 1 s).
   Result<void> default_layer(int layer);
 
+  // After a long operation (default_layer, save_curves, save_ct, start_mc,
+  // reset) failed with Errc::timeout: its answer never came, which a slow
+  // drive does (field-facts.md §5.1, §5.2), so the drive is looked for again.
+  // Polls with the cheapest read (§6 default response request, one attempt
+  // each, input settled between) until the drive answers (any valid answer,
+  // a refusal included) or `recover_timeout` of link time has passed, calling
+  // on_long_wait about once a second with "waiting for drive 11h to answer
+  // again after WHAT". Returns the link time it took; Errc::timeout naming
+  // WHAT, the polls and the budget when the drive stayed silent; a link that
+  // closed or an interruption as they come. It never resends the operation:
+  // what the drive holds is for the caller to read back.
+  Result<Millis> find_again(const std::string& what);
+
   // §11 curves. curve_sizes: nullopt when the drive reports no such curve (sizes 0).
   Result<std::optional<CurveSizes>> curve_sizes(std::uint16_t curve);
   Result<Bytes> read_curve_info(std::uint16_t curve, std::uint16_t size);
@@ -268,6 +297,8 @@ class Client {
   Result<void> stop_mc();
   Result<void> start_mc();  // answer after completion
   Result<void> reset();     // answer after completion (~3 s)
+  // The same, waiting `timeout` for the answer (relink_reset_timeout).
+  Result<void> reset(Millis timeout);
 
   // §14
   Result<std::string> actual_error_text();

@@ -125,4 +125,22 @@ Result<RelinkReport> reconnect(Session& session, const ExpectedLink& expected,
   return Error(Errc::timeout, msg);
 }
 
+Result<RelinkReport> reconnect_within(Session& session, const ExpectedLink& expected,
+                                      const RelinkOverrides& overrides, transport::Millis budget) {
+  const std::int64_t start = session.client().link().now_ns();
+  const std::int64_t budget_ns = static_cast<std::int64_t>(budget.count()) * 1'000'000;
+  for (std::int64_t round_start = start;;) {
+    auto r = reconnect(session, expected, overrides);
+    const std::int64_t now = session.client().link().now_ns();
+    if (r.ok() || r.error().code != make_error_code(Errc::timeout) || now == round_start) return r;
+    if (now - start >= budget_ns) {
+      Error e = std::move(r).error();
+      e.message += "; looked for it for " + std::to_string(budget.count() / 1000) +
+                   " s (--recover-timeout-s)";
+      return e;
+    }
+    round_start = now;
+  }
+}
+
 }  // namespace lmcfg::link

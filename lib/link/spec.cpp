@@ -67,6 +67,10 @@ Result<LinkSpec> settings_of(const LinkInput& in, const InputNames& names) {
     const transport::Millis t(1000LL * in.long_timeout_s);
     l.client.defaulting_timeout = l.client.flash_timeout = l.client.reset_timeout = t;
   }
+  if (in.recover_timeout_s < 0 || in.recover_timeout_s > 3600)
+    return outside(names.recover_timeout_s, in.recover_timeout_s, "1..3600");
+  if (in.recover_timeout_s > 0)
+    l.client.recover_timeout = transport::Millis(1000LL * in.recover_timeout_s);
   if (in.agreeing_reads != "auto") {
     auto n = parse_number(in.agreeing_reads, false);
     if (!n || *n < 1 || *n > 5)

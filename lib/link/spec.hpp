@@ -49,7 +49,10 @@ struct LinkInput {
   int timeout_ms = 200;
   int settle_ms = -1;  // -1: adaptive (the failed exchange's deadline, at most 500 ms)
   int retries = 2;
-  int long_timeout_s = 0;  // 0: the client's defaults (defaulting 60 s, flash 30 s, reset 6 s)
+  int long_timeout_s = 0;  // 0: the client's defaults (120 s each, ClientOptions)
+  // How long to look for a drive whose long operation went unanswered
+  // (Client::find_again); 0: the client's default (180 s).
+  int recover_timeout_s = 0;
   std::string agreeing_reads = "auto";  // or 1..5
   std::string trace;
   std::string holder = "lmcfg";
@@ -68,6 +71,7 @@ struct InputNames {
   const char* settle_ms;
   const char* retries;
   const char* long_timeout_s;
+  const char* recover_timeout_s;
   const char* agreeing_reads;
   const char* response_layout;
   const char* automatic;  // the word for automatic agreeing reads
@@ -78,6 +82,7 @@ inline constexpr InputNames kOptionNames{"--id",
                                          "--settle-ms",
                                          "--retries",
                                          "--long-timeout-s",
+                                         "--recover-timeout-s",
                                          "--agreeing-reads",
                                          "--response-layout",
                                          "auto",
@@ -87,6 +92,7 @@ inline constexpr InputNames kPythonNames{"id",
                                          "settle_ms",
                                          "retries",
                                          "long_timeout_s",
+                                         "recover_timeout_s",
                                          "agreeing_reads",
                                          "response_layout",
                                          "0 (automatic)",

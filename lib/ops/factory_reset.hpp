@@ -49,6 +49,10 @@ struct DefaultReport {
   bool recovered = false;
   std::string recovery_note;      // what happened with the recovery record, for people
   std::optional<UndoSaved> undo;  // the undo record saved before the first write
+  // Long steps the drive never acknowledged but after which it answered again
+  // (ops/long_step.hpp), each read back before the run succeeds: a defaulted
+  // layer lists no modified value; after the restart the saved tables are empty.
+  std::vector<std::string> unacknowledged;
 };
 
 Result<DefaultReport> default_drive(client::Client& c, const DefaultOptions& opt,

@@ -416,7 +416,8 @@ Result<void> write_and_reset(client::Client& c, const LinkPlan& plan,
   // "Reset Servo Controller Completely (restart of all SW instances) with
   // response after reset completion" (LinRS §13): the answer comes after the
   // restart, already at the new settings, so a lost answer is expected.
-  if (auto r = c.reset(); !r.ok() && r.error().code != ErrorClass::link_failure) {
+  if (auto r = c.reset(std::min(c.options().reset_timeout, c.options().relink_reset_timeout));
+      !r.ok() && r.error().code != ErrorClass::link_failure) {
     Error e = std::move(r).error();
     e.message = "reset refused after writing every value: " + e.message + "; " + kept;
     return e;
@@ -436,7 +437,10 @@ Result<void> find_again(link::Session& session, const LinkPlan& plan,
   o.checksum = plan.after.checksum;
   o.parity = plan.after.line.parity;
   o.stop_bits = plan.after.line.stop_bits;
-  auto found = link::reconnect(session, expected, o);
+  // A drive silent for a while after its reset (field-facts.md §5.2) is
+  // looked for again until recover_timeout, before the scan.
+  auto found =
+      link::reconnect_within(session, expected, o, session.client().options().recover_timeout);
   if (found.ok()) {
     rep.relink = std::move(found).value();
     return {};

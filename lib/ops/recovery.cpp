@@ -87,6 +87,9 @@ Result<std::optional<RecoveryRecord>> load_recovery(const fs::path& path) {
       r.keep.push_back(client::ModifiedParam{upid_member(k, where),
                                              unsigned_member(k, "value", 0xFFFFFFFF, where)});
     }
+    // Written by versions that know unacknowledged steps (docs/field.md); absent before.
+    if (auto u = j.find("unacknowledged"); u != j.end())
+      for (const auto& step : *u) r.unacknowledged.push_back(step.get<std::string>());
     return std::optional<RecoveryRecord>(std::move(r));
   } catch (const std::exception& e) {
     return Error(Errc::parse_error, path.string() + ": damaged recovery record (" + e.what() +
@@ -111,6 +114,7 @@ Result<void> save_recovery(const fs::path& path, const RecoveryRecord& rec) {
   for (const auto& k : rec.keep) {
     j["keep"].push_back({{"upid", config::detail::upid_hex(k.upid)}, {"value", k.value}});
   }
+  if (!rec.unacknowledged.empty()) j["unacknowledged"] = rec.unacknowledged;
   return config::write_file_atomic(path, j.dump(2) + "\n");
 }
 

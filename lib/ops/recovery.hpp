@@ -27,6 +27,9 @@ struct RecoveryRecord {
   std::vector<client::ModifiedParam> keep;  // values to write back (ROM)
   // `link`: the link options the drive was expected at after its reset ("" = none).
   std::string expect;
+  // `restore`: the long steps the drive never acknowledged but after which it
+  // answered again (ops/long_step.hpp); kept until the verify matched.
+  std::vector<std::string> unacknowledged;
 };
 
 // The directory ($XDG_STATE_HOME/lmcfg or $HOME/.local/state/lmcfg).

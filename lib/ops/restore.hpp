@@ -202,7 +202,14 @@ std::string render_skipped_incompatible(const Plan& p);
 // The plan as structured items (docs/restore.md "JSON report").
 nlohmann::ordered_json plan_json(const Plan& p);
 
-Result<void> execute_plan(client::Client& c, const Plan& p, const RestoreOptions& opt);
+// A long step (defaulting, flash save, MC start, reset) whose answer never
+// came but after which the drive answered again (ops/long_step.hpp) counts as
+// sent: the steps go on, `unacknowledged` (when given) gets one line per such
+// step, and the recovery record lists them and stays for the caller to remove
+// once its verify has matched. Without `unacknowledged` the caller must still
+// verify: execute_plan alone never proves a write.
+Result<void> execute_plan(client::Client& c, const Plan& p, const RestoreOptions& opt,
+                          std::vector<std::string>* unacknowledged = nullptr);
 
 struct VerifyReport {
   std::vector<std::string> mismatches;

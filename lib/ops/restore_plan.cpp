@@ -84,6 +84,9 @@ Result<EarlierRun> detect_earlier_run(client::Client& c, const RestoreOptions& o
                            " of a restore that did not finish (" + out.rec->created +
                            "): the command table and curves in scope are saved to flash again "
                            "and the drive restarted");
+      // ops/long_step.hpp: a save the drive never acknowledged is done again.
+      for (const auto& u : out.rec->unacknowledged)
+        plan.notes.push_back("the recovery record lists a step the drive never acknowledged: " + u);
     }
   }
   if (out.mc_was_stopped)

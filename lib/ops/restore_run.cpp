@@ -1,6 +1,7 @@
 #include "ops/restore_run.hpp"
 
 #include "ops/expected_link.hpp"
+#include "ops/recovery.hpp"
 
 namespace lmcfg::ops {
 
@@ -97,10 +98,11 @@ RestoreOutcome run_restore(link::Session& session, const config::DriveConfig& fi
     out.undo = std::move(saved).value();
   }
   out.written = true;
-  if (auto r = execute_plan(client, out.plan, o.restore); !r.ok())
+  if (auto r = execute_plan(client, out.plan, o.restore, &out.unacknowledged); !r.ok())
     return fail(std::move(r).error());
   if (out.plan.link_may_change && o.restore.reset_after) {
-    auto r = link::reconnect(session, expected_link(out.plan, db), o.overrides);
+    auto r = link::reconnect_within(session, expected_link(out.plan, db), o.overrides,
+                                    client.options().recover_timeout);
     if (!r.ok()) {
       return fail(Error(r.error().code,
                         "written, but the drive could not be found again: " + r.error().message +
@@ -125,11 +127,13 @@ RestoreOutcome run_restore(link::Session& session, const config::DriveConfig& fi
     }
     if (!pass->steps.empty()) {
       out.second_pass = std::move(pass).value();
-      if (auto r = execute_plan(client, *out.second_pass, o.restore); !r.ok()) {
+      std::vector<std::string> unacked;
+      if (auto r = execute_plan(client, *out.second_pass, o.restore, &unacked); !r.ok()) {
         Error e = std::move(r).error();
         e.message = "second pass (a table differed after the reset): " + e.message;
         return fail(std::move(e));
       }
+      for (auto& u : unacked) out.unacknowledged.push_back("second pass " + u);
       verify = verify_restore(client, out.plan, o.restore);
       if (!verify.ok()) {
         return fail(Error(verify.error().code,
@@ -141,6 +145,12 @@ RestoreOutcome run_restore(link::Session& session, const config::DriveConfig& fi
   }
   out.mismatches = std::move(verify->mismatches);
   out.stage = out.mismatches.empty() ? S::restored : S::verify_mismatch;
+  // Steps the drive never acknowledged (ops/long_step.hpp): the read-back
+  // decided. Matched: the record execute_plan kept for them goes.
+  if (out.stage == S::restored && !out.unacknowledged.empty() && !o.restore.recovery_path.empty()) {
+    if (auto r = remove_recovery(o.restore.recovery_path); !r.ok())
+      return fail(std::move(r).error());
+  }
   return out;
 }
 

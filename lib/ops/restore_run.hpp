@@ -50,6 +50,10 @@ struct RestoreOutcome {
   // --skip-incompatible left values out (Plan::skipped_incompatible).
   bool skipped_any() const { return !plan.skipped_incompatible.empty(); }
   std::optional<UndoSaved> undo;  // the undo record saved before the first write
+  // Long steps the drive never acknowledged but after which it answered again
+  // (ops/long_step.hpp), one line each ("step 9 (save ...): the drive did not
+  // acknowledge ..."): `restored` then means the read-back matched anyway.
+  std::vector<std::string> unacknowledged;
   // A DeviceNet controller's restore (ops/devicenet_restore.hpp): its plan;
   // `plan` stays empty (it is LinRS's). nullopt: a LinRS restore.
   std::optional<DevicenetPlan> devicenet;

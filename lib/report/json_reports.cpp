@@ -74,6 +74,7 @@ Json restore_json(const ops::RestoreOutcome& out, const std::string& file) {
   for (const auto& [k, v] : plan.items()) j[k] = v;
   if (out.second_pass) j["second_pass"] = ops::plan_json(*out.second_pass)["steps"];
   j["mismatches"] = out.mismatches;
+  if (!out.unacknowledged.empty()) j["unacknowledged"] = out.unacknowledged;
   if (out.undo) j["undo"] = undo_json(*out.undo);
   if (out.error) j["error"] = out.error->message;
   return j;

@@ -235,6 +235,14 @@ Answer Drive::finish(const Telegram& reply, std::int64_t extra_us, std::int64_t 
   return a;
 }
 
+std::optional<Answer> Drive::finish_long(const Telegram& reply, std::int64_t duration_us,
+                                         std::int64_t now_ns) {
+  if (!s_.options.unanswered_saves) return finish(reply, duration_us, now_ns);
+  busy_until_ns_ =
+      std::max(busy_until_ns_, now_ns + (s_.timing.turnaround_us + duration_us) * 1000);
+  return std::nullopt;
+}
+
 std::optional<Answer> Drive::error_answer(std::uint8_t comm_state, std::int64_t now_ns) {
   if (s_.options.ignore_while_busy && busy(now_ns)) {
     ++stats_.ignored_busy;
@@ -343,7 +351,7 @@ std::optional<Answer> Drive::on_parameter(const Telegram& t, std::int64_t now) {
     if (refuses_configuration())
       return finish(default_response(s_.options.config_refused_state), 0, now);
     default_layer(static_cast<Layer>(t.sub - codec::kParamDefaultLayerFirst + 1));
-    return finish(default_response(st::ok), s_.timing.defaulting_us, now);
+    return finish_long(default_response(st::ok), s_.timing.defaulting_us, now);
   }
   const std::uint16_t upid = get_u16le(t.data, 0);
   Parameter* p = find(upid);
@@ -381,7 +389,7 @@ std::optional<Answer> Drive::on_param_config(const Telegram& t, std::int64_t now
     if (refuses_configuration())
       return finish(id_value(sub, o.config_refused_state, key, layer), 0, now);
     default_layer(static_cast<Layer>(layer));
-    return finish(id_value(sub, st::ok, key, layer), s_.timing.defaulting_us, now);
+    return finish_long(id_value(sub, st::ok, key, layer), s_.timing.defaulting_us, now);
   }
   // 09h/0Bh: the UPID field is ignored (erratum 4, §10.3 "not used").
   if (op == CfgOp::next_modified) {

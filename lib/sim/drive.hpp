@@ -171,6 +171,13 @@ struct Options {
   bool empty_list_echo_upid = false;
   // The key and value fields of an answer with an error state (C1..C9 but C6).
   RefusalFields refusal_fields = RefusalFields::echo;
+  // ---- docs/field.md "Slow saves" ----
+  // Flash saves (§11, §12) and layer defaulting (§10.4) are done, the drive
+  // is deaf for their duration (Timing::flash_save_us, defaulting_us), and
+  // never answers them: "A command table flash save took about 39 s and was
+  // never acknowledged" (field-facts.md §5.1). Answers late (false, the
+  // default) is the other reading: set Timing to 40 s for that.
+  bool unanswered_saves = false;
   friend bool operator==(const Options&, const Options&) = default;
 
   static std::map<std::uint32_t, unsigned> default_baud_codes() {
@@ -298,6 +305,10 @@ class Drive {
   };
 
   Answer finish(const codec::Telegram& reply, std::int64_t delay_us, std::int64_t now_ns);
+  // A save or defaulting that takes `duration_us`: finish(), or with
+  // Options::unanswered_saves deaf for that long and no answer.
+  std::optional<Answer> finish_long(const codec::Telegram& reply, std::int64_t duration_us,
+                                    std::int64_t now_ns);
   codec::Telegram default_response(std::uint8_t comm_state,
                                    std::optional<std::uint32_t> value = {}) const;
   codec::Telegram id_value(std::uint8_t sub, std::uint8_t st, std::uint16_t key,

@@ -59,7 +59,7 @@ std::optional<Answer> Drive::on_curve(const Telegram& t, std::int64_t now) {
       if (s_.mc_running) return finish(id_value(sub, o.flash_refused_state, 0, 0), 0, now);
       s_.curves_flash = s_.curves_ram;
       ++stats_.flash_saves;
-      return finish(id_value(sub, st::ok, 0, 0), flash_save_duration_us(), now);
+      return finish_long(id_value(sub, st::ok, 0, 0), flash_save_duration_us(), now);
     case CurveOp::delete_all:
       s_.curves_ram.clear();
       xfer_ = {};
@@ -118,7 +118,7 @@ std::optional<Answer> Drive::on_command_table(const Telegram& t, std::int64_t no
     if (s_.mc_running) return finish(id_value(sub, o.flash_refused_state, 0, 0), 0, now);
     s_.ct_flash = s_.ct_ram;
     ++stats_.flash_saves;
-    return finish(id_value(sub, st::ok, 0, 0), flash_save_duration_us(), now);
+    return finish_long(id_value(sub, st::ok, 0, 0), flash_save_duration_us(), now);
   }
   if (op == CtOp::delete_all) {
     s_.ct_ram.clear();

@@ -318,6 +318,7 @@ void read_options(const json& j, DriveState& s) {
     read_comm_param(*it, "parity_param", O.parity_param, {"none", "even", "odd"});
     read_comm_param(*it, "stop_bits_param", O.stop_bits_param, {"1", "2"});
     O.silent_after_reset = bool_or(*it, "silent_after_reset", O.silent_after_reset);
+    O.unanswered_saves = bool_or(*it, "unanswered_saves", O.unanswered_saves);
   }
 }
 
@@ -414,6 +415,7 @@ json options_json(const Options& O) {
   comm_param("parity_param", O.parity_param);
   comm_param("stop_bits_param", O.stop_bits_param);
   if (O.silent_after_reset) j["silent_after_reset"] = true;
+  if (O.unanswered_saves) j["unanswered_saves"] = true;
   return j;
 }
 

@@ -303,3 +303,60 @@ TEST_CASE(
   CHECK(rig.drive->macid() == 0x05);
   CHECK(rig.drive->state().link.baud == 57600);
 }
+
+// field-facts.md §5.2: "ROM writes and flash saves left drives unresponsive
+// for 30-90 s". A drive whose restart after the restored link settings takes
+// 90 s: one round of reconnect finds nothing, reconnect_within keeps trying
+// until it answers (docs/field.md "Slow saves"), and gives up only after its
+// budget, saying so.
+TEST_CASE("field-facts.md §5.2 relink: a drive silent 90 s after its reset is found again",
+          "[relink][slow_saves]") {
+  auto db = test::built_database();
+  REQUIRE(db);
+  const auto file = moved_axis_file(*db);
+  for (const int budget_s : {180, 30}) {
+    DYNAMIC_SECTION("budget " << budget_s << " s") {
+      const auto dir = temp_dir("relink-slow");
+      auto spare = test::load_sim_drive("used-spare.json");
+      spare->state().timing.reset_us = 90'000'000;
+      REQUIRE(sim::save_state(spare->state(), (dir / "spare.sim.json").string()).ok());
+      link::LinkSpec lo;
+      lo.port = *link::parse_port("sim:" + (dir / "spare.sim.json").string());
+      auto session = link::open_session(lo);
+      REQUIRE(session.ok());
+      auto& client = (*session)->client();
+      ops::RestoreOptions ro;
+      ro.include_comm = true;
+      auto plan = ops::plan_restore(client, file, *db, ro);
+      REQUIRE(plan.ok());
+      REQUIRE(plan->link_may_change);
+      const auto t0 = client.link().now_ns();
+      REQUIRE(ops::execute_plan(client, *plan, ro).ok());
+      // The reset's answer (at the new settings) was waited for 6 s only.
+      CHECK((client.link().now_ns() - t0) / 1'000'000'000 < 20);
+      const auto expected = ops::expected_link(*plan, *db);
+      const auto t1 = client.link().now_ns();  // 6 s after the reset was sent
+      auto rep =
+          link::reconnect_within(**session, expected, {}, transport::Millis(budget_s * 1000));
+      const double took_s = static_cast<double>(client.link().now_ns() - t1) / 1e9;
+      if (budget_s == 180) {
+        REQUIRE(rep.ok());
+        CHECK(rep->summary == "the drive answers at 38400 Bd, MACID 22h, checksum none");
+        CHECK(took_s >= 83.0);  // the drive's 90 s, less the reset's 6 s wait
+        CHECK(took_s < 95.0);   // found within a round of candidates after it wakes
+        auto verify = ops::verify_restore(client, *plan, ro);
+        REQUIRE(verify.ok());
+        CHECK(verify->ok());
+      } else {
+        REQUIRE_FALSE(rep.ok());
+        CHECK(rep.error().code == make_error_code(Errc::timeout));
+        CHECK(rep.error().message.rfind("after the reset the drive answered none of the ", 0) == 0);
+        const std::string tail = "; looked for it for 30 s (--recover-timeout-s)";
+        CHECK(rep.error().message.substr(rep.error().message.size() - tail.size()) == tail);
+        CHECK(took_s >= 30.0);
+        CHECK(took_s < 45.0);
+      }
+      fs::remove_all(dir);
+    }
+  }
+}

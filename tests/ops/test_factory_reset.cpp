@@ -122,7 +122,7 @@ TEST_CASE("factory_reset: the record of an interrupted run is finished with the 
   d.recovery_path = dir.path / "default-sim-11h.json";
   d.port = "sim";
   // 1037h is an MC value: the MC layer is not defaulted now, so it is not written.
-  ops::RecoveryRecord rec{"default", "sim", 0x11, "2026-11-24T17:15:00Z", {}, {}};
+  ops::RecoveryRecord rec{"default", "sim", 0x11, "2026-11-24T17:15:00Z", {}, {}, {}};
   rec.keep = {{0x200E, 2}, {0x206C, 3}, {0x1037, 5}};
   REQUIRE(ops::save_recovery(d.recovery_path, rec).ok());
   const auto mc_before = modified(*rig.drive, 0x1000);
@@ -197,7 +197,7 @@ TEST_CASE(
   d.include_comm = true;
   d.recovery_path = dir.path / "default-sim-11h.json";
   d.port = "sim";
-  ops::RecoveryRecord rec{"default", "sim", 0x11, "2026-11-24T17:15:00Z", {}, {}};
+  ops::RecoveryRecord rec{"default", "sim", 0x11, "2026-11-24T17:15:00Z", {}, {}, {}};
   rec.keep = {{0x200E, 2}, {0x206C, 3}};
   REQUIRE(ops::save_recovery(d.recovery_path, rec).ok());
   auto rep = ops::default_drive(*rig.client, d, db::Database::empty());

@@ -90,7 +90,8 @@ TEST_CASE("recovery: a record is written as docs/restore.md shows it and read ba
   // The directory does not exist yet: saving creates it.
   const fs::path path = dir.path / "lmcfg" / "default-_dev_ttyUSB0-11h.json";
   ops::RecoveryRecord rec{
-      "default", "/dev/ttyUSB0", 0x11, "2026-11-23T16:00:00Z", {{0x200E, 2}, {0x2076, 0x11}}, ""};
+      "default", "/dev/ttyUSB0", 0x11, "2026-11-23T16:00:00Z", {{0x200E, 2}, {0x2076, 0x11}}, "",
+      {}};
   REQUIRE(ops::save_recovery(path, rec).ok());
   CHECK(test::slurp(path) ==
         "{\n"
@@ -126,7 +127,7 @@ TEST_CASE("recovery: a record is written as docs/restore.md shows it and read ba
 
   // `expect` only when set; a record with nothing to keep has an empty list.
   ops::RecoveryRecord link{
-      "link", "/dev/ttyS1", 0x3F, "2026-11-23T16:00:00Z", {}, "--baud 115200 --id 0x3F"};
+      "link", "/dev/ttyS1", 0x3F, "2026-11-23T16:00:00Z", {}, "--baud 115200 --id 0x3F", {}};
   const fs::path lpath = dir.path / "lmcfg" / "link.json";
   REQUIRE(ops::save_recovery(lpath, link).ok());
   const auto text = test::slurp(lpath);
@@ -221,7 +222,7 @@ TEST_CASE("recovery: a directory that cannot be created or a record that cannot 
   // A file where the directory should be.
   const fs::path blocker = dir.path / "lmcfg";
   test::spit(blocker, "");
-  ops::RecoveryRecord rec{"restore", "/dev/ttyUSB0", 0x11, "2026-11-23T16:00:00Z", {}, ""};
+  ops::RecoveryRecord rec{"restore", "/dev/ttyUSB0", 0x11, "2026-11-23T16:00:00Z", {}, "", {}};
   auto s = ops::save_recovery(blocker / "restore-_dev_ttyUSB0-11h.json", rec);
   REQUIRE_FALSE(s.ok());
   CHECK(s.error().code == Errc::file_error);

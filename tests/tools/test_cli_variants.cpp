@@ -154,7 +154,7 @@ TEST_CASE("docs/reliability.md: every subcommand works against every drive varia
       CHECK(def.exit_code == 0);
       if (variant.slow_default) {
         // Progress while the 8 s default runs (stderr is not a terminal here).
-        CHECK(def.err.find("lmcfg: still defaulting layer MC: 5 s (waiting up to 60 s; "
+        CHECK(def.err.find("lmcfg: still defaulting layer MC: 5 s (waiting up to 120 s; "
                            "--long-timeout-s)\n") != std::string::npos);
       }
       auto defaulted = tool(d.path, "get 13A2 --rom --json" + link);

@@ -100,6 +100,9 @@ int run(DefaultCli& o) {
     if (!rep->recovery_note.empty())
       std::fprintf(stderr, "recovery: %s\n", rep->recovery_note.c_str());
     for (const auto& s : rep->done) std::fprintf(stderr, "done: %s\n", s.c_str());
+    // docs/field.md "Slow saves": each one read back before success.
+    for (const auto& u : rep->unacknowledged)
+      std::fprintf(stderr, "note: %s; the read-back confirmed it\n", u.c_str());
     if (rep->link_may_change)
       std::fprintf(stderr,
                    "note: communication parameters are at their factory defaults: the drive now "

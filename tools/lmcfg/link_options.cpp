@@ -64,7 +64,11 @@ void add_link_options(CLI::App* sub, CommonOptions& o) {
       ->capture_default_str();
   sub->add_option("--long-timeout-s", o.long_timeout_s,
                   "deadline of each long operation (defaulting a layer, flash save, reset, MC "
-                  "start) in seconds; default: defaulting 60, flash save 30, reset and MC start 6");
+                  "start) in seconds; default 120 (real drives were silent for 30-90 s after "
+                  "saves, docs/field.md)");
+  sub->add_option("--recover-timeout-s", o.recover_timeout_s,
+                  "when a long operation's answer never comes: how long to poll for the drive "
+                  "to answer again, in seconds, before reading back what it holds; default 180");
   sub->add_option("--agreeing-reads", o.agreeing_reads,
                   "reads of each value that must agree: auto (1 with a checksum or parity; "
                   "without, 2, and 3 once the line has corrupted an answer) or 1..5 for every "
@@ -133,17 +137,22 @@ std::function<void(const std::string&, transport::Millis)> long_wait_reporter(
   const bool tty = ::isatty(STDERR_FILENO) != 0;
   const long long def_s = c.defaulting_timeout.count() / 1000,
                   flash_s = c.flash_timeout.count() / 1000,
-                  reset_s = c.reset_timeout.count() / 1000;
+                  reset_s = c.reset_timeout.count() / 1000,
+                  recover_s = c.recover_timeout.count() / 1000;
   return [=](const std::string& what, transport::Millis waited) {
     const long long s = waited.count() / 1000;
-    const long long limit = what.rfind("defaulting", 0) == 0          ? def_s
+    // Client::find_again reports "waiting for drive 11h to answer again after ...".
+    const bool recovering = what.rfind("waiting for drive", 0) == 0;
+    const long long limit = recovering                                ? recover_s
+                            : what.rfind("defaulting", 0) == 0        ? def_s
                             : what.find("flash") != std::string::npos ? flash_s
                                                                       : reset_s;
+    const char* option = recovering ? "--recover-timeout-s" : "--long-timeout-s";
     if (tty) {
       std::fprintf(stderr, "\r%s: %lld s (waiting up to %lld s) ", what.c_str(), s, limit);
     } else if (s >= 5 && s % 5 == 0) {
-      std::fprintf(stderr, "lmcfg: still %s: %lld s (waiting up to %lld s; --long-timeout-s)\n",
-                   what.c_str(), s, limit);
+      std::fprintf(stderr, "lmcfg: still %s: %lld s (waiting up to %lld s; %s)\n", what.c_str(), s,
+                   limit, option);
     }
   };
 }

@@ -78,6 +78,9 @@ void print_restored(const ops::RestoreOutcome& out, const std::string& file_name
                    "restore: after the restart a table differed from the file (its flash held "
                    "another one): second pass, %zu step(s) (write, save to flash, start MC)\n",
                    out.second_pass->steps.size());
+    // docs/field.md "Slow saves": the read-back decided these steps.
+    for (const auto& u : out.unacknowledged)
+      std::fprintf(stderr, "restore: note: %s; the read-back matched the file\n", u.c_str());
     std::fprintf(stderr,
                  "restore: %zu step(s) done, verified: the drive matches %s%s (%llu telegrams)\n",
                  out.plan.steps.size(), file_name.c_str(),
@@ -119,6 +122,8 @@ void print_outcome(const ops::RestoreOutcome& out, const std::string& file_name,
                    out.mismatches.size(),
                    out.second_pass ? " after a second pass that wrote the tables again" : "");
       for (const auto& m : out.mismatches) std::fprintf(stderr, "  %s\n", m.c_str());
+      for (const auto& u : out.unacknowledged)
+        std::fprintf(stderr, "restore: note: %s\n", u.c_str());
       break;
     case S::restored:
       if (text) print_restored(out, file_name, common, f, telegrams);
