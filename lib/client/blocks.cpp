@@ -39,6 +39,12 @@ struct Client::BlockVotes {
   std::vector<std::vector<Count>> at;  // per chunk position
   int passes = 0;
   bool stop_early_allowed = true;
+  // The bytes of the last chunk that belong to the block. The rest is padding
+  // (a 70-byte curve info block ends 2 bytes into its 18th chunk), and real
+  // drives leave stale data there (field-facts.md §4: "the two bytes after the
+  // 70-byte info block are not zero (stale data) and must not be taken as part
+  // of the block or compared"): masked before a read is kept or compared.
+  std::uint32_t last_mask = 0xFFFFFFFFu;
   explicit BlockVotes(std::size_t chunks) : at(chunks) {}
   void add(std::size_t i, std::uint32_t v) {
     for (auto& c : at[i]) {
@@ -161,7 +167,7 @@ Result<void> Client::block_pass(const Telegram& chunk_req, std::uint8_t chunk_su
       first_hole = std::min(first_hole, i);
       break;
     }
-    got[i] = r->value;
+    got[i] = last_chunk ? r->value & votes.last_mask : r->value;
     if (last_chunk) end_confirmed = true;
     if (stop_at && i == *stop_at && BlockVotes::checked_prefix(known, got, i + 1) == i + 1) {
       stopped = true;
@@ -186,6 +192,7 @@ Result<Bytes> Client::read_block(const Telegram& setup, std::uint8_t setup_sub,
                                  std::size_t size, const char* what) {
   const std::size_t chunks = (size + 3) / 4;
   BlockVotes votes(chunks);
+  if (size % 4 != 0) votes.last_mask = (1u << (8 * (size % 4))) - 1;
   // A curve's data block is read right after its info block without a setup
   // telegram (§11.1): the info block's passes read to its end, so that a
   // drive with one block cursor is where the data block starts.

@@ -33,9 +33,10 @@ std::string refused_subject(const Telegram& r) {
   return buf;
 }
 
-// Communication states LinRS §16.1 lists (error states and 00/04/C6).
+// Communication states a manual names: 00/04/C6 and the error states of
+// common/result.cpp's table (LinRS §16.1, and D7h of LinRS 3V27 p32).
 bool documented_state(std::uint8_t s) {
-  return s == 0x00 || s == 0x04 || s == 0xC6 || (s >= 0xC1 && s <= 0xC5) || s == 0xC8 || s == 0xC9;
+  return s == 0x00 || s == 0x04 || s == 0xC6 || comm_state_text(s) != nullptr;
 }
 
 }  // namespace
@@ -284,8 +285,8 @@ std::optional<Error> Client::refusal_in(const Exchange& x, const Telegram& answe
   Error refusal(make_comm_state_error(s), "drive " + hexid("%02Xh", opt_.id) + " refused " +
                                               describe(x.req) + refused_subject(x.req) + ": " +
                                               state::describe(s));
-  // LinRS §16.1 lists C1..C5, C8, C9. Another state is reported with its
-  // hex value.
+  // LinRS §16.1 lists C1..C5, C8, C9, LinRS 3V27 p32 adds D7h. Another state is
+  // reported with its hex value.
   if (!documented_state(s)) {
     ++stats_.undocumented_states;
     noise_seen_ = true;
@@ -489,6 +490,17 @@ Result<std::uint16_t> Client::get_type(std::uint16_t upid) {
                                                 upid, "type query");
                          }));
   return static_cast<std::uint16_t>(v & 0xFFFF);
+}
+Result<std::optional<std::uint16_t>> Client::read_address_usage(std::uint16_t upid) {
+  auto v = agreed<std::uint32_t>([&] {
+    return checked_value(cfg(CfgOp::address_usage, upid, true, opt_.timeout), upid,
+                         "address usage query");
+  });
+  if (v.ok()) return std::optional<std::uint16_t>(static_cast<std::uint16_t>(*v & 0xFFFF));
+  const auto& code = v.error().code;
+  if (code == make_comm_state_error(0xC3) || code == make_comm_state_error(0xC4))
+    return std::optional<std::uint16_t>();  // not known to this drive (seed 003 §10 lacks it)
+  return std::move(v).error();
 }
 Result<std::uint32_t> Client::get_min(std::uint16_t upid) {
   return agreed<std::uint32_t>([&] {

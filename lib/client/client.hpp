@@ -244,6 +244,11 @@ class Client {
   Result<std::uint32_t> get_min(std::uint16_t upid);
   Result<std::uint32_t> get_max(std::uint16_t upid);
   Result<std::uint32_t> get_default(std::uint16_t upid);
+  // LinRS 3V27 p27 (05h sub 03h, answer 53h): the address usage of one UPID,
+  // the low word of the answer's value. A drive of the seed's generation does
+  // not know the request: its C3h/C4h answer is nullopt (use the UPID list,
+  // §10.3). Other refusals (C8h unknown UPID) are errors.
+  Result<std::optional<std::uint16_t>> read_address_usage(std::uint16_t upid);
   // Modified-UPID list of a layer (§10.2). C6 ends the list; its UPID counts
   // once, only if it lies in the layer's range and was not already received
   // (facts note erratum 5).

@@ -73,6 +73,10 @@ Telegram make_param_default_layer(std::uint8_t id, int layer);
 enum class CfgOp : std::uint8_t {
   read_rom = 0x00,
   write_rom = 0x01,
+  // Not in seed 003 §10: LinRS 3V27 p27 "read a parameter's address usage";
+  // answered 53h with state, UPID and a 4-byte value whose low word is the
+  // address usage. A drive of the seed's generation may not know it.
+  address_usage = 0x03,
   get_type = 0x04,
   get_min = 0x05,
   get_max = 0x06,

@@ -39,6 +39,7 @@ std::optional<RequestSpec> request_spec(std::uint8_t main, std::uint8_t sub) {
       const auto a = static_cast<std::uint8_t>(0x50 + sub);
       switch (static_cast<CfgOp>(sub)) {
         case CfgOp::read_rom:
+        case CfgOp::address_usage:  // LinRS 3V27 p27
         case CfgOp::get_type:
         case CfgOp::get_min:
         case CfgOp::get_max:

@@ -57,32 +57,35 @@ class LmcfgCategory final : public std::error_category {
   }
 };
 
+// The error communication states and their texts: one table. LinRS §16.1 (seed
+// 003) lists C1..C5, C8, C9. Newer firmware answers states the seed does not
+// list (field-facts.md §3: "a drive may answer states the seed does not list,
+// and each is a refusal with its own text"); those a later manual names are
+// here with the page that names them.
+struct CommStateText {
+  unsigned state;
+  const char* text;
+};
+constexpr CommStateText kCommStates[] = {
+    {0xC1, "C1h checksum error"},
+    {0xC2, "C2h message format error: end of telegram (04h) missing"},
+    {0xC3, "C3h undefined message main ID"},
+    {0xC4, "C4h undefined message sub ID"},
+    {0xC5, "C5h wrong baud rate defined with S1"},
+    {0xC8, "C8h parameter unknown UPID"},
+    {0xC9, "C9h parameter wrong type"},
+    // LinRS 3V27 p32, the answer to "save curves to flash": "MC SW not stopped".
+    {0xD7, "D7h MC SW not stopped (LinRS 3V27 p32): stop the motion control software first"},
+};
+
 class CommStateCategory final : public std::error_category {
  public:
   const char* name() const noexcept override { return "linrs-comm-state"; }
   std::string message(int ev) const override {
-    // LinRS §16.1
-    switch (ev) {
-      case 0xC1:
-        return "C1h checksum error";
-      case 0xC2:
-        return "C2h message format error: end of telegram (04h) missing";
-      case 0xC3:
-        return "C3h undefined message main ID";
-      case 0xC4:
-        return "C4h undefined message sub ID";
-      case 0xC5:
-        return "C5h wrong baud rate defined with S1";
-      case 0xC8:
-        return "C8h parameter unknown UPID";
-      case 0xC9:
-        return "C9h parameter wrong type";
-      default: {
-        char buf[64];
-        std::snprintf(buf, sizeof buf, "%02Xh undocumented communication state", ev & 0xFF);
-        return buf;
-      }
-    }
+    if (const char* t = comm_state_text(static_cast<unsigned>(ev))) return t;
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%02Xh undocumented communication state", ev & 0xFF);
+    return buf;
   }
 };
 
@@ -121,6 +124,12 @@ class ErrorClassCategory final : public std::error_category {
 };
 
 }  // namespace
+
+const char* comm_state_text(unsigned state) noexcept {
+  for (const auto& s : kCommStates)
+    if (s.state == state) return s.text;
+  return nullptr;
+}
 
 std::optional<ErrorClass> class_of(const std::error_code& code) noexcept {
   if (code.category() == comm_state_category()) return ErrorClass::drive_refusal;

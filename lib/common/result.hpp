@@ -49,6 +49,9 @@ std::error_code make_error_code(Errc e) noexcept;
 // so a drive refusal carries the exact state code it answered.
 const std::error_category& comm_state_category() noexcept;
 std::error_code make_comm_state_error(unsigned state_byte) noexcept;
+// The text of an error communication state a manual names (LinRS §16.1; D7h
+// from LinRS 3V27 p32), or nullptr for a state no source names.
+const char* comm_state_text(unsigned state_byte) noexcept;
 
 // What an error means for the caller, whatever its code: the one
 // classification of lmcfg errors. An error_code compares equal to each class it

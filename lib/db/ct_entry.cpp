@@ -29,6 +29,7 @@ std::string summary_label(std::string_view catalogue_name) {
 }
 
 std::string CtEntry::summary() const {
+  if (!version_note.empty()) return version_note;
   std::string s = command_name;
   for (const auto& p : params)
     s += ", " + (p.name.empty() ? "parameter " + std::to_string(p.index) : summary_label(p.name)) +
@@ -43,6 +44,18 @@ Result<CtEntry> decode_ct_entry(const Database& db, ByteView entry) {
   CtEntry e;
   e.raw.assign(entry.begin(), entry.end());
   e.word0 = get_u16le(entry, 0);
+  if (e.word0 != kCtEntryVersion) {
+    // The offsets below are those of version A701h (DCF): under another
+    // version they would decode whatever sits there as a command.
+    char b[160];
+    std::snprintf(b, sizeof b,
+                  "entry version %04Xh, expected A701h (DCF): another layout; not decoded, kept "
+                  "raw (a restore writes its 64 bytes unchanged)",
+                  static_cast<unsigned>(e.word0));
+    e.version_note = b;
+    e.command_name = b;
+    return e;
+  }
   e.link = get_u16le(entry, 2);
   e.header = get_u16le(entry, 4);
   for (std::size_t i = 38; i < 54 && entry[i] != 0; ++i)

@@ -1,7 +1,9 @@
 #pragma once
 // Decoding a command table entry (LinRS §12.1; offsets from seed 001
 // §4.3.143 and linrs-facts.md) with the motion command catalogue.
-//   off 0..1   raw word, unresolved (format/version?)   kept raw
+//   off 0..1   entry version, fixed A701h (DCF; field-facts.md §4: "offset 0
+//              is the entry version, fixed A701h"); another value: nothing
+//              else is decoded (version_note says why), the bytes stay raw
 //   off 2..3   link ID (FFFFh: no successor)
 //   off 4..5   motion command header (master<<8 | sub<<4 | count)
 //   off 6..37  the command's parameters: entry offset = 4 + catalogue offset
@@ -20,6 +22,7 @@ namespace lmcfg::db {
 
 inline constexpr std::size_t kCtEntrySize = 64;
 inline constexpr std::uint16_t kCtNoLink = 0xFFFF;
+inline constexpr std::uint16_t kCtEntryVersion = 0xA701;  // DCF, entry offset 0
 
 struct CtParam {
   int index = 0;
@@ -30,7 +33,11 @@ struct CtParam {
 };
 
 struct CtEntry {
-  std::uint16_t word0 = 0;  // off 0, raw
+  std::uint16_t word0 = 0;  // off 0, the entry version (kCtEntryVersion)
+  // "" for version A701h; else why the entry is not decoded, e.g. "entry
+  // version 1234h, expected A701h (DCF): another layout; not decoded, kept raw
+  // (a restore writes its 64 bytes unchanged)". summary() is this note then.
+  std::string version_note;
   std::uint16_t link = kCtNoLink;
   std::uint16_t header = 0;
   const MotionCommand* command = nullptr;  // null when the header is not in the catalogue
@@ -49,7 +56,8 @@ struct CtEntry {
 std::string summary_label(std::string_view catalogue_name);
 
 // Errc::invalid_argument unless the entry is exactly 64 bytes. An unknown
-// command header is not an error (command == nullptr, no parameters).
+// command header is not an error (command == nullptr, no parameters), nor is
+// another entry version (version_note set, only word0 and raw filled in).
 Result<CtEntry> decode_ct_entry(const Database& db, ByteView entry);
 
 }  // namespace lmcfg::db

@@ -462,6 +462,7 @@ Result<Database> Database::open(const std::string& path) {
 
 const Parameter* Database::find(std::uint16_t upid, std::string_view profile) const {
   if (!impl_) return nullptr;
+  if (profile.empty()) profile = kReferenceProfile;
   const auto& u = impl_->upids;
   for (auto i = std::lower_bound(u.begin(), u.end(), upid); i != u.end() && *i == upid; ++i) {
     const Parameter& p = impl_->params[static_cast<std::size_t>(i - u.begin())];

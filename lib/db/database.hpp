@@ -84,6 +84,10 @@ struct Parameter {
   std::string format(std::uint32_t raw) const { return format_value(spec, raw); }
 };
 
+// The profile of the seeds (E1100 with LinRS): what find() looks in when no
+// profile is named.
+inline constexpr std::string_view kReferenceProfile = "e1100-mc-linrs";
+
 struct ErrorEntry {
   std::string domain;  // "mc", "linrs", "devicenet"
   std::uint32_t code = 0;
@@ -213,7 +217,11 @@ class Database {
   Database& operator=(const Database&) = delete;
   ~Database();
 
-  // First parameter with this UPID (that applies to `profile`, when given).
+  // First parameter with this UPID that applies to `profile`. Without a
+  // profile, the reference profile kReferenceProfile (the seeds' E1100): a
+  // name seen only for another family (field-facts.md §7: "never let a name
+  // from another family label a value of this one") labels nothing here, so a
+  // caller that does not know the drive's family gets the seeds' rows only.
   const Parameter* find(std::uint16_t upid, std::string_view profile = {}) const;
   // Every definition of the UPID (one per profile group), in row order.
   std::vector<const Parameter*> find_all(std::uint16_t upid) const;

@@ -151,6 +151,7 @@ LineRun read_line(const LineEntry& line, const ops::LineLink& link, const FleetO
         ops::BackupOptions bo = opt.backup;
         bo.progress = nullptr;
         bo.report = nullptr;
+        if (d.family) bo.family = d.family;
         auto cfg = (*session)->backup(line_drive(d), bo, opt.db.get());
         if (!cfg.ok()) {
           r.error = cfg.error();

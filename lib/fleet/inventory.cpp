@@ -155,7 +155,8 @@ constexpr std::string_view kLineKeys[] = {"name",
                                           "ignore",
                                           "on_replaced",
                                           "drive"};
-constexpr std::string_view kDriveKeys[] = {"name", "id", "labels", "ignore", "on_replaced"};
+constexpr std::string_view kDriveKeys[] = {"name",   "id",          "labels",
+                                           "ignore", "on_replaced", "family"};
 // A line whose port is a CAN link: DeviceNet controllers (docs/devicenet.md),
 // with the settings of the CLI's DeviceNet options of the same names.
 constexpr std::string_view kDevicenetLineKeys[] = {
@@ -169,7 +170,7 @@ constexpr std::string_view kLinrsOnlyLineKeys[] = {
     "baud", "parity", "stop_bits", "checksum", "checksum_coverage", "settle_ms", "agreeing_reads"};
 constexpr std::string_view kDevicenetOnlyLineKeys[] = {"can_bitrate", "devicenet_own_macid",
                                                        "devicenet_listen_ms"};
-constexpr std::string_view kLinrsOnlyDriveKeys[] = {"id"};
+constexpr std::string_view kLinrsOnlyDriveKeys[] = {"id", "family"};
 constexpr std::string_view kDevicenetOnlyDriveKeys[] = {"devicenet_macid", "devicenet_motors",
                                                         "io_modules", "no_module_values"};
 
@@ -290,6 +291,15 @@ void read_drive(Checker& c, const toml::table& t, LineEntry& line) {
   }
   d.ignore = c.upids(t, "ignore");
   d.on_replaced = c.on_replaced(t);
+  if (!line.devicenet) {
+    if (auto fam = c.string(t, "family", where, false)) {
+      auto f = families::parse(*fam, "drive '" + d.name + "'");
+      if (f.ok())
+        d.family = *f;
+      else
+        c.problem(t.get("family")->source(), f.error().message);
+    }
+  }
   line.drives.push_back(std::move(d));
 }
 

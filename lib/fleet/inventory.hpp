@@ -36,6 +36,7 @@
 #include <string_view>
 #include <vector>
 
+#include "common/families.hpp"
 #include "common/result.hpp"
 #include "devicenet/command.hpp"
 #include "fleet/names.hpp"
@@ -60,6 +61,9 @@ struct DriveEntry {
   // for: "notify" (the event only) or "restore" (the archived file restored).
   // Unset: the line's, else "notify".
   std::optional<std::string> on_replaced;
+  // LinRS: `family = "C1100"` (optional; common/families.hpp, docs/families.md).
+  // nullptr: not named, taken for the seeds' E1100.
+  const families::Family* family = nullptr;
   // DeviceNet controllers only, as --devicenet-motors, --io-modules and
   // --no-module-values: the motors (nullopt: probed), the IO modules (nullopt:
   // the default layout), whether the encoder/IO module values are read.

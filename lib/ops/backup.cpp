@@ -20,8 +20,8 @@ std::string utc_now() {
 }
 
 std::string display_value(const db::Database& db, std::uint16_t upid, std::uint32_t value,
-                          std::optional<std::uint8_t> type) {
-  const db::Parameter* d = db.find(upid);
+                          std::optional<std::uint8_t> type, std::string_view profile) {
+  const db::Parameter* d = db.find(upid, profile);
   db::ValueSpec spec = d ? d->spec : db::ValueSpec{};
   if (!spec.type && type) spec.type = db::type_from_code(*type);
   const bool labelled = std::any_of(
@@ -34,11 +34,13 @@ std::string display_value(const db::Database& db, std::uint16_t upid, std::uint3
 }
 
 void annotate(config::DriveConfig& cfg, const db::Database& db) {
+  const families::Family* fam = families::find(cfg.identity.product);
+  const std::string_view profile = fam ? fam->profile : std::string_view();
   for (auto& layer : cfg.layers) {
     for (auto& p : layer) {
-      const db::Parameter* d = db.find(p.upid);
+      const db::Parameter* d = db.find(p.upid, profile);
       if (!d) {
-        if (p.type) p.scaled = display_value(db, p.upid, p.value, p.type);
+        if (p.type) p.scaled = display_value(db, p.upid, p.value, p.type, profile);
         continue;
       }
       p.name = d->name;
@@ -46,7 +48,7 @@ void annotate(config::DriveConfig& cfg, const db::Database& db) {
       if (!p.type && d->spec.type) p.type = static_cast<std::uint8_t>(*d->spec.type);
       if (!p.default_value && d->default_value)
         p.default_value = static_cast<std::uint32_t>(*d->default_value);
-      p.scaled = display_value(db, p.upid, p.value, p.type);
+      p.scaled = display_value(db, p.upid, p.value, p.type, profile);
     }
   }
 }
@@ -95,7 +97,10 @@ std::optional<std::uint8_t> file_type_code(std::uint16_t drive_type) {
 Result<void> describe_from_drive(client::Client& c, const db::Database& db, int layer,
                                  std::vector<config::Parameter>& params,
                                  const std::set<std::uint16_t>* modified,
-                                 const Progress& progress) {
+                                 const BackupOptions& opt) {
+  const Progress& progress = opt.progress;
+  // DCF p8: a B1100 stores no defaults, so none is asked (field-facts.md §1).
+  const bool defaults = !opt.family || opt.family->stored_defaults;
   const std::string phase = "types and defaults " + std::string(lmcfg::layers::name(layer));
   std::size_t n = 0;
   for (auto& p : params) {
@@ -105,7 +110,7 @@ Result<void> describe_from_drive(client::Client& c, const db::Database& db, int 
       LMCFG_ASSIGN_OR_RETURN(auto t, unless_refused(c.get_type(p.upid)));
       if (t) p.type = file_type_code(*t);
     }
-    if (!p.default_value && !(d && d->default_value)) {
+    if (defaults && !p.default_value && !(d && d->default_value)) {
       if (modified && !modified->count(p.upid)) {
         p.default_value = p.value;
       } else {
@@ -129,7 +134,7 @@ Result<void> read_layer(client::Client& c, const BackupOptions& opt, const db::D
     for (const auto& m : mods)
       out.push_back(config::Parameter{m.upid, m.value, std::nullopt, std::nullopt, {}, {}, {}});
     report(opt.progress, phase, mods.size(), mods.size());
-    if (opt.ask_drive) LMCFG_TRY(describe_from_drive(c, db, layer, out, nullptr, opt.progress));
+    if (opt.ask_drive) LMCFG_TRY(describe_from_drive(c, db, layer, out, nullptr, opt));
     return {};
   }
   LMCFG_ASSIGN_OR_RETURN(auto list, c.upid_list(layer, [&](std::size_t n) {
@@ -151,7 +156,7 @@ Result<void> read_layer(client::Client& c, const BackupOptions& opt, const db::D
     LMCFG_ASSIGN_OR_RETURN(auto mods, c.modified_list(layer));
     std::set<std::uint16_t> modified;
     for (const auto& m : mods) modified.insert(m.upid);
-    LMCFG_TRY(describe_from_drive(c, db, layer, out, &modified, opt.progress));
+    LMCFG_TRY(describe_from_drive(c, db, layer, out, &modified, opt));
   }
   return {};
 }
@@ -252,25 +257,48 @@ config::DriveConfig new_capture(const client::Client& c, const db::Database& db)
   return cfg;
 }
 
+namespace {
+// What the family leaves out, said (field-facts.md §1).
+std::vector<std::string> family_notes(const BackupOptions& opt, const families::Family& f) {
+  std::vector<std::string> n;
+  const std::string name(f.name);
+  if (opt.curves && !f.curves)
+    n.push_back(name + " has no curve group (LinRS 3V27 §11): curves not asked, not in the file");
+  if (opt.command_table && !f.command_table)
+    n.push_back(name +
+                " has no command table group (LinRS 3V27 §12): command table not asked, not in "
+                "the file");
+  if (opt.ask_drive && !f.stored_defaults)
+    n.push_back(name + " stores no default values (DCF p8): defaults not asked");
+  return n;
+}
+}  // namespace
+
 Result<config::DriveConfig> backup(client::Client& c, const BackupOptions& opt,
                                    const db::Database& db) {
   config::DriveConfig cfg = new_capture(c, db);
+  const families::Family& fam = opt.family ? *opt.family : families::reference();
+  const bool curves = opt.curves && fam.curves;
+  const bool command_table = opt.command_table && fam.command_table;
   cfg.scope.layers = opt.layers;
   cfg.scope.parameters = opt.full ? config::ParamSet::full : config::ParamSet::modified;
-  cfg.scope.curves = opt.curves;
-  cfg.scope.command_table = opt.command_table;
+  cfg.scope.curves = curves;
+  cfg.scope.command_table = command_table;
+  if (opt.family) cfg.identity.product = std::string(fam.name);
 
   std::vector<client::UpidInfo> all_upids;
-  std::vector<std::string> notes;
+  std::vector<std::string> notes = family_notes(opt, fam);
   for (int layer = 1; layer <= 4; ++layer) {
     if (!opt.layers[static_cast<std::size_t>(layer - 1)]) continue;
     LMCFG_TRY(read_layer(c, opt, db, layer, cfg, all_upids));
   }
   if (opt.full) cfg.identity.upid_fingerprint = fingerprint(all_upids);
-  if (opt.curves) {
-    LMCFG_ASSIGN_OR_RETURN(cfg.curves, read_curves(c, opt.max_curve_id, opt.progress, "curves"));
+  if (curves) {
+    const auto limit =
+        static_cast<std::uint16_t>(std::min<unsigned>(opt.max_curve_id, fam.curve_limit));
+    LMCFG_ASSIGN_OR_RETURN(cfg.curves, read_curves(c, limit, opt.progress, "curves"));
   }
-  if (opt.command_table) {
+  if (command_table) {
     LMCFG_ASSIGN_OR_RETURN(cfg.ct_entries,
                            read_command_table(c, opt.progress, "command table", notes));
   }
@@ -288,6 +316,11 @@ namespace lmcfg::ops {
 
 std::optional<config::CtEntryView> DatabaseCtDecoder::decode(std::uint32_t, ByteView raw) const {
   auto e = db::decode_ct_entry(db_, raw);
+  if (e.ok() && !e->version_note.empty()) {
+    config::CtEntryView v;
+    v.summary = e->version_note;  // said, not decoded with the wrong layout
+    return v;
+  }
   if (!e.ok() || !e->command) return std::nullopt;
   config::CtEntryView v;
   v.summary = e->summary();

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "client/client.hpp"
+#include "common/families.hpp"
 #include "common/progress.hpp"
 #include "config/model.hpp"
 
@@ -47,6 +48,13 @@ struct BackupOptions {
   // UPID from its value). false: only what the database knows, fewer telegrams.
   bool ask_drive = true;
   std::uint16_t max_curve_id = 100;  // storage limit of 100 curves (facts note)
+  // The drive's family (common/families.hpp; --family, the inventory's
+  // `family`). nullptr: not named, taken for the seeds' E1100. A family without
+  // curves, command table or stored defaults (B1100) is not asked for them: the
+  // scope leaves them out and a note says so. Curves are probed up to the
+  // family's storage limit. Its name goes into identity.product and its
+  // upid-db profile labels the values.
+  const families::Family* family = nullptr;
   Progress progress;
   BackupReport* report = nullptr;  // filled when given
 };
@@ -75,14 +83,17 @@ Result<std::vector<config::CtEntry>> read_command_table(client::Client& c, const
 config::DriveConfig new_capture(const client::Client& c, const db::Database& db);
 
 // Fills display fields (name, unit, scaled text, type) of every parameter from
-// the database; leaves unknown UPIDs untouched.
+// the database; leaves unknown UPIDs untouched. The rows are those of the
+// profile of the family cfg.identity.product names (common/families.hpp),
+// else of the reference profile (db::Database::find).
 void annotate(config::DriveConfig& cfg, const db::Database& db);
 
 // A parameter value for people: the database's formatting (scale, unit, enum
 // label) when it knows the type or a label for this value, else formatted by
 // `type` (a type code recorded in a file) when given, else decimal and hex.
 std::string display_value(const db::Database& db, std::uint16_t upid, std::uint32_t value,
-                          std::optional<std::uint8_t> type = std::nullopt);
+                          std::optional<std::uint8_t> type = std::nullopt,
+                          std::string_view profile = {});
 
 // ISO 8601 UTC of now ("2026-11-22T04:05:06Z").
 std::string utc_now();

@@ -263,6 +263,8 @@ std::string ct_changes(const db::Database& db, const config::CtEntry& a, const c
   auto da = db::decode_ct_entry(db, a.raw);
   auto dbb = db::decode_ct_entry(db, b.raw);
   if (!da.ok() || !dbb.ok()) return "raw bytes differ";
+  if (!da->version_note.empty()) return "raw bytes differ; " + da->version_note;
+  if (!dbb->version_note.empty()) return "raw bytes differ; " + dbb->version_note;
   std::vector<std::string> parts;
   if (da->header >> 4 != dbb->header >> 4) {
     parts.push_back(da->command_name + " -> " + dbb->command_name);

@@ -113,6 +113,10 @@ std::optional<std::string> SettingMap::value_of(std::uint32_t raw) const {
   return std::nullopt;
 }
 
+namespace {
+constexpr const char* kChecksumSource = "LinRS 3V27 §4.4";
+}  // namespace
+
 Result<LinkMap> link_map(const db::Database& db, const std::vector<std::string>& entries) {
   LinkMap m;
   // "UPID: 0x200Eh, Baud Rate Source Select, Value: 0x00000002h, By Parameter",
@@ -123,6 +127,9 @@ Result<LinkMap> link_map(const db::Database& db, const std::vector<std::string>&
   m[S::baud] = {kBaudRateCode, {{8, "38400"}}, "seed 003 §10.2"};
   m[S::macid_source] = {kMacidSource, {{kMacidByParameter, "parameter"}}, "seed 003 §10.2"};
   m[S::macid] = {kMacidValue, {}, "seed 003 §10.2"};
+  // The checksum's UPID from a later manual; its raw values from --map only.
+  // A --map with another UPID replaces it (a firmware may differ: keep it mappable).
+  m[S::checksum] = {kChecksumUpid, {}, kChecksumSource};
   // The database's labels of 2012h ("8=38400 Bit/s"): what a merged firmware
   // profile adds.
   if (const db::Parameter* d = db.find(kBaudRateCode)) {
@@ -157,7 +164,7 @@ Result<LinkMap> link_map(const db::Database& db, const std::vector<std::string>&
     if (s == S::macid) return bad("the MACID's raw value is the ID itself: nothing to map");
     SettingMap& sm = m[s];
     if (upid) {
-      if (sm.upid && *sm.upid != *upid)
+      if (sm.upid && *sm.upid != *upid && sm.source != kChecksumSource)
         return bad("seed 003 §10.2 gives " + std::string(setting_title(s)) + " the UPID " +
                    hex(*sm.upid, 4, "h"));
       sm.upid = upid;
@@ -238,6 +245,10 @@ Result<std::uint32_t> raw_for(const LinkMap& map, S s, const std::string& option
                               "them with --map " +
                               std::string(setting_key(s)) + "@UPID:VALUE=RAW,...");
   auto raw = m.raw_of(value);
+  if (!raw && m.codes.empty() && m.source == kChecksumSource)
+    return refuse(option,
+                  "LinRS 3V27 §4.4 gives the checksum's UPID, 2080h, but no source its "
+                  "raw values; give them with --map checksum:VALUE=RAW,...");
   if (!raw)
     return refuse(
         option, "no raw value of " + hex(*m.upid, 4, "h") + " " + std::string(setting_title(s)) +

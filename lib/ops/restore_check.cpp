@@ -98,7 +98,8 @@ Result<bool> target_range(client::Client& c, db::TypeCode code, std::uint16_t up
 // database does not know every address usage; else the type is asked.
 Result<bool> check_parameter(client::Client& c, const db::Database& db, const RestoreOptions& opt,
                              int layer, const config::Parameter& p,
-                             const std::map<std::uint16_t, client::UpidInfo>* listed, Plan& plan) {
+                             const std::map<std::uint16_t, client::UpidInfo>* listed,
+                             const std::map<std::uint16_t, std::uint16_t>* usage, Plan& plan) {
   const db::Parameter* d = db.find(p.upid);
   const std::string label = param_label(layer, p.upid, d, &p);
   auto cannot = [&](Incompatibility r, std::string why) {
@@ -111,6 +112,12 @@ Result<bool> check_parameter(client::Client& c, const db::Database& db, const Re
   std::optional<db::AddressUsage> address_usage;
   const char* au_source = "the UPID database's";
   if (d) address_usage = d->address_usage;
+  if (!address_usage && usage) {
+    if (auto it = usage->find(p.upid); it != usage->end()) {
+      address_usage = db::AddressUsage{it->second};
+      au_source = "the target's";
+    }
+  }
   if (listed) {
     auto it = listed->find(p.upid);
     if (it == listed->end()) {

@@ -57,9 +57,12 @@ struct Builder {
 // target; problems, incompatible values and notes go to `plan`. True when the
 // target can take it; link errors propagate. `listed`: the target's UPID list
 // of the layer (§10.3) where the database lacks an address usage.
+// `usage`: address usages the target answered one by one (05h/03h, LinRS
+// 3V27 p27), where the database lacks them and no list was read.
 Result<bool> check_parameter(client::Client& c, const db::Database& db, const RestoreOptions& opt,
                              int layer, const config::Parameter& p,
-                             const std::map<std::uint16_t, client::UpidInfo>* listed, Plan& plan);
+                             const std::map<std::uint16_t, client::UpidInfo>* listed,
+                             const std::map<std::uint16_t, std::uint16_t>* usage, Plan& plan);
 // restore_check.cpp: the file's curves and command table entries against the
 // drive's limits; returns the file less (with skip_incompatible) what the
 // target cannot take.

@@ -207,10 +207,33 @@ void keep_recorded_values(const RecoveryRecord& rec, LayerWork& w) {
   }
 }
 
+// The target's address usage of each write the database does not know it of,
+// one 05h/03h request each (LinRS 3V27 p27), instead of walking the layer's
+// UPID list. nullopt when the target does not answer the request (the seed's
+// generation: C3h/C4h): then the UPID list tells. A UPID the target does not
+// know (C8h) is left out: the type query finds it absent.
+Result<std::optional<std::map<std::uint16_t, std::uint16_t>>> ask_address_usage(
+    Builder& b, const LayerWork& w) {
+  std::map<std::uint16_t, std::uint16_t> usage;
+  for (const auto& x : w.writes) {
+    const db::Parameter* d = b.db.find(x.p.upid);
+    if (d && d->address_usage) continue;
+    auto au = b.c.read_address_usage(x.p.upid);
+    if (!au.ok()) {
+      if (au.error().code == make_comm_state_error(0xC8)) continue;
+      return std::move(au).error();
+    }
+    if (!*au) return std::optional<std::map<std::uint16_t, std::uint16_t>>();
+    usage[x.p.upid] = **au;
+  }
+  return std::optional<std::map<std::uint16_t, std::uint16_t>>(std::move(usage));
+}
+
 // Phase 1d: every write checked against the target. ROM write access must be
 // known before a write (§10 address usage bit 3). Where the database does not
-// know it, the target's UPID list tells, with the type of every UPID, in one
-// walk of the layer. Returns the UPIDs the target cannot take.
+// know it, the target tells: per UPID where it answers 05h/03h (LinRS 3V27
+// p27), else its UPID list, with the type of every UPID, in one walk of the
+// layer. Returns the UPIDs the target cannot take.
 Result<std::set<std::uint16_t>> check_writes(Builder& b, const LayerWork& w) {
   const int layer = w.layer;
   const std::size_t au_unknown = std::count_if(w.writes.begin(), w.writes.end(), [&](auto& x) {
@@ -218,23 +241,33 @@ Result<std::set<std::uint16_t>> check_writes(Builder& b, const LayerWork& w) {
     return !(d && d->address_usage);
   });
   std::optional<std::map<std::uint16_t, client::UpidInfo>> listed;
+  std::optional<std::map<std::uint16_t, std::uint16_t>> usage;
+  const std::string lname(lmcfg::layers::name(layer));
   if (au_unknown) {
-    const std::string phase = "plan: " + std::string(lmcfg::layers::name(layer)) + " UPID list";
+    LMCFG_ASSIGN_OR_RETURN(usage, ask_address_usage(b, w));
+  }
+  if (usage) {
+    b.plan.notes.push_back(lname + ": the UPID database does not know the address usage of " +
+                           std::to_string(au_unknown) +
+                           " parameter(s); asked the target for each (05h/03h, LinRS 3V27 p27) "
+                           "to check ROM write access");
+  } else if (au_unknown) {
+    const std::string phase = "plan: " + lname + " UPID list";
     LMCFG_ASSIGN_OR_RETURN(auto list, b.c.upid_list(layer, [&](std::size_t n) {
       if (b.opt.progress) b.opt.progress(phase, n, 0);
     }));
     listed.emplace();
     for (const auto& u : list) (*listed)[u.upid] = u;
     b.plan.notes.push_back(
-        std::string(lmcfg::layers::name(layer)) +
-        ": the UPID database does not know the address usage of " + std::to_string(au_unknown) +
-        " parameter(s); read the target's UPID list (" + std::to_string(list.size()) +
-        " UPIDs, §10.3) to check ROM write access");
+        lname + ": the UPID database does not know the address usage of " +
+        std::to_string(au_unknown) + " parameter(s); read the target's UPID list (" +
+        std::to_string(list.size()) + " UPIDs, §10.3) to check ROM write access");
   }
   std::set<std::uint16_t> cannot;
   for (const auto& x : w.writes) {
-    LMCFG_ASSIGN_OR_RETURN(const bool fits, check_parameter(b.c, b.db, b.opt, layer, x.p,
-                                                            listed ? &*listed : nullptr, b.plan));
+    LMCFG_ASSIGN_OR_RETURN(
+        const bool fits, check_parameter(b.c, b.db, b.opt, layer, x.p, listed ? &*listed : nullptr,
+                                         usage ? &*usage : nullptr, b.plan));
     if (!fits) cannot.insert(x.p.upid);
   }
   return cannot;
@@ -290,12 +323,40 @@ Result<void> compare_layer(Builder& b, const config::DriveConfig& file, const Ea
   return {};
 }
 
+// A file's curves or command table in scope for a family without that group
+// (B1100: "not on B1100", LinRS 3V27 §11-§12): a problem that refuses the
+// restore, or with --skip-incompatible a table skipped. True: plan the
+// tables (what is left of them in scope).
+bool tables_exist(Builder& b, config::DriveConfig& file) {
+  const families::Family* f = b.opt.family;
+  if (!f) return true;
+  const std::string name(f->name);
+  auto missing = [&](bool& in_scope, bool has, const std::string& what, const char* section) {
+    if (!in_scope || has) return;
+    const std::string why = "a " + name + " has no " + what + " group (LinRS 3V27 " + section + ")";
+    if (b.opt.skip_incompatible) {
+      b.plan.skipped.push_back("the file's " + what + ": " + why);
+      in_scope = false;
+    } else {
+      b.plan.problems.push_back("the file has a " + what + " in scope, but " + why +
+                                "; --skip-incompatible restores the rest");
+    }
+  };
+  missing(file.scope.curves, f->curves, "curve", "§11");
+  missing(file.scope.command_table, f->command_table, "command table", "§12");
+  if (b.plan.ok()) return true;
+  b.plan.steps.clear();
+  return false;
+}
+
 // Leftovers go back to their defaults either by defaulting the layer (§10.4,
 // > 1 s; then what the target already held must be written again) or by
 // writing each back to the default the target reports (05h 07h, a value the
 // target accepts by definition). The cheaper one; same end state.
 bool defaulting_is_cheaper(const RestoreOptions& opt, const LayerWork& w, double tel_us) {
   if (!opt.default_first || w.leftovers.empty()) return false;
+  // DCF p8: a B1100 stores no defaults, so it has none to default a layer to.
+  if (opt.family && !opt.family->stored_defaults) return false;
   const double cost_writes = 2.0 * static_cast<double>(w.leftovers.size()) * tel_us;
   const double cost_default =
       tel_us + kDefaultingEstimateUs + static_cast<double>(w.same.size() + w.keep.size()) * tel_us;
@@ -427,10 +488,13 @@ Result<Plan> plan_restore(client::Client& c, const config::DriveConfig& file,
   plan.expected.identity = file.identity;
   plan.expected.scope = file.scope;
   // The tables the restore writes: the file's, less what the target cannot take.
-  const config::DriveConfig tables = check_tables(file, opt, plan);
-  if (file.scope.curves) plan.expected.curves = tables.curves;
-  if (file.scope.command_table) plan.expected.ct_entries = tables.ct_entries;
+  config::DriveConfig tables = check_tables(file, opt, plan);
   Builder b{c, db, opt, plan};
+  if (!tables_exist(b, tables)) return plan;
+  plan.expected.scope.curves = tables.scope.curves;
+  plan.expected.scope.command_table = tables.scope.command_table;
+  if (tables.scope.curves) plan.expected.curves = tables.curves;
+  if (tables.scope.command_table) plan.expected.ct_entries = tables.ct_entries;
   LMCFG_ASSIGN_OR_RETURN(const EarlierRun earlier, detect_earlier_run(c, opt, plan));
   const bool recovered = earlier.rec.has_value();
 
@@ -471,8 +535,8 @@ Result<Plan> plan_restore(client::Client& c, const config::DriveConfig& file,
   // held another table: plan_table_pass writes and saves it then.
   // docs/restore.md.
   const bool force_save = earlier.mc_was_stopped || recovered;
-  if (file.scope.command_table) LMCFG_TRY(plan_command_table(b, tables, force_save));
-  if (file.scope.curves) LMCFG_TRY(plan_curves(b, tables, force_save));
+  if (tables.scope.command_table) LMCFG_TRY(plan_command_table(b, tables, force_save));
+  if (tables.scope.curves) LMCFG_TRY(plan_curves(b, tables, force_save));
   if (earlier.mc_was_stopped || recovered) rom_changed = true;  // restart so every ROM value acts
   if (plan.steps.empty() && !earlier.mc_was_stopped && !recovered)
     return plan;  // nothing to do: MC keeps running

@@ -14,6 +14,14 @@ using Action = PlanStep::Action;
 
 // Entries that differ or are missing are written, entries only on the target
 // deleted, one flash save when any is.
+namespace {
+// LinRS 3V27 p32: on a C1100 curve and command table add/delete act on flash
+// directly and "save to flash" has no function: no save step, and a delete is
+// no RAM-only change (field-facts.md §1).
+bool direct_flash(const Builder& b) { return b.opt.family && !b.opt.family->flash_save; }
+const char* where(const Builder& b) { return direct_flash(b) ? "on flash (C1100)" : "in RAM"; }
+}  // namespace
+
 Result<void> plan_command_table(Builder& b, const config::DriveConfig& file, bool force_save) {
   LMCFG_ASSIGN_OR_RETURN(auto ids, b.c.ct_defined_entries());
   std::map<std::uint32_t, Bytes> target;
@@ -49,7 +57,7 @@ Result<void> plan_command_table(Builder& b, const config::DriveConfig& file, boo
   for (auto id : deletes) {
     b.add(Action::delete_ct, id,
           "delete command table entry " + std::to_string(id) + " '" +
-              config::ct_entry_name(target[id]) + "' in RAM (§12 08h 02h)",
+              config::ct_entry_name(target[id]) + "' " + where(b) + " (§12 08h 02h)",
           1);
   }
   for (const auto* e : writes) {
@@ -58,6 +66,7 @@ Result<void> plan_command_table(Builder& b, const config::DriveConfig& file, boo
               config::ct_entry_name(e->raw) + "'",
           1 + chunks(e->raw.size()));
   }
+  if (direct_flash(b)) return {};
   b.add(Action::save_ct, 0,
         "save the command table to flash (§12 08h 00h saves every entry; up to 10 s)", 1);
   return {};
@@ -119,12 +128,14 @@ Result<void> plan_curves(Builder& b, const config::DriveConfig& file, bool force
   if (writes.empty() && deletes.empty() && !force_save) return {};
   for (const auto& [id, name] : deletes)
     b.add(Action::delete_curve, id,
-          "delete curve " + std::to_string(id) + " '" + name + "' in RAM (§11 04h 02h)", 1);
+          "delete curve " + std::to_string(id) + " '" + name + "' " + where(b) + " (§11 04h 02h)",
+          1);
   for (const auto* cv : writes) {
     b.add(Action::write_curve, cv->id,
           "write curve " + std::to_string(cv->id) + " '" + curve_name(cv->info) + "'",
           1 + chunks(cv->info.size()) + chunks(cv->data.size()));
   }
+  if (direct_flash(b)) return {};
   b.add(Action::save_curves, 0,
         "save curves to flash (§11 04h 00h saves every curve, there is no per-curve save; up to "
         "10 s)",

@@ -279,19 +279,45 @@ std::optional<Answer> Drive::handle(const Telegram& t, std::int64_t now) {
       last_motion_header_ = get_u16le(t.data, 0);
       return finish(default_response(st::ok), 0, now);
     case Main::parameter:
+      if (!family().stored_defaults && (t.sub == static_cast<std::uint8_t>(ParamOp::get_default) ||
+                                        t.sub >= codec::kParamDefaultLayerFirst))
+        return error_answer(st::bad_sub_id, now);  // DCF p8: no stored defaults
       return on_parameter(t, now);
     case Main::curve:
-      return on_curve(t, now);
+      if (!family().curves) return error_answer(st::bad_main_id, now);  // 3V27 §11
+      return on_family_table(t, now);
     case Main::param_config:
+      if (!family().stored_defaults && (t.sub == static_cast<std::uint8_t>(CfgOp::get_default) ||
+                                        t.sub >= static_cast<std::uint8_t>(CfgOp::default_os)))
+        return error_answer(st::bad_sub_id, now);
       return on_param_config(t, now);
     case Main::program:
       return on_program(t, now);
     case Main::error_info:
       return on_error_info(t, now);
     case Main::command_table:
-      return on_command_table(t, now);
+      if (!family().command_table) return error_answer(st::bad_main_id, now);  // 3V27 §12
+      return on_family_table(t, now);
   }
   return error_answer(st::bad_main_id, now);
+}
+
+const families::Family& Drive::family() const {
+  const families::Family* f = families::find(s_.options.family);
+  return f ? *f : families::reference();
+}
+
+// Curves and command table as the family keeps them. LinRS 3V27 p32: on a
+// C1100 add and delete act on flash directly, "save to flash" has no function.
+std::optional<Answer> Drive::on_family_table(const Telegram& t, std::int64_t now) {
+  const bool curve = t.main == static_cast<std::uint8_t>(Main::curve);
+  if (family().flash_save) return curve ? on_curve(t, now) : on_command_table(t, now);
+  if (t.sub == 0x00)  // save to flash (§11 04h 00h, §12 08h 00h): nothing to do
+    return finish(id_value(codec::expected_answer_sub(t), st::ok, 0, 0), 0, now);
+  auto a = curve ? on_curve(t, now) : on_command_table(t, now);
+  s_.curves_flash = s_.curves_ram;
+  s_.ct_flash = s_.ct_ram;
+  return a;
 }
 
 std::optional<Answer> Drive::on_response_request(const Telegram& t, std::int64_t now) {
@@ -461,6 +487,9 @@ std::optional<Answer> Drive::on_param_config(const Telegram& t, std::int64_t now
       return finish(id_value(sub, st::ok, upid, p->max), 0, now);
     case CfgOp::get_default:
       return finish(id_value(sub, st::ok, upid, p->def), 0, now);
+    case CfgOp::address_usage:  // LinRS 3V27 p27: the usage in the value's low word
+      if (!o.address_usage_request) break;
+      return finish(id_value(sub, st::ok, upid, p->address_usage), 0, now);
     default:  // lists and layer defaults: handled above
       break;
   }

@@ -15,6 +15,7 @@
 #include "codec/frame.hpp"
 #include "codec/messages.hpp"
 #include "common/bytes.hpp"
+#include "common/families.hpp"
 #include "common/layers.hpp"
 #include "common/types.hpp"
 #include "transport/transport.hpp"
@@ -178,6 +179,22 @@ struct Options {
   // never acknowledged" (field-facts.md §5.1). Answers late (false, the
   // default) is the other reading: set Timing to 40 s for that.
   bool unanswered_saves = false;
+  // The padding bytes of a block read's last chunk (after a 70-byte curve info
+  // block: 2 bytes). false = zero (seed 003 §11.1's capture); true = stale
+  // data that differs from read to read (field-facts.md §4: real drives leave
+  // "not zero (stale data)" there).
+  bool stale_block_padding = false;
+  // ---- docs/families.md: the drive family this simulator plays ----
+  // A name of common/families.hpp ("E1100", "B1100", "C1100", "E1200",
+  // "E1400"; unknown names play E1100). B1100: the curve (04h) and command
+  // table (08h) groups answer C3h undefined main ID ("not on B1100", 3V27
+  // §11-§12), default reads and layer defaulting C4h (DCF p8: no stored
+  // defaults). C1100: curve/CT changes act on flash directly and "save to
+  // flash" answers 00h at once, doing nothing (3V27 p32).
+  std::string family = "E1100";
+  // LinRS 3V27 p27: 05h sub 03h, a parameter's address usage, answered 53h.
+  // false (the seed's generation): C4h undefined sub ID.
+  bool address_usage_request = false;
   friend bool operator==(const Options&, const Options&) = default;
 
   static std::map<std::uint32_t, unsigned> default_baud_codes() {
@@ -319,6 +336,10 @@ class Drive {
   std::optional<Answer> on_parameter(const codec::Telegram& t, std::int64_t now);
   std::optional<Answer> on_param_config(const codec::Telegram& t, std::int64_t now);
   std::optional<Answer> on_curve(const codec::Telegram& t, std::int64_t now);
+  // The curve and CT groups as Options::family keeps them (C1100: on flash).
+  std::optional<Answer> on_family_table(const codec::Telegram& t, std::int64_t now);
+  // Options::family's row (E1100 for an unknown name).
+  const families::Family& family() const;
   std::optional<Answer> on_command_table(const codec::Telegram& t, std::int64_t now);
   std::optional<Answer> on_program(const codec::Telegram& t, std::int64_t now);
   std::optional<Answer> on_error_info(const codec::Telegram& t, std::int64_t now);
@@ -348,7 +369,8 @@ class Drive {
   std::uint16_t last_motion_header_ = 0;
   std::uint16_t control_word_ = 0;
   bool slow_flash_ = false;
-  bool silenced_ = false;  // Options::silent_after_reset after a reset
+  std::uint8_t stale_ = 0x5A;  // Options::stale_block_padding: changes with every padded read
+  bool silenced_ = false;      // Options::silent_after_reset after a reset
   DriveStats stats_;
 };
 

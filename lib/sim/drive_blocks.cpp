@@ -31,8 +31,12 @@ std::uint8_t Drive::block_read(const Bytes& source, XferKind kind, std::uint16_t
                                std::uint32_t& out) {
   if (xfer_.kind != kind || xfer_.key != key) xfer_ = Transfer{kind, key, 0};
   Bytes four(4, 0);
-  for (std::size_t i = 0; i < 4; ++i)
-    if (xfer_.offset + i < source.size()) four[i] = source[xfer_.offset + i];
+  for (std::size_t i = 0; i < 4; ++i) {
+    if (xfer_.offset + i < source.size())
+      four[i] = source[xfer_.offset + i];
+    else if (s_.options.stale_block_padding)
+      four[i] = stale_++;  // what the drive's buffer held before: not part of the block
+  }
   out = get_u32le(four, 0);
   xfer_.offset += 4;
   if (xfer_.offset >= source.size()) {

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "common/bytes.hpp"
+#include "common/families.hpp"
 #include "sim/link.hpp"
 
 namespace lmcfg::sim {
@@ -399,6 +400,9 @@ json options_json(const Options& O) {
   if (O.refusal_fields != RefusalFields::echo)
     j["refusal_fields"] = O.refusal_fields == RefusalFields::zeros ? "zeros" : "arbitrary";
   j["refuse_config_while_mc_runs"] = O.refuse_config_while_mc_runs;
+  if (O.stale_block_padding) j["stale_block_padding"] = true;
+  if (O.address_usage_request) j["address_usage_request"] = true;
+  if (O.family != "E1100") j["family"] = O.family;
   j["config_refused_state"] = hex8(O.config_refused_state);
   if (O.baud_codes != Options::default_baud_codes()) {
     json codes = json::object();

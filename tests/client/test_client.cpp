@@ -135,3 +135,45 @@ TEST_CASE("LinRS §11 §12 an empty curve ID or CT entry answered C8 with zeroed
   REQUIRE(entry.ok());
   CHECK_FALSE(entry->has_value());
 }
+
+TEST_CASE("LinRS 3V27 p32 a flash save refused with D7h MC SW not stopped: a refusal at once",
+          "[client][refusal]") {
+  // The simulator plays the newer manual's reading (flash_refused_state D7h) as
+  // well as the seed's (C4h, the case above): either is the drive's refusal.
+  Rig rig(sim::RefusalFields::echo, true);
+  rig.drive->state().options.flash_refused_state = 0xD7;
+  auto& c = rig.client;
+  const Error curves = refusal_of([&]() -> Result<void> { return c.save_curves(); });
+  CHECK(curves.message ==
+        "drive 11h refused ID 11h curve (main 04h sub 00h), 0 data byte(s): D7h MC SW not stopped "
+        "(LinRS 3V27 p32): stop the motion control software first");
+  CHECK(curves.code == ErrorClass::drive_refusal);
+  CHECK(curves.code.value() == 0xD7);
+  const Error ct = refusal_of([&]() -> Result<void> { return c.save_ct(); });
+  CHECK(ct.message ==
+        "drive 11h refused ID 11h command table (main 08h sub 00h), 0 data byte(s): D7h MC SW not "
+        "stopped (LinRS 3V27 p32): stop the motion control software first");
+  // A named state is not taken for a garbled answer: no retry, not counted as undocumented.
+  CHECK(c.stats().retries == 0);
+  CHECK(c.stats().undocumented_states == 0);
+}
+
+TEST_CASE(
+    "field-facts.md §4 the two bytes after the 70-byte curve info block hold stale data: not part "
+    "of the block, never compared",
+    "[client][blocks]") {
+  // The simulator's stale_block_padding: the padding of the 18th chunk changes
+  // with every read. Without a checksum two reads must agree (docs/reliability.md).
+  const bool stale = GENERATE(false, true);
+  INFO("stale padding: " << stale);
+  Rig rig(sim::RefusalFields::echo, true);
+  rig.drive->state().options.stale_block_padding = stale;
+  const Bytes want = rig.drive->state().curves_ram.at(1).info;
+  REQUIRE(want.size() == 70);
+  auto c = rig.client.read_curve(1);
+  REQUIRE(c.ok());
+  REQUIRE(c->has_value());
+  CHECK((*c)->info == want);  // 70 bytes: the padding is dropped
+  CHECK(rig.client.stats().disagreements == 0);
+  CHECK(rig.client.stats().retries == 0);
+}

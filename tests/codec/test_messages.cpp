@@ -166,3 +166,75 @@ TEST_CASE("seed003 captures file matches the seed", "[codec][golden]") {
     CHECK(digits.find(to_hex(c.bytes, '\0')) != std::string::npos);
   }
 }
+
+// ---- LinRS 3V27 (January 2020): lines the seed printed short or lacks ----
+// field-facts.md §3 quotes them from the newer manual, page by page. Each is
+// decoded through the real codec (frame, then the typed decoder of its sub).
+
+namespace {
+Telegram frame_3v27(const char* hex) {
+  auto bytes = from_hex(hex);
+  REQUIRE(bytes);
+  auto t = decode(*bytes);
+  INFO(hex << ": " << (t.ok() ? std::string() : t.error().message));
+  REQUIRE(t.ok());
+  return *t;
+}
+}  // namespace
+
+TEST_CASE("LinRS 3V27 p27 stop MC: the default response printed whole", "[codec][golden]") {
+  // Seed 003 §10.1 printed this answer one byte short (docs/golden-vectors.md).
+  const Telegram t = frame_3v27("01 11 0C 02 00 00 00 00 00 00 00 87 00 00 00 04");
+  auto r = decode_default_response(t);
+  REQUIRE(r.ok());
+  CHECK(r->comm_state == 0x00);
+  CHECK(r->status_word == 0x0000);
+  CHECK(r->state_var == 0x0000);
+  CHECK(r->monitoring_1 == 0x00000087u);
+  CHECK(encode(make_default_response(0x11, *r)).value() ==
+        from_hex("01 11 0C 02 00 00 00 00 00 00 00 87 00 00 00 04").value());
+}
+
+TEST_CASE("LinRS 3V27 p27 read a parameter's address usage (05h sub 03h, answer 53h)",
+          "[codec][golden]") {
+  const Bytes tx = from_hex("01 11 05 02 03 05 A2 13 04").value();
+  CHECK(encode(make_cfg(0x11, CfgOp::address_usage, 0x13A2)).value() == tx);
+  const Telegram t = frame_3v27("01 11 0A 02 53 00 00 A2 13 0F 01 00 00 04");
+  auto r = decode_id_value(t, 0x53);
+  REQUIRE(r.ok());
+  CHECK(r->state == 0x00);
+  CHECK(r->key == 0x13A2);
+  // "4-byte value whose low word is the usage; 010Fh = RAM/ROM read/write plus life".
+  CHECK(r->value == 0x0000010Fu);
+  CHECK(expected_answer_sub(decode(tx).value()) == 0x53);
+}
+
+TEST_CASE("LinRS 3V27 p36 curve data, position 1: state 04h, more data follows",
+          "[codec][golden]") {
+  // The seed's §11.2 line lost a value byte (linrs-facts.md erratum 1).
+  const Telegram t = frame_3v27("01 11 0A 02 40 00 04 01 00 00 00 00 00 04");
+  auto r = decode_id_value(t, 0x40);
+  REQUIRE(r.ok());
+  CHECK(r->state == state::more_data);
+  CHECK(r->key == 1);
+  CHECK(r->value == 0u);
+}
+
+TEST_CASE("LinRS 3V27 p41 command table save and delete all: answers 80h and 81h",
+          "[codec][golden]") {
+  // The seed's §12 save-CT and delete-all-CT answers were short of their LEN.
+  const Telegram save = frame_3v27("01 11 0A 02 80 00 00 00 00 00 00 00 00 04");
+  auto s = decode_id_value(save, 0x80);
+  REQUIRE(s.ok());
+  CHECK(s->state == state::ok);
+  CHECK(s->key == 0);
+  CHECK(s->value == 0u);
+  CHECK(expected_answer_sub(make_ct(0x11, CtOp::save_to_flash)) == 0x80);
+  const Telegram del = frame_3v27("01 11 0A 02 81 00 00 00 00 00 00 00 00 04");
+  auto d = decode_id_value(del, 0x81);
+  REQUIRE(d.ok());
+  CHECK(d->state == state::ok);
+  CHECK(expected_answer_sub(make_ct(0x11, CtOp::delete_all)) == 0x81);
+  // Not the answer of another request: a save answer is no delete-all answer.
+  CHECK_FALSE(decode_id_value(save, 0x81).ok());
+}

@@ -47,6 +47,9 @@ TEST_CASE("seed003 all captured exchanges: the request table names the answer's 
 TEST_CASE("request table: sub IDs the manual does not list are unknown, main IDs above 08h too",
           "[codec]") {
   CHECK_FALSE(request_spec(0x05, 0x02).has_value());  // §10 skips 02h/03h
+  // 03h is LinRS 3V27 p27's address-usage read (a later manual), answered 53h.
+  CHECK(request_spec(0x05, 0x03)->answer_sub == 0x53);
+  CHECK(request_spec(0x05, 0x03)->keyed);
   CHECK_FALSE(request_spec(0x05, 0x10).has_value());
   CHECK_FALSE(request_spec(0x04, 0x03).has_value());  // §11 skips 03h and 07h
   CHECK_FALSE(request_spec(0x08, 0x08).has_value());

@@ -123,3 +123,15 @@ TEST_CASE("result: lmcfg error codes say what went wrong", "[error_class][result
   REQUIRE_FALSE(bad.ok());
   CHECK(bad.error().message == "x.json: cannot open");
 }
+
+TEST_CASE("LinRS 3V27 p32 communication state D7h is a refusal with its own text", "[result]") {
+  // 3V27 p32, the answer to "save curves to flash": "MC SW not stopped". Not in
+  // seed 003 §16.1 (field-facts.md §3).
+  CHECK(make_comm_state_error(0xD7).message() ==
+        "D7h MC SW not stopped (LinRS 3V27 p32): stop the motion control software first");
+  CHECK(class_of(make_comm_state_error(0xD7)) == ErrorClass::drive_refusal);
+  CHECK(std::string(comm_state_text(0xD7)) ==
+        "D7h MC SW not stopped (LinRS 3V27 p32): stop the motion control software first");
+  CHECK(comm_state_text(0xC7) == nullptr);
+  CHECK(comm_state_text(0x00) == nullptr);  // ok is not an error state
+}

@@ -53,8 +53,6 @@ TEST_CASE("decode the seed 003 §12.1 command table entry", "[db]") {
 TEST_CASE("LinRS §12.1 ct entry: the link to the next entry, a 15-character name, raw words",
           "[db][ct_entry]") {
   Bytes entry = seed_ct_entry();
-  entry[0] = 0x34;
-  entry[1] = 0x12;
   entry[2] = 0x05;  // link to entry 5
   entry[3] = 0x00;
   const std::string name = "Fifteen chars!!";
@@ -63,7 +61,8 @@ TEST_CASE("LinRS §12.1 ct entry: the link to the next entry, a 15-character nam
   entry[53] = 0x00;
   auto e = decode_ct_entry(fixture_db(), entry);
   REQUIRE(e);
-  CHECK(e->word0 == 0x1234);
+  CHECK(e->word0 == 0xA701);
+  CHECK(e->version_note.empty());
   CHECK(e->link == 5);
   CHECK(e->has_link());
   CHECK(e->name == "Fifteen chars!!");
@@ -99,4 +98,24 @@ TEST_CASE("ct entry: summary labels in lower case, maximal/minimal and target sh
   e.params.push_back(CtParam{0, 6, "", 1, "1"});
   e.params.push_back(CtParam{1, 10, "Maximal Velocity", 2, "0.5 m/s"});
   CHECK(e.summary() == "Some Command, parameter 0 1, max velocity 0.5 m/s");
+}
+
+TEST_CASE("DCF command table entry version: A701h decodes; another version is said, not misdecoded",
+          "[db][ct_entry]") {
+  // field-facts.md §4 (DCF): "offset 0 is the entry version, fixed A701h".
+  Bytes entry = seed_ct_entry();
+  REQUIRE(get_u16le(entry, 0) == kCtEntryVersion);
+  entry[0] = 0x34;
+  entry[1] = 0x12;
+  auto e = decode_ct_entry(fixture_db(), entry);
+  REQUIRE(e);
+  CHECK(e->word0 == 0x1234);
+  CHECK(e->version_note ==
+        "entry version 1234h, expected A701h (DCF): another layout; not decoded, kept raw (a "
+        "restore writes its 64 bytes unchanged)");
+  CHECK(e->summary() == e->version_note);
+  CHECK(e->command == nullptr);
+  CHECK(e->params.empty());
+  CHECK(e->name.empty());
+  CHECK(e->raw == entry);
 }

@@ -20,9 +20,11 @@ const Database& real_db() {
 
 TEST_CASE("upid-db: row counts of the extraction from seeds 001 and 003", "[db][seed]") {
   const auto& counts = real_db().info().counts;
-  CHECK(counts.at("profiles") == 3);
-  CHECK(counts.at("parameters") ==
-        93);                          // 83 from seed 001 (6300h in layer Other), 10 from seed 003
+  // 3 of the seeds; c1100, e1200, c1250 and a1100 for the public names (docs/upid-db.md).
+  CHECK(counts.at("profiles") == 7);
+  // 83 from seed 001 (6300h in layer Other), 10 from seed 003; 74 rows of public
+  // names (field-facts.md §7, peer-upids.tsv: 86 of its 90 rows imported).
+  CHECK(counts.at("parameters") == 167);
   CHECK(counts.at("errors") == 113);  // 85 MC codes 0000-008A, 8 LinRS states, 20 DeviceNet codes
   CHECK(counts.at("motion_commands") == 215);
   CHECK(counts.at("motion_command_params") == 469);
@@ -219,4 +221,53 @@ TEST_CASE("upid-db: seed 001 §10 error classes are a field, fatal ones say so",
                                                 {"Runtime Err", 1},
                                                 {"Setup Err", 2},
                                                 {"User Err", 11}});
+}
+
+TEST_CASE("upid-db: field-facts.md §7 public names, each in the profile its source names",
+          "[db][seed][families]") {
+  const Database& db = real_db();
+  // Seed 001 §6 says 13A6h is the maximal current of position controller set A
+  // on E1100; remcohn/linUDP (C1250, constants named E1100_*) names it with
+  // type and unit. The sources agree: the E1100 row carries the name.
+  const Parameter* maxi = db.find(0x13A6);
+  REQUIRE(maxi);
+  CHECK(maxi->profiles == std::vector<std::string>{"e1100-mc-linrs"});
+  CHECK(maxi->name == "Position controller maximal current (MAX_I)");
+  CHECK(maxi->spec.unit == "A");
+  CHECK(maxi->prov.source.find("seed001 §4.3.110") == 0);
+  CHECK(maxi->prov.source.find("public: remcohn/linUDP linUDP.h (seen for: C1250") !=
+        std::string::npos);
+
+  // A C1250 name never labels a value of the reference profile (E1100).
+  CHECK(db.find(0x1450) == nullptr);
+  const Parameter* run = db.find(0x1450, "c1250-mc-linudp");
+  REQUIRE(run);
+  CHECK(run->name == "Run Mode (Run Mode Selection)");
+  CHECK(run->prov.source.find("Smart-Vision-Works/linmot_client") != std::string::npos);
+  CHECK(run->prov.source.find("remcohn/linUDP") != std::string::npos);  // the second source
+  // A C1250 name for a UPID the seed already names does not replace the seed's.
+  CHECK(db.find(0x13A2)->name == "P Gain Position Controller Set A");
+  CHECK(db.find(0x13A2, "c1250-mc-linudp")->name == "Position controller P gain (PID_P)");
+
+  // B1100 numbers differ (3V27 p26): 6085h is B1100's only.
+  CHECK(db.find(0x6085) == nullptr);
+  REQUIRE(db.find(0x6085, "b1100-mc"));
+  CHECK(db.find(0x6085, "b1100-mc")->layer == Layer::Other);
+
+  // The checksum UPID of 3V27 §4.4 for the LinRS families, a communication parameter.
+  const Parameter* chk = db.find(0x2080);
+  REQUIRE(chk);
+  CHECK(chk->comm);
+  CHECK(chk->profiles ==
+        std::vector<std::string>{"e1100-mc-linrs", "c1100-mc-linrs", "e1200-mc-linrs"});
+
+  // One UPID, three families, three sources.
+  CHECK(db.find_all(0x1B8D).size() == 3);
+  CHECK(db.find(0x1B8D)->name == "Actual Position");
+  CHECK(db.find(0x1B8D, "e1200-mc-linrs")->name ==
+        "Actual Position (LinRS MC Response Config Channel 1 UPID)");
+
+  // Rows whose source names no family are not imported (docs/upid-db.md).
+  CHECK(db.find_all(0x0078).empty());
+  CHECK(db.find_all(0x173E).empty());
 }

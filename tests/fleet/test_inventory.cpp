@@ -91,7 +91,7 @@ labels = { machine = 3 }
        "stop_bits, checksum, checksum_coverage, timeout_ms, retries, settle_ms, agreeing_reads, "
        "ignore, on_replaced, drive)\n"
        "plant.toml:8:1: unknown key 'colour' in drive of line 'l1' (known: name, id, labels, "
-       "ignore, on_replaced)\n"
+       "ignore, on_replaced, family)\n"
        "plant.toml:6:8: drive name 'a/../b' must be path segments separated by '/', none "
        "empty, '.' or '..'\n"
        "plant.toml:7:6: drive 'a/../b': id 300 is not a MACID 0..255\n"
@@ -230,7 +230,7 @@ TEST_CASE("fleet inventory: require_reason is a top-level true or false", "[flee
   // Below a table header the key belongs to that table, which knows no such key.
   CHECK(problems(lines + "require_reason = true\n") ==
         "plant.toml:7:1: unknown key 'require_reason' in drive of line 'l' (known: name, id, "
-        "labels, ignore, on_replaced)");
+        "labels, ignore, on_replaced, family)");
 }
 
 TEST_CASE("fleet inventory: a CAN port's line holds DeviceNet controllers with their settings",
@@ -408,4 +408,30 @@ devicenet_macid = 1
         "adapter plugged in?)\n"
         "plant.toml:7:1: line 'gw': port 'slcan:tcp://10.0.0.7' is not slcan:tcp://HOST:PORT "
         "with PORT 1..65535");
+}
+
+TEST_CASE("fleet inventory: a drive's optional family (docs/families.md), checked by name",
+          "[fleet][inventory][families]") {
+  const std::string text = R"([[line]]
+name = "l1"
+port = "/dev/ttyUSB0"
+[[line.drive]]
+name = "a"
+id = 0x11
+family = "c1100"
+[[line.drive]]
+name = "b"
+id = 0x12
+)";
+  auto inv = fleet::parse_inventory(text, "plant.toml");
+  REQUIRE(inv.ok());
+  REQUIRE(inv->lines.at(0).drives.size() == 2);
+  REQUIRE(inv->lines[0].drives[0].family);
+  CHECK(inv->lines[0].drives[0].family->name == "C1100");
+  CHECK(inv->lines[0].drives[1].family == nullptr);  // not named: the seeds' E1100
+  CHECK(
+      problems("[[line]]\nname = \"l1\"\nport = \"/dev/null\"\n[[line.drive]]\nname = \"a\"\nid = "
+               "1\nfamily = \"Z1\"\n") ==
+      "plant.toml:7:10: drive 'a': unknown drive family 'Z1'; expected one of E1100, B1100, "
+      "C1100, E1200, E1400 (docs/families.md)");
 }

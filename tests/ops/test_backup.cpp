@@ -343,3 +343,73 @@ TEST_CASE("LinRS §12.1 backup: command table entries decoded for the file throu
   const ops::DatabaseCtDecoder without(db::Database::empty());
   CHECK_FALSE(without.decode(2, db::test::seed_ct_entry()));
 }
+
+namespace {
+// The requests of one message (main and sub ID) among what was sent.
+std::size_t requests_of(const test::WireRecorder& w, std::uint8_t main, std::uint8_t sub) {
+  std::size_t n = 0;
+  codec::StreamDecoder dec;
+  for (const auto& chunk : w.tx) {
+    dec.feed(chunk);
+    while (auto t = dec.next())
+      if (t->ok() && t->value().main == main && t->value().sub == sub) ++n;
+  }
+  return n;
+}
+}  // namespace
+
+TEST_CASE(
+    "field-facts.md §1 backup of a B1100: no curves, command table or defaults asked, and said",
+    "[backup][families]") {
+  test::SimRig rig("commissioned-axis.json");
+  rig.drive->state().options.family = "B1100";  // the simulator plays a B1100
+  ops::BackupReport report;
+  ops::BackupOptions bo;
+  bo.family = families::find("B1100");
+  bo.report = &report;
+  auto cfg = ops::backup(*rig.client, bo, db::Database::empty());
+  REQUIRE(cfg.ok());
+  CHECK_FALSE(cfg->scope.curves);
+  CHECK_FALSE(cfg->scope.command_table);
+  CHECK(cfg->identity.product == "B1100");
+  CHECK(requests_of(*rig.wire, 0x04) == 0);        // LinRS 3V27 §11 "not on B1100"
+  CHECK(requests_of(*rig.wire, 0x08) == 0);        // 3V27 §12
+  CHECK(requests_of(*rig.wire, 0x05, 0x07) == 0);  // DCF p8: no stored defaults
+  for (int layer = 1; layer <= 4; ++layer)
+    for (const auto& p : cfg->layer(layer)) CHECK_FALSE(p.default_value);
+  const auto& n = report.notes;
+  CHECK(std::count(n.begin(), n.end(),
+                   "B1100 has no curve group (LinRS 3V27 §11): curves not asked, not in the "
+                   "file") == 1);
+  CHECK(std::count(n.begin(), n.end(),
+                   "B1100 has no command table group (LinRS 3V27 §12): command table not asked, "
+                   "not in the file") == 1);
+  CHECK(std::count(n.begin(), n.end(),
+                   "B1100 stores no default values (DCF p8): defaults not asked") == 1);
+}
+
+TEST_CASE("C1250 notes: a C1100's curves are probed up to its limit of 50, an E1100's to 100",
+          "[backup][families]") {
+  for (const char* name : {"C1100", "E1100"}) {
+    INFO(name);
+    client::ClientOptions one;
+    one.agreeing_reads = 1;  // one read per probe: the count is the IDs probed
+    test::SimRig rig("commissioned-axis.json", one);
+    rig.drive->state().options.family = name;
+    ops::BackupOptions bo;
+    bo.family = families::find(name);
+    bo.command_table = false;
+    auto cfg = ops::backup(*rig.client, bo, db::Database::empty());
+    REQUIRE(cfg.ok());
+    CHECK(cfg->scope.curves);
+    CHECK_FALSE(cfg->curves.empty());
+    // §11 "read sizes" (04h 08h) once per probed ID, again for a curve that exists.
+    const std::size_t probes = requests_of(*rig.wire, 0x04, 0x08);
+    if (std::string(name) == "C1100") {
+      CHECK(probes >= 50);
+      CHECK(probes < 100);
+    } else {
+      CHECK(probes >= 100);
+    }
+  }
+}

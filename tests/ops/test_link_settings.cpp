@@ -122,9 +122,8 @@ TEST_CASE("link: what the map cannot express is refused before anything is writt
   p = ops::plan_link_change(*rig.session, *map, *st, crc);
   REQUIRE_FALSE(p.ok());
   CHECK(p.error().message ==
-        "--set-checksum crc-ffff: seed 003 §15 names the checksum setting but gives neither its "
-        "UPID nor its raw values; give them with --map checksum@UPID:VALUE=RAW,...; nothing "
-        "written");
+        "--set-checksum crc-ffff: LinRS 3V27 §4.4 gives the checksum's UPID, 2080h, but no source "
+        "its raw values; give them with --map checksum:VALUE=RAW,...; nothing written");
   REQUIRE(rig.session->close().ok());
   auto after = sim::load_state(rig.state.string());
   REQUIRE(after.ok());
@@ -286,4 +285,27 @@ TEST_CASE(
   REQUIRE(after.ok());
   CHECK(after->link.parity == transport::Parity::even);
   CHECK(after->link.stop_bits == 2);
+}
+
+TEST_CASE("LinRS 3V27 §4.4 link: 2080h is the checksum's UPID, its raw values come from --map",
+          "[link][families]") {
+  using S = ops::LinkSetting;
+  auto plain = ops::link_map(db::Database::empty(), {});
+  REQUIRE(plain.ok());
+  CHECK((*plain)[S::checksum].upid == std::optional<std::uint16_t>(0x2080));
+  CHECK((*plain)[S::checksum].codes.empty());
+  CHECK((*plain)[S::checksum].source == "LinRS 3V27 §4.4");
+  // Raw values without a UPID: 2080h's.
+  auto raw = ops::link_map(db::Database::empty(), {"checksum:none=0,crc=2"});
+  REQUIRE(raw.ok());
+  CHECK((*raw)[S::checksum].upid == std::optional<std::uint16_t>(0x2080));
+  CHECK((*raw)[S::checksum].raw_of("crc-ffff") == 2u);
+  // A firmware whose documentation names another UPID: --map replaces 2080h
+  // (the seed's own §10.2 UPIDs cannot be replaced).
+  auto other = ops::link_map(db::Database::empty(), kMap);
+  REQUIRE(other.ok());
+  CHECK((*other)[S::checksum].upid == std::optional<std::uint16_t>(kChecksumUpid));
+  CHECK((*other)[S::checksum].source == "--map");
+  auto baud = ops::link_map(db::Database::empty(), {"baud@2013:38400=8"});
+  REQUIRE_FALSE(baud.ok());
 }

@@ -374,3 +374,102 @@ TEST_CASE(
                                 0) == 0);
   CHECK(modified(rig.drive->state()) == modified(target));
 }
+
+TEST_CASE(
+    "LinRS 3V27 p32 restore plan onto a C1100: curves and command table written on flash, no save",
+    "[restore][flash][families]") {
+  const auto source = fixture("commissioned-axis.json");
+  const auto file = backup_of(source);
+  auto target = source;
+  target.options.family = "C1100";  // the simulator keeps curves and CT on flash
+  target.curves_flash.at(1).data.at(0) ^= 0x01;
+  target.curves_ram = target.curves_flash;
+  target.ct_flash.begin()->second.at(6) ^= 0x01;
+  target.ct_ram = target.ct_flash;
+  Rig rig(target);
+  ops::RestoreOptions ro;
+  ro.include_comm = true;
+  ro.family = families::find("C1100");
+  auto plan = ops::plan_restore(rig.client, file, db::Database::empty(), ro);
+  REQUIRE(plan.ok());
+  REQUIRE(plan->ok());
+  CHECK(count(*plan, Action::write_curve) == 1);
+  CHECK(count(*plan, Action::write_ct) == 1);
+  CHECK(count(*plan, Action::save_curves) == 0);
+  CHECK(count(*plan, Action::save_ct) == 0);
+  REQUIRE(ops::execute_plan(rig.client, *plan, ro).ok());
+  CHECK(rig.drive->stats().flash_saves == 0);
+  auto v = ops::verify_restore(rig.client, *plan, ro);
+  REQUIRE(v.ok());
+  CHECK(v->ok());
+  CHECK(rig.drive->state().curves_flash == source.curves_flash);
+  CHECK(rig.drive->state().ct_flash == source.ct_flash);
+}
+
+TEST_CASE("LinRS 3V27 §11-§12 restore plan onto a B1100: a file's curves and CT are refused",
+          "[restore][families]") {
+  const auto source = fixture("commissioned-axis.json");
+  const auto file = backup_of(source);
+  auto target = source;
+  target.options.family = "B1100";
+  Rig rig(target);
+  ops::RestoreOptions ro;
+  ro.include_comm = true;
+  ro.family = families::find("B1100");
+  auto plan = ops::plan_restore(rig.client, file, db::Database::empty(), ro);
+  REQUIRE(plan.ok());
+  CHECK(plan->problems ==
+        std::vector<std::string>{
+            "the file has a curve in scope, but a B1100 has no curve group (LinRS 3V27 §11); "
+            "--skip-incompatible restores the rest",
+            "the file has a command table in scope, but a B1100 has no command table group "
+            "(LinRS 3V27 §12); --skip-incompatible restores the rest"});
+  CHECK(plan->steps.empty());
+  CHECK(rig.client.stats().write_requests == 0);
+  ro.skip_incompatible = true;
+  auto skipped = ops::plan_restore(rig.client, file, db::Database::empty(), ro);
+  REQUIRE(skipped.ok());
+  CHECK(skipped->ok());
+  CHECK(count(*skipped, Action::write_curve) == 0);
+  CHECK(count(*skipped, Action::save_ct) == 0);
+  CHECK(std::count(skipped->skipped.begin(), skipped->skipped.end(),
+                   "the file's curve: a B1100 has no curve group (LinRS 3V27 §11)") == 1);
+  CHECK_FALSE(skipped->expected.scope.curves);
+}
+
+TEST_CASE(
+    "LinRS 3V27 p27 restore plan: a target that answers 05h/03h is asked each address usage, "
+    "one that does not has its UPID list walked",
+    "[restore][families]") {
+  // The database is empty: no address usage known, so the target must tell.
+  const auto file = backup_of(fixture("commissioned-axis.json"));
+  for (const bool answers : {true, false}) {
+    INFO("address usage request answered: " << answers);
+    auto target = other_firmware();
+    target.options.address_usage_request = answers;
+    Rig rig(target);
+    ops::RestoreOptions ro;
+    ro.include_comm = true;
+    auto plan = ops::plan_restore(rig.client, file, db::Database::empty(), ro);
+    REQUIRE(plan.ok());
+    const auto asked = std::count_if(plan->notes.begin(), plan->notes.end(), [](auto& n) {
+      return n.find("asked the target for each (05h/03h, LinRS 3V27 p27)") != std::string::npos;
+    });
+    const auto walked = std::count_if(plan->notes.begin(), plan->notes.end(), [](auto& n) {
+      return n.find("read the target's UPID list") != std::string::npos;
+    });
+    CHECK((answers ? asked : walked) > 0);
+    CHECK((answers ? walked : asked) == 0);
+    // Either way the same values are found incompatible; only the absent UPID's
+    // reason names how it was found.
+    REQUIRE(plan->problems.size() == 4);
+    CHECK(plan->problems[3] ==
+          "Appl 3010h: read-only on the target (the target's address usage 0007h has no ROM "
+          "write bit)");
+    CHECK(plan->problems[1] ==
+          (answers ? "MC 1037h: UPID does not exist on the target (type query answered C8h "
+                     "unknown UPID)"
+                   : "MC 1037h: UPID does not exist on the target (not in its MC UPID list, "
+                     "§10.3)"));
+  }
+}

@@ -229,3 +229,21 @@ TEST_CASE(
   CHECK(r.out.find("\n13A6 ") != std::string::npos);
   CHECK(r.out.find("\n13BA ") != std::string::npos);
 }
+
+TEST_CASE(
+    "field-facts.md §7 db show prints where a public name comes from and which family it was "
+    "seen for",
+    "[db][cli][families]") {
+  Dir d;
+  auto r = tool(d, "db show 13A6");
+  CHECK(r.rc == 0);
+  INFO(r.out);
+  CHECK(r.out.find("Position controller maximal current (MAX_I)") != std::string::npos);
+  CHECK(r.out.find("public: remcohn/linUDP linUDP.h (seen for: C1250 (constants named E1100_*); "
+                   "LinUDP V2)") != std::string::npos);
+  // A UPID only C1250 sources name: shown with its profile and provenance.
+  auto run = tool(d, "db show 1450");
+  CHECK(run.rc == 0);
+  CHECK(run.out.find("c1250-mc-linudp") != std::string::npos);
+  CHECK(run.out.find("public: Smart-Vision-Works/linmot_client") != std::string::npos);
+}

@@ -3,6 +3,7 @@
 #include <filesystem>
 
 #include "command.hpp"
+#include "common/families.hpp"
 #include "config/config_io.hpp"
 #include "devicenet_flow.hpp"
 #include "link_options.hpp"
@@ -22,6 +23,7 @@ struct BackupCli {
   bool no_describe = false;
   std::vector<std::string> labels;
   bool reset_coded_error = false;
+  std::string family;
 };
 
 // The file (or stdout) and, for a DeviceNet controller, the summary.
@@ -83,6 +85,8 @@ int run(BackupCli& o) {
     }
     labels[l.substr(0, eq)] = l.substr(eq + 1);
   }
+  auto family = families::parse(o.family, "--family");
+  if (!family.ok()) return fail("backup", family.error());
   const db::Database db = load_database(o.common);
   if (is_devicenet(o.common)) {
     auto cfg = devicenet_capture(o.common, db, {true, o.reset_coded_error});
@@ -98,6 +102,7 @@ int run(BackupCli& o) {
   bo.command_table = !o.no_ct;
   bo.full = o.full;
   bo.ask_drive = !o.no_describe;
+  bo.family = *family;
   ProgressBar bar(o.common);
   bo.progress = bar.callback();
   ops::BackupReport notes;
@@ -158,6 +163,8 @@ void add_backup(CLI::App& app, int& exit_code) {
   sub->add_flag(
       "--no-describe", o->no_describe,
       "do not ask the drive for types and defaults the UPID database lacks (fewer telegrams)");
+  sub->add_option("--family", o->family,
+                  "drive family: E1100 (default), B1100, C1100, E1200, E1400 (docs/families.md)");
   sub->add_option("--label", o->labels, "KEY=VALUE stored in the file (machine, axis, ...)");
   sub->add_flag("--reset-coded-error", o->reset_coded_error,
                 "DeviceNet: reset a coded error the controller reports from before the backup "

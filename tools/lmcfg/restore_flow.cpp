@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "command.hpp"
+#include "common/families.hpp"
 #include "confirm.hpp"
 #include "ops/devicenet_restore.hpp"
 #include "ops/interrupt.hpp"
@@ -163,6 +164,7 @@ Result<ops::RestoreRunOptions> linrs_run_options(const CommonOptions& common, co
   ro.restore.include_comm = f.include_comm;
   ro.restore.reset_after = !f.no_reset;
   ro.restore.skip_incompatible = f.skip_incompatible;
+  LMCFG_ASSIGN_OR_RETURN(ro.restore.family, families::parse(f.family, "--family"));
   ro.restore.progress = bar.callback();
   ro.dry_run = f.dry_run;
   ro.overrides = overrides;
@@ -199,6 +201,9 @@ void add_restore_flags(CLI::App* sub, RestoreFlags& f) {
                 "restore what the target can take and list the values it cannot (UPID absent, "
                 "type, range, read-only, curve/command table limits); exit 7 when any was "
                 "skipped");
+  sub->add_option("--family", f.family,
+                  "the target's drive family: E1100 (default), B1100, C1100, E1200, E1400 "
+                  "(docs/families.md)");
   sub->add_flag("--no-undo", f.no_undo,
                 "do not save the target's previous values as an undo record before writing "
                 "(lmcfg undo)");

@@ -25,6 +25,7 @@ struct RestoreFlags {
   bool skip_incompatible = false;
   bool yes = false;
   bool no_undo = false;
+  std::string family;  // --family: the target's drive family (docs/families.md)
   ReconnectOptions reconnect;
   // The command that saves the undo record (its file name) and that the
   // journal names: "restore", "fleet-restore", "undo".
@@ -34,7 +35,7 @@ struct RestoreFlags {
 };
 
 // --dry-run, --no-default, --include-comm, --reconnect-*, --yes, --no-reset,
-// --skip-incompatible, --no-undo, --reason, --ticket.
+// --skip-incompatible, --no-undo, --family, --reason, --ticket.
 void add_restore_flags(CLI::App* sub, RestoreFlags& f);
 
 // What the shared steps say of the target of a restore.
