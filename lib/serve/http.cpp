@@ -255,11 +255,31 @@ struct HttpServer::Impl {
                   auto id = service.execute(er);
                   id.ok() ? json(res, Json{{"job", *id}}, 202) : error(res, id.error());
                 }));
+    approve_route(guard);
     server.Get(R"(/api/v1/jobs/([0-9]+))",
                guard([this](const httplib::Request& req, httplib::Response& res) {
                  auto j = service.job(req.matches[1]);
                  j.ok() ? json(res, *j) : error(res, j.error());
                }));
+  }
+
+  // POST /api/v1/drives/{name}/approve {"rev", "reason", "ticket"}: the
+  // position's approved configuration (docs/serve.md "Approved configurations").
+  template <class Guard>
+  void approve_route(Guard& guard) {
+    server.Post(R"(/api/v1/drives/(.+)/approve)",
+                guard([this](const httplib::Request& req, httplib::Response& res) {
+                  Json b;
+                  bool ok = body(req, res, b);
+                  Service::ApproveRequest ar;
+                  ar.who = who(req);
+                  if (ok) ar.rev = text(b, "rev", res, ok);
+                  if (ok) ar.reason = text(b, "reason", res, ok);
+                  if (ok) ar.ticket = text(b, "ticket", res, ok);
+                  if (!ok) return;
+                  auto a = service.approve(req.matches[1], ar);
+                  a.ok() ? json(res, *a) : error(res, a.error());
+                }));
   }
 
   // Errors as JSON, the request log, the body limit and the socket options.

@@ -13,6 +13,7 @@
 #include <optional>
 #include <thread>
 
+#include "fleet/approved.hpp"
 #include "fleet/archive.hpp"
 #include "ops/recovery.hpp"
 #include "ops/restore_run.hpp"
@@ -85,8 +86,9 @@ struct DriveState {
   bool last_ok = false;
   int last_exit_code = 0;
   std::size_t differences = 0;
-  std::vector<std::string> differing;  // the differences, as the commit message says them
-  std::string notified;                // the last state an event was sent for
+  std::vector<std::string> differing;       // the differences, as the commit message says them
+  std::string notified;                     // the last state an event was sent for
+  std::optional<fleet::Approval> approved;  // the position's approved configuration, when known
 };
 
 struct LineMetrics {
@@ -111,8 +113,11 @@ struct RestoreAttempt {
 
 // What archiving a line's run decided, per drive of the run.
 struct LineArchived {
-  explicit LineArchived(std::size_t n) : replaced(n, false), unfinished(n, false) {}
+  explicit LineArchived(std::size_t n) : replaced(n, false), unfinished(n, false), against(n) {}
   std::vector<bool> replaced, unfinished;
+  // Each drive compared with its approved configuration (the position's
+  // status); nullopt: not compared (failed read).
+  std::vector<std::optional<fleet::DriveResult>> against;
   std::optional<std::string> commit;
   Result<void> archived;
 };
@@ -139,8 +144,9 @@ struct Service::Impl {
   bool stopping = false;
   std::vector<std::thread> workers;
 
-  std::mutex archive_mu;  // libgit2's repository: one user at a time
-  std::string base_url;   // under mu: set_base_url
+  std::mutex archive_mu;      // libgit2's repository: one user at a time
+  std::mutex states_file_mu;  // <state_dir>/states.json: one writer at a time
+  std::string base_url;       // under mu: set_base_url
 
   // [archive] push, under mu. A commit asks for a push (++wanted); the push
   // thread pushes the branch as it then is and marks that request done, so
@@ -291,7 +297,23 @@ struct Service::Impl {
                                    const std::string& file_name, Json& details);
 
   // One drive's outcome: its state, and an event when the state changed.
+  // `r` is the drive compared with its approved configuration.
   void record(Kind kind, const fleet::DriveResult& r, const std::optional<std::string>& commit);
+
+  // Approved configurations (service_approved.cpp). Caller holds archive_mu:
+  // after a backup's commit, the positions read without an approval get one
+  // (commissioning); each read drive compared with its approved configuration
+  // into la.against, the approvals into the states.
+  Result<void> compare_approved(const fleet::LineEntry& line, const Job& job,
+                                const std::string& before, fleet::LineRun& run, LineArchived& la);
+  // The revision a restore without one takes: the approved one (HEAD when none).
+  // Caller holds archive_mu.
+  Result<std::string> restore_rev(const fleet::DriveEntry& d) const;
+  // The states as they are now, written to <state_dir>/states.json; and read
+  // back at start (with the last backups of positions it does not name taken
+  // from the archive's history), so a restart changes nothing people see.
+  void save_states();
+  void load_states();
 
   // A backup or drift check of a line (a Task with a job), on its worker.
   void run_task(std::size_t line_index, Task& task);
