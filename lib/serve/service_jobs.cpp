@@ -253,7 +253,7 @@ std::size_t Service::Impl::record_run(const fleet::LineEntry& line, Kind kind, f
       record_replaced(kind, r, restore);
       if (restore) to_restore.push_back(i);
     } else {
-      record(kind, la.against[i] ? *la.against[i] : r, la.commit);
+      record(kind, la.archived.ok() && la.against[i] ? *la.against[i] : r, la.commit);
     }
   }
   return failed;
