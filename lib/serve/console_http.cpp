@@ -207,6 +207,15 @@ void register_actions(httplib::Server& server, Console* c) {
         LMCFG_ASSIGN_OR_RETURN(auto id, c->make_plan(u, field(f, "name"), field(f, "rev")));
         return "/plan?id=" + url_encode(id);
       }));
+  // Approving a revision: then the position's page (its state after the drift check).
+  server.Post("/approve",
+              action("Not approved",
+                     [c](const ConsoleUser& u, const httplib::Params& f) -> Result<std::string> {
+                       const std::string name = field(f, "name");
+                       LMCFG_TRY(c->approve(u, name, field(f, "rev"), field(f, "reason"),
+                                            field(f, "ticket")));
+                       return "/position?name=" + url_encode(name);
+                     }));
   server.Post("/execute",
               action("Not restored",
                      [c](const ConsoleUser& u, const httplib::Params& f) -> Result<std::string> {
