@@ -99,6 +99,18 @@ Result<Json> Service::approve(const std::string& name, const ApproveRequest& req
   return j;
 }
 
+void Service::Impl::note_unapproved(const std::string& name, const fleet::ArchivedFile& f) {
+  auto& st = states[name];
+  if (!st.approved || st.approved->commit == f.source.id) return;
+  st.status = "drift";
+  st.message =
+      "restored from " + f.file_name +
+      ", which is not the approved configuration (approved: " + st.approved->commit.substr(0, 12) +
+      ")";
+  // The restorer asked for it: no drift event now; the next check counts the differences.
+  st.notified = "drift";
+}
+
 void Service::Impl::save_states() {
   // The file's writers in turn, each with the states as they are then (the
   // last write holds the newest).

@@ -314,6 +314,9 @@ struct Service::Impl {
   // from the archive's history), so a restart changes nothing people see.
   void save_states();
   void load_states();
+  // Caller holds mu. After a restore of a revision other than the approved
+  // one: the position is in drift (the next check lists the differences).
+  void note_unapproved(const std::string& name, const fleet::ArchivedFile& f);
 
   // A backup or drift check of a line (a Task with a job), on its worker.
   void run_task(std::size_t line_index, Task& task);

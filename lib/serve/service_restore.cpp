@@ -213,6 +213,7 @@ void Service::Impl::finish_restore_job(Job& job, std::size_t li, const fleet::Ar
       job.commits.push_back(a.record->id);
     }
     if (!interrupted) event = record_restore_state(d.name, a, code, f.file_name, details);
+    if (!interrupted && !err) note_unapproved(d.name, f);
   }
   log("restore job " + job.id + ": " + d.name + ": " + outcome +
       (err ? ": " + err->message : std::string()) +

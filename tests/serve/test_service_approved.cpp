@@ -143,6 +143,7 @@ TEST_CASE("serve: restoring the approved configuration over a used spare makes i
   const std::string commissioned = head_of(archive);
   write_axis(rig.dir.path / "b.json", 0x12, "0010", 7);
   rig.at(t0 + 6h);  // archived, in drift
+  const std::string spare = head_of(archive);
   REQUIRE(drive(*rig.service, "press3/x")["status"] == "drift");
   rig.take_events();
 
@@ -169,6 +170,24 @@ TEST_CASE("serve: restoring the approved configuration over a used spare makes i
   CHECK(x["status"] == "ok");
   CHECK(x["approved"]["rev"] == commissioned);
   for (const auto& e : rig.take_events()) CHECK(e["event"] != "drift");
+
+  // A revision named explicitly that is not the approved one: restored, and in drift.
+  auto other = rig.service->plan("press3/x", spare, "ops");
+  REQUIRE(other.ok());
+  CHECK((*other)["rev"] == spare);
+  er.plan_id = (*other)["plan_id"];
+  REQUIRE(rig.service->execute(er).ok());
+  rig.service->wait_idle();
+  CHECK(rom_of(rig.dir.path / "b.json", "0010") == 7);
+  x = drive(*rig.service, "press3/x");
+  CHECK(x["status"] == "drift");
+  CHECK(x["message"] == "restored from press3/x.json@" + spare.substr(0, 12) +
+                            ", which is not the approved configuration (approved: " +
+                            commissioned.substr(0, 12) + ")");
+  rig.at(t0 + 12h + 15min);  // the drift check counts the differences
+  x = drive(*rig.service, "press3/x");
+  CHECK(x["status"] == "drift");
+  CHECK(x["differences"] == 1);
 }
 
 TEST_CASE("serve: statuses and last backups survive a restart of the service",
