@@ -161,7 +161,8 @@ std::string Service::metrics() const {
               return static_cast<double>(st.differences);
             });
   head("lmcfg_drives", "gauge", "Positions per status against their approved configuration.");
-  for (const auto& [status, n] : status_counts(s).items())
+  const Json counts = status_counts(s);  // named: items() refers to it
+  for (const auto& [status, n] : counts.items())
     o += "lmcfg_drives{status=\"" + status + "\"} " + number(n.get<double>()) + "\n";
   auto per_line = [&](const char* name, const char* type, const char* help, auto value) {
     head(name, type, help);
