@@ -40,6 +40,7 @@ using Reference = Owned<git_reference, git_reference_free>;
 using Remote = Owned<git_remote, git_remote_free>;
 using Walk = Owned<git_revwalk, git_revwalk_free>;
 using Entry = Owned<git_tree_entry, git_tree_entry_free>;
+using Tag = Owned<git_tag, git_tag_free>;
 
 // The blob id of `path` in `c`'s tree; nullopt when the tree has no such file.
 std::optional<git_oid> blob_at(const git_commit* c, const std::string& path) {
@@ -264,6 +265,59 @@ Result<std::string> Archive::work_path(const std::string& path) const {
     }
   }
   return (fs::path(dir_) / rel).string();
+}
+
+Result<void> Archive::set_tag_ref(const std::string& ref, const std::string& commit_id,
+                                  const std::string& who, std::int64_t time,
+                                  const std::string& message) {
+  const std::string where = "archive " + dir_ + ": " + ref;
+  int valid = 0;
+  if (git_reference_name_is_valid(&valid, ref.c_str()) != 0 || !valid)
+    return Error(Errc::invalid_argument, where + " is not a name git allows for a reference");
+  git_oid id;
+  Object target;
+  if (git_oid_fromstr(&id, commit_id.c_str()) != 0 ||
+      git_object_lookup(&target.p, repo_, &id, GIT_OBJECT_COMMIT) != 0)
+    return git_failure(Errc::not_found, where + ": commit " + commit_id);
+  Signature sig;
+  if (git_signature_new(&sig.p, who.empty() ? "lmcfg" : who.c_str(), "lmcfg@localhost",
+                        static_cast<git_time_t>(time), 0) != 0)
+    return git_failure(Errc::invalid_argument, where + ": tagger '" + who + "'");
+  // The tag's own name is the ref's tail: `git cat-file tag` shows it.
+  const std::string name = ref.rfind("refs/", 0) == 0 ? ref.substr(5) : ref;
+  git_oid tag_id;
+  if (git_tag_annotation_create(&tag_id, repo_, name.c_str(), target.p, sig.p, message.c_str()) !=
+      0)
+    return git_failure(Errc::file_error, where + ": tag");
+  Reference made;
+  if (git_reference_create(&made.p, repo_, ref.c_str(), &tag_id, 1, message.c_str()) != 0)
+    return git_failure(Errc::file_error, where);
+  return {};
+}
+
+Result<std::optional<TagRecord>> Archive::tag_ref(const std::string& ref) const {
+  const std::string where = "archive " + dir_ + ": " + ref;
+  Reference r;
+  const int rc = git_reference_lookup(&r.p, repo_, ref.c_str());
+  if (rc == GIT_ENOTFOUND || rc == GIT_EINVALIDSPEC) return std::optional<TagRecord>();
+  if (rc != 0) return git_failure(Errc::file_error, where);
+  const git_oid* id = git_reference_target(r.p);
+  Tag tag;
+  if (!id || git_tag_lookup(&tag.p, repo_, id) != 0)
+    return Error(Errc::file_error,
+                 where +
+                     " does not point to an annotated tag (written by something other than "
+                     "lmcfg?): remove it with git update-ref -d " +
+                     ref);
+  TagRecord out;
+  out.commit = oid_hex(*git_tag_target_id(tag.p));
+  if (const git_signature* t = git_tag_tagger(tag.p)) {
+    out.time = static_cast<std::int64_t>(t->when.time);
+    out.tagger = t->name ? t->name : "";
+  }
+  const char* m = git_tag_message(tag.p);
+  out.message = m ? m : "";
+  return std::optional<TagRecord>(std::move(out));
 }
 
 Result<std::vector<std::string>> Archive::remove_stale_locks() {

@@ -29,6 +29,16 @@ struct HistoryEntry {
   std::string author;     // "Name <email>"
 };
 
+// An annotated tag object a ref under refs/lmcfg/ points to (a position's
+// approved configuration, fleet/approved.hpp): the commit it names, who made
+// it (the tagger's name), when, and its message.
+struct TagRecord {
+  std::string commit;     // full hex id of the commit the tag points to
+  std::int64_t time = 0;  // the tagger's time, seconds since the epoch (UTC)
+  std::string tagger;     // the tagger's name
+  std::string message;
+};
+
 // The trailers of a commit message ("Operator: ana"), in order, as git
 // interpret-trailers reads them (libgit2's git_message_trailers): the last
 // paragraph, when every line of it is "Key: value".
@@ -71,6 +81,16 @@ class Archive {
   // unless allow_empty (a record such as "restored press3/z-axis").
   Result<std::optional<CommitInfo>> commit(const std::vector<std::string>& paths,
                                            const std::string& message, bool allow_empty = false);
+  // Points `ref` ("refs/lmcfg/approved/press3/z") at a new annotated tag
+  // object naming commit `commit_id` (full hex), made by `who` at `time`
+  // (seconds since the epoch) with `message`; an earlier value of the ref is
+  // replaced (the tag objects stay in the repository). Errc::invalid_argument
+  // for a name git does not allow as a ref, Errc::not_found for an unknown commit.
+  Result<void> set_tag_ref(const std::string& ref, const std::string& commit_id,
+                           const std::string& who, std::int64_t time, const std::string& message);
+  // What `ref` points to; nullopt when there is no such ref. A ref that does
+  // not point to an annotated tag is Errc::file_error (someone else wrote it).
+  Result<std::optional<TagRecord>> tag_ref(const std::string& ref) const;
   // Removes the lock files git and libgit2 leave when a process is killed
   // between creating a lock and renaming it into place (index.lock, HEAD.lock,
   // config.lock, packed-refs.lock, refs/**/*.lock): while one is there every

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <ctime>
 #include <filesystem>
 #include <mutex>
 #include <nlohmann/json.hpp>
@@ -11,6 +12,7 @@
 #include "common/layers.hpp"
 #include "common/text.hpp"
 #include "config/config_io.hpp"
+#include "fleet/approved.hpp"
 
 namespace lmcfg::fleet {
 namespace {
@@ -35,7 +37,8 @@ Result<FleetRun> read_and_compare(const Inventory& inv, const Archive& archive,
   if (opt.links.size() != inv.lines.size())
     return Error(Errc::invalid_argument, "fleet: one link per inventory line is needed");
   FleetRun run;
-  LMCFG_ASSIGN_OR_RETURN(run.compared_to, archive.resolve(opt.rev));
+  run.against_approved = opt.rev.empty();
+  LMCFG_ASSIGN_OR_RETURN(run.compared_to, archive.resolve(opt.rev.empty() ? "HEAD" : opt.rev));
   const auto start = Clock::now();
   reads = read_all(inv, opt);
   for (std::size_t l = 0; l < inv.lines.size(); ++l) {
@@ -195,42 +198,54 @@ LineRun read_line(const LineEntry& line, const ops::LineLink& link, const FleetO
   return run;
 }
 
+Result<void> compare_drive(const LineEntry& line, const DriveEntry& d, const Archive& archive,
+                           const std::string& rev, const db::Database& db,
+                           const std::optional<config::DriveConfig>& live, DriveResult& r) {
+  r.diff.items.clear();
+  if (!live) {
+    r.status = DriveResult::Status::failed;
+    return {};
+  }
+  LMCFG_ASSIGN_OR_RETURN(auto text, archive.read(archive_path(d), rev));
+  if (!text) {
+    r.status = DriveResult::Status::added;
+    return {};
+  }
+  auto archived =
+      config::read_config_text(*text, archive_path(d) + " at " + rev, config::FileFormat::json);
+  if (!archived.ok()) {
+    // A hand-edited or damaged archive file is a difference, not a failure
+    // of the drive: backup replaces it with what the drive holds.
+    ops::DiffItem it;
+    it.kind = ops::DiffItem::Kind::metadata;
+    it.name = "archived file";
+    it.a = "unreadable (" + archived.error().message + ")";
+    it.b = "read from the drive";
+    r.diff.items.push_back(std::move(it));
+    r.status = DriveResult::Status::changed;
+    return {};
+  }
+  r.diff = ops::diff(*archived, *live, db, nullptr, ops::DiffOptions{});
+  // Live and volatile values the inventory names are never a difference.
+  const auto ignored = ignored_upids(line, d);
+  std::erase_if(r.diff.items, [&](const ops::DiffItem& it) {
+    return it.kind == ops::DiffItem::Kind::parameter &&
+           std::find(ignored.begin(), ignored.end(), it.key) != ignored.end();
+  });
+  r.status = r.diff.items.empty() ? DriveResult::Status::unchanged : DriveResult::Status::changed;
+  return {};
+}
+
 Result<void> compare_line(const LineEntry& line, const Archive& archive, const std::string& rev,
                           const db::Database& db, LineRun& run) {
   for (std::size_t i = 0; i < run.entries.size(); ++i) {
-    const auto& d = *run.entries[i];
-    auto& r = run.drives[i];
-    if (!run.configs[i]) {
-      r.status = DriveResult::Status::failed;
-      continue;
+    // "" = each drive against its approved configuration (fleet/approved.hpp).
+    std::string against = rev;
+    if (against.empty()) {
+      LMCFG_ASSIGN_OR_RETURN(against, approved_rev(archive, *run.entries[i]));
     }
-    LMCFG_ASSIGN_OR_RETURN(auto text, archive.read(archive_path(d), rev));
-    if (!text) {
-      r.status = DriveResult::Status::added;
-      continue;
-    }
-    auto archived =
-        config::read_config_text(*text, archive_path(d) + " at " + rev, config::FileFormat::json);
-    if (!archived.ok()) {
-      // A hand-edited or damaged archive file is a difference, not a failure
-      // of the drive: backup replaces it with what the drive holds.
-      ops::DiffItem it;
-      it.kind = ops::DiffItem::Kind::metadata;
-      it.name = "archived file";
-      it.a = "unreadable (" + archived.error().message + ")";
-      it.b = "read from the drive";
-      r.diff.items.push_back(std::move(it));
-      r.status = DriveResult::Status::changed;
-      continue;
-    }
-    r.diff = ops::diff(*archived, *run.configs[i], db, nullptr, ops::DiffOptions{});
-    // Live and volatile values the inventory names are never a difference.
-    const auto ignored = ignored_upids(line, d);
-    std::erase_if(r.diff.items, [&](const ops::DiffItem& it) {
-      return it.kind == ops::DiffItem::Kind::parameter &&
-             std::find(ignored.begin(), ignored.end(), it.key) != ignored.end();
-    });
-    r.status = r.diff.items.empty() ? DriveResult::Status::unchanged : DriveResult::Status::changed;
+    LMCFG_TRY(
+        compare_drive(line, *run.entries[i], archive, against, db, run.configs[i], run.drives[i]));
   }
   return {};
 }
@@ -293,6 +308,17 @@ Result<FleetRun> fleet_backup(const Inventory& inv, Archive& archive, const Flee
     paths.insert(paths.end(), written.begin(), written.end());
   }
   LMCFG_ASSIGN_OR_RETURN(run.commit, archive.commit(paths, commit_message(run)));
+  // Commissioning: a position read for the first time approves itself (and
+  // one from an archive older than approvals adopts the file it held).
+  std::vector<const DriveEntry*> read;
+  for (const auto& line : reads)
+    for (std::size_t i = 0; i < line.entries.size(); ++i)
+      if (line.configs[i]) read.push_back(line.entries[i]);
+  const std::string before = run.compared_to ? run.compared_to->id : "";
+  const std::string after = run.commit ? run.commit->id : before;
+  LMCFG_TRY(commission(archive, read, before, after,
+                       opt.who.empty() ? std::string("lmcfg fleet") : opt.who,
+                       static_cast<std::int64_t>(std::time(nullptr))));
   return run;
 }
 
@@ -356,7 +382,10 @@ std::string render_text(const FleetRun& run, bool status) {
          std::to_string(run.count(S::changed)) + " drifted, " +
          std::to_string(run.count(S::added)) + " not in archive, " +
          std::to_string(run.count(S::failed)) + " failed";
-    if (run.compared_to) s += " (against " + run.compared_to->id.substr(0, 12) + ")";
+    if (run.against_approved)
+      s += " (against the approved configurations)";
+    else if (run.compared_to)
+      s += " (against " + run.compared_to->id.substr(0, 12) + ")";
   } else {
     s += std::to_string(run.drives.size()) + " drive(s): " + std::to_string(run.count(S::changed)) +
          " changed, " + std::to_string(run.count(S::unchanged)) + " unchanged, " +
@@ -453,7 +482,9 @@ std::string restore_record_message(const ArchivedFile& f, const ops::RestoreOutc
   std::string message = "fleet restore: " + f.drive->name + " <- " + f.path + " at " + at;
   // The outcome follows the commit; an automatic restore names its cause in the
   // subject and the outcome in the body. No text a user typed goes into the
-  // subject (the revision asked is resolved to `at`, the commit id).
+  // subject (the revision asked is resolved to `at`, the commit id; the one
+  // word that may follow it says it was the approved configuration).
+  if (f.rev == "approved") message += " (approved)";
   message += cause.empty() ? ": " + ops::outcome_name(outcome) + "\n"
                            : " (" + cause + ")\n\n" + ops::outcome_name(outcome) + "\n";
   const std::string steps = f.line->devicenet
@@ -471,7 +502,17 @@ std::string restore_record_message(const ArchivedFile& f, const ops::RestoreOutc
 
 Result<FleetRestoreResult> fleet_restore(const Inventory& inv, Archive& archive,
                                          const FleetRestore& opt) {
-  LMCFG_ASSIGN_OR_RETURN(auto f, load_archived(inv, archive, opt.drive, opt.rev));
+  std::string rev = opt.rev;
+  if (rev.empty()) {
+    // No revision named: the position's approved configuration.
+    const DriveEntry* d = inv.find_drive(opt.drive);
+    if (!d)
+      return Error(Errc::not_found,
+                   inv.path + ": no drive named '" + opt.drive + "' in the inventory");
+    LMCFG_ASSIGN_OR_RETURN(rev, approved_rev(archive, *d));
+  }
+  LMCFG_ASSIGN_OR_RETURN(auto f, load_archived(inv, archive, opt.drive, rev));
+  if (opt.rev.empty() && rev != "HEAD") f.rev = "approved";  // the record says which
   FleetRestoreResult res;
   res.source = f.source;
   const DriveEntry* d = f.drive;

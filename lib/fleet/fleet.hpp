@@ -48,7 +48,11 @@ struct FleetOptions {
   // Names, types and decoded views; the empty database when there is none.
   std::reference_wrapper<const db::Database> db = db::Database::empty();
   ops::BackupOptions backup;  // what to read (progress and report are per drive, ignored)
-  std::string rev = "HEAD";   // the archive revision compared against
+  // The archive revision compared against; "" = each position's approved
+  // configuration (fleet/approved.hpp; HEAD for a position not approved yet).
+  std::string rev = "HEAD";
+  // fleet_backup: who approves a new position's first backup (commissioning); "" = "lmcfg fleet".
+  std::string who;
   // Called as each drive finishes (from the line's worker, one call at a time).
   std::function<void(const DriveResult&, std::size_t done_on_line, std::size_t on_line)> on_drive;
 };
@@ -56,6 +60,7 @@ struct FleetOptions {
 struct FleetRun {
   std::vector<DriveResult> drives;  // inventory order
   std::optional<CommitInfo> compared_to;
+  bool against_approved = false;     // compared with each position's approved configuration
   std::optional<CommitInfo> commit;  // backup: the run's commit; nullopt = no changes
   double seconds = 0;
   std::size_t count(DriveResult::Status s) const;
@@ -79,8 +84,14 @@ LineRun read_line(const LineEntry& line, const ops::LineLink& link, const FleetO
 // What the line's session needs of drive `d` (its MACID; DeviceNet: motors,
 // IO modules, module values).
 ops::LineDrive line_drive(const DriveEntry& d);
-// Compares each read of `run` with its archived file at `rev`, leaving out the
-// drive's ignored UPIDs (ignored_upids); sets each drive's status.
+// Compares the live read of drive `d` (nullopt: its read failed) with its
+// archived file at `rev`, leaving out the drive's ignored UPIDs
+// (ignored_upids); sets r's diff and status.
+Result<void> compare_drive(const LineEntry& line, const DriveEntry& d, const Archive& archive,
+                           const std::string& rev, const db::Database& db,
+                           const std::optional<config::DriveConfig>& live, DriveResult& r);
+// Compares each read of `run` with its archived file at `rev` ("" = each
+// drive's approved configuration) as compare_drive; sets each drive's status.
 Result<void> compare_line(const LineEntry& line, const Archive& archive, const std::string& rev,
                           const db::Database& db, LineRun& run);
 // Writes the files of the changed and new drives of `run` into the archive's
@@ -90,7 +101,8 @@ Result<std::vector<std::string>> write_line(Archive& archive, const db::Database
 
 // Backs up every drive: writes <archive>/<name>.json for new and changed ones
 // (canonical JSON), keeps a failed drive's file, commits once with
-// commit_message(). A run where nothing changed makes no commit.
+// commit_message(). A run where nothing changed makes no commit. A position
+// read without an approval gets one (fleet::commission: commissioning).
 Result<FleetRun> fleet_backup(const Inventory& inv, Archive& archive, const FleetOptions& opt);
 // Reads every drive and compares it with its file at opt.rev; writes nothing.
 Result<FleetRun> fleet_status(const Inventory& inv, const Archive& archive,
@@ -111,10 +123,10 @@ std::string item_line(const ops::DiffItem& it);
 std::string archive_path(const DriveEntry& d);
 
 struct FleetRestore {
-  std::string drive;  // position name
-  std::string rev = "HEAD";
-  ops::LineLink link;  // the drive's line (the MACID is set from the inventory)
-  ops::Audit audit;    // who and why: trailers of the recording commit
+  std::string drive;         // position name
+  std::string rev = "HEAD";  // "" = the position's approved configuration
+  ops::LineLink link;        // the drive's line (the MACID is set from the inventory)
+  ops::Audit audit;          // who and why: trailers of the recording commit
   std::reference_wrapper<const db::Database> db = db::Database::empty();
   // Runs the normal restore (plan, confirmation, verify) of the archived file
   // on the open session and returns its outcome.

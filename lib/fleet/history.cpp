@@ -5,8 +5,6 @@
 #include "fleet/fleet.hpp"
 
 namespace lmcfg::fleet {
-namespace {
-
 std::string iso_utc(std::int64_t seconds) {
   const auto t = static_cast<std::time_t>(seconds);
   std::tm tm{};
@@ -15,6 +13,8 @@ std::string iso_utc(std::int64_t seconds) {
   std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
   return buf;
 }
+
+namespace {
 
 // "Name <email>" -> "Name" (the email stays in the JSON's author).
 std::string author_name(const std::string& author) {

@@ -22,6 +22,9 @@ struct PositionEvent {
   std::string ticket;  // Ticket: trailer, "" without one
 };
 
+// "2026-11-24T20:30:00Z" for seconds since the epoch (the times of history and approvals).
+std::string iso_utc(std::int64_t seconds);
+
 // The history of position `d`, newest first, at most `limit` entries.
 Result<std::vector<PositionEvent>> position_history(const Archive& archive, const DriveEntry& d,
                                                     std::size_t limit = 100);

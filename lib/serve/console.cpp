@@ -149,6 +149,13 @@ Result<std::string> Console::make_plan(const ConsoleUser& u, const std::string& 
   return id;
 }
 
+Result<std::string> Console::approve(const ConsoleUser& u, const std::string& name,
+                                     const std::string& rev, const std::string& reason,
+                                     const std::string& ticket) {
+  LMCFG_ASSIGN_OR_RETURN(Json a, impl_->service.approve(name, {rev, u.who, reason, ticket}));
+  return a["job"].is_string() ? a["job"].get<std::string>() : std::string();
+}
+
 Result<std::string> Console::start_restore(const ConsoleUser& u, const std::string& plan_id,
                                            const std::string& reason, const std::string& ticket,
                                            bool skip_incompatible) {

@@ -88,6 +88,10 @@ class Console {
   // factory-fresh?). The plan id; its page is plan_page().
   Result<std::string> make_plan(const ConsoleUser& u, const std::string& name,
                                 const std::string& rev);
+  // Approves revision `rev` of `name`'s file as the position's approved
+  // configuration (Service::approve: a reason is required); the drift check's job id.
+  Result<std::string> approve(const ConsoleUser& u, const std::string& name, const std::string& rev,
+                              const std::string& reason, const std::string& ticket);
   // Executes a plan shown by plan_page(); the restore job's id.
   Result<std::string> start_restore(const ConsoleUser& u, const std::string& plan_id,
                                     const std::string& reason, const std::string& ticket,

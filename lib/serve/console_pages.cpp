@@ -200,49 +200,14 @@ std::string overview(const ConsoleUser& u, bool signed_in, const fleet::Inventor
   return frame(&u, signed_in, "Plant overview", b);
 }
 
-std::string position(const ConsoleUser& u, bool signed_in, const fleet::LineEntry& line,
-                     const fleet::DriveEntry& d, const Json& state, const Result<Json>& history,
-                     TimePoint now) {
+namespace {
+
+// The position's history: each revision with its links, the approval form
+// (operators) or the mark of the approved one; the form comparing two revisions.
+std::string history_section(const ConsoleUser& u, const fleet::DriveEntry& d, const Json& approved,
+                            const Result<Json>& history) {
   const std::string enc = esc(url_encode(d.name));
-  std::string b = "<p class=\"crumbs\"><a href=\"/\">Plant</a> / " + esc(line.name) + "</p>\n";
-  b += "<h1>" + esc(d.name) + " " + badge(shown_status(state)) + "</h1>\n";
-  char id[8];
-  std::snprintf(id, sizeof id, "0x%02X", d.id);
-  b += "<section aria-labelledby=\"h-id\"><h2 id=\"h-id\">Identity</h2><dl class=\"identity\">";
-  b += "<dt>Line</dt><dd>" + esc(line.name) + " (" + esc(line.port) + ")</dd>";
-  b += "<dt>Drive ID</dt><dd>" + std::string(id) + "</dd>";
-  for (const auto& [k, v] : d.labels) b += "<dt>" + esc(k) + "</dt><dd>" + esc(v) + "</dd>";
-  b += "</dl></section>\n";
-
-  b += "<section id=\"live\" data-refresh=\"10\" aria-labelledby=\"h-state\"><h2 "
-       "id=\"h-state\">Current state</h2>";
-  b += "<p>" + badge(shown_status(state)) + " " + esc(str(state, "message")) + "</p>";
-  b += "<p>Last backup: " + time_cell(str(state, "last_backup"), now) +
-       ". Last read: " + last_event(state, now) + ".</p>";
-  if (state.contains("differing") && !state["differing"].empty()) {
-    b += "<p>Differences from the archive at the last check:</p><ul class=\"differing\">";
-    for (const auto& s : state["differing"]) b += "<li>" + esc(s.get<std::string>()) + "</li>";
-    b += "</ul>";
-  }
-  b += "</section>\n";
-
-  b += "<section aria-labelledby=\"h-act\"><h2 id=\"h-act\">Actions</h2>";
-  b += "<p><a href=\"/diff?name=" + enc +
-       "&amp;from=HEAD&amp;to=live\" id=\"live-diff\">Live diff against the archive</a> "
-       "(reads the drive now) &middot; <a href=\"/report?name=" +
-       enc + "&amp;rev=HEAD\">Report of the archived configuration</a></p>";
-  if (u.role == Role::operator_) {
-    b += "<form method=\"post\" action=\"/backup\" class=\"inline\">" + csrf_field(u) +
-         "<input type=\"hidden\" name=\"name\" value=\"" + esc(d.name) +
-         "\"><button type=\"submit\" id=\"backup-now\">Back up now</button></form> "
-         "<a class=\"button\" id=\"replace\" href=\"/replace?name=" +
-         enc + "\">Replace the drive / restore a revision</a>";
-  } else {
-    b += "<p class=\"muted\">Signed in as a viewer: you can look at everything and change "
-         "nothing.</p>";
-  }
-  b += "</section>\n";
-
+  std::string b;
   b += "<section aria-labelledby=\"h-hist\"><h2 id=\"h-hist\">History</h2>";
   if (!history.ok()) {
     b += "<p class=\"problem\">" + esc(history.error().message) + "</p>";
@@ -269,7 +234,19 @@ std::string position(const ConsoleUser& u, bool signed_in, const fleet::LineEntr
       if (u.role == Role::operator_)
         b += " &middot; <a href=\"/replace?name=" + enc + "&amp;rev=" + rev +
              "\">restore this revision</a>";
-      b += "</p></li>";
+      b += "</p>";
+      if (approved.is_object() && str(approved, "rev") == commit) {
+        b += "<p class=\"approved\">This is the approved configuration.</p>";
+      } else if (u.role == Role::operator_ && str(h, "kind") == "backup") {
+        // What the position should hold from now on: a person decides, and says why.
+        b += "<form method=\"post\" action=\"/approve\" class=\"inline approve\">" + csrf_field(u) +
+             "<input type=\"hidden\" name=\"name\" value=\"" + esc(d.name) +
+             "\"><input type=\"hidden\" name=\"rev\" value=\"" + esc(commit) +
+             "\"><label>Why <input name=\"reason\" required></label> <label>Ticket <input "
+             "name=\"ticket\"></label> <button type=\"submit\">Approve this "
+             "revision</button></form>";
+      }
+      b += "</li>";
     }
     b += "</ol>";
     // Any two revisions: a GET form, so the diff is a link one can keep.
@@ -290,6 +267,63 @@ std::string position(const ConsoleUser& u, bool signed_in, const fleet::LineEntr
          esc(d.name) + "\">" + revisions("from", "Compare", history->size() > 1 ? 1 : 0, false) +
          revisions("to", "with", 0, false) + "<button type=\"submit\">Diff</button></form>";
   }
+  return b;
+}
+
+}  // namespace
+
+std::string position(const ConsoleUser& u, bool signed_in, const fleet::LineEntry& line,
+                     const fleet::DriveEntry& d, const Json& state, const Result<Json>& history,
+                     TimePoint now) {
+  const std::string enc = esc(url_encode(d.name));
+  std::string b = "<p class=\"crumbs\"><a href=\"/\">Plant</a> / " + esc(line.name) + "</p>\n";
+  b += "<h1>" + esc(d.name) + " " + badge(shown_status(state)) + "</h1>\n";
+  char id[8];
+  std::snprintf(id, sizeof id, "0x%02X", d.id);
+  b += "<section aria-labelledby=\"h-id\"><h2 id=\"h-id\">Identity</h2><dl class=\"identity\">";
+  b += "<dt>Line</dt><dd>" + esc(line.name) + " (" + esc(line.port) + ")</dd>";
+  b += "<dt>Drive ID</dt><dd>" + std::string(id) + "</dd>";
+  for (const auto& [k, v] : d.labels) b += "<dt>" + esc(k) + "</dt><dd>" + esc(v) + "</dd>";
+  b += "</dl></section>\n";
+
+  b += "<section id=\"live\" data-refresh=\"10\" aria-labelledby=\"h-state\"><h2 "
+       "id=\"h-state\">Current state</h2>";
+  b += "<p>" + badge(shown_status(state)) + " " + esc(str(state, "message")) + "</p>";
+  b += "<p>Last backup: " + time_cell(str(state, "last_backup"), now) +
+       ". Last read: " + last_event(state, now) + ".</p>";
+  const Json approved = state.contains("approved") ? state["approved"] : Json();
+  if (approved.is_object()) {
+    b += "<p id=\"approved\">Approved configuration: <code>" +
+         esc(str(approved, "rev").substr(0, 10)) + "</code>, approved by " +
+         esc(str(approved, "who")) + " " + time_cell(str(approved, "time"), now) + ": " +
+         esc(str(approved, "reason")) + "</p>";
+  }
+  if (state.contains("differing") && !state["differing"].empty()) {
+    b += "<p>Differences from the approved configuration at the last check:</p><ul "
+         "class=\"differing\">";
+    for (const auto& s : state["differing"]) b += "<li>" + esc(s.get<std::string>()) + "</li>";
+    b += "</ul>";
+  }
+  b += "</section>\n";
+
+  b += "<section aria-labelledby=\"h-act\"><h2 id=\"h-act\">Actions</h2>";
+  b += "<p><a href=\"/diff?name=" + enc +
+       "&amp;from=HEAD&amp;to=live\" id=\"live-diff\">Live diff against the archive</a> "
+       "(reads the drive now) &middot; <a href=\"/report?name=" +
+       enc + "&amp;rev=HEAD\">Report of the archived configuration</a></p>";
+  if (u.role == Role::operator_) {
+    b += "<form method=\"post\" action=\"/backup\" class=\"inline\">" + csrf_field(u) +
+         "<input type=\"hidden\" name=\"name\" value=\"" + esc(d.name) +
+         "\"><button type=\"submit\" id=\"backup-now\">Back up now</button></form> "
+         "<a class=\"button\" id=\"replace\" href=\"/replace?name=" +
+         enc + "\">Replace the drive / restore a revision</a>";
+  } else {
+    b += "<p class=\"muted\">Signed in as a viewer: you can look at everything and change "
+         "nothing.</p>";
+  }
+  b += "</section>\n";
+
+  b += history_section(u, d, approved, history);
   b += "</section>\n";
   return frame(&u, signed_in, d.name, b);
 }

@@ -342,6 +342,19 @@ void HttpServer::Impl::routes() {
                 auto id = service.execute(er);
                 id.ok() ? json(res, Json{{"job", *id}}, 202) : error(res, id.error());
               }));
+  // The position's approved configuration (docs/serve.md "Approved configurations").
+  router.Post("/api/v1/drives/{any}/approve", guard([this](const Request& req, Response& res) {
+                Json b;
+                bool ok = body(req, res, b);
+                Service::ApproveRequest ar;
+                ar.who = who(req);
+                if (ok) ar.rev = text(b, "rev", res, ok);
+                if (ok) ar.reason = text(b, "reason", res, ok);
+                if (ok) ar.ticket = text(b, "ticket", res, ok);
+                if (!ok) return;
+                auto a = service.approve(req.matches[1], ar);
+                a.ok() ? json(res, *a) : error(res, a.error());
+              }));
   router.Get("/api/v1/jobs/{num}", guard([this](const Request& req, Response& res) {
                auto j = service.job(req.matches[1]);
                j.ok() ? json(res, *j) : error(res, j.error());

@@ -73,6 +73,7 @@ Result<std::unique_ptr<Service>> Service::create(ServiceOptions opt) {
                         : std::filesystem::path(impl->opt.state_dir);
   Impl* p = impl.get();
   p->load_pending();
+  p->load_states();
   for (std::size_t l = 0; l < n; ++l) impl->workers.emplace_back([p, l] { p->worker(l); });
   if (!impl->opt.inventory.archive.push.empty()) {
     // Commits of an earlier run that were not pushed yet (a failed push, a
@@ -233,8 +234,13 @@ Result<Json> Service::plan(const std::string& name, const std::string& rev,
   StoredPlan sp;
   {
     std::lock_guard<std::mutex> lock(s.archive_mu);
-    LMCFG_ASSIGN_OR_RETURN(sp.file, fleet::load_archived(s.opt.inventory, s.archive, name,
-                                                         rev.empty() ? "HEAD" : rev));
+    // No revision named: the position's approved configuration.
+    std::string from = rev;
+    if (from.empty()) {
+      LMCFG_ASSIGN_OR_RETURN(from, s.restore_rev(*d));
+    }
+    LMCFG_ASSIGN_OR_RETURN(sp.file, fleet::load_archived(s.opt.inventory, s.archive, name, from));
+    if (rev.empty() && from != "HEAD") sp.file.rev = "approved";
   }
   sp.line = s.line_index(line);
   // The plan of `lmcfg restore --dry-run`, the values the target cannot take

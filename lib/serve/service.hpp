@@ -113,6 +113,17 @@ class Service {
   // `lmcfg report` of `name`'s archived file at `rev` ("" = HEAD): the HTML page.
   Result<std::string> report_html(const std::string& name, const std::string& rev) const;
 
+  struct ApproveRequest {
+    std::string rev;  // "" = HEAD; resolved to its commit id before it is recorded
+    std::string who, reason, ticket;
+  };
+  // Records `name`'s file at req.rev as the position's approved configuration
+  // (fleet/approved.hpp) and queues a drift check of the position against it.
+  // {rev, time, who, reason, ticket, kind, job}. Errc::invalid_argument without a
+  // reason, Errc::not_found for an unknown drive, revision or a revision
+  // without the position's file; nothing recorded then.
+  Result<Json> approve(const std::string& name, const ApproveRequest& req);
+
   // Sends the daily summary event when a day (UTC) has begun since the last one: counts of
   // positions per status. tick() calls it; tests call it with their clock.
   void summarize(TimePoint now);

@@ -14,6 +14,7 @@
 #include <thread>
 
 #include "common/text.hpp"
+#include "fleet/approved.hpp"
 #include "fleet/archive.hpp"
 #include "ops/recovery.hpp"
 #include "ops/restore_run.hpp"
@@ -86,8 +87,9 @@ struct DriveState {
   bool last_ok = false;
   int last_exit_code = 0;
   std::size_t differences = 0;
-  std::vector<std::string> differing;  // the differences, as the commit message says them
-  std::string notified;                // the last state an event was sent for
+  std::vector<std::string> differing;       // the differences, as the commit message says them
+  std::string notified;                     // the last state an event was sent for
+  std::optional<fleet::Approval> approved;  // the position's approved configuration, when known
 };
 
 struct LineMetrics {
@@ -112,8 +114,11 @@ struct RestoreAttempt {
 
 // What archiving a line's run decided, per drive of the run.
 struct LineArchived {
-  explicit LineArchived(std::size_t n) : replaced(n, false), unfinished(n, false) {}
+  explicit LineArchived(std::size_t n) : replaced(n, false), unfinished(n, false), against(n) {}
   std::vector<bool> replaced, unfinished;
+  // Each drive compared with its approved configuration (the position's
+  // status); nullopt: not compared (failed read).
+  std::vector<std::optional<fleet::DriveResult>> against;
   std::optional<std::string> commit;
   Result<void> archived;
 };
@@ -140,8 +145,9 @@ struct Service::Impl {
   bool stopping = false;
   std::vector<std::thread> workers;
 
-  std::mutex archive_mu;  // libgit2's repository: one user at a time
-  std::string base_url;   // under mu: set_base_url
+  std::mutex archive_mu;      // libgit2's repository: one user at a time
+  std::mutex states_file_mu;  // <state_dir>/states.json: one writer at a time
+  std::string base_url;       // under mu: set_base_url
 
   // [archive] push, under mu. A commit asks for a push (++wanted); the push
   // thread pushes the branch as it then is and marks that request done, so
@@ -325,7 +331,26 @@ struct Service::Impl {
                                    const std::string& file_name, Json& details);
 
   // One drive's outcome: its state, and an event when the state changed.
+  // `r` is the drive compared with its approved configuration.
   void record(Kind kind, const fleet::DriveResult& r, const std::optional<std::string>& commit);
+
+  // Approved configurations (service_approved.cpp). Caller holds archive_mu:
+  // after a backup's commit, the positions read without an approval get one
+  // (commissioning); each read drive compared with its approved configuration
+  // into la.against, the approvals into the states.
+  Result<void> compare_approved(const fleet::LineEntry& line, const Job& job,
+                                const std::string& before, fleet::LineRun& run, LineArchived& la);
+  // The revision a restore without one takes: the approved one (HEAD when none).
+  // Caller holds archive_mu.
+  Result<std::string> restore_rev(const fleet::DriveEntry& d) const;
+  // The states as they are now, written to <state_dir>/states.json; and read
+  // back at start (with the last backups of positions it does not name taken
+  // from the archive's history), so a restart changes nothing people see.
+  void save_states();
+  void load_states();
+  // Caller holds mu. After a restore of a revision other than the approved
+  // one: the position is in drift (the next check lists the differences).
+  void note_unapproved(const std::string& name, const fleet::ArchivedFile& f);
 
   // A backup or drift check of a line (a Task with a job), on its worker.
   void run_task(std::size_t line_index, Task& task);

@@ -103,21 +103,17 @@ void Service::Impl::record(Kind kind, const fleet::DriveResult& r,
       st.differing.clear();
       for (const auto& it : r.diff.items) st.differing.push_back(fleet::item_line(it));
       st.differences = r.diff.items.size();
-      if (r.status == S::changed && kind == Kind::status) {
+      if (r.status == S::changed) {
+        // Against the approved configuration: a backup that archived the
+        // change leaves the position in drift until someone approves the
+        // change or restores the approved configuration.
         st.status = "drift";
-        st.message = fleet::counts_line(r) + " differ from the archive";
+        st.message = fleet::counts_line(r) + " differ from the approved configuration" +
+                     (commit && kind == Kind::backup ? " (archived)" : "");
         if (st.notified != "drift") {
           event = "drift";
           st.notified = "drift";
         }
-      } else if (r.status == S::changed) {
-        // A backup archives what it found: the position matches the archive
-        // again, and the event says the change was committed.
-        st.status = "ok";
-        st.message = "changed, archived";
-        event = "drift";
-        st.notified = "ok";
-        st.differences = 0;
       } else if (r.status == S::added && kind == Kind::status) {
         st.status = "unknown";
         st.message = "not in the archive yet (no backup)";
@@ -125,7 +121,7 @@ void Service::Impl::record(Kind kind, const fleet::DriveResult& r,
         const bool was_off =
             st.notified == "drift" || st.notified == "failed" || st.notified == "replaced";
         st.status = "ok";
-        st.message = r.status == S::added ? "new, archived" : "matches the archive";
+        st.message = r.status == S::added ? "new, archived" : "matches the approved configuration";
         st.differences = 0;
         if (was_off) {
           event = "recovered";
@@ -148,12 +144,12 @@ void Service::Impl::record(Kind kind, const fleet::DriveResult& r,
                            {"live", it.b}});
         }
         details["upids"] = upids;
-        if (commit) details["committed"] = *commit;
+        if (commit && kind == Kind::backup) details["committed"] = *commit;
         // The diff rendered as lmcfg report does it: the archive against the
         // drive now, or (a backup committed it) the commit against its parent.
-        details["report"] =
-            base_url + "/diff?name=" + url_encode(r.name) +
-            (commit ? "&from=" + *commit + "~1&to=" + *commit : std::string("&from=HEAD&to=live"));
+        const std::string from = st.approved ? st.approved->commit : std::string("HEAD");
+        details["report"] = base_url + "/diff?name=" + url_encode(r.name) + "&from=" + from +
+                            "&to=" + (commit && kind == Kind::backup ? *commit : "live");
       }
     }
   }
@@ -182,6 +178,7 @@ void Service::Impl::run_task(std::size_t line_index, Task& task) {
   const std::size_t failed = record_run(line, job.kind, run, la, to_restore);
   if (la.commit) want_push();
   count_run(line_index, job, run, la, failed);
+  save_states();
   for (std::size_t i : to_restore) restore_replaced(line_index, *run.entries[i]);
 }
 
@@ -200,6 +197,8 @@ Result<void> Service::Impl::archive_run(const fleet::LineEntry& line, const Job&
                                         fleet::LineRun& run, LineArchived& la) {
   using S = fleet::DriveResult::Status;
   LMCFG_TRY(fleet::compare_line(line, archive, "HEAD", opt.db, run));
+  LMCFG_ASSIGN_OR_RETURN(auto head, archive.resolve("HEAD"));
+  const std::string before = head ? head->id : "";
   for (std::size_t i = 0; i < run.drives.size(); ++i) {
     // LinRS drives only: a DeviceNet capture has no modified lists (DeviceNet §5.2
     // values, read whole), so "factory-fresh" says nothing of it.
@@ -209,7 +208,7 @@ Result<void> Service::Impl::archive_run(const fleet::LineEntry& line, const Job&
     // A drive a restore has not finished on is half configured: never archived.
     la.unfinished[i] = is_pending(run.entries[i]->name);
   }
-  if (job.kind != Kind::backup) return {};
+  if (job.kind != Kind::backup) return compare_approved(line, job, before, run, la);
   // A replaced drive's factory state never overwrites the archived file.
   fleet::LineRun keep;
   for (std::size_t i = 0; i < run.drives.size(); ++i) {
@@ -226,7 +225,7 @@ Result<void> Service::Impl::archive_run(const fleet::LineEntry& line, const Job&
   if (!tr.empty()) message += "\n" + tr;
   LMCFG_ASSIGN_OR_RETURN(auto made, archive.commit(paths, message));
   if (made) la.commit = made->id;
-  return {};
+  return compare_approved(line, job, before, run, la);
 }
 
 // Each drive's state and event; the drives to restore (replaced, on_replaced =
@@ -254,7 +253,7 @@ std::size_t Service::Impl::record_run(const fleet::LineEntry& line, Kind kind, f
       record_replaced(kind, r, restore);
       if (restore) to_restore.push_back(i);
     } else {
-      record(kind, r, la.commit);
+      record(kind, la.archived.ok() && la.against[i] ? *la.against[i] : r, la.commit);
     }
   }
   return failed;
@@ -408,6 +407,7 @@ Json Service::Impl::drive_json(const fleet::LineEntry& line, const fleet::DriveE
   j["differences"] = st->differences;
   j["message"] = st->message;
   if (st->status == "drift") j["differing"] = st->differing;
+  j["approved"] = fleet::approval_json(st->approved);
   return j;
 }
 

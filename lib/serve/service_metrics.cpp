@@ -29,6 +29,20 @@ std::string number(double v) {
   return buf;
 }
 
+// Positions per status (the summary event and /metrics, one list): ok, drift,
+// failed, replaced, unknown. Caller holds s.mu.
+Json status_counts(const Service::Impl& s) {
+  Json counts{{"ok", 0}, {"drift", 0}, {"failed", 0}, {"replaced", 0}, {"unknown", 0}};
+  for (const auto& line : s.opt.inventory.lines) {
+    for (const auto& d : line.drives) {
+      auto it = s.states.find(d.name);
+      const std::string st = it == s.states.end() ? "unknown" : it->second.status;
+      counts[st] = counts.value(st, 0) + 1;
+    }
+  }
+  return counts;
+}
+
 }  // namespace
 
 // An event about the archive, not a position: push_failed, push_recovered.
@@ -87,7 +101,7 @@ void Service::summarize(TimePoint now) {
   auto& s = *impl_;
   const std::int64_t day =
       std::chrono::duration_cast<std::chrono::seconds>(now.time_since_epoch()).count() / 86400;
-  Json counts{{"ok", 0}, {"drift", 0}, {"failed", 0}, {"replaced", 0}, {"unknown", 0}};
+  Json counts;
   {
     std::lock_guard<std::mutex> lock(s.mu);
     if (!s.summary_day) {
@@ -96,13 +110,7 @@ void Service::summarize(TimePoint now) {
     }
     if (day <= *s.summary_day) return;
     s.summary_day = day;
-    for (const auto& line : s.opt.inventory.lines) {
-      for (const auto& d : line.drives) {
-        auto it = s.states.find(d.name);
-        const std::string st = it == s.states.end() ? "unknown" : it->second.status;
-        counts[st] = counts.value(st, 0) + 1;
-      }
-    }
+    counts = status_counts(s);
   }
   s.emit("summary", "", "",
          {{"period", "day"}, {"drives", s.opt.inventory.drive_count()}, {"counts", counts}});
@@ -151,13 +159,17 @@ std::string Service::metrics() const {
               return st.last_exit_code;
             });
   per_drive(
-      "lmcfg_drive_drift", "gauge", "1 when the drive differs from its archived file.",
+      "lmcfg_drive_drift", "gauge", "1 when the drive differs from its approved configuration.",
       [](const DriveState& st) -> std::optional<double> { return st.status == "drift" ? 1 : 0; });
   per_drive("lmcfg_drive_differences", "gauge",
-            "Differences between the drive and its archived file at the last check.",
+            "Differences between the drive and its approved configuration at the last check.",
             [](const DriveState& st) -> std::optional<double> {
               return static_cast<double>(st.differences);
             });
+  head("lmcfg_drives", "gauge", "Positions per status against their approved configuration.");
+  const Json counts = status_counts(s);  // named: items() refers to it
+  for (const auto& [status, n] : counts.items())
+    o += "lmcfg_drives{status=\"" + status + "\"} " + number(n.get<double>()) + "\n";
   auto per_line = [&](const char* name, const char* type, const char* help, auto value) {
     head(name, type, help);
     for (std::size_t l = 0; l < s.opt.inventory.lines.size(); ++l)

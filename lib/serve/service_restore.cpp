@@ -216,10 +216,12 @@ void Service::Impl::finish_restore_job(Job& job, std::size_t li, const fleet::Ar
       job.commits.push_back(a.record->id);
     }
     if (!interrupted) event = record_restore_state(d.name, a, code, f.file_name, details);
+    if (!interrupted && !err) note_unapproved(d.name, f);
   }
   log("restore job " + job.id + ": " + d.name + ": " + outcome +
       (err ? ": " + err->message : std::string()) +
       (a.record ? ", committed " + a.record->id.substr(0, 12) : std::string()));
+  if (!interrupted) save_states();
   if (!event.empty()) emit(event, d.name, line.name, details);
 }
 
@@ -253,7 +255,8 @@ std::string Service::Impl::record_restore_state(const std::string& name, const R
   return event;
 }
 
-// on_replaced = "restore": the archived file at HEAD, restored at once on this worker.
+// on_replaced = "restore": the approved configuration (HEAD when none), restored
+// at once on this worker.
 void Service::Impl::restore_replaced(std::size_t li, const fleet::DriveEntry& d) {
   std::shared_ptr<Job> job;
   {
@@ -265,7 +268,11 @@ void Service::Impl::restore_replaced(std::size_t li, const fleet::DriveEntry& d)
   }
   Result<fleet::ArchivedFile> f = [&] {
     std::lock_guard<std::mutex> lock(archive_mu);
-    return fleet::load_archived(opt.inventory, archive, d.name, "HEAD");
+    auto rev = restore_rev(d);
+    if (!rev.ok()) return Result<fleet::ArchivedFile>(rev.error());
+    auto file = fleet::load_archived(opt.inventory, archive, d.name, *rev);
+    if (file.ok() && *rev != "HEAD") file->rev = "approved";
+    return file;
   }();
   if (!f.ok()) {
     fail_job(*job, f.error());

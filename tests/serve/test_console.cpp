@@ -353,3 +353,50 @@ TEST_CASE(
   CHECK(res->status == 404);
   CHECK(res->body.find("no plan &#39;0123abcd&#39;") != std::string::npos);
 }
+
+TEST_CASE(
+    "console: an operator approves a revision from the position's history; without a reason "
+    "nothing is approved",
+    "[serve][console]") {
+  test::Rig rig;
+  rig.at(rig.now);
+  test::write_axis(rig.dir.path / "b.json", 0x12, "0010", 7);
+  rig.at(rig.now + 6h);  // a used spare's configuration archived: still drift
+  const std::string spare = test::git(rig.dir.path / "archive", "rev-parse HEAD").substr(0, 40);
+  test::Server server(*rig.service);
+  Browser b(server.port);
+  auto page = b.get("/position?name=press3%2Fx");
+  REQUIRE(page);
+  const std::string& html = page->body;
+  CHECK(html.find("Differences from the approved configuration at the last check:") !=
+        std::string::npos);
+  CHECK(html.find("<p id=\"approved\">Approved configuration: <code>") != std::string::npos);
+  // The commissioned revision is marked, the spare's backup can be approved.
+  CHECK(html.find("This is the approved configuration.") != std::string::npos);
+  CHECK(html.find("<input type=\"hidden\" name=\"rev\" value=\"" + spare + "\">") !=
+        std::string::npos);
+  CHECK(html.find("Approve this revision</button>") != std::string::npos);
+  const std::string csrf = csrf_of(html);
+
+  auto res = b.post("/approve", {{"name", "press3/x"}, {"rev", spare}, {"csrf", csrf}});
+  REQUIRE(res);
+  CHECK(res->status == 400);
+  CHECK(res->body.find("<h1>Not approved</h1>") != std::string::npos);
+  CHECK(res->body.find("approving press3/x needs a reason") != std::string::npos);
+  CHECK((*rig.service->drive("press3/x"))["status"] == "drift");
+
+  res = b.post("/approve", {{"name", "press3/x"},
+                            {"rev", spare},
+                            {"reason", "spare accepted"},
+                            {"ticket", "CHG-9"},
+                            {"csrf", csrf}});
+  REQUIRE(res);
+  CHECK(res->status == 303);
+  CHECK(res->get_header_value("Location") == "/position?name=press3%2Fx");
+  rig.service->wait_idle();
+  const auto x = *rig.service->drive("press3/x");
+  CHECK(x["status"] == "ok");
+  CHECK(x["approved"]["rev"] == spare);
+  CHECK(x["approved"]["who"] == "local");
+  CHECK(x["approved"]["ticket"] == "CHG-9");
+}

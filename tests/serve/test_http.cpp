@@ -56,7 +56,7 @@ TEST_CASE("serve: the REST API over HTTP on 127.0.0.1", "[serve][http]") {
   CHECK(all[0]["name"] == "press3/z");
   CHECK(all[0]["line"] == "line1");
   CHECK(all[0]["status"] == "ok");
-  CHECK(all[0]["message"] == "matches the archive");
+  CHECK(all[0]["message"] == "matches the approved configuration");
   CHECK(all[0]["differences"] == 0);
 
   res = c.Get("/api/v1/drives/press3/x");

@@ -40,7 +40,7 @@ TEST_CASE("serve: plan, execute, the restore job's progress and outcome, a commi
   const auto p = plain(*planned);
   CHECK(p["drive"] == "press3/z");
   CHECK(p["line"] == "line1");
-  CHECK(p["rev"] == head);  // resolved: the text asked goes no further
+  CHECK(p["rev"] == "approved");
   CHECK(p["commit"] == head);
   CHECK(p["expires"] == "2027-01-15T08:05:00Z");
   CHECK(p["factory_fresh"] == false);
@@ -87,7 +87,8 @@ TEST_CASE("serve: plan, execute, the restore job's progress and outcome, a commi
   const auto archive = rig.dir.path / "archive";
   CHECK(git(archive, "rev-parse HEAD").substr(0, 40) == job["commit"]);
   CHECK(git(archive, "log -1 --format=%s") == "fleet restore: press3/z <- press3/z.json at " +
-                                                  head.substr(0, 12) + ": restored and verified\n");
+                                                  head.substr(0, 12) +
+                                                  " (approved): restored and verified\n");
   CHECK(git(archive, "log -1 '--format=%(trailers)'") ==
         "Operator: ops\nReason: tuning lost after a repair\nTicket: CHG-4711\n\n");
 

@@ -62,8 +62,10 @@ TEST_CASE(
   REQUIRE(events[0]["upids"].size() == 1);
   CHECK(events[0]["upids"][0]["upid"] == "0010h");
   CHECK(events[0]["upids"][0]["archived"] == "5");
-  // A link to the diff as lmcfg report renders it (the console's /diff page).
-  CHECK(events[0]["report"] == "/diff?name=press3%2Fx&from=HEAD&to=live");
+  // A link to the diff as lmcfg report renders it (the console's /diff page):
+  // the approved configuration (the first backup's, commissioning) against the drive.
+  const std::string approved = git(rig.dir.path / "archive", "rev-parse HEAD").substr(0, 40);
+  CHECK(events[0]["report"] == "/diff?name=press3%2Fx&from=" + approved + "&to=live");
   CHECK(events[0]["upids"][0]["live"] == "7");
   CHECK((*rig.service->drive("press3/x"))["status"] == "drift");
   CHECK((*rig.service->drive("press3/x"))["differences"] == 1);
@@ -121,7 +123,10 @@ TEST_CASE("serve: a backup that finds a change commits it and says so once", "[s
   CHECK(j["counts"]["changed"] == 1);
   REQUIRE(j["commits"].size() == 1);
   CHECK(events[0]["committed"].get<std::string>() == j["commits"][0].get<std::string>());
-  CHECK((*rig.service->drive("press3/z"))["status"] == "ok");
+  // Archived is not approved: the position differs from its approved configuration.
+  CHECK((*rig.service->drive("press3/z"))["status"] == "drift");
+  CHECK((*rig.service->drive("press3/z"))["message"] ==
+        "1 parameter, 0 curves, 0 CT entries differ from the approved configuration (archived)");
   auto history = rig.service->history("press3/z");
   REQUIRE(history.ok());
   REQUIRE(history->size() == 2);  // the first backup and this one

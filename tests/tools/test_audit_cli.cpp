@@ -220,7 +220,7 @@ TEST_CASE("audit cli: fleet restore records who and why as trailers, fleet log s
         "Operator: " + test::os_user() + "\nReason: motor replaced\nTicket: T-17\n\n");
   CHECK(r.git("-C arch log -1 --format=%s") == "fleet restore: bench/b <- bench/b.json at " +
                                                    backup_id.substr(0, 12) +
-                                                   ": restored and verified\n");
+                                                   " (approved): restored and verified\n");
 
   // The journal has it too, with the position.
   const auto recs = r.records();
@@ -245,7 +245,7 @@ TEST_CASE("audit cli: fleet restore records who and why as trailers, fleet log s
   CHECK(log.out ==
         restore_time + "  " + restore_id + "  restore  " + test::os_user() +
             "\n    fleet restore: bench/b <- bench/b.json at " + backup_id.substr(0, 12) +
-            ": restored and verified\n    why: motor replaced (ticket T-17)\n"
+            " (approved): restored and verified\n    why: motor replaced (ticket T-17)\n"
             "\n" +
             backup_time + "  " + backup_id12 + "  backup  " + author.substr(0, author.size() - 1) +
             "\n    fleet backup: 0 changed, 0 unchanged, 2 new, 0 failed\n");

@@ -138,8 +138,8 @@ TEST_CASE(
   CHECK(status.out.rfind(
             "drift: press3/x-axis (line line1, MACID 12h): 1 parameter, 0 curves, 0 CT entries\n"
             "    MC 13A2h P Gain Position Controller Set A: 40 -> 1234\n"
-            "7 drive(s): 6 as archived, 1 drifted, 0 not in archive, 0 failed (against " +
-                (*head1)->id.substr(0, 12) + ")",
+            "7 drive(s): 6 as archived, 1 drifted, 0 not in archive, 0 failed (against the "
+            "approved configurations)",
             0) == 0);
   auto status_json = test::run_tool_in(dir, "fleet status plant.toml --archive arch --json");
   CHECK(status_json.exit_code == 1);
@@ -163,10 +163,27 @@ TEST_CASE(
     const bool same = *archive->read(f, "HEAD").value() == *archive->read(f, "HEAD~1").value();
     CHECK(same == (f != "press3/x-axis.json"));
   }
-  CHECK(test::run_tool_in(dir, "fleet status plant.toml --archive arch").exit_code == 0);
+  // Archived is not approved: the position stays in drift against its
+  // commissioned file until someone approves the change.
+  auto archived = test::run_tool_in(dir, "fleet status plant.toml --archive arch");
+  CHECK(archived.exit_code == 1);
+  CHECK(count(archived.out, "drift: press3/x-axis ") == 1);
+  CHECK(test::run_tool_in(dir, "fleet status plant.toml --archive arch --since HEAD").exit_code ==
+        0);
   auto since = test::run_tool_in(dir, "fleet status plant.toml --archive arch --since HEAD~1");
   CHECK(since.exit_code == 1);
   CHECK(count(since.out, "drift: ") == 1);
+
+  auto approved = test::run_tool_in(dir,
+                                    "fleet approve press3/x-axis --archive arch --reason \"gain "
+                                    "retuned after the new tool\" --ticket CHG-7 --who maria");
+  INFO(approved.err);
+  CHECK(approved.exit_code == 0);
+  CHECK(approved.out == "fleet approve: press3/x-axis <- press3/x-axis.json at " +
+                            head2->id.substr(0, 12) +
+                            " (HEAD), approved by maria: gain retuned after the new tool (ticket "
+                            "CHG-7)\n");
+  CHECK(test::run_tool_in(dir, "fleet status plant.toml --archive arch").exit_code == 0);
 
   // A line that stops answering fails the run (exit 4), names its drives and
   // keeps their files; the other lines are still read.
@@ -187,11 +204,12 @@ TEST_CASE(
       test::run_tool_in(dir, "fleet restore plant.toml --archive arch --drive bench/b --yes");
   INFO(restore.err);
   CHECK(restore.exit_code == 0);
-  CHECK(restore.err.find("verified: the drive matches bench/b.json@" + head2->id.substr(0, 12)) !=
-        std::string::npos);
+  // Without --rev the position's approved configuration: its first backup's (commissioning).
+  CHECK(restore.err.find("verified: the drive matches bench/b.json@" +
+                         (*head1)->id.substr(0, 12)) != std::string::npos);
   auto record = archive->resolve("HEAD").value();
-  CHECK(record->summary == "fleet restore: bench/b <- bench/b.json at " + head2->id.substr(0, 12) +
-                               ": restored and verified");
+  CHECK(record->summary == "fleet restore: bench/b <- bench/b.json at " +
+                               (*head1)->id.substr(0, 12) + " (approved): restored and verified");
   auto after = test::run_tool_in(dir, "fleet status plant.toml --archive arch --json");
   const auto aj = nlohmann::json::parse(after.out);
   CHECK(aj["drives"][5]["status"] == "unchanged");
@@ -314,7 +332,9 @@ TEST_CASE("fleet: a damaged archived file is drift that the next backup repairs"
   REQUIRE(archive.ok());
   test::spit(dir / "arch/a.json", "{\"format\": \"lmcfg-config\", \"version\": 2");
   REQUIRE(archive->commit({"a.json"}, "someone's edit\n").ok());
-  auto status = test::run_tool_in(dir, "fleet status ok.toml --archive arch");
+  // The approved configuration (the first backup's) is intact: no drift against it.
+  CHECK(test::run_tool_in(dir, "fleet status ok.toml --archive arch").exit_code == 0);
+  auto status = test::run_tool_in(dir, "fleet status ok.toml --archive arch --since HEAD");
   CHECK(status.exit_code == 1);
   CHECK(status.out.rfind("drift: a (line l, MACID 11h): 0 parameters, 0 curves, 0 CT entries, 1 "
                          "other difference\n    metadata archived file: unreadable (a.json at ",
@@ -323,7 +343,7 @@ TEST_CASE("fleet: a damaged archived file is drift that the next backup repairs"
   CHECK(repair.exit_code == 0);
   CHECK(archive->resolve("HEAD").value()->summary ==
         "fleet backup: 1 changed, 0 unchanged, 0 new, 0 failed");
-  CHECK(test::run_tool_in(dir, "fleet status ok.toml --archive arch").exit_code == 0);
+  CHECK(test::run_tool_in(dir, "fleet status ok.toml --archive arch --since HEAD").exit_code == 0);
 }
 
 TEST_CASE(
@@ -422,7 +442,7 @@ TEST_CASE(
     auto record = archive->resolve("HEAD").value();
     REQUIRE(record);
     CHECK(record->summary == "fleet restore: press6/controller <- press6/controller.json at " +
-                                 head1->id.substr(0, 12) + ": restored and verified");
+                                 head1->id.substr(0, 12) + " (approved): restored and verified");
     CHECK(record->message.find("\nline can-gw (" + gw.port +
                                "), DeviceNet MAC ID 07h, 2 Set command(s)\n") != std::string::npos);
     CHECK(test::run_tool_in(dir, "fleet status plant.toml --archive arch").exit_code == 0);

@@ -210,7 +210,7 @@ TEST_CASE("cli: fleet restore --skip-incompatible records the skipped values in 
   const auto record = archive->resolve("HEAD").value();
   REQUIRE(record);
   CHECK(record->message == "fleet restore: bench/a <- bench/a.json at " + head->id.substr(0, 12) +
-                               ": restored except the listed values, verified\n\nline "
+                               " (approved): restored except the listed values, verified\n\nline "
                                "bench (sim:s1.json), MACID 11h, 30 step(s)\n\n" +
                                lines("skipped (the target cannot take them):\n", "  ") +
                                "\nOperator: " + test::os_user() + "\n");

@@ -3,9 +3,11 @@
 #include <unistd.h>
 
 #include <cstdio>
+#include <ctime>
 
 #include "command.hpp"
 #include "devicenet_flow.hpp"
+#include "fleet/approved.hpp"
 #include "fleet/fleet.hpp"
 #include "fleet/history.hpp"
 #include "fleet_cli.hpp"
@@ -18,8 +20,10 @@ namespace {
 
 struct FleetCli {
   CommonOptions common;  // --db, --json, --quiet, --trace; link settings come per line
-  std::string inventory, archive, since = "HEAD", push, drive, rev = "HEAD";
-  std::string position;  // fleet log NAME
+  // since, rev: "" = each position's approved configuration (docs/fleet.md).
+  std::string inventory, archive, since, push, drive, rev;
+  std::string position;             // fleet log NAME, fleet approve NAME
+  std::string reason, ticket, who;  // fleet approve
   bool no_curves = false, no_ct = false, full = false;
   RestoreFlags flags;
 };
@@ -55,6 +59,7 @@ int run_fleet(const FleetCli& o, bool status) {
   fo.db = db;
   fo.links = *line_links(*inv, o.common);
   fo.rev = status ? o.since : "HEAD";
+  fo.who = ops::current_user();
   fo.backup.curves = !o.no_curves;
   fo.backup.command_table = !o.no_ct;
   fo.backup.full = o.full;
@@ -162,30 +167,60 @@ int run_restore(const FleetCli& o) {
   return code;
 }
 
-// fleet log NAME: the position's history from the archive. With --inventory
-// the name must be one of its drives; without, any valid position name.
-int run_log(const FleetCli& o) {
+// The position NAME of fleet log and fleet approve: with --inventory one of
+// its drives; without, any valid position name.
+Result<fleet::DriveEntry> position_of(const FleetCli& o) {
   fleet::DriveEntry d;
   d.name = o.position;
   if (!o.inventory.empty()) {
-    auto inv = fleet::load_inventory(o.inventory);
-    if (!inv.ok()) return fail("fleet log", inv.error());
-    const auto* found = inv->find_drive(o.position);
+    LMCFG_ASSIGN_OR_RETURN(auto inv, fleet::load_inventory(o.inventory));
+    const auto* found = inv.find_drive(o.position);
     if (!found)
-      return fail("fleet log", Error(Errc::not_found, o.inventory + ": no drive named '" +
-                                                          o.position + "' in the inventory"));
-    d = *found;
-  } else if (auto name = fleet::check_position_name(o.position); !name.ok()) {
-    return fail("fleet log", name.error());
+      return Error(Errc::not_found,
+                   o.inventory + ": no drive named '" + o.position + "' in the inventory");
+    return *found;
   }
+  LMCFG_TRY(fleet::check_position_name(o.position));
+  return d;
+}
+
+// fleet log NAME: the position's history from the archive.
+int run_log(const FleetCli& o) {
+  auto d = position_of(o);
+  if (!d.ok()) return fail("fleet log", d.error());
   auto archive = fleet::Archive::open(o.archive, false);
   if (!archive.ok()) return fail("fleet log", archive.error());
-  auto events = fleet::position_history(*archive, d);
+  auto events = fleet::position_history(*archive, *d);
   if (!events.ok()) return fail("fleet log", events.error());
   if (o.common.json)
     std::printf("%s\n", fleet::history_json(*events).dump(2).c_str());
   else
     std::fputs(fleet::render_history(*events, o.position).c_str(), stdout);
+  return kOk;
+}
+
+// fleet approve NAME: the position's approved configuration (docs/fleet.md
+// "Approved configurations").
+int run_approve(const FleetCli& o) {
+  auto d = position_of(o);
+  if (!d.ok()) return fail("fleet approve", d.error());
+  auto archive = fleet::Archive::open(o.archive, false);
+  if (!archive.ok()) return fail("fleet approve", archive.error());
+  fleet::ApproveRequest req;
+  req.rev = o.rev.empty() ? "HEAD" : o.rev;
+  req.who = o.who.empty() ? ops::current_user() : o.who;
+  req.reason = o.reason;
+  req.ticket = o.ticket;
+  req.time = static_cast<std::int64_t>(std::time(nullptr));
+  auto a = fleet::approve(*archive, *d, req);
+  if (!a.ok()) return fail("fleet approve", a.error());
+  if (o.common.json)
+    std::printf("%s\n", fleet::approval_json(*a).dump(2).c_str());
+  else if (!o.common.quiet)
+    std::printf("fleet approve: %s <- %s at %s (%s), approved by %s: %s%s\n", d->name.c_str(),
+                fleet::archive_path(*d).c_str(), a->commit.substr(0, 12).c_str(), req.rev.c_str(),
+                a->who.c_str(), a->reason.c_str(),
+                a->ticket.empty() ? "" : (" (ticket " + a->ticket + ")").c_str());
   return kOk;
 }
 
@@ -286,7 +321,9 @@ void add_fleet(CLI::App& app, int& exit_code) {
     sub->add_flag("--no-ct", o->no_ct, "do not read the command table");
     sub->add_flag("--full", o->full, "read every ROM-writable UPID");
     if (status)
-      sub->add_option("--since", o->since, "compare against this archive revision (git syntax)");
+      sub->add_option("--since", o->since,
+                      "compare against this archive revision (git syntax) instead of each "
+                      "position's approved configuration");
     else
       sub->add_option("--push", o->push, "push the commit to this remote (name, URL or path)");
     sub->callback([o, &exit_code, status] { exit_code = run_fleet(*o, status); });
@@ -295,8 +332,9 @@ void add_fleet(CLI::App& app, int& exit_code) {
       add_part(fleet, "restore", "Restore a position's archived file onto the drive now there", *o);
   restore->add_option("--archive", o->archive, "the archive (a git repository)")->required();
   restore->add_option("--drive", o->drive, "the position's name in the inventory")->required();
-  restore->add_option("--rev", o->rev, "archive revision to restore from (git syntax)")
-      ->capture_default_str();
+  restore->add_option("--rev", o->rev,
+                      "archive revision to restore from (git syntax); default: the position's "
+                      "approved configuration");
   add_restore_flags(restore, o->flags);
   restore->callback([o, &exit_code] { exit_code = run_restore(*o); });
 
@@ -314,6 +352,25 @@ void add_fleet(CLI::App& app, int& exit_code) {
       "/api/v1/drives/NAME/history\n"
       "returns.");
   log->callback([o, &exit_code] { exit_code = run_log(*o); });
+
+  auto* approve = fleet->add_subcommand(
+      "approve", "Record a revision of a position's file as its approved configuration");
+  approve->add_option("NAME", o->position, "the position's name (its file is NAME.json)")
+      ->required();
+  approve->add_option("--archive", o->archive, "the archive (a git repository)")->required();
+  approve->add_option("--rev", o->rev,
+                      "the archive revision to approve (git syntax; default HEAD)");
+  approve->add_option("--reason", o->reason, "why this configuration is approved (required)");
+  approve->add_option("--ticket", o->ticket, "a ticket id, recorded with the approval");
+  approve->add_option("--who", o->who, "who approves (default: the OS user)");
+  approve->add_option("--inventory", o->inventory,
+                      "the inventory: NAME must be one of its drives (docs/fleet.md)");
+  add_output_options(approve, o->common);
+  approve->footer(
+      "fleet status, fleet restore and lmcfg serve compare with and restore the approved\n"
+      "configuration; backups record every state but never approve one, except a position's\n"
+      "first backup (commissioning). Kept as refs/lmcfg/approved/NAME in the archive.");
+  approve->callback([o, &exit_code] { exit_code = run_approve(*o); });
 }
 
 }  // namespace lmcfg::cli
