@@ -69,6 +69,7 @@ bool error_before(const ErrorEntry& e, std::string_view domain, std::uint32_t co
 struct Database::Impl {
   DbInfo info;
   std::vector<Profile> profiles;         // by id
+  bool has_reference = false;            // a profile kReferenceProfile exists
   std::vector<Parameter> params;         // sorted by UPID, row id
   std::vector<std::uint16_t> upids;      // params[i].upid, for the binary search
   std::vector<std::string> search_keys;  // lower-case "name\npath\ndescription" per row
@@ -127,6 +128,8 @@ Result<void> Database::Impl::load_profiles(sqlite3* db) {
   if (q.failed()) return sql_error(db, "profiles");
   std::sort(profiles.begin(), profiles.end(),
             [](const Profile& a, const Profile& b) { return a.id < b.id; });
+  has_reference = std::any_of(profiles.begin(), profiles.end(),
+                              [](const Profile& p) { return p.id == kReferenceProfile; });
   return {};
 }
 
@@ -462,7 +465,9 @@ Result<Database> Database::open(const std::string& path) {
 
 const Parameter* Database::find(std::uint16_t upid, std::string_view profile) const {
   if (!impl_) return nullptr;
-  if (profile.empty()) profile = kReferenceProfile;
+  // A database without the reference profile (one built from a drive's scan,
+  // a test's) has no other family's rows to keep apart: its first row serves.
+  if (profile.empty() && impl_->has_reference) profile = kReferenceProfile;
   const auto& u = impl_->upids;
   for (auto i = std::lower_bound(u.begin(), u.end(), upid); i != u.end() && *i == upid; ++i) {
     const Parameter& p = impl_->params[static_cast<std::size_t>(i - u.begin())];

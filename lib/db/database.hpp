@@ -222,6 +222,8 @@ class Database {
   // name seen only for another family (field-facts.md §7: "never let a name
   // from another family label a value of this one") labels nothing here, so a
   // caller that does not know the drive's family gets the seeds' rows only.
+  // A database without that profile (built from a scan, or a test's) answers
+  // with the UPID's first row.
   const Parameter* find(std::uint16_t upid, std::string_view profile = {}) const;
   // Every definition of the UPID (one per profile group), in row order.
   std::vector<const Parameter*> find_all(std::uint16_t upid) const;

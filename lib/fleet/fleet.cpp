@@ -484,7 +484,7 @@ std::string restore_record_message(const ArchivedFile& f, const ops::RestoreOutc
   // subject and the outcome in the body. No text a user typed goes into the
   // subject (the revision asked is resolved to `at`, the commit id; the one
   // word that may follow it says it was the approved configuration).
-  if (f.rev == "approved") message += " (approved)";
+  if (f.rev == "approved" && cause.empty()) message += " (approved)";
   message += cause.empty() ? ": " + ops::outcome_name(outcome) + "\n"
                            : " (" + cause + ")\n\n" + ops::outcome_name(outcome) + "\n";
   const std::string steps = f.line->devicenet

@@ -38,6 +38,9 @@ struct Builder {
   const db::Database& db;
   const RestoreOptions& opt;
   Plan& plan;
+  // The target refused 05h/03h once (the seed's generation): the other layers
+  // do not ask again.
+  bool no_address_usage_request = false;
 
   void add(PlanStep s, std::size_t telegrams) {
     plan.steps.push_back(std::move(s));

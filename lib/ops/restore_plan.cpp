@@ -215,6 +215,7 @@ void keep_recorded_values(const RecoveryRecord& rec, LayerWork& w) {
 Result<std::optional<std::map<std::uint16_t, std::uint16_t>>> ask_address_usage(
     Builder& b, const LayerWork& w) {
   std::map<std::uint16_t, std::uint16_t> usage;
+  if (b.no_address_usage_request) return std::optional<std::map<std::uint16_t, std::uint16_t>>();
   for (const auto& x : w.writes) {
     const db::Parameter* d = b.db.find(x.p.upid);
     if (d && d->address_usage) continue;
@@ -223,7 +224,10 @@ Result<std::optional<std::map<std::uint16_t, std::uint16_t>>> ask_address_usage(
       if (au.error().code == make_comm_state_error(0xC8)) continue;
       return std::move(au).error();
     }
-    if (!*au) return std::optional<std::map<std::uint16_t, std::uint16_t>>();
+    if (!*au) {
+      b.no_address_usage_request = true;
+      return std::optional<std::map<std::uint16_t, std::uint16_t>>();
+    }
     usage[x.p.upid] = **au;
   }
   return std::optional<std::map<std::uint16_t, std::uint16_t>>(std::move(usage));

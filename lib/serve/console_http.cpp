@@ -254,14 +254,14 @@ void register_actions(web::Router& router, Console* c) {
         return "/plan?id=" + url_encode(id);
       }));
   // Approving a revision: then the position's page (its state after the drift check).
-  router.Post("/approve",
-              action("Not approved",
-                     [c](const ConsoleUser& u, const web::Params& f) -> Result<std::string> {
-                       const std::string name = field(f, "name");
-                       LMCFG_TRY(c->approve(u, name, field(f, "rev"), field(f, "reason"),
-                                            field(f, "ticket")));
-                       return "/position?name=" + url_encode(name);
-                     }));
+  router.Post(
+      "/approve",
+      action(
+          "Not approved", [c](const ConsoleUser& u, const web::Params& f) -> Result<std::string> {
+            const std::string name = field(f, "name");
+            LMCFG_TRY(c->approve(u, name, field(f, "rev"), field(f, "reason"), field(f, "ticket")));
+            return "/position?name=" + url_encode(name);
+          }));
   router.Post("/execute",
               action("Not restored",
                      [c](const ConsoleUser& u, const web::Params& f) -> Result<std::string> {

@@ -100,7 +100,7 @@ TEST_CASE("ct entry: summary labels in lower case, maximal/minimal and target sh
   CHECK(e.summary() == "Some Command, parameter 0 1, max velocity 0.5 m/s");
 }
 
-TEST_CASE("DCF command table entry version: A701h decodes; another version is said, not misdecoded",
+TEST_CASE("DCF command table entry version: A701h decodes, another version is said, not misdecoded",
           "[db][ct_entry]") {
   // field-facts.md §4 (DCF): "offset 0 is the entry version, fixed A701h".
   Bytes entry = seed_ct_entry();

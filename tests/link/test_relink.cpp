@@ -160,6 +160,7 @@ TEST_CASE(
   ro.include_comm = true;
   auto plan = ops::plan_restore(client, file, *db, ro);
   REQUIRE(plan.ok());
+  INFO(ops::render_plan(*plan));
   REQUIRE(plan->ok());
   CHECK(plan->link_may_change);
   // The last ROM writes: 2012h before 200Eh and 2076h before 206Ch (both end

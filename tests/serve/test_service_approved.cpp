@@ -83,7 +83,7 @@ TEST_CASE(
   x = drive(*rig.service, "press3/x");
   CHECK(x["status"] == "drift");
   CHECK(x["differences"] == 1);
-  CHECK(x["differing"] == nlohmann::json::array({"OS 0010h Baudrate Selection: 5 -> 7"}));
+  CHECK(x["differing"] == nlohmann::json::array({"OS 0010h: 5 -> 7"}));
   CHECK(x["message"] ==
         "1 parameter, 0 curves, 0 CT entries differ from the approved configuration");
   CHECK(x["approved"]["rev"] == commissioned);
@@ -239,7 +239,7 @@ TEST_CASE(
 
 TEST_CASE(
     "http: POST /api/v1/drives/{name}/approve: viewer 403, reason required 400, bad revision "
-    "404, approved 200; GET shows it",
+    "404, approved 200, then GET shows it",
     "[serve][service_approved][http]") {
   Rig rig;
   rig.at(rig.now);

@@ -201,7 +201,10 @@ TEST_CASE("link cli: refusals: a value without a raw value, no terminal, a Devic
 TEST_CASE("link cli: a drive lost after the reset: exit 4, the record and the scan to run",
           "[link][pty]") {
   PtySpare s(true);
-  auto r = s.run("link --port " + s.tty + kMap + " --set-checksum crc --yes --timeout-ms 50");
+  // The drive is looked for again up to --recover-timeout-s (180 s by default,
+  // docs/field.md) before the scan: 1 s here, so the test does not wait it out.
+  auto r = s.run("link --port " + s.tty + kMap +
+                 " --set-checksum crc --yes --timeout-ms 50 --recover-timeout-s 1");
   INFO(r.err);
   CHECK(r.exit_code == 4);
   const fs::path record = s.dir.path / "lmcfg" / ("link-" + ops::drive_key(s.tty, 0x11) + ".json");

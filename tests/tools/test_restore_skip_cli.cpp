@@ -71,7 +71,8 @@ const std::vector<std::string> kSkipped = {
     "MC 1022h RR Resistance: value 47 is below the minimum 50 (as the target reports it, §10 05h "
     "05h/06h)",
     "MC 1037h: UPID does not exist on the target (not in its MC UPID list, §10.3)",
-    "MC 13A6h: type differs: the file has UINT16, the target has UINT32",
+    "MC 13A6h Position controller maximal current (MAX_I): type differs: the file has UINT16, "
+    "the target has UINT32",
     "Appl 3010h: read-only on the target (the target's address usage 0007h has no ROM write bit)",
 };
 
