@@ -4,6 +4,11 @@
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 "$root/scripts/install-deps.sh"
+# Debug information is most of the compile time at -O2 (docs/ci.md "Where
+# the compile time goes"): the test builds carry line tables only, enough for
+# a backtrace or a sanitizer report with file:line. LMCFG_DEBUG_INFO=-g for a
+# build to step through in a debugger.
+debug="${LMCFG_DEBUG_INFO:-}"
 if [[ "${LMCFG_SANITIZE:-0}" == 1 ]]; then
   export LMCFG_BUILD_DIR="${LMCFG_BUILD_DIR:-$root/build-asan}"
   # No Python module: CPython would load it without the sanitizer runtime.
@@ -15,11 +20,16 @@ if [[ "${LMCFG_SANITIZE:-0}" == 1 ]]; then
     # (docs/ci.md).
     export CC=clang CXX=clang++
     sanitize+=(-DLMCFG_FUZZ=ON)
+    debug="${debug:--gline-tables-only}"
   fi
-  "$root/scripts/build.sh" "${sanitize[@]}"
+  debug="${debug:--g1}"
+  "$root/scripts/build.sh" "${sanitize[@]}" -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 $debug -DNDEBUG" \
+    -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O2 $debug -DNDEBUG"
 else
   export LMCFG_BUILD_DIR="${LMCFG_BUILD_DIR:-$root/build}"
-  "$root/scripts/build.sh"
+  debug="${debug:--g1}"
+  "$root/scripts/build.sh" -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 $debug -DNDEBUG" \
+    -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O2 $debug -DNDEBUG"
 fi
 cd "$LMCFG_BUILD_DIR"
 # install-deps.sh installed Chromium: the report pages' browser checks must run, not skip.
