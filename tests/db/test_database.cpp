@@ -56,7 +56,7 @@ std::string synthetic_db(const std::string& name, int per_layer, int doubled) {
   int row = 0;
   for (int l = 0; l < 4; ++l)
     for (int i = 0; i < per_layer; ++i) {
-      char upid[8];
+      char upid[16];
       std::snprintf(upid, sizeof upid, "%04X", unsigned(l * 0x1000 + i * 3));
       const bool two = i < doubled;
       for (int k = 0; k < (two ? 2 : 1); ++k, ++row) {
