@@ -19,6 +19,7 @@
 #include "ops/long_step.hpp"
 #include "ops/recovery.hpp"
 #include "ops/restore_run.hpp"
+#include "session_rig.hpp"
 
 using namespace lmcfg;
 using Stage = ops::RestoreOutcome::Stage;
@@ -37,30 +38,11 @@ void slow_saves(sim::Drive& d, std::int64_t s, bool answered) {
   d.state().mc_running = false;  // a save needs MC stopped (§12)
 }
 
+using test::demo_backup;
 // A session over the simulated drive with the tools' client defaults.
-struct SessionRig {
-  std::shared_ptr<sim::Drive> drive;
-  std::shared_ptr<test::WireRecorder> wire = std::make_shared<test::WireRecorder>();
-  sim::SimLink* sim = nullptr;
-  std::unique_ptr<link::Session> session;
-  explicit SessionRig(std::shared_ptr<sim::Drive> d) : drive(std::move(d)) {
-    link::LinkSpec spec;
-    spec.port = *link::parse_port("sim:slow");
-    spec.client.id = drive->macid();
-    auto raw = std::make_unique<sim::SimLink>(drive);
-    sim = raw.get();
-    transport::OpenedLink opened;
-    opened.link = transport::make_traced(std::move(raw), wire);
-    session = std::make_unique<link::Session>(spec, spec.serial, std::move(opened), std::nullopt);
-  }
+struct SessionRig : test::SessionRig {
+  explicit SessionRig(std::shared_ptr<sim::Drive> d) : test::SessionRig(std::move(d), "sim:slow") {}
 };
-
-config::DriveConfig demo_backup() {
-  test::SimRig demo("commissioned-axis.json");
-  auto cfg = ops::backup(*demo.client, ops::BackupOptions{}, db::Database::empty());
-  REQUIRE(cfg.ok());
-  return std::move(cfg).value();
-}
 
 // The run's flash saves and reset as the plan lists them.
 std::size_t count_steps(const ops::Plan& p, ops::PlanStep::Action a) {

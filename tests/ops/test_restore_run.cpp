@@ -11,40 +11,15 @@
 #include "link/session.hpp"
 #include "ops/backup.hpp"
 #include "ops/restore_run.hpp"
+#include "session_rig.hpp"
 
 using namespace lmcfg;
 using Stage = ops::RestoreOutcome::Stage;
 
 namespace {
 
-// A simulated drive behind a traced link in a session, as link::open_session
-// opens a sim: port.
-struct RunRig {
-  std::shared_ptr<sim::Drive> drive;
-  std::shared_ptr<test::WireRecorder> wire = std::make_shared<test::WireRecorder>();
-  sim::SimLink* sim = nullptr;
-  std::unique_ptr<link::Session> session;
-
-  explicit RunRig(std::shared_ptr<sim::Drive> d, const std::atomic<bool>* cancel = nullptr)
-      : drive(std::move(d)) {
-    link::LinkSpec spec;
-    spec.port = *link::parse_port("sim:run");
-    spec.client.id = drive->macid();
-    spec.client.cancel = cancel;
-    auto raw = std::make_unique<sim::SimLink>(drive);
-    sim = raw.get();
-    transport::OpenedLink opened;
-    opened.link = transport::make_traced(std::move(raw), wire);
-    session = std::make_unique<link::Session>(spec, spec.serial, std::move(opened), std::nullopt);
-  }
-};
-
-config::DriveConfig demo_backup() {
-  test::SimRig demo("commissioned-axis.json");
-  auto cfg = ops::backup(*demo.client, ops::BackupOptions{}, db::Database::empty());
-  REQUIRE(cfg.ok());
-  return std::move(cfg).value();
-}
+using test::demo_backup;
+using RunRig = test::SessionRig;
 
 // Restores every parameter, the LinRS ones too: the fixtures' LinRS
 // parameters select the line they are served on (docs/simulator.md).
@@ -209,7 +184,7 @@ TEST_CASE(
 TEST_CASE("restore run: interrupted while planning, nothing written", "[restore_run][interrupt]") {
   const auto file = demo_backup();
   std::atomic<bool> flag{true};
-  RunRig rig(test::load_sim_drive("used-spare.json"), &flag);
+  RunRig rig(test::load_sim_drive("used-spare.json"), "sim:run", &flag);
   const auto out = ops::run_restore(*rig.session, file, db::Database::empty(), everything());
   CHECK(out.stage == Stage::failed);
   REQUIRE(out.error);
