@@ -622,8 +622,9 @@ std::string render_diff_report(const config::DriveConfig& a, const std::string& 
   out += "<h1>Configuration diff: <span class=\"ka\">A</span> " + html_escape(a_name) +
          " \xE2\x86\x92 <span class=\"kb\">B</span> " + html_escape(b_name) + "</h1>\n" +
          meta_line(opt, db) + nav(true, r.devicenet_a || r.devicenet_b) +
-         "<input class=\"toggle\" type=\"checkbox\" id=\"only-diff\"><label class=\"toggle\" "
-         "for=\"only-diff\"> show only the differences</label>\n<main>\n";
+         "<input class=\"toggle\" type=\"checkbox\" id=\"only-diff\"" +
+         (opt.only_differences ? " checked" : "") +
+         "><label class=\"toggle\" for=\"only-diff\"> show only the differences</label>\n<main>\n";
   out += section("summary", "Summary");
   summary(out, a, b, r);
   scope_diff(out, r);

@@ -40,6 +40,9 @@ namespace lmcfg::report {
 struct ReportOptions {
   std::string tool_version;  // "lmcfg 0.1.0 (git abc123)"; "" = not shown
   std::string generated_at;  // ISO 8601 UTC; "" = not shown
+  // A diff page opens with "show only the differences" ticked (the console's
+  // diff pages): rows and curves without a difference are hidden until unticked.
+  bool only_differences = false;
 };
 
 // One configuration. `name` is where it came from (file name, "drive").

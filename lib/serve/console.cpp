@@ -174,7 +174,12 @@ Page Console::replace_page(const ConsoleUser& u, const std::string& name,
     return error_page(&u, 404, "No such position",
                       "no drive named '" + name + "' in the inventory");
   auto history = impl_->service.history(name);
-  return {200, pages::replace(u, sign_in_needed(), *line, *d, rev, history)};
+  // The approved configuration is what a restore puts back unless someone
+  // chooses another revision.
+  std::string approved;
+  if (auto st = impl_->service.drive(name); st.ok() && (*st)["approved"].is_object())
+    approved = (*st)["approved"].value("rev", "");
+  return {200, pages::replace(u, sign_in_needed(), *line, *d, rev, approved, history)};
 }
 
 Page Console::plan_page(const ConsoleUser& u, const std::string& plan_id) const {
@@ -201,7 +206,8 @@ Result<std::string> Console::diff(const std::string& name, const std::string& fr
   return impl_->service.diff_html(name, from, to);
 }
 
-Page Console::failure_page(const ConsoleUser& u, const std::string& title, const Error& e) const {
+Page Console::failure_page(const ConsoleUser& u, const std::string& title, const Error& e,
+                           const RetryForm& retry, const std::string& position) const {
   int status = 500;
   if (e.code == Errc::not_found) status = 404;
   if (e.code == Errc::invalid_argument) status = 400;
@@ -212,7 +218,14 @@ Page Console::failure_page(const ConsoleUser& u, const std::string& title, const
        {Errc::timeout, Errc::link_closed, Errc::io_error, Errc::drive_refused, Errc::frame_short,
         Errc::frame_malformed, Errc::checksum_mismatch, Errc::unexpected_response})
     if (e.code == link) status = 502;
-  return error_page(&u, status, title, e.message);
+  if (class_of(e.code) == ErrorClass::drive_refusal) status = 502;
+  return {status, pages::failure(&u, sign_in_needed(), title, words::help_for(e, position),
+                                 e.message, retry, position)};
+}
+
+Result<void> Console::cancel_retry(const ConsoleUser& u, const std::string& name) {
+  LMCFG_TRY(impl_->service.cancel_retry(name, u.who));
+  return {};
 }
 
 Page Console::signin_page(const std::string& message, const std::string& next,

@@ -40,6 +40,15 @@ struct ConsoleSession {
   ConsoleUser user;
 };
 
+// The button of a failure page that tries the action again: a form posting
+// `fields` to `action` (with the CSRF token), or a link when !post.
+struct RetryForm {
+  std::string action;  // "" = no button
+  std::vector<std::pair<std::string, std::string>> fields;
+  std::string label = "Try again";
+  bool post = true;
+};
+
 // A page: the status and the HTML.
 struct Page {
   int status = 200;
@@ -92,6 +101,8 @@ class Console {
   // configuration (Service::approve: a reason is required); the drift check's job id.
   Result<std::string> approve(const ConsoleUser& u, const std::string& name, const std::string& rev,
                               const std::string& reason, const std::string& ticket);
+  // Cancels the automatic retry of a failed restore of `name` (Service::cancel_retry).
+  Result<void> cancel_retry(const ConsoleUser& u, const std::string& name);
   // Executes a plan shown by plan_page(); the restore job's id.
   Result<std::string> start_restore(const ConsoleUser& u, const std::string& plan_id,
                                     const std::string& reason, const std::string& ticket,
@@ -112,7 +123,10 @@ class Console {
                            const std::string& to) const;
   // An error of the service as a page: its status from the error's code, the
   // message as the CLI says it.
-  Page failure_page(const ConsoleUser& u, const std::string& title, const Error& e) const;
+  // In plain words (what happened, what to check), with `retry`'s button and
+  // the position's link; the CLI's message folded below.
+  Page failure_page(const ConsoleUser& u, const std::string& title, const Error& e,
+                    const RetryForm& retry = {}, const std::string& position = "") const;
   Page job_page(const ConsoleUser& u, const std::string& id, const std::string& name) const;
   Page error_page(const ConsoleUser* u, int status, const std::string& title,
                   const std::string& message) const;

@@ -30,7 +30,11 @@ a { color: var(--accent); }
 .crumbs { margin: 0; color: var(--muted); }
 table { border-collapse: collapse; width: 100%; }
 th, td { text-align: left; padding: .35rem .5rem; border-bottom: 1px solid var(--line);
-  vertical-align: top; overflow-wrap: anywhere; }
+  vertical-align: top; overflow-wrap: normal; word-break: normal; }
+/* Names and IDs never break inside a word: a name only after its '/' (<wbr>). */
+.name, .id, .pname, code, time, .status { white-space: nowrap; }
+code.wrap { white-space: pre-wrap; overflow-wrap: anywhere; }
+.sr { position: absolute; width: 1px; height: 1px; overflow: hidden; clip: rect(0 0 0 0); }
 thead th { background: #f6f8fa; }
 .status { display: inline-block; padding: 0 .5rem; border-radius: 1rem; color: #fff;
   font-size: .85rem; font-weight: 600; white-space: nowrap; background: var(--unknown); }
@@ -42,7 +46,20 @@ form.filters, form.card { display: flex; flex-wrap: wrap; gap: .5rem; align-item
   margin: 1rem 0; }
 form.card { flex-direction: column; align-items: stretch; max-width: 28rem; }
 form.inline { display: inline; }
-button, select, input, textarea { font: inherit; padding: .3rem .6rem; }
+button, select, input, textarea { font: inherit; padding: .3rem .6rem; min-height: 40px; }
+/* Touch targets of at least 40 px: buttons, fields, and the links people tap. */
+a.button, td a, .links a, .crumbs a, nav a, details > summary, ol.timeline a {
+  display: inline-block; min-height: 40px; padding-top: .55rem; padding-bottom: .55rem; }
+label.check { display: flex; gap: .6rem; align-items: flex-start; min-height: 40px; }
+label.check input { width: 24px; height: 24px; min-height: 24px; margin: 0; flex: none; }
+.amber { background: #fff8c5; border-left: 4px solid var(--drift); padding: .25rem 1rem;
+  margin: .75rem 0; }
+.banner { position: sticky; top: 0; z-index: 3; background: var(--failed); color: #fff;
+  padding: .6rem 1rem; font-weight: 600; }
+ol.checklist li { margin: .25rem 0; }
+ul.resolve { list-style: none; padding: 0; } ul.resolve li { margin: .5rem 0; }
+details.cli { margin: 1rem 0; color: var(--muted); }
+button:disabled, button.danger:disabled { background: #8c959f; cursor: not-allowed; }
 button { background: var(--accent); color: #fff; border: 0; border-radius: 4px; cursor: pointer; }
 header button { background: #57606a; }
 button.danger { background: var(--failed); }
@@ -53,10 +70,10 @@ ol.flow { display: flex; flex-wrap: wrap; gap: .25rem 2.5rem; padding-left: 0;
 ol.flow li[aria-current] { color: var(--fg); font-weight: 600; }
 .verdict { color: var(--ok); font-weight: 600; }
 .links { margin: .2rem 0 0; font-size: .9rem; }
-table.plan td:nth-child(5) { color: var(--muted); }
+table.plan td:nth-child(4) { color: var(--muted); }
 dl.identity, dl.trailers { display: grid; grid-template-columns: max-content 1fr; gap: .2rem 1rem; }
 dl.trailers { margin: .25rem 0 0 1rem; }
-dt { font-weight: 600; } dd { margin: 0; overflow-wrap: anywhere; }
+dt { font-weight: 600; } dd { margin: 0; overflow-wrap: break-word; }
 ol.timeline { list-style: none; padding: 0; border-left: 3px solid var(--line); }
 ol.timeline li { margin: 0 0 .75rem; padding-left: .75rem; }
 progress { width: 20rem; max-width: 100%; }
@@ -105,6 +122,62 @@ constexpr const char* kScript = R"js('use strict';
       .catch(function () { setTimeout(function () { refresh(el); }, 5000); });
   }
   document.querySelectorAll('[data-refresh][id]').forEach(schedule);
+})();
+// Times: the page says them in UTC (ISO 8601); the browser shows its own
+// local time, with UTC in the title on hover.
+(function () {
+  function local(root) {
+    root.querySelectorAll('time[datetime]').forEach(function (t) {
+      var d = new Date(t.getAttribute('datetime'));
+      if (isNaN(d.getTime())) return;
+      var shown = d.toLocaleString(undefined, { dateStyle: 'medium', timeStyle: 'medium' });
+      var utc = t.getAttribute('datetime');
+      if (t.classList.contains('abs')) t.textContent = shown;
+      t.title = shown + ' local time (' + utc + ' UTC)';
+    });
+  }
+  local(document);
+  new MutationObserver(function (ms) {
+    ms.forEach(function (m) {
+      m.addedNodes.forEach(function (n) { if (n.querySelectorAll) local(n); });
+    });
+  }).observe(document.body, { childList: true, subtree: true });
+})();
+// A banner while the service does not answer: the page then shows what the
+// service knew when it last answered, and says since when.
+(function () {
+  var banner = document.getElementById('offline');
+  if (!banner) return;
+  var since = null;
+  function check() {
+    fetch('/console.css', { method: 'HEAD', cache: 'no-store', credentials: 'same-origin' })
+      .then(function (r) {
+        if (!r.ok) throw new Error('HTTP ' + r.status);
+        since = null;
+        banner.hidden = true;
+      })
+      .catch(function () {
+        if (!since) since = new Date();
+        banner.textContent = 'The lmcfg service is not answering (since ' +
+          since.toLocaleTimeString() + '). This page shows what it knew then; it updates ' +
+          'itself when the service answers again. Nothing you send now reaches the drives.';
+        banner.setAttribute('role', 'alert');
+        banner.hidden = false;
+      })
+      .then(function () { setTimeout(check, 5000); });
+  }
+  setTimeout(check, 5000);
+})();
+// A write button that needs a box ticked first (the restore without the
+// values the drive cannot take) stays disabled until it is.
+(function () {
+  document.querySelectorAll('button[data-needs]').forEach(function (b) {
+    var box = document.getElementById(b.getAttribute('data-needs'));
+    if (!box) return;
+    var sync = function () { b.disabled = !box.checked; };
+    box.addEventListener('change', sync);
+    sync();
+  });
 })();
 )js";
 

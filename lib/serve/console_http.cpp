@@ -227,15 +227,23 @@ void register_pages(web::Router& router, Console* c) {
 
 // The forms that start something: the page each leads to (303), or the failure as a page.
 void register_actions(web::Router& router, Console* c) {
-  auto action = [c](const char* title, auto start) {
-    return [c, title, start](const web::Request& req, web::Response& res) {
+  // A failure is a page in plain words with a button that sends the same
+  // form again (`retry_fields`: the fields it repeats; none: no button).
+  auto action = [c](const char* title, auto start, std::vector<const char*> retry_fields = {"name"},
+                    const char* retry_action = nullptr, const char* retry_label = nullptr) {
+    return [c, title, start, retry_fields, retry_action, retry_label](const web::Request& req,
+                                                                      web::Response& res) {
       const auto f = form(c, req, res);
       if (!f) return;
       auto u = operator_post(c, req, res, *f);
       if (!u) return;
       Result<std::string> location = start(*u, *f);
-      location.ok() ? see_other(res, *location)
-                    : page(res, c->failure_page(*u, title, location.error()));
+      if (location.ok()) return see_other(res, *location);
+      RetryForm retry;
+      if (!retry_fields.empty()) retry.action = retry_action ? retry_action : req.path;
+      if (retry_label) retry.label = retry_label;
+      for (const char* k : retry_fields) retry.fields.emplace_back(k, field(*f, k));
+      page(res, c->failure_page(*u, title, location.error(), retry, field(*f, "name")));
     };
   };
   router.Post("/backup",
@@ -247,30 +255,44 @@ void register_actions(web::Router& router, Console* c) {
                      }));
   // Planning reads the drive: a POST (it makes a plan on the server), then
   // the plan's own page.
-  router.Post(
-      "/plan",
-      action("No plan", [c](const ConsoleUser& u, const web::Params& f) -> Result<std::string> {
-        LMCFG_ASSIGN_OR_RETURN(auto id, c->make_plan(u, field(f, "name"), field(f, "rev")));
-        return "/plan?id=" + url_encode(id);
-      }));
-  // Approving a revision: then the position's page (its state after the drift check).
-  router.Post(
-      "/approve",
-      action(
-          "Not approved", [c](const ConsoleUser& u, const web::Params& f) -> Result<std::string> {
-            const std::string name = field(f, "name");
-            LMCFG_TRY(c->approve(u, name, field(f, "rev"), field(f, "reason"), field(f, "ticket")));
-            return "/position?name=" + url_encode(name);
-          }));
-  router.Post("/execute",
-              action("Not restored",
+  router.Post("/plan",
+              action("No plan",
                      [c](const ConsoleUser& u, const web::Params& f) -> Result<std::string> {
-                       LMCFG_ASSIGN_OR_RETURN(
-                           auto id, c->start_restore(u, field(f, "plan"), field(f, "reason"),
-                                                     field(f, "ticket"),
-                                                     field(f, "skip_incompatible") == "1"));
-                       return "/job?id=" + url_encode(id) + "&name=" + url_encode(field(f, "name"));
-                     }));
+                       LMCFG_ASSIGN_OR_RETURN(auto id,
+                                              c->make_plan(u, field(f, "name"), field(f, "rev")));
+                       return "/plan?id=" + url_encode(id);
+                     },
+                     {"name", "rev"}));
+  // The automatic retry of a failed restore, waiting: then the position's page.
+  router.Post("/cancel-retry",
+              action("Retry not cancelled",
+                     [c](const ConsoleUser& u, const web::Params& f) -> Result<std::string> {
+                       const std::string name = field(f, "name");
+                       LMCFG_TRY(c->cancel_retry(u, name));
+                       return "/position?name=" + url_encode(name);
+                     },
+                     {}));
+  // Approving a revision: then the position's page (its state after the drift check).
+  router.Post("/approve",
+              action("Not approved",
+                     [c](const ConsoleUser& u, const web::Params& f) -> Result<std::string> {
+                       const std::string name = field(f, "name");
+                       LMCFG_TRY(c->approve(u, name, field(f, "rev"), field(f, "reason"),
+                                            field(f, "ticket")));
+                       return "/position?name=" + url_encode(name);
+                     },
+                     {}));
+  router.Post("/execute",
+              action(
+                  "Not restored",
+                  [c](const ConsoleUser& u, const web::Params& f) -> Result<std::string> {
+                    LMCFG_ASSIGN_OR_RETURN(
+                        auto id,
+                        c->start_restore(u, field(f, "plan"), field(f, "reason"),
+                                         field(f, "ticket"), field(f, "skip_incompatible") == "1"));
+                    return "/job?id=" + url_encode(id) + "&name=" + url_encode(field(f, "name"));
+                  },
+                  {"name"}, "/plan", "Plan again"));
 }
 
 // The report's pages: a revision's, and the diff of two (or of one and the drive).

@@ -2,13 +2,13 @@
 
 #include <cstdio>
 #include <ctime>
+#include <map>
 #include <set>
 
 #include "report/report.hpp"
+#include "serve/console_words.hpp"
 
 namespace lmcfg::serve::pages {
-
-namespace {
 
 std::string esc(std::string_view s) { return report::html_escape(s); }
 
@@ -40,7 +40,10 @@ std::string frame(const ConsoleUser* u, bool signed_in, const std::string& title
       o += "<form method=\"post\" action=\"/signout\" class=\"inline\">" + csrf_field(*u) +
            "<button type=\"submit\">Sign out</button></form>";
   }
-  o += "</nav></header>\n<main id=\"main\" tabindex=\"-1\">\n" + body + "</main>\n</body></html>\n";
+  // The script shows the banner when the service stops answering (console.js).
+  o += "</nav></header>\n<div id=\"offline\" class=\"banner\" hidden></div>\n"
+       "<main id=\"main\" tabindex=\"-1\">\n" +
+       body + "</main>\n</body></html>\n";
   return o;
 }
 
@@ -51,15 +54,54 @@ std::string badge(const std::string& status) {
   return "<span class=\"status s-" + esc(cls) + "\">" + esc(status) + "</span>";
 }
 
+std::string name_html(const std::string& name) {
+  // A line may break after a '/' of "press3/feeder", never inside a word.
+  std::string o = "<span class=\"name\">";
+  std::size_t pos = 0;
+  for (auto slash = name.find('/'); slash != std::string::npos; slash = name.find('/', pos)) {
+    o += esc(name.substr(pos, slash + 1 - pos)) + "<wbr>";
+    pos = slash + 1;
+  }
+  return o + esc(name.substr(pos)) + "</span>";
+}
+
 std::string position_link(const std::string& name) {
-  return "<a href=\"/position?name=" + esc(url_encode(name)) + "\">" + esc(name) + "</a>";
+  return "<a href=\"/position?name=" + esc(url_encode(name)) + "\">" + name_html(name) + "</a>";
 }
 
 std::string time_cell(const std::string& iso, TimePoint now) {
   if (iso.empty()) return "<span class=\"muted\">never</span>";
+  // The script adds the browser's local time to the title; UTC stays there.
   return "<time datetime=\"" + esc(iso) + "\" title=\"" + esc(iso) + "\">" + esc(age(iso, now)) +
          "</time>";
 }
+
+std::string local_time(const std::string& iso) {
+  // Shown in the browser's local time by the script; without it, UTC as written.
+  return "<time class=\"abs\" datetime=\"" + esc(iso) + "\" title=\"" + esc(iso) + "\">" +
+         esc(iso) + "</time>";
+}
+
+std::string cli_details(const std::string& message, std::optional<int> exit_code) {
+  if (message.empty() && !exit_code) return "";
+  std::string o = "<details class=\"cli\"><summary>As the command line says it</summary>";
+  if (!message.empty()) o += "<p><code class=\"wrap\">" + esc(message) + "</code></p>";
+  if (exit_code) o += "<p>Exit code " + std::to_string(*exit_code) + " (docs/cli.md).</p>";
+  return o + "</details>";
+}
+
+std::string help_html(const words::Help& h) {
+  std::string o =
+      "<p class=\"problem\" role=\"alert\" id=\"what-happened\">" + esc(h.sentence) + "</p>";
+  if (!h.checklist.empty()) {
+    o += "<p>What to check:</p><ol class=\"checklist\">";
+    for (const auto& c : h.checklist) o += "<li>" + esc(c) + "</li>";
+    o += "</ol>";
+  }
+  return o;
+}
+
+namespace {
 
 std::string last_event(const Json& d, TimePoint now) {
   std::string o = esc(str(d, "message"));
@@ -218,9 +260,8 @@ std::string history_section(const ConsoleUser& u, const fleet::DriveEntry& d, co
     for (const auto& h : *history) {
       const Message m = split_message(str(h, "message"));
       const std::string commit = str(h, "commit");
-      b += "<li data-commit=\"" + esc(commit) + "\"><time datetime=\"" + esc(str(h, "time")) +
-           "\">" + esc(str(h, "time")) + "</time> <code>" + esc(commit.substr(0, 10)) +
-           "</code> <span class=\"subject\">" + esc(m.subject) +
+      b += "<li data-commit=\"" + esc(commit) + "\">" + local_time(str(h, "time")) + " <code>" +
+           esc(commit.substr(0, 10)) + "</code> <span class=\"subject\">" + esc(m.subject) +
            "</span><br><span class=\"muted\">" + esc(str(h, "author")) + "</span>";
       if (!m.trailers.empty()) {
         b += "<dl class=\"trailers\">";
@@ -270,6 +311,51 @@ std::string history_section(const ConsoleUser& u, const fleet::DriveEntry& d, co
   return b;
 }
 
+// A failed position in words: a restore's failure with what the drive holds,
+// or the read that failed (the CLI's exit code of the attempt says which kind).
+words::Help failed_help(const Json& state, const std::string& name) {
+  const Json& a = state["last_attempt"];
+  const int code = a.is_object() && a["exit_code"].is_number() ? a["exit_code"].get<int>() : 0;
+  if (a.is_object() && str(a, "job") == "restore") {
+    Json job{{"message", str(state, "message")}, {"exit_code", code}};
+    job["drive_state"] = str(state, "drive_state");
+    auto h = words::restore_failure_help(job, name);
+    return h;
+  }
+  const Errc e = code == 4   ? Errc::timeout
+                 : code == 5 ? Errc::drive_refused
+                 : code == 2 ? Errc::invalid_argument
+                             : Errc::cancelled;
+  return words::help_for(Error(e, str(state, "message")), name);
+}
+
+// After a failed restore: what the drive holds, and the automatic retry
+// waiting for it (who asked for the restore, what the retry will do, and for
+// operators the button that cancels it).
+std::string retry_section(const ConsoleUser& u, const fleet::DriveEntry& d, const Json& state) {
+  std::string b;
+  const Json& r = state.contains("retry") ? state["retry"] : Json();
+  if (!r.is_object()) return b;
+  b += "<div class=\"amber\" id=\"retry\"><p><strong>";
+  if (r.value("running", false))
+    b += "The automatic retry is running now";
+  else
+    b += "An automatic retry is waiting";
+  b += "</strong>";
+  if (r["of_job"].is_string())
+    b += ": automatic retry of <a href=\"/job?id=" + esc(url_encode(str(r, "of_job"))) +
+         "&amp;name=" + esc(url_encode(d.name)) + "\">job " + esc(str(r, "of_job")) + "</a>";
+  if (!str(r, "asked_by").empty()) b += " (asked by " + esc(str(r, "asked_by")) + ")";
+  b += ". It will " + esc(str(r, "will")) + ".</p>";
+  if (u.role == Role::operator_ && !r.value("running", false))
+    b += "<form method=\"post\" action=\"/cancel-retry\" class=\"inline\">" + csrf_field(u) +
+         "<input type=\"hidden\" name=\"name\" value=\"" + esc(d.name) +
+         "\"><button type=\"submit\" id=\"cancel-retry\">Cancel the automatic "
+         "retry</button></form> <span class=\"muted\">The drive then stays as it is until "
+         "someone restores it.</span>";
+  return b + "</div>";
+}
+
 }  // namespace
 
 std::string position(const ConsoleUser& u, bool signed_in, const fleet::LineEntry& line,
@@ -288,9 +374,21 @@ std::string position(const ConsoleUser& u, bool signed_in, const fleet::LineEntr
 
   b += "<section id=\"live\" data-refresh=\"10\" aria-labelledby=\"h-state\"><h2 "
        "id=\"h-state\">Current state</h2>";
-  b += "<p>" + badge(shown_status(state)) + " " + esc(str(state, "message")) + "</p>";
-  b += "<p>Last backup: " + time_cell(str(state, "last_backup"), now) +
-       ". Last read: " + last_event(state, now) + ".</p>";
+  if (str(state, "status") == "failed") {
+    // What went wrong in words; the service's message (the CLI's) folded.
+    const Json& a = state["last_attempt"];
+    b += "<p>" + badge("failed") + "</p>" + help_html(failed_help(state, d.name));
+    const std::string message = str(state, "message");
+    if (message.rfind("automatic retry cancelled by ", 0) == 0)
+      b += "<p id=\"retry-cancelled\"><strong>" + esc(message) + ".</strong></p>";
+    b += "<p>Last backup: " + time_cell(str(state, "last_backup"), now) + ". Last attempt: " +
+         (a.is_object() ? esc(str(a, "job")) + ", " + time_cell(str(a, "time"), now) : "none") +
+         ".</p>" + cli_details(str(state, "message"), std::nullopt);
+  } else {
+    b += "<p>" + badge(shown_status(state)) + " " + esc(str(state, "message")) + "</p>";
+    b += "<p>Last backup: " + time_cell(str(state, "last_backup"), now) +
+         ". Last read: " + last_event(state, now) + ".</p>";
+  }
   const Json approved = state.contains("approved") ? state["approved"] : Json();
   if (approved.is_object()) {
     b += "<p id=\"approved\">Approved configuration: <code>" +
@@ -304,6 +402,7 @@ std::string position(const ConsoleUser& u, bool signed_in, const fleet::LineEntr
     for (const auto& s : state["differing"]) b += "<li>" + esc(s.get<std::string>()) + "</li>";
     b += "</ul>";
   }
+  b += retry_section(u, d, state);
   b += "</section>\n";
 
   b += "<section aria-labelledby=\"h-act\"><h2 id=\"h-act\">Actions</h2>";
@@ -329,7 +428,7 @@ std::string position(const ConsoleUser& u, bool signed_in, const fleet::LineEntr
 }
 
 std::string replace(const ConsoleUser& u, bool signed_in, const fleet::LineEntry& line,
-                    const fleet::DriveEntry& d, const std::string& rev,
+                    const fleet::DriveEntry& d, const std::string& rev, const std::string& approved,
                     const Result<Json>& history) {
   char id[8];
   std::snprintf(id, sizeof id, "0x%02X", d.id);
@@ -355,151 +454,111 @@ std::string replace(const ConsoleUser& u, bool signed_in, const fleet::LineEntry
        "<input type=\"hidden\" name=\"name\" value=\"" + esc(d.name) +
        "\"><label for=\"rev\">Revision to restore</label><select id=\"rev\" name=\"rev\">";
   bool first = true;
+  // Without a revision named: the approved one, else the newest.
+  bool approved_listed = false;
+  for (const auto& h : *history) approved_listed = approved_listed || str(h, "commit") == approved;
+  const std::string want = !rev.empty() && rev != "HEAD" ? rev : approved_listed ? approved : "";
   for (const auto& h : *history) {
     const std::string c = str(h, "commit");
-    const bool chosen = rev.empty() || rev == "HEAD" ? first : c.rfind(rev, 0) == 0;
+    const bool chosen = want.empty() ? first : c.rfind(want, 0) == 0;
+    std::string marks = first ? " (newest)" : "";
+    if (c == approved) marks += " (approved)";
     b += "<option value=\"" + esc(c) + "\"" + (chosen ? " selected" : "") + ">" +
          esc(str(h, "time")) + " " + esc(c.substr(0, 10)) + " " +
-         esc(split_message(str(h, "message")).subject) + (first ? " (newest)" : "") + "</option>";
+         esc(split_message(str(h, "message")).subject) + marks + "</option>";
     first = false;
   }
   b += "</select><button type=\"submit\" id=\"plan\">Check the drive and plan</button></form>\n";
   return frame(&u, signed_in, "Restore " + d.name, b);
 }
 
-std::string plan(const ConsoleUser& u, bool signed_in, const Json& p, TimePoint now) {
-  const std::string name = str(p, "drive");
-  std::string b = "<p class=\"crumbs\"><a href=\"/\">Plant</a> / " + position_link(name) +
-                  "</p>\n<h1>Plan: restore " + esc(name) + "</h1>\n";
-  b += "<ol class=\"flow\"><li>Check the drive and plan</li><li aria-current=\"step\">Review "
-       "the plan</li><li aria-current=\"step\">Confirm with a reason</li><li>Progress and "
-       "verify</li></ol>\n";
-  b += "<section aria-labelledby=\"h-link\"><h2 id=\"h-link\">The drive at this position</h2>";
-  b += "<p class=\"link-ok\">A drive answers on line " + esc(str(p, "line")) + " as ID " +
-       esc(str(p, "id")) + ". ";
-  b += p.value("factory_fresh", false)
-           ? "It is <strong id=\"factory-fresh\">factory-fresh</strong> (a replacement drive as "
-             "it leaves the factory).</p>"
-           : "It is <strong id=\"factory-fresh\">not factory-fresh</strong>: it holds a "
-             "configuration, which the plan below overwrites.</p>";
-  b += "<p>Source: " + esc(str(p, "file")) + ". This plan is valid until " +
-       esc(str(p, "expires")) + " (" + time_cell(str(p, "expires"), now) +
-       "); after that, plan again.</p></section>\n";
+namespace {
 
-  b += "<section aria-labelledby=\"h-plan\"><h2 id=\"h-plan\">What will be written</h2>";
-  if (p.value("nothing_to_do", false))
-    b += "<p id=\"nothing-to-do\">Nothing to do: the drive already matches the file.</p>";
-  b += "<table class=\"plan\"><thead><tr><th scope=\"col\">#</th><th scope=\"col\">Step</th><th "
-       "scope=\"col\">Parameter</th><th scope=\"col\">Old</th><th scope=\"col\"></th><th "
-       "scope=\"col\">New</th></tr></thead><tbody>\n";
-  std::size_t n = 0;
-  for (const auto& st : p["steps"]) {
-    ++n;
-    const std::string unit = str(st, "unit");
-    auto value = [&](const char* k) {
-      if (!st.contains(k) || st[k].is_null())
-        return std::string("<span class=\"muted\">none</span>");
-      return esc(st[k].is_string() ? st[k].get<std::string>() : st[k].dump()) +
-             (unit.empty() ? "" : " " + esc(unit));
-    };
-    b += "<tr class=\"step\" data-kind=\"" + esc(str(st, "kind")) + "\"><td>" + std::to_string(n) +
-         "</td>";
-    if (st.contains("upid")) {
-      b += "<td>" + esc(str(st, "kind")) + "</td><td><code>" + esc(str(st, "upid")) + "h</code> " +
-           esc(str(st, "name")) + "</td><td>" + value("old") +
-           "</td><td aria-hidden=\"true\">&rarr;</td><td>" + value("new") + "</td>";
-    } else {
-      b += "<td>" + esc(str(st, "kind")) + "</td><td colspan=\"4\">" + esc(str(st, "text")) +
-           "</td>";
-    }
-    b += "</tr>\n";
-  }
-  b += "</tbody></table></section>\n";
-  auto list = [&](const char* id, const char* title, const Json& items, const char* cls) {
-    if (!items.is_array() || items.empty()) return;
-    b += "<section aria-labelledby=\"h-" + std::string(id) + "\"><h2 id=\"h-" + id + "\">" + title +
-         "</h2><ul class=\"" + cls + "\" id=\"" + id + "\">";
-    for (const auto& it : items)
-      b += "<li>" +
-           esc(it.is_string()                             ? it.get<std::string>()
-               : it.is_object() && it.contains("message") ? str(it, "message")
-                                                          : it.dump()) +
-           "</li>";
-    b += "</ul></section>\n";
-  };
-  list("losses", "What the drive loses", p["losses"], "");
-  list("notes", "Notes", p["notes"], "muted");
-  list("problems", "Problems (nothing can be written until they are resolved)", p["problems"],
-       "problem");
-  list("incompatible", "Values this drive cannot take", p["incompatible"], "");
-
-  const bool problems = p.contains("problems") && !p["problems"].empty();
-  const bool incompatible = p.contains("incompatible") && !p["incompatible"].empty();
-  b += "<section aria-labelledby=\"h-confirm\"><h2 id=\"h-confirm\">Confirm</h2>";
-  if (problems) {
-    b += "<p class=\"problem\">This plan is refused: resolve the problems above (connect the "
-         "right drive, choose another revision, or update the drive's firmware), then <a "
-         "href=\"/replace?name=" +
-         esc(url_encode(name)) + "\">plan again</a>. Nothing was written.</p>";
-  } else if (u.role != Role::operator_) {
-    b += "<p class=\"muted\">Signed in as a viewer: restoring needs role operator.</p>";
+// A restore's outcome in words: green, amber (values left out, listed), or
+// what went wrong, what the drive holds, and what happens next.
+std::string restore_outcome(const ConsoleUser& u, const Json& j, const std::string& name) {
+  const std::string state = str(j, "state");
+  const std::string enc = esc(url_encode(name));
+  std::string b;
+  const bool skipped = j.contains("skipped") && j["skipped"].is_array() && !j["skipped"].empty();
+  if (state == "failed") {
+    b += help_html(words::restore_failure_help(j, name));
+    if (j.value("retry_pending", false))
+      b += "<p>The service tries this restore again by itself when the drive answers (before "
+           "the line's next drift check). The position's page shows it and lets an operator "
+           "cancel it.</p>";
+    if (!name.empty() && u.role == Role::operator_)
+      b += "<p><a class=\"button\" href=\"/replace?name=" + enc +
+           "\">Plan the restore again</a> <a class=\"button\" href=\"/position?name=" + enc +
+           "\">Open the position</a></p>";
+  } else if (skipped) {
+    b += "<div class=\"amber\" id=\"partial\"><p><strong>Restored, except " +
+         std::to_string(j["skipped"].size()) +
+         " value(s) this drive cannot take.</strong> The drive keeps its own values there, and "
+         "the position stays in drift until someone approves this result or the drive "
+         "changes.</p><ul id=\"skipped\">";
+    for (const auto& v : j["skipped"])
+      if (v.is_string()) b += "<li>" + esc(words::plain(v.get<std::string>())) + "</li>";
+    b += "</ul></div>";
   } else {
-    b += "<form method=\"post\" action=\"/execute\" class=\"card\">" + csrf_field(u) +
-         "<input type=\"hidden\" name=\"plan\" value=\"" + esc(str(p, "plan_id")) +
-         "\"><input type=\"hidden\" name=\"name\" value=\"" + esc(name) +
-         "\"><label for=\"reason\">Reason (recorded in the archive's commit)</label>"
-         "<input id=\"reason\" name=\"reason\" required maxlength=\"500\">"
-         "<label for=\"ticket\">Ticket (optional)</label><input id=\"ticket\" name=\"ticket\" "
-         "maxlength=\"100\">";
-    if (incompatible)
-      b += "<label><input type=\"checkbox\" name=\"skip_incompatible\" value=\"1\" "
-           "id=\"skip-incompatible\"> Restore the rest without the values listed under "
-           "\"Values this drive cannot take\"</label>";
-    b += "<button type=\"submit\" class=\"danger\" id=\"execute\">Write to the "
-         "drive</button></form>";
+    b += "<p class=\"verdict\" id=\"verdict\">" +
+         esc(str(j, "outcome") == "nothing to do" ? "Nothing to do: the drive already held this "
+                                                    "configuration."
+                                                  : "Restored and verified: the drive reads back "
+                                                    "what was written.") +
+         "</p>";
   }
-  b += "</section>\n";
-  return frame(&u, signed_in, "Plan for " + name, b);
+  return b;
 }
+
+}  // namespace
 
 std::string job(const ConsoleUser& u, bool signed_in, const Json& j, const std::string& name) {
   const std::string state = str(j, "state");
+  const bool restore = str(j, "kind") == "restore";
   std::string b;
   if (!name.empty())
     b += "<p class=\"crumbs\"><a href=\"/\">Plant</a> / " + position_link(name) + "</p>\n";
-  b += "<h1>Job " + esc(str(j, "id")) + ": " + esc(str(j, "kind")) + " of " + esc(str(j, "scope")) +
-       "</h1>\n";
+  std::string title = restore ? "Restore" : "Backup";
+  if (!name.empty()) title += " of " + name;
+  b += "<h1>" + esc(title) + " <span class=\"muted\">(job " + esc(str(j, "id")) + ")</span></h1>\n";
   // While the job runs the script reloads this section; without it, the
   // page's own reload does the same.
   b += std::string("<section id=\"live\" aria-live=\"polite\"") +
        (state == "queued" || state == "running" ? " data-refresh=\"1\"" : "") + ">";
-  const bool restore = str(j, "kind") == "restore";
   const auto& pr = j["progress"];
   const auto total = pr.value("total", 0u), done = pr.value("done", 0u);
-  b += "<p>State: <strong class=\"job-state\" data-state=\"" + esc(state) + "\">" + esc(state) +
+  static const std::map<std::string, std::string> kState = {{"queued", "waiting for the line"},
+                                                            {"running", "running"},
+                                                            {"done", "finished"},
+                                                            {"failed", "failed"}};
+  const auto shown = kState.count(state) ? kState.at(state) : state;
+  b += "<p>State: <strong class=\"job-state\" data-state=\"" + esc(state) + "\">" + esc(shown) +
        "</strong>";
-  if (j.contains("who") && j["who"].is_string()) b += ", asked by " + esc(str(j, "who"));
+  if (j["retry_of"].is_string())
+    b += " &middot; <span id=\"retry-of\">automatic retry of job " + esc(str(j, "retry_of")) +
+         (j["asked_by"].is_string() ? " (asked by " + esc(str(j, "asked_by")) + ")" : "") +
+         "</span>";
+  else if (j.contains("who") && j["who"].is_string())
+    b += ", asked by " + esc(str(j, "who"));
   b += "</p>";
   b += "<progress max=\"" + std::to_string(total ? total : 1) + "\" value=\"" +
        std::to_string(done) + "\">" + std::to_string(done) + " of " + std::to_string(total) +
        "</progress> " + std::to_string(done) + " of " + std::to_string(total) +
        (restore ? " step(s)" : " drive(s)");
-  if (!str(pr, "step").empty()) b += "<p>Now: " + esc(str(pr, "step")) + "</p>";
+  if (!str(pr, "step").empty()) b += "<p>Now: " + esc(words::plain(str(pr, "step"))) + "</p>";
   if (j["outcome"].is_string()) {
-    const std::string outcome = str(j, "outcome");
-    const bool bad = state == "failed";
-    b += "<p class=\"" + std::string(bad ? "problem" : "verdict") +
-         "\" id=\"outcome\">Outcome: " + esc(outcome) +
-         (j.contains("exit_code") && j["exit_code"].is_number()
-              ? " (the CLI's exit code " + j["exit_code"].dump() + ")"
-              : "") +
-         "</p>";
-    if (!str(j, "message").empty()) b += "<p id=\"message\">" + esc(str(j, "message")) + "</p>";
-    if (restore && bad && !name.empty())
-      b += "<p>Next: <a href=\"/replace?name=" + esc(url_encode(name)) +
-           "\">plan again</a> once the cause is fixed (a restore run again converges), or look "
-           "at the <a href=\"/position?name=" +
-           esc(url_encode(name)) + "\">position</a>.</p>";
+    if (restore) {
+      b += restore_outcome(u, j, name);
+    } else {
+      const bool bad = state == "failed";
+      b += "<p class=\"" + std::string(bad ? "problem" : "verdict") + "\" id=\"outcome\">" +
+           esc(bad ? "The backup failed." : "Backup " + str(j, "outcome") + ".") + "</p>";
+    }
+    b += cli_details(str(j, "outcome") + ": " + str(j, "message"),
+                     j.contains("exit_code") && j["exit_code"].is_number()
+                         ? std::optional<int>(j["exit_code"].get<int>())
+                         : std::nullopt);
   }
   if (restore && j["commit"].is_string())
     b += "<p>Recorded in the archive as commit <code id=\"commit\">" + esc(str(j, "commit")) +
@@ -523,9 +582,32 @@ std::string job(const ConsoleUser& u, bool signed_in, const Json& j, const std::
   }
   b += "</section>\n";
   if (!name.empty())
-    b += "<p><a href=\"/position?name=" + esc(url_encode(name)) + "\">Back to " + esc(name) +
+    b += "<p><a href=\"/position?name=" + esc(url_encode(name)) + "\">Back to " + name_html(name) +
          "</a></p>\n";
   return frame(&u, signed_in, "Job " + str(j, "id"), b);
+}
+
+std::string failure(const ConsoleUser* u, bool signed_in, const std::string& title,
+                    const words::Help& help, const std::string& cli_message, const Retry& retry,
+                    const std::string& position) {
+  std::string b = "<h1>" + esc(title) + "</h1>\n" + help_html(help);
+  if (!retry.action.empty()) {
+    if (retry.post && u) {
+      b += "<form method=\"post\" action=\"" + esc(retry.action) + "\" class=\"inline\">" +
+           csrf_field(*u);
+      for (const auto& [k, v] : retry.fields)
+        b += "<input type=\"hidden\" name=\"" + esc(k) + "\" value=\"" + esc(v) + "\">";
+      b += "<button type=\"submit\" id=\"retry\">" + esc(retry.label) + "</button></form> ";
+    } else if (!retry.post) {
+      b += "<a class=\"button\" id=\"retry\" href=\"" + esc(retry.action) + "\">" +
+           esc(retry.label) + "</a> ";
+    }
+  }
+  if (!position.empty())
+    b += "<a class=\"button\" href=\"/position?name=" + esc(url_encode(position)) +
+         "\">Open the position</a> ";
+  b += "<a class=\"button\" href=\"/\">Plant overview</a>\n" + cli_details(cli_message, {});
+  return frame(u, signed_in, title, b);
 }
 
 std::string error(const ConsoleUser* u, bool signed_in, const std::string& title,

@@ -3,10 +3,12 @@
 // Service's JSON answers. Every text from the inventory, a drive or the
 // archive goes through report::html_escape (attributes too), names in URLs
 // through url_encode.
+#include <optional>
 #include <string>
 
 #include "fleet/inventory.hpp"
 #include "serve/console.hpp"
+#include "serve/console_words.hpp"
 
 namespace lmcfg::serve::pages {
 
@@ -17,13 +19,36 @@ std::string overview(const ConsoleUser& u, bool signed_in, const fleet::Inventor
 std::string position(const ConsoleUser& u, bool signed_in, const fleet::LineEntry& line,
                      const fleet::DriveEntry& d, const Json& state, const Result<Json>& history,
                      TimePoint now);
+// `approved`: the approved revision's commit ("" = none), chosen unless `rev` names one.
 std::string replace(const ConsoleUser& u, bool signed_in, const fleet::LineEntry& line,
-                    const fleet::DriveEntry& d, const std::string& rev,
+                    const fleet::DriveEntry& d, const std::string& rev, const std::string& approved,
                     const Result<Json>& history);
 std::string plan(const ConsoleUser& u, bool signed_in, const Json& plan, TimePoint now);
 std::string job(const ConsoleUser& u, bool signed_in, const Json& job, const std::string& name);
 std::string error(const ConsoleUser* u, bool signed_in, const std::string& title,
                   const std::string& message);
+// A failed action in plain words: what happened and what to check, a button
+// that tries again (`retry`: a form's action and fields, or a GET link when
+// `retry_fields` is empty), the CLI's message folded below.
+using Retry = RetryForm;
+std::string failure(const ConsoleUser* u, bool signed_in, const std::string& title,
+                    const words::Help& help, const std::string& cli_message, const Retry& retry,
+                    const std::string& position);
+
+// Pieces shared by the pages' files (console_pages.cpp, console_plan.cpp).
+std::string esc(std::string_view s);
+std::string str(const Json& j, const char* key);
+std::string csrf_field(const ConsoleUser& u);
+std::string frame(const ConsoleUser* u, bool signed_in, const std::string& title,
+                  const std::string& body);
+std::string badge(const std::string& status);
+std::string name_html(const std::string& name);  // breaks only after a '/'
+std::string position_link(const std::string& name);
+std::string time_cell(const std::string& iso, TimePoint now);  // "3 min ago", UTC on hover
+std::string local_time(const std::string& iso);  // the browser's local time, UTC on hover
+// The CLI's wording, folded: <details>.
+std::string cli_details(const std::string& message, std::optional<int> exit_code);
+std::string help_html(const words::Help& h);
 
 // The status a person reads: "never backed up" for a position without a
 // backup whose state is unknown, else the service's status.

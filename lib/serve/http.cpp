@@ -192,6 +192,9 @@ struct HttpServer::Impl {
   }
 
   void routes();
+  void position_routes();
+  template <class Handler>
+  web::Handler guard(Handler handler);
 
   // ---- the checks every request passes before its route (docs/serve.md "Security model")
 
@@ -263,23 +266,25 @@ struct HttpServer::Impl {
   }
 };
 
-void HttpServer::Impl::routes() {
-  // API POSTs carry JSON: a form or text/plain body (what a cross-site HTML
-  // form can send without asking) is refused before any route runs.
-  auto guard = [this](auto handler) {
-    return [this, handler](const Request& req, Response& res) {
-      if (!authorized(req, res)) return;
-      if (!safe_method(req.method) && (req.has_header("Content-Type") || !req.body.empty())) {
-        const std::string type = lower(req.get_header_value("Content-Type"));
-        if (type.substr(0, type.find(';')) != "application/json")
-          return error(res, 415,
-                       "the request body must be application/json, not '" +
-                           req.get_header_value("Content-Type") + "'",
-                       2);
-      }
-      handler(req, res);
-    };
+// API POSTs carry JSON: a form or text/plain body (what a cross-site HTML
+// form can send without asking) is refused before any route runs.
+template <class Handler>
+web::Handler HttpServer::Impl::guard(Handler handler) {
+  return [this, handler](const Request& req, Response& res) {
+    if (!authorized(req, res)) return;
+    if (!safe_method(req.method) && (req.has_header("Content-Type") || !req.body.empty())) {
+      const std::string type = lower(req.get_header_value("Content-Type"));
+      if (type.substr(0, type.find(';')) != "application/json")
+        return error(res, 415,
+                     "the request body must be application/json, not '" +
+                         req.get_header_value("Content-Type") + "'",
+                     2);
+    }
+    handler(req, res);
   };
+}
+
+void HttpServer::Impl::routes() {
   router.Get("/metrics", guard([this](const Request&, Response& res) {
                res.set_content(service.metrics(), "text/plain; version=0.0.4; charset=utf-8");
              }));
@@ -342,6 +347,12 @@ void HttpServer::Impl::routes() {
                 auto id = service.execute(er);
                 id.ok() ? json(res, Json{{"job", *id}}, 202) : error(res, id.error());
               }));
+  position_routes();
+}
+
+// What an operator decides about a position: its approved configuration, the
+// automatic retry of a failed restore; and the jobs.
+void HttpServer::Impl::position_routes() {
   // The position's approved configuration (docs/serve.md "Approved configurations").
   router.Post("/api/v1/drives/{any}/approve", guard([this](const Request& req, Response& res) {
                 Json b;
@@ -354,6 +365,11 @@ void HttpServer::Impl::routes() {
                 if (!ok) return;
                 auto a = service.approve(req.matches[1], ar);
                 a.ok() ? json(res, *a) : error(res, a.error());
+              }));
+  // The automatic retry of a failed restore, waiting for the drive (docs/serve.md).
+  router.Post("/api/v1/drives/{any}/retry/cancel", guard([this](const Request& req, Response& res) {
+                auto c = service.cancel_retry(req.matches[1], who(req));
+                c.ok() ? json(res, *c) : error(res, c.error());
               }));
   router.Get("/api/v1/jobs/{num}", guard([this](const Request& req, Response& res) {
                auto j = service.job(req.matches[1]);

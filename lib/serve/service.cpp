@@ -393,6 +393,7 @@ Result<std::string> Service::diff_html(const std::string& name, const std::strin
   LMCFG_ASSIGN_OR_RETURN(auto d, diff_sides(*impl_, name, from, to));
   report::ReportOptions ro;
   ro.generated_at = iso_time(impl_->opt.clock());
+  ro.only_differences = true;  // the console's diff page opens on the differences
   return report::render_diff_report(d.a.config, d.a.file_name, d.b, d.b_name, d.r, impl_->opt.db,
                                     ro);
 }

@@ -124,6 +124,15 @@ class Service {
   // without the position's file; nothing recorded then.
   Result<Json> approve(const std::string& name, const ApproveRequest& req);
 
+  // Cancels the automatic retry of a failed restore that waits for `name`'s
+  // drive (the position's "retry" in drive()): the restore is not run again and
+  // the drive stays as the failure left it (its "drive_state"), which the
+  // position then says. `who` cancels it (recorded in the log and the event).
+  // {drive, cancelled_job, drive_state}. Errc::not_found for an unknown drive or
+  // no retry waiting; Errc::plan_refused (HTTP 409) while the retry runs (a
+  // restore is not stopped between its writes).
+  Result<Json> cancel_retry(const std::string& name, const std::string& who);
+
   // Sends the daily summary event when a day (UTC) has begun since the last one: counts of
   // positions per status. tick() calls it; tests call it with their clock.
   void summarize(TimePoint now);

@@ -128,7 +128,8 @@ void Service::Impl::save_states() {
                    {"last_exit_code", st.last_exit_code},
                    {"differences", st.differences},
                    {"differing", st.differing},
-                   {"notified", st.notified}};
+                   {"notified", st.notified},
+                   {"drive_state", st.drive_state}};
     }
   }
   std::error_code ec;
@@ -169,6 +170,8 @@ void Service::Impl::load_states() {
           for (const auto& t : j["differing"])
             if (t.is_string()) st.differing.push_back(t.get<std::string>());
         st.notified = j.value("notified", "");
+        if (j.contains("drive_state") && j["drive_state"].is_string())
+          st.drive_state = j["drive_state"].get<std::string>();
         continue;
       }
       // No state saved (a first start, or one before states were kept): the

@@ -49,6 +49,12 @@ struct Job {
   std::size_t step_done = 0, step_total = 0;
   std::string step, outcome, message, commit;
   std::optional<int> exit_code;
+  // An automatic retry of a failed restore: the job that failed first and who asked for it.
+  std::string retry_of, asked_by;
+  // The values a restore left out (Plan::skipped_incompatible), each with its reason.
+  std::vector<std::string> skipped;
+  // After a failed restore: what the drive holds now, in plain words (drive_state_after).
+  std::string drive_state;
 };
 
 struct Task {
@@ -75,6 +81,9 @@ struct StoredPlan {
 struct PendingRestore {
   std::string drive, commit, who, reason, ticket, cause;
   bool skip_incompatible = false;
+  // The job that began it (an automatic retry says "automatic retry of job N"),
+  // and what the drive held when it stopped (drive_state_after).
+  std::string origin_job, drive_state;
 };
 
 // What the service knows about one position.
@@ -90,6 +99,8 @@ struct DriveState {
   std::vector<std::string> differing;       // the differences, as the commit message says them
   std::string notified;                     // the last state an event was sent for
   std::optional<fleet::Approval> approved;  // the position's approved configuration, when known
+  // After a failed restore: what the drive holds (drive_state_after); "" otherwise.
+  std::string drive_state;
 };
 
 struct LineMetrics {

@@ -366,6 +366,15 @@ Json Service::Impl::job_json(const Job& j) const {
     out["message"] = j.message;
     out["exit_code"] = j.exit_code ? Json(*j.exit_code) : Json(nullptr);
     out["commit"] = j.commit.empty() ? Json(nullptr) : Json(j.commit);
+    out["automatic"] =
+        !j.retry_of.empty() || (!j.who.empty() && j.who.rfind("lmcfg serve", 0) == 0);
+    out["retry_of"] = j.retry_of.empty() ? Json(nullptr) : Json(j.retry_of);
+    out["asked_by"] = j.asked_by.empty() ? Json(nullptr) : Json(j.asked_by);
+    out["skipped"] = j.skipped;
+    out["drive_state"] = j.drive_state.empty() ? Json(nullptr) : Json(j.drive_state);
+    // The failed restore waits to be run again (an automatic retry, cancellable).
+    out["retry_pending"] =
+        j.failed_job && j.scope.rfind("drive ", 0) == 0 && pending.count(j.scope.substr(6)) != 0;
     return out;
   }
   out["progress"] = {{"done", j.done}, {"total", j.total}, {"step", ""}};
@@ -408,6 +417,28 @@ Json Service::Impl::drive_json(const fleet::LineEntry& line, const fleet::DriveE
   j["message"] = st->message;
   if (st->status == "drift") j["differing"] = st->differing;
   j["approved"] = fleet::approval_json(st->approved);
+  j["drive_state"] = st->drive_state.empty() ? Json(nullptr) : Json(st->drive_state);
+  // A failed restore the service will run again (before the line's next drift
+  // check or backup) until an operator cancels it.
+  j["retry"] = nullptr;
+  if (auto p = pending.find(d.name); p != pending.end()) {
+    const auto& pr = p->second;
+    Json r{{"of_job", pr.origin_job.empty() ? Json(nullptr) : Json(pr.origin_job)},
+           {"asked_by", pr.who},
+           {"commit", pr.commit},
+           {"drive_state", pr.drive_state.empty() ? Json(nullptr) : Json(pr.drive_state)},
+           {"running", false},
+           {"will",
+            "restore the same revision again when the drive answers, before the line's next "
+            "drift check or backup (a restore run again converges)"}};
+    for (const auto& [num, job] : jobs)
+      if (job->kind == Kind::restore && job->started && !job->finished &&
+          job->scope == "drive " + d.name) {
+        r["running"] = true;
+        r["job"] = job->id;
+      }
+    j["retry"] = std::move(r);
+  }
   return j;
 }
 

@@ -19,6 +19,9 @@ namespace {
 // Who an automatic restore records as its operator, and why.
 constexpr const char* kAutomatic = "lmcfg serve (automatic)";
 constexpr const char* kReplacedCause = "factory-fresh drive found at the position";
+// Who an automatic retry of a failed restore runs as (the job's `asked_by`
+// names the operator of the first attempt).
+constexpr const char* kRetry = "lmcfg serve (automatic retry)";
 
 // "press3/z" and MACID 11h on line "line1": "line1-11h.json" (names are
 // archive paths, so '/' cannot be in a file name; a line's MACIDs are unique).
@@ -56,6 +59,25 @@ std::optional<Error> restore_failure(const ops::RestoreOutcome& out) {
   return std::nullopt;
 }
 
+// Steps [0, in_flight) done, step in_flight begun when the restore stopped.
+// What the drive holds, in the words a technician reads on the position.
+std::string drive_state_after(const ops::RestoreOutcome& out, std::size_t in_flight) {
+  using A = ops::PlanStep::Action;
+  if (!out.written) return "untouched: nothing was written to it";
+  const auto& steps = out.plan.steps;
+  if (in_flight >= steps.size() || steps[in_flight].action == A::reset)
+    return "written, but it has not answered since its restart: whether it holds the whole "
+           "configuration is known when it answers again (a restore then reads it back)";
+  bool stopped = false;
+  for (std::size_t i = 0; i < steps.size() && i <= in_flight; ++i) {
+    if (steps[i].action == A::stop_mc) stopped = true;
+    if (steps[i].action == A::start_mc && i < in_flight) stopped = false;
+  }
+  return stopped ? "partially configured, and its motion control is stopped: the axis does not "
+                   "move until a restore completes"
+                 : "partially configured: some values were written, others not";
+}
+
 }  // namespace
 
 Result<void> Service::Impl::save_pending(const fleet::LineEntry& line, const fleet::DriveEntry& d,
@@ -66,7 +88,9 @@ Result<void> Service::Impl::save_pending(const fleet::LineEntry& line, const fle
                {"reason", p.reason},
                {"ticket", p.ticket},
                {"cause", p.cause},
-               {"skip_incompatible", p.skip_incompatible}};
+               {"skip_incompatible", p.skip_incompatible},
+               {"origin_job", p.origin_job},
+               {"drive_state", p.drive_state}};
   std::error_code ec;
   std::filesystem::create_directories(state_dir / "pending", ec);
   // The fields are checked UTF-8 (Service::execute); a resumed record's too.
@@ -102,8 +126,14 @@ void Service::Impl::run_restore_job(Job& job, std::size_t li, const fleet::Archi
   log("restore job " + job.id + ": " + d.name + " <- " + f.file_name + " started" +
       (audit.who.empty() ? "" : " for " + audit.who));
   RestoreAttempt a;
-  const PendingRestore begun{d.name,       f.source.id, audit.who, audit.reason,
-                             audit.ticket, cause,       skip};
+  PendingRestore begun{d.name, f.source.id, audit.who, audit.reason, audit.ticket, cause,
+                       skip,   "",          ""};
+  {
+    std::lock_guard<std::mutex> lock(mu);
+    begun.origin_job = job.retry_of.empty() ? job.id : job.retry_of;
+    // A retry records the operator who asked for the first attempt, not itself.
+    if (!job.asked_by.empty()) begun.who = job.asked_by;
+  }
   if (auto saved = save_pending(line, d, begun); !saved.ok())
     a.err = saved.error();
   else
@@ -111,10 +141,24 @@ void Service::Impl::run_restore_job(Job& job, std::size_t li, const fleet::Archi
   if (!a.err) a.err = restore_failure(a.out);
   // Stopped by SIGTERM/SIGINT: the record stays, the next start finishes it;
   // the drive did not answer (busy resetting or saving when a killed service
-  // left it): the next run of the line tries again.
+  // left it): the next run of the line tries again (an automatic retry, a job
+  // of its own that an operator can cancel while it waits).
   const bool interrupted = a.err && a.err->code == Errc::interrupted;
   const bool stays = interrupted || (a.err && a.err->code == ErrorClass::link_failure);
-  if (!stays) remove_pending(line, d);
+  if (a.err) {
+    std::size_t in_flight = 0;
+    {
+      std::lock_guard<std::mutex> lock(mu);
+      in_flight = job.step_done;
+    }
+    begun.drive_state = drive_state_after(a.out, in_flight);
+    std::lock_guard<std::mutex> lock(mu);
+    job.drive_state = begun.drive_state;
+  }
+  if (!stays)
+    remove_pending(line, d);
+  else if (auto saved = save_pending(line, d, begun); !saved.ok())
+    log("restore job " + job.id + ": " + saved.error().message);
   finish_restore_job(job, li, f, audit, cause, a, interrupted);
 }
 
@@ -215,6 +259,7 @@ void Service::Impl::finish_restore_job(Job& job, std::size_t li, const fleet::Ar
       job.commit = a.record->id;
       job.commits.push_back(a.record->id);
     }
+    for (const auto& sv : out.plan.skipped_incompatible) job.skipped.push_back(sv.text);
     if (!interrupted) event = record_restore_state(d.name, a, code, f.file_name, details);
     if (!interrupted && !err) note_unapproved(d.name, f);
   }
@@ -236,13 +281,28 @@ std::string Service::Impl::record_restore_state(const std::string& name, const R
   st.last_kind = "restore";
   st.last_ok = !a.err;
   st.last_exit_code = code;
+  const auto waiting = pending.find(name);
+  st.drive_state.clear();
   if (a.err) {
     st.status = "failed";
     st.message = a.err->message;
+    st.drive_state = waiting != pending.end() ? waiting->second.drive_state : "";
     event = "restore_failed";
     details["reason"] = a.err->message;
     details["exit_code"] = code;
+    if (waiting != pending.end()) details["retry"] = true;
     st.notified = "failed";
+  } else if (a.out.skipped_any()) {
+    // Not what the approved configuration holds: drift, with the values left
+    // out, until they are approved or the drive changes.
+    st.status = "drift";
+    st.differing.clear();
+    for (const auto& sv : a.out.plan.skipped_incompatible) st.differing.push_back(sv.text);
+    st.differences = st.differing.size();
+    st.message = "restored from " + file_name + " except " + std::to_string(st.differences) +
+                 " value(s) this drive cannot take";
+    if (a.out.written) event = "restored";
+    st.notified = "drift";
   } else {
     st.status = "ok";
     st.message =
@@ -313,7 +373,9 @@ void Service::Impl::load_pending() {
                        text_of("ticket"),
                        text_of("cause"),
                        j.contains("skip_incompatible") && j["skip_incompatible"].is_boolean() &&
-                           j["skip_incompatible"].get<bool>()};
+                           j["skip_incompatible"].get<bool>(),
+                       text_of("origin_job"),
+                       text_of("drive_state")};
     const std::size_t li = line_index(line);
     const std::string name = d->name;
     queues[li].push_back(Task{nullptr, {}, [this, li, name](bool run) {
@@ -336,7 +398,9 @@ void Service::Impl::resume(std::size_t li, const std::vector<std::string>& names
       if (it == pending.end() || stopping) continue;
       pr = it->second;
       job = new_job(Kind::restore, "drive " + name);
-      job->who = pr->who;
+      job->who = kRetry;
+      job->asked_by = pr->who;
+      job->retry_of = pr->origin_job;
       job->total = 1;
     }
     Result<fleet::ArchivedFile> f = [&] {
@@ -350,9 +414,57 @@ void Service::Impl::resume(std::size_t li, const std::vector<std::string>& names
     }
     log("restore job " + job->id + ": resuming the unfinished restore of " + name + " <- " +
         f->file_name);
+    // The record names the retry in its subject; its Operator trailer stays the
+    // person who asked for the restore.
+    // An automatic restore resumed keeps its own cause.
+    const std::string cause = pr->origin_job.empty() || !pr->cause.empty()
+                                  ? pr->cause
+                                  : "automatic retry of job " + pr->origin_job;
     run_restore_job(*job, li, *f, ops::Audit{pr->who, pr->reason, pr->ticket},
-                    pr->skip_incompatible, pr->cause, nullptr, "");
+                    pr->skip_incompatible, cause, nullptr, "");
   }
+}
+
+Result<Json> Service::cancel_retry(const std::string& name, const std::string& who) {
+  LMCFG_TRY(check_line("who", who, kMaxWhoBytes));
+  auto& s = *impl_;
+  const fleet::LineEntry* line = nullptr;
+  const auto* d = s.opt.inventory.find_drive(name, &line);
+  if (!d) return Error(Errc::not_found, "no drive named '" + name + "' in the inventory");
+  PendingRestore pr;
+  {
+    std::lock_guard<std::mutex> lock(s.mu);
+    auto it = s.pending.find(name);
+    if (it == s.pending.end())
+      return Error(Errc::not_found, "no automatic retry is waiting for drive " + name);
+    for (const auto& [num, job] : s.jobs)
+      if (job->kind == Kind::restore && job->started && !job->finished &&
+          job->scope == "drive " + name)
+        return Error(Errc::plan_refused,
+                     "the restore of drive " + name + " is running as job " + job->id +
+                         ": it is not stopped between its writes; wait for it to end");
+    pr = it->second;
+  }
+  s.remove_pending(*line, *d);
+  std::string state_words;
+  {
+    std::lock_guard<std::mutex> lock(s.mu);
+    auto& st = s.states[name];
+    st.drive_state = pr.drive_state;
+    state_words = pr.drive_state.empty() ? "as the failed restore left it" : pr.drive_state;
+    st.message = "automatic retry cancelled by " + (who.empty() ? "an operator" : who) +
+                 "; the drive is " + state_words +
+                 ": plan a restore to configure it, or check the drive";
+  }
+  s.save_states();
+  s.log("automatic retry of the restore of " + name +
+        (pr.origin_job.empty() ? "" : " (job " + pr.origin_job + ")") + " cancelled" +
+        (who.empty() ? "" : " by " + who));
+  s.emit("retry_cancelled", name, line->name,
+         Json{{"job", pr.origin_job}, {"operator", who}, {"drive_state", pr.drive_state}});
+  return Json{{"drive", name},
+              {"cancelled_job", pr.origin_job.empty() ? Json(nullptr) : Json(pr.origin_job)},
+              {"drive_state", pr.drive_state.empty() ? Json(nullptr) : Json(pr.drive_state)}};
 }
 
 // A plan for the API: the CLI's plan_json items (restore --dry-run --json),

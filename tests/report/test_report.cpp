@@ -104,3 +104,16 @@ TEST_CASE("report: errors leave no file", "[report]") {
   CHECK(r.out.rfind("<!DOCTYPE html>", 0) == 0);
   CHECK(r.out.find("data-differences=\"0\"") != std::string::npos);
 }
+
+TEST_CASE("report: a diff page asked to open on the differences has the box ticked", "[report]") {
+  const auto a = reportbench::large_config();
+  const auto b = reportbench::large_config_changed(a);
+  const auto r = ops::diff(a, b, db::Database::empty(), {}, {});
+  const std::string box = "<input class=\"toggle\" type=\"checkbox\" id=\"only-diff\"";
+  report::ReportOptions opt;
+  CHECK(report::render_diff_report(a, "a", b, "b", r, db::Database::empty(), opt)
+            .find(box + "><label") != std::string::npos);
+  opt.only_differences = true;
+  CHECK(report::render_diff_report(a, "a", b, "b", r, db::Database::empty(), opt)
+            .find(box + " checked><label") != std::string::npos);
+}

@@ -10,7 +10,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 
-#include "browser.hpp"
+#include "console_walk.hpp"
 #include "serve/tokens.hpp"
 #include "serve_rig.hpp"
 
@@ -21,33 +21,10 @@ namespace fs = std::filesystem;
 
 namespace {
 
-fs::path shots_dir() {
-  const fs::path d = fs::path(LMCFG_BINARY_DIR) / "tests" / "console-shots";
-  fs::create_directories(d);
-  return d;
-}
-
-// Runs the steps in Chromium; the walk's JSON, or null when skipped.
-json walk(const fs::path& work, const json& steps) {
-  const std::string chromium = test::find_chromium();
-  if (chromium.empty()) {
-    if (test::browser_required()) FAIL("chromium not found, and LMCFG_REQUIRE_BROWSER=1");
-    WARN("SKIP: console browser walk: chromium not found (apt-get install chromium)");
-    return nullptr;
-  }
-  test::spit(work / "steps.json", steps.dump(1));
-  const std::string cmd =
-      "node '" + std::string(LMCFG_SOURCE_DIR) + "/tests/browser/walk-console.js' --chromium '" +
-      chromium + "' --steps '" + (work / "steps.json").string() + "' >'" +
-      (work / "walk.json").string() + "' 2>'" + (work / "walk.err").string() + "'";
-  const int rc = std::system(cmd.c_str());
-  INFO(test::slurp(work / "walk.err"));
-  REQUIRE(rc == 0);
-  return json::parse(test::slurp(work / "walk.json"));
-}
-
+fs::path shots_dir() { return test::console_shots_dir(); }
+json walk(const fs::path& work, const json& steps) { return test::console_walk(work, steps); }
 json shot(const std::string& name, bool full_page = true) {
-  return {{"op", "shot"}, {"file", (shots_dir() / name).string()}, {"full_page", full_page}};
+  return test::console_shot(name, full_page);
 }
 
 }  // namespace
@@ -167,7 +144,7 @@ TEST_CASE(
   CHECK(at("replace")["url"] == base + "/replace?name=press3%2Fz");
   CHECK(has("replace", "Check the drive and plan"));
   CHECK(at("plan")["url"].get<std::string>().rfind(base + "/plan?id=", 0) == 0);
-  CHECK(has("plan", "A drive answers on line line1 as ID 11h."));
+  CHECK(has("plan", "A drive answers on line line1 with ID 11h."));
   CHECK(has("plan", "It is factory-fresh"));
   CHECK(has("plan", "What will be written"));
   CHECK(at("plan-768")["value"]["width"].get<int>() <= 768);
@@ -175,8 +152,7 @@ TEST_CASE(
   CHECK(at("progress")["value"] == true);  // the progress bar
   CHECK(at("restore-done")["value"] == true);
   CHECK(at("restore-job")["url"].get<std::string>().rfind(base + "/job?id=", 0) == 0);
-  CHECK(has("restore-job", "Outcome: "));
-  CHECK(has("restore-job", "and verified"));
+  CHECK(has("restore-job", "Restored and verified"));
   CHECK(has("restore-job", "asked by night-shift"));
   CHECK(has("restore-job", "Recorded in the archive as commit"));
 

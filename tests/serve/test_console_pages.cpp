@@ -133,7 +133,8 @@ TEST_CASE("console pages: the overview counts positions by status and filters th
   CHECK(has(html, "As of <time>2027-01-15T08:00:00Z</time>."));
   CHECK(has(html,
             "<tr data-drive=\"press3/z\" data-status=\"ok\"><td><a "
-            "href=\"/position?name=press3%2Fz\">press3/z</a></td><td>line1</td><td>0x11</"
+            "href=\"/position?name=press3%2Fz\"><span "
+            "class=\"name\">press3/<wbr>z</span></a></td><td>line1</td><td>0x11</"
             "td><td><span class=\"status s-ok\">ok</span></td><td><time "
             "datetime=\"2027-01-15T07:00:00Z\" title=\"2027-01-15T07:00:00Z\">1 h 0 min "
             "ago</time></td><td>matches the archive <span class=\"muted\">(status, <time "
@@ -188,8 +189,9 @@ TEST_CASE("console pages: a position's identity, state, actions by role and its 
   CHECK(has(html, "href=\"/replace?name=press3%2Fz\">Replace the drive"));
   // The history: subject, author, the audit trailers, links per revision.
   CHECK(has(html,
-            "<li data-commit=\"aaaaaaaaaa1111111111\"><time "
-            "datetime=\"2027-01-15T07:00:00Z\">2027-01-15T07:00:00Z</time> "
+            "<li data-commit=\"aaaaaaaaaa1111111111\"><time class=\"abs\" "
+            "datetime=\"2027-01-15T07:00:00Z\" "
+            "title=\"2027-01-15T07:00:00Z\">2027-01-15T07:00:00Z</time> "
             "<code>aaaaaaaaaa</code> <span class=\"subject\">restore press3/z</span>"));
   CHECK(has(html,
             "<dl class=\"trailers\"><dt>Operator</dt><dd>anna</dd><dt>Reason</dt><dd>new "
@@ -223,7 +225,7 @@ TEST_CASE("console pages: a position's identity, state, actions by role and its 
 TEST_CASE("console pages: the replace page offers the revisions to an operator only",
           "[serve][console_pages]") {
   std::string html =
-      pages::replace(kOperator, true, line1(), press3z(), "", Result<Json>(history()));
+      pages::replace(kOperator, true, line1(), press3z(), "", "", Result<Json>(history()));
   CHECK(has(html, "<title>Restore press3/z - lmcfg</title>"));
   CHECK(has(html,
             "on line <strong>line1</strong> (/dev/ttyUSB0) with drive ID "
@@ -232,137 +234,111 @@ TEST_CASE("console pages: the replace page offers the revisions to an operator o
             "<form method=\"post\" action=\"/plan\" class=\"card\"><input type=\"hidden\" "
             "name=\"csrf\" value=\"C5RF\"><input type=\"hidden\" name=\"name\" "
             "value=\"press3/z\">"));
-  // No revision asked for: the newest is chosen.
+  // No revision asked for and none approved: the newest is chosen.
   CHECK(has(html,
             "<option value=\"aaaaaaaaaa1111111111\" selected>2027-01-15T07:00:00Z "
             "aaaaaaaaaa restore press3/z (newest)</option>"));
   CHECK(has(html, "<option value=\"bbbbbbbbbb2222222222\">"));
+  // The approved revision is chosen, and marked.
+  html = pages::replace(kOperator, true, line1(), press3z(), "", "bbbbbbbbbb2222222222",
+                        Result<Json>(history()));
+  CHECK(has(html,
+            "<option value=\"aaaaaaaaaa1111111111\">2027-01-15T07:00:00Z aaaaaaaaaa "
+            "restore press3/z (newest)</option>"));
+  CHECK(has(html,
+            "<option value=\"bbbbbbbbbb2222222222\" selected>2027-01-14T08:00:00Z "
+            "bbbbbbbbbb fleet backup: 0 changed, 0 unchanged, 2 new (approved)</option>"));
   // A revision by its prefix.
-  html = pages::replace(kOperator, true, line1(), press3z(), "bbbbbb", Result<Json>(history()));
+  html = pages::replace(kOperator, true, line1(), press3z(), "bbbbbb", "", Result<Json>(history()));
   CHECK(has(html, "<option value=\"aaaaaaaaaa1111111111\">"));
   CHECK(has(html, "<option value=\"bbbbbbbbbb2222222222\" selected>"));
 
-  html = pages::replace(kViewer, true, line1(), press3z(), "", Result<Json>(history()));
+  html = pages::replace(kViewer, true, line1(), press3z(), "", "", Result<Json>(history()));
   CHECK(has(html, "Signed in as a viewer: planning and restoring need role operator."));
   CHECK_FALSE(has(html, "action=\"/plan\""));
-  html = pages::replace(kOperator, true, line1(), press3z(), "", Result<Json>(Json::array()));
+  html = pages::replace(kOperator, true, line1(), press3z(), "", "", Result<Json>(Json::array()));
   CHECK(has(html,
             "<p class=\"problem\">the archive holds no file of press3/z yet: back it up "
             "first</p>"));
   CHECK_FALSE(has(html, "action=\"/plan\""));
-  html = pages::replace(kOperator, true, line1(), press3z(), "",
+  html = pages::replace(kOperator, true, line1(), press3z(), "", "",
                         Result<Json>(Error(Errc::io_error, "archive unreadable")));
   CHECK(has(html, "<p class=\"problem\">archive unreadable</p>"));
 }
 
-TEST_CASE("console pages: a plan's steps, lists, and the confirm form by role and problems",
-          "[serve][console_pages]") {
-  Json p = Json::parse(R"({"plan_id": "0123abcd", "drive": "press3/z", "line": "line1",
-    "id": "11h", "rev": "HEAD", "commit": "aaaaaaaaaa", "file": "press3/z.json", "who": "anna",
-    "expires": "2027-01-15T08:15:00Z", "nothing_to_do": false,
-    "steps": [
-      {"kind": "write", "upid": "0010", "name": "Max Current", "old": "1.5", "new": "2",
-       "unit": "A"},
-      {"kind": "write", "upid": "0020", "name": "Mode", "old": null, "new": 3, "unit": ""},
-      {"kind": "reset", "text": "reset the drive <to apply>"}],
-    "losses": ["the curve 2 <lost>"], "notes": [], "problems": [], "incompatible": [],
-    "factory_fresh": true})");
-  std::string html = pages::plan(kOperator, true, p, kNow);
-  CHECK(has(html, "<title>Plan for press3/z - lmcfg</title>"));
-  CHECK(has(html,
-            "A drive answers on line line1 as ID 11h. It is <strong "
-            "id=\"factory-fresh\">factory-fresh</strong>"));
-  CHECK(has(html,
-            "This plan is valid until 2027-01-15T08:15:00Z (<time "
-            "datetime=\"2027-01-15T08:15:00Z\" title=\"2027-01-15T08:15:00Z\">in 15 "
-            "min</time>)"));
-  CHECK(has(html,
-            "<tr class=\"step\" data-kind=\"write\"><td>1</td><td>write</td><td><code>0010h"
-            "</code> Max Current</td><td>1.5 A</td><td aria-hidden=\"true\">&rarr;</td><td>2 "
-            "A</td></tr>"));
-  CHECK(has(html,
-            "<td><span class=\"muted\">none</span></td><td aria-hidden=\"true\">&rarr;</"
-            "td><td>3</td>"));
-  CHECK(has(html,
-            "<td>3</td><td>reset</td><td colspan=\"4\">reset the drive &lt;to "
-            "apply&gt;</td>"));
-  CHECK(has(html, "<ul class=\"\" id=\"losses\"><li>the curve 2 &lt;lost&gt;</li></ul>"));
-  CHECK_FALSE(has(html, "id=\"notes\""));  // an empty list is not shown
-  CHECK_FALSE(has(html, "id=\"nothing-to-do\""));
-  CHECK(has(html,
-            "<form method=\"post\" action=\"/execute\" class=\"card\"><input "
-            "type=\"hidden\" name=\"csrf\" value=\"C5RF\"><input type=\"hidden\" "
-            "name=\"plan\" value=\"0123abcd\"><input type=\"hidden\" name=\"name\" "
-            "value=\"press3/z\">"));
-  CHECK_FALSE(has(html, "skip_incompatible"));
-
-  // Values the drive cannot take: listed, and the form offers to skip them.
-  p["incompatible"] = Json::parse(R"([{"upid": "0030", "message": "0030h: out of range"}])");
-  p["factory_fresh"] = false;
-  html = pages::plan(kOperator, true, p, kNow);
-  CHECK(has(html, "<ul class=\"\" id=\"incompatible\"><li>0030h: out of range</li></ul>"));
-  CHECK(has(html, "name=\"skip_incompatible\" value=\"1\""));
-  CHECK(has(html, "<strong id=\"factory-fresh\">not factory-fresh</strong>"));
-
-  CHECK_FALSE(has(pages::plan(kViewer, true, p, kNow), "action=\"/execute\""));
-  CHECK(has(pages::plan(kViewer, true, p, kNow),
-            "Signed in as a viewer: restoring needs role operator."));
-
-  // Problems: refused, no form for anybody.
-  p["problems"] = Json::parse(R"([{"kind": "plan", "message": "wrong drive <type>"}])");
-  html = pages::plan(kOperator, true, p, kNow);
-  CHECK(has(html, "<ul class=\"problem\" id=\"problems\"><li>wrong drive &lt;type&gt;</li></ul>"));
-  CHECK(has(html, "This plan is refused"));
-  CHECK(has(html, "<a href=\"/replace?name=press3%2Fz\">plan again</a>"));
-  CHECK_FALSE(has(html, "action=\"/execute\""));
-
-  p = Json::parse(R"({"plan_id": "00ff", "drive": "press3/z", "line": "line1", "id": "11h",
-    "expires": "2027-01-15T08:15:00Z", "nothing_to_do": true, "steps": [], "losses": [],
-    "notes": ["a note"], "problems": [], "incompatible": [], "factory_fresh": false})");
-  html = pages::plan(kOperator, true, p, kNow);
-  CHECK(
-      has(html, "<p id=\"nothing-to-do\">Nothing to do: the drive already matches the file.</p>"));
-  CHECK(has(html, "<ul class=\"muted\" id=\"notes\"><li>a note</li></ul>"));
-}
-
-TEST_CASE("console pages: a job polls while it runs, shows its outcome and next step",
+TEST_CASE("console pages: a job polls while it runs, shows its outcome in words and next step",
           "[serve][console_pages]") {
   Json running = Json::parse(R"({"id": "7", "kind": "restore", "scope": "drive press3/z",
-    "state": "running", "who": "anna", "progress": {"done": 2, "total": 5, "step": "write 0010h"},
-    "outcome": null, "message": "", "exit_code": null, "commit": null})");
+    "state": "running", "who": "anna", "progress": {"done": 2, "total": 5,
+    "step": "stop MC (\u00a713.3): the axis stops"}, "outcome": null, "message": "",
+    "exit_code": null, "commit": null, "retry_of": null, "asked_by": null, "skipped": []})");
   std::string html = pages::job(kOperator, true, running, "press3/z");
-  CHECK(has(html, "<h1>Job 7: restore of drive press3/z</h1>"));
+  CHECK(has(html, "<h1>Restore of press3/z <span class=\"muted\">(job 7)</span></h1>"));
   CHECK(has(html, "<section id=\"live\" aria-live=\"polite\" data-refresh=\"1\">"));
   CHECK(has(html,
             "<strong class=\"job-state\" data-state=\"running\">running</strong>, asked by "
             "anna"));
   CHECK(has(html, "<progress max=\"5\" value=\"2\">2 of 5</progress> 2 of 5 step(s)"));
-  CHECK(has(html, "<p>Now: write 0010h</p>"));
-  CHECK_FALSE(has(html, "id=\"outcome\""));
+  CHECK(has(html, "<p>Now: stop MC: the axis stops</p>"));
+  CHECK_FALSE(has(html, "id=\"what-happened\""));
 
   Json failed = running;
   failed["state"] = "failed";
-  failed["outcome"] = "failed";
+  failed["outcome"] = "failed after writing";
   failed["message"] = "timeout <no answer>";
   failed["exit_code"] = 4;
+  failed["drive_state"] = "partially configured: some values were written, others not";
+  failed["retry_pending"] = true;
   html = pages::job(kOperator, true, failed, "press3/z");
   CHECK(has(html, "<section id=\"live\" aria-live=\"polite\">"));
-  CHECK(
-      has(html, "<p class=\"problem\" id=\"outcome\">Outcome: failed (the CLI's exit code 4)</p>"));
-  CHECK(has(html, "<p id=\"message\">timeout &lt;no answer&gt;</p>"));
-  CHECK(has(html, "<a href=\"/replace?name=press3%2Fz\">plan again</a>"));
+  CHECK(has(html,
+            "<p class=\"problem\" role=\"alert\" id=\"what-happened\">The drive at press3/z "
+            "stopped answering during the restore. The drive is partially configured: some "
+            "values were written, others not.</p><p>What to check:</p><ol "
+            "class=\"checklist\"><li>Is the drive powered?"));
+  CHECK(has(html, "The service tries this restore again by itself when the drive answers"));
+  CHECK(has(html,
+            "<a class=\"button\" href=\"/replace?name=press3%2Fz\">Plan the restore "
+            "again</a>"));
+  // The CLI's words, folded: never the headline.
+  CHECK(has(html,
+            "<details class=\"cli\"><summary>As the command line says it</summary><p><code "
+            "class=\"wrap\">failed after writing: timeout &lt;no answer&gt;</code></p><p>Exit "
+            "code 4 (docs/cli.md).</p></details>"));
+  CHECK_FALSE(has(html, "the CLI's exit code"));
+
+  Json retry = failed;
+  retry["retry_of"] = "5";
+  retry["asked_by"] = "anna";
+  retry["who"] = "lmcfg serve (automatic retry)";
+  html = pages::job(kViewer, true, retry, "press3/z");
+  CHECK(has(html, "<span id=\"retry-of\">automatic retry of job 5 (asked by anna)</span>"));
+  CHECK_FALSE(has(html, "Plan the restore again"));  // a viewer's page has no actions
 
   Json done = running;
   done["state"] = "done";
   done["outcome"] = "restored and verified";
   done["exit_code"] = 0;
-  done["commit"] = "cccccccccc";
+  done["commit"] = "cccccccccccccccc";
   html = pages::job(kOperator, true, done, "press3/z");
   CHECK(has(html,
-            "<p class=\"verdict\" id=\"outcome\">Outcome: restored and verified (the CLI's "
-            "exit code 0)</p>"));
-  CHECK(has(html, "<code id=\"commit\">cccccccccc</code>"));
-  CHECK_FALSE(has(html, "plan again"));
+            "<p class=\"verdict\" id=\"verdict\">Restored and verified: the drive reads back what "
+            "was written.</p>"));
+  CHECK(has(html, "<code id=\"commit\">cccccccccccccccc</code>"));
+  CHECK_FALSE(has(html, "Plan the restore again"));
+
+  // Values left out: amber, each listed, and what it means for the position.
+  Json partial = done;
+  partial["outcome"] = "restored except the listed values, verified";
+  partial["exit_code"] = 7;
+  partial["skipped"] = {"3010h Appl parameter: UPID does not exist on the target (\u00a710.3)"};
+  html = pages::job(kOperator, true, partial, "press3/z");
+  CHECK(has(html,
+            "<div class=\"amber\" id=\"partial\"><p><strong>Restored, except 1 value(s) this "
+            "drive cannot take.</strong>"));
+  CHECK(has(html,
+            "<ul id=\"skipped\"><li>3010h Appl parameter: UPID does not exist on the "
+            "target</li></ul>"));
 
   Json backup = Json::parse(R"({"id": "3", "kind": "backup", "scope": "line line1",
     "state": "done", "who": null, "progress": {"done": 2, "total": 2, "step": ""},
@@ -371,7 +347,7 @@ TEST_CASE("console pages: a job polls while it runs, shows its outcome and next 
     "commits": ["dddd"], "errors": ["press3/x: timeout"]})");
   html = pages::job(kViewer, true, backup, "");
   CHECK_FALSE(has(html, "class=\"crumbs\""));  // no position named
-  CHECK(has(html, "<strong class=\"job-state\" data-state=\"done\">done</strong></p>"));
+  CHECK(has(html, "<strong class=\"job-state\" data-state=\"done\">finished</strong></p>"));
   CHECK(has(html, "2 of 2 drive(s)"));
   CHECK(has(html, "<li>unchanged <strong>1</strong></li>"));
   CHECK(has(html, "<p>Committed:</p><ul><li><code>dddd</code></li></ul>"));
@@ -393,4 +369,34 @@ TEST_CASE("console pages: an error page, with and without a user", "[serve][cons
   html = pages::error(nullptr, true, "Refused", "x");
   CHECK_FALSE(has(html, "class=\"who\""));
   CHECK_FALSE(has(html, "action=\"/signout\""));
+}
+
+TEST_CASE(
+    "console pages: a failure in plain words, with a retry button and the CLI's message "
+    "folded",
+    "[serve][console_pages]") {
+  const auto help = serve::words::help_for(
+      lmcfg::Error(lmcfg::Errc::timeout, "no answer from drive 11h <within> 200.0 ms"), "press3/z");
+  serve::RetryForm retry;
+  retry.action = "/plan";
+  retry.fields = {{"name", "press3/z"}, {"rev", "abc\"d"}};
+  std::string html =
+      pages::failure(&kOperator, true, "No plan", help,
+                     "no answer from drive 11h <within> 200.0 ms", retry, "press3/z");
+  CHECK(has(html,
+            "<h1>No plan</h1>\n<p class=\"problem\" role=\"alert\" id=\"what-happened\">The "
+            "drive at press3/z did not answer.</p>"));
+  CHECK(has(html,
+            "<form method=\"post\" action=\"/plan\" class=\"inline\"><input "
+            "type=\"hidden\" name=\"csrf\" value=\"C5RF\"><input type=\"hidden\" "
+            "name=\"name\" value=\"press3/z\"><input type=\"hidden\" name=\"rev\" "
+            "value=\"abc&quot;d\"><button type=\"submit\" id=\"retry\">Try "
+            "again</button></form>"));
+  CHECK(has(html, "<a class=\"button\" href=\"/position?name=press3%2Fz\">Open the position</a>"));
+  CHECK(has(html,
+            "<summary>As the command line says it</summary><p><code class=\"wrap\">no "
+            "answer from drive 11h &lt;within&gt; 200.0 ms</code></p></details>"));
+  // Without a user (no form can carry a CSRF token): no button that posts.
+  html = pages::failure(nullptr, true, "No plan", help, "x", retry, "");
+  CHECK_FALSE(has(html, "id=\"retry\""));
 }

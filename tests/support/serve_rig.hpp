@@ -97,6 +97,8 @@ struct ServiceRig {
   // line on the line's port; `tweak` changes the options before it starts.
   void start(const std::string& inventory_text,
              const std::function<void(serve::ServiceOptions&)>& tweak = {}) {
+    started_with = inventory_text;
+    tweaked_with = tweak;
     auto inv = fleet::parse_inventory(inventory_text, "plant.toml");
     INFO((inv.ok() ? "" : inv.error().message));
     REQUIRE(inv.ok());
@@ -118,6 +120,16 @@ struct ServiceRig {
     REQUIRE(s.ok());
     service = std::move(s).value();
   }
+  // The service stopped and started again on the same archive and state
+  // directory (a restart of lmcfg serve).
+  void restart() {
+    service.reset();
+    const std::string text = started_with;
+    const auto tweak = tweaked_with;
+    start(text, tweak);
+  }
+  std::string started_with;
+  std::function<void(serve::ServiceOptions&)> tweaked_with;
   // The jobs due at `t`, run to the end.
   void at(serve::TimePoint t) {
     now = t;

@@ -1,0 +1,44 @@
+#pragma once
+// The console's words for people (docs/console.md "Plain words"): what an
+// error means for the technician in front of the drive and what to check, a
+// plan step and a plan's verdict in a sentence. The CLI's wording of the same
+// thing stays on the page, folded away; these functions never replace it.
+#include <string>
+#include <vector>
+
+#include "common/result.hpp"
+#include "serve/service.hpp"
+
+namespace lmcfg::serve::words {
+
+// An error as a technician reads it: one sentence, then what to check, in order.
+struct Help {
+  std::string sentence;
+  std::vector<std::string> checklist;
+};
+
+// What went wrong and what to check, from the error's code and message.
+// `position`: the position the action was about ("" when none).
+Help help_for(const Error& e, const std::string& position);
+
+// A restore job that failed, as the job page says it: the error's help, with
+// what the drive holds now (`drive_state`, the job's) and whether the service
+// retries by itself.
+Help restore_failure_help(const Json& job, const std::string& position);
+
+// A message of the library without its citations: "(§13.3)" groups and
+// "§12"-like references removed, for the page's headline (the CLI's wording
+// keeps them, folded below).
+std::string plain(const std::string& text);
+
+// One plan step in words (the API's step: "kind", "layer", "id", "name", ...):
+// "Stop motion control: the axis stops until the restore ends". Never a step's
+// internal name or a section sign.
+std::string step(const Json& st);
+
+// The plan's verdict, first on the plan page: "Will write 12 values and
+// replace 3 curves; the axis stops during the restore." or "Cannot be
+// restored as it stands: ...". `refused`: set when nothing can be written.
+std::string verdict(const Json& plan, bool& refused);
+
+}  // namespace lmcfg::serve::words

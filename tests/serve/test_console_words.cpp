@@ -1,0 +1,113 @@
+// The console's words for people (lib/serve/console_words.cpp): what each
+// error a technician can meet means and what to check, plan steps and the
+// plan's verdict, messages without their section signs.
+#include <catch2/catch.hpp>
+
+#include "serve/console_words.hpp"
+
+using namespace lmcfg;
+using namespace lmcfg::serve;
+
+TEST_CASE("console words: each error a technician can meet has its sentence and checklist",
+          "[console_words]") {
+  auto h = words::help_for(Error(Errc::timeout, "no answer from drive 11h within 200.0 ms"),
+                           "press3/z");
+  CHECK(h.sentence == "The drive at press3/z did not answer.");
+  REQUIRE(h.checklist.size() == 5);
+  CHECK(h.checklist[0] == "Is the drive powered? Its status LEDs are lit when it is.");
+  CHECK(h.checklist[2] ==
+        "Does the drive's ID (its address switches) match the position's drive ID?");
+
+  h = words::help_for(Error(Errc::checksum_mismatch, "checksum mismatch"), "");
+  CHECK(h.sentence ==
+        "Something answers on the line, but not in a way the service can read: most often a "
+        "baud rate that differs from the drive's, or another device with the same ID.");
+  CHECK(h.checklist[0] == "Is the line's baud rate the drive's?");
+
+  h = words::help_for(Error(make_comm_state_error(0xC4), "refused"), "press3/x");
+  CHECK(h.sentence == "The drive at press3/x answered, but refused the command.");
+
+  h = words::help_for(Error(Errc::not_found, "plan 'ab' expired at 2027-01-15T08:05:00Z"), "");
+  CHECK(h.sentence ==
+        "The plan expired: a plan is valid for a few minutes only, because the drive may change "
+        "in the meantime. Nothing was written.");
+  CHECK(h.checklist == std::vector<std::string>{"Make a new plan: it reads the drive again."});
+
+  h = words::help_for(Error(Errc::interrupted, "the service is stopping"), "");
+  CHECK(h.sentence == "The service is stopping, so it took no new work. Nothing was written.");
+
+  h = words::help_for(Error(Errc::link_closed, "port closed"), "");
+  CHECK(h.sentence ==
+        "The service cannot reach the line: its serial port or network server does not work.");
+
+  h = words::help_for(
+      Error(Errc::plan_refused,
+            "the restore of drive press3/z is running as job 4: it is not stopped between its "
+            "writes; wait for it to end"),
+      "press3/z");
+  CHECK(h.sentence ==
+        "A restore of this drive is running now; it is not stopped between its writes.");
+}
+
+TEST_CASE("console words: a failed restore says what the drive holds", "[console_words]") {
+  serve::Json job{{"message", "no answer from drive 11h"},
+                  {"exit_code", 4},
+                  {"drive_state", "untouched: nothing was written to it"}};
+  auto h = words::restore_failure_help(job, "press3/z");
+  CHECK(h.sentence ==
+        "The drive at press3/z stopped answering during the restore. The drive is untouched: "
+        "nothing was written to it.");
+  job["exit_code"] = 6;
+  job.erase("drive_state");
+  h = words::restore_failure_help(job, "press3/z");
+  CHECK(h.sentence == "Everything was written, but the drive reads back differently.");
+}
+
+TEST_CASE("console words: messages without section signs, plan steps in words",
+          "[console_words]") {
+  CHECK(words::plain("stop MC and application software (\u00a713.3): the axis stops") ==
+        "stop MC and application software: the axis stops");
+  CHECK(words::plain("save the command table to flash (\u00a712 08h 00h saves every entry; up "
+                     "to 10 s)") == "save the command table to flash");
+  CHECK(words::plain("no curve group (LinRS 3V27 \u00a711): curves not asked") ==
+        "no curve group: curves not asked");
+  CHECK(words::plain("the file, which seed 003 \u00a710 does not define") ==
+        "the file, which seed 003 does not define");
+  CHECK(words::plain("no section sign (here)") == "no section sign (here)");
+
+  CHECK(words::step(serve::Json{{"kind", "stop_mc"}}) ==
+        "Stop motion control: the axis stops, and stays stopped until the restore ends");
+  CHECK(words::step(serve::Json{{"kind", "default_layer"}, {"layer", "MC"}}) ==
+        "Set every MC parameter to its factory default");
+  CHECK(words::step(serve::Json{{"kind", "write_curve"}, {"id", 3}}) == "Write curve 3");
+  CHECK(words::step(serve::Json{{"kind", "reset"}}) ==
+        "Restart the drive (it is silent for a few seconds)");
+}
+
+TEST_CASE("console words: the plan's verdict first", "[console_words]") {
+  bool refused = true;
+  auto plan = serve::Json::parse(R"({"steps": [{"kind": "stop_mc"}, {"kind": "write_rom"},
+    {"kind": "write_rom"}, {"kind": "write_curve"}, {"kind": "reset"}], "problems": [],
+    "incompatible": []})");
+  CHECK(words::verdict(plan, refused) ==
+        "Will write 2 values, replace 1 curve. The axis stops during the restore. The drive "
+        "restarts at the end.");
+  CHECK_FALSE(refused);
+
+  plan["incompatible"] = serve::Json::array({serve::Json{{"message", "3010h absent"}}});
+  CHECK(words::verdict(plan, refused) ==
+        "Cannot be restored as it stands: this drive cannot take 1 value of the configuration "
+        "(listed below). You can restore the rest without them; the position then stays in "
+        "drift until someone approves the result. The rest would write 2 values, replace 1 "
+        "curve. The axis stops during the restore. The drive restarts at the end.");
+  CHECK(refused);
+
+  plan["problems"] = serve::Json::array({serve::Json{{"message", "wrong drive"}}});
+  CHECK(words::verdict(plan, refused) ==
+        "Cannot be restored: 1 problem (below) must be resolved first. Nothing will be "
+        "written.");
+  CHECK(refused);
+
+  CHECK(words::verdict(serve::Json::parse(R"({"steps": [], "nothing_to_do": true})"), refused) ==
+        "Nothing to write: the drive already holds this configuration.");
+}
