@@ -108,7 +108,7 @@ TEST_CASE("serve: a restore cut by a silent drive waits as an automatic retry of
   CHECK(d["drive_state"].is_null());
 }
 
-TEST_CASE("serve: an operator cancels the automatic retry; the position says what the drive "
+TEST_CASE("serve: an operator cancels the automatic retry: the position says what the drive "
           "holds and nothing runs again",
           "[serve][retry]") {
   Rig rig;
