@@ -62,7 +62,8 @@ TEST_CASE("linudp cli: backup, diff, restore with verify, default and undo again
   CHECK(
       test::run_tool_in(dir.path, "diff axis.json drive --quiet --port " + spare.url()).exit_code ==
       1);
-  auto r = test::run_tool_in(dir.path, "restore axis.json --yes --quiet --port " + spare.url());
+  auto r = test::run_tool_in(
+      dir.path, "restore axis.json --yes --quiet --include-comm --port " + spare.url());
   INFO(r.err);
   REQUIRE(r.exit_code == 0);
   CHECK(
@@ -164,4 +165,27 @@ TEST_CASE("linudp cli: link and scan refuse a LinUDP port, nothing sent", "[linu
   CHECK(contains(p.err,
                  "port 'linudp://' is not linudp://HOST[:PORT] (an IPv4 address or name, "
                  "PORT 1..65535)"));
+}
+
+TEST_CASE("linudp cli: a fleet backup of two LinUDP drives, each on a line of its own",
+          "[linudp][cli][fleet]") {
+  test::ScratchDir dir("linudp-fleet");
+  fs::copy_file(test::sim_fixture("commissioned-axis.json"), dir.path / "a.sim.json");
+  fs::copy_file(test::sim_fixture("used-spare.json"), dir.path / "b.sim.json");
+  UdpSim a(dir.path / "a.sim.json", {"unacknowledged_saves", "stale_echo_every=3"});
+  UdpSim b(dir.path / "b.sim.json", {"lose_reply_every=25", "end_on_extra_read"});
+  test::spit(dir.path / "plant.toml",
+             "[[line]]\nname = \"cell1\"\nport = \"" + a.url() +
+                 "\"\n[[line.drive]]\nname = \"cell1/gripper\"\nlabels = { machine = \"cell1\" }\n"
+                 "[[line]]\nname = \"cell2\"\nport = \"" +
+                 b.url() + "\"\n[[line.drive]]\nname = \"cell2/lift\"\n");
+  auto check = test::run_tool_in(dir.path, "fleet check plant.toml");
+  INFO(check.err);
+  CHECK(check.exit_code == 0);
+  auto r = test::run_tool_in(dir.path, "fleet backup plant.toml --archive arch");
+  INFO(r.err);
+  CHECK(r.exit_code == 0);
+  CHECK(
+      contains(r.err, "[cell1 1/1] cell1/gripper: read 16 parameter(s), 2 curve(s), 5 CT entries"));
+  CHECK(contains(r.err, "[cell2 1/1] cell2/lift: read 10 parameter(s), 1 curve(s), 2 CT entries"));
 }
