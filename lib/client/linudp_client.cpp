@@ -11,7 +11,7 @@ namespace lmcfg::client {
 
 using linudp::Cmd;
 using linudp::RtcBlock;
-namespace st = linudp::status;
+namespace udp_status = linudp::status;
 
 namespace {
 
@@ -64,7 +64,7 @@ Error LinudpClient::refused(std::uint8_t id, const std::string& subject, std::ui
 Result<void> LinudpClient::expect_ok(const Reply& r, std::uint8_t id, const std::string& subject,
                                      bool block) const {
   const std::uint8_t code = r.rtc.id;
-  if (code == st::ok || (block && code == st::block_more)) return {};
+  if (code == udp_status::ok || (block && code == udp_status::block_more)) return {};
   return refused(id, subject, code);
 }
 
@@ -299,7 +299,7 @@ Result<std::vector<std::uint16_t>> LinudpClient::walk_list(Cmd start, Cmd next, 
   std::set<std::uint16_t> have;
   for (std::size_t i = 0; i <= 0x10000; ++i) {
     LMCFG_ASSIGN_OR_RETURN(auto r, simple(next, 0, 0, lname));
-    if (r.rtc.id == st::end_of_list) break;  // facts §2.4: payload of C6h ignored
+    if (r.rtc.id == udp_status::end_of_list) break;  // facts §2.4: payload of C6h ignored
     LMCFG_TRY(expect_ok(r, static_cast<std::uint8_t>(next), lname));
     const std::uint16_t upid = r.rtc.w2;
     if (layers::of_upid(upid) != layer) {
@@ -385,11 +385,11 @@ Result<Bytes> LinudpClient::read_chunks(RtcBlock, Cmd chunk, std::uint16_t key, 
   const auto cid = static_cast<std::uint8_t>(chunk);
   Bytes out;
   out.reserve(n * 4);
-  std::uint8_t last = st::block_more;
+  std::uint8_t last = udp_status::block_more;
   for (std::size_t i = 0; i < n; ++i) {
     LMCFG_ASSIGN_OR_RETURN(auto r, simple(chunk, key, 0, subject));
     LMCFG_TRY(expect_ok(r, cid, subject, true));
-    if (r.rtc.id == st::ok && i + 1 < n) {
+    if (r.rtc.id == udp_status::ok && i + 1 < n) {
       return Error(Errc::unexpected_response,
                    "the LinUDP drive at " + where() + " ended " + linudp::cmd_name(cid) + " for " +
                        subject + " after " + std::to_string(i + 1) + " of " + std::to_string(n) +
@@ -398,7 +398,7 @@ Result<Bytes> LinudpClient::read_chunks(RtcBlock, Cmd chunk, std::uint16_t key, 
     put_u32le(out, r.rtc.value());
     last = r.rtc.id;
   }
-  if (last == st::block_more) {
+  if (last == udp_status::block_more) {
     // facts §6 point 2: 00h on one more read (the DLL's reading).
     LMCFG_ASSIGN_OR_RETURN(auto r, simple(chunk, key, 0, subject));
     LMCFG_TRY(expect_ok(r, cid, subject));
@@ -416,7 +416,7 @@ Result<void> LinudpClient::write_chunks(Cmd chunk, std::uint16_t key, ByteView b
     for (std::size_t k = 0; k < 4 && 4 * i + k < bytes.size(); ++k) b[k] = bytes[4 * i + k];
     LMCFG_ASSIGN_OR_RETURN(auto r, simple(chunk, key, get_u32le(ByteView(b, 4), 0), subject));
     LMCFG_TRY(expect_ok(r, cid, subject, true));
-    const bool done = r.rtc.id == st::ok;
+    const bool done = r.rtc.id == udp_status::ok;
     if (done != (i + 1 == n)) {
       return Error(Errc::unexpected_response,
                    "the LinUDP drive at " + where() + " answered " + linudp::cmd_name(cid) +
@@ -431,7 +431,8 @@ Result<void> LinudpClient::write_chunks(Cmd chunk, std::uint16_t key, ByteView b
 Result<std::optional<CurveSizes>> LinudpClient::curve_sizes(std::uint16_t curve) {
   const std::string subject = "curve " + std::to_string(curve);
   LMCFG_ASSIGN_OR_RETURN(auto r, simple(Cmd::curve_get_start, curve, 0, subject));
-  if (r.rtc.id == st::curve_presence) return std::optional<CurveSizes>{};  // facts §2.4: absent
+  if (r.rtc.id == udp_status::curve_presence)
+    return std::optional<CurveSizes>{};  // facts §2.4: absent
   LMCFG_TRY(expect_ok(r, static_cast<std::uint8_t>(Cmd::curve_get_start), subject));
   if (r.rtc.w3 != 0 && r.rtc.w4 != 0)
     return std::optional<CurveSizes>(CurveSizes{r.rtc.w3, r.rtc.w4});
@@ -515,7 +516,7 @@ Result<std::vector<std::uint16_t>> LinudpClient::ct_defined_entries() {
 Result<std::optional<Bytes>> LinudpClient::probe_ct_entry(std::uint16_t entry) {
   const std::string subject = "command table entry " + std::to_string(entry);
   LMCFG_ASSIGN_OR_RETURN(auto r, simple(Cmd::ct_get_start, entry, 0, subject));
-  if (r.rtc.id != st::ok || r.rtc.w3 == 0) {
+  if (r.rtc.id != udp_status::ok || r.rtc.w3 == 0) {
     if (!forms_.empty_ct_entry) forms_.empty_ct_entry = r.rtc.id;
     return std::optional<Bytes>{};
   }
