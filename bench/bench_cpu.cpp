@@ -83,7 +83,7 @@ const config::DriveConfig& heavy(int which, bool full) {
     spec.salt = static_cast<std::uint32_t>(which * 3);
     auto drive = std::make_shared<sim::Drive>(benchwire::heavy_state(spec));
     sim::SimLink link(drive);
-    client::Client cl(link, client::ClientOptions{});
+    client::LinrsClient cl(link, client::ClientOptions{});
     ops::BackupOptions bo;
     bo.full = full;
     auto r = ops::backup(cl, bo, db::Database::empty());

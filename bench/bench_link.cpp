@@ -137,7 +137,7 @@ Outcome run(sim::DriveState s, const Setting& set, int runs, std::uint32_t seed,
       out.clean_profile.request(req, link->clock().now_ns());
       return {};
     });
-    client::Client c(*link, options_for(s, set));
+    client::LinrsClient c(*link, options_for(s, set));
     const auto t0 = link->clock().now_ns();
     auto b = ops::backup(c, ops::BackupOptions{}, db);
     out.clean_profile.finish(link->clock().now_ns());
@@ -169,7 +169,7 @@ Outcome run(sim::DriveState s, const Setting& set, int runs, std::uint32_t seed,
       }
       return {};
     });
-    client::Client c(*link, options_for(s, set));
+    client::LinrsClient c(*link, options_for(s, set));
     const auto t0 = link->clock().now_ns();
     auto b = ops::backup(c, ops::BackupOptions{}, db);
     total_s += static_cast<double>(link->clock().now_ns() - t0) / 1e9;

@@ -53,7 +53,7 @@ void must(Result<void> r, const std::string& what) {
 // A simulated drive on its own line (or a client on a shared bus).
 struct Rig {
   std::shared_ptr<sim::SimLink> link;
-  std::unique_ptr<client::Client> client;
+  std::unique_ptr<client::LinrsClient> client;
   std::shared_ptr<sim::Drive> drive;
 
   explicit Rig(sim::DriveState s) {
@@ -61,12 +61,12 @@ struct Rig {
     link = std::make_shared<sim::SimLink>(drive);
     client::ClientOptions o;
     o.id = drive->macid();
-    client = std::make_unique<client::Client>(*link, o);
+    client = std::make_unique<client::LinrsClient>(*link, o);
   }
   Rig(std::shared_ptr<sim::SimLink> shared, std::uint8_t macid) : link(std::move(shared)) {
     client::ClientOptions o;
     o.id = macid;
-    client = std::make_unique<client::Client>(*link, o);
+    client = std::make_unique<client::LinrsClient>(*link, o);
     drive = link->drive(macid);
   }
 };
@@ -219,7 +219,7 @@ double over_pty(sim::DriveState state, F&& f) {
   auto link = must(transport::open_serial(line), "open_serial " + pty.slave_path);
   client::ClientOptions o;
   o.id = drive.macid();
-  client::Client c(*link, o);
+  client::LinrsClient c(*link, o);
   const auto t0 = std::chrono::steady_clock::now();
   f(c);
   const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -264,7 +264,7 @@ double tcp_gateways(const sim::DriveState& state, std::size_t n, const db::Datab
       }
       client::ClientOptions o;
       o.id = state.macid;
-      client::Client c(**link, o);
+      client::LinrsClient c(**link, o);
       if (!ops::backup(c, ops::BackupOptions{}, db).ok()) ++failures;
     });
   }

@@ -141,7 +141,7 @@ inline void client_entry(const std::uint8_t* data, std::size_t size) {
   o.settle = transport::Millis(1);
   o.checksum.mode = static_cast<codec::ChecksumMode>(data[1] % 3);
   FuzzTransport link(data + 2, size - 2);
-  client::Client c(link, o);
+  client::LinrsClient c(link, o);
   auto check = [](const auto& r) {
     if (!r.ok() && r.error().message.empty()) fuzz_fail("client error without a message");
   };

@@ -31,7 +31,7 @@ using detail::hexid;
 using detail::is_link_error;
 using detail::RestartBudget;
 
-struct Client::BlockVotes {
+struct LinrsClient::BlockVotes {
   struct Count {
     std::uint32_t value = 0;
     int n = 0;
@@ -123,8 +123,8 @@ struct Client::BlockVotes {
   }
 };
 
-Result<void> Client::block_pass(const Telegram& chunk_req, std::uint8_t chunk_sub,
-                                std::size_t chunks, BlockVotes& votes, const char* what) {
+Result<void> LinrsClient::block_pass(const Telegram& chunk_req, std::uint8_t chunk_sub,
+                                     std::size_t chunks, BlockVotes& votes, const char* what) {
   std::vector<std::optional<std::uint32_t>> got(chunks);
   std::size_t first_hole = chunks;
   std::optional<Error> problem;
@@ -187,9 +187,9 @@ Result<void> Client::block_pass(const Telegram& chunk_req, std::uint8_t chunk_su
   return {};
 }
 
-Result<Bytes> Client::read_block(const Telegram& setup, std::uint8_t setup_sub,
-                                 const Telegram& chunk_req, std::uint8_t chunk_sub,
-                                 std::size_t size, const char* what) {
+Result<Bytes> LinrsClient::read_block(const Telegram& setup, std::uint8_t setup_sub,
+                                      const Telegram& chunk_req, std::uint8_t chunk_sub,
+                                      std::size_t size, const char* what) {
   const std::size_t chunks = (size + 3) / 4;
   BlockVotes votes(chunks);
   if (size % 4 != 0) votes.last_mask = (1u << (8 * (size % 4))) - 1;
@@ -251,7 +251,7 @@ bool probe_refusal(const Error& e) {
 }
 }  // namespace
 
-Result<std::optional<CurveSizes>> Client::curve_sizes(std::uint16_t curve) {
+Result<std::optional<CurveSizes>> LinrsClient::curve_sizes(std::uint16_t curve) {
   auto sizes = agreed<std::uint32_t>(
       [&]() -> Result<std::uint32_t> {
         LMCFG_ASSIGN_OR_RETURN(auto r, id_value(make_curve(opt_.id, CurveOp::read_sizes, curve),
@@ -289,18 +289,18 @@ Result<std::optional<CurveSizes>> Client::curve_sizes(std::uint16_t curve) {
   return std::optional<CurveSizes>(s);
 }
 
-Result<Bytes> Client::read_curve_info(std::uint16_t curve, std::uint16_t size) {
+Result<Bytes> LinrsClient::read_curve_info(std::uint16_t curve, std::uint16_t size) {
   return read_block(make_curve(opt_.id, CurveOp::read_sizes, curve), 0x40,
                     make_curve(opt_.id, CurveOp::read_info, curve), 0x40, size,
                     ("curve " + std::to_string(curve) + " info block").c_str());
 }
-Result<Bytes> Client::read_curve_data(std::uint16_t curve, std::uint16_t size) {
+Result<Bytes> LinrsClient::read_curve_data(std::uint16_t curve, std::uint16_t size) {
   return read_block(make_curve(opt_.id, CurveOp::read_sizes, curve), 0x40,
                     make_curve(opt_.id, CurveOp::read_data, curve), 0x40, size,
                     ("curve " + std::to_string(curve) + " data block").c_str());
 }
 
-Result<std::optional<Client::CurveBlocks>> Client::read_curve(std::uint16_t curve) {
+Result<std::optional<LinrsClient::CurveBlocks>> LinrsClient::read_curve(std::uint16_t curve) {
   LMCFG_ASSIGN_OR_RETURN(auto sizes, curve_sizes(curve));
   if (!sizes) return std::optional<CurveBlocks>();
   CurveBlocks b;
@@ -383,7 +383,7 @@ std::optional<Result<void>> settle_write_pass(WritePass& pass, RestartBudget& bu
 }
 }  // namespace
 
-Result<void> Client::write_curve(std::uint16_t curve, ByteView info, ByteView data) {
+Result<void> LinrsClient::write_curve(std::uint16_t curve, ByteView info, ByteView data) {
   if (info.size() > 0xFFFF || data.size() > 0xFFFF) {
     return Error(Errc::invalid_argument,
                  "curve " + std::to_string(curve) + " blocks exceed 65535 bytes");
@@ -425,15 +425,15 @@ Result<void> Client::write_curve(std::uint16_t curve, ByteView info, ByteView da
   }
 }
 
-Result<void> Client::delete_curve(std::uint16_t curve) {
+Result<void> LinrsClient::delete_curve(std::uint16_t curve) {
   LMCFG_TRY(id_value(make_curve(opt_.id, CurveOp::delete_one, curve), 0x40, false, opt_.timeout));
   return {};
 }
-Result<void> Client::delete_all_curves() {
+Result<void> LinrsClient::delete_all_curves() {
   LMCFG_TRY(id_value(make_curve(opt_.id, CurveOp::delete_all), 0x40, false, opt_.timeout));
   return {};
 }
-Result<void> Client::save_curves() {
+Result<void> LinrsClient::save_curves() {
   LMCFG_ASSIGN_OR_RETURN(auto t, transact_long(make_curve(opt_.id, CurveOp::save_to_flash),
                                                opt_.flash_timeout, "saving curves to flash"));
   LMCFG_TRY(decode_id_value(t, 0x40));
@@ -442,7 +442,7 @@ Result<void> Client::save_curves() {
 
 // ---- command table (§12) ----
 
-Result<std::vector<std::uint16_t>> Client::ct_defined_entries() {
+Result<std::vector<std::uint16_t>> LinrsClient::ct_defined_entries() {
   std::vector<std::uint16_t> out;
   for (std::uint16_t block = 0; block < 8; ++block) {
     LMCFG_ASSIGN_OR_RETURN(auto bits, agreed<std::uint32_t>([&]() -> Result<std::uint32_t> {
@@ -465,7 +465,7 @@ Result<std::vector<std::uint16_t>> Client::ct_defined_entries() {
   return out;
 }
 
-Result<std::optional<Bytes>> Client::probe_ct_entry(std::uint16_t entry) {
+Result<std::optional<Bytes>> LinrsClient::probe_ct_entry(std::uint16_t entry) {
   auto setup = make_ct(opt_.id, CtOp::setup_read, entry);
   auto size = agreed<std::uint32_t>([&]() -> Result<std::uint32_t> {
     LMCFG_ASSIGN_OR_RETURN(auto s, id_value(setup, 0x85, true, opt_.timeout));
@@ -496,7 +496,7 @@ Result<std::optional<Bytes>> Client::probe_ct_entry(std::uint16_t entry) {
   return std::optional<Bytes>(std::move(bytes));
 }
 
-Result<Bytes> Client::read_ct_entry(std::uint16_t entry) {
+Result<Bytes> LinrsClient::read_ct_entry(std::uint16_t entry) {
   LMCFG_ASSIGN_OR_RETURN(auto got, probe_ct_entry(entry));
   if (!got) {
     return Error(Errc::unexpected_response,
@@ -505,7 +505,7 @@ Result<Bytes> Client::read_ct_entry(std::uint16_t entry) {
   return std::move(*got);
 }
 
-Result<void> Client::write_ct_entry(std::uint16_t entry, ByteView bytes) {
+Result<void> LinrsClient::write_ct_entry(std::uint16_t entry, ByteView bytes) {
   const std::string name = "command table entry " + std::to_string(entry);
   RestartBudget budget(opt_.read_retries + 1, opt_.transfer_deadline);
   for (int pass_no = 0;; ++pass_no) {
@@ -534,15 +534,15 @@ Result<void> Client::write_ct_entry(std::uint16_t entry, ByteView bytes) {
   }
 }
 
-Result<void> Client::delete_ct_entry(std::uint16_t entry) {
+Result<void> LinrsClient::delete_ct_entry(std::uint16_t entry) {
   LMCFG_TRY(id_value(make_ct(opt_.id, CtOp::delete_one, entry), 0x82, false, opt_.timeout));
   return {};
 }
-Result<void> Client::delete_all_ct() {
+Result<void> LinrsClient::delete_all_ct() {
   LMCFG_TRY(id_value(make_ct(opt_.id, CtOp::delete_all), 0x81, false, opt_.timeout));
   return {};
 }
-Result<void> Client::save_ct() {
+Result<void> LinrsClient::save_ct() {
   LMCFG_ASSIGN_OR_RETURN(auto t,
                          transact_long(make_ct(opt_.id, CtOp::save_to_flash), opt_.flash_timeout,
                                        "saving the command table to flash"));

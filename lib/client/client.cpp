@@ -13,8 +13,8 @@ using namespace codec;
 using detail::hexid;
 using detail::is_link_error;
 
-Client::Client(transport::Transport& link, ClientOptions opt)
-    : link_(link), opt_(opt), decoder_(opt.checksum) {}
+LinrsClient::LinrsClient(transport::Transport& link, ClientOptions opt)
+    : Client(opt), link_(link), decoder_(opt.checksum) {}
 
 namespace {
 
@@ -41,7 +41,7 @@ bool documented_state(std::uint8_t s) {
 
 }  // namespace
 
-int Client::agreeing_reads() const {
+int LinrsClient::agreeing_reads() const {
   if (opt_.agreeing_reads > 0) return opt_.agreeing_reads;
   if (opt_.checksum.mode != codec::ChecksumMode::none || opt_.link_has_parity) return 1;
   return noise_seen_ ? std::max(2, opt_.noisy_agreeing_reads) : 2;
@@ -60,12 +60,12 @@ std::size_t max_answer_data(const Telegram& req, const DefaultResponseLayout& la
 constexpr double kUnknownByteUs = 10.0 * 1e6 / 4800.0;  // TCP gateway: assume the slowest rate
 }  // namespace
 
-double Client::wire_us(std::size_t bytes) const {
+double LinrsClient::wire_us(std::size_t bytes) const {
   const double bt = link_.byte_time_us();
   return static_cast<double>(bytes) * (bt > 0.0 ? bt : kUnknownByteUs);
 }
 
-std::int64_t Client::deadline_floor_us(const Telegram& req) const {
+std::int64_t LinrsClient::deadline_floor_us(const Telegram& req) const {
   // 01 ID LEN 02 SUB MAIN .. [CS] 04: LEN counts 02, SUB, MAIN and the data.
   const std::size_t overhead = 7 + opt_.checksum.size();
   const std::size_t bytes = 2 * overhead + req.data.size() + max_answer_data(req, opt_.layout);
@@ -75,7 +75,7 @@ std::int64_t Client::deadline_floor_us(const Telegram& req) const {
   return static_cast<std::int64_t>(us + 0.5);
 }
 
-std::int64_t Client::answer_deadline_us(const Telegram& req) const {
+std::int64_t LinrsClient::answer_deadline_us(const Telegram& req) const {
   const std::int64_t cap = static_cast<std::int64_t>(opt_.timeout.count()) * 1000;
   if (!opt_.adaptive_deadline || srtt_us_ < 0) return cap;
   const std::int64_t floor = deadline_floor_us(req);
@@ -87,12 +87,12 @@ std::int64_t Client::answer_deadline_us(const Telegram& req) const {
   return std::min(cap, static_cast<std::int64_t>(us + 0.5));
 }
 
-std::int64_t Client::corrupt_answer_quiet_us() const {
+std::int64_t LinrsClient::corrupt_answer_quiet_us() const {
   const double us = 1000.0 * (link_.receive_latency_ms() + opt_.deadline_margin_ms) + wire_us(2);
   return static_cast<std::int64_t>(us + 0.5);
 }
 
-void Client::rtt_sample(double excess_us) {
+void LinrsClient::rtt_sample(double excess_us) {
   excess_us = std::max(0.0, excess_us);
   ++stats_.rtt_samples;
   if (srtt_us_ < 0) {
@@ -104,7 +104,7 @@ void Client::rtt_sample(double excess_us) {
   }
 }
 
-Result<void> Client::settle_line() {
+Result<void> LinrsClient::settle_line() {
   ++stats_.settles;
   Millis quiet = opt_.settle;
   if (opt_.adaptive_settle && link_.byte_time_us() > 0.0 && settle_quiet_us_ > 0)
@@ -138,7 +138,7 @@ Result<void> Client::settle_line() {
 }
 
 // One request's exchange, shared by the phases of transact().
-struct Client::Exchange {
+struct LinrsClient::Exchange {
   Telegram req;
   Bytes wire;
   std::uint8_t want_sub = 0;
@@ -152,7 +152,7 @@ struct Client::Exchange {
   std::optional<Error> garbled;
 };
 
-Result<std::int64_t> Client::send_attempt(Exchange& x) {
+Result<std::int64_t> LinrsClient::send_attempt(Exchange& x) {
   // A late answer to an earlier request may still be on its way: let it pass.
   if (unsettled_ && opt_.settle.count() > 0) LMCFG_TRY(settle_line());
   link_.discard_input();
@@ -177,7 +177,7 @@ Result<std::int64_t> Client::send_attempt(Exchange& x) {
   return deadline_us;
 }
 
-std::optional<Telegram> Client::match_answer(Exchange& x) {
+std::optional<Telegram> LinrsClient::match_answer(Exchange& x) {
   while (auto item = decoder_.next()) {
     if (!item->ok()) {
       ++stats_.bad_frames;
@@ -223,7 +223,7 @@ std::optional<Telegram> Client::match_answer(Exchange& x) {
   return std::nullopt;
 }
 
-Result<std::optional<Telegram>> Client::await_answer(Exchange& x, std::int64_t deadline_us) {
+Result<std::optional<Telegram>> LinrsClient::await_answer(Exchange& x, std::int64_t deadline_us) {
   // Counted in link time (the simulated drive's virtual clock on sim links)
   // from when write() returned (a serial port returns before the bytes are
   // on the wire: the adaptive deadline includes the request's wire time), in
@@ -276,7 +276,7 @@ Result<std::optional<Telegram>> Client::await_answer(Exchange& x, std::int64_t d
   return std::optional<Telegram>();
 }
 
-std::optional<Error> Client::refusal_in(const Exchange& x, const Telegram& answer) {
+std::optional<Error> LinrsClient::refusal_in(const Exchange& x, const Telegram& answer) {
   // Every group answer starts with the comm state; the default response only when configured
   // so.
   const bool has_state = !answer.data.empty() && (answer.sub != 0x00 || opt_.layout.comm_state);
@@ -297,7 +297,7 @@ std::optional<Error> Client::refusal_in(const Exchange& x, const Telegram& answe
   return refusal;
 }
 
-Error Client::attempt_failed(Exchange& x, std::int64_t deadline_us) {
+Error LinrsClient::attempt_failed(Exchange& x, std::int64_t deadline_us) {
   if (auto partial = decoder_.flush_idle()) {
     ++stats_.bad_frames;
     noise_seen_ = true;
@@ -331,7 +331,7 @@ Error Client::attempt_failed(Exchange& x, std::int64_t deadline_us) {
                                   " to " + describe(x.req));
 }
 
-Result<Telegram> Client::transact(const Telegram& req_in, Millis timeout, bool idempotent) {
+Result<Telegram> LinrsClient::transact(const Telegram& req_in, Millis timeout, bool idempotent) {
   Exchange x;
   x.req = req_in;
   x.req.id = opt_.id;
@@ -377,7 +377,7 @@ Result<Telegram> Client::transact(const Telegram& req_in, Millis timeout, bool i
   return last;
 }
 
-Result<DefaultResponse> Client::decode_default(const Telegram& t, bool value_expected) {
+Result<DefaultResponse> LinrsClient::decode_default(const Telegram& t, bool value_expected) {
   auto r = decode_default_response(t, opt_.layout);
   if (r.ok() || !opt_.adapt_layout || t.main != 0x00 || t.sub != 0x00) return r;
   std::size_t n = t.data.size();
@@ -391,19 +391,19 @@ Result<DefaultResponse> Client::decode_default(const Telegram& t, bool value_exp
   return decode_default_response(t, opt_.layout);
 }
 
-Result<DefaultResponse> Client::default_response(ResponseRequest kind) {
+Result<DefaultResponse> LinrsClient::default_response(ResponseRequest kind) {
   LMCFG_ASSIGN_OR_RETURN(auto t,
                          transact(make_response_request(opt_.id, kind), opt_.timeout, true));
   return decode_default(t, kind != ResponseRequest::default_response);
 }
 
-Result<DefaultResponse> Client::write_control_word(std::uint16_t cw) {
+Result<DefaultResponse> LinrsClient::write_control_word(std::uint16_t cw) {
   LMCFG_ASSIGN_OR_RETURN(auto t,
                          transact(make_write_control_word(opt_.id, cw), opt_.timeout, false));
   return decode_default(t, false);
 }
 
-Result<std::uint32_t> Client::read_ram(std::uint16_t upid) {
+Result<std::uint32_t> LinrsClient::read_ram(std::uint16_t upid) {
   return agreed<std::uint32_t>([&]() -> Result<std::uint32_t> {
     LMCFG_ASSIGN_OR_RETURN(
         auto t, transact(make_param_read(opt_.id, ParamOp::read_ram, upid), opt_.timeout, true));
@@ -415,25 +415,26 @@ Result<std::uint32_t> Client::read_ram(std::uint16_t upid) {
   });
 }
 
-Result<void> Client::write_ram(std::uint16_t upid, std::uint32_t value) {
+Result<void> LinrsClient::write_ram(std::uint16_t upid, std::uint32_t value) {
   LMCFG_TRY(
       transact(make_param_write(opt_.id, ParamOp::write_ram, upid, value), opt_.timeout, false));
   return {};
 }
 
-Result<void> Client::write_ram_rom(std::uint16_t upid, std::uint32_t value) {
+Result<void> LinrsClient::write_ram_rom(std::uint16_t upid, std::uint32_t value) {
   LMCFG_TRY(transact(make_param_write(opt_.id, ParamOp::write_ram_rom, upid, value), opt_.timeout,
                      false));
   return {};
 }
 
-Result<IdValueResponse> Client::id_value(const Telegram& req, std::uint8_t expected_sub,
-                                         bool idempotent, Millis timeout) {
+Result<IdValueResponse> LinrsClient::id_value(const Telegram& req, std::uint8_t expected_sub,
+                                              bool idempotent, Millis timeout) {
   LMCFG_ASSIGN_OR_RETURN(auto t, transact(req, timeout, idempotent));
   return decode_id_value(t, expected_sub);
 }
 
-Result<IdValueResponse> Client::cfg(CfgOp op, std::uint16_t upid, bool idempotent, Millis timeout) {
+Result<IdValueResponse> LinrsClient::cfg(CfgOp op, std::uint16_t upid, bool idempotent,
+                                         Millis timeout) {
   const auto sub = static_cast<std::uint8_t>(op);
   LMCFG_ASSIGN_OR_RETURN(
       auto r, id_value(make_cfg(opt_.id, op, upid), static_cast<std::uint8_t>(0x50 + sub),
@@ -453,18 +454,18 @@ Result<std::uint32_t> checked_value(const Result<IdValueResponse>& r, std::uint1
 }
 }  // namespace
 
-Result<std::uint32_t> Client::read_rom(std::uint16_t upid) {
+Result<std::uint32_t> LinrsClient::read_rom(std::uint16_t upid) {
   return agreed<std::uint32_t>([&] {
     return checked_value(cfg(CfgOp::read_rom, upid, true, opt_.timeout), upid, "ROM read");
   });
 }
-Result<void> Client::write_rom(std::uint16_t upid, std::uint32_t value) {
+Result<void> LinrsClient::write_rom(std::uint16_t upid, std::uint32_t value) {
   auto r = id_value(make_cfg_write(opt_.id, upid, value), 0x51, false, opt_.timeout);
   LMCFG_TRY(checked_value(r, upid, "ROM write"));
   return {};
 }
 
-Result<void> Client::write_rom_confirmed(std::uint16_t upid, std::uint32_t value) {
+Result<void> LinrsClient::write_rom_confirmed(std::uint16_t upid, std::uint32_t value) {
   auto r = write_rom(upid, value);
   if (r.ok()) return {};
   Error e = std::move(r).error();
@@ -484,14 +485,14 @@ Result<void> Client::write_rom_confirmed(std::uint16_t upid, std::uint32_t value
   }
   return e;
 }
-Result<std::uint16_t> Client::get_type(std::uint16_t upid) {
+Result<std::uint16_t> LinrsClient::get_type(std::uint16_t upid) {
   LMCFG_ASSIGN_OR_RETURN(auto v, agreed<std::uint32_t>([&] {
                            return checked_value(cfg(CfgOp::get_type, upid, true, opt_.timeout),
                                                 upid, "type query");
                          }));
   return static_cast<std::uint16_t>(v & 0xFFFF);
 }
-Result<std::optional<std::uint16_t>> Client::read_address_usage(std::uint16_t upid) {
+Result<std::optional<std::uint16_t>> LinrsClient::read_address_usage(std::uint16_t upid) {
   auto v = agreed<std::uint32_t>([&] {
     return checked_value(cfg(CfgOp::address_usage, upid, true, opt_.timeout), upid,
                          "address usage query");
@@ -502,23 +503,23 @@ Result<std::optional<std::uint16_t>> Client::read_address_usage(std::uint16_t up
     return std::optional<std::uint16_t>();  // not known to this drive (seed 003 §10 lacks it)
   return std::move(v).error();
 }
-Result<std::uint32_t> Client::get_min(std::uint16_t upid) {
+Result<std::uint32_t> LinrsClient::get_min(std::uint16_t upid) {
   return agreed<std::uint32_t>([&] {
     return checked_value(cfg(CfgOp::get_min, upid, true, opt_.timeout), upid, "min query");
   });
 }
-Result<std::uint32_t> Client::get_max(std::uint16_t upid) {
+Result<std::uint32_t> LinrsClient::get_max(std::uint16_t upid) {
   return agreed<std::uint32_t>([&] {
     return checked_value(cfg(CfgOp::get_max, upid, true, opt_.timeout), upid, "max query");
   });
 }
-Result<std::uint32_t> Client::get_default(std::uint16_t upid) {
+Result<std::uint32_t> LinrsClient::get_default(std::uint16_t upid) {
   return agreed<std::uint32_t>([&] {
     return checked_value(cfg(CfgOp::get_default, upid, true, opt_.timeout), upid, "default query");
   });
 }
 
-Result<void> Client::default_layer(int layer) {
+Result<void> LinrsClient::default_layer(int layer) {
   if (layer < 1 || layer > 4)
     return Error(Errc::invalid_argument, "layer " + std::to_string(layer) + " is not 1..4");
   LMCFG_ASSIGN_OR_RETURN(
@@ -528,8 +529,8 @@ Result<void> Client::default_layer(int layer) {
   return {};
 }
 
-Result<Telegram> Client::transact_long(const Telegram& req, Millis timeout,
-                                       const std::string& what) {
+Result<Telegram> LinrsClient::transact_long(const Telegram& req, Millis timeout,
+                                            const std::string& what) {
   long_wait_ = what;
   auto r = transact(req, timeout, false);
   long_wait_.clear();
@@ -541,7 +542,7 @@ Result<Telegram> Client::transact_long(const Telegram& req, Millis timeout,
   return r;
 }
 
-Result<Millis> Client::find_again(const std::string& what) {
+Result<Millis> LinrsClient::find_again(const std::string& what) {
   const std::string waiting =
       "waiting for drive " + hexid("%02Xh", opt_.id) + " to answer again after " + what;
   const std::int64_t start_ns = link_.now_ns();
@@ -570,19 +571,19 @@ Result<Millis> Client::find_again(const std::string& what) {
 
 // ---- program handling (§13) ----
 
-Result<void> Client::stop_mc() {
+Result<void> LinrsClient::stop_mc() {
   LMCFG_TRY(transact(make_program(opt_.id, ProgramOp::stop_mc), opt_.timeout, false));
   return {};
 }
-Result<void> Client::start_mc() {
+Result<void> LinrsClient::start_mc() {
   LMCFG_ASSIGN_OR_RETURN(auto t,
                          transact_long(make_program(opt_.id, ProgramOp::start_after_completion),
                                        opt_.reset_timeout, "starting MC"));
   LMCFG_TRY(decode_program_response(t));
   return {};
 }
-Result<void> Client::reset() { return reset(opt_.reset_timeout); }
-Result<void> Client::reset(Millis timeout) {
+Result<void> LinrsClient::reset() { return reset(opt_.reset_timeout); }
+Result<void> LinrsClient::reset(Millis timeout) {
   LMCFG_ASSIGN_OR_RETURN(
       auto t, transact_long(make_program(opt_.id, ProgramOp::reset_after_completion), timeout,
                             "resetting the drive"));
@@ -592,21 +593,21 @@ Result<void> Client::reset(Millis timeout) {
 
 // ---- error info (§14) ----
 
-Result<std::string> Client::actual_error_text() {
+Result<std::string> LinrsClient::actual_error_text() {
   LMCFG_ASSIGN_OR_RETURN(auto t, transact(make_error_actual_text(opt_.id), opt_.timeout, true));
   LMCFG_ASSIGN_OR_RETURN(auto r, decode_error_text(t));
   return r.text;
 }
-Result<std::string> Client::error_text(std::uint16_t code) {
+Result<std::string> LinrsClient::error_text(std::uint16_t code) {
   LMCFG_ASSIGN_OR_RETURN(auto t, transact(make_error_text(opt_.id, code), opt_.timeout, true));
   LMCFG_ASSIGN_OR_RETURN(auto r, decode_error_text(t));
   return r.text;
 }
-Result<ErrorCounters> Client::error_counters() {
+Result<ErrorCounters> LinrsClient::error_counters() {
   LMCFG_ASSIGN_OR_RETURN(auto t, transact(make_error_counters(opt_.id), opt_.timeout, true));
   return decode_error_counters(t);
 }
-Result<ErrorLogEntry> Client::error_log_entry(std::uint16_t index) {
+Result<ErrorLogEntry> LinrsClient::error_log_entry(std::uint16_t index) {
   LMCFG_ASSIGN_OR_RETURN(auto t,
                          transact(make_error_log_entry(opt_.id, index), opt_.timeout, true));
   return decode_error_log_entry(t);

@@ -189,20 +189,101 @@ struct CurveSizes {
   std::uint16_t data = 0;
 };
 
+// What a protocol can do that the operations ask before planning (LinUDP
+// lacks some LinRS requests, linudp-facts.md §3).
+struct Capabilities {
+  bool delete_one_curve = true;    // LinRS 04h 02h; LinUDP has none (facts §2.4, §3)
+  bool parameter_type = true;      // LinRS 05h 04h; LinUDP has none (facts §3)
+  std::string protocol = "LinRS";  // "LinRS", "LinUDP"
+};
+
+// The drive as the operations see it: one interface both protocols implement
+// (LinrsClient below over a byte link, linudp::Client over UDP datagrams),
+// so backup, diff, restore, default, undo, get/set and info have one path.
+// The contract of each call is LinRS's (below, with the seed 003 sections);
+// a protocol without a request answers with a refusal (ErrorClass::drive_refusal)
+// that names what it lacks.
 class Client {
  public:
-  Client(transport::Transport& link, ClientOptions opt);
+  virtual ~Client() = default;
+  Client(const Client&) = delete;
+  Client& operator=(const Client&) = delete;
 
   const ClientOptions& options() const { return opt_; }
-  void set_options(const ClientOptions& o) { opt_ = o; }
+  virtual void set_options(const ClientOptions& o) { opt_ = o; }
   const Stats& stats() const { return stats_; }
   const ProbeForms& probe_forms() const { return forms_; }
+  virtual Capabilities capabilities() const = 0;
+  // Reads per value actually used (see LinrsClient).
+  virtual int agreeing_reads() const { return 1; }
+  virtual bool noise_seen() const { return false; }
+  virtual transport::Transport& link() = 0;
+
+  virtual Result<codec::DefaultResponse> default_response(
+      codec::ResponseRequest kind = codec::ResponseRequest::default_response) = 0;
+  virtual Result<std::uint32_t> read_ram(std::uint16_t upid) = 0;
+  virtual Result<void> write_ram(std::uint16_t upid, std::uint32_t value) = 0;
+  virtual Result<void> write_ram_rom(std::uint16_t upid, std::uint32_t value) = 0;
+  virtual Result<std::uint32_t> read_rom(std::uint16_t upid) = 0;
+  virtual Result<void> write_rom(std::uint16_t upid, std::uint32_t value) = 0;
+  virtual Result<void> write_rom_confirmed(std::uint16_t upid, std::uint32_t value) = 0;
+  virtual Result<std::uint16_t> get_type(std::uint16_t upid) = 0;
+  virtual Result<std::uint32_t> get_min(std::uint16_t upid) = 0;
+  virtual Result<std::uint32_t> get_max(std::uint16_t upid) = 0;
+  virtual Result<std::uint32_t> get_default(std::uint16_t upid) = 0;
+  virtual Result<std::optional<std::uint16_t>> read_address_usage(std::uint16_t upid) = 0;
+  virtual Result<std::vector<ModifiedParam>> modified_list(int layer) = 0;
+  virtual Result<std::vector<UpidInfo>> upid_list(
+      int layer, const std::function<void(std::size_t)>& progress = {}) = 0;
+  virtual Result<void> default_layer(int layer) = 0;
+  virtual Result<Millis> find_again(const std::string& what) = 0;
+  virtual Result<std::optional<CurveSizes>> curve_sizes(std::uint16_t curve) = 0;
+  virtual Result<Bytes> read_curve_info(std::uint16_t curve, std::uint16_t size) = 0;
+  virtual Result<Bytes> read_curve_data(std::uint16_t curve, std::uint16_t size) = 0;
+  struct CurveBlocks {
+    Bytes info;
+    Bytes data;
+  };
+  virtual Result<std::optional<CurveBlocks>> read_curve(std::uint16_t curve) = 0;
+  virtual Result<void> write_curve(std::uint16_t curve, ByteView info, ByteView data) = 0;
+  virtual Result<void> delete_curve(std::uint16_t curve) = 0;
+  virtual Result<void> delete_all_curves() = 0;
+  virtual Result<void> save_curves() = 0;
+  virtual Result<std::vector<std::uint16_t>> ct_defined_entries() = 0;
+  virtual Result<Bytes> read_ct_entry(std::uint16_t entry) = 0;
+  virtual Result<void> write_ct_entry(std::uint16_t entry, ByteView bytes) = 0;
+  virtual Result<void> delete_ct_entry(std::uint16_t entry) = 0;
+  virtual Result<void> delete_all_ct() = 0;
+  virtual Result<void> save_ct() = 0;
+  virtual Result<std::optional<Bytes>> probe_ct_entry(std::uint16_t entry) = 0;
+  virtual Result<void> stop_mc() = 0;
+  virtual Result<void> start_mc() = 0;
+  virtual Result<void> reset() = 0;
+  virtual Result<void> reset(Millis timeout) = 0;
+  virtual Result<std::string> actual_error_text() = 0;
+  virtual Result<std::string> error_text(std::uint16_t code) = 0;
+  virtual Result<codec::ErrorCounters> error_counters() = 0;
+  virtual Result<codec::ErrorLogEntry> error_log_entry(std::uint16_t index) = 0;
+
+ protected:
+  explicit Client(ClientOptions opt) : opt_(std::move(opt)) {}
+  ClientOptions opt_;
+  Stats stats_;
+  ProbeForms forms_;
+};
+
+// LinRS over a byte link (serial, TCP gateway, simulated line).
+class LinrsClient final : public Client {
+ public:
+  LinrsClient(transport::Transport& link, ClientOptions opt);
+
+  Capabilities capabilities() const override { return {}; }
   // Reads per value actually used (agreeing_reads resolved; in automatic mode
   // it rises to noisy_agreeing_reads once the line has shown corruption).
-  int agreeing_reads() const;
+  int agreeing_reads() const override;
   // The line has shown corruption (garbled frames, disagreeing reads).
-  bool noise_seen() const { return noise_seen_; }
-  transport::Transport& link() { return link_; }
+  bool noise_seen() const override { return noise_seen_; }
+  transport::Transport& link() override { return link_; }
 
   // Sends `req` and waits for the answer the request's group defines.
   // idempotent: may be retried on timeout/garbled answer. A read (not
@@ -225,39 +306,39 @@ class Client {
 
   // §6
   Result<codec::DefaultResponse> default_response(
-      codec::ResponseRequest kind = codec::ResponseRequest::default_response);
+      codec::ResponseRequest kind = codec::ResponseRequest::default_response) override;
   // §7, §8
   Result<codec::DefaultResponse> write_control_word(std::uint16_t cw);
 
   // §9 (live values, RAM)
-  Result<std::uint32_t> read_ram(std::uint16_t upid);
-  Result<void> write_ram(std::uint16_t upid, std::uint32_t value);
-  Result<void> write_ram_rom(std::uint16_t upid, std::uint32_t value);
+  Result<std::uint32_t> read_ram(std::uint16_t upid) override;
+  Result<void> write_ram(std::uint16_t upid, std::uint32_t value) override;
+  Result<void> write_ram_rom(std::uint16_t upid, std::uint32_t value) override;
 
   // §10 parameter configuration
-  Result<std::uint32_t> read_rom(std::uint16_t upid);
-  Result<void> write_rom(std::uint16_t upid, std::uint32_t value);
+  Result<std::uint32_t> read_rom(std::uint16_t upid) override;
+  Result<void> write_rom(std::uint16_t upid, std::uint32_t value) override;
   // write_rom, and when its answer is lost or garbled, read the ROM value back
   // (never resend): success only if the drive holds `value`.
-  Result<void> write_rom_confirmed(std::uint16_t upid, std::uint32_t value);
-  Result<std::uint16_t> get_type(std::uint16_t upid);
-  Result<std::uint32_t> get_min(std::uint16_t upid);
-  Result<std::uint32_t> get_max(std::uint16_t upid);
-  Result<std::uint32_t> get_default(std::uint16_t upid);
+  Result<void> write_rom_confirmed(std::uint16_t upid, std::uint32_t value) override;
+  Result<std::uint16_t> get_type(std::uint16_t upid) override;
+  Result<std::uint32_t> get_min(std::uint16_t upid) override;
+  Result<std::uint32_t> get_max(std::uint16_t upid) override;
+  Result<std::uint32_t> get_default(std::uint16_t upid) override;
   // LinRS 3V27 p27 (05h sub 03h, answer 53h): the address usage of one UPID,
   // the low word of the answer's value. A drive of the seed's generation does
   // not know the request: its C3h/C4h answer is nullopt (use the UPID list,
   // §10.3). Other refusals (C8h unknown UPID) are errors.
-  Result<std::optional<std::uint16_t>> read_address_usage(std::uint16_t upid);
+  Result<std::optional<std::uint16_t>> read_address_usage(std::uint16_t upid) override;
   // Modified-UPID list of a layer (§10.2). C6 ends the list; its UPID counts
   // once, only if it lies in the layer's range and was not already received
   // (facts note erratum 5).
-  Result<std::vector<ModifiedParam>> modified_list(int layer);
+  Result<std::vector<ModifiedParam>> modified_list(int layer) override;
   // UPID list of a layer with address usage and type (§10.3), same C6 rule.
-  Result<std::vector<UpidInfo>> upid_list(int layer,
-                                          const std::function<void(std::size_t)>& progress = {});
+  Result<std::vector<UpidInfo>> upid_list(
+      int layer, const std::function<void(std::size_t)>& progress = {}) override;
   // ROM of a layer to defaults (§10.4); answer after completion (> 1 s).
-  Result<void> default_layer(int layer);
+  Result<void> default_layer(int layer) override;
 
   // After a long operation (default_layer, save_curves, save_ct, start_mc,
   // reset) failed with Errc::timeout: its answer never came, which a slow
@@ -270,46 +351,42 @@ class Client {
   // WHAT, the polls and the budget when the drive stayed silent; a link that
   // closed or an interruption as they come. It never resends the operation:
   // what the drive holds is for the caller to read back.
-  Result<Millis> find_again(const std::string& what);
+  Result<Millis> find_again(const std::string& what) override;
 
   // §11 curves. curve_sizes: nullopt when the drive reports no such curve (sizes 0).
-  Result<std::optional<CurveSizes>> curve_sizes(std::uint16_t curve);
-  Result<Bytes> read_curve_info(std::uint16_t curve, std::uint16_t size);
-  Result<Bytes> read_curve_data(std::uint16_t curve, std::uint16_t size);
+  Result<std::optional<CurveSizes>> curve_sizes(std::uint16_t curve) override;
+  Result<Bytes> read_curve_info(std::uint16_t curve, std::uint16_t size) override;
+  Result<Bytes> read_curve_data(std::uint16_t curve, std::uint16_t size) override;
   // Reads sizes, info and data; restarts the block transfer on a lost chunk.
-  struct CurveBlocks {
-    Bytes info;
-    Bytes data;
-  };
-  Result<std::optional<CurveBlocks>> read_curve(std::uint16_t curve);
-  Result<void> write_curve(std::uint16_t curve, ByteView info, ByteView data);
-  Result<void> delete_curve(std::uint16_t curve);
-  Result<void> delete_all_curves();
-  Result<void> save_curves();
+  Result<std::optional<CurveBlocks>> read_curve(std::uint16_t curve) override;
+  Result<void> write_curve(std::uint16_t curve, ByteView info, ByteView data) override;
+  Result<void> delete_curve(std::uint16_t curve) override;
+  Result<void> delete_all_curves() override;
+  Result<void> save_curves() override;
 
   // §12 command table
-  Result<std::vector<std::uint16_t>> ct_defined_entries();
-  Result<Bytes> read_ct_entry(std::uint16_t entry);
-  Result<void> write_ct_entry(std::uint16_t entry, ByteView bytes);
-  Result<void> delete_ct_entry(std::uint16_t entry);
-  Result<void> delete_all_ct();
-  Result<void> save_ct();
+  Result<std::vector<std::uint16_t>> ct_defined_entries() override;
+  Result<Bytes> read_ct_entry(std::uint16_t entry) override;
+  Result<void> write_ct_entry(std::uint16_t entry, ByteView bytes) override;
+  Result<void> delete_ct_entry(std::uint16_t entry) override;
+  Result<void> delete_all_ct() override;
+  Result<void> save_ct() override;
   // Entry bytes, or nullopt when the drive says the entry holds nothing (size
   // 0 or an error state in answer to the setup read): the form is recorded.
-  Result<std::optional<Bytes>> probe_ct_entry(std::uint16_t entry);
+  Result<std::optional<Bytes>> probe_ct_entry(std::uint16_t entry) override;
 
   // §13
-  Result<void> stop_mc();
-  Result<void> start_mc();  // answer after completion
-  Result<void> reset();     // answer after completion (~3 s)
+  Result<void> stop_mc() override;
+  Result<void> start_mc() override;  // answer after completion
+  Result<void> reset() override;     // answer after completion (~3 s)
   // The same, waiting `timeout` for the answer (relink_reset_timeout).
-  Result<void> reset(Millis timeout);
+  Result<void> reset(Millis timeout) override;
 
   // §14
-  Result<std::string> actual_error_text();
-  Result<std::string> error_text(std::uint16_t code);
-  Result<codec::ErrorCounters> error_counters();
-  Result<codec::ErrorLogEntry> error_log_entry(std::uint16_t index);
+  Result<std::string> actual_error_text() override;
+  Result<std::string> error_text(std::uint16_t code) override;
+  Result<codec::ErrorCounters> error_counters() override;
+  Result<codec::ErrorLogEntry> error_log_entry(std::uint16_t index) override;
 
  private:
   Result<codec::IdValueResponse> cfg(codec::CfgOp op, std::uint16_t upid, bool idempotent,
@@ -366,9 +443,7 @@ class Client {
                                         const std::string& what);
 
   transport::Transport& link_;
-  ClientOptions opt_;
   codec::StreamDecoder decoder_;
-  Stats stats_;
   bool unsettled_ = false;  // the last exchange ended without its answer
   // Adaptive deadline state (microseconds): see ClientOptions::adaptive_deadline.
   void rtt_sample(double excess_us);
@@ -379,8 +454,7 @@ class Client {
   std::int64_t last_send_ns_ = 0;     // link time before the last request was written
   std::int64_t settle_quiet_us_ = 0;  // quiet time of the next settle (adaptive_settle)
   bool noise_seen_ = false;           // corruption seen on this link (agreeing_reads)
-  ProbeForms forms_;
-  std::string long_wait_;  // what a long operation in flight waits for (transact_long)
+  std::string long_wait_;             // what a long operation in flight waits for (transact_long)
 };
 
 }  // namespace lmcfg::client

@@ -73,12 +73,12 @@ namespace lmcfg::client {
 // too, a link failure (after the transact's own retries) ends it. With one
 // read required this is just `read()`.
 template <class T, class F>
-Result<T> Client::agreed(F&& read) {
+Result<T> LinrsClient::agreed(F&& read) {
   return agreed<T>(std::forward<F>(read), [this](const Result<T>&) { return agreeing_reads(); });
 }
 
 template <class T, class F, class N>
-Result<T> Client::agreed(F&& read, N&& need_for) {
+Result<T> LinrsClient::agreed(F&& read, N&& need_for) {
   std::vector<Result<T>> seen;
   int link_failures = 0;
   // The limit grows by one if the line shows corruption during this value.

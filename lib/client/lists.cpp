@@ -23,14 +23,14 @@ namespace {
 bool restartable(const Error& e) { return is_link_error(e) || e.code == ErrorClass::drive_refusal; }
 }  // namespace
 
-struct Client::ModifiedPass {
+struct LinrsClient::ModifiedPass {
   std::vector<ModifiedParam> params;
   // Ended with a C6 whose UPID is no modified parameter of the layer: an
   // empty list's end, or the "no list" answer of a drive that lost its cursor.
   std::optional<std::string> odd_end;
 };
 
-Result<std::vector<ModifiedParam>> Client::modified_list(int layer) {
+Result<std::vector<ModifiedParam>> LinrsClient::modified_list(int layer) {
   const std::uint16_t base = lmcfg::layers::base_upid(layer);
   const std::string lname(lmcfg::layers::name(layer));
   // Failures allowed per position: twice the read attempts of a single value.
@@ -66,8 +66,8 @@ Result<std::vector<ModifiedParam>> Client::modified_list(int layer) {
   return last;
 }
 
-Result<std::optional<Error>> Client::modified_pass(int layer, ModifiedPass& pass,
-                                                   std::size_t& reached) {
+Result<std::optional<Error>> LinrsClient::modified_pass(int layer, ModifiedPass& pass,
+                                                        std::size_t& reached) {
   const std::uint16_t base = lmcfg::layers::base_upid(layer);
   for (std::size_t guard = 0;; ++guard) {
     if (guard > 0x0F00) {
@@ -119,7 +119,7 @@ Result<std::optional<Error>> Client::modified_pass(int layer, ModifiedPass& pass
   }
 }
 
-std::optional<Result<std::vector<ModifiedParam>>> Client::vote_modified(
+std::optional<Result<std::vector<ModifiedParam>>> LinrsClient::vote_modified(
     std::vector<std::vector<ModifiedParam>>& complete, ModifiedPass& pass,
     const std::string& lname) {
   // Agreement: agreeing_reads() identical passes; an odd end is confirmed
@@ -159,8 +159,8 @@ std::optional<Result<std::vector<ModifiedParam>>> Client::vote_modified(
   return std::nullopt;
 }
 
-Result<std::vector<UpidInfo>> Client::upid_list(int layer,
-                                                const std::function<void(std::size_t)>& progress) {
+Result<std::vector<UpidInfo>> LinrsClient::upid_list(
+    int layer, const std::function<void(std::size_t)>& progress) {
   const std::uint16_t base = lmcfg::layers::base_upid(layer);
   // Failures allowed per position: twice the read attempts of a single value.
   RestartBudget budget(2 * (opt_.read_retries + 1), opt_.transfer_deadline);

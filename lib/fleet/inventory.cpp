@@ -252,8 +252,15 @@ void read_drive(Checker& c, const toml::table& t, LineEntry& line) {
     }
     d.name = *name;
   }
+  const bool linudp =
+      !line.port.empty() && link::scheme_of(line.port).protocol == link::Protocol::linudp;
   if (line.devicenet) {
     read_devicenet_drive(c, t, d);
+  } else if (linudp) {
+    // A LinUDP drive is addressed by its IP (linudp-facts.md §1.1): no MACID.
+    if (t.get("id"))
+      c.problem(t.get("id")->source(), "drive '" + d.name + "': a " + line.port +
+                                           " line reaches its drive by address; remove 'id'");
   } else if (!t.get("id")) {
     c.problem(t.source(), "drive '" + d.name + "' has no 'id' (its MACID, e.g. id = 0x11)");
   } else if (auto id = c.integer(t, "id")) {
@@ -345,6 +352,11 @@ void read_line(Checker& c, const toml::table& t, std::size_t index, Inventory& i
   }
   if (line.drives.empty()) {
     c.problem(t.source(), "line '" + line.name + "' has no drives ([[line.drive]])");
+  } else if (line.drives.size() > 1 && !line.port.empty() &&
+             link::scheme_of(line.port).protocol == link::Protocol::linudp) {
+    c.problem(t.source(), "line '" + line.name +
+                              "': a linudp:// port reaches one drive (its IP "
+                              "address, linudp-facts.md §1.1); give each drive a line of its own");
   }
   inv.lines.push_back(std::move(line));
 }

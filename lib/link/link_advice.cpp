@@ -13,6 +13,9 @@ bool settings_suspect(Session& session, const Error& e) {
 }
 
 std::optional<std::string> link_advice(Session& session, const std::string& port) {
+  // LinRS settings advice; a LinUDP client's own message says what to check.
+  if (session.spec().port.scheme && session.spec().port.protocol() == Protocol::linudp)
+    return std::nullopt;
   const std::uint8_t id = session.client().options().id;
   const codec::ChecksumConfig chk = session.client().options().checksum;
   const transport::SerialSettings line = session.line();

@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "transport/rfc2217.hpp"
+#include "transport/udp.hpp"
 
 namespace lmcfg::link {
 
@@ -61,6 +62,31 @@ Result<transport::OpenedLink> open_serial_row(const PortSpec& spec, const OpenRe
   LMCFG_ASSIGN_OR_RETURN(opened.link,
                          transport::open_serial(s, &report, transport::PortClaim{req.holder}));
   opened.latency = std::move(report);
+  return opened;
+}
+
+// linudp://HOST[:PORT]: the drive port 49360 unless given (linudp-facts.md §1.1).
+Result<void> parse_linudp(PortSpec& spec) {
+  const std::string expected = "linudp://HOST[:PORT] (an IPv4 address or name, PORT 1..65535)";
+  const std::string_view a = spec.address;
+  std::string host(a);
+  std::uint16_t port = 49360;
+  if (a.find(':') != std::string_view::npos) {
+    auto hp = split_host_port(a);
+    if (!hp || hp->port == 0 || a.find(':') != a.rfind(':')) return bad_port(spec, expected);
+    host = hp->host;
+    port = hp->port;
+  }
+  if (host.empty() || host.find_first_of("/[]") != std::string::npos)
+    return bad_port(spec, expected);
+  spec.host = host;
+  spec.tcp_port = port;
+  return {};
+}
+
+Result<transport::OpenedLink> open_linudp_row(const PortSpec& spec, const OpenRequest&) {
+  transport::OpenedLink opened;
+  LMCFG_ASSIGN_OR_RETURN(opened.link, transport::open_udp(spec.host, spec.tcp_port));
   return opened;
 }
 
@@ -158,6 +184,16 @@ std::deque<Scheme>& table() {
 
     t.push_back(factory_row("sim", nullptr, "sim:STATE.json"));
 
+    Scheme udp;
+    udp.name = "linudp";
+    udp.prefix = "linudp://";
+    udp.line_rate = false;  // no serial line
+    udp.protocol = Protocol::linudp;
+    udp.syntax = "linudp://HOST[:PORT]";
+    udp.parse = parse_linudp;
+    udp.open_bytes = open_linudp_row;
+    t.push_back(std::move(udp));
+
     // Before slcan: its prefix is the longer one (rows are tried in order).
     Scheme slcan_tcp;
     slcan_tcp.name = "slcan-tcp";
@@ -212,6 +248,7 @@ std::deque<Scheme>& table() {
 Kind PortSpec::kind() const { return scheme->kind; }
 bool PortSpec::sets_line_rate() const { return scheme->line_rate; }
 const std::string& PortSpec::scheme_name() const { return scheme->name; }
+Protocol PortSpec::protocol() const { return scheme->protocol; }
 
 std::vector<const Scheme*> schemes() {
   std::vector<const Scheme*> prefixed, formed;

@@ -10,6 +10,8 @@
 //   tcp://HOST:PORT        serial-to-Ethernet gateway (raw TCP), LinRS
 //   rfc2217://HOST:PORT    RFC 2217 gateway, LinRS (the client sets the line)
 //   sim:STATE.json         registered at start-up (the simulated drive), LinRS
+//   linudp://HOST[:PORT]   a LinUDP V2 drive over UDP/IPv4 (port 49360 unless
+//                          given; linudp-facts.md §1.1), LinUDP
 //   slcan:/dev/ttyACM0     serial-line CAN adapter (slcan/Lawicel), CAN
 //   slcan:tcp://HOST:PORT  the same adapter protocol over TCP (a gateway, or
 //                          `lmcfg sim --devicenet --tcp`), CAN
@@ -34,6 +36,12 @@ enum class Kind : std::uint8_t {
   can_link,   // CAN frames (can::Link), for DeviceNet controllers
 };
 
+// The drive protocol a byte link carries: which client the session builds.
+enum class Protocol : std::uint8_t {
+  linrs,   // LinRS telegrams over a byte stream (client::LinrsClient)
+  linudp,  // LinUDP V2 datagrams, one per write (client::LinudpClient)
+};
+
 struct Scheme;
 
 // A port parsed once: which row it belongs to and its parts. Immutable once
@@ -54,6 +62,7 @@ struct PortSpec {
   // "serial", "tcp", "rfc2217", "sim", "slcan-tcp", "slcan", "socketcan" or a
   // registered name.
   const std::string& scheme_name() const;
+  Protocol protocol() const;
 };
 
 // What opening a port needs besides the port itself.
@@ -70,7 +79,8 @@ struct Scheme {
   std::string prefix;  // "tcp://"; "" for rows matched by their form (serial, socketcan)
   Kind kind = Kind::byte_link;
   bool line_rate = true;  // PortSpec::sets_line_rate
-  std::string syntax;     // "tcp://HOST:PORT", for messages and --help
+  Protocol protocol = Protocol::linrs;
+  std::string syntax;  // "tcp://HOST:PORT", for messages and --help
   // Rows without a prefix: whether `port` has this row's form.
   std::function<bool(std::string_view port)> matches;
   // Checks `spec.address` and fills host/tcp_port; the message names the port

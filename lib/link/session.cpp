@@ -2,6 +2,8 @@
 
 #include <optional>
 
+#include "client/linudp_client.hpp"
+
 namespace lmcfg::link {
 
 Result<codec::ChecksumConfig> parse_checksum(std::string_view t) {
@@ -99,6 +101,9 @@ namespace {
 client::ClientOptions client_options(const LinkSpec& spec, const transport::SerialSettings& line) {
   client::ClientOptions c = spec.client;
   c.link_has_parity = line.parity != transport::Parity::none;
+  // UDP/IP over Ethernet: the frame check sequence and the UDP checksum
+  // detect a flipped bit (linudp-facts.md §1.1: plain UDP/IPv4), as parity does.
+  if (spec.port.scheme && spec.port.protocol() == Protocol::linudp) c.link_has_parity = true;
   c.agreeing_reads = spec.agreeing_reads;
   c.adaptive_deadline = true;
   c.adaptive_settle = !spec.fixed_settle;
@@ -112,8 +117,12 @@ Session::Session(LinkSpec spec, transport::SerialSettings line, transport::Opene
       spec_(std::move(spec)),
       line_(line),
       link_(std::move(link.link)),
-      on_close_(std::move(link.on_close)),
-      client_(*link_, client_options(spec_, line_)) {}
+      on_close_(std::move(link.on_close)) {
+  if (spec_.port.scheme && spec_.port.protocol() == Protocol::linudp)
+    client_ = std::make_unique<client::LinudpClient>(*link_, client_options(spec_, line_));
+  else
+    client_ = std::make_unique<client::LinrsClient>(*link_, client_options(spec_, line_));
+}
 
 Result<void> Session::close() {
   if (on_close_) {
@@ -132,29 +141,33 @@ Result<void> Session::relink(const transport::SerialSettings& line, std::uint8_t
     line_ = line;
     line_.device = device;
   }
-  auto co = client_.options();
+  auto co = client_->options();
   co.id = id;
   co.checksum = checksum;
   co.link_has_parity = line_.parity != transport::Parity::none;
-  client_.set_options(co);
+  client_->set_options(co);
   return {};
 }
 
 LinkSpec Session::current_spec() const {
   LinkSpec s = spec_;
   s.serial = line_;
-  s.client.id = client_.options().id;
-  s.client.checksum = client_.options().checksum;
+  s.client.id = client_->options().id;
+  s.client.checksum = client_->options().checksum;
   return s;
 }
 
 config::LinkSettings Session::link_settings() const {
   config::LinkSettings s;
   s.port = spec_.port.text;
+  if (spec_.port.scheme && spec_.port.protocol() == Protocol::linudp) {
+    s.checksum = "none";  // UDP/IP carries no serial line (linudp-facts.md §3)
+    return s;
+  }
   s.baud = std::to_string(line_.baud);
   s.parity = std::string(transport::parity_name(line_.parity));
   s.stop_bits = std::to_string(line_.stop_bits);
-  s.checksum = checksum_name(client_.options().checksum);
+  s.checksum = checksum_name(client_->options().checksum);
   return s;
 }
 

@@ -43,7 +43,8 @@ class Session {
   Session(const Session&) = delete;
   Session& operator=(const Session&) = delete;
 
-  client::Client& client() { return client_; }
+  // LinRS or LinUDP, as the port's row says (PortSpec::protocol).
+  client::Client& client() { return *client_; }
   Result<void> close();
   std::string describe() const { return link_->describe(); }
   // Settings as recorded in a backup's identity.
@@ -71,7 +72,7 @@ class Session {
   transport::SerialSettings line_;
   std::unique_ptr<transport::Transport> link_;
   std::function<Result<void>()> on_close_;
-  client::Client client_;
+  std::unique_ptr<client::Client> client_;
 };
 
 // Opens the spec's port (link::open_byte_link) with its trace; the spec is

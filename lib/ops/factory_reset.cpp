@@ -123,8 +123,8 @@ Result<void> DefaultRun::read_before() {
     seen[static_cast<std::size_t>(layer - 1)] = mods;
     for (const auto& m : mods) {
       if (!is_comm_parameter(db_, m.upid)) continue;
-      if (opt_.include_comm)
-        rep_.link_may_change = true;
+      if (opt_.include_comm)  // LinUDP: UDP/IP whatever they hold (linudp-facts.md §3)
+        rep_.link_may_change = c_.capabilities().protocol == "LinRS";
       else
         keep_[m.upid] = m.value;
     }

@@ -91,6 +91,19 @@ Result<bool> target_range(client::Client& c, db::TypeCode code, std::uint16_t up
 
 }  // namespace
 
+namespace {
+// LinUDP has no type request (linudp-facts.md §3): the file's type, else the
+// database's; without either the range cannot be checked (a 16-bit value's
+// sign is unknown) and the drive's refusal is what stops a bad write.
+std::uint16_t type_without_request(const config::Parameter& p, const db::Parameter* d,
+                                   bool& unknown) {
+  if (p.type) return *p.type;
+  if (d && d->spec.type) return type_code(*d->spec.type);
+  unknown = true;
+  return type_code(TypeCode::SInt32);
+}
+}  // namespace
+
 // Checks one parameter the restore will write against the target; appends
 // problems or incompatible values (and notes where the database disagrees
 // with the target). True when the target can take it. Link errors propagate.
@@ -109,6 +122,7 @@ Result<bool> check_parameter(client::Client& c, const db::Database& db, const Re
     return false;
   };
   std::uint16_t type = 0;
+  const bool typed = c.capabilities().parameter_type;
   std::optional<db::AddressUsage> address_usage;
   const char* au_source = "the UPID database's";
   if (d) address_usage = d->address_usage;
@@ -125,12 +139,12 @@ Result<bool> check_parameter(client::Client& c, const db::Database& db, const Re
                                                       std::string(lmcfg::layers::name(layer)) +
                                                       " UPID list, §10.3)");
     }
-    type = it->second.type;
+    if (typed) type = it->second.type;
     if (!address_usage) {
       address_usage = db::AddressUsage{it->second.address_usage};
       au_source = "the target's";
     }
-  } else {
+  } else if (typed) {
     auto asked = c.get_type(p.upid);
     if (!asked.ok()) {
       if (asked.error().code == make_comm_state_error(0xC8)) {
@@ -146,6 +160,8 @@ Result<bool> check_parameter(client::Client& c, const db::Database& db, const Re
     }
     type = *asked;
   }
+  bool type_unknown = false;
+  if (!typed) type = type_without_request(p, d, type_unknown);
   auto code = db::type_from_code(type);
   if (!code) {
     plan.problems.push_back(label + ": the target reports type code " + hex(type, 4, "h") +
@@ -167,6 +183,12 @@ Result<bool> check_parameter(client::Client& c, const db::Database& db, const Re
     return cannot(Incompatibility::not_rom_writable,
                   "read-only on the target (" + std::string(au_source) + " address usage " +
                       hex(address_usage->raw, 4, "h") + " has no ROM write bit)");
+  }
+  if (type_unknown) {
+    plan.notes.push_back(label + ": type unknown (" + c.capabilities().protocol +
+                         " cannot ask it, linudp-facts.md §3; not in the file or the UPID "
+                         "database): range not checked before writing");
+    return true;
   }
   auto value = db::field_integer(*code, p.value);
   if (!value) {

@@ -308,6 +308,9 @@ void note_link_change(Builder& b, const LayerWork& w) {
     if (is_comm(b.db, p.upid)) after[p.upid] = p.value;
   for (const auto& x : w.same)
     if (is_comm(b.db, x.upid)) after[x.upid] = x.value;
+  // The LinRS settings select the link only on a LinRS link (a LinUDP drive
+  // is reached over UDP/IP whatever they hold, linudp-facts.md §3).
+  if (b.c.capabilities().protocol != "LinRS") return;
   b.plan.link_may_change = b.plan.link_may_change || now != after;
 }
 
@@ -444,7 +447,7 @@ void add_stop_and_start(Builder& b, bool rom_changed) {
 void check_id_after_reset(Builder& b) {
   const bool resets = std::any_of(b.plan.steps.begin(), b.plan.steps.end(),
                                   [](const PlanStep& s) { return s.action == Action::reset; });
-  if (!resets || b.plan.link_may_change) return;
+  if (!resets || b.plan.link_may_change || b.c.capabilities().protocol != "LinRS") return;
   const link::ExpectedLink after = expected_link(b.plan, b.db);
   const std::uint8_t now = b.c.options().id;
   if (!after.macid || *after.macid == now) return;

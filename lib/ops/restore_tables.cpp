@@ -126,6 +126,17 @@ Result<void> plan_curves(Builder& b, const config::DriveConfig& file, bool force
     }
   }
   if (writes.empty() && deletes.empty() && !force_save) return {};
+  if (!deletes.empty() && !b.c.capabilities().delete_one_curve) {
+    // LinUDP has no single-curve delete (linudp-facts.md §2.4, §3): every
+    // curve is deleted and the file's curves are all written again.
+    b.add(Action::delete_all_curves, 0,
+          std::string("delete all curves ") + where(b) + " (" + b.c.capabilities().protocol +
+              " cannot delete one curve)",
+          1);
+    deletes.clear();
+    writes.clear();
+    for (const auto& cv : file.curves) writes.push_back(&cv);
+  }
   for (const auto& [id, name] : deletes)
     b.add(Action::delete_curve, id,
           "delete curve " + std::to_string(id) + " '" + name + "' " + where(b) + " (§11 04h 02h)",

@@ -19,7 +19,7 @@ namespace {
 struct Rig {
   std::shared_ptr<sim::Drive> drive;
   sim::SimLink link;
-  client::Client client;
+  client::LinrsClient client;
   Rig(sim::RefusalFields fields, bool mc_running)
       : drive(std::make_shared<sim::Drive>([&] {
           auto s = test::load_fixture("commissioned-axis.json");

@@ -72,7 +72,7 @@ TEST_CASE("client: an error communication state becomes a typed refusal", "[clie
   // A C8 answer (unknown UPID) in the configuration group's response form.
   link.steps.push_back({*from_hex("01 11 05 02 00 05 34 12 04"),
                         *from_hex("01 11 0A 02 50 00 C8 34 12 00 00 00 00 04")});
-  Client client(link, ClientOptions{});
+  LinrsClient client(link, ClientOptions{});
   auto r = client.read_rom(0x1234);
   REQUIRE_FALSE(r.ok());
   CHECK(r.error().code == make_comm_state_error(0xC8));
@@ -89,7 +89,7 @@ TEST_CASE("client: reads retry on silence, writes do not", "[client]") {
       {req, *from_hex("01 11 0A 02 50 00 00 A2 13 09 00 00 00 04")});  // retry succeeds
   ClientOptions o;
   o.timeout = Millis(5);
-  Client client(link, o);
+  LinrsClient client(link, o);
   auto v = client.read_rom(0x13A2);
   REQUIRE(v.ok());
   CHECK(*v == 9);
@@ -97,7 +97,7 @@ TEST_CASE("client: reads retry on silence, writes do not", "[client]") {
 
   test::ScriptedTransport wlink;
   wlink.steps.push_back({*from_hex("01 11 09 02 01 05 A2 13 10 00 00 00 04"), {}});
-  Client writer(wlink, o);
+  LinrsClient writer(wlink, o);
   auto w = writer.write_rom(0x13A2, 16);
   REQUIRE_FALSE(w.ok());
   CHECK(w.error().code == Errc::timeout);

@@ -435,3 +435,31 @@ id = 0x12
       "plant.toml:7:10: drive 'a': unknown drive family 'Z1'; expected one of E1100, B1100, "
       "C1100, E1200, E1400 (docs/families.md)");
 }
+
+TEST_CASE("fleet inventory: a linudp:// line holds one drive, named, without an id",
+          "[fleet][inventory][linudp]") {
+  auto inv = fleet::parse_inventory(R"([[line]]
+name = "cell4"
+port = "linudp://10.8.7.232"
+[[line.drive]]
+name = "cell4/gripper"
+labels = { machine = "cell4" }
+)",
+                                    "plant.toml");
+  REQUIRE(inv.ok());
+  REQUIRE(inv->lines.size() == 1);
+  CHECK(inv->lines[0].drives.size() == 1);
+  CHECK_FALSE(inv->lines[0].devicenet);
+  CHECK(problems(R"([[line]]
+name = "cell4"
+port = "linudp://10.8.7.232:49360"
+[[line.drive]]
+name = "cell4/a"
+id = 0x11
+[[line.drive]]
+name = "cell4/b"
+)") == "plant.toml:6:6: drive 'cell4/a': a linudp://10.8.7.232:49360 line reaches its drive by "
+       "address; remove 'id'\n"
+       "plant.toml:1:1: line 'cell4': a linudp:// port reaches one drive (its IP address, "
+       "linudp-facts.md §1.1); give each drive a line of its own");
+}

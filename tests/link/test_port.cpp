@@ -136,3 +136,28 @@ TEST_CASE("port schemes: HOST:PORT splits at the last colon", "[link]") {
   CHECK_FALSE(link::split_host_port("h:70000"));
   CHECK_FALSE(link::split_host_port("h:"));
 }
+
+TEST_CASE("port table: linudp://HOST[:PORT] with the drive port 49360 by default",
+          "[link][port][linudp]") {
+  auto a = link::parse_port("linudp://10.8.7.232");
+  REQUIRE(a.ok());
+  CHECK(a->scheme_name() == "linudp");
+  CHECK(a->protocol() == link::Protocol::linudp);
+  CHECK(a->host == "10.8.7.232");
+  CHECK(a->tcp_port == 49360);  // linudp-facts.md §1.1
+  CHECK_FALSE(a->sets_line_rate());
+  CHECK(a->kind() == link::Kind::byte_link);
+  auto b = link::parse_port("linudp://drive7.plant:50000");
+  REQUIRE(b.ok());
+  CHECK(b->host == "drive7.plant");
+  CHECK(b->tcp_port == 50000);
+  CHECK(link::parse_port("/dev/ttyUSB0")->protocol() == link::Protocol::linrs);
+  for (const char* bad :
+       {"linudp://", "linudp://h:0", "linudp://h:x", "linudp://[::1]:5", "linudp://a/b"}) {
+    auto r = link::parse_port(bad);
+    REQUIRE_FALSE(r.ok());
+    CHECK(r.error().message == "port '" + std::string(bad) +
+                                   "' is not linudp://HOST[:PORT] (an IPv4 address or name, PORT "
+                                   "1..65535)");
+  }
+}

@@ -38,7 +38,7 @@ std::deque<test::ScriptedTransport::Step> manual(std::initializer_list<std::pair
 // §14.3 21 logged / 144 occurred and §14.4 newest entry 000Ch, in that order.
 struct ManualInfo {
   test::ScriptedTransport link;
-  client::Client client{link, client::ClientOptions{}};
+  client::LinrsClient client{link, client::ClientOptions{}};
   ManualInfo() { link.steps = manual({{512, 513}, {2000, 2002}, {2088, 2090}, {2137, 2139}}); }
   void done() {
     CHECK(link.mismatches.empty());
@@ -213,7 +213,7 @@ TEST_CASE("drive_info: LinRS §6.1.2 and §14.1 the error state of the manual's 
   // §6.1.2: status word 4C37h, state var 08C2h (Operation Enabled); §14.1 "No Error".
   test::ScriptedTransport link;
   link.steps = manual({{463, 465}, {2000, 2002}});
-  client::Client c(link, client::ClientOptions{});
+  client::LinrsClient c(link, client::ClientOptions{});
   auto s = ops::read_error_state(c);
   for (const auto& m : link.mismatches) UNSCOPED_INFO(m);
   INFO((s.ok() ? std::string() : s.error().message));

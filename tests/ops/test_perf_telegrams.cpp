@@ -27,7 +27,7 @@ struct Counted {
 struct PerfRig {
   std::shared_ptr<sim::Drive> drive;
   sim::SimLink link;
-  client::Client client;
+  client::LinrsClient client;
   explicit PerfRig(sim::DriveState s)
       : drive(std::make_shared<sim::Drive>(std::move(s))),
         link(drive),

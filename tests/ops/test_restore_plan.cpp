@@ -22,7 +22,7 @@ using Action = ops::PlanStep::Action;
 struct Rig {
   std::shared_ptr<sim::Drive> drive;
   sim::SimLink link;
-  client::Client client;
+  client::LinrsClient client;
   explicit Rig(sim::DriveState s)
       : drive(std::make_shared<sim::Drive>(std::move(s))),
         link(drive),

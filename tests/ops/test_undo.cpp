@@ -157,7 +157,7 @@ TEST_CASE("undo: a record costs a few telegrams on the demo restores (docs/perfo
   for (const auto& [name, state] : targets) {
     auto drive = std::make_shared<sim::Drive>(state);
     sim::SimLink link(drive);
-    client::Client c(link, client::ClientOptions{});
+    client::LinrsClient c(link, client::ClientOptions{});
     ops::RestoreOptions ro;
     ro.include_comm = true;  // as tests/ops/test_perf_telegrams.cpp
     auto plan = ops::plan_restore(c, file, db::Database::empty(), ro);

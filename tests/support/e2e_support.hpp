@@ -57,14 +57,14 @@ struct SimRig {
   std::shared_ptr<sim::SimLink> sim_link;
   std::shared_ptr<WireRecorder> wire = std::make_shared<WireRecorder>();
   std::unique_ptr<transport::Transport> link;
-  std::unique_ptr<client::Client> client;
+  std::unique_ptr<client::LinrsClient> client;
 
   explicit SimRig(const std::string& fixture, client::ClientOptions opt = {})
       : drive(load_sim_drive(fixture)) {
     auto raw = std::make_unique<sim::SimLink>(drive);
     sim_link_ptr = raw.get();
     link = transport::make_traced(std::move(raw), wire);
-    client = std::make_unique<client::Client>(*link, opt);
+    client = std::make_unique<client::LinrsClient>(*link, opt);
   }
   sim::SimLink& sim() { return *sim_link_ptr; }
 

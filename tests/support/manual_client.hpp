@@ -11,7 +11,7 @@ namespace lmcfg::test {
 
 struct ManualClient {
   ScriptedTransport link;
-  client::Client client{link, client::ClientOptions{}};
+  client::LinrsClient client{link, client::ClientOptions{}};
   explicit ManualClient(int from, int to) { link.steps = manual_steps(from, to); }
   void done() {
     CHECK(link.mismatches.empty());

@@ -70,7 +70,7 @@ struct FaultRig {
   sim::SimLink* sim = nullptr;
   ByteDropper* dropper = nullptr;
   std::unique_ptr<transport::Transport> link;
-  std::unique_ptr<client::Client> client;
+  std::unique_ptr<client::LinrsClient> client;
 
   explicit FaultRig(std::shared_ptr<sim::Drive> d, client::ClientOptions opt = {},
                     std::int64_t start_ns = 0)
@@ -82,7 +82,7 @@ struct FaultRig {
     dropper = dropping.get();
     link = transport::make_traced(std::move(dropping), wire);
     opt.checksum = drive->state().checksum;
-    client = std::make_unique<client::Client>(*link, opt);
+    client = std::make_unique<client::LinrsClient>(*link, opt);
   }
   std::int64_t now_ns() const { return sim->clock().now_ns(); }
 };

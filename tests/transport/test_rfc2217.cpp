@@ -519,7 +519,7 @@ TEST_CASE(
   // Many exchanges through the client, with purges between them.
   client::ClientOptions o;
   o.id = 0x12;
-  client::Client c(link, o);
+  client::LinrsClient c(link, o);
   for (int i = 0; i < 20; ++i) {
     auto v = c.read_rom(0x13A2);
     REQUIRE(v.ok());
@@ -541,7 +541,7 @@ TEST_CASE("rfc2217: through ser2net at a rate no drive listens at, the client ti
   o.id = 0x11;
   o.timeout = Millis(150);
   o.read_retries = 1;
-  client::Client c(**t, o);
+  client::LinrsClient c(**t, o);
   auto v = c.read_rom(0x13A2);
   REQUIRE_FALSE(v.ok());
   CHECK(v.error().code == make_error_code(Errc::timeout));

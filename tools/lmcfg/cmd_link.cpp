@@ -6,6 +6,7 @@
 #include "common/bytes.hpp"
 #include "confirm.hpp"
 #include "fleet/inventory.hpp"
+#include "link/port.hpp"
 #include "link_options.hpp"
 #include "ops/link_settings.hpp"
 #include "ops/recovery.hpp"
@@ -219,6 +220,12 @@ int run(LinkCli& o) {
                                   "settings of seed 003 §15; a DeviceNet controller's MACID and "
                                   "bit rate are set with its switches or the vendor's PC software "
                                   "(seed 000 §1.1); nothing written"));
+  if (link::scheme_of(o.common.port).protocol == link::Protocol::linudp)
+    return fail("link", Error(Errc::invalid_argument,
+                              "--port " + o.common.port +
+                                  " is a LinUDP drive: lmcfg link changes the LinRS settings of "
+                                  "seed 003 §15, which a drive on Ethernet does not use "
+                                  "(docs/linudp.md); nothing written"));
   auto change = parse_change(o);
   if (!change.ok()) return fail("link", change.error());
   auto inv = inventory_of(o);

@@ -2,6 +2,7 @@
 #include <cstdio>
 
 #include "command.hpp"
+#include "link/port.hpp"
 #include "link/scan.hpp"
 #include "link_options.hpp"
 #include "report/json_reports.hpp"
@@ -23,6 +24,11 @@ int run(ScanCli& o) {
     return fail("scan",
                 Error(Errc::invalid_argument, "--from/--to must be MACIDs 0..255 with from <= to"));
   }
+  if (link::scheme_of(o.common.port).protocol == link::Protocol::linudp)
+    return fail("scan", Error(Errc::not_supported,
+                              "--port " + o.common.port +
+                                  ": lmcfg scan finds LinRS drives on a serial line; a LinUDP "
+                                  "drive is named by its address (docs/linudp.md)"));
   auto lo = link_options(o.common);
   if (!lo.ok()) return fail("scan", lo.error());
   link::ScanOptions so;

@@ -18,6 +18,7 @@
 #include "sim/server.hpp"
 #include "sim/state_file.hpp"
 #include "sim_devicenet.hpp"
+#include "sim_linudp.hpp"
 #include "sim_tcp.hpp"
 #include "transport/pty.hpp"
 
@@ -46,6 +47,8 @@ struct SimArgs {
   bool verbose = false;
   bool devicenet = false;
   DevicenetSimArgs dn;
+  bool linudp = false;
+  LinudpSimArgs udp;
 };
 
 bool stdin_at_eof() {
@@ -96,6 +99,23 @@ Result<std::vector<std::unique_ptr<sim::Drive>>> load_drives(
   return drives;
 }
 
+// --linudp: one drive per UDP address (linudp-facts.md §1.1: addressing by IP).
+int run_linudp(const SimArgs& a, const std::vector<sim::Drive*>& line) {
+  if (line.size() > 1) {
+    std::fprintf(stderr, "lmcfg sim: --linudp serves one drive (one --state)\n");
+    return kInvalidInput;
+  }
+  int rc = run_linudp_sim(
+      a.udp, line.front()->state(), a.fast, a.verbose,
+      [&] { return g_stop != 0 || (a.until_stdin_eof && stdin_at_eof()); },
+      [&](const sim::DriveState& s) {
+        if (!a.save_on_exit) return;
+        if (auto r = sim::save_state(s, a.states.front()); !r.ok())
+          std::fprintf(stderr, "lmcfg sim: %s\n", r.error().message.c_str());
+      });
+  return rc;
+}
+
 int run(const SimArgs& a) {
   if (a.devicenet) {
     if (!a.states.empty()) {
@@ -123,6 +143,7 @@ int run(const SimArgs& a) {
   sim::Drive& drive = *line.front();
 
   install_stop_handlers();
+  if (a.linudp) return run_linudp(a, line);
 
   sim::ServeOptions opt;
   opt.real_time = !a.fast;
@@ -246,6 +267,12 @@ void add_sim(CLI::App& app, int& exit_code) {
                     "slcan CAN adapter on a pty, or with --tcp on TCP (--port "
                     "slcan:tcp://HOST:PORT)");
   add_devicenet_sim_options(cmd, devicenet, args->dn);
+  auto* linudp = cmd->add_flag("--linudp", args->linudp,
+                               "Serve the drive over LinUDP V2 on a UDP port (--udp; --port "
+                               "linudp://HOST:PORT), docs/linudp.md")
+                     ->excludes(devicenet)
+                     ->excludes(pty);
+  add_linudp_sim_options(cmd, linudp, args->udp);
   cmd->callback([args, &exit_code] { exit_code = run(*args); });
 }
 }  // namespace lmcfg::cli
