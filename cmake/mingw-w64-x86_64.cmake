@@ -27,3 +27,9 @@ find_program(LMCFG_WINE NAMES wine64 wine PATHS /usr/lib/wine NO_CMAKE_FIND_ROOT
 if(LMCFG_WINE)
   set(CMAKE_CROSSCOMPILING_EMULATOR ${LMCFG_WINE})
 endif()
+
+# MinGW's GCC 12 reports the -Wrestrict/-Warray-bounds/-Wstringop-overflow
+# false positives inside libstdc++'s std::string (GCC bug 105651) in many more
+# files than the Linux build's (lib/CMakeLists.txt silences them per target
+# there).
+set(CMAKE_CXX_FLAGS_INIT "-Wno-restrict -Wno-array-bounds -Wno-stringop-overflow")

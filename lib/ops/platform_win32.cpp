@@ -25,7 +25,10 @@ Result<fs::path> state_dir() {
 std::string current_user() {
   wchar_t name[257] = {};
   DWORD size = 257;
-  if (::GetUserNameW(name, &size) && name[0]) return fs::path(name).u8string();
+  if (::GetUserNameW(name, &size) && name[0]) {
+    const std::u8string utf8 = fs::path(name).u8string();
+    return std::string(utf8.begin(), utf8.end());
+  }
   if (const char* user = std::getenv("USERNAME"); user && *user) return user;
   return "unknown";
 }

@@ -37,7 +37,9 @@ class FileTrace final : public TraceSink {
     // One write(2) per line (O_APPEND): in the kernel as soon as it returns.
     std::size_t off = 0;
     for (int tries = 0; off < line.size() && tries < 100; ++tries) {
-      const ssize_t n = ::write(fd_.get(), line.data() + off, line.size() - off);
+      // A line is far below 4 GiB: the count fits Windows' unsigned int too.
+      const auto n =
+          ::write(fd_.get(), line.data() + off, static_cast<unsigned>(line.size() - off));
       if (n > 0)
         off += static_cast<std::size_t>(n);
       else if (n < 0 && errno != EINTR)
