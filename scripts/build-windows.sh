@@ -133,7 +133,7 @@ if ! built libgit2 "$libgit2"; then
     -DBUILD_CLI=OFF -DBUILD_EXAMPLES=OFF -DBUILD_FUZZERS=OFF -DUSE_HTTPS=OFF -DUSE_SSH=OFF \
     -DUSE_NTLMCLIENT=OFF -DUSE_GSSAPI=OFF -DUSE_WINHTTP=OFF -DUSE_HTTP_PARSER=system -DREGEX_BACKEND=pcre2 \
     -DUSE_BUNDLED_ZLIB=OFF -DUSE_SHA1=CollisionDetection -DUSE_SHA256=Builtin \
-    -DDEPRECATE_HARD=ON -DPCRE2_INCLUDE_DIR="$prefix/include" \
+    -DDEPRECATE_HARD=ON -DCMAKE_C_FLAGS=-DPCRE2_STATIC -DPCRE2_INCLUDE_DIR="$prefix/include" \
     -DPCRE2_LIBRARY="$prefix/lib/libpcre2-8.a" -DHTTP_PARSER_INCLUDE_DIR="$prefix/include" \
     -DHTTP_PARSER_LIBRARY="$prefix/lib/libhttp_parser.a" >"$deps/libgit2-configure.log"
   cmake --build "$deps/libgit2-build" -j"$jobs" >/dev/null

@@ -33,7 +33,8 @@ cleanup() {
 trap cleanup EXIT
 ok() { echo "PASS: $*"; passed=$((passed + 1)); }
 bad() { echo "FAIL: $*"; failed=$((failed + 1)); }
-win() { "$wine" "$exe" "$@"; }
+# Each run bounded: a hang is a failure with its exit code (124), not a stuck CI.
+win() { timeout "${LMCFG_WINE_TIMEOUT:-240}" "$wine" "$exe" "$@"; }
 
 # serve NAME STATE COM: `lmcfg sim` on a pty, mapped to COM (com7, com8).
 serve() {
