@@ -103,6 +103,32 @@ Result<void> write_file_atomic(const fs::path& path, std::string_view content) {
   return {};
 }
 
+Result<void> append_file(const fs::path& path, std::string_view line) {
+  auto os_error = [&](const char* what) {
+    return Error(Errc::file_error, path.string() + ": " + what + ": " + std::strerror(errno));
+  };
+  const int fd = ::open(path.c_str(), O_WRONLY | O_APPEND | O_CREAT | O_CLOEXEC, 0600);
+  if (fd < 0) return os_error("cannot open");
+  // One write(): an O_APPEND write is positioned at the end and written as one step.
+  ssize_t n;
+  do {
+    n = ::write(fd, line.data(), line.size());
+  } while (n < 0 && errno == EINTR);
+  if (n < 0) {
+    auto e = os_error("cannot write");
+    ::close(fd);
+    return e;
+  }
+  if (static_cast<std::size_t>(n) != line.size()) {
+    ::close(fd);
+    return Error(Errc::file_error, path.string() + ": short write (" + std::to_string(n) + " of " +
+                                       std::to_string(line.size()) +
+                                       " bytes; the file system is full?)");
+  }
+  if (::close(fd) != 0) return os_error("cannot close");
+  return {};
+}
+
 std::string input_name(const fs::path& path) {
   return path == "-" ? std::string("(stdin)") : path.string();
 }

@@ -16,6 +16,13 @@ namespace lmcfg::config {
 // "out.json: is a directory; expected a file path".
 Result<void> write_file_atomic(const std::filesystem::path& path, std::string_view content);
 
+// Appends `line` to `path` (created 0600 if missing) in one write at the end
+// of the file, so a concurrent writer's line goes before or after it, never
+// into it (O_APPEND on POSIX, FILE_APPEND_DATA on Windows). Errors
+// (Errc::file_error) read "<path>: cannot open: <reason>" (or cannot write,
+// short write, cannot close).
+Result<void> append_file(const std::filesystem::path& path, std::string_view line);
+
 // Inputs larger than any real configuration (a full capture with 100 curves
 // is a few MB) are refused: 256 MiB.
 inline constexpr std::size_t kMaxInputBytes = std::size_t{256} << 20;

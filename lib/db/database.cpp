@@ -8,6 +8,7 @@
 #include <unordered_map>
 #include <utility>
 
+#include "common/executable.hpp"
 #include "common/layers.hpp"
 #include "db/sqlite.hpp"
 
@@ -27,8 +28,10 @@ std::string lower(std::string_view s) {
 // a URI needs it.
 std::string immutable_uri(const std::string& path) {
   std::error_code ec;
-  std::string abs = std::filesystem::absolute(path, ec).string();
+  std::string abs = std::filesystem::absolute(path, ec).generic_string();
   if (ec) abs = path;
+  // A Windows path "C:/x" is the URI path "/C:/x" (SQLite, "URI Filenames").
+  if (abs.size() > 1 && abs[1] == ':') abs.insert(0, "/");
   std::string uri = "file://";
   for (char c : abs) {
     if (c == '%' || c == '?' || c == '#') {
@@ -396,13 +399,11 @@ Result<std::string> Database::find_default_path(const char* env_value,
 Result<std::string> Database::default_path() {
   const char* env = std::getenv(std::string(kDbPathEnv).c_str());
   if (env && *env) return find_default_path(env, {});
-  std::error_code ec;
-  auto exe = std::filesystem::read_symlink("/proc/self/exe", ec);
-  if (ec)
-    return Error(Errc::file_error, "cannot locate the running executable via /proc/self/exe (" +
-                                       ec.message() + "); set " + std::string(kDbPathEnv) +
-                                       " or pass --db");
-  return find_default_path(nullptr, exe.parent_path());
+  auto exe = running_executable();
+  if (!exe.ok())
+    return Error(Errc::file_error,
+                 exe.error().message + "; set " + std::string(kDbPathEnv) + " or pass --db");
+  return find_default_path(nullptr, exe->parent_path());
 }
 
 Result<Database> Database::open_default() {

@@ -2,13 +2,13 @@
 
 #include <ctime>
 
+#include "common/utc_time.hpp"
 #include "fleet/fleet.hpp"
 
 namespace lmcfg::fleet {
 std::string iso_utc(std::int64_t seconds) {
   const auto t = static_cast<std::time_t>(seconds);
-  std::tm tm{};
-  gmtime_r(&t, &tm);
+  const std::tm tm = utc_tm(t);
   char buf[32];
   std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
   return buf;

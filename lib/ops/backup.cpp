@@ -5,6 +5,7 @@
 #include <set>
 
 #include "common/layers.hpp"
+#include "common/utc_time.hpp"
 #include "common/version.hpp"
 #include "db/database.hpp"
 
@@ -12,8 +13,7 @@ namespace lmcfg::ops {
 
 std::string utc_now() {
   std::time_t t = std::time(nullptr);
-  std::tm tm{};
-  gmtime_r(&t, &tm);
+  const std::tm tm = utc_tm(t);
   char buf[32];
   std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
   return buf;

@@ -1,13 +1,9 @@
 #include "ops/journal.hpp"
 
-#include <fcntl.h>
-#include <unistd.h>
-
-#include <cerrno>
-#include <cstring>
 #include <fstream>
 
 #include "common/bytes.hpp"
+#include "config/atomic_file.hpp"
 #include "ops/backup.hpp"
 #include "ops/recovery.hpp"
 
@@ -46,10 +42,6 @@ nlohmann::ordered_json journal_record(const JournalEntry& e) {
 }
 
 Result<void> append_journal(const fs::path& path, const nlohmann::ordered_json& record) {
-  auto os_error = [&](const char* what) {
-    return Error(Errc::file_error,
-                 "journal " + path.string() + ": " + what + ": " + std::strerror(errno));
-  };
   std::error_code ec;
   fs::create_directories(path.parent_path(), ec);
   if (ec)
@@ -59,26 +51,9 @@ Result<void> append_journal(const fs::path& path, const nlohmann::ordered_json& 
   // not a reason to lose the record.
   const std::string line =
       record.dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n";
-  const int fd = ::open(path.c_str(), O_WRONLY | O_APPEND | O_CREAT | O_CLOEXEC, 0600);
-  if (fd < 0) return os_error("cannot open");
-  // One write(): an O_APPEND write is positioned at the end and written as
-  // one step, so a concurrent writer's line goes before or after this one.
-  ssize_t n;
-  do {
-    n = ::write(fd, line.data(), line.size());
-  } while (n < 0 && errno == EINTR);
-  if (n < 0) {
-    auto e = os_error("cannot write");
-    ::close(fd);
-    return e;
-  }
-  if (static_cast<std::size_t>(n) != line.size()) {
-    ::close(fd);
-    return Error(Errc::file_error, "journal " + path.string() + ": short write (" +
-                                       std::to_string(n) + " of " + std::to_string(line.size()) +
-                                       " bytes; the file system is full?)");
-  }
-  if (::close(fd) != 0) return os_error("cannot close");
+  // One append: a concurrent writer's line goes before or after this one.
+  if (auto r = config::append_file(path, line); !r)
+    return Error(r.error().code, "journal " + r.error().message);
   return {};
 }
 

@@ -8,20 +8,13 @@
 
 #include "config/atomic_file.hpp"
 #include "config/io_common.hpp"
+#include "ops/platform.hpp"
 
 namespace lmcfg::ops {
 
 namespace fs = std::filesystem;
 
-Result<fs::path> recovery_dir() {
-  const char* xdg = std::getenv("XDG_STATE_HOME");
-  if (xdg && *xdg == '/') return fs::path(xdg) / "lmcfg";
-  const char* home = std::getenv("HOME");
-  if (home && *home) return fs::path(home) / ".local" / "state" / "lmcfg";
-  return Error(Errc::file_error,
-               "no place for the recovery record: neither $XDG_STATE_HOME (absolute) nor $HOME "
-               "is set");
-}
+Result<fs::path> recovery_dir() { return state_dir(); }
 
 std::string drive_key(const std::string& port, std::uint8_t macid) {
   std::string key;

@@ -5,6 +5,7 @@
 #include <system_error>
 
 #include "common/layers.hpp"
+#include "common/utc_time.hpp"
 #include "config/config_io.hpp"
 #include "db/database.hpp"
 #include "ops/backup.hpp"
@@ -28,8 +29,7 @@ void add_layer(config::DriveConfig& cfg, int layer,
 // "20261124T171500Z" of `now`, and the ISO form for listings.
 std::string stamp_of(std::chrono::system_clock::time_point now) {
   const std::time_t t = std::chrono::system_clock::to_time_t(now);
-  std::tm tm{};
-  gmtime_r(&t, &tm);
+  const std::tm tm = utc_tm(t);
   char buf[32];
   std::strftime(buf, sizeof buf, "%Y%m%dT%H%M%SZ", &tm);
   return buf;

@@ -92,10 +92,7 @@ std::optional<PortHolder> port_holder(const std::string& device) {
 }
 
 std::string port_in_use_message(const std::string& device) {
-  if (auto h = port_holder(device); h && !h->holder.empty())
-    return "port " + device + " is in use by " + h->holder + " (PID " + std::to_string(h->pid) +
-           ")";
-  return "port " + device + " is in use by another program";
+  return in_use_text(device, port_holder(device));
 }
 
 PortLock::~PortLock() {

@@ -14,6 +14,7 @@
 #include <fstream>
 
 #include "transport/port_lock.hpp"
+#include "transport/ports.hpp"
 #include "transport/pty.hpp"
 
 namespace lmcfg::transport {
@@ -37,15 +38,6 @@ speed_t speed_constant(unsigned baud) {
     default:
       return B0;
   }
-}
-
-std::string allowed_bauds() {
-  std::string s;
-  for (const unsigned b : kSerialBaudRates) {
-    if (!s.empty()) s += ", ";
-    s += std::to_string(b);
-  }
-  return s;
 }
 
 }  // namespace
@@ -82,55 +74,20 @@ bool is_pty_slave(int fd) {
          maj <= 143;  // UNIX98_PTY_SLAVE_MAJOR .. + 7 (Documentation/admin-guide/devices.txt)
 }
 
-std::string_view parity_name(Parity p) noexcept {
-  switch (p) {
-    case Parity::none:
-      return "none";
-    case Parity::even:
-      return "even";
-    case Parity::odd:
-      return "odd";
+std::vector<std::string> list_serial_ports() {
+  std::vector<std::string> ports;
+  std::error_code ec;
+  for (const auto& e : std::filesystem::directory_iterator("/dev/serial/by-id", ec))
+    ports.push_back(e.path().string());
+  if (ports.empty()) {
+    for (const auto& e : std::filesystem::directory_iterator("/dev", ec)) {
+      const std::string name = e.path().filename().string();
+      if (name.rfind("ttyUSB", 0) == 0 || name.rfind("ttyACM", 0) == 0)
+        ports.push_back(e.path().string());
+    }
   }
-  return "none";
-}
-
-std::optional<Parity> parity_from_name(std::string_view t) noexcept {
-  if (t == "none" || t == "n" || t == "N") return Parity::none;
-  if (t == "even" || t == "e" || t == "E") return Parity::even;
-  if (t == "odd" || t == "o" || t == "O") return Parity::odd;
-  return std::nullopt;
-}
-
-unsigned bits_per_byte(const SerialSettings& s) {
-  return 1u + 8u + (s.parity == Parity::none ? 0u : 1u) + s.stop_bits;
-}
-
-Result<void> validate(const SerialSettings& s) {
-  if (std::find(kSerialBaudRates.begin(), kSerialBaudRates.end(), s.baud) ==
-      kSerialBaudRates.end()) {
-    return Error(Errc::invalid_argument, "unsupported baud rate " + std::to_string(s.baud) +
-                                             " (allowed: " + allowed_bauds() + ")");
-  }
-  if (s.parity != Parity::none && s.parity != Parity::even && s.parity != Parity::odd) {
-    return Error(Errc::invalid_argument, "unsupported parity value " +
-                                             std::to_string(static_cast<unsigned>(s.parity)) +
-                                             " (allowed: none, even, odd)");
-  }
-  if (s.stop_bits != 1 && s.stop_bits != 2) {
-    return Error(Errc::invalid_argument,
-                 "unsupported stop bits " + std::to_string(s.stop_bits) + " (allowed: 1, 2)");
-  }
-  return {};
-}
-
-std::string format_settings(const SerialSettings& s) {
-  const char p = s.parity == Parity::even ? 'E' : s.parity == Parity::odd ? 'O' : 'N';
-  return std::to_string(s.baud) + " 8" + p + std::to_string(s.stop_bits);
-}
-
-Result<void> Transport::reconfigure(const SerialSettings&) {
-  return Error(Errc::not_supported,
-               describe() + ": the line settings of this link cannot be changed from here");
+  std::sort(ports.begin(), ports.end());
+  return ports;
 }
 
 std::string latency_timer_path(const std::string& device, const std::string& sysfs_root) {

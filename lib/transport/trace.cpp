@@ -8,6 +8,15 @@
 
 #include "transport/pty.hpp"
 
+// The C runtime of Windows (MinGW) has open/write but no close-on-exec (no
+// exec), and opens in text mode unless told: the same bytes as on Linux.
+#ifndef O_CLOEXEC
+#define O_CLOEXEC 0
+#endif
+#ifndef O_BINARY
+#define O_BINARY 0
+#endif
+
 namespace lmcfg::transport {
 
 namespace {
@@ -28,7 +37,9 @@ class FileTrace final : public TraceSink {
     // One write(2) per line (O_APPEND): in the kernel as soon as it returns.
     std::size_t off = 0;
     for (int tries = 0; off < line.size() && tries < 100; ++tries) {
-      const ssize_t n = ::write(fd_.get(), line.data() + off, line.size() - off);
+      // A line is far below 4 GiB: the count fits Windows' unsigned int too.
+      const auto n =
+          ::write(fd_.get(), line.data() + off, static_cast<unsigned>(line.size() - off));
       if (n > 0)
         off += static_cast<std::size_t>(n);
       else if (n < 0 && errno != EINTR)
@@ -71,7 +82,8 @@ class TracedTransport final : public Transport {
 }  // namespace
 
 Result<std::unique_ptr<TraceSink>> open_file_trace(const std::string& path) {
-  UniqueFd fd(::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_APPEND | O_CLOEXEC, 0644));
+  UniqueFd fd(
+      ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_APPEND | O_CLOEXEC | O_BINARY, 0644));
   if (!fd) {
     return Error(Errc::file_error, "cannot open trace file " + path + ": " + std::strerror(errno));
   }

@@ -68,7 +68,7 @@ int run(const JournalCli& o) {
   if (newest.empty()) {
     std::printf("no writes recorded%s in %s\n",
                 port.empty() ? "" : (" for " + port + (id ? " " + hex(*id, 2, "h") : "")).c_str(),
-                path->c_str());
+                path->string().c_str());
     return kOk;
   }
   std::string out;

@@ -6,6 +6,7 @@
 #include "link/scan.hpp"
 #include "link_options.hpp"
 #include "report/json_reports.hpp"
+#include "transport/ports.hpp"
 
 namespace lmcfg::cli {
 namespace {
@@ -72,6 +73,31 @@ int run(ScanCli& o) {
   return r.found.empty() ? kDifferent : kOk;  // 1: no drive answered
 }
 
+// Without --port: every serial port of this computer in turn
+// (transport::list_serial_ports), each named before its results. Exit 0 when
+// a drive answered on any, 1 when none did, else the first port's error.
+int run_all_ports(ScanCli& o) {
+  const auto ports = transport::list_serial_ports();
+  if (ports.empty())
+    return fail("scan", Error(Errc::invalid_argument,
+                              "no --port given and no serial port found on this computer; plug "
+                              "in the adapter or name the port with --port"));
+  if (o.common.json && ports.size() > 1)
+    return fail("scan",
+                Error(Errc::invalid_argument, "--json needs --port: this computer has " +
+                                                  std::to_string(ports.size()) + " serial ports"));
+  int result = kDifferent;
+  for (const auto& port : ports) {
+    if (!o.common.json) std::printf("port %s:\n", port.c_str());
+    std::fflush(stdout);
+    o.common.port = port;
+    const int rc = run(o);
+    if (rc == kOk) result = kOk;
+    if (rc != kOk && rc != kDifferent && result == kDifferent) result = rc;
+  }
+  return result;
+}
+
 }  // namespace
 
 void add_scan(CLI::App& app, int& exit_code) {
@@ -82,7 +108,9 @@ void add_scan(CLI::App& app, int& exit_code) {
   sub->footer(
       "Without --baud every rate of seed 003 §3.2.1 is tried, factory 57600 first; answers "
       "framed with another checksum are detected and confirmed. Prints the link options of "
-      "each drive found; exit 1 when none answered.\n"
+      "each drive found; exit 1 when none answered. Without --port every serial port of this "
+      "computer is scanned in turn (Linux: /dev/serial/by-id, else /dev/ttyUSB* and "
+      "/dev/ttyACM*; Windows: the COM ports).\n"
       "Examples:\n  lmcfg scan --port /dev/ttyUSB0\n"
       "  lmcfg scan --port /dev/ttyUSB0 --baud 115200 --from 1 --to 0x20 --json");
   add_link_options(sub, o->common);
@@ -92,7 +120,7 @@ void add_scan(CLI::App& app, int& exit_code) {
   sub->callback([o, sub, &exit_code] {
     o->baud_given = sub->get_option("--baud")->count() > 0;
     o->timeout_given = sub->get_option("--timeout-ms")->count() > 0;
-    exit_code = run(*o);
+    exit_code = o->common.port.empty() ? run_all_ports(*o) : run(*o);
   });
 }
 }  // namespace lmcfg::cli

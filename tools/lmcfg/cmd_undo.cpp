@@ -37,15 +37,15 @@ int run_list(const UndoCli& o, const std::filesystem::path& dir) {
   }
   if (records->empty()) {
     std::printf("no undo records%s in %s\n", drive.empty() ? "" : (" of " + drive).c_str(),
-                dir.c_str());
+                dir.string().c_str());
     return kOk;
   }
   std::string last;
   for (const auto& r : *records) {
     if (r.drive != last) std::printf("%s%s:\n", last.empty() ? "" : "\n", r.drive.c_str());
     last = r.drive;
-    std::printf("  %s  %-13s  %s\n      %s\n", r.time.c_str(), r.command.c_str(), r.path.c_str(),
-                r.holds.c_str());
+    std::printf("  %s  %-13s  %s\n      %s\n", r.time.c_str(), r.command.c_str(),
+                r.path.string().c_str(), r.holds.c_str());
   }
   return kOk;
 }

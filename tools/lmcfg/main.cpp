@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "command.hpp"
+#include "console.hpp"
 #include "link/session.hpp"
 #include "sim/state_file.hpp"
 #include "version_info.hpp"
@@ -64,6 +65,7 @@ std::string subcommand_names(const CLI::App& app) {
 
 int main(int argc, char** argv) {
   using namespace lmcfg::cli;
+  init_console();
   CLI::App app{"lmcfg: back up, diff, default and restore LinMot drive configurations over LinRS"};
   app.set_version_flag("--version", version_text,
                        "Print the program version, the git revision it was built from and the "

@@ -180,7 +180,7 @@ Result<ops::RestoreRunOptions> linrs_run_options(const CommonOptions& common, co
 void print_undo_saved(const ops::UndoSaved& u, const CommonOptions& common) {
   if (common.quiet || common.json) return;
   std::fprintf(stderr, "undo: saved the target's previous values to %s; to put them back: %s\n",
-               u.path.c_str(), u.command.c_str());
+               u.path.string().c_str(), u.command.c_str());
 }
 
 void add_restore_flags(CLI::App* sub, RestoreFlags& f) {

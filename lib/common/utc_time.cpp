@@ -1,0 +1,11 @@
+#include "common/utc_time.hpp"
+
+namespace lmcfg {
+
+std::tm utc_tm(std::time_t t) {
+  std::tm tm{};
+  gmtime_r(&t, &tm);
+  return tm;
+}
+
+}  // namespace lmcfg

@@ -1,0 +1,10 @@
+#include <catch2/catch.hpp>
+
+#include "common/executable.hpp"
+
+TEST_CASE("running_executable: the test binary itself", "[common][executable]") {
+  auto exe = lmcfg::running_executable();
+  REQUIRE(exe.ok());
+  CHECK(exe->stem() == "lmcfg_tests");
+  CHECK(std::filesystem::exists(*exe));
+}
