@@ -6,6 +6,9 @@
 #include "files.hpp"
 #include "fleet/inventory.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace fleet_test_inventory {
+
 using namespace lmcfg;
 
 namespace {
@@ -435,3 +438,5 @@ id = 0x12
       "plant.toml:7:10: drive 'a': unknown drive family 'Z1'; expected one of E1100, B1100, "
       "C1100, E1200, E1400 (docs/families.md)");
 }
+
+}  // namespace fleet_test_inventory

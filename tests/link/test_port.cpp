@@ -11,6 +11,9 @@
 #include "link/spec.hpp"
 #include "sim_ports.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace link_test_port {
+
 using namespace lmcfg;
 
 TEST_CASE("hex: the one formatter pads, never truncates, and appends the suffix", "[common]") {
@@ -136,3 +139,5 @@ TEST_CASE("port schemes: HOST:PORT splits at the last colon", "[link]") {
   CHECK_FALSE(link::split_host_port("h:70000"));
   CHECK_FALSE(link::split_host_port("h:"));
 }
+
+}  // namespace link_test_port

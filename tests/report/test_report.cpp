@@ -18,6 +18,9 @@
 #include "report/report.hpp"
 #include "report_pages.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace report_test_report {
+
 using namespace lmcfg;
 using namespace lmcfg::test::report_pages;
 using test::slurp;
@@ -104,3 +107,5 @@ TEST_CASE("report: errors leave no file", "[report]") {
   CHECK(r.out.rfind("<!DOCTYPE html>", 0) == 0);
   CHECK(r.out.find("data-differences=\"0\"") != std::string::npos);
 }
+
+}  // namespace report_test_report

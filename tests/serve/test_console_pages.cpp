@@ -6,6 +6,9 @@
 
 #include "serve/console_pages.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace serve_test_console_pages {
+
 using namespace lmcfg;
 using serve::Json;
 namespace pages = serve::pages;
@@ -394,3 +397,5 @@ TEST_CASE("console pages: an error page, with and without a user", "[serve][cons
   CHECK_FALSE(has(html, "class=\"who\""));
   CHECK_FALSE(has(html, "action=\"/signout\""));
 }
+
+}  // namespace serve_test_console_pages
