@@ -36,7 +36,11 @@ for layer in ALLOWED:
 failures, checks = [], 0
 with tempfile.TemporaryDirectory() as tmp:
     for layer, allowed in ALLOWED.items():
-        entry = next(c for c in commands if f"/lib/{layer}/" in c["file"] and c["file"].endswith(".cpp"))
+        # A layer's own source, or (unity build, CMakeLists.txt) one of its
+        # target's batch files: the same flags either way.
+        entry = next(c for c in commands
+                     if (f"/lib/{layer}/" in c["file"] and c["file"].endswith(".cpp"))
+                     or f"/lmcfg_{layer}.dir/Unity/" in c["file"])
         args = shlex.split(entry["command"])
         i = args.index("-c")
         o = args.index("-o")

@@ -21,7 +21,7 @@ std::string host_port(const std::string& host, std::uint16_t port) {
   return (v6 ? "[" + host + "]" : host) + ":" + std::to_string(port);
 }
 
-int ms_left(Clock::time_point deadline) {
+int connect_ms_left(Clock::time_point deadline) {
   const auto now = Clock::now();
   if (now >= deadline) return 0;
   return static_cast<int>(std::chrono::ceil<Millis>(deadline - now).count());
@@ -36,7 +36,7 @@ int connect_one(const addrinfo& ai, Clock::time_point deadline, UniqueFd& out) {
     if (errno != EINPROGRESS && errno != EINTR) return errno;
     for (;;) {
       pollfd pfd{fd.get(), POLLOUT, 0};
-      const int r = ::poll(&pfd, 1, ms_left(deadline));
+      const int r = ::poll(&pfd, 1, connect_ms_left(deadline));
       if (r < 0 && errno == EINTR) continue;
       if (r < 0) return errno;
       if (r == 0) {

@@ -5,6 +5,9 @@
 
 #include "can/frame.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace can_test_frame {
+
 using namespace lmcfg;
 
 namespace {
@@ -69,3 +72,5 @@ TEST_CASE("can: the slcan decoder splits frames, acknowledgements, bells and jun
   CHECK_FALSE(can::slcan::parse_frame_line("t1232AABBC"));  // stray digit
   CHECK_FALSE(can::slcan::parse_frame_line("t8002AABB"));   // beyond 11 bits
 }
+
+}  // namespace can_test_frame

@@ -11,6 +11,9 @@
 #include "link/port.hpp"
 #include "transport/pty.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace can_test_link {
+
 using namespace lmcfg;
 
 namespace {
@@ -223,3 +226,5 @@ TEST_CASE("can: SocketCAN names a missing interface, a vcan loopback when one is
   REQUIRE(*got);
   CHECK(**got == can::Frame::standard(0x123, data));
 }
+
+}  // namespace can_test_link

@@ -5,6 +5,9 @@
 
 #include "can/virtual_bus.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace can_test_virtual_bus {
+
 using namespace lmcfg;
 
 namespace {
@@ -90,3 +93,5 @@ TEST_CASE("virtual bus: a closed endpoint receives nothing more", "[can][virtual
   CHECK_FALSE(next(*c));
   CHECK(bus->frames() == 2);
 }
+
+}  // namespace can_test_virtual_bus

@@ -6,6 +6,9 @@
 #include "common/layers.hpp"
 #include "manual_client.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace client_test_blocks {
+
 using namespace lmcfg;
 using namespace lmcfg::client;
 
@@ -45,3 +48,5 @@ TEST_CASE("seed003 §12.1 read command table entry 2", "[client][golden]") {
         "00 00 00 55 6E 6E 61 6D 65 64 00 00 00 00 00 00 00 00 00 FF FF FF FF FF FF FF FF FF FF");
   f.done();
 }
+
+}  // namespace client_test_blocks

@@ -12,6 +12,9 @@
 #include "sim/link.hpp"
 #include "test_sim_harness.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace client_test_client {
+
 using namespace lmcfg;
 
 namespace {
@@ -177,3 +180,5 @@ TEST_CASE(
   CHECK(rig.client.stats().disagreements == 0);
   CHECK(rig.client.stats().retries == 0);
 }
+
+}  // namespace client_test_client

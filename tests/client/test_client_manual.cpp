@@ -7,6 +7,9 @@
 #include "common/layers.hpp"
 #include "manual_client.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace client_test_client_manual {
+
 using namespace lmcfg;
 using namespace lmcfg::client;
 
@@ -106,3 +109,5 @@ TEST_CASE("client: reads retry on silence, writes do not", "[client]") {
         "01h), 6 data byte(s)");
   CHECK(writer.stats().requests == 1);
 }
+
+}  // namespace client_test_client_manual

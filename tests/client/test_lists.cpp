@@ -6,6 +6,9 @@
 #include "common/layers.hpp"
 #include "manual_client.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace client_test_lists {
+
 using namespace lmcfg;
 using namespace lmcfg::client;
 
@@ -32,3 +35,5 @@ TEST_CASE("seed003 §10.3 UPID list: the C6 answer repeats 2137h and counts once
   CHECK(*list == want);
   f.done();
 }
+
+}  // namespace client_test_lists

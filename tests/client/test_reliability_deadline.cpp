@@ -24,6 +24,9 @@
 #include "ops/backup.hpp"
 #include "test_reliability_support.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace client_test_reliability_deadline {
+
 using namespace lmcfg;
 using test::FaultRig;
 using test::request;
@@ -317,3 +320,5 @@ TEST_CASE("the tools' sessions time adaptively, --settle-ms fixes the settle",
   std::error_code ec;
   fs::remove_all(dir, ec);
 }
+
+}  // namespace client_test_reliability_deadline

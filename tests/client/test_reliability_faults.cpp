@@ -27,6 +27,9 @@
 #include "ops/diff.hpp"
 #include "test_reliability_support.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace client_test_reliability_faults {
+
 using namespace lmcfg;
 using test::FaultRig;
 using test::request;
@@ -439,3 +442,5 @@ TEST_CASE("faults give up in bounded time with a communication error", "[reliabi
   CHECK(test::is_comm_failure(n.error()));
   CHECK(noisy.sim->clock().now_s() < 30.0);
 }
+
+}  // namespace client_test_reliability_faults

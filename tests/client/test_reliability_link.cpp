@@ -11,6 +11,9 @@
 #include "ops/factory_reset.hpp"
 #include "test_reliability_support.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace client_test_reliability_link {
+
 using namespace lmcfg;
 using test::FaultRig;
 
@@ -521,3 +524,5 @@ TEST_CASE(
     CHECK(rig.drive->state().mc_running);
   }
 }
+
+}  // namespace client_test_reliability_link

@@ -13,6 +13,9 @@
 #include "codec/messages.hpp"
 #include "link/session.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace codec_test_codec_checksum {
+
 using namespace lmcfg;
 using namespace lmcfg::codec;
 
@@ -88,3 +91,5 @@ TEST_CASE("seed003 §15 checksum option names: existing ones stay accepted", "[c
   REQUIRE_FALSE(badcov.ok());
   CHECK(badcov.error().message == "checksum coverage 'all' is not one of id, start, data");
 }
+
+}  // namespace codec_test_codec_checksum

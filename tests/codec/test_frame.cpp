@@ -8,6 +8,9 @@
 #include "codec/frame.hpp"
 #include "golden_vectors.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace codec_test_frame {
+
 using namespace lmcfg;
 using namespace lmcfg::codec;
 
@@ -169,3 +172,5 @@ TEST_CASE("stream decoder: a checksum mismatch consumes the whole telegram", "[c
   CHECK(*out[1] == second);
   CHECK(d.garbage_bytes() == 0);
 }
+
+}  // namespace codec_test_frame

@@ -12,6 +12,9 @@
 #include "codec/requests.hpp"
 #include "golden_vectors.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace codec_test_messages {
+
 using namespace lmcfg;
 using namespace lmcfg::codec;
 
@@ -238,3 +241,5 @@ TEST_CASE("LinRS 3V27 p41 command table save and delete all: answers 80h and 81h
   // Not the answer of another request: a save answer is no delete-all answer.
   CHECK_FALSE(decode_id_value(save, 0x81).ok());
 }
+
+}  // namespace codec_test_messages

@@ -8,6 +8,9 @@
 #include "codec/requests.hpp"
 #include "golden_vectors.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace codec_test_requests {
+
 using namespace lmcfg;
 using namespace lmcfg::codec;
 
@@ -60,3 +63,5 @@ TEST_CASE("request table: sub IDs the manual does not list are unknown, main IDs
   CHECK(request_spec(0x06, 0x01)->answer_sub == 0x60);  // §13 reset after completion
   CHECK(request_spec(0x06, 0x02)->answer_sub == 0x00);  // immediate: default response
 }
+
+}  // namespace codec_test_requests

@@ -5,6 +5,9 @@
 
 #include "common/bytes.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace common_test_bytes {
+
 using namespace lmcfg;
 
 TEST_CASE("LinRS §9.1 bytes: little-endian fields of the read RAM capture", "[common][bytes]") {
@@ -65,3 +68,5 @@ TEST_CASE("bytes: numbers as users write them, case-insensitive names", "[common
   CHECK_FALSE(iequals("uint16", "UINT8"));
   CHECK_FALSE(iequals("ab", "abc"));
 }
+
+}  // namespace common_test_bytes

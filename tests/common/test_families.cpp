@@ -3,6 +3,9 @@
 
 #include "common/families.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace common_test_families {
+
 using namespace lmcfg;
 
 TEST_CASE("field-facts.md §1 drive families: what each has", "[families]") {
@@ -56,3 +59,5 @@ TEST_CASE("drive family names: parsed case-insensitively, an unknown one refused
         "inventory.toml:7: unknown drive family 'X9'; expected one of E1100, B1100, C1100, E1200, "
         "E1400 (docs/families.md)");
 }
+
+}  // namespace common_test_families

@@ -6,6 +6,9 @@
 
 #include "common/layers.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace common_test_layers {
+
 using namespace lmcfg;
 
 TEST_CASE("LinRS §10.2 layers: each range's ends, the gaps between them and beyond",
@@ -55,3 +58,5 @@ TEST_CASE("LinRS §10.2 layers: base UPIDs of the modified-list start request, n
   CHECK_FALSE(layers::from_name("Other"));
   CHECK_FALSE(layers::from_name(""));
 }
+
+}  // namespace common_test_layers

@@ -8,6 +8,9 @@
 
 #include "common/result.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace common_test_result {
+
 using namespace lmcfg;
 
 TEST_CASE("error class: every Errc has exactly one class", "[error_class]") {
@@ -135,3 +138,5 @@ TEST_CASE("LinRS 3V27 p32 communication state D7h is a refusal with its own text
   CHECK(comm_state_text(0xC7) == nullptr);
   CHECK(comm_state_text(0x00) == nullptr);  // ok is not an error state
 }
+
+}  // namespace common_test_result

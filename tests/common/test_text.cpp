@@ -5,6 +5,9 @@
 
 #include "common/text.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace common_test_text {
+
 using namespace lmcfg;
 
 TEST_CASE("RFC 3629 §7: the examples are well-formed UTF-8", "[common][text]") {
@@ -73,3 +76,5 @@ TEST_CASE("text: check_line's messages", "[common][text]") {
   CHECK(longer.error().message == "reason is 201 bytes long, at most 200 are accepted: shorten it");
   CHECK(check_line("reason", std::string(200, 'r'), kMaxReasonBytes).ok());
 }
+
+}  // namespace common_test_text

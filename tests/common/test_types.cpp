@@ -9,6 +9,9 @@
 
 #include "common/types.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace common_test_types {
+
 using namespace lmcfg;
 
 TEST_CASE("LinRS §10 Supported Parameter Types: codes, names and sizes of the table",
@@ -97,3 +100,5 @@ TEST_CASE("LinRS §10 types: the integer a 4-byte field holds, or none when it d
   CHECK(field_integer(TypeCode::Stringlet, 0x6E6E6155) == 0x6E6E6155);
   CHECK(field_integer(TypeCode::LinFloat, 0xFFFFFFFF) == 0xFFFFFFFFLL);
 }
+
+}  // namespace common_test_types

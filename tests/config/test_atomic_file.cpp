@@ -9,6 +9,9 @@
 #include "files.hpp"
 #include "test_config_support.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace config_test_atomic_file {
+
 using namespace lmcfg;
 using namespace lmcfg::config;
 using namespace lmcfg::config::testing;
@@ -154,3 +157,5 @@ TEST_CASE("config: atomic write gives a new file the mode open(2) would, the uma
         (fs::perms::owner_read | fs::perms::owner_write | fs::perms::group_read |
          fs::perms::others_read));
 }
+
+}  // namespace config_test_atomic_file

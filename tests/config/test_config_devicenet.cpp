@@ -8,6 +8,9 @@
 #include "config/xml_io.hpp"
 #include "test_config_support.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace config_test_config_devicenet {
+
 using namespace lmcfg;
 using namespace lmcfg::config;
 using namespace lmcfg::config::testing;
@@ -263,3 +266,5 @@ TEST_CASE("config: version 2 files read as version 3 files without the devicenet
                "new.json: file format_version 4 is newer than this lmcfg supports (3); update "
                "lmcfg"});
 }
+
+}  // namespace config_test_config_devicenet

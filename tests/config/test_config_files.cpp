@@ -6,6 +6,9 @@
 #include "config/config_io.hpp"
 #include "test_config_support.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace config_test_config_files {
+
 using namespace lmcfg;
 using namespace lmcfg::config;
 using namespace lmcfg::config::testing;
@@ -89,3 +92,5 @@ TEST_CASE("config: lmcfg convert", "[config]") {
   CHECK(run(tool + " convert " + golden + " " + d.path.string() + " --to json") == 2);
   CHECK_FALSE(fs::exists(none));
 }
+
+}  // namespace config_test_config_files

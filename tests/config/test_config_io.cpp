@@ -6,6 +6,9 @@
 #include "config/xml_io.hpp"
 #include "test_config_support.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace config_test_config_io {
+
 using namespace lmcfg;
 using namespace lmcfg::config;
 using namespace lmcfg::config::testing;
@@ -184,3 +187,5 @@ TEST_CASE("config: bad fixtures are rejected with exact messages", "[config]") {
     CHECK(r.error().code == make_error_code(bc.code));
   }
 }
+
+}  // namespace config_test_config_io

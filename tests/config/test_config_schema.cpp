@@ -8,6 +8,9 @@
 #include "config/config_io.hpp"
 #include "test_config_support.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace config_test_config_schema {
+
 using namespace lmcfg;
 using namespace lmcfg::config;
 using namespace lmcfg::config::testing;
@@ -88,3 +91,5 @@ TEST_CASE("config: the validators reject the bad fixtures that are a schema matt
     }
   }
 }
+
+}  // namespace config_test_config_schema

@@ -15,6 +15,9 @@
 #include "config/xml_io.hpp"
 #include "test_config_support.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace config_test_config_snapshots {
+
 using namespace lmcfg;
 using namespace lmcfg::config;
 using namespace lmcfg::config::testing;
@@ -243,3 +246,5 @@ TEST_CASE("config: the readers' messages for mutated fixtures match their snapsh
     check_snapshot(snapshot_dir() / (stem + ".messages.txt"), log);
   }
 }
+
+}  // namespace config_test_config_snapshots

@@ -11,6 +11,9 @@
 #include "config/xml_fields.hpp"
 #include "test_config_support.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace config_test_fields {
+
 using namespace lmcfg;
 using namespace lmcfg::config;
 using namespace lmcfg::config::fields;
@@ -372,3 +375,5 @@ TEST_CASE("fields: validation checks every text field of a table", "[config][fie
   p.scaled = "\x7F";
   CHECK(*unclean_text(parameter_fields(), p) == "scaled");
 }
+
+}  // namespace config_test_fields

@@ -7,6 +7,9 @@
 #include "config/io_common.hpp"
 #include "config/model.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace config_test_io_common {
+
 using namespace lmcfg;
 using namespace lmcfg::config;
 using namespace lmcfg::config::detail;
@@ -103,3 +106,5 @@ TEST_CASE("io_common: format and format_version checks say what was expected and
   CHECK(older.error().message ==
         "f.xml: /lmcfg/@format_version: expected format_version 1..3, found 0");
 }
+
+}  // namespace config_test_io_common

@@ -8,6 +8,9 @@
 #include "config/json_io.hpp"
 #include "test_config_support.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace config_test_json_io {
+
 using namespace lmcfg;
 using namespace lmcfg::config;
 using namespace lmcfg::config::testing;
@@ -128,3 +131,5 @@ TEST_CASE("json_io: the devicenet section's kinds, and its format version", "[co
         "t.json:1:162: /devicenet: unexpected member; the devicenet section is new in "
         "format_version 3, this file says 2");
 }
+
+}  // namespace config_test_json_io

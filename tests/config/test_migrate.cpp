@@ -6,6 +6,9 @@
 #include "config/xml_io.hpp"
 #include "test_config_support.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace config_test_migrate {
+
 using namespace lmcfg;
 using namespace lmcfg::config;
 using namespace lmcfg::config::testing;
@@ -117,3 +120,5 @@ TEST_CASE("config: format version checks", "[config]") {
   CHECK(x.error().message ==
         "new.xml: file format_version 7 is newer than this lmcfg supports (3); update lmcfg");
 }
+
+}  // namespace config_test_migrate

@@ -5,6 +5,9 @@
 #include "config/model.hpp"
 #include "test_config_support.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace config_test_model {
+
 using namespace lmcfg;
 using namespace lmcfg::config;
 using namespace lmcfg::config::testing;
@@ -208,3 +211,5 @@ TEST_CASE("config: canonical order", "[config]") {
   CHECK(c.find_curve(5) != nullptr);
   CHECK(c.find_ct_entry(2) != nullptr);
 }
+
+}  // namespace config_test_model

@@ -10,6 +10,9 @@
 #include "../../fuzz/fuzz_entries.hpp"
 #include "config/config_io.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace config_test_reliability_regressions {
+
 using namespace lmcfg;
 namespace fs = std::filesystem;
 
@@ -105,3 +108,5 @@ TEST_CASE("a JSON number no double can hold is a parse error with its position",
   CHECK(r.error().message ==
         "big.json:2:13: number 1e999 is out of range (expected an integer value field)");
 }
+
+}  // namespace config_test_reliability_regressions

@@ -6,6 +6,9 @@
 #include "config/xml_io.hpp"
 #include "test_config_support.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace config_test_xml_io {
+
 using namespace lmcfg;
 using namespace lmcfg::config;
 using namespace lmcfg::config::testing;
@@ -114,3 +117,5 @@ TEST_CASE("xml_io: the devicenet section's kinds, and its format version", "[con
         "t.xml: /lmcfg/devicenet: unexpected element; the devicenet section is new in "
         "format_version 3, this file says 2");
 }
+
+}  // namespace config_test_xml_io

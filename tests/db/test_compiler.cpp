@@ -9,6 +9,9 @@
 #include "db/compiler.hpp"
 #include "db_test_support.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace db_test_compiler {
+
 using namespace lmcfg::db;
 using lmcfg::db::test::scratch_dir;
 using lmcfg::db::test::write_file;
@@ -236,3 +239,5 @@ TEST_CASE("compiler reports malformed seed 000 DeviceNet rows with file:line:col
   };
   CHECK(messages(rep) == expected);
 }
+
+}  // namespace db_test_compiler

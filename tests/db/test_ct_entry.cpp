@@ -7,6 +7,9 @@
 #include "db/database.hpp"
 #include "db_test_support.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace db_test_ct_entry {
+
 using namespace lmcfg;
 using namespace lmcfg::db;
 using lmcfg::db::test::fixture_db;
@@ -119,3 +122,5 @@ TEST_CASE("DCF command table entry version: A701h decodes, another version is sa
   CHECK(e->name.empty());
   CHECK(e->raw == entry);
 }
+
+}  // namespace db_test_ct_entry

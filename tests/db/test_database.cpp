@@ -15,6 +15,9 @@
 #include "db/database.hpp"
 #include "db_test_support.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace db_test_database {
+
 using namespace lmcfg;
 using namespace lmcfg::db;
 using lmcfg::db::test::fixture_db;
@@ -598,3 +601,5 @@ TEST_CASE("open: a path with URI characters, a relative path", "[db]") {
   CHECK(rr->info().path == rel.string());
   CHECK(rr->find(0x2008) != nullptr);
 }
+
+}  // namespace db_test_database

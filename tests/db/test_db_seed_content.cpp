@@ -7,6 +7,9 @@
 #include "db/ct_entry.hpp"
 #include "db/database.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace db_test_db_seed_content {
+
 using namespace lmcfg;
 using namespace lmcfg::db;
 
@@ -275,3 +278,5 @@ TEST_CASE("upid-db: field-facts.md §7 public names, each in the profile its sou
   CHECK(db.find_all(0x0078).empty());
   CHECK(db.find_all(0x173E).empty());
 }
+
+}  // namespace db_test_db_seed_content

@@ -6,6 +6,9 @@
 #include "db/compiler.hpp"
 #include "db/tsv.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace db_test_tsv {
+
 using namespace lmcfg::db;
 
 namespace {
@@ -96,3 +99,5 @@ TEST_CASE("tsv: a row short of fields is named at its end, a file without a head
   Diagnostic w{"f.tsv", 4, 2, "odd", true};
   CHECK(w.str() == "f.tsv:4:2: warning: odd");
 }
+
+}  // namespace db_test_tsv

@@ -2,6 +2,9 @@
 
 #include "db/value.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace db_test_value {
+
 using namespace lmcfg;
 using namespace lmcfg::db;
 
@@ -169,3 +172,5 @@ TEST_CASE("range checks against type and min/max", "[db]") {
   REQUIRE_FALSE(ty);
   CHECK(ty.error().message == "value 40000 is outside the SINT16 range -32768..32767");
 }
+
+}  // namespace db_test_value

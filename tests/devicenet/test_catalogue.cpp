@@ -7,6 +7,9 @@
 #include "devicenet/catalogue.hpp"
 #include "devicenet/command.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace devicenet_test_catalogue {
+
 using namespace lmcfg;
 using devicenet::Motor;
 
@@ -125,3 +128,5 @@ TEST_CASE("devicenet catalogue: MAC IDs 0..63 and motor lists, the option named 
   CHECK(devicenet::target_name(Motor::B) == "motor B");
   CHECK(devicenet::target_name(std::nullopt) == "the controller");
 }
+
+}  // namespace devicenet_test_catalogue

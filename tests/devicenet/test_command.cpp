@@ -6,6 +6,9 @@
 #include "devicenet/catalogue.hpp"
 #include "devicenet/command.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace devicenet_test_command {
+
 using namespace lmcfg;
 using devicenet::Motor;
 
@@ -141,3 +144,5 @@ TEST_CASE("seed000 §5.2 Get Coded Error: the application errors' texts", "[devi
   CHECK(devicenet::coded_error_text(0x8148) == "CAN BOFF error");
   CHECK(devicenet::coded_error_text(0x0001).empty());
 }
+
+}  // namespace devicenet_test_command

@@ -10,6 +10,9 @@
 #include "devicenet/master.hpp"
 #include "sim/devicenet_controller.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace devicenet_test_master {
+
 using namespace lmcfg;
 using devicenet::Motor;
 
@@ -441,3 +444,5 @@ TEST_CASE("devicenet master: what a command not taken by an absent motor says",
           "8111h Drive not master");
   }
 }
+
+}  // namespace devicenet_test_master

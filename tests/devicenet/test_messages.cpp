@@ -11,6 +11,9 @@
 
 #include "devicenet/messages.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace devicenet_test_messages {
+
 using namespace lmcfg;
 using devicenet::Group2;
 
@@ -113,3 +116,5 @@ TEST_CASE(
   CHECK(skipped.error().message == "I/O fragment count 2 out of sequence (expected count 1)");
   CHECK(r.feed(hex_bytes({1, 2}), false).value() == hex_bytes({1, 2}));
 }
+
+}  // namespace devicenet_test_messages

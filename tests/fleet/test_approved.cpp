@@ -10,6 +10,9 @@
 #include "git_repo.hpp"
 #include "subprocess.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace fleet_test_approved {
+
 using namespace lmcfg;
 namespace fs = std::filesystem;
 
@@ -186,3 +189,5 @@ TEST_CASE("approved: a position name git does not allow as a ref is named", "[fl
                                  ": refs/lmcfg/approved/press3/z.lock is not a name git allows "
                                  "for a reference");
 }
+
+}  // namespace fleet_test_approved

@@ -10,6 +10,9 @@
 #include "git_repo.hpp"
 #include "subprocess.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace fleet_test_archive {
+
 using namespace lmcfg;
 namespace fs = std::filesystem;
 
@@ -190,3 +193,5 @@ TEST_CASE("archive: a file is never written through a symbolic link or into .git
             "folder)");
   CHECK(fs::is_empty(d.path / "outside"));
 }
+
+}  // namespace fleet_test_archive

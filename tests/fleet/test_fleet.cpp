@@ -6,6 +6,9 @@
 
 #include "fleet/fleet.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace fleet_test_fleet {
+
 using namespace lmcfg;
 using S = fleet::DriveResult::Status;
 using K = ops::DiffItem::Kind;
@@ -171,3 +174,5 @@ TEST_CASE("fleet: status names, the archive path, the summary lines", "[fleet]")
   CHECK(j["drives"].size() == 9);
   CHECK(nlohmann::json::parse(fleet::render_json(run, false))["commit"].is_null());
 }
+
+}  // namespace fleet_test_fleet

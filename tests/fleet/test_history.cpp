@@ -10,6 +10,9 @@
 #include "fleet/inventory.hpp"
 #include "git_repo.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace fleet_test_history {
+
 using namespace lmcfg;
 namespace fs = std::filesystem;
 
@@ -136,3 +139,5 @@ TEST_CASE("history: a message or author that is not UTF-8 is shown escaped, neve
   CHECK(j[0]["subject"] == "fleet backup: caf\\xE9");
   CHECK(j[0]["message"] == "fleet backup: caf\\xE9\n\nOperator: Jos\\xE9\n");
 }
+
+}  // namespace fleet_test_history

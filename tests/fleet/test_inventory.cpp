@@ -6,6 +6,9 @@
 #include "files.hpp"
 #include "fleet/inventory.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace fleet_test_inventory {
+
 using namespace lmcfg;
 
 namespace {
@@ -463,3 +466,5 @@ name = "cell4/b"
        "plant.toml:1:1: line 'cell4': a linudp:// port reaches one drive (its IP address, "
        "linudp-facts.md §1.1); give each drive a line of its own");
 }
+
+}  // namespace fleet_test_inventory

@@ -5,6 +5,9 @@
 
 #include "fleet/names.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace fleet_test_names {
+
 using namespace lmcfg;
 
 namespace {
@@ -78,3 +81,5 @@ TEST_CASE("fleet names: line names are one line of UTF-8 text", "[fleet][names]"
   CHECK(line_problem(std::string(256, 'l')) ==
         "line name is 256 bytes long, at most 255 are accepted: shorten it");
 }
+
+}  // namespace fleet_test_names

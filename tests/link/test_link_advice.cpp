@@ -17,6 +17,9 @@
 #include "link/session.hpp"
 #include "sim/link.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace link_test_link_advice {
+
 using namespace lmcfg;
 
 namespace {
@@ -124,3 +127,5 @@ TEST_CASE("wrong parity: the advice names --parity and lmcfg scan", "[cli][advic
     CHECK(*o.advice == garbled);
   }
 }
+
+}  // namespace link_test_link_advice

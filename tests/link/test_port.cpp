@@ -11,6 +11,9 @@
 #include "link/spec.hpp"
 #include "sim_ports.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace link_test_port {
+
 using namespace lmcfg;
 
 TEST_CASE("hex: the one formatter pads, never truncates, and appends the suffix", "[common]") {
@@ -161,3 +164,5 @@ TEST_CASE("port table: linudp://HOST[:PORT] with the drive port 49360 by default
                                    "1..65535)");
   }
 }
+
+}  // namespace link_test_port

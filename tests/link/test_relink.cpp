@@ -20,6 +20,9 @@
 #include "ops/restore.hpp"
 #include "subprocess.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace link_test_relink {
+
 using namespace lmcfg;
 using test::slurp;
 using test::temp_dir;
@@ -361,3 +364,5 @@ TEST_CASE("field-facts.md §5.2 relink: a drive silent 90 s after its reset is f
     }
   }
 }
+
+}  // namespace link_test_relink

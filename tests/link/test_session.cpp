@@ -10,6 +10,9 @@
 #include "sim/state_file.hpp"
 #include "sim_ports.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace link_test_session {
+
 using namespace lmcfg;
 
 TEST_CASE("link schemes: a registered scheme opens its port, the factory's close runs once",
@@ -84,3 +87,5 @@ TEST_CASE("link spec: a session never changes its spec, relink gives the spec of
   CHECK((*s)->link_settings().baud == "38400");
   REQUIRE((*s)->close().ok());
 }
+
+}  // namespace link_test_session

@@ -7,6 +7,9 @@
 #include "fleet/inventory.hpp"
 #include "link/spec.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace link_test_spec {
+
 using namespace lmcfg;
 
 namespace {
@@ -196,3 +199,5 @@ id = 0x12
   CHECK(fleet::check_line_link(inv->lines[1], base).error().message ==
         "plant.toml:10:1: line 'l2': --retries 11 is outside 0..10");
 }
+
+}  // namespace link_test_spec

@@ -2,6 +2,9 @@
 
 #include "ops/audit.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace ops_test_audit {
+
 using lmcfg::ops::Audit;
 using lmcfg::ops::trailers;
 
@@ -12,3 +15,5 @@ TEST_CASE("audit trailers name who, why and the ticket, one line each", "[audit]
   CHECK(trailers(Audit{}) == "");
   CHECK(trailers(Audit{"bob", "two\nlines\r\n", ""}) == "Operator: bob\nReason: two lines  \n");
 }
+
+}  // namespace ops_test_audit

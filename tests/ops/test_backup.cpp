@@ -15,6 +15,9 @@
 #include "ops/backup.hpp"
 #include "test_reliability_support.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace ops_test_backup {
+
 using namespace lmcfg;
 
 namespace {
@@ -413,3 +416,5 @@ TEST_CASE("C1250 notes: a C1100's curves are probed up to its limit of 50, an E1
     }
   }
 }
+
+}  // namespace ops_test_backup

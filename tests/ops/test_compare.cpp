@@ -7,6 +7,9 @@
 #include "ops/compare.hpp"
 #include "ops/restore.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace ops_test_compare {
+
 using namespace lmcfg;
 using ops::Reason;
 using State = ops::ParamValue::State;
@@ -230,3 +233,5 @@ TEST_CASE("compare: each reason has one display text", "[compare]") {
   CHECK(std::string(ops::write_reason_text(W::again_after_defaulting)) == "again after defaulting");
   CHECK(std::string(ops::write_reason_text(W::kept_communication)) == "kept communication value");
 }
+
+}  // namespace ops_test_compare

@@ -13,6 +13,9 @@
 #include "files.hpp"
 #include "ops/db_scan.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace ops_test_db_scan {
+
 namespace fs = std::filesystem;
 using namespace lmcfg;
 using test::slurp;
@@ -333,3 +336,5 @@ TEST_CASE("db scan: merging refuses to replace a profile not made by a scan", "[
   CHECK(slurp(dir / "parameters.tsv") == before);
   CHECK_FALSE(ops::merge_scan_fragment(dir.string(), "upid\tprofiles\n").ok());
 }
+
+}  // namespace ops_test_db_scan

@@ -13,6 +13,9 @@
 #include "sim/devicenet_controller.hpp"
 #include "test_config_support.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace ops_test_devicenet {
+
 using namespace lmcfg;
 using devicenet::Motor;
 
@@ -482,3 +485,5 @@ TEST_CASE(
     }
   }
 }
+
+}  // namespace ops_test_devicenet

@@ -7,6 +7,9 @@
 #include "ops/devicenet_restore.hpp"
 #include "test_config_support.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace ops_test_devicenet_restore {
+
 using namespace lmcfg;
 using namespace lmcfg::config::testing;
 
@@ -70,3 +73,5 @@ TEST_CASE("DeviceNet §5.2 a refused plan and a plan with nothing to write as re
   CHECK(refused["nothing_to_do"] == false);
   CHECK(refused["steps"].empty());
 }
+
+}  // namespace ops_test_devicenet_restore

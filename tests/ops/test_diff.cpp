@@ -8,6 +8,9 @@
 #include "ops/diff.hpp"
 #include "test_config_support.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace ops_test_diff {
+
 using namespace lmcfg;
 using namespace lmcfg::config;
 using namespace lmcfg::config::testing;
@@ -138,3 +141,5 @@ TEST_CASE("seed003 §10.2 diff: a UPID one side does not list compares with its 
   REQUIRE(item(u, ops::DiffItem::Kind::parameter) != nullptr);
   CHECK(item(u, ops::DiffItem::Kind::parameter)->b == "default");
 }
+
+}  // namespace ops_test_diff

@@ -14,6 +14,9 @@
 #include "subprocess.hpp"
 #include "test_config_support.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace ops_test_diff_devicenet {
+
 using namespace lmcfg;
 using namespace lmcfg::config;
 using namespace lmcfg::config::testing;
@@ -329,3 +332,5 @@ TEST_CASE("report: a DeviceNet capture's values, alone and against another",
   CHECK(two.find("<tr class=\"diff changed\" data-kind=\"devicenet\" data-key=\"A/34\"><td>motor "
                  "A: Controller P (34h)</td>") != std::string::npos);
 }
+
+}  // namespace ops_test_diff_devicenet

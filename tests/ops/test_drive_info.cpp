@@ -8,6 +8,9 @@
 #include "manual_client.hpp"
 #include "ops/drive_info.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace ops_test_drive_info {
+
 using namespace lmcfg;
 
 namespace {
@@ -245,3 +248,5 @@ TEST_CASE("drive_info: a drive in its error state, read from the simulated drive
   REQUIRE_FALSE(lost.ok());
   CHECK(lost.error().code == ErrorClass::link_failure);
 }
+
+}  // namespace ops_test_drive_info

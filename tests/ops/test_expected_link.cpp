@@ -7,6 +7,9 @@
 #include "e2e_support.hpp"
 #include "ops/expected_link.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace ops_test_expected_link {
+
 using namespace lmcfg;
 
 TEST_CASE("relink: what the restored LinRS parameters select, and why", "[relink]") {
@@ -69,3 +72,5 @@ TEST_CASE("relink: without a database the settings' own reasons follow the datab
   CHECK(e.reasons[2] == e.baud_reason);
   CHECK(e.baud_reason.rfind("baud rate: 200Eh", 0) == 0);
 }
+
+}  // namespace ops_test_expected_link

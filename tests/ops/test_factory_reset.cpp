@@ -12,6 +12,9 @@
 #include "ops/recovery.hpp"
 #include "ops/restore.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace ops_test_factory_reset {
+
 using namespace lmcfg;
 
 namespace {
@@ -281,3 +284,5 @@ TEST_CASE("factory_reset: a failed step names the step and the recovery record t
         std::map<std::uint16_t, std::uint32_t>{{0x200E, 2}, {0x206C, 3}});
   CHECK_FALSE(std::filesystem::exists(d.recovery_path));
 }
+
+}  // namespace ops_test_factory_reset

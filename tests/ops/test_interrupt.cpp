@@ -14,6 +14,9 @@
 #include "e2e_support.hpp"
 #include "ops/interrupt.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace ops_test_interrupt {
+
 using namespace lmcfg;
 
 namespace {
@@ -103,3 +106,5 @@ TEST_CASE("interrupt: a second signal more than a second after the first exits 1
   REQUIRE(WIFEXITED(status));
   CHECK(WEXITSTATUS(status) == 130);
 }
+
+}  // namespace ops_test_interrupt

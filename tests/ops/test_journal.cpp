@@ -13,6 +13,9 @@
 #include "files.hpp"
 #include "ops/journal.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace ops_test_journal {
+
 using namespace lmcfg;
 namespace fs = std::filesystem;
 
@@ -163,3 +166,5 @@ TEST_CASE("journal: two processes appending at once leave whole lines, none lost
   CHECK(lines == 2 * kPerWriter);
   CHECK(seen.size() == 2 * kPerWriter);
 }
+
+}  // namespace ops_test_journal

@@ -12,6 +12,9 @@
 #include "sim/state_file.hpp"
 #include "sim_ports.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace ops_test_line {
+
 using namespace lmcfg;
 
 namespace {
@@ -174,3 +177,5 @@ TEST_CASE("line: DeviceNet §5.2 a controller on a CAN line read with its motors
   CHECK((*line)->stats().requests == 0);
   CHECK((*line)->close().ok());
 }
+
+}  // namespace ops_test_line

@@ -13,6 +13,9 @@
 #include "ops/recovery.hpp"
 #include "sim/state_file.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace ops_test_link_settings {
+
 using namespace lmcfg;
 namespace fs = std::filesystem;
 
@@ -309,3 +312,5 @@ TEST_CASE("LinRS 3V27 §4.4 link: 2080h is the checksum's UPID, its raw values c
   auto baud = ops::link_map(db::Database::empty(), {"baud@2013:38400=8"});
   REQUIRE_FALSE(baud.ok());
 }
+
+}  // namespace ops_test_link_settings

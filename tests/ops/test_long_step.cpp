@@ -21,6 +21,9 @@
 #include "ops/restore_run.hpp"
 #include "session_rig.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace ops_test_long_step {
+
 using namespace lmcfg;
 using Stage = ops::RestoreOutcome::Stage;
 namespace fs = std::filesystem;
@@ -264,3 +267,5 @@ TEST_CASE("field-facts.md §5 default with 40 s defaulting and saves: answered l
     }
   }
 }
+
+}  // namespace ops_test_long_step

@@ -8,6 +8,9 @@
 #include "manual_client.hpp"
 #include "ops/param_info.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace ops_test_param_info {
+
 using namespace lmcfg;
 
 namespace {
@@ -148,3 +151,5 @@ TEST_CASE("param_info: a query the drive refuses leaves that part unknown, a dea
   REQUIRE_FALSE(lost.ok());
   CHECK(lost.error().code == ErrorClass::link_failure);
 }
+
+}  // namespace ops_test_param_info

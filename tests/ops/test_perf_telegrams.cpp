@@ -16,6 +16,9 @@
 #include "sim/link.hpp"
 #include "sim/state_file.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace ops_test_perf_telegrams {
+
 using namespace lmcfg;
 
 namespace {
@@ -272,3 +275,5 @@ TEST_CASE(
     CHECK(rig.client.stats().write_requests == 0);
   }
 }
+
+}  // namespace ops_test_perf_telegrams

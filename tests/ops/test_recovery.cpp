@@ -10,6 +10,9 @@
 #include "files.hpp"
 #include "ops/recovery.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace ops_test_recovery {
+
 using namespace lmcfg;
 namespace fs = std::filesystem;
 
@@ -238,3 +241,5 @@ TEST_CASE("recovery: a directory that cannot be created or a record that cannot 
   CHECK(r.error().message.rfind(stuck.string() + ": cannot delete the finished recovery record: ",
                                 0) == 0);
 }
+
+}  // namespace ops_test_recovery

@@ -17,6 +17,9 @@
 #include "db/database.hpp"
 #include "test_reliability_support.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace ops_test_reliability_soak {
+
 using namespace lmcfg;
 using test::FaultRig;
 
@@ -188,3 +191,5 @@ TEST_CASE("soak: 1000 backup/restore cycles with random faults, zero silent fail
   CHECK(backup_ok + backup_failed == kCycles);
   CHECK(faults > 1000);
 }
+
+}  // namespace ops_test_reliability_soak

@@ -8,6 +8,9 @@
 #include "ops/restore.hpp"
 #include "ops/restore_internal.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace ops_test_restore {
+
 using namespace lmcfg;
 
 // LinRS §10.2: "In the following example the changed parameters of the Intf SW
@@ -78,3 +81,5 @@ TEST_CASE("LinRS §11.1 restore: a curve's name is the info block's text from of
   Bytes full(40, 'A');
   CHECK(curve_name(full) == std::string(22, 'A'));
 }
+
+}  // namespace ops_test_restore

@@ -13,6 +13,9 @@
 #include "ops/restore.hpp"
 #include "test_reliability_support.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace ops_test_restore_execute {
+
 using namespace lmcfg;
 using Action = ops::PlanStep::Action;
 using test::FaultRig;
@@ -270,3 +273,5 @@ TEST_CASE("restore execute: a whole plan onto a used spare leaves it equal to th
   // The plan's estimate counts the write telegrams the steps sent.
   CHECK(rig.wire->write_telegrams() == plan->write_telegrams);
 }
+
+}  // namespace ops_test_restore_execute

@@ -13,6 +13,9 @@
 #include "ops/backup.hpp"
 #include "ops/restore.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace ops_test_restore_plan {
+
 using namespace lmcfg;
 
 namespace {
@@ -473,3 +476,5 @@ TEST_CASE(
                      "§10.3)"));
   }
 }
+
+}  // namespace ops_test_restore_plan

@@ -6,6 +6,9 @@
 
 #include "ops/restore.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace ops_test_restore_render {
+
 using namespace lmcfg;
 using Action = ops::PlanStep::Action;
 
@@ -200,3 +203,5 @@ TEST_CASE("restore render: plan_json's items per step kind and skipped value kin
 })json")
                         .dump());
 }
+
+}  // namespace ops_test_restore_render

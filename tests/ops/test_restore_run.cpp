@@ -13,6 +13,9 @@
 #include "ops/restore_run.hpp"
 #include "session_rig.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace ops_test_restore_run {
+
 using namespace lmcfg;
 using Stage = ops::RestoreOutcome::Stage;
 
@@ -244,3 +247,5 @@ TEST_CASE(
   CHECK(drive->state().ct_flash == source.ct_flash);
   CHECK(drive->state().mc_running);
 }
+
+}  // namespace ops_test_restore_run

@@ -18,6 +18,9 @@
 #include "sim/state_file.hpp"
 #include "subprocess.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace ops_test_restore_second_drive {
+
 using namespace lmcfg;
 namespace fs = std::filesystem;
 
@@ -170,3 +173,5 @@ TEST_CASE("restore: lmcfg restore --id 0x12 onto the second drive of sim:a.json,
         std::string::npos);
   CHECK(rom_in(line.b, 0x13A2) == 55);
 }
+
+}  // namespace ops_test_restore_second_drive

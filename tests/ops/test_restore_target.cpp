@@ -5,6 +5,9 @@
 
 #include "ops/restore.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace ops_test_restore_target {
+
 using namespace lmcfg;
 
 namespace {
@@ -97,3 +100,5 @@ TEST_CASE("restore target: the same lists but other values under the steps", "[r
   b.target.ct_entries->clear();
   CHECK(ops::target_change(a, b) == "the command table");
 }
+
+}  // namespace ops_test_restore_target

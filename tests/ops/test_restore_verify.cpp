@@ -9,6 +9,9 @@
 #include "ops/backup.hpp"
 #include "ops/restore.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace ops_test_restore_verify {
+
 using namespace lmcfg;
 
 namespace {
@@ -97,3 +100,5 @@ TEST_CASE("seed003 §12 verify: command table entries that differ and a count th
   CHECK(v->ct_differs);
   CHECK_FALSE(v->curves_differ);
 }
+
+}  // namespace ops_test_restore_verify

@@ -19,6 +19,9 @@
 #include "ops/restore_run.hpp"
 #include "ops/undo.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace ops_test_undo {
+
 using namespace lmcfg;
 namespace fs = std::filesystem;
 
@@ -319,3 +322,5 @@ TEST_CASE("undo: default saves the layers it defaults and the tables it deletes"
   restore(*rig.client, *rec, ro);
   CHECK(content_of(read_back(*rig.client)) == content_of(before));
 }
+
+}  // namespace ops_test_undo

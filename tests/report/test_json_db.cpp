@@ -8,6 +8,9 @@
 #include "ops/db_scan.hpp"
 #include "report/json_reports.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace report_test_json_db {
+
 using namespace lmcfg;
 
 namespace {
@@ -238,3 +241,5 @@ TEST_CASE("json_db: db info and db scan summaries", "[json_db]") {
   merged.erase("merged_into");
   CHECK(merged.dump() == scan);
 }
+
+}  // namespace report_test_json_db

@@ -9,6 +9,9 @@
 #include "ops/restore_run.hpp"
 #include "report/json_reports.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace report_test_json_reports {
+
 using namespace lmcfg;
 
 namespace {
@@ -171,3 +174,5 @@ TEST_CASE("json reports: restore --json and the journal's steps, with a second p
   CHECK(steps[2]["action"] == "save_ct");
   CHECK(steps[2]["step"] == 1);
 }
+
+}  // namespace report_test_json_reports

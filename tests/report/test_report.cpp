@@ -18,6 +18,9 @@
 #include "report/report.hpp"
 #include "report_pages.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace report_test_report {
+
 using namespace lmcfg;
 using namespace lmcfg::test::report_pages;
 using test::slurp;
@@ -117,3 +120,5 @@ TEST_CASE("report: a diff page asked to open on the differences has the box tick
   CHECK(report::render_diff_report(a, "a", b, "b", r, db::Database::empty(), opt)
             .find(box + " checked><label") != std::string::npos);
 }
+
+}  // namespace report_test_report

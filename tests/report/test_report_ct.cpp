@@ -10,6 +10,9 @@
 #include "db/database.hpp"
 #include "report/report.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace report_test_report_ct {
+
 using namespace lmcfg;
 
 namespace {
@@ -57,3 +60,5 @@ TEST_CASE("report: command table chains start where no entry links, cycles from 
                            arrow + a(6) + back + "5</p>";
   CHECK(page.find(want) != std::string::npos);
 }
+
+}  // namespace report_test_report_ct

@@ -15,6 +15,9 @@
 #include "report/report.hpp"
 #include "report_pages.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace report_test_report_curves {
+
 using namespace lmcfg;
 using namespace lmcfg::test::report_pages;
 using test::slurp;
@@ -85,3 +88,5 @@ TEST_CASE("report: curves that cannot be plotted say why, without a database", "
   CHECK(two.find("nan") == std::string::npos);
   CHECK(two.find("-9223372036854775808") == std::string::npos);  // lround(NaN)
 }
+
+}  // namespace report_test_report_curves

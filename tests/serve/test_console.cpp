@@ -13,6 +13,9 @@
 #include "serve/tokens.hpp"
 #include "serve_rig.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace serve_test_console {
+
 using namespace lmcfg;
 using namespace std::chrono_literals;
 
@@ -400,3 +403,5 @@ TEST_CASE(
   CHECK(x["approved"]["who"] == "local");
   CHECK(x["approved"]["ticket"] == "CHG-9");
 }
+
+}  // namespace serve_test_console

@@ -9,6 +9,9 @@
 #include "serve/console.hpp"
 #include "subprocess.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace serve_test_console_assets {
+
 using namespace lmcfg;
 
 TEST_CASE("console assets: the console's and the report pages' Content-Security-Policy",
@@ -70,3 +73,5 @@ TEST_CASE(
   INFO(test::shell_output(cmd));
   CHECK(std::system(cmd.c_str()) == 0);
 }
+
+}  // namespace serve_test_console_assets

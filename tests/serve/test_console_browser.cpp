@@ -14,6 +14,9 @@
 #include "serve/tokens.hpp"
 #include "serve_rig.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace serve_test_console_browser {
+
 using namespace lmcfg;
 using json = nlohmann::json;
 using namespace std::chrono_literals;
@@ -177,3 +180,5 @@ TEST_CASE(
         "08-restore-done-1280.png", "09-position-history-1280.png", "10-live-diff-1280.png"})
     CHECK(fs::file_size(shots_dir() / f) > 5000);
 }
+
+}  // namespace serve_test_console_browser

@@ -15,6 +15,9 @@
 #include "serve/web_server.hpp"
 #include "serve_rig.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace serve_test_console_http {
+
 using namespace lmcfg;
 using namespace lmcfg::test;
 using namespace std::chrono_literals;
@@ -384,3 +387,5 @@ TEST_CASE("console http: sign-out needs the session's CSRF value and clears the 
         "lmcfg_session=; HttpOnly; SameSite=Strict; Path=/; Max-Age=0");
   CHECK_FALSE(s.console->user(session->id).has_value());
 }
+
+}  // namespace serve_test_console_http

@@ -6,6 +6,9 @@
 
 #include "serve/console_pages.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace serve_test_console_pages {
+
 using namespace lmcfg;
 using serve::Json;
 namespace pages = serve::pages;
@@ -400,3 +403,5 @@ TEST_CASE(
   html = pages::failure(nullptr, true, "No plan", help, "x", retry, "");
   CHECK_FALSE(has(html, "id=\"retry\""));
 }
+
+}  // namespace serve_test_console_pages

@@ -15,6 +15,9 @@
 #include "serve/tokens.hpp"
 #include "serve_rig.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace serve_test_http {
+
 using namespace lmcfg;
 using namespace lmcfg::test;
 namespace fs = std::filesystem;
@@ -634,3 +637,5 @@ TEST_CASE(
   REQUIRE(res);
   CHECK(res->status == 200);
 }
+
+}  // namespace serve_test_http

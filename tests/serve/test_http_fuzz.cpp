@@ -11,6 +11,9 @@
 
 #include "../../fuzz/fuzz_http_entry.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace serve_test_http_fuzz {
+
 using namespace lmcfg;
 namespace fs = std::filesystem;
 
@@ -53,3 +56,5 @@ TEST_CASE("fuzz regressions: raw HTTP requests into lmcfg serve", "[serve][fuzz]
   CHECK(three.find("HTTP/1.1 400 Bad Request\r\n") != std::string::npos);
   CHECK(three.rfind("HTTP/1.1 ") == three.find("HTTP/1.1 400"));
 }
+
+}  // namespace serve_test_http_fuzz

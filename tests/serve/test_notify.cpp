@@ -18,6 +18,9 @@
 #include "serve/notify.hpp"
 #include "serve_rig.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace serve_test_notify {
+
 using namespace lmcfg;
 using namespace lmcfg::test;
 namespace fs = std::filesystem;
@@ -349,3 +352,5 @@ TEST_CASE("notify: destroyed, the Notifier delivers what is queued and cuts a ba
               "webhook " + dead + ": stopping, event dropped: " + R"({"event":"drift"})"});
   }
 }
+
+}  // namespace serve_test_notify

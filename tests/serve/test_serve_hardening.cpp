@@ -11,6 +11,9 @@
 #include "serve_rig.hpp"
 #include "sim/state_file.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace serve_test_serve_hardening {
+
 using namespace lmcfg;
 using namespace lmcfg::test;
 
@@ -232,3 +235,5 @@ TEST_CASE("serve: a history entry that is not UTF-8 (made by hand with git) is s
   CHECK(j[0]["subject"] == "fleet restore: press3/z <- by hand \\xFF\\xFE");
   CHECK(j[0]["who"] == "h\\xE9l\xC3\xA8ne");
 }
+
+}  // namespace serve_test_serve_hardening

@@ -5,6 +5,9 @@
 
 #include "fleet/inventory.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace serve_test_serve_inventory {
+
 using namespace lmcfg;
 
 namespace {
@@ -98,3 +101,5 @@ TEST_CASE("serve inventory: on_replaced per line and drive, require_reason at th
         "plant.toml:5:15: 'on_replaced' must be \"notify\" or \"restore\", not 'reflash'\n"
         "plant.toml:9:15: 'on_replaced' must be a string");
 }
+
+}  // namespace serve_test_serve_inventory

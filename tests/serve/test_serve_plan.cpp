@@ -10,6 +10,9 @@
 #include "serve/tokens.hpp"
 #include "serve_rig.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace serve_test_serve_plan {
+
 using namespace lmcfg;
 using namespace lmcfg::test;
 using namespace std::chrono_literals;
@@ -398,3 +401,5 @@ TEST_CASE("serve: the daily summary counts positions per status when a day begin
   rig.at(t0 + 16h + 15min);
   CHECK(rig.take_events().empty());
 }
+
+}  // namespace serve_test_serve_plan

@@ -11,6 +11,9 @@
 #include "promtool.hpp"
 #include "serve_rig.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace serve_test_serve_push {
+
 using namespace lmcfg;
 namespace fs = std::filesystem;
 using namespace std::chrono_literals;
@@ -208,3 +211,5 @@ TEST_CASE("serve push: the Debian package's example inventory loads, and with it
   REQUIRE(inv.ok());
   CHECK(inv->archive.push == "ssh://git@central.example/plant/site1.git");
 }
+
+}  // namespace serve_test_serve_push

@@ -9,6 +9,9 @@
 #include "files.hpp"
 #include "serve_rig.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace serve_test_serve_slow_saves {
+
 using namespace lmcfg;
 using namespace lmcfg::test;
 using namespace std::chrono_literals;
@@ -52,3 +55,5 @@ TEST_CASE("field-facts.md §5.1 serve: the automatic restore onto a drive with 4
     }
   }
 }
+
+}  // namespace serve_test_serve_slow_saves

@@ -17,6 +17,9 @@
 #include "serve_rig.hpp"
 #include "sim/state_file.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace serve_test_service {
+
 using namespace lmcfg;
 using namespace lmcfg::test;
 namespace fs = std::filesystem;
@@ -217,3 +220,5 @@ TEST_CASE(
   CHECK(events[0]["drive"] == "press5/controller");
   CHECK(events[0]["line"] == "can");
 }
+
+}  // namespace serve_test_service

@@ -11,6 +11,9 @@
 #include "serve/tokens.hpp"
 #include "serve_rig.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace serve_test_service_approved {
+
 using namespace lmcfg;
 using namespace lmcfg::test;
 namespace fs = std::filesystem;
@@ -318,3 +321,5 @@ TEST_CASE("serve: /metrics counts positions per status against the approved conf
   CHECK(text.find("lmcfg_drives{status=\"unknown\"} 0\n") != std::string::npos);
   CHECK(text.find("lmcfg_drive_drift{drive=\"press3/x\",line=\"line1\"} 1\n") != std::string::npos);
 }
+
+}  // namespace serve_test_service_approved

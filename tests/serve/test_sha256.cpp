@@ -8,6 +8,9 @@
 #include "serve/sha256.hpp"
 #include "subprocess.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace serve_test_sha256 {
+
 using namespace lmcfg;
 
 TEST_CASE("serve: SHA-256 gives the FIPS 180-4 example digests (§B.1, §B.2, §B.3)",
@@ -83,3 +86,5 @@ TEST_CASE("sha256: every message length from 0 to 200 bytes and binary bytes agr
   }
   CHECK(n == messages.size());
 }
+
+}  // namespace serve_test_sha256

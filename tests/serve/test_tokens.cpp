@@ -8,6 +8,9 @@
 #include "serve/sha256.hpp"
 #include "serve/tokens.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace serve_test_tokens {
+
 using namespace lmcfg;
 
 TEST_CASE("serve: token add stores only the hash, tokens are found by role", "[serve][tokens]") {
@@ -83,3 +86,5 @@ TEST_CASE("serve: a tokens file others may write is refused with the fix, names 
             ":2: token name contains a control character (0x01 at offset 1): give one line "
             "without control characters");
 }
+
+}  // namespace serve_test_tokens

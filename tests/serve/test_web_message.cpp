@@ -6,6 +6,9 @@
 
 #include "serve/web_message.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace serve_test_web_message {
+
 using namespace lmcfg::serve::web;
 using State = RequestParser::State;
 
@@ -268,3 +271,5 @@ TEST_CASE("web message: the response on the wire", "[serve][web_message]") {
   none.status = 204;
   CHECK(serialize(none, false) == "HTTP/1.1 204 No Content\r\n\r\n");
 }
+
+}  // namespace serve_test_web_message

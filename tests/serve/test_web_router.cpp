@@ -4,6 +4,9 @@
 
 #include "serve/web_router.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace serve_test_web_router {
+
 using namespace lmcfg::serve::web;
 
 TEST_CASE("web router: placeholders match as the routes need them", "[serve][web_router]") {
@@ -56,3 +59,5 @@ TEST_CASE("web router: first match, HEAD as GET, 404 and 405", "[serve][web_rout
   q.path = "/other";
   CHECK(r.dispatch(q, res) == Router::Outcome::not_found);
 }
+
+}  // namespace serve_test_web_router

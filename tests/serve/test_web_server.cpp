@@ -11,6 +11,9 @@
 #include "raw_http.hpp"
 #include "serve/web_server.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace serve_test_web_server {
+
 using namespace lmcfg;
 using namespace lmcfg::serve::web;
 using lmcfg::test::RawClient;
@@ -246,3 +249,5 @@ TEST_CASE("web server: a port in use is refused with the address", "[serve][web_
   CHECK(r.error().message == "cannot listen on 127.0.0.1:" + std::to_string(s.port) +
                                  " (address in use or not on this host)");
 }
+
+}  // namespace serve_test_web_server

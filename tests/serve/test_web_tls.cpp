@@ -11,6 +11,9 @@
 #include "serve/web_server.hpp"
 #include "serve/web_tls.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace serve_test_web_tls {
+
 using namespace lmcfg;
 using namespace lmcfg::serve::web;
 namespace fs = std::filesystem;
@@ -79,3 +82,5 @@ TEST_CASE("web tls: TLS 1.3, TLS 1.2 with ECDHE and AEAD only (checked with open
   server.stop();
   t.join();
 }
+
+}  // namespace serve_test_web_tls

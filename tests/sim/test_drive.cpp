@@ -6,6 +6,9 @@
 
 #include "test_sim_harness.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace sim_test_drive {
+
 using namespace lmcfg;
 using namespace lmcfg::codec;
 using lmcfg::test::load_fixture;
@@ -271,3 +274,5 @@ TEST_CASE(
   REQUIRE(back.ok());
   CHECK(back->options.refuse_config_while_mc_runs);
 }
+
+}  // namespace sim_test_drive

@@ -5,6 +5,9 @@
 
 #include "test_sim_harness.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace sim_test_link {
+
 using namespace lmcfg;
 using namespace lmcfg::codec;
 using lmcfg::test::load_fixture;
@@ -178,3 +181,5 @@ TEST_CASE("sim: discard_input drops answers already received", "[sim]") {
   CHECK(h.link.pending_bytes() == 0);
   CHECK(h.link.read_some(transport::Millis(10))->empty());
 }
+
+}  // namespace sim_test_link

@@ -7,6 +7,9 @@
 #include "test_sim_harness.hpp"
 #include "transport/pty.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace sim_test_server {
+
 using namespace lmcfg;
 using namespace lmcfg::codec;
 
@@ -140,3 +143,5 @@ TEST_CASE("sim: a drive started in one fast connection answers at once in the ne
   }
   CHECK(drive.stats().ignored_busy == 0);
 }
+
+}  // namespace sim_test_server

@@ -10,6 +10,9 @@
 #include "golden_vectors.hpp"
 #include "test_sim_harness.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace sim_test_sim_manual {
+
 using namespace lmcfg;
 using namespace lmcfg::codec;
 using lmcfg::test::SimHarness;
@@ -234,3 +237,5 @@ TEST_CASE("sim: seed003 §14.1-§14.4 error info", "[sim][sim-manual]") {
   }
   CHECK(ours.size() == 3 + 0x24 + 1);
 }
+
+}  // namespace sim_test_sim_manual

@@ -14,6 +14,9 @@
 #include "sim/slcan_adapter.hpp"
 #include "transport/pty.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace sim_test_slcan_adapter {
+
 using namespace lmcfg;
 using namespace std::chrono_literals;
 
@@ -126,3 +129,5 @@ TEST_CASE(
   CHECK(rig.say("F\r", 0).empty());
   CHECK(rig.say("X\r", 0).empty());
 }
+
+}  // namespace sim_test_slcan_adapter

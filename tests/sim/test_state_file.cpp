@@ -8,6 +8,9 @@
 #include "files.hpp"
 #include "test_sim_harness.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace sim_test_state_file {
+
 using namespace lmcfg;
 using namespace lmcfg::codec;
 using lmcfg::test::load_fixture;
@@ -156,3 +159,5 @@ TEST_CASE("sim state file: loading, saving and a line of drives with distinct MA
   CHECK((*line)[0].macid == 0x11);
   CHECK((*line)[1].macid == 0x12);
 }
+
+}  // namespace sim_test_state_file

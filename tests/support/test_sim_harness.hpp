@@ -9,15 +9,12 @@
 
 #include "codec/frame.hpp"
 #include "codec/messages.hpp"
+#include "e2e_support.hpp"  // sim_fixture
 #include "sim/drive.hpp"
 #include "sim/link.hpp"
 #include "sim/state_file.hpp"
 
 namespace lmcfg::test {
-
-inline std::string sim_fixture(const std::string& name) {
-  return std::string(LMCFG_SOURCE_DIR) + "/tests/fixtures/sim/" + name;
-}
 
 inline sim::DriveState load_fixture(const std::string& name) {
   auto s = sim::load_state(sim_fixture(name));

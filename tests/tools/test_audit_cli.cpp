@@ -11,6 +11,9 @@
 #include "files.hpp"
 #include "subprocess.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace tools_test_audit_cli {
+
 using namespace lmcfg;
 namespace fs = std::filesystem;
 
@@ -297,3 +300,5 @@ TEST_CASE("audit cli: require_reason = true refuses a fleet restore without --re
   CHECK(ok.exit_code == 0);
   CHECK(r.git("-C arch log -1 --format=%\\(trailers:key=Reason,valueonly\\)") == "spare\n\n");
 }
+
+}  // namespace tools_test_audit_cli

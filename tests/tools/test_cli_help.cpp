@@ -6,6 +6,9 @@
 #include "files.hpp"
 #include "subprocess.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace tools_test_cli_help {
+
 using namespace lmcfg;
 
 namespace {
@@ -100,3 +103,5 @@ TEST_CASE("first ten minutes: lmcfg help with an unknown subcommand names it, ex
         "journal, get, set, db, info, convert, scan, link, sim, fleet, serve; see lmcfg "
         "--help)\n");
 }
+
+}  // namespace tools_test_cli_help

@@ -15,6 +15,9 @@
 #include "sim/state_file.hpp"
 #include "subprocess.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace tools_test_cli_scan_first_steps {
+
 using namespace lmcfg;
 using test::slurp;
 namespace fs = std::filesystem;
@@ -358,3 +361,5 @@ TEST_CASE("seed003 §10.4 a layer default taking 8 s: progress while waiting, --
   CHECK(bad.exit_code == 2);
   CHECK(bad.err == "lmcfg default: --long-timeout-s 9999 is outside 1..3600\n");
 }
+
+}  // namespace tools_test_cli_scan_first_steps

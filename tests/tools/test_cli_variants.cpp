@@ -20,6 +20,9 @@
 #include "sim/state_file.hpp"
 #include "subprocess.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace tools_test_cli_variants {
+
 using namespace lmcfg;
 namespace fs = std::filesystem;
 
@@ -220,3 +223,5 @@ TEST_CASE("docs/reliability.md: every subcommand works against every drive varia
     }
   }
 }
+
+}  // namespace tools_test_cli_variants

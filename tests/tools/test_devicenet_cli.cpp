@@ -16,6 +16,9 @@
 #include "link/port.hpp"
 #include "subprocess.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace tools_test_devicenet_cli {
+
 using namespace lmcfg;
 namespace fs = std::filesystem;
 
@@ -379,3 +382,5 @@ TEST_CASE("devicenet: lmcfg sim refuses an unknown --devicenet-absent-motor",
   CHECK(r.out.empty());
   fs::remove_all(dir);
 }
+
+}  // namespace tools_test_devicenet_cli

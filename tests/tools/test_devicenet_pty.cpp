@@ -9,6 +9,9 @@
 #include "link/port.hpp"
 #include "subprocess.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace tools_test_devicenet_pty {
+
 using namespace lmcfg;
 
 TEST_CASE("devicenet: master -> slcan on a pty -> lmcfg sim --devicenet", "[devicenet][pty]") {
@@ -39,3 +42,5 @@ TEST_CASE("devicenet: master -> slcan on a pty -> lmcfg sim --devicenet", "[devi
   CHECK(trace.back() == "RX 453 [2] 3E CC");  // Release answered by MAC 10 (0x453)
   CHECK(sim.stop() == 0);
 }
+
+}  // namespace tools_test_devicenet_pty

@@ -17,6 +17,9 @@
 #include "json_schema.hpp"
 #include "subprocess.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace tools_test_devicenet_restore_cli {
+
 using namespace lmcfg;
 namespace fs = std::filesystem;
 
@@ -236,3 +239,5 @@ TEST_CASE(
     CHECK(rec["error"] == error);
   }
 }
+
+}  // namespace tools_test_devicenet_restore_cli

@@ -18,6 +18,9 @@
 #include "ops/diff.hpp"
 #include "test_config_support.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace tools_test_diff_convert_cli {
+
 using namespace lmcfg;
 using namespace lmcfg::config;
 using namespace lmcfg::config::testing;
@@ -247,3 +250,5 @@ TEST_CASE(
   CHECK(run.out.find("c1250-mc-linudp") != std::string::npos);
   CHECK(run.out.find("public: Smart-Vision-Works/linmot_client") != std::string::npos);
 }
+
+}  // namespace tools_test_diff_convert_cli

@@ -19,6 +19,9 @@
 #include "subprocess.hpp"
 #include "trace_support.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace tools_test_e2e_cli_pty {
+
 using namespace lmcfg;
 using test::slurp;
 using test::temp_dir;
@@ -173,3 +176,5 @@ TEST_CASE(
   CHECK(axis.stop() == 0);
   CHECK(low.stop() == 0);
 }
+
+}  // namespace tools_test_e2e_cli_pty

@@ -19,6 +19,9 @@
 #include "ops/diff.hpp"
 #include "ops/restore.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace tools_test_e2e_restore {
+
 using namespace lmcfg;
 
 namespace {
@@ -242,3 +245,5 @@ TEST_CASE(
   CHECK(spare.wire->write_telegrams() == 0);
   std::filesystem::remove_all(dir);
 }
+
+}  // namespace tools_test_e2e_restore

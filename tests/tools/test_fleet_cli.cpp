@@ -13,6 +13,9 @@
 #include "fleet/archive.hpp"
 #include "subprocess.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace tools_test_fleet_cli {
+
 using namespace lmcfg;
 namespace fs = std::filesystem;
 
@@ -501,3 +504,5 @@ TEST_CASE("fleet: DeviceNet settings of a line are checked as the options, at th
         "lmcfg fleet check: keys.toml:4:1: 'parity' is a LinRS key, not for DeviceNet line 'can' "
         "(port 'slcan:tcp://127.0.0.1:9' is a CAN link)\n");
 }
+
+}  // namespace tools_test_fleet_cli

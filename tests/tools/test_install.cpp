@@ -12,6 +12,9 @@
 #include "db/database.hpp"
 #include "db_test_support.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace tools_test_install {
+
 namespace fs = std::filesystem;
 using lmcfg::db::Database;
 
@@ -111,3 +114,5 @@ TEST_CASE("installed layout: bin/lmcfg finds share/lmcfg/ from any folder", "[in
   CHECK(env_missing.rc == 2);
   CHECK(env_missing.out.find("/nonexistent/u.sqlite") != std::string::npos);
 }
+
+}  // namespace tools_test_install

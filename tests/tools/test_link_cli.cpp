@@ -13,6 +13,9 @@
 #include "sim/state_file.hpp"
 #include "subprocess.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace tools_test_link_cli {
+
 using namespace lmcfg;
 namespace fs = std::filesystem;
 
@@ -216,3 +219,5 @@ TEST_CASE("link cli: a drive lost after the reset: exit 4, the record and the sc
                    s.tty + "\n") != std::string::npos);
   CHECK(fs::exists(record));
 }
+
+}  // namespace tools_test_link_cli

@@ -10,6 +10,9 @@
 
 #include "test_config_support.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace tools_test_param_info_cli {
+
 using namespace lmcfg::config::testing;
 namespace fs = std::filesystem;
 
@@ -151,3 +154,5 @@ TEST_CASE("get and info --json validate against their documented shapes", "[cli]
   CHECK(r.valid("report-info.schema.json", i.out));
   CHECK_FALSE(r.valid("report-info.schema.json", "{\"state\": 1}"));
 }
+
+}  // namespace tools_test_param_info_cli

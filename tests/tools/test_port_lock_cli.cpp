@@ -14,6 +14,9 @@
 #include "subprocess.hpp"
 #include "transport/transport.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace tools_test_port_lock_cli {
+
 using namespace lmcfg;
 namespace fs = std::filesystem;
 
@@ -98,3 +101,5 @@ TEST_CASE("port lock cli: the slcan adapter's serial port is locked too",
   REQUIRE(heard.ok());
   CHECK(heard->empty());
 }
+
+}  // namespace tools_test_port_lock_cli

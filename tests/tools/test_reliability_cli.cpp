@@ -22,6 +22,9 @@
 #include "subprocess.hpp"
 #include "trace_support.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace tools_test_reliability_cli {
+
 using namespace lmcfg;
 using test::slurp;
 using test::spit;
@@ -559,3 +562,5 @@ TEST_CASE(
     CHECK(
         (k["upid"] == "200E" || k["upid"] == "2012" || k["upid"] == "206C" || k["upid"] == "2076"));
 }
+
+}  // namespace tools_test_reliability_cli

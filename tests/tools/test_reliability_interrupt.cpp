@@ -12,6 +12,9 @@
 #include "ops/factory_reset.hpp"
 #include "test_reliability_support.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace tools_test_reliability_interrupt {
+
 using namespace lmcfg;
 using test::FaultRig;
 
@@ -212,3 +215,5 @@ TEST_CASE(
   CHECK(drive->state().params.at(0x206C).rom == 3);
   CHECK_FALSE(std::filesystem::exists(record));
 }
+
+}  // namespace tools_test_reliability_interrupt

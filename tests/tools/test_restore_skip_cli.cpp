@@ -11,6 +11,9 @@
 #include "sim/state_file.hpp"
 #include "subprocess.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace tools_test_restore_skip_cli {
+
 using namespace lmcfg;
 namespace fs = std::filesystem;
 
@@ -216,3 +219,5 @@ TEST_CASE("cli: fleet restore --skip-incompatible records the skipped values in 
                                lines("skipped (the target cannot take them):\n", "  ") +
                                "\nOperator: " + test::os_user() + "\n");
 }
+
+}  // namespace tools_test_restore_skip_cli

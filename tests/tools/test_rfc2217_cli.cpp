@@ -11,6 +11,9 @@
 #include "ser2net_rig.hpp"
 #include "subprocess.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace tools_test_rfc2217_cli {
+
 using namespace lmcfg;
 
 namespace {
@@ -65,3 +68,5 @@ TEST_CASE("rfc2217 cli: a rate no drive listens at is a link failure, scan finds
   CHECK(s.exit_code == 0);
   CHECK(s.out.find("\"options\": \"--baud 57600 --id 0x11 --checksum none\"") != std::string::npos);
 }
+
+}  // namespace tools_test_rfc2217_cli

@@ -9,6 +9,9 @@
 #include "serve_rig.hpp"
 #include "subprocess.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace tools_test_serve_cli {
+
 using namespace lmcfg;
 namespace fs = std::filesystem;
 
@@ -277,3 +280,5 @@ TEST_CASE(
   test::git(d.path / "arch", "fsck --no-progress");
   CHECK(serve.stop() == 0);
 }
+
+}  // namespace tools_test_serve_cli

@@ -14,6 +14,9 @@
 #include "files.hpp"
 #include "subprocess.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace tools_test_serve_resilience {
+
 using namespace lmcfg;
 namespace fs = std::filesystem;
 using namespace std::chrono_literals;
@@ -144,3 +147,5 @@ TEST_CASE("serve cli: the index lock a kill during a commit leaves does not stop
   CHECK_FALSE(fs::exists(p.dir.path / "arch/.git/index.lock"));
   CHECK(serve->stop() == 0);
 }
+
+}  // namespace tools_test_serve_resilience

@@ -13,6 +13,9 @@
 #include "sim/state_file.hpp"
 #include "subprocess.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace tools_test_slow_saves_cli {
+
 using namespace lmcfg;
 namespace fs = std::filesystem;
 
@@ -147,3 +150,5 @@ TEST_CASE("field-facts.md §5.2 cli: default with defaulting and saves never ans
   CHECK(s->ct_flash.empty());
   CHECK(s->curves_flash.empty());
 }
+
+}  // namespace tools_test_slow_saves_cli

@@ -10,6 +10,9 @@
 #include "subprocess.hpp"
 #include "trace_support.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace tools_test_undo_cli {
+
 using namespace lmcfg;
 namespace fs = std::filesystem;
 
@@ -219,3 +222,5 @@ TEST_CASE("undo cli: the rotation keeps the newest 10 records of a drive", "[und
   auto listed = nlohmann::json::parse(r.tool("undo --list --json").out);
   CHECK(listed["records"].size() == 10);
 }
+
+}  // namespace tools_test_undo_cli

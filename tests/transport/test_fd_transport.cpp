@@ -13,6 +13,9 @@
 #include "transport/transport.hpp"
 #include "transport_test_support.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace transport_test_fd_transport {
+
 using namespace lmcfg;
 using namespace lmcfg::transport;
 using namespace std::chrono_literals;
@@ -132,3 +135,5 @@ TEST_CASE("FdTransport write times out when nobody reads", "[transport]") {
   CHECK(timed_out);
   CHECK(Clock::now() - t0 < 5s);
 }
+
+}  // namespace transport_test_fd_transport

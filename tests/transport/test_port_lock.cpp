@@ -17,6 +17,9 @@
 #include "transport/transport.hpp"
 #include "transport_test_support.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace transport_test_port_lock {
+
 using namespace lmcfg;
 using namespace lmcfg::transport;
 using namespace std::chrono_literals;
@@ -166,3 +169,5 @@ TEST_CASE("port lock: the lock belongs to the device, whatever path names it",
   CHECK(second.error().message ==
         "port " + alias.string() + " is in use by lmcfg restore (PID " + pid_text() + ")");
 }
+
+}  // namespace transport_test_port_lock

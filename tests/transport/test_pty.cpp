@@ -11,6 +11,9 @@
 #include "transport/transport.hpp"
 #include "transport_test_support.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace transport_test_pty {
+
 using namespace lmcfg;
 using namespace lmcfg::transport;
 using namespace std::chrono_literals;
@@ -63,3 +66,5 @@ TEST_CASE("open_pty gives a raw master and a named slave", "[transport]") {
   CHECK((t.c_lflag & (ICANON | ECHO | ISIG)) == 0);
   CHECK((t.c_oflag & OPOST) == 0);
 }
+
+}  // namespace transport_test_pty

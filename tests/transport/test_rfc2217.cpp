@@ -21,6 +21,9 @@
 #include "transport/rfc2217.hpp"
 #include "transport_test_support.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace transport_test_rfc2217 {
+
 using namespace lmcfg;
 using namespace lmcfg::transport;
 using namespace lmcfg::transport::rfc2217;
@@ -549,3 +552,5 @@ TEST_CASE("rfc2217: through ser2net at a rate no drive listens at, the client ti
         "no answer from drive 11h within 150 ms to ID 11h parameter configuration (main 05h sub "
         "00h), 2 data byte(s) (after 2 attempts)");
 }
+
+}  // namespace transport_test_rfc2217

@@ -14,6 +14,9 @@
 #include "transport/transport.hpp"
 #include "transport_test_support.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace transport_test_serial {
+
 using namespace lmcfg;
 using namespace lmcfg::transport;
 using namespace std::chrono_literals;
@@ -286,3 +289,5 @@ TEST_CASE("low latency: the adapter's latency_timer is read from sysfs and a slo
   CHECK(fast.advice.empty());
   fs::remove_all(root);
 }
+
+}  // namespace transport_test_serial

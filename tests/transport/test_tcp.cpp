@@ -15,6 +15,9 @@
 #include "transport/transport.hpp"
 #include "transport_test_support.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace transport_test_tcp {
+
 using namespace lmcfg;
 using namespace lmcfg::transport;
 using namespace std::chrono_literals;
@@ -224,3 +227,5 @@ TEST_CASE("tcp connect gives up at the deadline", "[transport]") {
   CHECK(elapsed >= 290ms);
   CHECK(elapsed < 2000ms);
 }
+
+}  // namespace transport_test_tcp

@@ -9,6 +9,9 @@
 
 #include "transport/transport.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace transport_test_trace {
+
 using namespace lmcfg;
 using namespace lmcfg::transport;
 using namespace std::chrono_literals;
@@ -157,3 +160,5 @@ TEST_CASE("make_traced without a sink returns the transport itself", "[transport
   auto t = make_traced(std::move(inner), nullptr);
   CHECK(t.get() == raw);
 }
+
+}  // namespace transport_test_trace

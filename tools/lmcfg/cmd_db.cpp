@@ -286,7 +286,7 @@ int run_info(const DbOptions& o) {
 
 // ---------------------------------------------------------------- db scan / db merge
 
-struct ScanCli {
+struct DbScanCli {
   CommonOptions common;
   std::string profile;
   std::string output;
@@ -309,7 +309,7 @@ void print_merge(const CommonOptions& c, const ops::MergeReport& m, const std::s
                m.profile_replaced ? ", profile row replaced" : "");
 }
 
-int run_scan(ScanCli& o) {
+int run_scan(DbScanCli& o) {
   auto layers = parse_layers(o.layers);
   if (!layers.ok()) return fail("db scan", layers.error());
   std::error_code ec;
@@ -406,8 +406,8 @@ int run_merge(MergeCli& o) {
 }
 
 // lmcfg db scan: a profile learnt from a drive.
-void add_scan(CLI::App* db, int& exit_code) {
-  auto so = std::make_shared<ScanCli>();
+void add_db_scan(CLI::App* db, int& exit_code) {
+  auto so = std::make_shared<DbScanCli>();
   auto* scan = db->add_subcommand(
       "scan", "Learn a new firmware profile from a drive: UPID list, min/max/default");
   scan->footer(
@@ -448,7 +448,7 @@ void add_scan(CLI::App* db, int& exit_code) {
 }
 
 // lmcfg db merge: a scan's fragment into the upid-db sources.
-void add_merge(CLI::App* db, int& exit_code) {
+void add_db_merge(CLI::App* db, int& exit_code) {
   auto mo = std::make_shared<MergeCli>();
   auto* merge = db->add_subcommand(
       "merge",
@@ -512,8 +512,8 @@ void setup(CLI::App& app, int& exit_code) {
   info->callback([o, &exit_code] { exit_code = run_info(*o); });
   for (auto* s : {show, find, errors, commands, devicenet, info}) common(s);
 
-  add_scan(db, exit_code);
-  add_merge(db, exit_code);
+  add_db_scan(db, exit_code);
+  add_db_merge(db, exit_code);
 }
 }  // namespace
 
