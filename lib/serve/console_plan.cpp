@@ -19,9 +19,10 @@ std::string value_cell(const Json& st, const char* k) {
 }
 
 std::string steps_table(const Json& p) {
-  std::string b = "<table class=\"plan\"><thead><tr><th scope=\"col\">#</th><th "
-                  "scope=\"col\">What</th><th scope=\"col\">Now</th><th scope=\"col\"><span "
-                  "class=\"sr\">becomes</span></th><th scope=\"col\">After</th></tr></thead><tbody>\n";
+  std::string b =
+      "<table class=\"plan\"><thead><tr><th scope=\"col\">#</th><th "
+      "scope=\"col\">What</th><th scope=\"col\">Now</th><th scope=\"col\"><span "
+      "class=\"sr\">becomes</span></th><th scope=\"col\">After</th></tr></thead><tbody>\n";
   std::size_t n = 0;
   for (const auto& st : p["steps"]) {
     ++n;
@@ -57,8 +58,7 @@ std::string items_section(const char* id, const char* title, const Json& items, 
 // What resolves a refused plan: another revision, the drive read now (is the
 // right one connected?), and, for values this drive cannot take, the restore
 // without them with what that means.
-std::string resolve_section(const ConsoleUser& u, const Json& p, bool problems,
-                            bool incompatible) {
+std::string resolve_section(const ConsoleUser& u, const Json& p, bool problems, bool incompatible) {
   const std::string name = str(p, "drive");
   const std::string enc = esc(url_encode(name));
   std::string b = "<section aria-labelledby=\"h-confirm\"><h2 id=\"h-confirm\">";
@@ -124,8 +124,10 @@ std::string plan(const ConsoleUser& u, bool signed_in, const Json& p, TimePoint 
        esc(verdict) + "</p>\n";
 
   b += "<section aria-labelledby=\"h-link\"><h2 id=\"h-link\">The drive at this position</h2>";
-  b += "<p class=\"link-ok\">A drive answers on line " + esc(str(p, "line")) + " with ID <span "
-       "class=\"id\">" + esc(str(p, "id")) + "</span>. ";
+  b += "<p class=\"link-ok\">A drive answers on line " + esc(str(p, "line")) +
+       " with ID <span "
+       "class=\"id\">" +
+       esc(str(p, "id")) + "</span>. ";
   b += p.value("factory_fresh", false)
            ? "It is <strong id=\"factory-fresh\">factory-fresh</strong> (a replacement drive as "
              "it leaves the factory).</p>"
@@ -157,8 +159,7 @@ std::string plan(const ConsoleUser& u, bool signed_in, const Json& p, TimePoint 
   // (Each line escaped on its own: the escaping shows a control character,
   // a line break included, as \xNN.)
   std::string cli;
-  for (const auto& st : p["steps"])
-    cli += esc(str(st, "kind") + ": " + str(st, "text")) + "\n";
+  for (const auto& st : p["steps"]) cli += esc(str(st, "kind") + ": " + str(st, "text")) + "\n";
   if (!cli.empty())
     b += "<details class=\"cli\"><summary>As the command line says it</summary><pre>" + cli +
          "</pre></details>\n";

@@ -35,13 +35,15 @@ std::vector<std::string> link_checklist() {
 Help help_for(const Error& e, const std::string& position) {
   const std::string& m = e.message;
   if (e.code == Errc::not_found && has(m, "expired"))
-    return {"The plan expired: a plan is valid for a few minutes only, because the drive may "
-            "change in the meantime. Nothing was written.",
-            {"Make a new plan: it reads the drive again."}};
+    return {
+        "The plan expired: a plan is valid for a few minutes only, because the drive may "
+        "change in the meantime. Nothing was written.",
+        {"Make a new plan: it reads the drive again."}};
   if (e.code == Errc::not_found && has(m, "plan"))
-    return {"This plan is no longer known to the service (it was executed already, or the "
-            "service restarted). Nothing was written.",
-            {"Make a new plan: it reads the drive again."}};
+    return {
+        "This plan is no longer known to the service (it was executed already, or the "
+        "service restarted). Nothing was written.",
+        {"Make a new plan: it reads the drive again."}};
   if (e.code == Errc::not_found)
     return {"The service does not know what was asked for.",
             {"Check the position's name or the revision, or go back to the plant overview."}};
@@ -49,9 +51,10 @@ Help help_for(const Error& e, const std::string& position) {
     return {"The service is stopping, so it took no new work. Nothing was written.",
             {"Wait until the service runs again (ask whoever looks after it), then try again."}};
   if (e.code == Errc::invalid_argument)
-    return {"Something in the form is missing or not accepted.", {"Read the message below, "
-                                                                   "correct the form, and send "
-                                                                   "it again."}};
+    return {"Something in the form is missing or not accepted.",
+            {"Read the message below, "
+             "correct the form, and send "
+             "it again."}};
   if (e.code == Errc::plan_refused && has(m, "is running as job"))
     return {"A restore of this drive is running now; it is not stopped between its writes.",
             {"Wait for it to end: its page shows its progress."}};
@@ -72,20 +75,20 @@ Help help_for(const Error& e, const std::string& position) {
              "Is another program (LinMot-Talk) connected to the drive? Close it.",
              "Is the drive's firmware one this configuration fits? The plan lists values it "
              "cannot take."}};
-  if (e.code == Errc::timeout)
-    return {the_drive(position) + " did not answer.", link_checklist()};
+  if (e.code == Errc::timeout) return {the_drive(position) + " did not answer.", link_checklist()};
   if (cls == ErrorClass::bad_answer)
-    return {"Something answers on the line, but not in a way the service can read: most often "
-            "a baud rate that differs from the drive's, or another device with the same ID.",
-            {"Is the line's baud rate the drive's?",
-             "Does another drive on the line have the same ID?",
-             "Is the line terminated at both ends (RS485 termination)?",
-             "Is another program (LinMot-Talk) connected to the same line? Close it."}};
+    return {
+        "Something answers on the line, but not in a way the service can read: most often "
+        "a baud rate that differs from the drive's, or another device with the same ID.",
+        {"Is the line's baud rate the drive's?", "Does another drive on the line have the same ID?",
+         "Is the line terminated at both ends (RS485 termination)?",
+         "Is another program (LinMot-Talk) connected to the same line? Close it."}};
   if (cls == ErrorClass::link_down)
-    return {"The service cannot reach the line: its serial port or network server does not "
-            "work.",
-            {"Is the USB-RS485 adapter plugged in (or the serial server reachable)?",
-             "Does the service's account have the right to open the port?"}};
+    return {
+        "The service cannot reach the line: its serial port or network server does not "
+        "work.",
+        {"Is the USB-RS485 adapter plugged in (or the serial server reachable)?",
+         "Does the service's account have the right to open the port?"}};
   return {"The service could not do what was asked.",
           {"Read the message below; if it names a bug, report it with the service's log."}};
 }
@@ -93,9 +96,8 @@ Help help_for(const Error& e, const std::string& position) {
 Help restore_failure_help(const Json& job, const std::string& position) {
   const std::string message = str(job, "message");
   Help h;
-  const auto code = job.contains("exit_code") && job["exit_code"].is_number()
-                        ? job["exit_code"].get<int>()
-                        : 0;
+  const auto code =
+      job.contains("exit_code") && job["exit_code"].is_number() ? job["exit_code"].get<int>() : 0;
   // The CLI's exit codes (docs/cli.md): 3 plan refused, 4 link, 5 drive refused, 6 verify.
   if (code == 4)
     h = {the_drive(position) + " stopped answering during the restore.", link_checklist()};
@@ -192,7 +194,8 @@ std::string verdict(const Json& plan, bool& refused) {
   auto add = [&what](const std::string& part) {
     if (!part.empty()) what += (what.empty() ? "" : ", ") + part;
   };
-  if (defaults) add("set " + plural(defaults, "parameter layer", "parameter layers") + " to defaults");
+  if (defaults)
+    add("set " + plural(defaults, "parameter layer", "parameter layers") + " to defaults");
   if (values) add("write " + plural(values, "value", "values"));
   if (curves) add("replace " + plural(curves, "curve", "curves"));
   if (entries) add("replace " + plural(entries, "command table entry", "command table entries"));
@@ -205,7 +208,8 @@ std::string verdict(const Json& plan, bool& refused) {
            plural(count("incompatible"), "value", "values") +
            " of the configuration (listed below). You can restore the rest without them; the "
            "position then stays in drift until someone approves the result. " +
-           (nothing ? std::string("Nothing else differs.") : "The rest would " + what + "." + effects);
+           (nothing ? std::string("Nothing else differs.")
+                    : "The rest would " + what + "." + effects);
   }
   if (nothing) return "Nothing to write: the drive already holds this configuration.";
   return "Will " + what + "." + effects;

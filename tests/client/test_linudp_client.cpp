@@ -10,6 +10,9 @@
 #include "linudp_rig.hpp"
 #include "ops/backup.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace client_test_linudp_client {
+
 using namespace lmcfg;
 
 namespace {
@@ -199,3 +202,5 @@ TEST_CASE("LinUDP client facts §6 point 5: the tools never send counts 1 and 15
   CHECK(rig.udp->stats().counts_seen_15 == 0);
   CHECK(rig.udp->stats().ignored == 0);
 }
+
+}  // namespace client_test_linudp_client

@@ -2,6 +2,9 @@
 
 #include "common/utc_time.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace common_test_utc_time {
+
 // Known instants of the Unix epoch (POSIX "Seconds Since the Epoch").
 TEST_CASE("utc_tm: the epoch and one billion seconds after it", "[common][utc_time]") {
   const std::tm epoch = lmcfg::utc_tm(0);
@@ -17,3 +20,5 @@ TEST_CASE("utc_tm: the epoch and one billion seconds after it", "[common][utc_ti
   CHECK(billion.tm_min == 46);
   CHECK(billion.tm_sec == 40);
 }
+
+}  // namespace common_test_utc_time

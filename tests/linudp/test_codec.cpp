@@ -5,6 +5,9 @@
 
 #include "linudp/codec.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace linudp_test_codec {
+
 using namespace lmcfg;
 using namespace lmcfg::linudp;
 
@@ -160,3 +163,5 @@ TEST_CASE("LinUDP facts §2.3: status codes and their meaning", "[linudp][codec]
   CHECK(is_write_command(0x12));
   CHECK_FALSE(is_write_command(0x10));
 }
+
+}  // namespace linudp_test_codec

@@ -9,6 +9,9 @@
 #include "ops/restore_run.hpp"
 #include "session_rig.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace ops_test_linudp_restore {
+
 using namespace lmcfg;
 using Stage = ops::RestoreOutcome::Stage;
 
@@ -131,3 +134,5 @@ TEST_CASE("LinUDP restore cut in the middle: the drive stops answering after the
   INFO(out.error->message);
   CHECK(out.error->message.find("LinUDP drive at linudp-sim") != std::string::npos);
 }
+
+}  // namespace ops_test_linudp_restore

@@ -16,6 +16,9 @@
 #include "console_walk.hpp"
 #include "serve_rig.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace serve_test_console_browser_plant {
+
 using namespace lmcfg;
 using json = nlohmann::json;
 using namespace std::chrono_literals;
@@ -94,10 +97,11 @@ std::string status_of(test::Rig& rig, const std::string& name) {
 
 }  // namespace
 
-TEST_CASE("console in Chromium: a used spare stays drift, the approved configuration is "
-          "restored, a change approved, a failed restore's retry cancelled, a partial restore "
-          "amber",
-          "[serve][console][browser]") {
+TEST_CASE(
+    "console in Chromium: a used spare stays drift, the approved configuration is "
+    "restored, a change approved, a failed restore's retry cancelled, a partial restore "
+    "amber",
+    "[serve][console][browser]") {
   test::Rig rig;
   rig.at(rig.now);  // commissioning: the first backup approves itself
   REQUIRE(status_of(rig, "press3/x") == "ok");
@@ -118,9 +122,10 @@ TEST_CASE("console in Chromium: a used spare stays drift, the approved configura
   a.both("overview");
   a.go(base + x);
   a.both("spare-drift");
-  a.eval("Array.from(document.querySelectorAll('time[datetime]')).every((t) => "
-         "t.title.endsWith(' UTC)'))",
-         "local-times");
+  a.eval(
+      "Array.from(document.querySelectorAll('time[datetime]')).every((t) => "
+      "t.title.endsWith(' UTC)'))",
+      "local-times");
   if (!a.run(work)) return;
   CHECK(a.has("overview", "drift"));
   a.fits("overview");
@@ -170,7 +175,8 @@ TEST_CASE("console in Chromium: a used spare stays drift, the approved configura
   REQUIRE(status_of(rig, "press3/x") == "drift");
   Walk c;
   c.go(base + x);
-  c.add({{"op", "fill"}, {"selector", "form.approve input[name=reason]"},
+  c.add({{"op", "fill"},
+         {"selector", "form.approve input[name=reason]"},
          {"value", "new tool: longer stroke"}});
   c.submit("form.approve button");
   c.add({{"op", "wait"}, {"selector", "#live .status.s-ok"}, {"timeout_ms", 30000}}, "ok");
@@ -227,9 +233,10 @@ TEST_CASE("console in Chromium: a used spare stays drift, the approved configura
   e.submit("#plan");
   e.both("plan-incompatible");
   e.eval("document.querySelector('#execute').disabled", "disabled-before");
-  e.eval("document.querySelector('#skip-incompatible').click(), "
-         "document.querySelector('#execute').disabled",
-         "disabled-after");
+  e.eval(
+      "document.querySelector('#skip-incompatible').click(), "
+      "document.querySelector('#execute').disabled",
+      "disabled-after");
   e.add({{"op", "fill"}, {"selector", "#reason"}, {"value", "spare with older firmware"}});
   e.submit("#execute");
   e.add({{"op", "wait"}, {"selector", ".job-state[data-state=done]"}, {"timeout_ms", 60000}},
@@ -253,8 +260,7 @@ TEST_CASE("console in Chromium: a used spare stays drift, the approved configura
   Walk f;
   f.go(base + "/");
   f.add(test::console_shot("plant-ready.png", false));
-  f.add({{"op", "wait"}, {"selector", "#offline:not([hidden])"}, {"timeout_ms", 30000}},
-        "banner");
+  f.add({{"op", "wait"}, {"selector", "#offline:not([hidden])"}, {"timeout_ms", 30000}}, "banner");
   f.add(test::console_shot("plant-offline-1280.png", false));
   f.read("offline");
   const auto ready = test::console_shots_dir() / "plant-ready.png";
@@ -269,3 +275,5 @@ TEST_CASE("console in Chromium: a used spare stays drift, the approved configura
   CHECK(f.at("banner")["value"] == true);
   CHECK(f.has("offline", "The lmcfg service is not answering"));
 }
+
+}  // namespace serve_test_console_browser_plant

@@ -5,13 +5,16 @@
 
 #include "serve/console_words.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace serve_test_console_words {
+
 using namespace lmcfg;
 using namespace lmcfg::serve;
 
 TEST_CASE("console words: each error a technician can meet has its sentence and checklist",
           "[console_words]") {
-  auto h = words::help_for(Error(Errc::timeout, "no answer from drive 11h within 200.0 ms"),
-                           "press3/z");
+  auto h =
+      words::help_for(Error(Errc::timeout, "no answer from drive 11h within 200.0 ms"), "press3/z");
   CHECK(h.sentence == "The drive at press3/z did not answer.");
   REQUIRE(h.checklist.size() == 5);
   CHECK(h.checklist[0] == "Is the drive powered? Its status LEDs are lit when it is.");
@@ -63,8 +66,7 @@ TEST_CASE("console words: a failed restore says what the drive holds", "[console
   CHECK(h.sentence == "Everything was written, but the drive reads back differently.");
 }
 
-TEST_CASE("console words: messages without section signs, plan steps in words",
-          "[console_words]") {
+TEST_CASE("console words: messages without section signs, plan steps in words", "[console_words]") {
   CHECK(words::plain("stop MC and application software (\u00a713.3): the axis stops") ==
         "stop MC and application software: the axis stops");
   CHECK(words::plain("save the command table to flash (\u00a712 08h 00h saves every entry; up "
@@ -111,3 +113,5 @@ TEST_CASE("console words: the plan's verdict first", "[console_words]") {
   CHECK(words::verdict(serve::Json::parse(R"({"steps": [], "nothing_to_do": true})"), refused) ==
         "Nothing to write: the drive already holds this configuration.");
 }
+
+}  // namespace serve_test_console_words

@@ -10,6 +10,9 @@
 #include "serve/tokens.hpp"
 #include "serve_rig.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace serve_test_serve_retry {
+
 using namespace lmcfg;
 using namespace lmcfg::test;
 using namespace std::chrono_literals;
@@ -49,9 +52,10 @@ constexpr const char* kSilentState =
 
 }  // namespace
 
-TEST_CASE("serve: a restore cut by a silent drive waits as an automatic retry of its job, "
-          "which runs as a job of its own and is recorded as automatic",
-          "[serve][retry]") {
+TEST_CASE(
+    "serve: a restore cut by a silent drive waits as an automatic retry of its job, "
+    "which runs as a job of its own and is recorded as automatic",
+    "[serve][retry]") {
   Rig rig;
   const std::string first = failed_restore(rig);
   const auto job = plain(*rig.service->job(first));
@@ -108,16 +112,17 @@ TEST_CASE("serve: a restore cut by a silent drive waits as an automatic retry of
   CHECK(d["drive_state"].is_null());
 }
 
-TEST_CASE("serve: an operator cancels the automatic retry: the position says what the drive "
-          "holds and nothing runs again",
-          "[serve][retry]") {
+TEST_CASE(
+    "serve: an operator cancels the automatic retry: the position says what the drive "
+    "holds and nothing runs again",
+    "[serve][retry]") {
   Rig rig;
   const std::string first = failed_restore(rig);
   auto cancelled = rig.service->cancel_retry("press3/z", "night-shift");
   REQUIRE(cancelled.ok());
-  CHECK(plain(*cancelled) == nlohmann::json::parse(R"({"drive": "press3/z", "cancelled_job": ")" +
-                                                   first + R"(", "drive_state": ")" +
-                                                   kSilentState + "\"}"));
+  CHECK(plain(*cancelled) ==
+        nlohmann::json::parse(R"({"drive": "press3/z", "cancelled_job": ")" + first +
+                              R"(", "drive_state": ")" + kSilentState + "\"}"));
   auto d = plain(*rig.service->drive("press3/z"));
   CHECK(d["retry"].is_null());
   CHECK(d["status"] == "failed");
@@ -144,8 +149,7 @@ TEST_CASE("serve: an operator cancels the automatic retry: the position says wha
   CHECK(unknown.error().message == "no drive named 'press9/q' in the inventory");
 }
 
-TEST_CASE("serve: cancelling the automatic retry over HTTP needs role operator",
-          "[serve][retry]") {
+TEST_CASE("serve: cancelling the automatic retry over HTTP needs role operator", "[serve][retry]") {
   Rig rig;
   failed_restore(rig);
   const std::string tokens_file = (rig.dir.path / "tokens").string();
@@ -154,8 +158,8 @@ TEST_CASE("serve: cancelling the automatic retry over HTTP needs role operator",
   Server server(*rig.service, *serve::load_tokens(tokens_file));
   httplib::Client c("127.0.0.1", server.port);
   const std::string path = "/api/v1/drives/press3%2Fz/retry/cancel";
-  auto res = c.Post(path, httplib::Headers{{"Authorization", "Bearer " + viewer}}, "",
-                    "application/json");
+  auto res =
+      c.Post(path, httplib::Headers{{"Authorization", "Bearer " + viewer}}, "", "application/json");
   REQUIRE(res);
   CHECK(res->status == 403);
   res = c.Post(path, httplib::Headers{{"Authorization", "Bearer " + op}}, "", "application/json");
@@ -168,9 +172,10 @@ TEST_CASE("serve: cancelling the automatic retry over HTTP needs role operator",
         "no automatic retry is waiting for drive press3/z");
 }
 
-TEST_CASE("serve: a restore without the values the drive cannot take leaves the position in "
-          "drift with each of them listed",
-          "[serve][retry]") {
+TEST_CASE(
+    "serve: a restore without the values the drive cannot take leaves the position in "
+    "drift with each of them listed",
+    "[serve][retry]") {
   Rig rig;
   rig.at(rig.now);
   // The drive at press3/z now runs a firmware without UPID 3010h, and was tuned.
@@ -208,3 +213,5 @@ TEST_CASE("serve: a restore without the values the drive cannot take leaves the 
   CHECK(message.rfind("restored from press3/z.json@", 0) == 0);
   CHECK(message.substr(message.find(' ', 20)) == " except 1 value(s) this drive cannot take");
 }
+
+}  // namespace serve_test_serve_retry

@@ -6,6 +6,9 @@
 #include "e2e_support.hpp"
 #include "sim/linudp_drive.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace sim_test_linudp_drive {
+
 using namespace lmcfg;
 using linudp::RtcBlock;
 
@@ -86,3 +89,5 @@ TEST_CASE("LinUDP sim: --linudp-field names and values", "[linudp][sim]") {
   CHECK(unknown.error().message.rfind("--linudp-field 'fast_saves': unknown name; one of:\n", 0) ==
         0);
 }
+
+}  // namespace sim_test_linudp_drive

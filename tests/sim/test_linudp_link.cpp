@@ -4,6 +4,9 @@
 #include "e2e_support.hpp"
 #include "sim/linudp_link.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace sim_test_linudp_link {
+
 using namespace lmcfg;
 
 TEST_CASE("LinUDP sim link: a reply after its delay, a timeout advances the clock only",
@@ -22,3 +25,5 @@ TEST_CASE("LinUDP sim link: a reply after its delay, a timeout advances the cloc
   CHECK(none->empty());
   CHECK(link.now_ns() > 5'000'000'000);
 }
+
+}  // namespace sim_test_linudp_link

@@ -8,6 +8,9 @@
 #include "e2e_support.hpp"
 #include "sim/linudp_server.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace sim_test_linudp_server {
+
 using namespace lmcfg;
 
 TEST_CASE("LinUDP sim server: a client reads a value over loopback UDP", "[linudp][sim][udp]") {
@@ -29,3 +32,5 @@ TEST_CASE("LinUDP sim server: a client reads a value over loopback UDP", "[linud
   REQUIRE(v.ok());
   CHECK(*v == p.rom);
 }
+
+}  // namespace sim_test_linudp_server

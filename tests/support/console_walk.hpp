@@ -20,8 +20,7 @@ inline std::filesystem::path console_shots_dir() {
 }
 
 // Runs the steps in Chromium; the walk's JSON, or null when skipped.
-inline nlohmann::json console_walk(const std::filesystem::path& work,
-                                   const nlohmann::json& steps) {
+inline nlohmann::json console_walk(const std::filesystem::path& work, const nlohmann::json& steps) {
   const std::string chromium = find_chromium();
   if (chromium.empty()) {
     if (browser_required()) FAIL("chromium not found, and LMCFG_REQUIRE_BROWSER=1");
@@ -40,9 +39,8 @@ inline nlohmann::json console_walk(const std::filesystem::path& work,
 }
 
 inline nlohmann::json console_shot(const std::string& name, bool full_page = true) {
-  return {{"op", "shot"},
-          {"file", (console_shots_dir() / name).string()},
-          {"full_page", full_page}};
+  return {
+      {"op", "shot"}, {"file", (console_shots_dir() / name).string()}, {"full_page", full_page}};
 }
 
 }  // namespace lmcfg::test

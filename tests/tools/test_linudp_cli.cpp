@@ -11,6 +11,9 @@
 #include "files.hpp"
 #include "subprocess.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace tools_test_linudp_cli {
+
 using namespace lmcfg;
 namespace fs = std::filesystem;
 
@@ -189,3 +192,5 @@ TEST_CASE("linudp cli: a fleet backup of two LinUDP drives, each on a line of it
       contains(r.err, "[cell1 1/1] cell1/gripper: read 16 parameter(s), 2 curve(s), 5 CT entries"));
   CHECK(contains(r.err, "[cell2 1/1] cell2/lift: read 10 parameter(s), 1 curve(s), 2 CT entries"));
 }
+
+}  // namespace tools_test_linudp_cli

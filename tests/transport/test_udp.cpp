@@ -5,6 +5,9 @@
 
 #include "transport/udp.hpp"
 
+// This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
+namespace transport_test_udp {
+
 using namespace lmcfg;
 using namespace lmcfg::transport;
 
@@ -77,3 +80,5 @@ TEST_CASE("udp: a name that does not resolve is said so", "[transport][udp]") {
   CHECK(t.error().message.rfind(
             "udp no-such-host.invalid:49360: cannot resolve 'no-such-host.invalid'", 0) == 0);
 }
+
+}  // namespace transport_test_udp
