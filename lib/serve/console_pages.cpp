@@ -209,7 +209,7 @@ std::string overview(const ConsoleUser& u, bool signed_in, const fleet::Inventor
     b += "<li>" + badge(s) + " <strong data-count=\"" + esc(s) + "\">" + std::to_string(counts[s]) +
          "</strong></li>";
   b += "</ul>\n";
-  b += "<p class=\"muted\">As of <time>" + esc(iso_time(now)) + "</time>.</p>\n";
+  b += "<p class=\"muted\">As of " + local_time(iso_time(now)) + ".</p>\n";
   b += "<table class=\"positions\"><thead><tr><th scope=\"col\">Position</th><th "
        "scope=\"col\">Line</th><th scope=\"col\">ID</th><th scope=\"col\">Status</th><th "
        "scope=\"col\">Last backup</th><th scope=\"col\">Last event</th></tr></thead><tbody>\n";

@@ -133,7 +133,9 @@ TEST_CASE("console pages: the overview counts positions by status and filters th
   CHECK(has(html, "<strong data-count=\"failed\">0</strong>"));
   CHECK(has(html, "<strong data-count=\"unknown\">0</strong>"));
   CHECK(has(html, "<strong data-count=\"never backed up\">1</strong>"));
-  CHECK(has(html, "As of <time>2027-01-15T08:00:00Z</time>."));
+  CHECK(has(html,
+            "As of <time class=\"abs\" datetime=\"2027-01-15T08:00:00Z\" "
+            "title=\"2027-01-15T08:00:00Z\">2027-01-15T08:00:00Z</time>."));
   CHECK(has(html,
             "<tr data-drive=\"press3/z\" data-status=\"ok\"><td><a "
             "href=\"/position?name=press3%2Fz\"><span "
