@@ -12,6 +12,14 @@ namespace lmcfg::serve::pages {
 
 std::string esc(std::string_view s) { return report::html_escape(s); }
 
+const Json& member(const Json& j, const char* key) {
+  // operator[] of a const json on a missing key is undefined behaviour.
+  static const Json kNull;
+  if (!j.is_object()) return kNull;
+  auto it = j.find(key);
+  return it == j.end() ? kNull : *it;
+}
+
 std::string str(const Json& j, const char* key) {
   auto it = j.find(key);
   return it != j.end() && it->is_string() ? it->get<std::string>() : std::string();
@@ -105,7 +113,7 @@ namespace {
 
 std::string last_event(const Json& d, TimePoint now) {
   std::string o = esc(str(d, "message"));
-  const auto& a = d["last_attempt"];
+  const auto& a = member(d, "last_attempt");
   if (a.is_object())
     o += " <span class=\"muted\">(" + esc(str(a, "job")) + ", " + time_cell(str(a, "time"), now) +
          ")</span>";
@@ -150,7 +158,7 @@ Message split_message(const std::string& m) {
 
 std::string shown_status(const Json& d) {
   const std::string s = str(d, "status");
-  if (s == "unknown" && !d["last_backup"].is_string()) return "never backed up";
+  if (s == "unknown" && !member(d, "last_backup").is_string()) return "never backed up";
   return s;
 }
 
@@ -220,7 +228,7 @@ std::string overview(const ConsoleUser& u, bool signed_in, const fleet::Inventor
     if (!status.empty() && st != status) continue;
     ++shown;
     char id[8];
-    std::snprintf(id, sizeof id, "0x%02X", d["id"].get<unsigned>());
+    std::snprintf(id, sizeof id, "0x%02X", member(d, "id").get<unsigned>());
     b += "<tr data-drive=\"" + esc(str(d, "name")) + "\" data-status=\"" + esc(st) + "\"><td>" +
          position_link(str(d, "name")) + "</td><td>" + esc(str(d, "line")) + "</td><td>" + id +
          "</td><td>" + badge(st) + "</td><td>" + time_cell(str(d, "last_backup"), now) +
@@ -314,8 +322,9 @@ std::string history_section(const ConsoleUser& u, const fleet::DriveEntry& d, co
 // A failed position in words: a restore's failure with what the drive holds,
 // or the read that failed (the CLI's exit code of the attempt says which kind).
 words::Help failed_help(const Json& state, const std::string& name) {
-  const Json& a = state["last_attempt"];
-  const int code = a.is_object() && a["exit_code"].is_number() ? a["exit_code"].get<int>() : 0;
+  const Json& a = member(state, "last_attempt");
+  const int code =
+      a.is_object() && member(a, "exit_code").is_number() ? member(a, "exit_code").get<int>() : 0;
   if (a.is_object() && str(a, "job") == "restore") {
     Json job{{"message", str(state, "message")}, {"exit_code", code}};
     job["drive_state"] = str(state, "drive_state");
@@ -334,7 +343,7 @@ words::Help failed_help(const Json& state, const std::string& name) {
 // operators the button that cancels it).
 std::string retry_section(const ConsoleUser& u, const fleet::DriveEntry& d, const Json& state) {
   std::string b;
-  const Json& r = state.contains("retry") ? state["retry"] : Json();
+  const Json& r = member(state, "retry");
   if (!r.is_object()) return b;
   b += "<div class=\"amber\" id=\"retry\"><p><strong>";
   if (r.value("running", false))
@@ -342,7 +351,7 @@ std::string retry_section(const ConsoleUser& u, const fleet::DriveEntry& d, cons
   else
     b += "An automatic retry is waiting";
   b += "</strong>";
-  if (r["of_job"].is_string())
+  if (member(r, "of_job").is_string())
     b += ": automatic retry of <a href=\"/job?id=" + esc(url_encode(str(r, "of_job"))) +
          "&amp;name=" + esc(url_encode(d.name)) + "\">job " + esc(str(r, "of_job")) + "</a>";
   if (!str(r, "asked_by").empty()) b += " (asked by " + esc(str(r, "asked_by")) + ")";
@@ -376,7 +385,7 @@ std::string position(const ConsoleUser& u, bool signed_in, const fleet::LineEntr
        "id=\"h-state\">Current state</h2>";
   if (str(state, "status") == "failed") {
     // What went wrong in words; the service's message (the CLI's) folded.
-    const Json& a = state["last_attempt"];
+    const Json& a = member(state, "last_attempt");
     b += "<p>" + badge("failed") + "</p>" + help_html(failed_help(state, d.name));
     const std::string message = str(state, "message");
     if (message.rfind("automatic retry cancelled by ", 0) == 0)
@@ -389,17 +398,18 @@ std::string position(const ConsoleUser& u, bool signed_in, const fleet::LineEntr
     b += "<p>Last backup: " + time_cell(str(state, "last_backup"), now) +
          ". Last read: " + last_event(state, now) + ".</p>";
   }
-  const Json approved = state.contains("approved") ? state["approved"] : Json();
+  const Json approved = state.contains("approved") ? member(state, "approved") : Json();
   if (approved.is_object()) {
     b += "<p id=\"approved\">Approved configuration: <code>" +
          esc(str(approved, "rev").substr(0, 10)) + "</code>, approved by " +
          esc(str(approved, "who")) + " " + time_cell(str(approved, "time"), now) + ": " +
          esc(str(approved, "reason")) + "</p>";
   }
-  if (state.contains("differing") && !state["differing"].empty()) {
+  if (state.contains("differing") && !member(state, "differing").empty()) {
     b += "<p>Differences from the approved configuration at the last check:</p><ul "
          "class=\"differing\">";
-    for (const auto& s : state["differing"]) b += "<li>" + esc(s.get<std::string>()) + "</li>";
+    for (const auto& s : member(state, "differing"))
+      b += "<li>" + esc(s.get<std::string>()) + "</li>";
     b += "</ul>";
   }
   b += retry_section(u, d, state);
@@ -480,7 +490,8 @@ std::string restore_outcome(const ConsoleUser& u, const Json& j, const std::stri
   const std::string state = str(j, "state");
   const std::string enc = esc(url_encode(name));
   std::string b;
-  const bool skipped = j.contains("skipped") && j["skipped"].is_array() && !j["skipped"].empty();
+  const bool skipped =
+      j.contains("skipped") && member(j, "skipped").is_array() && !member(j, "skipped").empty();
   if (state == "failed") {
     b += help_html(words::restore_failure_help(j, name));
     if (j.value("retry_pending", false))
@@ -493,11 +504,11 @@ std::string restore_outcome(const ConsoleUser& u, const Json& j, const std::stri
            "\">Open the position</a></p>";
   } else if (skipped) {
     b += "<div class=\"amber\" id=\"partial\"><p><strong>Restored, except " +
-         std::to_string(j["skipped"].size()) +
+         std::to_string(member(j, "skipped").size()) +
          " value(s) this drive cannot take.</strong> The drive keeps its own values there, and "
          "the position stays in drift until someone approves this result or the drive "
          "changes.</p><ul id=\"skipped\">";
-    for (const auto& v : j["skipped"])
+    for (const auto& v : member(j, "skipped"))
       if (v.is_string()) b += "<li>" + esc(words::plain(v.get<std::string>())) + "</li>";
     b += "</ul></div>";
   } else {
@@ -526,7 +537,7 @@ std::string job(const ConsoleUser& u, bool signed_in, const Json& j, const std::
   // page's own reload does the same.
   b += std::string("<section id=\"live\" aria-live=\"polite\"") +
        (state == "queued" || state == "running" ? " data-refresh=\"1\"" : "") + ">";
-  const auto& pr = j["progress"];
+  const auto& pr = member(j, "progress");
   const auto total = pr.value("total", 0u), done = pr.value("done", 0u);
   static const std::map<std::string, std::string> kState = {{"queued", "waiting for the line"},
                                                             {"running", "running"},
@@ -535,11 +546,11 @@ std::string job(const ConsoleUser& u, bool signed_in, const Json& j, const std::
   const auto shown = kState.count(state) ? kState.at(state) : state;
   b += "<p>State: <strong class=\"job-state\" data-state=\"" + esc(state) + "\">" + esc(shown) +
        "</strong>";
-  if (j["retry_of"].is_string())
+  if (member(j, "retry_of").is_string())
     b += " &middot; <span id=\"retry-of\">automatic retry of job " + esc(str(j, "retry_of")) +
-         (j["asked_by"].is_string() ? " (asked by " + esc(str(j, "asked_by")) + ")" : "") +
+         (member(j, "asked_by").is_string() ? " (asked by " + esc(str(j, "asked_by")) + ")" : "") +
          "</span>";
-  else if (j.contains("who") && j["who"].is_string())
+  else if (j.contains("who") && member(j, "who").is_string())
     b += ", asked by " + esc(str(j, "who"));
   b += "</p>";
   b += "<progress max=\"" + std::to_string(total ? total : 1) + "\" value=\"" +
@@ -547,7 +558,7 @@ std::string job(const ConsoleUser& u, bool signed_in, const Json& j, const std::
        "</progress> " + std::to_string(done) + " of " + std::to_string(total) +
        (restore ? " step(s)" : " drive(s)");
   if (!str(pr, "step").empty()) b += "<p>Now: " + esc(words::plain(str(pr, "step"))) + "</p>";
-  if (j["outcome"].is_string()) {
+  if (member(j, "outcome").is_string()) {
     if (restore) {
       b += restore_outcome(u, j, name);
     } else {
@@ -556,28 +567,28 @@ std::string job(const ConsoleUser& u, bool signed_in, const Json& j, const std::
            esc(bad ? "The backup failed." : "Backup " + str(j, "outcome") + ".") + "</p>";
     }
     b += cli_details(str(j, "outcome") + ": " + str(j, "message"),
-                     j.contains("exit_code") && j["exit_code"].is_number()
-                         ? std::optional<int>(j["exit_code"].get<int>())
+                     j.contains("exit_code") && member(j, "exit_code").is_number()
+                         ? std::optional<int>(member(j, "exit_code").get<int>())
                          : std::nullopt);
   }
-  if (restore && j["commit"].is_string())
+  if (restore && member(j, "commit").is_string())
     b += "<p>Recorded in the archive as commit <code id=\"commit\">" + esc(str(j, "commit")) +
          "</code>.</p>";
   if (j.contains("counts")) {
     b += "<ul class=\"counts\">";
-    for (const auto& [k, v] : j["counts"].items())
+    for (const auto& [k, v] : member(j, "counts").items())
       b += "<li>" + esc(k) + " <strong>" + v.dump() + "</strong></li>";
     b += "</ul>";
   }
-  if (!restore && j.contains("commits") && !j["commits"].empty()) {
+  if (!restore && j.contains("commits") && !member(j, "commits").empty()) {
     b += "<p>Committed:</p><ul>";
-    for (const auto& c : j["commits"])
+    for (const auto& c : member(j, "commits"))
       b += "<li><code>" + esc(c.get<std::string>()) + "</code></li>";
     b += "</ul>";
   }
-  if (j.contains("errors") && !j["errors"].empty()) {
+  if (j.contains("errors") && !member(j, "errors").empty()) {
     b += "<p class=\"problem\">Errors:</p><ul>";
-    for (const auto& e : j["errors"]) b += "<li>" + esc(e.get<std::string>()) + "</li>";
+    for (const auto& e : member(j, "errors")) b += "<li>" + esc(e.get<std::string>()) + "</li>";
     b += "</ul>";
   }
   b += "</section>\n";

@@ -38,6 +38,8 @@ std::string failure(const ConsoleUser* u, bool signed_in, const std::string& tit
 // Pieces shared by the pages' files (console_pages.cpp, console_plan.cpp).
 std::string esc(std::string_view s);
 std::string str(const Json& j, const char* key);
+// j[key] without undefined behaviour: null when j is not an object or lacks key.
+const Json& member(const Json& j, const char* key);
 std::string csrf_field(const ConsoleUser& u);
 std::string frame(const ConsoleUser* u, bool signed_in, const std::string& title,
                   const std::string& body);

@@ -24,7 +24,7 @@ std::string steps_table(const Json& p) {
       "scope=\"col\">What</th><th scope=\"col\">Now</th><th scope=\"col\"><span "
       "class=\"sr\">becomes</span></th><th scope=\"col\">After</th></tr></thead><tbody>\n";
   std::size_t n = 0;
-  for (const auto& st : p["steps"]) {
+  for (const auto& st : member(p, "steps")) {
     ++n;
     b += "<tr class=\"step\" data-kind=\"" + esc(str(st, "kind")) + "\"><td>" + std::to_string(n) +
          "</td>";
@@ -92,7 +92,7 @@ std::string resolve_section(const ConsoleUser& u, const Json& p, bool problems, 
     // and the service refuses the plan anyway.
     b += "<label class=\"check\"><input type=\"checkbox\" name=\"skip_incompatible\" value=\"1\" "
          "id=\"skip-incompatible\" required> Restore everything else, without the " +
-         std::to_string(p["incompatible"].size()) +
+         std::to_string(member(p, "incompatible").size()) +
          " value(s) listed above. The drive keeps its own values there, and the position stays "
          "in drift until someone approves the result.</label>";
   }
@@ -138,12 +138,13 @@ std::string plan(const ConsoleUser& u, bool signed_in, const Json& p, TimePoint 
        local_time(str(p, "expires")) + " (" + time_cell(str(p, "expires"), now) +
        "); after that, plan again.</p></section>\n";
 
-  const bool problems = p.contains("problems") && !p["problems"].empty();
-  const bool incompatible = p.contains("incompatible") && !p["incompatible"].empty();
+  const bool problems = p.contains("problems") && !member(p, "problems").empty();
+  const bool incompatible = p.contains("incompatible") && !member(p, "incompatible").empty();
   // What stops the plan comes before what it would do.
   b += items_section("problems", "Problems (nothing can be written until they are resolved)",
-                     p["problems"], "problem");
-  b += items_section("incompatible", "Values this drive cannot take", p["incompatible"], "");
+                     member(p, "problems"), "problem");
+  b +=
+      items_section("incompatible", "Values this drive cannot take", member(p, "incompatible"), "");
 
   b += "<section aria-labelledby=\"h-plan\"><h2 id=\"h-plan\">What will be written</h2>";
   if (p.value("nothing_to_do", false))
@@ -151,15 +152,16 @@ std::string plan(const ConsoleUser& u, bool signed_in, const Json& p, TimePoint 
   else
     b += steps_table(p);
   b += "</section>\n";
-  b += items_section("losses", "What the drive loses", p["losses"], "");
-  b += items_section("notes", "Notes", p["notes"], "muted");
+  b += items_section("losses", "What the drive loses", member(p, "losses"), "");
+  b += items_section("notes", "Notes", member(p, "notes"), "muted");
   b += resolve_section(u, p, problems, incompatible);
 
   // The CLI's plan, one click away: each step as `lmcfg restore --dry-run` names it.
   // (Each line escaped on its own: the escaping shows a control character,
   // a line break included, as \xNN.)
   std::string cli;
-  for (const auto& st : p["steps"]) cli += esc(str(st, "kind") + ": " + str(st, "text")) + "\n";
+  for (const auto& st : member(p, "steps"))
+    cli += esc(str(st, "kind") + ": " + str(st, "text")) + "\n";
   if (!cli.empty())
     b += "<details class=\"cli\"><summary>As the command line says it</summary><pre>" + cli +
          "</pre></details>\n";
