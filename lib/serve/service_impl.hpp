@@ -247,6 +247,15 @@ struct Service::Impl {
     return pending.count(name) != 0;
   }
 
+  // Caller holds mu. The restore job running on position `name` now, if any.
+  const Job* running_restore(const std::string& name) const {
+    for (const auto& [num, job] : jobs)
+      if (job->kind == Kind::restore && job->started && !job->finished &&
+          job->scope == "drive " + name)
+        return job.get();
+    return nullptr;
+  }
+
   void log(const std::string& s) const {
     if (opt.log) opt.log(s);
   }

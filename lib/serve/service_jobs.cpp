@@ -431,12 +431,10 @@ Json Service::Impl::drive_json(const fleet::LineEntry& line, const fleet::DriveE
            {"will",
             "restore the same revision again when the drive answers, before the line's next "
             "drift check or backup (a restore run again converges)"}};
-    for (const auto& [num, job] : jobs)
-      if (job->kind == Kind::restore && job->started && !job->finished &&
-          job->scope == "drive " + d.name) {
-        r["running"] = true;
-        r["job"] = job->id;
-      }
+    if (const Job* running = running_restore(d.name)) {
+      r["running"] = true;
+      r["job"] = running->id;
+    }
     j["retry"] = std::move(r);
   }
   return j;

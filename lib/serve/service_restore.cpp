@@ -437,12 +437,10 @@ Result<Json> Service::cancel_retry(const std::string& name, const std::string& w
     auto it = s.pending.find(name);
     if (it == s.pending.end())
       return Error(Errc::not_found, "no automatic retry is waiting for drive " + name);
-    for (const auto& [num, job] : s.jobs)
-      if (job->kind == Kind::restore && job->started && !job->finished &&
-          job->scope == "drive " + name)
-        return Error(Errc::plan_refused,
-                     "the restore of drive " + name + " is running as job " + job->id +
-                         ": it is not stopped between its writes; wait for it to end");
+    if (const Job* running = s.running_restore(name))
+      return Error(Errc::plan_refused,
+                   "the restore of drive " + name + " is running as job " + running->id +
+                       ": it is not stopped between its writes; wait for it to end");
     pr = it->second;
   }
   s.remove_pending(*line, *d);

@@ -26,12 +26,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-void set_option(const fs::path& state, const std::string& key, const json& value) {
-  auto j = json::parse(test::slurp(state));
-  j["options"][key] = value;
-  test::spit(state, j.dump(1));
-}
-
 // The steps of one walk, named so their results can be looked up.
 struct Walk {
   json steps = json::array();
@@ -189,7 +183,7 @@ TEST_CASE(
   // A restore that the drive stops answering in: plain words, then the
   // automatic retry on the position, cancelled.
   test::write_axis(rig.dir.path / "a.json", 0x11, "0010", 9);
-  set_option(rig.dir.path / "a.json", "silent_after_reset", true);
+  test::set_sim_option(rig.dir.path / "a.json", "silent_after_reset", true);
   Walk d;
   d.go(base + z);
   d.submit("#replace");
@@ -216,15 +210,10 @@ TEST_CASE(
   d.fits("retry");
 
   // A drive whose firmware lacks a value of the approved configuration.
-  set_option(rig.dir.path / "a.json", "silent_after_reset", false);
+  test::set_sim_option(rig.dir.path / "a.json", "silent_after_reset", false);
+  test::drop_sim_parameter(rig.dir.path / "b.json", "3010");
   auto spare = json::parse(test::slurp(rig.dir.path / "b.json"));
-  auto& params = spare["parameters"];
-  for (auto it = params.begin(); it != params.end(); ++it)
-    if ((*it)["upid"] == "3010") {
-      params.erase(it);
-      break;
-    }
-  for (auto& p : params)
+  for (auto& p : spare["parameters"])
     if (p["upid"] == "0010") p["rom"] = p["ram"] = 3;
   test::spit(rig.dir.path / "b.json", spare.dump(1));
   Walk e;

@@ -21,20 +21,13 @@ namespace {
 
 nlohmann::json plain(const serve::Json& j) { return nlohmann::json::parse(j.dump()); }
 
-// The simulated drive's state file with one option of the simulator set.
-void set_option(const fs::path& state, const std::string& key, const nlohmann::json& value) {
-  auto j = nlohmann::json::parse(slurp(state));
-  j["options"][key] = value;
-  spit(state, j.dump(1));
-}
-
 // press3/z tuned behind the service's back, then a restore of the approved
 // configuration that the drive stops answering in: after its reset it is
 // silent (the simulator's silent_after_reset). The failed job's id.
 std::string failed_restore(Rig& rig) {
   rig.at(rig.now);  // the first backup approves itself (commissioning)
   write_axis(rig.dir.path / "a.json", 0x11, "0010", 9);
-  set_option(rig.dir.path / "a.json", "silent_after_reset", true);
+  set_sim_option(rig.dir.path / "a.json", "silent_after_reset", true);
   auto planned = rig.service->plan("press3/z", "", "ops");
   REQUIRE(planned.ok());
   serve::Service::ExecuteRequest req;
@@ -137,7 +130,7 @@ TEST_CASE(
   auto again = rig.service->cancel_retry("press3/z", "night-shift");
   REQUIRE_FALSE(again.ok());
   CHECK(again.error().message == "no automatic retry is waiting for drive press3/z");
-  set_option(rig.dir.path / "a.json", "silent_after_reset", false);
+  set_sim_option(rig.dir.path / "a.json", "silent_after_reset", false);
   rig.at(rig.now + 15min);
   for (unsigned long n = std::stoul(first) + 1; n < std::stoul(first) + 4; ++n)
     if (auto j = rig.service->job(std::to_string(n)); j.ok()) CHECK((*j)["kind"] == "status");
@@ -180,14 +173,7 @@ TEST_CASE(
   rig.at(rig.now);
   // The drive at press3/z now runs a firmware without UPID 3010h, and was tuned.
   write_axis(rig.dir.path / "a.json", 0x11, "0010", 9);
-  auto j = nlohmann::json::parse(slurp(rig.dir.path / "a.json"));
-  auto& params = j["parameters"];
-  for (auto it = params.begin(); it != params.end(); ++it)
-    if ((*it)["upid"] == "3010") {
-      params.erase(it);
-      break;
-    }
-  spit(rig.dir.path / "a.json", j.dump(1));
+  drop_sim_parameter(rig.dir.path / "a.json", "3010");
   auto planned = rig.service->plan("press3/z", "", "ops");
   REQUIRE(planned.ok());
   const auto p = plain(*planned);

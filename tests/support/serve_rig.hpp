@@ -82,6 +82,28 @@ inline void write_axis(const fs::path& path, int id, const std::string& upid = "
   test::spit(path, j.dump(1));
 }
 
+// The simulated drive's state file with one option of the simulator set
+// (docs/simulator.md: "silent_after_reset", ...).
+inline void set_sim_option(const fs::path& state, const std::string& key,
+                           const nlohmann::json& value) {
+  auto j = nlohmann::json::parse(slurp(state));
+  j["options"][key] = value;
+  spit(state, j.dump(1));
+}
+
+// The simulated drive's state file without parameter `upid` ("3010"): a
+// firmware that lacks it.
+inline void drop_sim_parameter(const fs::path& state, const std::string& upid) {
+  auto j = nlohmann::json::parse(slurp(state));
+  auto& params = j["parameters"];
+  for (auto it = params.begin(); it != params.end(); ++it)
+    if ((*it)["upid"] == upid) {
+      params.erase(it);
+      break;
+    }
+  spit(state, j.dump(1));
+}
+
 // A serve::Service over an inventory's text (sim: ports), in a scratch
 // directory of its own, on a clock the test sets, collecting the events it sends.
 struct ServiceRig {
