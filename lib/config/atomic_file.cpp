@@ -9,6 +9,8 @@
 #include <cstring>
 #include <vector>
 
+#include "config/input_file.hpp"
+
 namespace lmcfg::config {
 namespace fs = std::filesystem;
 
@@ -129,73 +131,22 @@ Result<void> append_file(const fs::path& path, std::string_view line) {
   return {};
 }
 
-std::string input_name(const fs::path& path) {
-  return path == "-" ? std::string("(stdin)") : path.string();
-}
+namespace input_file {
 
-namespace {
-std::string mib(std::size_t n) {
-  return n % (1u << 20) == 0 ? std::to_string(n >> 20) + " MiB" : std::to_string(n) + " bytes";
-}
-
-bool has_non_blank(std::string_view s) {
-  for (char c : s)
-    if (c != ' ' && c != '\t' && c != '\n' && c != '\r') return true;
-  return false;
-}
-}  // namespace
-
-Result<std::string> read_text_file(const fs::path& path, std::size_t max_bytes,
-                                   HeadCheck check_head) {
-  const std::string name = input_name(path);
-  const bool is_stdin = path == "-";
-  int fd = 0;
-  if (!is_stdin) {
-    std::error_code ec;
-    if (fs::is_directory(path, ec))
-      return Error(Errc::file_error, name + ": is a directory; expected a file");
-    fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-    if (fd < 0) {
-      const int err = errno;
-      if (err == ENOENT) return Error(Errc::not_found, name + ": no such file");
-      return Error(Errc::file_error, name + ": cannot open: " + std::strerror(err));
-    }
-  }
-  struct Closer {
-    int fd;
-    bool own;
-    ~Closer() {
-      if (own) ::close(fd);
-    }
-  } closer{fd, !is_stdin};
+int open(const fs::path& path) { return ::open(path.c_str(), O_RDONLY | O_CLOEXEC); }
+int standard_input() { return 0; }
+long long regular_size(int fd) {
   struct stat st {};
-  if (::fstat(fd, &st) == 0 && S_ISREG(st.st_mode) &&
-      static_cast<std::uint64_t>(st.st_size) > max_bytes)
-    return Error(Errc::file_error, name + ": " + std::to_string(st.st_size) +
-                                       " bytes, larger than any configuration (at most " +
-                                       mib(max_bytes) + ")");
-  std::string text;
-  if (S_ISREG(st.st_mode) && st.st_size > 0) text.reserve(static_cast<std::size_t>(st.st_size));
-  bool head_checked = check_head == nullptr;
-  char buf[65536];
-  for (;;) {
-    const ssize_t n = ::read(fd, buf, sizeof buf);
-    if (n < 0) {
-      if (errno == EINTR) continue;
-      return Error(Errc::file_error, name + ": read failed: " + std::strerror(errno));
-    }
-    if (n == 0) break;
-    if (text.size() + static_cast<std::size_t>(n) > max_bytes)
-      return Error(Errc::file_error, name + ": more than " + mib(max_bytes) +
-                                         " (an endless stream?); a configuration is far smaller");
-    text.append(buf, static_cast<std::size_t>(n));
-    if (!head_checked && has_non_blank(std::string_view(buf, static_cast<std::size_t>(n)))) {
-      head_checked = true;
-      LMCFG_TRY(check_head(text, name));
-    }
-  }
-  if (!head_checked) LMCFG_TRY(check_head(text, name));
-  return text;
+  return ::fstat(fd, &st) == 0 && S_ISREG(st.st_mode) ? static_cast<long long>(st.st_size) : -1;
 }
+long read(int fd, char* buf, std::size_t n) {
+  for (;;) {
+    const ssize_t got = ::read(fd, buf, n);
+    if (got >= 0 || errno != EINTR) return static_cast<long>(got);
+  }
+}
+void close(int fd) { ::close(fd); }
+
+}  // namespace input_file
 
 }  // namespace lmcfg::config

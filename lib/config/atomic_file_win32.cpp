@@ -17,6 +17,7 @@
 #include <cstring>
 
 #include "config/atomic_file.hpp"
+#include "config/input_file.hpp"
 
 namespace lmcfg::config {
 namespace fs = std::filesystem;
@@ -54,16 +55,6 @@ bool write_all(HANDLE h, std::string_view content) {
     left -= n;
   }
   return true;
-}
-
-std::string mib(std::size_t n) {
-  return n % (1u << 20) == 0 ? std::to_string(n >> 20) + " MiB" : std::to_string(n) + " bytes";
-}
-
-bool has_non_blank(std::string_view s) {
-  for (char c : s)
-    if (c != ' ' && c != '\t' && c != '\n' && c != '\r') return true;
-  return false;
 }
 
 }  // namespace
@@ -119,59 +110,24 @@ Result<void> append_file(const fs::path& path, std::string_view line) {
   return {};
 }
 
-std::string input_name(const fs::path& path) {
-  return path == "-" ? std::string("(stdin)") : path.string();
-}
+namespace input_file {
 
-Result<std::string> read_text_file(const fs::path& path, std::size_t max_bytes,
-                                   HeadCheck check_head) {
-  const std::string name = input_name(path);
-  const bool is_stdin = path == "-";
-  int fd = 0;
-  if (!is_stdin) {
-    std::error_code ec;
-    if (fs::is_directory(path, ec))
-      return Error(Errc::file_error, name + ": is a directory; expected a file");
-    fd = ::_wopen(path.c_str(), _O_RDONLY | _O_BINARY);
-    if (fd < 0) {
-      const int err = errno;
-      if (err == ENOENT) return Error(Errc::not_found, name + ": no such file");
-      return Error(Errc::file_error, name + ": cannot open: " + std::strerror(err));
-    }
-  } else {
-    ::_setmode(0, _O_BINARY);
-  }
-  struct Closer {
-    int fd;
-    bool own;
-    ~Closer() {
-      if (own) ::_close(fd);
-    }
-  } closer{fd, !is_stdin};
-  struct _stat64 st {};
-  const bool regular = ::_fstat64(fd, &st) == 0 && (st.st_mode & _S_IFREG) != 0;
-  if (regular && static_cast<std::uint64_t>(st.st_size) > max_bytes)
-    return Error(Errc::file_error, name + ": " + std::to_string(st.st_size) +
-                                       " bytes, larger than any configuration (at most " +
-                                       mib(max_bytes) + ")");
-  std::string text;
-  bool head_checked = check_head == nullptr;
-  char buf[65536];
-  for (;;) {
-    const int n = ::_read(fd, buf, sizeof buf);
-    if (n < 0) return Error(Errc::file_error, name + ": read failed: " + std::strerror(errno));
-    if (n == 0) break;
-    if (text.size() + static_cast<std::size_t>(n) > max_bytes)
-      return Error(Errc::file_error, name + ": more than " + mib(max_bytes) +
-                                         " (an endless stream?); a configuration is far smaller");
-    text.append(buf, static_cast<std::size_t>(n));
-    if (!head_checked && has_non_blank(std::string_view(buf, static_cast<std::size_t>(n)))) {
-      head_checked = true;
-      LMCFG_TRY(check_head(text, name));
-    }
-  }
-  if (!head_checked) LMCFG_TRY(check_head(text, name));
-  return text;
+int open(const fs::path& path) { return ::_wopen(path.c_str(), _O_RDONLY | _O_BINARY); }
+int standard_input() {
+  ::_setmode(0, _O_BINARY);
+  return 0;
 }
+long long regular_size(int fd) {
+  struct _stat64 st {};
+  return ::_fstat64(fd, &st) == 0 && (st.st_mode & _S_IFREG) != 0
+             ? static_cast<long long>(st.st_size)
+             : -1;
+}
+long read(int fd, char* buf, std::size_t n) {
+  return ::_read(fd, buf, static_cast<unsigned>(std::min<std::size_t>(n, 1u << 30)));
+}
+void close(int fd) { ::_close(fd); }
+
+}  // namespace input_file
 
 }  // namespace lmcfg::config

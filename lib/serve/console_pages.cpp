@@ -331,11 +331,7 @@ words::Help failed_help(const Json& state, const std::string& name) {
     auto h = words::restore_failure_help(job, name);
     return h;
   }
-  const Errc e = code == 4   ? Errc::timeout
-                 : code == 5 ? Errc::drive_refused
-                 : code == 2 ? Errc::invalid_argument
-                             : Errc::cancelled;
-  return words::help_for(Error(e, str(state, "message")), name);
+  return words::help_for(Error(words::errc_for_exit_code(code), str(state, "message")), name);
 }
 
 // After a failed restore: what the drive holds, and the automatic retry

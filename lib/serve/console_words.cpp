@@ -32,6 +32,23 @@ std::vector<std::string> link_checklist() {
 
 }  // namespace
 
+Errc errc_for_exit_code(int code) {
+  switch (code) {
+    case 2:
+      return Errc::invalid_argument;
+    case 3:
+      return Errc::plan_refused;
+    case 4:
+      return Errc::timeout;
+    case 5:
+      return Errc::drive_refused;
+    case 6:
+      return Errc::verify_mismatch;
+    default:
+      return Errc::cancelled;
+  }
+}
+
 Help help_for(const Error& e, const std::string& position) {
   const std::string& m = e.message;
   if (e.code == Errc::not_found && has(m, "expired"))
@@ -107,11 +124,7 @@ Help restore_failure_help(const Json& job, const std::string& position) {
           "If it reads back differently again, the drive changes the value itself: look at "
           "the differences on the position's page."}};
   else
-    h = help_for(Error(code == 3   ? Errc::plan_refused
-                       : code == 5 ? Errc::drive_refused
-                                   : Errc::cancelled,
-                       message),
-                 position);
+    h = help_for(Error(errc_for_exit_code(code), message), position);
   const std::string state = str(job, "drive_state");
   if (!state.empty()) h.sentence += " The drive is " + state + ".";
   return h;

@@ -17,6 +17,11 @@ struct Help {
   std::vector<std::string> checklist;
 };
 
+// The kind of error behind a CLI exit code (docs/cli.md "Exit codes"), for
+// the records that keep only the code and the message (a job, a position's
+// last attempt). The one table the console reads codes through.
+Errc errc_for_exit_code(int code);
+
 // What went wrong and what to check, from the error's code and message.
 // `position`: the position the action was about ("" when none).
 Help help_for(const Error& e, const std::string& position);

@@ -159,7 +159,7 @@ Result<std::string> Service::backup_drive(const std::string& name, const std::st
     return Error(Errc::not_found, "no drive named '" + name + "' in the inventory");
   std::lock_guard<std::mutex> lock(impl_->mu);
   if (impl_->stopping) return Error(Errc::interrupted, "the service is stopping");
-  auto job = impl_->new_job(Kind::backup, "drive " + name);
+  auto job = impl_->new_drive_job(Kind::backup, name);
   job->who = who;
   impl_->enqueue(static_cast<std::size_t>(line - impl_->opt.inventory.lines.data()), job, {name});
   impl_->log("backup job " + job->id + " asked for: drive " + name);
@@ -307,7 +307,7 @@ Result<std::string> Service::execute(const ExecuteRequest& req) {
   }
   auto stored = std::make_shared<StoredPlan>(std::move(it->second));
   s.plans.erase(it);  // a plan executes once
-  auto job = s.new_job(Kind::restore, "drive " + stored->file.drive->name);
+  auto job = s.new_drive_job(Kind::restore, stored->file.drive->name);
   job->who = req.audit.who;
   job->total = 1;
   job->step_total = stored->plan.steps.size();

@@ -87,7 +87,7 @@ Result<Json> Service::approve(const std::string& name, const ApproveRequest& req
     s.states[name].approved = a;
     // The position's status against what is approved now: a drift check of it.
     if (!s.stopping) {
-      auto job = s.new_job(Kind::status, "drive " + name);
+      auto job = s.new_drive_job(Kind::status, name);
       job->who = req.who;
       s.enqueue(s.line_index(line), job, {name});
       job_id = job->id;

@@ -36,7 +36,8 @@ inline double epoch_seconds(TimePoint t) {
 struct Job {
   std::string id;
   Kind kind = Kind::backup;
-  std::string scope;  // "drive NAME", "line NAME", "scheduled"
+  std::string scope;     // "drive NAME", "line NAME", "scheduled"
+  std::string position;  // a drive job's position (NAME of its scope); "" otherwise
   TimePoint created;
   std::size_t total = 0, done = 0, lines_left = 0;
   std::size_t changed = 0, unchanged = 0, added = 0, failed = 0, replaced = 0;
@@ -271,6 +272,12 @@ struct Service::Impl {
     jobs[number] = j;
     // The newest 1000 jobs are kept for GET /jobs/{id}.
     while (jobs.size() > 1000) jobs.erase(jobs.begin());
+    return j;
+  }
+  // A job about one position: its scope says "drive NAME", its position is NAME.
+  std::shared_ptr<Job> new_drive_job(Kind kind, const std::string& name) {
+    auto j = new_job(kind, "drive " + name);
+    j->position = name;
     return j;
   }
 

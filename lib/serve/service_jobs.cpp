@@ -356,6 +356,7 @@ Json Service::Impl::job_json(const Job& j) const {
   Json out{{"id", j.id},
            {"kind", kind_name(j.kind)},
            {"scope", j.scope},
+           {"position", j.position.empty() ? Json(nullptr) : Json(j.position)},
            {"state", state},
            {"created", iso_time(j.created)},
            {"finished", j.finished ? Json(iso_time(*j.finished)) : Json(nullptr)},
@@ -373,8 +374,7 @@ Json Service::Impl::job_json(const Job& j) const {
     out["skipped"] = j.skipped;
     out["drive_state"] = j.drive_state.empty() ? Json(nullptr) : Json(j.drive_state);
     // The failed restore waits to be run again (an automatic retry, cancellable).
-    out["retry_pending"] =
-        j.failed_job && j.scope.rfind("drive ", 0) == 0 && pending.count(j.scope.substr(6)) != 0;
+    out["retry_pending"] = j.failed_job && !j.position.empty() && pending.count(j.position) != 0;
     return out;
   }
   out["progress"] = {{"done", j.done}, {"total", j.total}, {"step", ""}};

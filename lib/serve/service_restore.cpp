@@ -322,7 +322,7 @@ void Service::Impl::restore_replaced(std::size_t li, const fleet::DriveEntry& d)
   {
     std::lock_guard<std::mutex> lock(mu);
     if (stopping) return;
-    job = new_job(Kind::restore, "drive " + d.name);
+    job = new_drive_job(Kind::restore, d.name);
     job->who = kAutomatic;
     job->total = 1;
   }
@@ -397,7 +397,7 @@ void Service::Impl::resume(std::size_t li, const std::vector<std::string>& names
       auto it = pending.find(name);
       if (it == pending.end() || stopping) continue;
       pr = it->second;
-      job = new_job(Kind::restore, "drive " + name);
+      job = new_drive_job(Kind::restore, name);
       job->who = kRetry;
       job->asked_by = pr->who;
       job->retry_of = pr->origin_job;

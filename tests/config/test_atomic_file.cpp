@@ -1,4 +1,4 @@
-// Atomic file replacement and bounded file reading (lib/config/atomic_file.cpp).
+// Atomic file replacement (lib/config/atomic_file.cpp).
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -26,12 +26,6 @@ struct TempDir : test::ScratchDir {
     return n;
   }
 };
-
-Result<void> refuse_zero(std::string_view head, const std::string& name) {
-  if (head.find('\0') != std::string_view::npos)
-    return Error(Errc::parse_error, name + ": holds a NUL byte");
-  return {};
-}
 }  // namespace
 
 TEST_CASE("config: atomic write creates and replaces files", "[config]") {
@@ -80,65 +74,6 @@ TEST_CASE("atomic file: an empty path and a device are refused, nothing written"
   auto dev = write_file_atomic("/dev/null", "x");
   REQUIRE_FALSE(dev.ok());
   CHECK(dev.error().message == "/dev/null: is not a regular file; expected a file path");
-}
-
-TEST_CASE("atomic file: read_text_file reads whole files and names what it refuses",
-          "[config][atomic_file]") {
-  TempDir d;
-  const auto f = d.path / "in.json";
-  spit(f, "{\"a\": 1}\n");
-  CHECK(read_text_file(f).value() == "{\"a\": 1}\n");
-  CHECK(input_name(f) == f.string());
-  CHECK(input_name("-") == "(stdin)");
-
-  auto missing = read_text_file(d.path / "none.json");
-  REQUIRE_FALSE(missing.ok());
-  CHECK(missing.error().code == make_error_code(Errc::not_found));
-  CHECK(missing.error().message == (d.path / "none.json").string() + ": no such file");
-
-  auto dir = read_text_file(d.path);
-  REQUIRE_FALSE(dir.ok());
-  CHECK(dir.error().code == make_error_code(Errc::file_error));
-  CHECK(dir.error().message == d.path.string() + ": is a directory; expected a file");
-
-  // A regular file over the limit is refused from its size, before reading.
-  spit(f, std::string(2 << 20, ' '));
-  auto big = read_text_file(f, std::size_t{1} << 20);
-  REQUIRE_FALSE(big.ok());
-  CHECK(big.error().message ==
-        f.string() + ": 2097152 bytes, larger than any configuration (at most 1 MiB)");
-  auto odd = read_text_file(f, 1000);
-  REQUIRE_FALSE(odd.ok());
-  CHECK(odd.error().message ==
-        f.string() + ": 2097152 bytes, larger than any configuration (at most 1000 bytes)");
-}
-
-TEST_CASE("atomic file: a stream is read up to the limit, its head checked once it has text",
-          "[config][atomic_file]") {
-  // /dev/zero never ends: the head check refuses it after the first block.
-  auto zero = read_text_file("/dev/zero", kMaxInputBytes, refuse_zero);
-  REQUIRE_FALSE(zero.ok());
-  CHECK(zero.error().code == make_error_code(Errc::parse_error));
-  CHECK(zero.error().message == "/dev/zero: holds a NUL byte");
-  // Without a head check the limit ends it.
-  auto endless = read_text_file("/dev/zero", 100000);
-  REQUIRE_FALSE(endless.ok());
-  CHECK(endless.error().message ==
-        "/dev/zero: more than 100000 bytes (an endless stream?); a configuration is far smaller");
-  // A blank file is checked at its end.
-  TempDir d;
-  const auto blank = d.path / "blank.json";
-  spit(blank, "  \n");
-  int calls = 0;
-  static int* counter = nullptr;
-  counter = &calls;
-  auto seen = read_text_file(blank, kMaxInputBytes, [](std::string_view head, const std::string&) {
-    ++*counter;
-    CHECK(head == "  \n");
-    return Result<void>{};
-  });
-  REQUIRE(seen.ok());
-  CHECK(calls == 1);
 }
 
 TEST_CASE("config: atomic write gives a new file the mode open(2) would, the umask honoured",

@@ -66,6 +66,23 @@ TEST_CASE("console words: a failed restore says what the drive holds", "[console
   CHECK(h.sentence == "Everything was written, but the drive reads back differently.");
 }
 
+TEST_CASE("console words: the CLI's exit codes read back as the kinds of docs/cli.md",
+          "[console_words]") {
+  CHECK(words::errc_for_exit_code(2) == Errc::invalid_argument);
+  CHECK(words::errc_for_exit_code(3) == Errc::plan_refused);
+  CHECK(words::errc_for_exit_code(4) == Errc::timeout);
+  CHECK(words::errc_for_exit_code(5) == Errc::drive_refused);
+  CHECK(words::errc_for_exit_code(6) == Errc::verify_mismatch);
+  CHECK(words::errc_for_exit_code(70) == Errc::cancelled);
+  // A restore that failed on bad input reads as a read that did: one table.
+  serve::Json job{{"message", "bad value"}, {"exit_code", 2}};
+  CHECK(words::restore_failure_help(job, "press3/z").sentence ==
+        words::help_for(Error(Errc::invalid_argument, "bad value"), "press3/z").sentence);
+  job["exit_code"] = 5;
+  CHECK(words::restore_failure_help(job, "press3/z").sentence ==
+        "The drive at press3/z answered, but refused the command.");
+}
+
 TEST_CASE("console words: messages without section signs, plan steps in words", "[console_words]") {
   CHECK(words::plain("stop MC and application software (\u00a713.3): the axis stops") ==
         "stop MC and application software: the axis stops");

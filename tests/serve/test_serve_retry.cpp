@@ -87,6 +87,7 @@ TEST_CASE(
   INFO(retry.dump());
   CHECK(retry["kind"] == "restore");
   CHECK(retry["scope"] == "drive press3/z");
+  CHECK(retry["position"] == "press3/z");
   CHECK(retry["state"] == "done");
   CHECK(retry["automatic"] == true);
   CHECK(retry["retry_of"] == first);
