@@ -44,9 +44,9 @@ struct LinudpRange {
 Result<LinudpRange> parse_linudp_range(const std::string& address);
 
 enum class LinudpAnswer : std::uint8_t {
-  answered,      // a reply with our count
-  held,          // all-zero replies (facts §4 #6)
-  silent,        // nothing within the deadline
+  answered,  // a reply with our count
+  held,      // all-zero replies (facts §4 #6)
+  silent,    // nothing within the deadline
 };
 
 struct LinudpScanned {

@@ -117,8 +117,8 @@ TEST_CASE("LinUDP scan: answered, held by another master (facts §4 #6) and sile
   o.progress = [&](const std::string& phase, std::size_t, std::size_t) { phases.push_back(phase); };
   auto rep = link::scan_linudp(*range, net.opener(), o);
   REQUIRE(rep.ok());
-  CHECK(net.opened == std::vector<std::string>{"10.8.7.1:49361", "10.8.7.2:49361",
-                                               "10.8.7.3:49361", "10.8.7.4:49361"});
+  CHECK(net.opened == std::vector<std::string>{"10.8.7.1:49361", "10.8.7.2:49361", "10.8.7.3:49361",
+                                               "10.8.7.4:49361"});
   CHECK(phases == std::vector<std::string>{"probing 10.8.7.1", "probing 10.8.7.2",
                                            "probing 10.8.7.3", "probing 10.8.7.4", "done"});
   REQUIRE(rep->addresses.size() == 4);
@@ -158,7 +158,7 @@ TEST_CASE("LinUDP scan: answered, held by another master (facts §4 #6) and sile
   CHECK(datagrams == rep->datagrams);
   for (const auto& [host, d] : net.drives) CHECK(d->stats().motion_telegrams == 0);
   INFO("commands " << net.drives["10.8.7.1"]->stats().commands << " datagrams "
-                    << net.drives["10.8.7.1"]->stats().datagrams);
+                   << net.drives["10.8.7.1"]->stats().datagrams);
   CHECK(net.drives["10.8.7.1"]->stats().commands == 3);
 }
 

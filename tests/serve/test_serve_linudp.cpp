@@ -26,9 +26,9 @@ struct UdpSim {
   std::unique_ptr<test::Child> child;
   std::string url;
   explicit UdpSim(const fs::path& state) {
-    child = std::make_unique<test::Child>(std::vector<std::string>{
-        LMCFG_TOOL_PATH, "sim", "--linudp", "--udp", "127.0.0.1:0", "--state", state.string(),
-        "--fast"});
+    child = std::make_unique<test::Child>(
+        std::vector<std::string>{LMCFG_TOOL_PATH, "sim", "--linudp", "--udp", "127.0.0.1:0",
+                                 "--state", state.string(), "--fast"});
     const std::string port = child->read_line();
     (void)child->read_line();
     url = "linudp://127.0.0.1:" + port;
@@ -47,16 +47,17 @@ TEST_CASE("serve over LinUDP: backup, drift and restore through the API, two lin
   UdpSim a(rig.dir.path / "a.json");
   UdpSim b(rig.dir.path / "b.json");
   REQUIRE(a.url.size() > std::string("linudp://127.0.0.1:").size());
-  rig.start("[schedule]\nbackup_every = \"6h\"\nstatus_every = \"15m\"\n"
-            "[[line]]\nname = \"cell4\"\nport = \"" +
-                a.url +
-                "\"\n"
-                "[[line.drive]]\nname = \"cell4/gripper\"\nlabels = { machine = \"cell4\" }\n"
-                "[[line]]\nname = \"cell5\"\nport = \"" +
-                b.url +
-                "\"\n"
-                "[[line.drive]]\nname = \"cell5/gripper\"\nlabels = { machine = \"cell5\" }\n",
-            [](serve::ServiceOptions& o) { o.exit_code = exit_code_of; });
+  rig.start(
+      "[schedule]\nbackup_every = \"6h\"\nstatus_every = \"15m\"\n"
+      "[[line]]\nname = \"cell4\"\nport = \"" +
+          a.url +
+          "\"\n"
+          "[[line.drive]]\nname = \"cell4/gripper\"\nlabels = { machine = \"cell4\" }\n"
+          "[[line]]\nname = \"cell5\"\nport = \"" +
+          b.url +
+          "\"\n"
+          "[[line.drive]]\nname = \"cell5/gripper\"\nlabels = { machine = \"cell5\" }\n",
+      [](serve::ServiceOptions& o) { o.exit_code = exit_code_of; });
 
   const auto t0 = rig.now;
   rig.at(t0);  // both lines backed up (each on its own worker), then a drift check
@@ -69,8 +70,7 @@ TEST_CASE("serve over LinUDP: backup, drift and restore through the API, two lin
     CHECK((*d)["last_backup"] == "2027-01-15T08:00:00Z");
   }
   const auto archive = rig.dir.path / "archive";
-  const std::string head =
-      git(archive, "log -1 --format=%H -- cell4/gripper.json").substr(0, 40);
+  const std::string head = git(archive, "log -1 --format=%H -- cell4/gripper.json").substr(0, 40);
   auto file = nlohmann::json::parse(slurp(archive / "cell4/gripper.json"));
   CHECK(file["curves"].size() == 2);
 
