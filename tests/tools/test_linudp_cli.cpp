@@ -151,8 +151,9 @@ TEST_CASE("linudp cli: the exact messages and exit codes of the link failures",
   }
 }
 
-TEST_CASE("linudp cli: link refuses a LinUDP port, nothing sent; scan probes it (no drive: exit 1)",
-          "[linudp][cli]") {
+TEST_CASE(
+    "linudp cli: link refuses a LinUDP port and sends nothing, scan probes it (no drive: exit 1)",
+    "[linudp][cli]") {
   test::ScratchDir dir("linudp-refuse");
   auto s = test::run_tool_in(dir.path, "scan --quiet --port linudp://127.0.0.1:9");
   CHECK(s.exit_code == 1);
