@@ -33,6 +33,12 @@ constexpr Millis kBusyPoll{50};
 // A long operation (30h-36h) is resent, same count, this often (facts §2.2:
 // a resend is not executed again).
 constexpr Millis kLongResend{1000};
+// facts §4 #1: flash saves of 39-75 s; §4 #4: silences of 30-90 s after
+// saves. This long after a save was sent, no save it started still runs.
+constexpr Millis kSaveOver{90000};
+// How long the answer to a save's resend is waited for before the drive is
+// looked for again (facts §4 #4: Go polls every 5 s).
+constexpr Millis kSaveResendWait{5000};
 
 }  // namespace
 
@@ -77,6 +83,15 @@ Result<void> LinudpClient::seed() {
   return {};
 }
 
+Result<LinudpClient::Reply> LinudpClient::probe(Millis deadline, int attempts) {
+  seeded_ = true;  // the probe is the seeding NOP itself
+  const int saved = attempts_;
+  attempts_ = std::max(1, attempts);
+  auto r = command(rtc_of(Cmd::nop), Kind::ordinary, deadline);
+  attempts_ = saved;
+  return r;
+}
+
 Result<LinudpClient::Reply> LinudpClient::command(RtcBlock req, Kind kind, Millis timeout,
                                                   const std::string& subject) {
   if (opt_.cancel && opt_.cancel->load())
@@ -88,9 +103,9 @@ Result<LinudpClient::Reply> LinudpClient::command(RtcBlock req, Kind kind, Milli
     // the drive's count to run.
     LMCFG_TRY(command(rtc_of(Cmd::nop), Kind::ordinary, opt_.timeout));
   }
-  req.count = restart ? 0 : counter_.next(last_echo_);
+  req.count = restart ? 0 : resend_count_ ? *resend_count_ : counter_.next(last_echo_);
   const Bytes bytes = linudp::encode_request(req);
-  ++stats_.requests;
+  ++(resend_count_ ? stats_.retries : stats_.requests);
   if (linudp::is_write_command(req.id)) ++stats_.write_requests;
 
   const std::int64_t start = link_.now_ns();
@@ -125,7 +140,7 @@ Result<LinudpClient::Reply> LinudpClient::command(RtcBlock req, Kind kind, Milli
     const std::int64_t slice_left =
         busy ? ms_to_ns(kBusyPoll) - (now - slice_start) : slice - (now - slice_start);
     if (total_left <= 0 || (kind == Kind::ordinary && !busy && slice_left <= 0)) {
-      if (kind == Kind::ordinary && !busy && sent < kLinudpAttempts) {
+      if (kind == Kind::ordinary && !busy && sent < attempts_) {
         ++stats_.timeouts;
         LMCFG_TRY(send());  // same bytes, same count (facts §2.2)
         slice_start = link_.now_ns();
@@ -334,8 +349,14 @@ Result<std::vector<UpidInfo>> LinudpClient::upid_list(
 
 Result<void> LinudpClient::long_command(Cmd id, Kind kind, Millis timeout,
                                         const std::string& what) {
-  const auto start = link_.now_ns();
-  LMCFG_ASSIGN_OR_RETURN(auto r, command(rtc_of(id), kind, timeout, what));
+  auto start = link_.now_ns();
+  auto sent = command(rtc_of(id), kind, timeout, what);
+  const bool save = id == Cmd::curves_save || id == Cmd::ct_save;
+  if (!sent.ok() && save && sent.error().code == make_error_code(Errc::timeout)) {
+    sent = resend_save(id, what, start, std::move(sent).error());
+    start = link_.now_ns();  // a save the resend started: its own budget
+  }
+  LMCFG_ASSIGN_OR_RETURN(auto r, std::move(sent));
   quiet_expected_ = true;  // facts §4 #4: and after saves, defaulting, restarts
   quiet_after_ = what;
   if (kind == Kind::once && linudp::is_busy(r.rtc.id)) {
@@ -354,6 +375,32 @@ Result<void> LinudpClient::long_command(Cmd id, Kind kind, Millis timeout,
     }
   }
   return expect_ok(r, static_cast<std::uint8_t>(id), what);
+}
+
+Result<LinudpClient::Reply> LinudpClient::resend_save(Cmd id, const std::string& what,
+                                                      std::int64_t start, Error silence) {
+  const auto count = counter_.last();
+  if (!count) return silence;
+  // facts §4 #2: "Resending 80h while a save is running restarts the save".
+  // So not before kSaveOver (facts §4 #1, #4); a late acknowledgement that
+  // comes meanwhile is taken.
+  for (;;) {
+    const std::int64_t left = ms_to_ns(kSaveOver) - (link_.now_ns() - start);
+    if (left <= 0) break;
+    LMCFG_ASSIGN_OR_RETURN(auto got, link_.read_some(Millis((left + 999'999) / 1'000'000)));
+    if (got.empty()) continue;
+    LMCFG_ASSIGN_OR_RETURN(auto late, match(got, *count));
+    if (late) return std::move(*late);
+  }
+  // facts §2.2: "Resending the same telegram (same count) does not execute
+  // the command again": a drive that carried the save out answers (or stays
+  // silent, §4 #1) without saving twice; a drive the request never reached
+  // takes the count as new and saves now.
+  resend_count_ = count;
+  auto r = command(rtc_of(id), Kind::once, kSaveResendWait, what + " (sent again, same count)");
+  resend_count_.reset();
+  if (!r.ok() && r.error().code == make_error_code(Errc::timeout)) return silence;
+  return r;
 }
 
 Result<void> LinudpClient::default_layer(int layer) {

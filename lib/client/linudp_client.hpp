@@ -18,9 +18,11 @@
 //   polled by resending. Any other status is final; 00h (and 04h inside block
 //   transfers) is success, the rest a refusal (Errc::drive_refused) naming the
 //   command, its subject and the status of facts §2.3.
-// - Flash saves (40h, 80h) are sent once and never resent (facts §4 #2: a
-//   resend restarts the save); their acknowledgement may never come (§4 #1),
-//   which ops::long_step handles through find_again().
+// - Flash saves (40h, 80h) are never resent while they may run (facts §4 #2:
+//   a resend restarts the save). Unacknowledged (§4 #1), the same datagram
+//   (same count) goes once more when no save can still run (90 s after it,
+//   §4 #1, #4): a drive that had it does not save again (§2.2), one whose
+//   request was lost saves now. Still no answer: ops::long_step's find_again().
 // - An all-zero datagram means another master holds the drive (facts §4 #6):
 //   Errc::io_error with held_by_other_master_message().
 #include <memory>
@@ -100,6 +102,12 @@ class LinudpClient final : public Client {
   };
   Result<Reply> command(linudp::RtcBlock req, Kind kind, Millis timeout,
                         const std::string& subject = {});
+  // A scan's probe (lmcfg scan, link/linudp_scan.hpp): the session's first
+  // exchange, a NOP (facts §2.2: it runs nothing whichever count the drive
+  // holds), sent at most `attempts` times (the same count, facts §2.2) and
+  // waited `deadline` each. The reply, Errc::timeout, or Errc::io_error with
+  // held_by_other_master_message().
+  Result<Reply> probe(Millis deadline, int attempts);
   // The count the drive echoed last (nullopt before the first reply).
   std::optional<std::uint8_t> last_echo() const { return last_echo_; }
 
@@ -125,12 +133,20 @@ class LinudpClient final : public Client {
   Result<void> write_chunks(linudp::Cmd chunk, std::uint16_t key, ByteView bytes,
                             const std::string& subject);
   Result<void> long_command(linudp::Cmd id, Kind kind, Millis timeout, const std::string& what);
+  // A flash save (40h, 80h) sent at `start` and not acknowledged: once no
+  // save can still run, the same datagram again, with its count (facts §2.2:
+  // not carried out again if the drive had it; carried out if it was lost).
+  Result<Reply> resend_save(linudp::Cmd id, const std::string& what, std::int64_t start,
+                            Error silence);
   template <class F>
   Result<std::vector<std::uint16_t>> walk_list(linudp::Cmd start, linudp::Cmd next, int layer,
                                                F&& on_item);
   std::string where() const { return link_.describe(); }
 
   transport::Transport& link_;
+  int attempts_ = kLinudpAttempts;  // of an ordinary command (probe(): fewer)
+  // Set: command() sends with this count (resend_save), not a new one.
+  std::optional<std::uint8_t> resend_count_;
   linudp::Counter counter_;
   std::optional<std::uint8_t> last_echo_;
   bool seeded_ = false;

@@ -270,4 +270,30 @@ nlohmann::json scan_json(const link::ScanReport& r) {
   return j;
 }
 
+nlohmann::json linudp_scan_json(const link::LinudpScanReport& r) {
+  nlohmann::json j;
+  j["port"] = r.port;
+  j["addresses"] = nlohmann::json::array();
+  for (const auto& a : r.addresses) {
+    nlohmann::json e{{"host", a.host},
+                     {"answer", a.answer == link::LinudpAnswer::answered ? "answered"
+                                : a.answer == link::LinudpAnswer::held   ? "held_by_other_master"
+                                                                         : "silent"},
+                     {"ms", a.ms},
+                     {"datagrams", a.datagrams}};
+    auto word = [&](const char* key, std::optional<std::uint16_t> v) {
+      if (v) e[key] = hex(*v, 4, "h");
+    };
+    word("state_var", a.state_var);
+    word("status_word", a.status_word);
+    word("error_code", a.error_code);
+    if (a.firmware) e["firmware"] = hex(*a.firmware, 4, "h");
+    if (!a.firmware_note.empty()) e["firmware_note"] = a.firmware_note;
+    j["addresses"].push_back(std::move(e));
+  }
+  j["seconds"] = r.seconds;
+  j["datagrams"] = r.datagrams;
+  return j;
+}
+
 }  // namespace lmcfg::report

@@ -17,6 +17,7 @@
 #include "config/config_io.hpp"
 #include "config/model.hpp"
 #include "db/database.hpp"
+#include "link/linudp_scan.hpp"
 #include "link/scan.hpp"
 #include "ops/db_scan.hpp"
 #include "ops/factory_reset.hpp"
@@ -86,6 +87,8 @@ Json param_write_step_json(const char* action, std::uint16_t upid, const db::Par
 // scan --json: the drives found with their link options, the passes tried.
 // Plain nlohmann::json (keys sorted), as the report has always been.
 nlohmann::json scan_json(const link::ScanReport& r);
+// `lmcfg scan --port linudp://RANGE --json` (docs/json-reports.md).
+nlohmann::json linudp_scan_json(const link::LinudpScanReport& r);
 
 // lmcfg db --json (json_db.cpp): the database's rows, plain nlohmann::json.
 nlohmann::json db_provenance_json(const db::Provenance& p);

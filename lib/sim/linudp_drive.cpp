@@ -60,6 +60,8 @@ constexpr FieldRow kFieldRows[] = {
     {"strict_counts", "counts 1, 15 (and 0 but for 30h) ignored (§6.5)"},
     {"running_status", "reply while a long command runs: 2, 5 or 0 = none (§6.6)"},
     {"filter_source_port", "only datagrams from port 41136 answered (§6.8)"},
+    {"lose_save_requests", "the first N flash save requests (40h, 80h) lost"},
+    {"lose_save_replies", "the replies to the first N flash saves lost"},
     {"silent_after_writes", "the connection cut after N writing commands"},
 };
 
@@ -104,6 +106,8 @@ Result<void> set_field(LinudpField& f, std::string_view spec) {
   if (name == "lose_request_every") return set_num(f.lose_request_every);
   if (name == "lose_reply_every") return set_num(f.lose_reply_every);
   if (name == "silent_after_writes") return set_num(f.silent_after_writes);
+  if (name == "lose_save_requests") return set_num(f.lose_save_requests);
+  if (name == "lose_save_replies") return set_num(f.lose_save_replies);
   if (name == "silent_after_rom_write_s") {
     if (!num) return bad("a number of seconds");
     f.silent_after_rom_write_us = static_cast<std::int64_t>(*num) * 1'000'000;
@@ -147,6 +151,8 @@ std::vector<std::string> field_words(const LinudpField& f) {
   b("strict_counts", f.strict_counts, d.strict_counts);
   u("running_status", f.running_status, d.running_status);
   b("filter_source_port", f.filter_source_port, d.filter_source_port);
+  u("lose_save_requests", f.lose_save_requests, d.lose_save_requests);
+  u("lose_save_replies", f.lose_save_replies, d.lose_save_replies);
   u("silent_after_writes", f.silent_after_writes, d.silent_after_writes);
   return w;
 }
@@ -233,13 +239,27 @@ std::vector<Answer> LinudpDrive::receive(ByteView datagram, std::int64_t now,
       return {};
     }
   }
+  const bool save = rtc.id == 0x40 || rtc.id == 0x80;
+  if (save && save_requests_lost_ < field_.lose_save_requests && rtc.count != lost_save_count_) {
+    ++save_requests_lost_;         // lost on the way: the drive never saw this count
+    lost_save_count_ = rtc.count;  // its resend (same count) arrives
+    ++stats_.ignored;
+    return {};
+  }
   ++stats_.commands;
+  if (save) ++stats_.saves;
   if (linudp::is_write_command(rtc.id)) ++writes_;
   last_count_ = rtc.count;
   Outcome o = execute(rtc, now);
   o.reply.count = rtc.count;
   cached_ = o.reply;
   cached_unanswered_ = o.unanswered;
+  if (save && save_replies_lost_ < field_.lose_save_replies) {
+    ++save_replies_lost_;  // carried out, its reply lost; a resend gets it
+    ready_at_ns_ = std::max(ready_at_ns_, now + o.duration_ns);
+    if (o.unanswered) deaf_until_ns_ = now + o.duration_ns;
+    return {};
+  }
   if (o.unanswered) {
     deaf_until_ns_ = now + o.duration_ns;
     ready_at_ns_ = deaf_until_ns_;

@@ -58,6 +58,13 @@ struct LinudpField {
   // §6 point 8: datagrams from a source port other than 41136 are ignored
   // (only where the port is known: the UDP server).
   bool filter_source_port = false;
+  // A lost flash-save datagram (facts §4 #2 and §2.2 decide what a resend
+  // does): the first N save requests (40h, 80h with a new count; not their
+  // resends with the same count) are lost,
+  // or the replies to the first N saves (the save runs; a resend with its
+  // count gets the reply, facts §2.2).
+  unsigned lose_save_requests = 0;
+  unsigned lose_save_replies = 0;
   // A connection cut: after this many writing commands (restore, default)
   // the drive answers nothing more (0: never).
   unsigned silent_after_writes = 0;
@@ -78,6 +85,7 @@ struct LinudpStats {
   std::uint64_t motion_telegrams = 0;  // with a control word or MC part (lmcfg sends none)
   std::uint64_t ignored = 0;           // lost, deaf, filtered, strict counts
   std::uint64_t counts_seen_15 = 0;    // counts outside 2..14 (not a restart's 0)
+  std::uint64_t saves = 0;             // flash saves (40h, 80h) carried out
 };
 
 class LinudpDrive {
@@ -119,6 +127,8 @@ class LinudpDrive {
   std::int64_t deaf_until_ns_ = 0;
   Bytes previous_reply_;
   std::uint64_t requests_seen_ = 0, replies_made_ = 0, writes_ = 0;
+  unsigned save_requests_lost_ = 0, save_replies_lost_ = 0;
+  int lost_save_count_ = -1;  // the count of the save request lost last
   // Lists (§6 point 3 "spans layers"): the layer the LinRS list is in.
   int list_layer_ = 0;
   bool list_modified_ = false;

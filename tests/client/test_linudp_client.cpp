@@ -204,3 +204,68 @@ TEST_CASE("LinUDP client facts §6 point 5: the tools never send counts 1 and 15
 }
 
 }  // namespace client_test_linudp_client
+
+namespace client_test_linudp_client {
+
+// facts §4 #2 "Resending 80h while a save is running restarts the save";
+// facts §2.2 "Resending the same telegram (same count) does not execute the
+// command again". A save with no answer is sent again, with its count, once
+// no save can still run (90 s: facts §4 #1 39-75 s saves, §4 #4 30-90 s
+// silences): the drive saves exactly once whether the request or the reply
+// was lost.
+TEST_CASE("LinUDP client facts §2.2 and §4 #2: a lost save request or reply, one save either way",
+          "[linudp][client][save]") {
+  struct Case {
+    const char* name;
+    bool lose_request;
+    bool unacknowledged;
+    std::uint8_t running;
+  };
+  for (const Case& k :
+       {Case{"request lost", true, false, 0x02}, Case{"reply lost", false, false, 0x02},
+        Case{"request lost, silent while saving", true, false, 0},
+        Case{"reply lost, silent while saving", false, false, 0},
+        Case{"request lost, saves never acknowledged", true, true, 0x02},
+        Case{"nothing lost, saves never acknowledged", false, true, 0x02}}) {
+    DYNAMIC_SECTION(k.name) {
+      sim::LinudpField f;
+      f.save_us = 39'000'000;  // facts §4 #1
+      f.unacknowledged_saves = k.unacknowledged;
+      f.running_status = k.running;
+      (k.lose_request ? f.lose_save_requests : f.lose_save_replies) = 1;
+      test::LinudpRig rig(test::load_sim_drive("commissioned-axis.json"), f);
+      auto& c = dynamic_cast<client::LinudpClient&>(rig.client());
+      REQUIRE(c.stop_mc().ok());
+      REQUIRE_FALSE(rig.drive->state().ct_ram.empty());
+      REQUIRE(c.delete_ct_entry(rig.drive->state().ct_ram.begin()->first).ok());
+      REQUIRE(rig.drive->state().ct_flash != rig.drive->state().ct_ram);  // a save is owed
+      rig.wire->tx.clear();
+      const std::int64_t t0 = rig.link->clock().now_ns();
+      auto saved = c.save_ct();
+      const double waited_s = static_cast<double>(rig.link->clock().now_ns() - t0) / 1e9;
+      INFO((saved.ok() ? std::string("ok") : saved.error().message) << ", " << waited_s << " s");
+      CHECK(rig.udp->stats().saves == 1);  // never twice, never none
+      // The save went out twice with one count: the resend is the same datagram.
+      std::vector<Bytes> saves;
+      for (const auto& d : rig.wire->tx) {
+        auto r = linudp::decode_request(d);
+        if (r.ok() && r->rtc && r->rtc->id == 0x80) saves.push_back(d);
+      }
+      REQUIRE(saves.size() == 2);
+      CHECK(saves[0] == saves[1]);
+      if (k.unacknowledged || (k.lose_request && k.running == 0)) {
+        // No answer to the resend either: ops::long_step looks for the drive.
+        REQUIRE_FALSE(saved.ok());
+        CHECK(saved.error().code == make_error_code(Errc::timeout));
+        auto back = c.find_again("saving the command table to flash");
+        REQUIRE(back.ok());
+      } else {
+        CHECK(saved.ok());
+      }
+      CHECK(rig.drive->state().ct_flash == rig.drive->state().ct_ram);
+      CHECK(waited_s >= 120.0);  // the first wait: --long-timeout-s (120 s)
+    }
+  }
+}
+
+}  // namespace client_test_linudp_client

@@ -44,6 +44,20 @@ std::vector<Reading> readings() {
   f.lose_reply_every = 7;
   r.push_back({"lost replies", f, 0});
   f = {};
+  f.lose_save_requests = 2;  // both saves (CT, curves): facts §2.2 and §4 #2
+  r.push_back({"lost save requests", f, 39});
+  f = {};
+  f.lose_save_replies = 2;
+  r.push_back({"lost save replies", f, 39});
+  f = {};
+  f.lose_save_requests = 2;
+  f.unacknowledged_saves = true;
+  r.push_back({"lost save requests, saves never acknowledged", f, 39});
+  f = {};
+  f.lose_save_requests = 2;
+  f.running_status = 0;
+  r.push_back({"lost save requests, silent while saving", f, 39});
+  f = {};
   f.end_on_extra_read = true;
   r.push_back({"§6 point 2 00h on one more read", f, 0});
   f = {};
@@ -90,6 +104,8 @@ TEST_CASE("LinUDP restore: plan, execute and verify onto a used spare under each
       CHECK(drive->state().ct_flash == drive->state().ct_ram);
       CHECK(drive->state().curves_flash == drive->state().curves_ram);
       if (rd.field.unacknowledged_saves) CHECK_FALSE(out.unacknowledged.empty());
+      // Each save carried out once: none lost for good, none twice (facts §4 #2).
+      CHECK(rig.udp->stats().saves == 2);
       // The same file again: nothing to do.
       const auto again = ops::run_restore(*rig.session, file, db::Database::empty(), o);
       CHECK(again.stage == Stage::nothing_to_do);
