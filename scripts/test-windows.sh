@@ -153,12 +153,13 @@ after_rc=$?
 "$lmcfg" backup --port "$(pty_of slow)" "${link[@]}" -o linux-busy.json -q 2>linux-holder.err &
 lholder=$!
 info="$(pty_of slow | sed 's|/|%2F|g').holder" # port_lock.cpp's record of that pty
-wait_for "/run/lock/lmcfg/$info ${XDG_RUNTIME_DIR:-/nonexistent}/lmcfg/$info /tmp/lmcfg-lock/$info" \
-  'holder=lmcfg backup' 30
+records="/run/lock/lmcfg/$info ${XDG_RUNTIME_DIR:-/nonexistent}/lmcfg/$info /tmp/lmcfg-lock/$info"
+wait_for "$records" "^pid=$lholder\$" 30 # its own: pty numbers are reused
 "$lmcfg" info --port "$(pty_of slow)" "${link[@]}" >linux-second.out 2>linux-second.err
 lrc=$?
 kill -KILL "$lholder" 2>/dev/null
 wait "$lholder" 2>/dev/null
+for r in $records; do grep -qs "^pid=$lholder\$" "$r" && rm -f "$r"; done
 want="$(sed "s|$(pty_of slow)|COM7|; s|(PID [0-9]*)|(PID N)|" linux-second.err)"
 pid_in_msg="$(sed -n 's/.*(PID \([0-9]*\)).*/\1/p' <<<"$msg")"
 if ((rc == 4 && lrc == 4)) && [[ $(sed 's|(PID [0-9]*)|(PID N)|' <<<"$msg") == "$want" ]] &&
