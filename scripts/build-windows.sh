@@ -158,6 +158,9 @@ export WINEPREFIX="$out/wine" WINEDEBUG=-all WINEDLLOVERRIDES="mscoree,mshtml="
 if [[ ! -f $WINEPREFIX/system.reg ]]; then
   echo "build-windows: creating the Wine prefix $WINEPREFIX"
   PATH="/usr/lib/wine:$PATH" wineboot -i >/dev/null 2>&1 || PATH="/usr/lib/wine:$PATH" wine64 wineboot -i >/dev/null 2>&1
+  # The registry (system.reg, the test above) is written when the wineserver
+  # exits: wait for it, or the next run makes the prefix again.
+  PATH="/usr/lib/wine:$PATH" wineserver -w || true
 fi
 
 [[ ${1:-} == --deps-only ]] && exit 0

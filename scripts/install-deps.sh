@@ -51,6 +51,7 @@ windows_packages=(
   wine64                                          # runs lmcfg.exe and its tests (scripts/test-windows.sh)
   dpkg-dev                                        # apt-get source: SQLite, pugixml, libgit2 from Debian's sources
   zip                                             # build-windows/lmcfg-<version>-win64.zip
+  tcl                                             # tclsh: SQLite's makefile generates its amalgamation with Tcl scripts
 )
 packages=("${build_packages[@]}")
 [[ $mode == all ]] && packages+=("${test_packages[@]}")

@@ -19,11 +19,15 @@ namespace {
 
 using win32::UniqueHandle;
 
-// "COM7", "com7" and "\\.\COM7" are one port: one file name, "COM7.holder".
+// "COM7", "com7" and "\\.\COM7" are one port: one file name,
+// "port-COM7.holder". Never "COM7.holder": a device name such as COM7, NUL or
+// LPT1 followed by an extension names the device itself (Naming Files, Paths,
+// and Namespaces: "Do not use the following reserved names ... also avoid these
+// names followed immediately by an extension"), so that lock was the port.
 std::string info_file_name(const std::string& device) {
   std::string name = device;
   if (auto p = com_port_path(device)) name = p->substr(4);
-  std::string out;
+  std::string out = "port-";
   for (char c : name) {
     const auto u = static_cast<unsigned char>(c);
     out += std::isalnum(u) ? static_cast<char>(std::toupper(u)) : '_';

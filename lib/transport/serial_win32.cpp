@@ -3,6 +3,7 @@
 // for the answer deadlines). The same interface and messages as serial.cpp.
 #include <algorithm>
 #include <cctype>
+#include <cstdint>
 #include <string>
 #include <utility>
 #include <vector>
@@ -64,10 +65,16 @@ Result<void> apply_line_settings(HANDLE h, const SerialSettings& s, const std::s
   return {};
 }
 
-// ReadFile with ReadIntervalTimeout = ReadTotalTimeoutMultiplier = MAXDWORD
-// and a constant C returns at once with what is buffered, else with the first
-// byte(s) to arrive, else after C ms with nothing (SetCommTimeouts, "Remarks"):
-// read_some's contract, as poll() gives it on Linux.
+// read_some's contract (what is there at once, else the first bytes to
+// arrive, else nothing after the timeout: poll() on Linux) from two reads that
+// Windows and Wine treat alike: a 1-byte ReadFile with only a total timeout
+// returns with the first byte or after the timeout, then a ReadFile with
+// ReadIntervalTimeout = MAXDWORD and no total timeout returns at once with
+// what else is buffered (SetCommTimeouts, "Remarks"). The documented one-call
+// form (ReadIntervalTimeout = ReadTotalTimeoutMultiplier = MAXDWORD, a
+// constant C) is not used: Wine 8 keeps reading until C has passed even after
+// bytes arrived (its NtReadFile takes MAXDWORD as "no interval"), so every
+// exchange lasted its whole answer deadline.
 class SerialTransport final : public Transport {
  public:
   SerialTransport(UniqueHandle h, SerialSettings s, std::unique_ptr<PortLock> lock)
@@ -84,7 +91,7 @@ class SerialTransport final : public Transport {
     // max(5 s, twice the wire time), as FdTransport on Linux.
     const double wire_ms = byte_time_us_ * static_cast<double>(bytes.size()) / 1000.0;
     const DWORD limit = static_cast<DWORD>(std::max(5000.0, 2.0 * wire_ms));
-    LMCFG_TRY(set_timeouts(0, limit));
+    LMCFG_TRY(set_timeouts(MAXDWORD, 0, limit));
     std::size_t off = 0;
     while (off < bytes.size()) {
       DWORD n = 0;
@@ -101,19 +108,22 @@ class SerialTransport final : public Transport {
 
   Result<Bytes> read_some(Millis timeout) override {
     if (!h_.valid()) return Error(Errc::link_closed, description_ + ": closed");
-    const auto ms = std::clamp<long long>(timeout.count(), 0, 0x7fffffffLL);
-    LMCFG_TRY(set_timeouts(static_cast<DWORD>(ms), 0));
-    Bytes out(4096);
-    DWORD n = 0;
-    if (!::ReadFile(h_.get(), out.data(), static_cast<DWORD>(out.size()), &n, nullptr))
-      return os_error("read failed", ::GetLastError());
-    out.resize(n);
-    // Then what else is already there, without waiting.
-    while (n == 4096) {
-      LMCFG_TRY(set_timeouts(0, 0));
-      Bytes more(4096);
-      if (!::ReadFile(h_.get(), more.data(), 4096, &n, nullptr)) break;
-      out.insert(out.end(), more.begin(), more.begin() + n);
+    LMCFG_ASSIGN_OR_RETURN(Bytes out, read_available());
+    // Waits of at most an hour per call: Wine counts the deadline in an int of
+    // milliseconds from its tick count.
+    long long left = std::max<long long>(timeout.count(), 0);
+    while (out.empty() && left > 0) {
+      const DWORD slice = static_cast<DWORD>(std::min<long long>(left, 3'600'000));
+      LMCFG_TRY(set_timeouts(0, slice, 0));
+      std::uint8_t first = 0;
+      DWORD n = 0;
+      if (!::ReadFile(h_.get(), &first, 1, &n, nullptr))
+        return os_error("read failed", ::GetLastError());
+      left -= slice;
+      if (n == 0) continue;  // the whole slice without a byte
+      out.push_back(first);
+      LMCFG_ASSIGN_OR_RETURN(Bytes rest, read_available());
+      out.insert(out.end(), rest.begin(), rest.end());
     }
     return out;
   }
@@ -139,23 +149,36 @@ class SerialTransport final : public Transport {
     description_ = serial_description(settings_);
     byte_time_us_ = 1e6 * bits_per_byte(settings_) / static_cast<double>(settings_.baud);
   }
-  // Read deadline `read_ms` (0: return at once) and write deadline `write_ms`;
-  // SetCommTimeouts only when they change.
-  Result<void> set_timeouts(DWORD read_ms, DWORD write_ms) {
-    if (read_ms == read_ms_ && write_ms == write_ms_) return {};
-    COMMTIMEOUTS t{};
-    if (read_ms == 0) {
-      t.ReadIntervalTimeout = MAXDWORD;  // return at once with what is buffered
-    } else {
-      t.ReadIntervalTimeout = MAXDWORD;
-      t.ReadTotalTimeoutMultiplier = MAXDWORD;
-      t.ReadTotalTimeoutConstant = read_ms;
+  // What the driver has buffered now, without waiting (up to 1 MiB, as
+  // FdTransport drains).
+  Result<Bytes> read_available() {
+    LMCFG_TRY(set_timeouts(MAXDWORD, 0, 0));
+    Bytes out;
+    std::uint8_t buf[4096];
+    while (out.size() < (1u << 20)) {
+      DWORD n = 0;
+      if (!::ReadFile(h_.get(), buf, sizeof buf, &n, nullptr))
+        return os_error("read failed", ::GetLastError());
+      out.insert(out.end(), buf, buf + n);
+      if (n < sizeof buf) break;
     }
+    return out;
+  }
+  // ReadIntervalTimeout, ReadTotalTimeoutConstant and WriteTotalTimeoutConstant
+  // (no multipliers); SetCommTimeouts only when they change.
+  Result<void> set_timeouts(DWORD interval_ms, DWORD read_ms, DWORD write_ms) {
+    if (interval_ms == timeouts_.ReadIntervalTimeout &&
+        read_ms == timeouts_.ReadTotalTimeoutConstant &&
+        write_ms == timeouts_.WriteTotalTimeoutConstant && timeouts_set_)
+      return {};
+    COMMTIMEOUTS t{};
+    t.ReadIntervalTimeout = interval_ms;
+    t.ReadTotalTimeoutConstant = read_ms;
     t.WriteTotalTimeoutConstant = write_ms;
     if (!::SetCommTimeouts(h_.get(), &t))
       return os_error("SetCommTimeouts failed", ::GetLastError());
-    read_ms_ = read_ms;
-    write_ms_ = write_ms;
+    timeouts_ = t;
+    timeouts_set_ = true;
     return {};
   }
   Error os_error(const char* what, DWORD err) const {
@@ -171,8 +194,8 @@ class SerialTransport final : public Transport {
   std::unique_ptr<PortLock> lock_;
   std::string description_;
   double byte_time_us_ = 0.0;
-  DWORD read_ms_ = MAXDWORD - 1;
-  DWORD write_ms_ = MAXDWORD - 1;
+  COMMTIMEOUTS timeouts_{};
+  bool timeouts_set_ = false;
 };
 
 }  // namespace
