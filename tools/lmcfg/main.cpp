@@ -71,6 +71,10 @@ int main(int argc, char** argv) {
                        "Print the program version, the git revision it was built from and the "
                        "UPID database it uses (path, fingerprint, profiles), then exit");
   app.require_subcommand(1);
+  // Options are "--name" and "-n" on every platform: CLI11's Windows build
+  // would read "/work/axis.json" as an option "/work" (subcommands copy this
+  // setting when they are added, below).
+  app.allow_windows_style_options(false);
   int exit_code = kOk;
   for (auto add : kSubcommands) add(app, exit_code);
   // The operations layer knows serial ports and TCP gateways; the simulated
