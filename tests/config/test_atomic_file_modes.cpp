@@ -33,7 +33,6 @@ TEST_CASE("config: atomic write gives a new file the mode open(2) would, the uma
          fs::perms::others_read));
 }
 
-
 TEST_CASE("config: atomic write keeps the mode of the file it replaces", "[config]") {
   test::ScratchDir d("cfg-modes");
   const auto f = d.path / "axis.json";
