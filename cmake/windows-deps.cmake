@@ -36,5 +36,7 @@ target_compile_definitions(PkgConfig::LIBGIT2 INTERFACE PCRE2_STATIC)
 lmcfg_windows_lib(PkgConfig::TOMLPLUSPLUS INCLUDES ${LMCFG_WINDOWS_HEADERS})
 lmcfg_windows_lib(nlohmann_json::nlohmann_json INCLUDES ${LMCFG_WINDOWS_HEADERS})
 lmcfg_windows_lib(CLI11::CLI11 INCLUDES ${LMCFG_WINDOWS_HEADERS})
+# The cross-built unit tests (LMCFG_BUILD_TESTS): Catch2 v2 is one header.
+lmcfg_windows_lib(Catch2::Catch2 INCLUDES ${LMCFG_WINDOWS_HEADERS})
 set(THREADS_PREFER_PTHREAD_FLAG ON)
 find_package(Threads REQUIRED)

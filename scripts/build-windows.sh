@@ -10,7 +10,10 @@
 # Wine, libz-mingw-w64-dev, dpkg-dev and the deb-src entries). Every dependency
 # comes from Debian's archive; nothing is downloaded from elsewhere.
 # $LMCFG_TARGETS names the targets to build (default: lmcfg_cli); --deps-only
-# stops after the dependencies and the Wine prefix.
+# stops after the dependencies and the Wine prefix. --tests also builds the
+# unit tests (build-windows/build/tests/lmcfg_tests.exe, without the files
+# tests/CMakeLists.txt lists as not for Windows); scripts/test-windows-units.sh
+# runs them under Wine.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 out="${LMCFG_WINDOWS_DIR:-$root/build-windows}"
@@ -144,7 +147,7 @@ fi
 # Header-only libraries: Debian's own headers (the Linux build uses the same
 # packages), linked one by one so that no other header of /usr/include is seen.
 mkdir -p "$deps/headers"
-for h in CLI nlohmann toml++; do
+for h in CLI nlohmann toml++ catch2; do
   [[ -e /usr/include/$h ]] || {
     echo "build-windows: /usr/include/$h missing: run scripts/install-deps.sh" >&2
     exit 2
@@ -164,6 +167,12 @@ if [[ ! -f $WINEPREFIX/system.reg ]]; then
 fi
 
 [[ ${1:-} == --deps-only ]] && exit 0
+tests="${LMCFG_WINDOWS_TESTS:-OFF}"
+default_targets=lmcfg_cli
+if [[ ${1:-} == --tests ]]; then
+  tests=ON
+  default_targets="lmcfg_cli lmcfg_tests"
+fi
 
 build="$out/build"
 launcher=()
@@ -175,9 +184,9 @@ fi
 cmake -S "$root" -B "$build" -DCMAKE_TOOLCHAIN_FILE="$root/cmake/mingw-w64-x86_64.cmake" \
   -DLMCFG_WINDOWS_DEPS="$prefix" -DLMCFG_WINDOWS_HEADERS="$deps/headers" \
   -DCMAKE_BUILD_TYPE="${LMCFG_BUILD_TYPE:-Release}" -DLMCFG_WERROR=ON -DLMCFG_BUILD_BENCH=OFF \
-  -DLMCFG_PYTHON=OFF -DLMCFG_BUILD_TESTS="${LMCFG_WINDOWS_TESTS:-OFF}" "${launcher[@]}" >/dev/null
+  -DLMCFG_PYTHON=OFF -DLMCFG_BUILD_TESTS="$tests" "${launcher[@]}" >/dev/null
 targets=()
-for t in ${LMCFG_TARGETS:-lmcfg_cli}; do targets+=(--target "$t"); done
+for t in ${LMCFG_TARGETS:-$default_targets}; do targets+=(--target "$t"); done
 cmake --build "$build" -j"$jobs" "${targets[@]}"
 
 # The zip: lmcfg.exe, the UPID database beside it (found as on Linux: next to

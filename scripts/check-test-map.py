@@ -54,8 +54,6 @@ ALLOWED = {
     "transport/serial_settings.cpp": ("tests/transport/test_serial.cpp",
                                       "the line settings, tested with the serial port"),
     "can/socketcan.cpp": ("tests/can/test_link.cpp", "SocketCAN, beside slcan's link"),
-    "sim/server_tcp.cpp": ("tests/sim/test_server.cpp",
-                           "the simulator's TCP listener"),
     "ops/platform.cpp": ("tests/ops/test_recovery.cpp tests/ops/test_audit.cpp",
                          "the state folder and the user, through their callers"),
     # Scanning needs a bus of drives at unknown settings: the CLI tests run it.

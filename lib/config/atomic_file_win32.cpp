@@ -60,11 +60,17 @@ bool write_all(HANDLE h, std::string_view content) {
 }  // namespace
 
 Result<void> write_file_atomic(const fs::path& path, std::string_view content) {
+  // The checks and texts of atomic_file.cpp (the tests compare the messages).
+  if (path.empty()) return Error(Errc::file_error, "empty output path; expected a file path");
   std::error_code ec;
-  if (fs::is_directory(path, ec))
+  const auto type = fs::status(path, ec).type();
+  if (type == fs::file_type::directory)
     return Error(Errc::file_error, path.string() + ": is a directory; expected a file path");
+  if (type != fs::file_type::not_found && type != fs::file_type::none &&
+      type != fs::file_type::regular)
+    return Error(Errc::file_error, path.string() + ": is not a regular file; expected a file path");
   const fs::path dir = path.has_parent_path() ? path.parent_path() : fs::path(".");
-  if (!fs::is_directory(dir, ec))
+  if (!fs::exists(dir, ec))
     return Error(Errc::file_error, path.string() + ": the folder " + dir.string() +
                                        " does not exist; create it or choose another path");
   // A name of our own next to the target (same volume: the move is a rename).
@@ -76,7 +82,7 @@ Result<void> write_file_atomic(const fs::path& path, std::string_view content) {
     h = ::CreateFileW(tmp.c_str(), GENERIC_WRITE, 0, nullptr, CREATE_NEW, FILE_ATTRIBUTE_NORMAL,
                       nullptr);
     if (h == INVALID_HANDLE_VALUE && ::GetLastError() != ERROR_FILE_EXISTS)
-      return sys_error(path, "cannot create a temporary file", ::GetLastError());
+      return sys_error(path, "cannot create a temporary file in " + dir.string(), ::GetLastError());
   }
   if (h == INVALID_HANDLE_VALUE)
     return Error(Errc::file_error, path.string() + ": cannot create a temporary file");

@@ -1,6 +1,7 @@
 #include "sim/state_file.hpp"
 
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -533,13 +534,21 @@ Result<DriveState> load_state(const std::string& path) {
 Result<void> save_state(const DriveState& s, const std::string& path) {
   const std::string tmp = path + ".tmp";
   {
-    std::ofstream out(tmp, std::ios::trunc);
+    // Binary: the same bytes on Windows (no CR before each LF).
+    std::ofstream out(tmp, std::ios::trunc | std::ios::binary);
     if (!out) return Error(Errc::file_error, "cannot write " + tmp);
     out << to_json(s).dump(2) << '\n';
     if (!out.flush()) return Error(Errc::file_error, "cannot write " + tmp);
   }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0)
+  // std::filesystem::rename, not std::rename: Windows' C library refuses to
+  // rename over an existing file; libstdc++ replaces it there (MoveFileExW
+  // with MOVEFILE_REPLACE_EXISTING), as rename(2) does on Linux.
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) {
+    std::filesystem::remove(tmp, ec);
     return Error(Errc::file_error, "cannot rename " + tmp + " to " + path);
+  }
   return {};
 }
 

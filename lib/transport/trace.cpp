@@ -21,9 +21,14 @@ namespace lmcfg::transport {
 
 namespace {
 
+// The C runtime's descriptor of the trace file, closed with the sink (not a
+// UniqueFd: on Windows that holds a socket, winsock_win32.hpp).
 class FileTrace final : public TraceSink {
  public:
-  explicit FileTrace(UniqueFd fd) : fd_(std::move(fd)), start_(Clock::now()) {}
+  explicit FileTrace(int fd) : fd_(fd), start_(Clock::now()) {}
+  FileTrace(const FileTrace&) = delete;
+  FileTrace& operator=(const FileTrace&) = delete;
+  ~FileTrace() override { ::close(fd_); }
 
   void record(bool tx, ByteView bytes) override {
     const double secs = std::chrono::duration<double>(Clock::now() - start_).count();
@@ -38,8 +43,7 @@ class FileTrace final : public TraceSink {
     std::size_t off = 0;
     for (int tries = 0; off < line.size() && tries < 100; ++tries) {
       // A line is far below 4 GiB: the count fits Windows' unsigned int too.
-      const auto n =
-          ::write(fd_.get(), line.data() + off, static_cast<unsigned>(line.size() - off));
+      const auto n = ::write(fd_, line.data() + off, static_cast<unsigned>(line.size() - off));
       if (n > 0)
         off += static_cast<std::size_t>(n);
       else if (n < 0 && errno != EINTR)
@@ -49,7 +53,7 @@ class FileTrace final : public TraceSink {
 
  private:
   std::mutex mu_;
-  UniqueFd fd_;
+  int fd_;
   Clock::time_point start_;
 };
 
@@ -82,12 +86,12 @@ class TracedTransport final : public Transport {
 }  // namespace
 
 Result<std::unique_ptr<TraceSink>> open_file_trace(const std::string& path) {
-  UniqueFd fd(
-      ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_APPEND | O_CLOEXEC | O_BINARY, 0644));
-  if (!fd) {
+  const int fd =
+      ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_APPEND | O_CLOEXEC | O_BINARY, 0644);
+  if (fd < 0) {
     return Error(Errc::file_error, "cannot open trace file " + path + ": " + std::strerror(errno));
   }
-  return std::unique_ptr<TraceSink>(std::make_unique<FileTrace>(std::move(fd)));
+  return std::unique_ptr<TraceSink>(std::make_unique<FileTrace>(fd));
 }
 
 std::unique_ptr<TraceSink> make_file_trace(const std::string& path) {

@@ -1,5 +1,6 @@
-// Bounded reading of input files (lib/config/text_file.cpp): sizes, streams,
-// the head check and the messages naming what was refused.
+// Bounded reading of input files (lib/config/text_file.cpp): sizes, the head
+// check and the messages naming what was refused (an endless device stream:
+// test_atomic_file_modes.cpp, POSIX only).
 #include <catch2/catch.hpp>
 
 #include "config/atomic_file.hpp"
@@ -18,12 +19,6 @@ namespace {
 struct TempDir : test::ScratchDir {
   TempDir() : test::ScratchDir("cfg-text") {}
 };
-
-Result<void> refuse_zero(std::string_view head, const std::string& name) {
-  if (head.find('\0') != std::string_view::npos)
-    return Error(Errc::parse_error, name + ": holds a NUL byte");
-  return {};
-}
 }  // namespace
 
 TEST_CASE("text file: read_text_file reads whole files and names what it refuses",
@@ -57,19 +52,7 @@ TEST_CASE("text file: read_text_file reads whole files and names what it refuses
         f.string() + ": 2097152 bytes, larger than any configuration (at most 1000 bytes)");
 }
 
-TEST_CASE("text file: a stream is read up to the limit, its head checked once it has text",
-          "[config][text_file]") {
-  // /dev/zero never ends: the head check refuses it after the first block.
-  auto zero = read_text_file("/dev/zero", kMaxInputBytes, refuse_zero);
-  REQUIRE_FALSE(zero.ok());
-  CHECK(zero.error().code == make_error_code(Errc::parse_error));
-  CHECK(zero.error().message == "/dev/zero: holds a NUL byte");
-  // Without a head check the limit ends it.
-  auto endless = read_text_file("/dev/zero", 100000);
-  REQUIRE_FALSE(endless.ok());
-  CHECK(endless.error().message ==
-        "/dev/zero: more than 100000 bytes (an endless stream?); a configuration is far smaller");
-  // A blank file is checked at its end.
+TEST_CASE("text file: a blank file is head-checked at its end", "[config][text_file]") {
   TempDir d;
   const auto blank = d.path / "blank.json";
   spit(blank, "  \n");

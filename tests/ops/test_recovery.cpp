@@ -25,15 +25,15 @@ class EnvVar {
   EnvVar(const char* name, std::optional<std::string> value) : name_(name) {
     if (const char* old = std::getenv(name)) old_ = old;
     if (value)
-      ::setenv(name, value->c_str(), 1);
+      lmcfg::test::set_env(name, value->c_str());
     else
-      ::unsetenv(name);
+      lmcfg::test::unset_env(name);
   }
   ~EnvVar() {
     if (old_)
-      ::setenv(name_, old_->c_str(), 1);
+      lmcfg::test::set_env(name_, old_->c_str());
     else
-      ::unsetenv(name_);
+      lmcfg::test::unset_env(name_);
   }
   EnvVar(const EnvVar&) = delete;
   EnvVar& operator=(const EnvVar&) = delete;

@@ -2,6 +2,7 @@
 // Files and directories for the tests: one copy instead of one per test file.
 #include <unistd.h>
 
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -44,6 +45,23 @@ struct ScratchDir {
   ScratchDir(const ScratchDir&) = delete;
   ScratchDir& operator=(const ScratchDir&) = delete;
 };
+
+// setenv(3)/unsetenv(3) for the tests; MinGW's C library has neither
+// (_putenv_s with an empty value removes the variable there).
+inline void set_env(const char* name, const char* value) {
+#ifdef _WIN32
+  ::_putenv_s(name, value);
+#else
+  ::setenv(name, value, 1);
+#endif
+}
+inline void unset_env(const char* name) {
+#ifdef _WIN32
+  ::_putenv_s(name, "");
+#else
+  ::unsetenv(name);
+#endif
+}
 
 // Replaces the file's content with `text`.
 inline void spit(const std::filesystem::path& p, const std::string& text) {

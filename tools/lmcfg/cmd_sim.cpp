@@ -1,9 +1,5 @@
 // `lmcfg sim`: serve a simulated drive (lib/sim) on a pseudo-terminal or a
 // loopback TCP port, in real time, until SIGINT/SIGTERM (or stdin EOF).
-#include <poll.h>
-#include <signal.h>
-#include <unistd.h>
-
 #include <cstdio>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -19,23 +15,12 @@
 #include "sim/state_file.hpp"
 #include "sim_devicenet.hpp"
 #include "sim_linudp.hpp"
+#include "sim_platform.hpp"
 #include "sim_tcp.hpp"
 #include "transport/pty.hpp"
 
 namespace lmcfg::cli {
 namespace {
-
-volatile sig_atomic_t g_stop = 0;
-void on_signal(int) { g_stop = 1; }
-
-void install_stop_handlers() {
-  struct sigaction sa {};
-  sa.sa_handler = on_signal;
-  sigemptyset(&sa.sa_mask);
-  ::sigaction(SIGINT, &sa, nullptr);
-  ::sigaction(SIGTERM, &sa, nullptr);
-  ::signal(SIGPIPE, SIG_IGN);
-}
 
 struct SimArgs {
   std::vector<std::string> states;
@@ -50,17 +35,6 @@ struct SimArgs {
   bool linudp = false;
   LinudpSimArgs udp;
 };
-
-bool stdin_at_eof() {
-  pollfd p{STDIN_FILENO, POLLIN, 0};
-  if (::poll(&p, 1, 0) <= 0) return false;
-  if (p.revents & (POLLHUP | POLLERR | POLLNVAL)) {
-    char c;
-    return ::read(STDIN_FILENO, &c, 1) <= 0;
-  }
-  char buf[256];
-  return ::read(STDIN_FILENO, buf, sizeof buf) == 0;
-}
 
 // The README demo axis (tests/fixtures/sim/commissioned-axis.json), embedded.
 constexpr const char kDemoAxis[] =
@@ -107,7 +81,7 @@ int run_linudp(const SimArgs& a, const std::vector<sim::Drive*>& line) {
   }
   int rc = run_linudp_sim(
       a.udp, line.front()->state(), a.fast, a.verbose,
-      [&] { return g_stop != 0 || (a.until_stdin_eof && stdin_at_eof()); },
+      [&] { return sim_stop_requested() || (a.until_stdin_eof && stdin_at_eof()); },
       [&](const sim::DriveState& s) {
         if (!a.save_on_exit) return;
         if (auto r = sim::save_state(s, a.states.front()); !r.ok())
@@ -116,18 +90,29 @@ int run_linudp(const SimArgs& a, const std::vector<sim::Drive*>& line) {
   return rc;
 }
 
+// Windows has no pseudo-terminals: without --tcp or --linudp there is no line to serve.
+bool pty_missing(const SimArgs& a) {
+  if (sim_has_pty() || !a.tcp.empty() || a.linudp) return false;
+  std::fprintf(stderr,
+               "lmcfg sim: not available on Windows: no pseudo-terminals; serve on TCP with "
+               "--tcp HOST:PORT (or LinUDP with --linudp), or use --port sim:FILE for a "
+               "simulated drive inside lmcfg (docs/windows.md)\n");
+  return true;
+}
+
 int run(const SimArgs& a) {
+  if (pty_missing(a)) return kInvalidInput;
   if (a.devicenet) {
     if (!a.states.empty()) {
       std::fprintf(stderr,
                    "lmcfg sim: --devicenet simulates a controller of its own, without --state\n");
       return kInvalidInput;
     }
-    install_stop_handlers();
+    install_sim_stop_handlers();
     DevicenetSimArgs dn = a.dn;
     dn.tcp = a.tcp;
-    return run_devicenet_sim(dn,
-                             [&] { return g_stop != 0 || (a.until_stdin_eof && stdin_at_eof()); });
+    return run_devicenet_sim(
+        dn, [&] { return sim_stop_requested() || (a.until_stdin_eof && stdin_at_eof()); });
   }
   if (a.states.empty() && a.save_on_exit) {
     std::fprintf(stderr, "lmcfg sim: --save-on-exit needs --state FILE to save to\n");
@@ -142,12 +127,12 @@ int run(const SimArgs& a) {
   for (auto& d : *loaded) line.push_back(d.get());
   sim::Drive& drive = *line.front();
 
-  install_stop_handlers();
+  install_sim_stop_handlers();
   if (a.linudp) return run_linudp(a, line);
 
   sim::ServeOptions opt;
   opt.real_time = !a.fast;
-  opt.should_stop = [&] { return g_stop != 0 || (a.until_stdin_eof && stdin_at_eof()); };
+  opt.should_stop = [&] { return sim_stop_requested() || (a.until_stdin_eof && stdin_at_eof()); };
   if (a.verbose) {
     opt.trace = [](bool tx, ByteView b) {
       std::fprintf(stderr, "%s %s\n", tx ? "TX" : "RX", to_hex(b).c_str());
@@ -246,12 +231,18 @@ int serve_tcp_clients(const std::string& tcp, const std::function<bool()>& shoul
 void add_sim(CLI::App& app, int& exit_code) {
   auto args = std::make_shared<SimArgs>();
   auto* cmd = app.add_subcommand(
-      "sim", "Serve a simulated LinMot drive (LinRS) on a pseudo-terminal or TCP port");
+      "sim", sim_has_pty()
+                 ? "Serve a simulated LinMot drive (LinRS) on a pseudo-terminal or TCP port"
+                 : "Serve a simulated LinMot drive (LinRS) on a TCP port (Windows: no "
+                   "pseudo-terminals)");
   cmd->add_option("--state", args->states,
                   "Sim state file (JSON, see docs/simulator.md); default: the README demo axis. "
                   "Repeat for several drives on one RS485 line (distinct MACIDs)");
   auto* pty = cmd->add_flag("--pty", args->pty,
-                            "Serve on a new pseudo-terminal; prints its slave path (default)");
+                            sim_has_pty()
+                                ? "Serve on a new pseudo-terminal; prints its slave path (default)"
+                                : "Serve on a new pseudo-terminal (not available on Windows: "
+                                  "use --tcp)");
   cmd->add_option("--tcp", args->tcp,
                   "Listen on HOST:PORT (loopback; port 0 = any); prints the port")
       ->excludes(pty);
