@@ -1,6 +1,8 @@
 // FdTransport and UniqueFd: poll()-based byte moving over one descriptor.
 #include <errno.h>
 #include <fcntl.h>
+#include <netinet/in.h>
+#include <netinet/tcp.h>
 #include <poll.h>
 #include <sys/socket.h>
 #include <sys/stat.h>
@@ -92,6 +94,15 @@ Result<Bytes> FdTransport::read_some(Millis timeout) {
   if (!fd_) return Error(Errc::link_closed, description_ + ": link is closed");
   const auto deadline = Clock::now() + std::max(timeout, Millis(0));
   std::array<std::uint8_t, kChunk> buf{};
+  // Acknowledge what arrives at once (Linux clears the flag by itself, so it
+  // is set before each wait): a serial server that holds its next segment
+  // until the last is acknowledged (Nagle's rule; ser2net answers an RFC 2217
+  // purge, then the drive's answer) otherwise waits out our delayed
+  // acknowledgement, 40 ms per exchange. Not a TCP socket: the call fails, harmless.
+  if (is_socket_) {
+    const int one = 1;
+    ::setsockopt(fd_.get(), IPPROTO_TCP, TCP_QUICKACK, &one, sizeof one);
+  }
   for (;;) {
     pollfd pfd{fd_.get(), POLLIN, 0};
     const int r = ::poll(&pfd, 1, ms_left(deadline));
