@@ -14,6 +14,7 @@
 #include <cstring>
 
 #include "transport/pty.hpp"
+#include "transport/tcp_common.hpp"
 
 namespace lmcfg::transport {
 
@@ -21,14 +22,6 @@ namespace {
 
 constexpr std::size_t kChunk = 4096;
 constexpr std::size_t kMaxDrain = 1 << 20;  // read_some / discard_input stop after 1 MiB
-
-// Milliseconds left until `deadline`, rounded up so poll() never wakes early.
-int ms_left(Clock::time_point deadline) {
-  const auto now = Clock::now();
-  if (now >= deadline) return 0;
-  const auto left = std::chrono::ceil<Millis>(deadline - now).count();
-  return static_cast<int>(std::min<long long>(left, 1'000'000'000LL));
-}
 
 bool is_closed_errno(int err) { return err == EIO || err == EPIPE || err == ECONNRESET; }
 
@@ -76,7 +69,7 @@ Result<void> FdTransport::write(ByteView bytes) {
     if (n < 0 && errno != EAGAIN && errno != EWOULDBLOCK) return os_error("write failed", errno);
     // No room (or a zero-byte write): wait for POLLOUT until the deadline.
     pollfd pfd{fd_.get(), POLLOUT, 0};
-    const int r = ::poll(&pfd, 1, ms_left(deadline));
+    const int r = ::poll(&pfd, 1, detail::ms_left(deadline));
     if (r < 0 && errno != EINTR) return os_error("poll failed", errno);
     if (r == 0 && Clock::now() >= deadline) {
       return Error(Errc::timeout, description_ + ": write timed out after " +
@@ -105,7 +98,7 @@ Result<Bytes> FdTransport::read_some(Millis timeout) {
   }
   for (;;) {
     pollfd pfd{fd_.get(), POLLIN, 0};
-    const int r = ::poll(&pfd, 1, ms_left(deadline));
+    const int r = ::poll(&pfd, 1, detail::ms_left(deadline));
     if (r < 0) {
       if (errno == EINTR) continue;
       return os_error("poll failed", errno);

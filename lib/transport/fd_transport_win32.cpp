@@ -7,6 +7,7 @@
 #include <array>
 
 #include "transport/pty.hpp"
+#include "transport/tcp_common.hpp"
 #include "transport/winsock_win32.hpp"
 
 namespace lmcfg::transport {
@@ -15,13 +16,6 @@ namespace {
 
 constexpr std::size_t kChunk = 4096;
 constexpr std::size_t kMaxDrain = 1 << 20;  // read_some / discard_input stop after 1 MiB
-
-int ms_left(Clock::time_point deadline) {
-  const auto now = Clock::now();
-  if (now >= deadline) return 0;
-  const auto left = std::chrono::ceil<Millis>(deadline - now).count();
-  return static_cast<int>(std::min<long long>(left, 1'000'000'000LL));
-}
 
 bool is_closed_error(int err) {
   return err == WSAECONNRESET || err == WSAECONNABORTED || err == WSAENETRESET ||
@@ -68,7 +62,7 @@ Result<void> FdTransport::write(ByteView bytes) {
     }
     const int err = n < 0 ? ::WSAGetLastError() : 0;
     if (n < 0 && err != WSAEWOULDBLOCK && err != WSAEINTR) return os_error("write failed", err);
-    const int r = win32::wait_socket(s, true, ms_left(deadline));
+    const int r = win32::wait_socket(s, true, detail::ms_left(deadline));
     if (r == SOCKET_ERROR) return os_error("select failed", ::WSAGetLastError());
     if (r == 0 && Clock::now() >= deadline) {
       return Error(Errc::timeout, description_ + ": write timed out after " +
@@ -86,7 +80,7 @@ Result<Bytes> FdTransport::read_some(Millis timeout) {
   const auto deadline = Clock::now() + std::max(timeout, Millis(0));
   std::array<char, kChunk> buf{};
   for (;;) {
-    const int r = win32::wait_socket(s, false, ms_left(deadline));
+    const int r = win32::wait_socket(s, false, detail::ms_left(deadline));
     if (r == SOCKET_ERROR) return os_error("select failed", ::WSAGetLastError());
     if (r == 0) {
       if (Clock::now() >= deadline) return Bytes{};

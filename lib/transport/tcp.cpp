@@ -11,21 +11,11 @@
 #include <cstring>
 
 #include "transport/pty.hpp"
+#include "transport/tcp_common.hpp"
 
 namespace lmcfg::transport {
 
 namespace {
-
-std::string host_port(const std::string& host, std::uint16_t port) {
-  const bool v6 = host.find(':') != std::string::npos && host.front() != '[';
-  return (v6 ? "[" + host + "]" : host) + ":" + std::to_string(port);
-}
-
-int connect_ms_left(Clock::time_point deadline) {
-  const auto now = Clock::now();
-  if (now >= deadline) return 0;
-  return static_cast<int>(std::chrono::ceil<Millis>(deadline - now).count());
-}
 
 // Connects one resolved address; 0 on success, otherwise the errno (ETIMEDOUT at the deadline).
 int connect_one(const addrinfo& ai, Clock::time_point deadline, UniqueFd& out) {
@@ -36,7 +26,7 @@ int connect_one(const addrinfo& ai, Clock::time_point deadline, UniqueFd& out) {
     if (errno != EINPROGRESS && errno != EINTR) return errno;
     for (;;) {
       pollfd pfd{fd.get(), POLLOUT, 0};
-      const int r = ::poll(&pfd, 1, connect_ms_left(deadline));
+      const int r = ::poll(&pfd, 1, detail::ms_left(deadline));
       if (r < 0 && errno == EINTR) continue;
       if (r < 0) return errno;
       if (r == 0) {
@@ -61,14 +51,9 @@ int connect_one(const addrinfo& ai, Clock::time_point deadline, UniqueFd& out) {
 
 Result<TcpConnection> connect_tcp(const std::string& host, std::uint16_t port,
                                   Millis connect_timeout, const std::string& scheme) {
-  if (host.empty()) return Error(Errc::invalid_argument, scheme + ": host is empty");
-  // "[::1]" is accepted as well as "::1".
-  std::string name = host;
-  if (name.size() >= 2 && name.front() == '[' && name.back() == ']')
-    name = name.substr(1, name.size() - 2);
-  const std::string where = host_port(name, port);
-  if (port == 0)
-    return Error(Errc::invalid_argument, scheme + " " + where + ": port 0 is not a valid port");
+  LMCFG_ASSIGN_OR_RETURN(auto target, detail::tcp_target(host, port, scheme));
+  const std::string& name = target.name;
+  const std::string& where = target.where;
 
   addrinfo hints{};
   hints.ai_family = AF_UNSPEC;
@@ -101,13 +86,6 @@ Result<TcpConnection> connect_tcp(const std::string& host, std::uint16_t port,
                                     std::to_string(connect_timeout.count()) + " ms");
   }
   return Error(Errc::io_error, scheme + " " + where + ": cannot connect: " + std::strerror(last));
-}
-
-Result<std::unique_ptr<Transport>> open_tcp(const std::string& host, std::uint16_t port,
-                                            Millis connect_timeout) {
-  LMCFG_ASSIGN_OR_RETURN(auto c, connect_tcp(host, port, connect_timeout, "tcp"));
-  return std::unique_ptr<Transport>(
-      std::make_unique<FdTransport>(std::move(c.fd), "tcp " + c.where));
 }
 
 }  // namespace lmcfg::transport

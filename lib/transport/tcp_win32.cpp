@@ -3,22 +3,12 @@
 // TCP_NODELAY and SO_KEEPALIVE as on Linux; the messages are tcp.cpp's with
 // Windows' error texts.
 #include "transport/pty.hpp"
+#include "transport/tcp_common.hpp"
 #include "transport/winsock_win32.hpp"
 
 namespace lmcfg::transport {
 
 namespace {
-
-std::string host_port(const std::string& host, std::uint16_t port) {
-  const bool v6 = host.find(':') != std::string::npos && host.front() != '[';
-  return (v6 ? "[" + host + "]" : host) + ":" + std::to_string(port);
-}
-
-int connect_ms_left(Clock::time_point deadline) {
-  const auto now = Clock::now();
-  if (now >= deadline) return 0;
-  return static_cast<int>(std::chrono::ceil<Millis>(deadline - now).count());
-}
 
 // Connects one resolved address; 0 on success, otherwise the WSA error
 // (WSAETIMEDOUT at the deadline).
@@ -33,7 +23,7 @@ int connect_one(const addrinfo& ai, Clock::time_point deadline, UniqueFd& out) {
     const int err = ::WSAGetLastError();
     if (err != WSAEWOULDBLOCK && err != WSAEINPROGRESS) return err;
     for (;;) {
-      const int r = win32::wait_socket(s, true, connect_ms_left(deadline));
+      const int r = win32::wait_socket(s, true, detail::ms_left(deadline));
       if (r == SOCKET_ERROR) return ::WSAGetLastError();
       if (r == 0) {
         if (Clock::now() >= deadline) return WSAETIMEDOUT;
@@ -58,13 +48,9 @@ int connect_one(const addrinfo& ai, Clock::time_point deadline, UniqueFd& out) {
 
 Result<TcpConnection> connect_tcp(const std::string& host, std::uint16_t port,
                                   Millis connect_timeout, const std::string& scheme) {
-  if (host.empty()) return Error(Errc::invalid_argument, scheme + ": host is empty");
-  std::string name = host;
-  if (name.size() >= 2 && name.front() == '[' && name.back() == ']')
-    name = name.substr(1, name.size() - 2);
-  const std::string where = host_port(name, port);
-  if (port == 0)
-    return Error(Errc::invalid_argument, scheme + " " + where + ": port 0 is not a valid port");
+  LMCFG_ASSIGN_OR_RETURN(auto target, detail::tcp_target(host, port, scheme));
+  const std::string& name = target.name;
+  const std::string& where = target.where;
   LMCFG_TRY(win32::winsock_ready());
 
   addrinfo hints{};
@@ -94,13 +80,6 @@ Result<TcpConnection> connect_tcp(const std::string& host, std::uint16_t port,
                                     std::to_string(connect_timeout.count()) + " ms");
   }
   return Error(Errc::io_error, scheme + " " + where + ": cannot connect: " + win32::wsa_text(last));
-}
-
-Result<std::unique_ptr<Transport>> open_tcp(const std::string& host, std::uint16_t port,
-                                            Millis connect_timeout) {
-  LMCFG_ASSIGN_OR_RETURN(auto c, connect_tcp(host, port, connect_timeout, "tcp"));
-  return std::unique_ptr<Transport>(
-      std::make_unique<FdTransport>(std::move(c.fd), "tcp " + c.where));
 }
 
 }  // namespace lmcfg::transport
