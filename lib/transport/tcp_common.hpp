@@ -1,5 +1,5 @@
 #pragma once
-// What the POSIX and Windows socket code (fd_transport*.cpp, tcp*.cpp) share:
+// What the POSIX and Windows socket code (fd_transport*, tcp*, udp*) share:
 // the deadline arithmetic of their waits and the checks and naming of a TCP
 // destination, so both builds wait and word their messages alike. Private to
 // the transport layer: not an installed header.

@@ -12,6 +12,7 @@
 #include <cstring>
 
 #include "transport/pty.hpp"
+#include "transport/tcp_common.hpp"
 
 namespace lmcfg::transport {
 
@@ -50,11 +51,8 @@ std::string addr_text(const sockaddr_in& a) {
 // Waits for the socket to be readable; false at the deadline.
 Result<bool> wait_readable(int fd, Clock::time_point deadline) {
   for (;;) {
-    const auto now = Clock::now();
-    const int ms =
-        now >= deadline ? 0 : static_cast<int>(std::chrono::ceil<Millis>(deadline - now).count());
     pollfd p{fd, POLLIN, 0};
-    const int r = ::poll(&p, 1, ms);
+    const int r = ::poll(&p, 1, detail::ms_left(deadline));
     if (r < 0 && errno == EINTR) continue;
     if (r < 0) return udp_errno("udp poll", errno);
     return r > 0;

@@ -10,6 +10,7 @@
 #include <cstring>
 
 #include "transport/pty.hpp"
+#include "transport/tcp_common.hpp"
 #include "transport/udp.hpp"
 #include "transport/winsock_win32.hpp"
 
@@ -66,10 +67,7 @@ Result<UniqueFd> udp_socket() {
 
 // Waits for the socket to be readable; false at the deadline.
 Result<bool> wait_readable(SOCKET s, Clock::time_point deadline) {
-  const auto now = Clock::now();
-  const int ms =
-      now >= deadline ? 0 : static_cast<int>(std::chrono::ceil<Millis>(deadline - now).count());
-  const int r = win32::wait_socket(s, false, ms);
+  const int r = win32::wait_socket(s, false, detail::ms_left(deadline));
   if (r == SOCKET_ERROR) return udp_error("udp select", ::WSAGetLastError());
   return r > 0;
 }
