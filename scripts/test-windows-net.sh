@@ -13,18 +13,9 @@ set -uo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 lmcfg="$(realpath "${1:-$root/build/lmcfg}")"
 exe="$(realpath "${2:-$root/build-windows/build/lmcfg.exe}")"
-out="${LMCFG_WINDOWS_DIR:-$root/build-windows}"
-export WINEPREFIX="$out/wine" WINEDEBUG=-all WINEDLLOVERRIDES="mscoree,mshtml="
-wine=/usr/lib/wine/wine64
-[[ -x $wine ]] || wine="$(command -v wine64 || command -v wine || true)"
+source "$root/scripts/wine-env.sh"
 ser2net="${LMCFG_SER2NET:-/usr/sbin/ser2net}"
-for f in "$lmcfg" "$exe" "$wine"; do
-  [[ -n $f && -e $f ]] || {
-    echo "test-windows-net: $f missing (scripts/build.sh, scripts/build-windows.sh, install-deps.sh --windows)" >&2
-    exit 2
-  }
-done
-[[ -f $WINEPREFIX/system.reg ]] || { echo "test-windows-net: no Wine prefix $WINEPREFIX (scripts/build-windows.sh makes it)" >&2; exit 2; }
+wine_require test-windows-net "scripts/build.sh, scripts/build-windows.sh, install-deps.sh --windows" "$lmcfg" "$exe"
 work="$(mktemp -d "$out/net.XXXXXX")"
 cd "$work"
 export XDG_STATE_HOME="$work/linux-state"

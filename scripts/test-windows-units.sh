@@ -9,17 +9,8 @@ set -uo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 exe="$(realpath "${1:-$root/build-windows/build/tests/lmcfg_tests.exe}")"
 shift || true
-out="${LMCFG_WINDOWS_DIR:-$root/build-windows}"
-export WINEPREFIX="$out/wine" WINEDEBUG=-all WINEDLLOVERRIDES="mscoree,mshtml="
-wine=/usr/lib/wine/wine64
-[[ -x $wine ]] || wine="$(command -v wine64 || command -v wine || true)"
-for f in "$exe" "$wine"; do
-  [[ -n $f && -e $f ]] || {
-    echo "test-windows-units: $f missing (scripts/build-windows.sh --tests, install-deps.sh --windows)" >&2
-    exit 2
-  }
-done
-[[ -f $WINEPREFIX/system.reg ]] || { echo "test-windows-units: no Wine prefix $WINEPREFIX (scripts/build-windows.sh makes it)" >&2; exit 2; }
+source "$root/scripts/wine-env.sh"
+wine_require test-windows-units "scripts/build-windows.sh --tests, install-deps.sh --windows" "$exe"
 work="$(mktemp -d "$out/units.XXXXXX")"
 # The tests find the sources and the database by their Linux paths, which
 # Wine reaches through drive Z: from a working directory on it.

@@ -10,17 +10,8 @@ set -uo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 lmcfg="$(realpath "${1:-$root/build/lmcfg}")"
 exe="$(realpath "${2:-$root/build-windows/build/lmcfg.exe}")"
-out="${LMCFG_WINDOWS_DIR:-$root/build-windows}"
-export WINEPREFIX="$out/wine" WINEDEBUG=-all WINEDLLOVERRIDES="mscoree,mshtml="
-wine=/usr/lib/wine/wine64
-[[ -x $wine ]] || wine="$(command -v wine64 || command -v wine || true)"
-for f in "$lmcfg" "$exe" "$wine"; do
-  [[ -n $f && -e $f ]] || {
-    echo "test-windows: $f missing (scripts/build.sh, scripts/build-windows.sh, install-deps.sh --windows)" >&2
-    exit 2
-  }
-done
-[[ -f $WINEPREFIX/system.reg ]] || { echo "test-windows: no Wine prefix $WINEPREFIX (scripts/build-windows.sh makes it)" >&2; exit 2; }
+source "$root/scripts/wine-env.sh"
+wine_require test-windows "scripts/build.sh, scripts/build-windows.sh, install-deps.sh --windows" "$lmcfg" "$exe"
 work="$(mktemp -d "$out/e2e.XXXXXX")"
 cd "$work"
 export XDG_STATE_HOME="$work/linux-state"
