@@ -8,4 +8,6 @@ std::tm utc_tm(std::time_t t) {
   return tm;
 }
 
+std::time_t utc_time_t(std::tm tm) { return timegm(&tm); }
+
 }  // namespace lmcfg

@@ -9,4 +9,6 @@ std::tm utc_tm(std::time_t t) {
   return tm;
 }
 
+std::time_t utc_time_t(std::tm tm) { return _mkgmtime(&tm); }
+
 }  // namespace lmcfg

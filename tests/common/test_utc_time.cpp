@@ -21,4 +21,19 @@ TEST_CASE("utc_tm: the epoch and one billion seconds after it", "[common][utc_ti
   CHECK(billion.tm_sec == 40);
 }
 
+TEST_CASE("utc_time_t: reads a calendar time as UTC, whatever the local zone",
+          "[common][utc_time]") {
+  std::tm tm{};
+  tm.tm_year = 101;
+  tm.tm_mon = 8;
+  tm.tm_mday = 9;
+  tm.tm_hour = 1;
+  tm.tm_min = 46;
+  tm.tm_sec = 40;
+  tm.tm_isdst = 1;  // ignored
+  CHECK(lmcfg::utc_time_t(tm) == 1000000000);
+  CHECK(lmcfg::utc_time_t(lmcfg::utc_tm(0)) == 0);
+  CHECK(lmcfg::utc_time_t(lmcfg::utc_tm(1798761599)) == 1798761599);  // 2026-12-31T23:59:59Z
+}
+
 }  // namespace common_test_utc_time
