@@ -33,6 +33,13 @@ lmcfg_windows_lib(PkgConfig::LIBGIT2
   SYSTEM z rpcrt4 crypt32 ole32 ws2_32 secur32 advapi32
   INCLUDES ${dep_inc})
 target_compile_definitions(PkgConfig::LIBGIT2 INTERFACE PCRE2_STATIC)
+# lmcfg serve's webhook client: cpp-httplib's single header from Debian's
+# source package (Debian's libcpp-httplib-dev is a compiled library and its
+# header declarations only), without OpenSSL: http:// webhooks.
+if(NOT EXISTS ${dep_inc}/httplib.h)
+  message(FATAL_ERROR "${dep_inc}/httplib.h missing: run scripts/build-windows.sh")
+endif()
+lmcfg_windows_lib(PkgConfig::HTTPLIB SYSTEM ws2_32 INCLUDES ${dep_inc})
 lmcfg_windows_lib(PkgConfig::TOMLPLUSPLUS INCLUDES ${LMCFG_WINDOWS_HEADERS})
 lmcfg_windows_lib(nlohmann_json::nlohmann_json INCLUDES ${LMCFG_WINDOWS_HEADERS})
 lmcfg_windows_lib(CLI11::CLI11 INCLUDES ${LMCFG_WINDOWS_HEADERS})

@@ -17,6 +17,7 @@
 #include <string>
 #include <string_view>
 
+#include "../tests/support/files.hpp"
 #include "fleet/inventory.hpp"
 #include "link/port.hpp"
 #include "serve/http.hpp"
@@ -42,7 +43,7 @@ struct HttpTarget {
     http.reset();
     service.reset();
     std::error_code ec;
-    std::filesystem::remove_all(dir, ec);
+    lmcfg::test::remove_tree(dir, ec);
   }
 
   explicit HttpTarget(bool tokens) {
@@ -50,7 +51,7 @@ struct HttpTarget {
     static int made = 0;
     dir = fs::temp_directory_path() /
           ("lmcfg-fuzz-http-" + std::to_string(::getpid()) + "-" + std::to_string(made++));
-    fs::remove_all(dir);
+    lmcfg::test::remove_tree(dir);
     fs::create_directories(dir);
     auto inv = fleet::parse_inventory(
         "[[line]]\nname = \"line1\"\nport = \"/nonexistent/lmcfg-fuzz-tty\"\n"

@@ -144,6 +144,15 @@ if ! built libgit2 "$libgit2"; then
   mark libgit2 "$libgit2"
 fi
 
+# cpp-httplib (lmcfg serve's webhook client): Debian's libcpp-httplib-dev is
+# a compiled library whose header only declares; its source package has the
+# whole single header, used without OpenSSL.
+httplib=$(fetch cpp-httplib)
+if ! built cpp-httplib "$httplib"; then
+  cp "$httplib/httplib.h" "$prefix/include/httplib.h"
+  mark cpp-httplib "$httplib"
+fi
+
 # Header-only libraries: Debian's own headers (the Linux build uses the same
 # packages), linked one by one so that no other header of /usr/include is seen.
 mkdir -p "$deps/headers"
@@ -206,6 +215,7 @@ licence pugixml.txt "$pugixml/LICENSE.md" || licence pugixml.txt "$pugixml/debia
 licence libgit2.txt "$libgit2/COPYING"
 licence http-parser.txt "$http_parser/LICENSE-MIT"
 licence pcre2.txt "$pcre2/LICENCE"
+licence cpp-httplib.txt "$httplib/LICENSE"
 licence zlib.txt /usr/share/doc/libz-mingw-w64-dev/copyright
 licence CLI11.txt /usr/share/doc/libcli11-dev/copyright
 licence nlohmann-json.txt /usr/share/doc/nlohmann-json3-dev/copyright

@@ -53,7 +53,7 @@ Result<std::unique_ptr<Link>> open_slcan(std::unique_ptr<transport::Transport> s
                                          const SlcanOptions& opt);
 // SocketCAN interface by name; its bit rate is the interface's (ip link set
 // can0 type can bitrate 125000).
-Result<std::unique_ptr<Link>> open_socketcan(const std::string& interface);
+Result<std::unique_ptr<Link>> open_socketcan(const std::string& ifname);
 // Ports ("slcan:/dev/ttyACM0", "can0") are opened through the table of port
 // schemes: link::open_can_link (link/port.hpp).
 

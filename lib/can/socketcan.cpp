@@ -62,9 +62,9 @@ class SocketCanLink final : public Link {
 
 }  // namespace
 
-Result<std::unique_ptr<Link>> open_socketcan(const std::string& interface) {
-  const std::string where = "CAN interface " + interface;
-  if (interface.empty() || interface.size() >= IFNAMSIZ)
+Result<std::unique_ptr<Link>> open_socketcan(const std::string& ifname) {
+  const std::string where = "CAN interface " + ifname;
+  if (ifname.empty() || ifname.size() >= IFNAMSIZ)
     return Error(Errc::invalid_argument, where + ": not an interface name");
   transport::UniqueFd fd(::socket(PF_CAN, SOCK_RAW | SOCK_CLOEXEC, CAN_RAW));
   if (!fd) {
@@ -76,7 +76,7 @@ Result<std::unique_ptr<Link>> open_socketcan(const std::string& interface) {
                                              : ""));
   }
   ifreq ifr{};
-  std::memcpy(ifr.ifr_name, interface.c_str(), interface.size());
+  std::memcpy(ifr.ifr_name, ifname.c_str(), ifname.size());
   if (::ioctl(fd.get(), SIOCGIFINDEX, &ifr) != 0) {
     return Error(Errc::io_error,
                  where + ": " + std::strerror(errno) +
@@ -88,7 +88,7 @@ Result<std::unique_ptr<Link>> open_socketcan(const std::string& interface) {
   addr.can_ifindex = ifr.ifr_ifindex;
   if (::bind(fd.get(), reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0)
     return Error(Errc::io_error, where + ": bind: " + std::strerror(errno));
-  return std::unique_ptr<Link>(std::make_unique<SocketCanLink>(std::move(fd), interface));
+  return std::unique_ptr<Link>(std::make_unique<SocketCanLink>(std::move(fd), ifname));
 }
 
 }  // namespace lmcfg::can

@@ -5,6 +5,7 @@
 #include <map>
 #include <set>
 
+#include "common/utc_time.hpp"
 #include "report/report.hpp"
 #include "serve/console_words.hpp"
 
@@ -173,7 +174,7 @@ std::string age(const std::string& iso, TimePoint now) {
     return "";
   tm.tm_year -= 1900;
   tm.tm_mon -= 1;
-  const auto t = Clock::from_time_t(::timegm(&tm));
+  const auto t = Clock::from_time_t(utc_time_t(tm));
   const long long s = std::chrono::duration_cast<std::chrono::seconds>(now - t).count();
   if (s < 0) {  // a deadline (a plan's expiry)
     const long long f = -s;

@@ -1,7 +1,5 @@
 #include "serve/http.hpp"
 
-#include <arpa/inet.h>
-
 #include <algorithm>
 #include <atomic>
 #include <cctype>
@@ -40,10 +38,7 @@ bool is_loopback(const std::string& host) {
   // Addresses, not names that look like them: "127.example.com" resolves to
   // whatever its DNS says, and would otherwise pass as loopback without
   // tokens or TLS.
-  in_addr v4{};
-  if (::inet_pton(AF_INET, host.c_str(), &v4) == 1) return (ntohl(v4.s_addr) >> 24) == 127;
-  in6_addr v6{};
-  return ::inet_pton(AF_INET6, host.c_str(), &v6) == 1 && IN6_IS_ADDR_LOOPBACK(&v6);
+  return web::is_loopback_address(host);
 }
 
 Result<void> check_exposure(const HttpOptions& opt, const std::string& listen_text) {

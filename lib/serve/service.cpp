@@ -11,6 +11,7 @@
 
 #include "common/bytes.hpp"
 #include "common/text.hpp"
+#include "common/utc_time.hpp"
 #include "fleet/history.hpp"
 #include "ops/diff.hpp"
 #include "report/report.hpp"
@@ -20,8 +21,7 @@ namespace lmcfg::serve {
 
 std::string iso_time(TimePoint t) {
   const std::time_t s = Clock::to_time_t(t);
-  std::tm tm{};
-  ::gmtime_r(&s, &tm);
+  const std::tm tm = utc_tm(s);
   char buf[32];
   std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
   return buf;

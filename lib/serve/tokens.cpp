@@ -1,18 +1,12 @@
 #include "serve/tokens.hpp"
 
-#include <fcntl.h>
-#include <sys/stat.h>
-#include <unistd.h>
-
-#include <cerrno>
-#include <cstdio>
-#include <cstring>
 #include <fstream>
 #include <sstream>
 
 #include "common/bytes.hpp"
 #include "common/text.hpp"
 #include "serve/sha256.hpp"
+#include "serve/token_file.hpp"
 
 namespace lmcfg::serve {
 
@@ -26,16 +20,7 @@ Result<Role> parse_role(std::string_view text) {
 }
 
 Result<std::vector<TokenEntry>> load_tokens(const std::string& path) {
-  // Whoever can write the file can give themselves a token: only its owner may.
-  struct stat st {};
-  if (::stat(path.c_str(), &st) == 0 && (st.st_mode & (S_IWGRP | S_IWOTH)) != 0) {
-    char mode[8];
-    std::snprintf(mode, sizeof mode, "%04o", static_cast<unsigned>(st.st_mode & 07777));
-    return Error(Errc::file_error,
-                 path + ": the tokens file is writable by " +
-                     ((st.st_mode & S_IWOTH) ? "others" : "its group") + " (mode " + mode +
-                     "), so anyone there could add a token: run chmod 600 " + path);
-  }
+  LMCFG_TRY(check_owner_only(path));
   std::ifstream in(path);
   if (!in) return Error(Errc::file_error, path + ": cannot open the tokens file");
   std::vector<TokenEntry> out;
@@ -66,7 +51,7 @@ Result<std::string> add_token(const std::string& path, const std::string& name, 
   if (name.empty() || name.find_first_of(" \t\r\n#") != std::string::npos)
     return Error(Errc::invalid_argument,
                  "token name '" + name + "' must be one word without blanks or '#'");
-  if (::access(path.c_str(), F_OK) == 0) {
+  if (file_exists(path)) {
     LMCFG_ASSIGN_OR_RETURN(auto existing, load_tokens(path));
     for (const auto& e : existing)
       if (e.name == name)
@@ -74,21 +59,12 @@ Result<std::string> add_token(const std::string& path, const std::string& name, 
                      path + ": a token named '" + name + "' exists already");
   }
   LMCFG_ASSIGN_OR_RETURN(std::string token, random_hex(32));
-  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0600);
-  if (fd < 0) return Error(Errc::file_error, path + ": " + std::strerror(errno));
-  const std::string line = name + " " + role_name(role) + " " + sha256_hex(token) + "\n";
-  const bool ok = ::write(fd, line.data(), line.size()) == static_cast<ssize_t>(line.size());
-  const int saved = errno;
-  ::close(fd);
-  if (!ok) return Error(Errc::file_error, path + ": " + std::strerror(saved));
+  LMCFG_TRY(append_owner_only(path, name + " " + role_name(role) + " " + sha256_hex(token) + "\n"));
   return token;
 }
 
 Result<std::string> random_hex(std::size_t bytes) {
-  std::vector<std::uint8_t> raw(bytes);
-  std::ifstream rnd("/dev/urandom", std::ios::binary);
-  if (!rnd.read(reinterpret_cast<char*>(raw.data()), static_cast<std::streamsize>(raw.size())))
-    return Error(Errc::io_error, "/dev/urandom: cannot read random bytes");
+  LMCFG_ASSIGN_OR_RETURN(auto raw, random_bytes(bytes));
   return to_hex(ByteView(raw.data(), raw.size()), '\0');
 }
 

@@ -1,15 +1,5 @@
 #include "serve/web_server.hpp"
 
-#include <arpa/inet.h>
-#include <fcntl.h>
-#include <netdb.h>
-#include <netinet/in.h>
-#include <netinet/tcp.h>
-#include <poll.h>
-#include <signal.h>
-#include <sys/socket.h>
-#include <unistd.h>
-
 #include <algorithm>
 #include <cctype>
 #include <condition_variable>
@@ -20,29 +10,14 @@
 #include <thread>
 #include <vector>
 
+#include "serve/web_socket.hpp"
+
 namespace lmcfg::serve::web {
 
 namespace {
 
 using SteadyClock = std::chrono::steady_clock;
 using SteadyTime = SteadyClock::time_point;
-
-void set_nonblocking(int fd) { ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL, 0) | O_NONBLOCK); }
-
-std::string address_text(const sockaddr_storage& sa) {
-  char buf[INET6_ADDRSTRLEN] = "";
-  if (sa.ss_family == AF_INET) {
-    ::inet_ntop(AF_INET, &reinterpret_cast<const sockaddr_in&>(sa).sin_addr, buf, sizeof buf);
-  } else if (sa.ss_family == AF_INET6) {
-    const auto& a6 = reinterpret_cast<const sockaddr_in6&>(sa).sin6_addr;
-    if (IN6_IS_ADDR_V4MAPPED(&a6)) {
-      ::inet_ntop(AF_INET, &a6.s6_addr[12], buf, sizeof buf);
-    } else {
-      ::inet_ntop(AF_INET6, &a6, buf, sizeof buf);
-    }
-  }
-  return buf;
-}
 
 enum class Phase { handshake, reading, handling, writing };
 
@@ -74,7 +49,7 @@ struct Done {
 struct Server::Impl {
   ServerOptions opt;
   int listen_fd = -1;
-  int wake[2] = {-1, -1};
+  Waker waker;
   std::atomic<bool> stop_asked{false}, entered{false};
   std::map<std::uint64_t, std::unique_ptr<Connection>> conns;
   std::uint64_t next_id = 1;
@@ -96,10 +71,7 @@ struct Server::Impl {
   void log(const std::string& s) const {
     if (opt.log) opt.log(s);
   }
-  void poke() const {
-    const char c = 1;
-    [[maybe_unused]] auto n = ::write(wake[1], &c, 1);
-  }
+  void poke() const { waker.poke(); }
   template <typename F>
   void count(F f) {
     std::lock_guard<std::mutex> lock(stats_mu);
@@ -176,7 +148,7 @@ struct Server::Impl {
     auto it = conns.find(id);
     if (it == conns.end()) return;
     it->second->tls.reset();
-    ::close(it->second->fd);
+    close_socket(it->second->fd);
     conns.erase(it);
   }
 
@@ -199,10 +171,9 @@ struct Server::Impl {
     if (!opt.tls) {
       Response r = error_response(503, "too many connections: " + why + "; try again later");
       r.set_header("Retry-After", "1");
-      const std::string bytes = serialize(r, false);
-      [[maybe_unused]] auto n = ::send(fd, bytes.data(), bytes.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
+      send_now(fd, serialize(r, false));
     }
-    ::close(fd);
+    close_socket(fd);
     const auto now = SteadyClock::now();
     if (now - last_refusal_log > std::chrono::seconds(1)) {
       last_refusal_log = now;
@@ -212,14 +183,9 @@ struct Server::Impl {
 
   void accept_all() {
     while (true) {
-      sockaddr_storage sa{};
-      socklen_t len = sizeof sa;
-      const int fd = ::accept(listen_fd, reinterpret_cast<sockaddr*>(&sa), &len);
-      if (fd < 0) return;  // EAGAIN, or a resource limit: the next poll tries again
-      set_nonblocking(fd);
-      int one = 1;
-      ::setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
-      const std::string addr = address_text(sa);
+      std::string addr;
+      const int fd = accept_one(listen_fd, addr);
+      if (fd == -1) return;  // none waiting, or a resource limit: the next wait tries again
       const auto from_addr = static_cast<std::size_t>(std::count_if(
           conns.begin(), conns.end(), [&](auto& kv) { return kv.second->addr == addr; }));
       if (from_addr >= opt.max_per_address || conns.size() >= opt.max_connections) {
@@ -242,7 +208,7 @@ struct Server::Impl {
       if (opt.tls) {
         c->tls = std::make_unique<TlsStream>(*opt.tls, fd);
         if (!c->tls->valid()) {
-          ::close(fd);
+          close_socket(fd);
           continue;
         }
         c->phase = Phase::handshake;
@@ -254,35 +220,12 @@ struct Server::Impl {
 
   IoStep read_some(Connection& c, char* buf, std::size_t size) {
     if (c.tls) return c.tls->read(buf, size);
-    IoStep r;
-    const ssize_t n = ::recv(c.fd, buf, size, 0);
-    if (n > 0) {
-      r.n = static_cast<std::size_t>(n);
-    } else if (n == 0) {
-      r.closed = true;
-    } else if (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR) {
-      r.want_read = true;
-    } else {
-      r.closed = true;
-      r.error = std::strerror(errno);
-    }
-    return r;
+    return recv_some(c.fd, buf, size);
   }
 
   IoStep write_some(Connection& c, const char* buf, std::size_t size) {
     if (c.tls) return c.tls->write(buf, size);
-    IoStep r;
-    const ssize_t n = ::send(c.fd, buf, size, MSG_NOSIGNAL);
-    if (n >= 0) {
-      r.n = static_cast<std::size_t>(n);
-      if (n == 0) r.want_write = true;
-    } else if (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR) {
-      r.want_write = true;
-    } else {
-      r.closed = true;
-      r.error = std::strerror(errno);
-    }
-    return r;
+    return send_some(c.fd, buf, size);
   }
 
   // Queues a response written by the loop itself (parser errors, 503s).
@@ -464,52 +407,48 @@ struct Server::Impl {
   }
 
   void loop() {
-    std::vector<pollfd> fds;
+    std::vector<Watch> fds;
     std::vector<std::uint64_t> ids;
     while (!stop_asked) {
       fds.clear();
       ids.clear();
-      fds.push_back({wake[0], POLLIN, 0});
-      fds.push_back({listen_fd, POLLIN, 0});
+      fds.push_back({waker.socket(), true, false});
+      fds.push_back({listen_fd, true, false});
       bool pending_tls = false;
       for (auto& [id, c] : conns) {
-        short ev = 0;
-        if (c->phase == Phase::handshake || c->phase == Phase::reading) ev |= POLLIN;
-        if (c->want_write || (c->phase == Phase::writing && !c->out.empty())) ev |= POLLOUT;
+        Watch w;
+        w.socket = c->fd;
+        w.read = c->phase == Phase::handshake || c->phase == Phase::reading;
+        w.write = c->want_write || (c->phase == Phase::writing && !c->out.empty());
         // A connection whose request is with a worker is not watched: a
-        // client that hangs up then would make poll report POLLHUP at once,
-        // round after round, until the answer is ready.
+        // client that hangs up then would make the wait report a hang-up at
+        // once, round after round, until the answer is ready.
         if (c->phase == Phase::handling) continue;
         if (c->tls && c->phase == Phase::reading && c->tls->has_buffered()) pending_tls = true;
-        fds.push_back({c->fd, ev, 0});
+        fds.push_back(w);
         ids.push_back(id);
       }
-      const int n = ::poll(fds.data(), fds.size(), pending_tls ? 0 : 250);
-      if (n < 0 && errno != EINTR) break;
-      if (fds[0].revents & POLLIN) {
-        char drain[256];
-        while (::read(wake[0], drain, sizeof drain) > 0) {
-        }
-      }
+      if (!wait_sockets(fds, pending_tls ? 0 : 250)) break;
+      if (fds[0].readable) waker.drain();
       collect_done();
       for (std::size_t i = 2; i < fds.size(); ++i) {
         auto it = conns.find(ids[i - 2]);
         if (it == conns.end()) continue;
         Connection& c = *it->second;
-        const short re = fds[i].revents;
+        const Watch& w = fds[i];
         const bool tls_pending = c.tls && c.phase == Phase::reading && c.tls->has_buffered();
-        if (re & (POLLERR | POLLNVAL)) {
+        if (w.failed) {
           close_conn(c.id);
           continue;
         }
-        if (re & POLLOUT) {
+        if (w.writable) {
           const std::uint64_t id = c.id;
           on_writable(c);
           if (!conns.count(id)) continue;
         }
-        if (re & (POLLIN | POLLHUP) || tls_pending) on_readable(c);
+        if (w.readable || w.hangup || tls_pending) on_readable(c);
       }
-      if (fds[1].revents & POLLIN) accept_all();
+      if (fds[1].readable) accept_all();
       expire();
       count([&](ServerStats& s) { s.open = conns.size(); });
     }
@@ -518,58 +457,22 @@ struct Server::Impl {
 
 Server::Server(ServerOptions opt) : impl_(std::make_unique<Impl>(std::move(opt))) {}
 
-Server::~Server() {
-  if (impl_->listen_fd >= 0) ::close(impl_->listen_fd);
-  for (int fd : impl_->wake)
-    if (fd >= 0) ::close(fd);
-}
+Server::~Server() { close_socket(impl_->listen_fd); }
 
 Result<int> Server::bind(const std::string& host, int port) {
-  const Error cannot(Errc::io_error, "cannot listen on " + host + ":" + std::to_string(port) +
-                                         " (address in use or not on this host)");
-  addrinfo hints{};
-  hints.ai_family = AF_UNSPEC;
-  hints.ai_socktype = SOCK_STREAM;
-  hints.ai_flags = AI_PASSIVE;
-  addrinfo* res = nullptr;
-  if (::getaddrinfo(host.c_str(), std::to_string(port).c_str(), &hints, &res) != 0 || !res)
-    return cannot;
-  int fd = -1;
-  for (addrinfo* a = res; a && fd < 0; a = a->ai_next) {
-    fd = ::socket(a->ai_family, a->ai_socktype | SOCK_CLOEXEC, a->ai_protocol);
-    if (fd < 0) continue;
-    // SO_REUSEADDR only: with SO_REUSEPORT a second lmcfg serve would bind
-    // the same port and the kernel would share the connections between them.
-    int yes = 1;
-    ::setsockopt(fd, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
-    if (::bind(fd, a->ai_addr, a->ai_addrlen) != 0 || ::listen(fd, 256) != 0) {
-      ::close(fd);
-      fd = -1;
-    }
+  LMCFG_ASSIGN_OR_RETURN(Listener l, listen_on(host, port));
+  if (auto woke = impl_->waker.open(); !woke.ok()) {
+    close_socket(l.socket);
+    return woke.error();
   }
-  ::freeaddrinfo(res);
-  if (fd < 0) return cannot;
-  sockaddr_storage sa{};
-  socklen_t len = sizeof sa;
-  ::getsockname(fd, reinterpret_cast<sockaddr*>(&sa), &len);
-  const int bound = ntohs(sa.ss_family == AF_INET6 ? reinterpret_cast<sockaddr_in6&>(sa).sin6_port
-                                                   : reinterpret_cast<sockaddr_in&>(sa).sin_port);
-  set_nonblocking(fd);
-  if (::pipe2(impl_->wake, O_NONBLOCK | O_CLOEXEC) != 0) {
-    ::close(fd);
-    return Error(Errc::io_error, "cannot create the server's wake-up pipe");
-  }
-  impl_->listen_fd = fd;
-  return bound;
+  impl_->listen_fd = l.socket;
+  return l.port;
 }
 
 void Server::serve() {
   impl_->entered = true;
   if (impl_->stop_asked || impl_->listen_fd < 0) return;
-  // A client that closes while its answer is written must not end the
-  // process (TLS writes go through OpenSSL's socket BIO, which cannot pass
-  // MSG_NOSIGNAL).
-  ::signal(SIGPIPE, SIG_IGN);
+  ignore_broken_pipe();
   for (int i = 0; i < std::max(1, impl_->opt.workers); ++i)
     impl_->workers.emplace_back([this] { impl_->worker(); });
   impl_->loop();
@@ -588,7 +491,7 @@ void Server::serve() {
 
 void Server::stop() {
   impl_->stop_asked = true;
-  if (impl_->wake[1] >= 0) impl_->poke();
+  if (impl_->listen_fd != -1) impl_->poke();
 }
 
 ServerStats Server::stats() const {

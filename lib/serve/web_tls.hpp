@@ -6,17 +6,9 @@
 #include <string>
 
 #include "common/result.hpp"
+#include "serve/web_socket.hpp"
 
 namespace lmcfg::serve::web {
-
-// What a non-blocking step did: `n` bytes moved (0 with want_*: try again
-// when the socket is readable/writable); `closed`: the peer closed or the
-// connection failed (`error` says why, "" for an orderly close).
-struct IoStep {
-  std::size_t n = 0;
-  bool want_read = false, want_write = false, closed = false;
-  std::string error;
-};
 
 class TlsContext {
  public:

@@ -360,7 +360,7 @@ TEST_CASE(
 TEST_CASE(
     "console: an operator approves a revision from the position's history, and without a reason "
     "nothing is approved",
-    "[serve][console]") {
+    "[serve][console][git-cli]") {
   test::Rig rig;
   rig.at(rig.now);
   test::write_axis(rig.dir.path / "b.json", 0x12, "0010", 7);

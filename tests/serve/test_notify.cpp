@@ -95,13 +95,6 @@ struct Log {
   }
 };
 
-fs::path script(const fs::path& dir, const std::string& name, const std::string& body) {
-  const auto p = dir / name;
-  spit(p, "#!/bin/sh\n" + body);
-  fs::permissions(p, fs::perms::owner_all);
-  return p;
-}
-
 }  // namespace
 
 TEST_CASE("serve: a webhook receives the event JSON, a dead one is retried, then given up",
@@ -160,51 +153,6 @@ TEST_CASE("serve: a webhook receives the event JSON, a dead one is retried, then
         std::string::npos);
 }
 
-TEST_CASE("serve: the notify command gets the event JSON on stdin", "[serve][notify]") {
-  test::ScratchDir d("serve-command");
-  const auto script = d.path / "hook.sh";
-  test::spit(script, "#!/bin/sh\ncat > '" + (d.path / "got.json").string() + "'\n");
-  fs::permissions(script, fs::perms::owner_all);
-  REQUIRE(serve::run_with_stdin(script.string(), "{\"event\":\"recovered\"}\n").ok());
-  CHECK(test::slurp(d.path / "got.json") == "{\"event\":\"recovered\"}\n");
-  test::spit(d.path / "fail.sh", "#!/bin/sh\nexit 3\n");
-  fs::permissions(d.path / "fail.sh", fs::perms::owner_all);
-  auto failed = serve::run_with_stdin((d.path / "fail.sh").string(), "{}");
-  REQUIRE_FALSE(failed.ok());
-  CHECK(failed.error().message ==
-        "notify command " + (d.path / "fail.sh").string() + " failed (exit 3)");
-}
-
-TEST_CASE("notify: a command that cannot be run, one killed by a signal, one that reads nothing",
-          "[serve][notify]") {
-  ScratchDir d("notify-command");
-  const std::string missing = (d.path / "no-such-program").string();
-  auto r = serve::run_with_stdin(missing, "{}\n");
-  REQUIRE_FALSE(r.ok());
-  CHECK(r.error().code == Errc::io_error);
-  CHECK(r.error().message == "notify command " + missing + " could not be run (exit 127)");
-
-  const auto killed = script(d.path, "killed.sh", "kill -9 $$\n");
-  r = serve::run_with_stdin(killed.string(), "{}\n");
-  REQUIRE_FALSE(r.ok());
-  CHECK(r.error().code == Errc::io_error);
-  CHECK(r.error().message == "notify command " + killed.string() + " failed (signal 9)");
-
-  // No shell: the program's name is not split at blanks or expanded.
-  const auto spaced = script(d.path, "two words.sh", "cat > \"$(dirname \"$0\")/spaced.json\"\n");
-  REQUIRE(serve::run_with_stdin(spaced.string(), "{\"event\":\"drift\"}\n").ok());
-  CHECK(slurp(d.path / "spaced.json") == "{\"event\":\"drift\"}\n");
-
-  // A command that exits without reading a large event: its exit status
-  // counts, and the closed pipe does not end this process (SIGPIPE).
-  const auto deaf = script(d.path, "deaf.sh", "exit 0\n");
-  CHECK(serve::run_with_stdin(deaf.string(), std::string(1 << 20, 'x')).ok());
-  const auto deaf_fail = script(d.path, "deaf-fail.sh", "exit 5\n");
-  r = serve::run_with_stdin(deaf_fail.string(), std::string(1 << 20, 'x'));
-  REQUIRE_FALSE(r.ok());
-  CHECK(r.error().message == "notify command " + deaf_fail.string() + " failed (exit 5)");
-}
-
 TEST_CASE("notify: post_json sends the JSON as application/json to the URL's path",
           "[serve][notify]") {
   Receiver rx({500});
@@ -236,7 +184,7 @@ TEST_CASE("notify: the command first, then the webhook, events in the order sent
   Receiver rx;
   const std::string out = (d.path / "events.txt").string();
   serve::NotifyOptions o;
-  o.command = script(d.path, "append.sh", "cat >> '" + out + "'\n").string();
+  o.command = shell_script(d.path, "append.sh", "cat >> '" + out + "'\n").string();
   o.webhook = rx.url();
   Log log;
   o.log = log.sink();
@@ -257,7 +205,7 @@ TEST_CASE("notify: the command first, then the webhook, events in the order sent
   CHECK(log.get().empty());
 
   // A failing command is logged, and the webhook still gets the event.
-  o.command = script(d.path, "fail.sh", "exit 2\n").string();
+  o.command = shell_script(d.path, "fail.sh", "exit 2\n").string();
   {
     serve::Notifier n(o);
     n.send(R"({"n":4})");

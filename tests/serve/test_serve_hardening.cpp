@@ -23,9 +23,9 @@ namespace {
 void start_line(ServiceRig& rig, const std::function<void(serve::ServiceOptions&)>& tweak) {
   write_axis(rig.dir.path / "a.json", 0x11);
   write_axis(rig.dir.path / "b.json", 0x12);
-  rig.start("[schedule]\nbackup_every = \"6h\"\n[[line]]\nname = \"line1\"\nport = \"sim:" +
+  rig.start("[schedule]\nbackup_every = \"6h\"\n[[line]]\nname = \"line1\"\nport = 'sim:" +
                 (rig.dir.path / "a.json").string() + "," + (rig.dir.path / "b.json").string() +
-                "\"\n[[line.drive]]\nname = \"press3/z\"\nid = 0x11\n"
+                "'\n[[line.drive]]\nname = \"press3/z\"\nid = 0x11\n"
                 "[[line.drive]]\nname = \"press3/x\"\nid = 0x12\n",
             [&](serve::ServiceOptions& o) {
               o.exit_code = exit_code_of;
@@ -101,8 +101,8 @@ TEST_CASE("serve: a call waiting on a line's worker gets the error of a throw",
   });
   ServiceRig rig("serve-throw-port");
   write_axis(rig.dir.path / "a.json", 0x11);
-  rig.start("[[line]]\nname = \"line1\"\nport = \"flaky:" + (rig.dir.path / "a.json").string() +
-                "\"\n[[line.drive]]\nname = \"press3/z\"\nid = 0x11\n",
+  rig.start("[[line]]\nname = \"line1\"\nport = 'flaky:" + (rig.dir.path / "a.json").string() +
+                "'\n[[line.drive]]\nname = \"press3/z\"\nid = 0x11\n",
             [](serve::ServiceOptions& o) { o.exit_code = exit_code_of; });
   auto id = rig.service->backup_drive("press3/z", "ops");
   REQUIRE(id.ok());
@@ -134,7 +134,7 @@ TEST_CASE("serve: a notify receiver that throws loses the event, not the service
 }
 
 TEST_CASE("serve: who, reason, ticket and revisions are one line of UTF-8, length-limited",
-          "[serve][hardening]") {
+          "[serve][hardening][git-cli]") {
   Rig rig;
   rig.at(rig.now);
   write_axis(rig.dir.path / "a.json", 0x11, "0010", 9);
@@ -191,7 +191,7 @@ TEST_CASE("serve: who, reason, ticket and revisions are one line of UTF-8, lengt
 }
 
 TEST_CASE("serve: a revision reaches the plan and the commit subject as a commit id",
-          "[serve][hardening]") {
+          "[serve][hardening][git-cli]") {
   Rig rig;
   rig.at(rig.now);
   const auto archive = rig.dir.path / "archive";
@@ -214,7 +214,7 @@ TEST_CASE("serve: a revision reaches the plan and the commit subject as a commit
 }
 
 TEST_CASE("serve: a history entry that is not UTF-8 (made by hand with git) is shown escaped",
-          "[serve][hardening]") {
+          "[serve][hardening][git-cli]") {
   Rig rig;
   rig.at(rig.now);
   const auto archive = rig.dir.path / "archive";

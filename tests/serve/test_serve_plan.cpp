@@ -32,7 +32,7 @@ nlohmann::json plain(const serve::Json& j) { return nlohmann::json::parse(j.dump
 }  // namespace
 
 TEST_CASE("serve: plan, execute, the restore job's progress and outcome, a commit with trailers",
-          "[serve][plan]") {
+          "[serve][plan][git-cli]") {
   Rig rig;
   rig.at(rig.now);  // the archive's first commit: both drives
   const std::string head = git(rig.dir.path / "archive", "rev-parse HEAD").substr(0, 40);
@@ -111,7 +111,7 @@ TEST_CASE("serve: plan, execute, the restore job's progress and outcome, a commi
 }
 
 TEST_CASE("serve: plan and execute onto the line's second drive (press3/x, 12h)",
-          "[serve][plan][multidrop]") {
+          "[serve][plan][multidrop][git-cli]") {
   Rig rig;
   rig.at(rig.now);
   const std::string head = git(rig.dir.path / "archive", "rev-parse HEAD").substr(0, 40);
@@ -193,7 +193,7 @@ TEST_CASE("serve: an expired plan, a missing reason, a changed target are refuse
 }
 
 TEST_CASE("serve: plan and execute over HTTP, a viewer's token may not, who is the token's name",
-          "[serve][plan][http]") {
+          "[serve][plan][http][git-cli]") {
   Rig rig;
   rig.at(rig.now);
   const std::string file = (rig.dir.path / "tokens").string();
@@ -261,7 +261,7 @@ TEST_CASE("serve: plan and execute over HTTP, a viewer's token may not, who is t
 }
 
 TEST_CASE("serve: diff of a position between revisions and to the live drive, its HTML report",
-          "[serve][plan][http]") {
+          "[serve][plan][http][git-cli]") {
   Rig rig;
   rig.at(rig.now);
   const auto archive = rig.dir.path / "archive";
@@ -311,7 +311,7 @@ TEST_CASE("serve: diff of a position between revisions and to the live drive, it
 
 TEST_CASE(
     "serve: a factory-fresh drive at an archived position is replaced: notified, not archived",
-    "[serve][replaced]") {
+    "[serve][replaced][git-cli]") {
   Rig rig;
   const auto t0 = rig.now;
   rig.at(t0);
@@ -345,7 +345,7 @@ TEST_CASE(
 }
 
 TEST_CASE("serve: on_replaced = restore puts the archived file on a factory-fresh drive",
-          "[serve][replaced]") {
+          "[serve][replaced][git-cli]") {
   Rig rig("", "on_replaced = \"restore\"\n");
   const auto t0 = rig.now;
   rig.at(t0);

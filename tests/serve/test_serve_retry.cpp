@@ -48,7 +48,7 @@ constexpr const char* kSilentState =
 TEST_CASE(
     "serve: a restore cut by a silent drive waits as an automatic retry of its job, "
     "which runs as a job of its own and is recorded as automatic",
-    "[serve][retry]") {
+    "[serve][retry][git-cli]") {
   Rig rig;
   const std::string first = failed_restore(rig);
   const auto job = plain(*rig.service->job(first));

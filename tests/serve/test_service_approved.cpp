@@ -44,9 +44,9 @@ std::string head_of(const fs::path& archive) {
 // to start a second service on the same archive.
 std::string inventory_text(const fs::path& dir) {
   return "[schedule]\nbackup_every = \"6h\"\nstatus_every = \"15m\"\n[[line]]\nname = "
-         "\"line1\"\nport = \"sim:" +
+         "\"line1\"\nport = 'sim:" +
          (dir / "a.json").string() + "," + (dir / "b.json").string() +
-         "\"\nignore = [\"0020h\"]\n[[line.drive]]\nname = \"press3/z\"\nid = "
+         "'\nignore = [\"0020h\"]\n[[line.drive]]\nname = \"press3/z\"\nid = "
          "0x11\n[[line.drive]]\nname = \"press3/x\"\nid = 0x12\n";
 }
 
@@ -55,7 +55,7 @@ std::string inventory_text(const fs::path& dir) {
 TEST_CASE(
     "serve: a used spare stays drift through two scheduled backups, approving its "
     "configuration makes it ok",
-    "[serve][service_approved]") {
+    "[serve][service_approved][git-cli]") {
   Rig rig;
   const auto t0 = rig.now;
   const auto archive = rig.dir.path / "archive";
@@ -138,7 +138,7 @@ TEST_CASE(
 }
 
 TEST_CASE("serve: restoring the approved configuration over a used spare makes it ok",
-          "[serve][service_approved]") {
+          "[serve][service_approved][git-cli]") {
   Rig rig;
   const auto t0 = rig.now;
   const auto archive = rig.dir.path / "archive";
@@ -243,7 +243,7 @@ TEST_CASE(
 TEST_CASE(
     "http: POST /api/v1/drives/{name}/approve: viewer 403, reason required 400, bad revision "
     "404, approved 200, then GET shows it",
-    "[serve][service_approved][http]") {
+    "[serve][service_approved][http][git-cli]") {
   Rig rig;
   rig.at(rig.now);
   const std::string commissioned = head_of(rig.dir.path / "archive");

@@ -10,11 +10,31 @@
 
 namespace lmcfg::test {
 
+// std::filesystem::remove_all, which on Windows first makes the tree's
+// read-only files writable: there a read-only file (git's objects) cannot be
+// removed, and a tree left behind would be met again by a later run whose
+// process has the same ID (Wine reuses small IDs).
+inline void remove_tree(const std::filesystem::path& p, std::error_code& ec) {
+#ifdef _WIN32
+  namespace fs = std::filesystem;
+  for (auto it = fs::recursive_directory_iterator(p, ec); !ec && it != fs::end(it);
+       it.increment(ec))
+    fs::permissions(it->path(), fs::perms::owner_write, fs::perm_options::add, ec);
+  ec.clear();
+#endif
+  std::filesystem::remove_all(p, ec);
+}
+inline void remove_tree(const std::filesystem::path& p) {
+  std::error_code ec;
+  remove_tree(p, ec);
+  if (ec) throw std::filesystem::filesystem_error("cannot remove the tree", p, ec);
+}
+
 // An empty directory of this test process: TMPDIR/lmcfg-NAME-PID (emptied first).
 inline std::filesystem::path temp_dir(const std::string& name) {
   auto d =
       std::filesystem::temp_directory_path() / ("lmcfg-" + name + "-" + std::to_string(::getpid()));
-  std::filesystem::remove_all(d);
+  remove_tree(d);
   std::filesystem::create_directories(d);
   return d;
 }
@@ -35,12 +55,12 @@ struct ScratchDir {
     static int n = 0;
     path = std::filesystem::temp_directory_path() /
            ("lmcfg-" + prefix + "-" + std::to_string(::getpid()) + "-" + std::to_string(++n));
-    std::filesystem::remove_all(path);
+    remove_tree(path);
     std::filesystem::create_directories(path);
   }
   ~ScratchDir() {
     std::error_code ec;
-    std::filesystem::remove_all(path, ec);
+    remove_tree(path, ec);
   }
   ScratchDir(const ScratchDir&) = delete;
   ScratchDir& operator=(const ScratchDir&) = delete;
@@ -67,6 +87,15 @@ inline void unset_env(const char* name) {
 inline void spit(const std::filesystem::path& p, const std::string& text) {
   std::ofstream out(p, std::ios::binary | std::ios::trunc);
   out << text;
+}
+
+// An executable shell script DIR/NAME: "#!/bin/sh" and `body` (POSIX).
+inline std::filesystem::path shell_script(const std::filesystem::path& dir, const std::string& name,
+                                          const std::string& body) {
+  const auto p = dir / name;
+  spit(p, "#!/bin/sh\n" + body);
+  std::filesystem::permissions(p, std::filesystem::perms::owner_all);
+  return p;
 }
 
 }  // namespace lmcfg::test

@@ -174,8 +174,8 @@ struct Rig : ServiceRig {
     write_axis(dir.path / "a.json", 0x11);
     write_axis(dir.path / "b.json", 0x12);
     start(extra_toml + "[schedule]\nbackup_every = \"6h\"\nstatus_every = \"15m\"\n" +
-              "[[line]]\nname = " + line_name + "\nport = \"sim:" + (dir.path / "a.json").string() +
-              "," + (dir.path / "b.json").string() + "\"\nignore = [\"0020h\"]\n" + line_toml +
+              "[[line]]\nname = " + line_name + "\nport = 'sim:" + (dir.path / "a.json").string() +
+              "," + (dir.path / "b.json").string() + "'\nignore = [\"0020h\"]\n" + line_toml +
               "[[line.drive]]\nname = \"press3/z\"\nid = 0x11\n" + z_toml +
               "[[line.drive]]\nname = \"press3/x\"\nid = 0x12\n",
           [](serve::ServiceOptions& o) { o.exit_code = exit_code_of; });
