@@ -406,7 +406,8 @@ void read_service_tables(Checker& c, const toml::table& root, Inventory& inv) {
       inv.notify.webhook = *w;
     }
     if (auto cmd = c.string(t, "command", "[notify]", false)) {
-      if (cmd->empty() || cmd->front() != '/')
+      // Absolute as the platform has it: /usr/local/bin/x, or C:\lmcfg\x.cmd on Windows.
+      if (cmd->empty() || !std::filesystem::path(*cmd).is_absolute())
         c.problem(t.get("command")->source(),
                   "'command' must be an absolute path to a program, not '" + *cmd + "'");
       inv.notify.command = *cmd;

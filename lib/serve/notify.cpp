@@ -6,6 +6,20 @@
 
 namespace lmcfg::serve {
 
+Result<void> check_webhook(const std::string& url) {
+#ifndef CPPHTTPLIB_OPENSSL_SUPPORT
+  if (url.rfind("https://", 0) == 0)
+    return Error(Errc::invalid_argument,
+                 "[notify] webhook " + url +
+                     ": this build of lmcfg serve posts to http:// webhooks only (its HTTP "
+                     "client has no TLS; docs/windows.md); use an http:// receiver on this host "
+                     "or a [notify] command");
+#else
+  (void)url;
+#endif
+  return {};
+}
+
 Result<void> post_json(const std::string& url, const std::string& json) {
   // scheme://host[:port]/path: httplib's Client takes the first part, Post the path.
   const auto scheme_end = url.find("://");

@@ -25,6 +25,10 @@ struct NotifyOptions {
 // Runs `program` (no shell) with `input` on its stdin; Errc::io_error when it
 // cannot be started or exits other than 0.
 Result<void> run_with_stdin(const std::string& program, const std::string& input);
+// Whether this build can deliver to `url`: Errc::invalid_argument for an
+// https:// webhook where cpp-httplib has no TLS (the Windows build), so the
+// service refuses it at start instead of dropping every event.
+Result<void> check_webhook(const std::string& url);
 // POSTs `json` to `url` once (cpp-httplib client); Errc::io_error naming the
 // HTTP status or the connection failure.
 Result<void> post_json(const std::string& url, const std::string& json);

@@ -6,11 +6,11 @@
 #include "serve/token_file.hpp"
 
 // windows.h (win32_util.hpp) before the headers that need its types.
-#include "transport/win32_util.hpp"
-
 #include <aclapi.h>
 #include <bcrypt.h>
 #include <sddl.h>
+
+#include "transport/win32_util.hpp"
 
 namespace lmcfg::serve {
 
@@ -29,8 +29,8 @@ const struct {
     {WinBuiltinGuestsSid, "Guests"},
 };
 
-constexpr DWORD kWriteRights = FILE_WRITE_DATA | FILE_APPEND_DATA | WRITE_DAC | WRITE_OWNER |
-                               GENERIC_WRITE | GENERIC_ALL;
+constexpr DWORD kWriteRights =
+    FILE_WRITE_DATA | FILE_APPEND_DATA | WRITE_DAC | WRITE_OWNER | GENERIC_WRITE | GENERIC_ALL;
 
 const char* other_writer(PACL dacl) {
   for (DWORD i = 0; i < dacl->AceCount; ++i) {
@@ -72,9 +72,8 @@ Result<void> check_owner_only(const std::string& path) {
   PACL dacl = nullptr;
   PSECURITY_DESCRIPTOR sd = nullptr;
   const std::wstring wpath = w32::widen(path);
-  const DWORD rc = ::GetNamedSecurityInfoW(wpath.c_str(), SE_FILE_OBJECT,
-                                           DACL_SECURITY_INFORMATION, nullptr, nullptr, &dacl,
-                                           nullptr, &sd);
+  const DWORD rc = ::GetNamedSecurityInfoW(wpath.c_str(), SE_FILE_OBJECT, DACL_SECURITY_INFORMATION,
+                                           nullptr, nullptr, &dacl, nullptr, &sd);
   if (rc == ERROR_FILE_NOT_FOUND || rc == ERROR_PATH_NOT_FOUND) return {};  // reading it says so
   if (rc != ERROR_SUCCESS)
     return Error(Errc::file_error, path + ": cannot read the tokens file's access list (" +
@@ -82,11 +81,11 @@ Result<void> check_owner_only(const std::string& path) {
   const char* who = dacl ? other_writer(dacl) : "Everyone";
   ::LocalFree(sd);
   if (!who) return {};
-  return Error(Errc::file_error,
-               path + ": the tokens file is writable by " + who + " (its access list" +
-                   (dacl ? "" : " is empty: no restriction") +
-                   "), so anyone there could add a token: run icacls \"" + path +
-                   "\" /inheritance:r /grant:r \"%USERNAME%:F\"");
+  return Error(Errc::file_error, path + ": the tokens file is writable by " + who +
+                                     " (its access list" +
+                                     (dacl ? "" : " is empty: no restriction") +
+                                     "), so anyone there could add a token: run icacls \"" + path +
+                                     "\" /inheritance:r /grant:r \"%USERNAME%:F\"");
 }
 
 bool file_exists(const std::string& path) {
@@ -107,10 +106,11 @@ Result<void> append_owner_only(const std::string& path, const std::string& line)
                                  OPEN_ALWAYS, FILE_ATTRIBUTE_NORMAL, nullptr);
   const DWORD opened = ::GetLastError();
   ::LocalFree(sd);
-  if (h == INVALID_HANDLE_VALUE) return Error(Errc::file_error, path + ": " + w32::error_text(opened));
+  if (h == INVALID_HANDLE_VALUE)
+    return Error(Errc::file_error, path + ": " + w32::error_text(opened));
   DWORD n = 0;
-  const bool ok = ::WriteFile(h, line.data(), static_cast<DWORD>(line.size()), &n, nullptr) &&
-                  n == line.size();
+  const bool ok =
+      ::WriteFile(h, line.data(), static_cast<DWORD>(line.size()), &n, nullptr) && n == line.size();
   const DWORD written = ::GetLastError();
   ::CloseHandle(h);
   if (!ok) return Error(Errc::file_error, path + ": " + w32::error_text(written));
@@ -119,7 +119,8 @@ Result<void> append_owner_only(const std::string& path, const std::string& line)
 
 Result<std::vector<std::uint8_t>> random_bytes(std::size_t n) {
   std::vector<std::uint8_t> raw(n);
-  if (n > 0 && !BCRYPT_SUCCESS(::BCryptGenRandom(nullptr, raw.data(), static_cast<ULONG>(raw.size()),
+  if (n > 0 &&
+      !BCRYPT_SUCCESS(::BCryptGenRandom(nullptr, raw.data(), static_cast<ULONG>(raw.size()),
                                         BCRYPT_USE_SYSTEM_PREFERRED_RNG)))
     return Error(Errc::io_error, "BCryptGenRandom: cannot read random bytes");
   return raw;

@@ -162,7 +162,8 @@ bool wait_sockets(std::vector<Watch>& watches, int timeout_ms) {
   std::vector<pollfd> fds;
   fds.reserve(watches.size());
   for (const Watch& w : watches)
-    fds.push_back({w.socket, static_cast<short>((w.read ? POLLIN : 0) | (w.write ? POLLOUT : 0)), 0});
+    fds.push_back(
+        {w.socket, static_cast<short>((w.read ? POLLIN : 0) | (w.write ? POLLOUT : 0)), 0});
   const int n = ::poll(fds.data(), fds.size(), timeout_ms);
   const bool ok = n >= 0 || errno == EINTR;
   for (std::size_t i = 0; i < fds.size(); ++i) {

@@ -2,7 +2,6 @@
 // reason for select() (WSAPoll not reporting a failed connect before Windows
 // 10 2004) concerns connecting sockets, which a server never has.
 #include "serve/web_socket.hpp"
-
 #include "transport/winsock_win32.hpp"
 
 namespace lmcfg::serve::web {
@@ -162,10 +161,12 @@ Result<void> Waker::open() {
   LMCFG_TRY(w32::winsock_ready());
   const auto cannot = [] {
     return Error(Errc::io_error, "cannot create the server's wake-up sockets: " +
-                                    w32::wsa_text(::WSAGetLastError()));
+                                     w32::wsa_text(::WSAGetLastError()));
   };
-  SOCKET rx = ::WSASocketW(AF_INET, SOCK_DGRAM, IPPROTO_UDP, nullptr, 0, WSA_FLAG_NO_HANDLE_INHERIT);
-  SOCKET tx = ::WSASocketW(AF_INET, SOCK_DGRAM, IPPROTO_UDP, nullptr, 0, WSA_FLAG_NO_HANDLE_INHERIT);
+  SOCKET rx =
+      ::WSASocketW(AF_INET, SOCK_DGRAM, IPPROTO_UDP, nullptr, 0, WSA_FLAG_NO_HANDLE_INHERIT);
+  SOCKET tx =
+      ::WSASocketW(AF_INET, SOCK_DGRAM, IPPROTO_UDP, nullptr, 0, WSA_FLAG_NO_HANDLE_INHERIT);
   rx_ = w32::from_socket(rx);
   tx_ = w32::from_socket(tx);
   if (rx == INVALID_SOCKET || tx == INVALID_SOCKET) return cannot();

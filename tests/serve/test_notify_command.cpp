@@ -47,7 +47,8 @@ TEST_CASE("notify: a command that cannot be run, one killed by a signal, one tha
   CHECK(r.error().message == "notify command " + killed.string() + " failed (signal 9)");
 
   // No shell: the program's name is not split at blanks or expanded.
-  const auto spaced = shell_script(d.path, "two words.sh", "cat > \"$(dirname \"$0\")/spaced.json\"\n");
+  const auto spaced =
+      shell_script(d.path, "two words.sh", "cat > \"$(dirname \"$0\")/spaced.json\"\n");
   REQUIRE(serve::run_with_stdin(spaced.string(), "{\"event\":\"drift\"}\n").ok());
   CHECK(slurp(d.path / "spaced.json") == "{\"event\":\"drift\"}\n");
 
@@ -80,7 +81,8 @@ TEST_CASE("notify command (Windows): a batch file gets the event on stdin, its e
   CHECK(slurp(got).find("{\"event\":\"recovered\"}") == 0);
 
   // No shell splitting: a blank in the path is part of the name.
-  const auto spaced = batch(d.path, "two words.cmd", "more > \"" + (d.path / "spaced.json").string() + "\"");
+  const auto spaced =
+      batch(d.path, "two words.cmd", "more > \"" + (d.path / "spaced.json").string() + "\"");
   REQUIRE(serve::run_with_stdin(spaced.string(), "{\"event\":\"drift\"}\n").ok());
   CHECK(slurp(d.path / "spaced.json").find("{\"event\":\"drift\"}") == 0);
 
@@ -99,8 +101,9 @@ TEST_CASE("notify command (Windows): a batch file gets the event on stdin, its e
   CHECK(r.error().message == "notify command " + deaf_fail.string() + " failed (exit 5)");
 }
 
-TEST_CASE("notify command (Windows): a program that cannot be run, a batch path cmd.exe would expand",
-          "[serve][notify]") {
+TEST_CASE(
+    "notify command (Windows): a program that cannot be run, a batch path cmd.exe would expand",
+    "[serve][notify]") {
   ScratchDir d("notify-command-win-bad");
   const std::string missing = (d.path / "no-such-program.exe").string();
   auto r = serve::run_with_stdin(missing, "{}\n");
@@ -118,5 +121,23 @@ TEST_CASE("notify command (Windows): a program that cannot be run, a batch path 
                                  "(cmd.exe would read them)");
 }
 #endif
+
+// check_webhook (notify.cpp): what the webhook client of this build can reach.
+TEST_CASE("notify: http:// webhooks everywhere, https:// where the HTTP client has TLS",
+          "[serve][notify]") {
+  CHECK(serve::check_webhook("").ok());
+  CHECK(serve::check_webhook("http://127.0.0.1:9000/hook").ok());
+  auto r = serve::check_webhook("https://hooks.example/lmcfg");
+#ifdef CPPHTTPLIB_OPENSSL_SUPPORT
+  CHECK(r.ok());
+#else
+  REQUIRE_FALSE(r.ok());
+  CHECK(r.error().code == Errc::invalid_argument);
+  CHECK(r.error().message ==
+        "[notify] webhook https://hooks.example/lmcfg: this build of lmcfg serve posts to "
+        "http:// webhooks only (its HTTP client has no TLS; docs/windows.md); use an http:// "
+        "receiver on this host or a [notify] command");
+#endif
+}
 
 }  // namespace serve_test_notify_command

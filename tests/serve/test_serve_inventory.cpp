@@ -31,17 +31,23 @@ TEST_CASE("serve inventory: durations take s, m, h, d", "[serve][inventory]") {
 }
 
 TEST_CASE("serve inventory: [schedule], [notify] and ignore lists load", "[serve][inventory]") {
+  // An absolute path as the platform writes it (a TOML literal string: no escapes).
+#ifdef _WIN32
+  const std::string command = "C:\\lmcfg\\mail.cmd";
+#else
+  const std::string command = "/usr/local/bin/lmcfg-mail";
+#endif
   const std::string text =
       "[schedule]\nbackup_every = \"6h\"\nstatus_every = \"15m\"\n"
-      "[notify]\nwebhook = \"https://hooks.example/lmcfg\"\ncommand = "
-      "\"/usr/local/bin/lmcfg-mail\"\n" +
-      kLine + "ignore = [\"1037h\"]\n" + kDrive + "ignore = [\"0e00\", \"13A2h\"]\n";
+      "[notify]\nwebhook = \"https://hooks.example/lmcfg\"\ncommand = '" +
+      command + "'\n" + kLine + "ignore = [\"1037h\"]\n" + kDrive +
+      "ignore = [\"0e00\", \"13A2h\"]\n";
   auto inv = fleet::parse_inventory(text, "plant.toml");
   REQUIRE(inv.ok());
   CHECK(inv->schedule.backup_every == std::chrono::hours(6));
   CHECK(inv->schedule.status_every == std::chrono::minutes(15));
   CHECK(inv->notify.webhook == "https://hooks.example/lmcfg");
-  CHECK(inv->notify.command == "/usr/local/bin/lmcfg-mail");
+  CHECK(inv->notify.command == command);
   CHECK(inv->lines[0].ignore == std::vector<std::uint16_t>{0x1037});
   CHECK(inv->lines[0].drives[0].ignore == std::vector<std::uint16_t>{0x0E00, 0x13A2});
   CHECK(fleet::ignored_upids(inv->lines[0], inv->lines[0].drives[0]) ==

@@ -8,10 +8,10 @@
 #include "serve/token_file.hpp"
 
 #ifdef _WIN32
-#include "transport/win32_util.hpp"
-
 #include <aclapi.h>
 #include <sddl.h>
+
+#include "transport/win32_util.hpp"
 #else
 #include <sys/stat.h>
 #endif

@@ -59,6 +59,8 @@ int run_serve(const ServeCli& o) {
   if (auto tls = serve::check_tls_files(http); !tls.ok()) return fail("serve", tls.error());
   auto inv = load_checked_inventory(o.inventory, o.common);
   if (!inv.ok()) return fail("serve", inv.error());
+  if (auto hook = serve::check_webhook(inv->notify.webhook); !hook.ok())
+    return fail("serve", hook.error());
   ops::install_interrupt_handlers();
   serve::ServiceOptions so;
   so.inventory = *inv;
