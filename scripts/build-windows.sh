@@ -2,7 +2,7 @@
 # Cross-compiles lmcfg.exe for 64-bit Windows on Debian and writes
 # build-windows/lmcfg-<version>-win64.zip (docs/windows.md).
 #   build-windows/deps/src      Debian source packages (apt-get source), kept
-#   build-windows/deps/prefix   SQLite, pugixml, http-parser, PCRE2, libgit2 built
+#   build-windows/deps/prefix   SQLite, pugixml, http-parser, PCRE2, libgit2, Mbed TLS built
 #                               for MinGW-w64, kept (a stamp per package and version)
 #   build-windows/wine          the Wine prefix the build and the tests use, kept
 #   build-windows/build         the CMake build (cmake/mingw-w64-x86_64.cmake)
@@ -144,6 +144,20 @@ if ! built libgit2 "$libgit2"; then
   mark libgit2 "$libgit2"
 fi
 
+# Mbed TLS: lmcfg serve's HTTPS (Debian builds no OpenSSL for MinGW-w64;
+# lib/serve/web_tls_win32.cpp). The library only: no programs, no tests.
+mbedtls=$(fetch mbedtls)
+if ! built mbedtls "$mbedtls"; then
+  echo "build-windows: building Mbed TLS ($mbedtls)"
+  rm -rf "$deps/mbedtls-build"
+  cmake -S "$mbedtls" -B "$deps/mbedtls-build" "${cross_cmake[@]}" -DENABLE_PROGRAMS=OFF \
+    -DENABLE_TESTING=OFF -DMBEDTLS_FATAL_WARNINGS=OFF -DUSE_SHARED_MBEDTLS_LIBRARY=OFF \
+    -DUSE_STATIC_MBEDTLS_LIBRARY=ON >/dev/null
+  cmake --build "$deps/mbedtls-build" -j"$jobs" >/dev/null
+  cmake --install "$deps/mbedtls-build" >/dev/null
+  mark mbedtls "$mbedtls"
+fi
+
 # cpp-httplib (lmcfg serve's webhook client): Debian's libcpp-httplib-dev is
 # a compiled library whose header only declares; its source package has the
 # whole single header, used without OpenSSL.
@@ -216,6 +230,7 @@ licence libgit2.txt "$libgit2/COPYING"
 licence http-parser.txt "$http_parser/LICENSE-MIT"
 licence pcre2.txt "$pcre2/LICENCE"
 licence cpp-httplib.txt "$httplib/LICENSE"
+licence mbedtls.txt "$mbedtls/LICENSE"
 licence zlib.txt /usr/share/doc/libz-mingw-w64-dev/copyright
 licence CLI11.txt /usr/share/doc/libcli11-dev/copyright
 licence nlohmann-json.txt /usr/share/doc/nlohmann-json3-dev/copyright

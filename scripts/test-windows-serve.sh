@@ -6,11 +6,11 @@
 # build's backup of the same drive, a change made behind the service's back
 # found as drift (webhook to a Python receiver, notify command as a batch
 # file run by Wine's cmd.exe), plan and execute back to the approved
-# configuration, the Host and Origin checks, tokens, what the Windows build
-# refuses at start, and Ctrl-C. docs/windows.md.
+# configuration, the Host and Origin checks, tokens, HTTPS (Mbed TLS), what
+# the Windows build refuses at start, and Ctrl-C. docs/windows.md.
 #   scripts/test-windows-serve.sh [LINUX_LMCFG [LMCFG_EXE]]
-# Defaults: build/lmcfg and build-windows/build/lmcfg.exe. Needs curl and
-# python3; promtool when installed. Prints PASS/FAIL lines with durations and
+# Defaults: build/lmcfg and build-windows/build/lmcfg.exe. Needs curl,
+# python3, git and openssl; promtool when installed. Prints PASS/FAIL lines with durations and
 # "N passed, M failed"; exit 1 on a failure.
 set -uo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -18,7 +18,7 @@ lmcfg="$(realpath "${1:-$root/build/lmcfg}")"
 exe="$(realpath "${2:-$root/build-windows/build/lmcfg.exe}")"
 source "$root/scripts/wine-env.sh"
 wine_require test-windows-serve "scripts/build.sh, scripts/build-windows.sh, install-deps.sh --windows" "$lmcfg" "$exe"
-for tool in curl python3 git; do
+for tool in curl python3 git openssl; do
   command -v "$tool" >/dev/null || {
     echo "test-windows-serve: $tool missing (scripts/install-deps.sh)" >&2
     exit 2
@@ -216,7 +216,30 @@ else
   bad "tokens: token '${token:0:8}...' (${#token} chars), no token $no_token, viewer GET $viewer_get, POST $viewer_post: $(cat token.err) $(tail -2 serve2.err)"
 fi
 
-# 7. What the Windows build refuses at start, with the exit code of refused input.
+# 7. HTTPS (Mbed TLS in the Windows build) with tokens, listening on every
+# address (other hosts need both): curl over TLS 1.2 with an AEAD suite gets
+# its answer; TLS 1.1, a CBC suite and plain HTTP get nothing.
+t0=$(date +%s)
+openssl req -x509 -newkey ec -pkeyopt ec_paramgen_curve:prime256v1 -nodes -keyout key.pem \
+  -out cert.pem -days 2 -subj /CN=127.0.0.1 -addext subjectAltName=IP:127.0.0.1 >openssl.txt 2>&1
+bg serve3 "$wine" "$exe" serve plant.toml --archive archive --listen 0.0.0.0:0 --tokens tokens \
+  --tls-cert cert.pem --tls-key key.pem
+url="$(first serve3)"
+url="https://127.0.0.1:${url##*:}"
+tls() { curl -s -m 10 --cacert cert.pem -H "Authorization: Bearer $token" -o /dev/null -w '%{http_code}' "$@" "$url/api/v1/drives"; }
+aead=$(curl -sv -m 10 --cacert cert.pem -H "Authorization: Bearer $token" -o /dev/null "$url/api/v1/drives" 2>&1 | grep -o 'SSL connection using [^ ]* / [^ ]*' | tr -d '\r')
+https_status=$(tls)
+tls11=$(tls --tls-max 1.1)
+cbc=$(tls --tls-max 1.2 --ciphers ECDHE-ECDSA-AES128-SHA:ECDHE-RSA-AES128-SHA:AES128-SHA)
+plain=$(curl -s -m 10 -o /dev/null -w '%{http_code}' "http://127.0.0.1:${url##*:}/api/v1/drives")
+kill -INT "${pids[-1]}"
+if [[ $https_status == 200 && $aead == *"TLSv1.2 / ECDHE-ECDSA-AES128-GCM-SHA256" && $tls11 == 000 && $cbc == 000 && $plain == 000 ]]; then
+  ok "HTTPS on 0.0.0.0 with tokens: $aead, 200; TLS 1.1, a CBC suite and plain HTTP refused"
+else
+  bad "HTTPS: '$aead' $https_status, TLS 1.1 $tls11, CBC $cbc, plain $plain: $(tail -2 serve3.err) $(tail -2 openssl.txt)"
+fi
+
+# 8. What the Windows build refuses at start, with the exit code of refused input.
 t0=$(date +%s)
 refusals=()
 check_refusal() { # NAME EXPECTED_EXIT TEXT ARGS...
@@ -226,7 +249,7 @@ check_refusal() { # NAME EXPECTED_EXIT TEXT ARGS...
   local rc=$?
   grep -qF -- "$text" "$name.err" && ((rc == want)) || refusals+=("$name: exit $rc, $(tr -d '\r' <"$name.err" | tail -1)")
 }
-check_refusal tls 2 "HTTPS is not in the Windows build of lmcfg serve" \
+check_refusal tls 2 "--tls-cert c.pem / --tls-key k.pem: cannot load them as a PEM certificate and its private key" \
   serve plant.toml --archive archive --tls-cert c.pem --tls-key k.pem
 check_refusal exposed 2 "is not a loopback address: serving other hosts needs --tokens and --tls-cert/--tls-key" \
   serve plant.toml --archive archive --listen 0.0.0.0:0
@@ -238,7 +261,7 @@ chmod 0666 open-tokens
 check_refusal open-tokens 2 "the tokens file is writable by Everyone" \
   serve plant.toml --archive archive --tokens open-tokens
 if ((${#refusals[@]} == 0)); then
-  ok "refused at start: --tls-cert, a non-loopback --listen without tokens and TLS, an https:// webhook, a tokens file others may write"
+  ok "refused at start: TLS files that do not load, a non-loopback --listen without tokens and TLS, an https:// webhook, a tokens file others may write"
 else
   bad "refusals: ${refusals[*]}"
 fi

@@ -341,19 +341,10 @@ TEST_CASE("http: bind names the address it cannot listen on, and unloadable TLS 
   serve::HttpServer tls(*rig.service, o);
   r = tls.bind();
   REQUIRE_FALSE(r.ok());
-#ifdef _WIN32
-  // No TLS in the Windows build (lib/serve/web_tls_win32.cpp): refused as input (exit 2).
-  CHECK(r.error().code == Errc::invalid_argument);
-  CHECK(r.error().message == "--tls-cert " + o.tls_cert + " / --tls-key " + o.tls_key +
-                                 ": HTTPS is not in the Windows build of lmcfg serve; serve on "
-                                 "loopback (the default --listen 127.0.0.1:8470), or run the "
-                                 "service on Linux for other hosts (docs/windows.md)");
-#else
   CHECK(r.error().code == Errc::file_error);
   CHECK(r.error().message == "--tls-cert " + o.tls_cert + " / --tls-key " + o.tls_key +
                                  ": cannot load them as a PEM certificate and its private key "
                                  "(readable files, the key matching the certificate)");
-#endif
 }
 
 TEST_CASE("http: bodies and parameters are checked: 400 with the message and exit code 2",
