@@ -177,7 +177,9 @@ void add_serve(CLI::App& app, int& exit_code) {
   auto* add = token->add_subcommand("add", "Add a token: prints it once, stores its SHA-256");
   add->add_option("NAME", o->token_name, "the token's name (who uses it)")->required();
   add->add_option("--role", o->role, "viewer (GET) or operator (GET and POST)")->required();
-  add->add_option("--tokens", o->tokens, "the tokens file (created with mode 0600)")->required();
+  add->add_option("--tokens", o->tokens,
+                  "the tokens file (created readable and writable by its owner only)")
+      ->required();
   add->callback([o, &exit_code] { exit_code = run_token_add(*o); });
   serve->callback([o, &exit_code, serve] {
     if (serve->got_subcommand("token")) return;
