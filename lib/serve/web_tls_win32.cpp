@@ -7,7 +7,6 @@
 // is client-only and experimental (docs/windows.md).
 #include "serve/web_tls.hpp"
 
-// winsock2.h before anything that may include windows.h.
 #include <mbedtls/ctr_drbg.h>
 #include <mbedtls/entropy.h>
 #include <mbedtls/error.h>
@@ -17,11 +16,7 @@
 #include <mbedtls/ssl_ciphersuites.h>
 #include <mbedtls/x509_crt.h>
 
-#include "transport/winsock_win32.hpp"
-
 namespace lmcfg::serve::web {
-
-namespace w32 = lmcfg::transport::win32;
 
 namespace {
 
@@ -63,8 +58,8 @@ struct Config {
 // One connection: its session and the socket its records go over.
 struct Session {
   mbedtls_ssl_context ssl;
-  SOCKET socket;
-  explicit Session(int fd) : socket(w32::to_socket(fd)) { mbedtls_ssl_init(&ssl); }
+  int socket;
+  explicit Session(int fd) : socket(fd) { mbedtls_ssl_init(&ssl); }
   ~Session() { mbedtls_ssl_free(&ssl); }
   Session(const Session&) = delete;
   Session& operator=(const Session&) = delete;
@@ -72,23 +67,20 @@ struct Session {
 
 Session* session_of(void* p) { return static_cast<Session*>(p); }
 
-// The socket under the session, non-blocking (the event loop waits).
+// The records go over web_socket's non-blocking reads and writes (the event
+// loop waits); their outcome in Mbed TLS's terms.
 int send_cb(void* ctx, const unsigned char* buf, size_t len) {
-  const int n = ::send(static_cast<Session*>(ctx)->socket, reinterpret_cast<const char*>(buf),
-                       static_cast<int>(len), 0);
-  if (n >= 0) return n;
-  const int err = ::WSAGetLastError();
-  return err == WSAEWOULDBLOCK || err == WSAEINTR ? MBEDTLS_ERR_SSL_WANT_WRITE
-                                                  : MBEDTLS_ERR_NET_SEND_FAILED;
+  const IoStep r =
+      send_some(static_cast<Session*>(ctx)->socket, reinterpret_cast<const char*>(buf), len);
+  if (r.n > 0) return static_cast<int>(r.n);
+  return r.closed ? MBEDTLS_ERR_NET_SEND_FAILED : MBEDTLS_ERR_SSL_WANT_WRITE;
 }
 
 int recv_cb(void* ctx, unsigned char* buf, size_t len) {
-  const int n = ::recv(static_cast<Session*>(ctx)->socket, reinterpret_cast<char*>(buf),
-                       static_cast<int>(len), 0);
-  if (n >= 0) return n;  // 0: the peer closed
-  const int err = ::WSAGetLastError();
-  return err == WSAEWOULDBLOCK || err == WSAEINTR ? MBEDTLS_ERR_SSL_WANT_READ
-                                                  : MBEDTLS_ERR_NET_RECV_FAILED;
+  const IoStep r = recv_some(static_cast<Session*>(ctx)->socket, reinterpret_cast<char*>(buf), len);
+  if (r.n > 0) return static_cast<int>(r.n);
+  if (r.want_read) return MBEDTLS_ERR_SSL_WANT_READ;
+  return r.error.empty() ? 0 : MBEDTLS_ERR_NET_RECV_FAILED;  // 0: the peer closed
 }
 
 std::string mbedtls_text(int rc) {
