@@ -77,6 +77,21 @@ cross_cmake=(-DCMAKE_TOOLCHAIN_FILE="$root/cmake/mingw-w64-x86_64.cmake" -DCMAKE
   -DCMAKE_INSTALL_PREFIX="$prefix" -DLMCFG_WINDOWS_DEPS="$prefix" -DBUILD_SHARED_LIBS=OFF
   -DCMAKE_INSTALL_LIBDIR=lib)
 
+# cmake_dep NAME LABEL TREE [CMAKE ARGS...]: TREE configured (its output in
+# deps/NAME-configure.log), built and installed into the prefix for
+# MinGW-w64, unless NAME was built from TREE with this compiler already.
+cmake_dep() {
+  local name=$1 label=$2 tree=$3
+  shift 3
+  built "$name" "$tree" && return
+  echo "build-windows: building $label ($tree)"
+  rm -rf "$deps/$name-build"
+  cmake -S "$tree" -B "$deps/$name-build" "${cross_cmake[@]}" "$@" >"$deps/$name-configure.log"
+  cmake --build "$deps/$name-build" -j"$jobs" >/dev/null
+  cmake --install "$deps/$name-build" >/dev/null
+  mark "$name" "$tree"
+}
+
 # SQLite: the amalgamation (sqlite3.c) made from Debian's tree by its own
 # makefile on the host, then compiled for Windows.
 sqlite=$(fetch sqlite3)
@@ -94,14 +109,7 @@ if ! built sqlite3 "$sqlite"; then
 fi
 
 pugixml=$(fetch pugixml)
-if ! built pugixml "$pugixml"; then
-  echo "build-windows: building pugixml ($pugixml)"
-  rm -rf "$deps/pugixml-build"
-  cmake -S "$pugixml" -B "$deps/pugixml-build" "${cross_cmake[@]}" -DPUGIXML_BUILD_TESTS=OFF >/dev/null
-  cmake --build "$deps/pugixml-build" -j"$jobs" >/dev/null
-  cmake --install "$deps/pugixml-build" >/dev/null
-  mark pugixml "$pugixml"
-fi
+cmake_dep pugixml "pugixml" "$pugixml" -DPUGIXML_BUILD_TESTS=OFF
 
 # libgit2's Debian source has no bundled dependencies (Files-Excluded: deps/*):
 # its HTTP parser and regular expressions come from Debian's sources too.
@@ -116,47 +124,26 @@ if ! built http-parser "$http_parser"; then
 fi
 
 pcre2=$(fetch pcre2)
-if ! built pcre2 "$pcre2"; then
-  echo "build-windows: building PCRE2 ($pcre2)"
-  rm -rf "$deps/pcre2-build"
-  cmake -S "$pcre2" -B "$deps/pcre2-build" "${cross_cmake[@]}" -DPCRE2_BUILD_PCRE2GREP=OFF \
-    -DPCRE2_BUILD_TESTS=OFF -DPCRE2_SUPPORT_JIT=OFF -DPCRE2_BUILD_PCRE2_16=OFF \
-    -DPCRE2_BUILD_PCRE2_32=OFF -DPCRE2_STATIC_PIC=OFF >/dev/null
-  cmake --build "$deps/pcre2-build" -j"$jobs" >/dev/null
-  cmake --install "$deps/pcre2-build" >/dev/null
-  mark pcre2 "$pcre2"
-fi
+cmake_dep pcre2 "PCRE2" "$pcre2" -DPCRE2_BUILD_PCRE2GREP=OFF \
+  -DPCRE2_BUILD_TESTS=OFF -DPCRE2_SUPPORT_JIT=OFF -DPCRE2_BUILD_PCRE2_16=OFF \
+  -DPCRE2_BUILD_PCRE2_32=OFF -DPCRE2_STATIC_PIC=OFF
 
 # libgit2 without HTTPS, SSH or NTLM: the fleet archive is a local repository.
 libgit2=$(fetch libgit2)
-if ! built libgit2 "$libgit2"; then
-  echo "build-windows: building libgit2 ($libgit2)"
-  rm -rf "$deps/libgit2-build"
-  cmake -S "$libgit2" -B "$deps/libgit2-build" "${cross_cmake[@]}" -DBUILD_TESTS=OFF \
-    -DBUILD_CLI=OFF -DBUILD_EXAMPLES=OFF -DBUILD_FUZZERS=OFF -DUSE_HTTPS=OFF -DUSE_SSH=OFF \
-    -DUSE_NTLMCLIENT=OFF -DUSE_GSSAPI=OFF -DUSE_WINHTTP=OFF -DUSE_HTTP_PARSER=system -DREGEX_BACKEND=pcre2 \
-    -DUSE_BUNDLED_ZLIB=OFF -DUSE_SHA1=CollisionDetection -DUSE_SHA256=Builtin \
-    -DDEPRECATE_HARD=ON -DCMAKE_C_FLAGS=-DPCRE2_STATIC -DPCRE2_INCLUDE_DIR="$prefix/include" \
-    -DPCRE2_LIBRARY="$prefix/lib/libpcre2-8.a" -DHTTP_PARSER_INCLUDE_DIR="$prefix/include" \
-    -DHTTP_PARSER_LIBRARY="$prefix/lib/libhttp_parser.a" >"$deps/libgit2-configure.log"
-  cmake --build "$deps/libgit2-build" -j"$jobs" >/dev/null
-  cmake --install "$deps/libgit2-build" >/dev/null
-  mark libgit2 "$libgit2"
-fi
+cmake_dep libgit2 "libgit2" "$libgit2" -DBUILD_TESTS=OFF \
+  -DBUILD_CLI=OFF -DBUILD_EXAMPLES=OFF -DBUILD_FUZZERS=OFF -DUSE_HTTPS=OFF -DUSE_SSH=OFF \
+  -DUSE_NTLMCLIENT=OFF -DUSE_GSSAPI=OFF -DUSE_WINHTTP=OFF -DUSE_HTTP_PARSER=system -DREGEX_BACKEND=pcre2 \
+  -DUSE_BUNDLED_ZLIB=OFF -DUSE_SHA1=CollisionDetection -DUSE_SHA256=Builtin \
+  -DDEPRECATE_HARD=ON -DCMAKE_C_FLAGS=-DPCRE2_STATIC -DPCRE2_INCLUDE_DIR="$prefix/include" \
+  -DPCRE2_LIBRARY="$prefix/lib/libpcre2-8.a" -DHTTP_PARSER_INCLUDE_DIR="$prefix/include" \
+  -DHTTP_PARSER_LIBRARY="$prefix/lib/libhttp_parser.a"
 
 # Mbed TLS: lmcfg serve's HTTPS (Debian builds no OpenSSL for MinGW-w64;
 # lib/serve/web_tls_win32.cpp). The library only: no programs, no tests.
 mbedtls=$(fetch mbedtls)
-if ! built mbedtls "$mbedtls"; then
-  echo "build-windows: building Mbed TLS ($mbedtls)"
-  rm -rf "$deps/mbedtls-build"
-  cmake -S "$mbedtls" -B "$deps/mbedtls-build" "${cross_cmake[@]}" -DENABLE_PROGRAMS=OFF \
-    -DENABLE_TESTING=OFF -DMBEDTLS_FATAL_WARNINGS=OFF -DUSE_SHARED_MBEDTLS_LIBRARY=OFF \
-    -DUSE_STATIC_MBEDTLS_LIBRARY=ON >/dev/null
-  cmake --build "$deps/mbedtls-build" -j"$jobs" >/dev/null
-  cmake --install "$deps/mbedtls-build" >/dev/null
-  mark mbedtls "$mbedtls"
-fi
+cmake_dep mbedtls "Mbed TLS" "$mbedtls" -DENABLE_PROGRAMS=OFF \
+  -DENABLE_TESTING=OFF -DMBEDTLS_FATAL_WARNINGS=OFF -DUSE_SHARED_MBEDTLS_LIBRARY=OFF \
+  -DUSE_STATIC_MBEDTLS_LIBRARY=ON
 
 # cpp-httplib (lmcfg serve's webhook client): Debian's libcpp-httplib-dev is
 # a compiled library whose header only declares; its source package has the
