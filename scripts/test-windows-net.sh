@@ -16,43 +16,20 @@ exe="$(realpath "${2:-$root/build-windows/build/lmcfg.exe}")"
 source "$root/scripts/wine-env.sh"
 ser2net="${LMCFG_SER2NET:-/usr/sbin/ser2net}"
 wine_require test-windows-net "scripts/build.sh, scripts/build-windows.sh, install-deps.sh --windows" "$lmcfg" "$exe"
-work="$(mktemp -d "$out/net.XXXXXX")"
-cd "$work"
-export XDG_STATE_HOME="$work/linux-state"
-passed=0
-failed=0
-pids=()
-start_all=$(date +%s)
-cleanup() { for p in "${pids[@]}"; do kill "$p" 2>/dev/null; done; }
-trap cleanup EXIT
-ok() { echo "PASS: $* ($(($(date +%s) - t0)) s)"; passed=$((passed + 1)); }
-bad() { echo "FAIL: $* ($(($(date +%s) - t0)) s)"; failed=$((failed + 1)); }
+wine_checks net
 # Each run bounded: a hang is a failure with its exit code (124), not a stuck CI.
 win() { timeout "${LMCFG_WINE_TIMEOUT:-240}" "$wine" "$exe" "$@"; }
 lin() { timeout "${LMCFG_WINE_TIMEOUT:-240}" "$lmcfg" "$@"; }
 link=(--baud 57600 --id 0x11 --checksum none)
 fixtures="$root/tests/fixtures/sim"
 
-# sim NAME PROGRAM ARGS...: starts `PROGRAM sim ARGS` in the background (its
-# stdout in NAME.out) and waits for its first line: the pty path or the port,
-# which `first NAME` prints. Not in a subshell: the PIDs are the cleanup's.
-sim() {
-  local name=$1
-  shift
-  "$@" >"$name.out" 2>"$name.err" </dev/null &
-  pids+=($!)
-  for _ in $(seq 300); do [[ -s $name.out ]] && break; sleep 0.1; done
-  [[ -s $name.out ]] || { echo "test-windows-net: $* did not start: $(cat "$name.err")" >&2; exit 1; }
-  sleep 0.2 # the whole first line
-}
-first() { sed -n 1p "$1.out" | tr -d '\r'; } # lmcfg.exe's stdout has CRLF lines
 # same NAME A.json B.json: PASS when lmcfg diff says identical.
 same() { "$lmcfg" diff "$2" "$3" >"$1.diff" 2>&1; }
 
 # 1. tcp://: the same drive (Linux `lmcfg sim --tcp`) backed up by both builds.
 t0=$(date +%s)
 cp "$fixtures/commissioned-axis.json" a.sim.json
-sim a "$lmcfg" sim --state a.sim.json --tcp 127.0.0.1:0
+start_bg a 30 "$lmcfg" sim --state a.sim.json --tcp 127.0.0.1:0
 port_a="$(first a)"
 tl=$(date +%s)
 lin backup --port "tcp://127.0.0.1:$port_a" "${link[@]}" -o tcp-linux.json -q 2>tcp-linux.err
@@ -74,9 +51,9 @@ fi
 t0=$(date +%s)
 cp "$fixtures/used-spare.json" b.sim.json
 cp "$fixtures/used-spare.json" b2.sim.json
-sim b "$lmcfg" sim --state b.sim.json --tcp 127.0.0.1:0
+start_bg b 30 "$lmcfg" sim --state b.sim.json --tcp 127.0.0.1:0
 port_b="$(first b)"
-sim b2 "$lmcfg" sim --state b2.sim.json --tcp 127.0.0.1:0
+start_bg b2 30 "$lmcfg" sim --state b2.sim.json --tcp 127.0.0.1:0
 port_b2="$(first b2)"
 win restore tcp-linux.json --port "tcp://127.0.0.1:$port_b" "${link[@]}" --yes -q >restore.out 2>restore.err
 rc=$?
@@ -97,7 +74,7 @@ fi
 t0=$(date +%s)
 if [[ -x $ser2net ]]; then
   cp "$fixtures/commissioned-axis.json" c.sim.json
-  sim c "$lmcfg" sim --state c.sim.json
+  start_bg c 30 "$lmcfg" sim --state c.sim.json
   pty_c="$(first c)"
   port_c="$(python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1",0)); print(s.getsockname()[1])')"
   cat >ser2net.yaml <<EOF
@@ -132,7 +109,7 @@ fi
 # 4. linudp://: `lmcfg sim --linudp` on a UDP port; lmcfg.exe sends from 41136.
 t0=$(date +%s)
 cp "$fixtures/commissioned-axis.json" d.sim.json
-sim d "$lmcfg" sim --linudp --udp 127.0.0.1:0 --state d.sim.json
+start_bg d 30 "$lmcfg" sim --linudp --udp 127.0.0.1:0 --state d.sim.json
 port_d="$(first d)"
 tl=$(date +%s)
 lin backup --port "linudp://127.0.0.1:$port_d" -o udp-linux.json -q 2>udp-linux.err
@@ -150,7 +127,7 @@ fi
 # 5. lmcfg.exe sim --tcp: the Windows build's simulator, read by the Linux build.
 t0=$(date +%s)
 cp "$fixtures/commissioned-axis.json" e.sim.json
-sim e timeout "${LMCFG_WINE_TIMEOUT:-240}" "$wine" "$exe" sim --state e.sim.json --tcp 127.0.0.1:0
+start_bg e 30 timeout "${LMCFG_WINE_TIMEOUT:-240}" "$wine" "$exe" sim --state e.sim.json --tcp 127.0.0.1:0
 port_e="$(first e)"
 lin backup --port "tcp://127.0.0.1:$port_e" "${link[@]}" -o winsim.json -q 2>winsim.err
 rc=$?

@@ -24,33 +24,11 @@ for tool in curl python3 git openssl; do
     exit 2
   }
 done
-work="$(mktemp -d "$out/serve.XXXXXX")"
-cd "$work"
-export XDG_STATE_HOME="$work/linux-state"
-passed=0
-failed=0
-pids=()
-start_all=$(date +%s)
-cleanup() { for p in "${pids[@]}"; do kill "$p" 2>/dev/null; done; }
-trap cleanup EXIT
-ok() { echo "PASS: $* ($(($(date +%s) - t0)) s)"; passed=$((passed + 1)); }
-bad() { echo "FAIL: $* ($(($(date +%s) - t0)) s)"; failed=$((failed + 1)); }
+wine_checks serve
 win() { timeout "${LMCFG_WINE_TIMEOUT:-120}" "$wine" "$exe" "$@"; }
 winpath() { echo "Z:${1//\//\\}"; } # Wine's drive Z: is the Linux root
 link=(--baud 57600 --id 0x11 --checksum none)
 
-# bg NAME CMD...: CMD in the background (stdout NAME.out, stderr NAME.err),
-# waiting for its first line (a port or the service's URL).
-bg() {
-  local name=$1
-  shift
-  "$@" >"$name.out" 2>"$name.err" </dev/null &
-  pids+=($!)
-  for _ in $(seq 600); do [[ -s $name.out ]] && break; sleep 0.1; done
-  [[ -s $name.out ]] || { echo "test-windows-serve: $* did not start: $(tail -3 "$name.err")" >&2; exit 1; }
-  sleep 0.2
-}
-first() { sed -n 1p "$1.out" | tr -d '\r'; }
 # api METHOD PATH [BODY]: the answer's body on stdout, the status in $status.
 api() {
   local body=${3-}
@@ -74,7 +52,7 @@ drive_status() { api GET "/api/v1/drives/cell1%2Faxis" >/dev/null && json '["sta
 
 # The drive, a webhook receiver and the notify command.
 cp "$root/tests/fixtures/sim/commissioned-axis.json" a.sim.json
-bg sim "$lmcfg" sim --state a.sim.json --tcp 127.0.0.1:0
+start_bg sim 60 "$lmcfg" sim --state a.sim.json --tcp 127.0.0.1:0
 port="$(first sim)"
 cat >receiver.py <<'EOF'
 import http.server, sys
@@ -91,7 +69,7 @@ s = http.server.HTTPServer(("127.0.0.1", 0), H)
 print(s.server_address[1], flush=True)
 s.serve_forever()
 EOF
-bg hook python3 receiver.py
+start_bg hook 60 python3 receiver.py
 hook_port="$(first hook)"
 printf '@echo off\r\nmore >> "%s"\r\n' "$(winpath "$work/events.txt")" >notify.cmd
 cat >plant.toml <<EOF
@@ -115,7 +93,7 @@ EOF
 # writes is a git repository whose file equals the Linux build's backup.
 t0=$(date +%s)
 # Straight under Wine, not through timeout: step 5 sends it SIGINT.
-bg serve "$wine" "$exe" serve plant.toml --archive archive --listen 127.0.0.1:0
+start_bg serve 60 "$wine" "$exe" serve plant.toml --archive archive --listen 127.0.0.1:0
 url="$(first serve)"
 for _ in $(seq 120); do [[ $(drive_status) == ok ]] && break; sleep 0.5; done
 st=$(drive_status)
@@ -198,7 +176,7 @@ fi
 # 6. Tokens: a viewer's token reads, nothing else does.
 t0=$(date +%s)
 token=$(win serve token add grafana --role viewer --tokens tokens 2>token.err | tr -d '\r')
-bg serve2 "$wine" "$exe" serve plant.toml --archive archive --listen 127.0.0.1:0 --tokens tokens
+start_bg serve2 60 "$wine" "$exe" serve plant.toml --archive archive --listen 127.0.0.1:0 --tokens tokens
 url="$(first serve2)"
 hdr=()
 api GET /api/v1/drives >/dev/null
@@ -222,7 +200,7 @@ fi
 t0=$(date +%s)
 openssl req -x509 -newkey ec -pkeyopt ec_paramgen_curve:prime256v1 -nodes -keyout key.pem \
   -out cert.pem -days 2 -subj /CN=127.0.0.1 -addext subjectAltName=IP:127.0.0.1 >openssl.txt 2>&1
-bg serve3 "$wine" "$exe" serve plant.toml --archive archive --listen 0.0.0.0:0 --tokens tokens \
+start_bg serve3 60 "$wine" "$exe" serve plant.toml --archive archive --listen 0.0.0.0:0 --tokens tokens \
   --tls-cert cert.pem --tls-key key.pem
 url="$(first serve3)"
 url="https://127.0.0.1:${url##*:}"
