@@ -5,8 +5,6 @@
 // ChaCha20-Poly1305, RFC 7525 §4.2), no renegotiation, no session tickets,
 // no compression (none is built in). TLS 1.3 is not offered: 2.28's TLS 1.3
 // is client-only and experimental (docs/windows.md).
-#include "serve/web_tls.hpp"
-
 #include <mbedtls/ctr_drbg.h>
 #include <mbedtls/entropy.h>
 #include <mbedtls/error.h>
@@ -15,6 +13,8 @@
 #include <mbedtls/ssl.h>
 #include <mbedtls/ssl_ciphersuites.h>
 #include <mbedtls/x509_crt.h>
+
+#include "serve/web_tls.hpp"
 
 namespace lmcfg::serve::web {
 
