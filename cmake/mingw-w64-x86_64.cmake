@@ -20,7 +20,9 @@ set(CMAKE_FIND_ROOT_PATH_MODE_PACKAGE ONLY)
 
 # One lmcfg.exe without DLLs beyond Windows' own: libstdc++, libgcc and
 # winpthread linked in.
-set(CMAKE_EXE_LINKER_FLAGS_INIT "-static -static-libgcc -static-libstdc++")
+# No link time in the PE header (--no-insert-timestamp): the same sources
+# give the same lmcfg.exe (scripts/release.sh).
+set(CMAKE_EXE_LINKER_FLAGS_INIT "-static -static-libgcc -static-libstdc++ -Wl,--no-insert-timestamp")
 
 # Programs the build runs (the UPID database compiler) run under Wine.
 find_program(LMCFG_WINE NAMES wine64 wine PATHS /usr/lib/wine NO_CMAKE_FIND_ROOT_PATH)
@@ -32,4 +34,7 @@ endif()
 # false positives inside libstdc++'s std::string (GCC bug 105651) in many more
 # files than the Linux build's (lib/CMakeLists.txt silences them per target
 # there).
-set(CMAKE_CXX_FLAGS_INIT "-Wno-restrict -Wno-array-bounds -Wno-stringop-overflow")
+# LMCFG_WINDOWS_EXTRA_FLAGS: more flags from scripts/build-windows.sh (the
+# release's source path map).
+set(CMAKE_CXX_FLAGS_INIT "-Wno-restrict -Wno-array-bounds -Wno-stringop-overflow ${LMCFG_WINDOWS_EXTRA_FLAGS}")
+set(CMAKE_C_FLAGS_INIT "${LMCFG_WINDOWS_EXTRA_FLAGS}")

@@ -5,7 +5,13 @@
 #   build-windows/deps/prefix   SQLite, pugixml, http-parser, PCRE2, libgit2, Mbed TLS built
 #                               for MinGW-w64, kept (a stamp per package and version)
 #   build-windows/wine          the Wine prefix the build and the tests use, kept
-#   build-windows/build         the CMake build (cmake/mingw-w64-x86_64.cmake)
+#   build-windows/build         the CMake build (cmake/mingw-w64-x86_64.cmake);
+#                               $LMCFG_WINDOWS_BUILD names another
+# The zip goes into build-windows/ ($LMCFG_WINDOWS_OUT names another folder);
+# with SOURCE_DATE_EPOCH set (scripts/release.sh) its entries carry that time
+# and are written in sorted order, so the same sources give the same zip.
+# $LMCFG_WINDOWS_CXX_FLAGS: extra compiler flags (release.sh maps the source
+# path away with them).
 # Installs nothing: scripts/install-deps.sh --windows does (the cross compiler,
 # Wine, libz-mingw-w64-dev, dpkg-dev and the deb-src entries). Every dependency
 # comes from Debian's archive; nothing is downloaded from elsewhere.
@@ -184,7 +190,7 @@ if [[ ${1:-} == --tests ]]; then
   default_targets="lmcfg_cli lmcfg_tests"
 fi
 
-build="$out/build"
+build="${LMCFG_WINDOWS_BUILD:-$out/build}"
 launcher=()
 if command -v ccache >/dev/null; then
   launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
@@ -194,7 +200,8 @@ fi
 cmake -S "$root" -B "$build" -DCMAKE_TOOLCHAIN_FILE="$root/cmake/mingw-w64-x86_64.cmake" \
   -DLMCFG_WINDOWS_DEPS="$prefix" -DLMCFG_WINDOWS_HEADERS="$deps/headers" \
   -DCMAKE_BUILD_TYPE="${LMCFG_BUILD_TYPE:-Release}" -DLMCFG_WERROR=ON -DLMCFG_BUILD_BENCH=OFF \
-  -DLMCFG_PYTHON=OFF -DLMCFG_BUILD_TESTS="$tests" "${launcher[@]}" >/dev/null
+  -DLMCFG_PYTHON=OFF -DLMCFG_BUILD_TESTS="$tests" "${launcher[@]}" \
+  -DLMCFG_WINDOWS_EXTRA_FLAGS="${LMCFG_WINDOWS_CXX_FLAGS:-}" >/dev/null
 targets=()
 for t in ${LMCFG_TARGETS:-$default_targets}; do targets+=(--target "$t"); done
 cmake --build "$build" -j"$jobs" "${targets[@]}"
@@ -203,8 +210,9 @@ cmake --build "$build" -j"$jobs" "${targets[@]}"
 # the program), the README and the licences of everything linked into it.
 version=$(sed -n 's/^project(lmcfg VERSION \([0-9.]*\).*/\1/p' "$root/CMakeLists.txt")
 name="lmcfg-$version-win64"
-stage="$out/$name"
-rm -rf "$stage" "$out/$name.zip"
+zipdir="${LMCFG_WINDOWS_OUT:-$out}"
+stage="$zipdir/$name"
+rm -rf "$stage" "$zipdir/$name.zip"
 mkdir -p "$stage/licences"
 cp "$build/lmcfg.exe" "$build/lmcfg-upid.sqlite" "$stage/"
 $triple-strip "$stage/lmcfg.exe"
@@ -224,5 +232,10 @@ licence nlohmann-json.txt /usr/share/doc/nlohmann-json3-dev/copyright
 licence tomlplusplus.txt /usr/share/doc/libtomlplusplus-dev/copyright
 licence mingw-w64-runtime.txt /usr/share/doc/mingw-w64-x86-64-dev/copyright
 licence gcc-runtime.txt /usr/share/doc/gcc-mingw-w64-x86-64-posix-runtime/copyright
-(cd "$out" && zip -qr "$name.zip" "$name")
-echo "build-windows: $out/$name.zip ($(du -k "$out/$name.zip" | cut -f1) KiB)"
+if [[ -n ${SOURCE_DATE_EPOCH:-} ]]; then
+  find "$stage" -exec touch -h -d "@$SOURCE_DATE_EPOCH" {} +
+fi
+# Sorted entries, no extra attributes (-X: owner, Unix times): the same files
+# give the same zip. zip stores local time: TZ=UTC keeps it the machine's choice out.
+(cd "$zipdir" && find "$name" | LC_ALL=C sort | TZ=UTC zip -qX "$name.zip" -@)
+echo "build-windows: $zipdir/$name.zip ($(du -k "$zipdir/$name.zip" | cut -f1) KiB)"
