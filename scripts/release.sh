@@ -55,7 +55,8 @@ step() { echo "==== release: $1 ($(($(date +%s) - t0)) s since the start)"; }
 step "source tarball of $tag ($(git rev-parse --short=12 "$tag^{commit}"), SOURCE_DATE_EPOCH=$SOURCE_DATE_EPOCH)"
 # git archive stamps every entry with the commit time; gzip -n leaves out the
 # name and time it would otherwise write into its header.
-git archive --format=tar --prefix="$name/" "$tag" | gzip -n -9 >"$dist/$name.tar.gz"
+git archive --format=tar --prefix="$name/" "$tag" | gzip -n -9 >"$dist/$name.tar.gz" ||
+  die "git archive of $tag failed" 1
 tar -xzf "$dist/$name.tar.gz" -C "$work"
 
 step "Debian package (Release build of the tarball, without ccache)"
@@ -64,7 +65,7 @@ map="-ffile-prefix-map=$work=/usr/src"
 cmake -S "$src" -B "$src/build" -DCMAKE_BUILD_TYPE=Release -DLMCFG_BUILD_TESTS=OFF \
   -DLMCFG_BUILD_BENCH=OFF -DCMAKE_C_FLAGS="$map" -DCMAKE_CXX_FLAGS="$map" >"$work/configure.log" ||
   die "cmake configure failed ($work/configure.log)" 1
-cmake --build "$src/build" -j"$(nproc)"
+cmake --build "$src/build" -j"$(nproc)" || die "the Release build failed (its output is above)" 1
 (cd "$src/build" && cpack -G DEB >"$work/cpack.log") || die "cpack failed ($work/cpack.log)" 1
 deb=$(find "$src/build" -maxdepth 1 -name "lmcfg_${version}-*.deb" | head -1)
 [[ -n $deb ]] || die "cpack wrote no lmcfg_${version}-*.deb ($work/cpack.log)" 1
@@ -78,7 +79,8 @@ if [[ ${LMCFG_RELEASE_WINDOWS:-1} == 1 ]]; then
   # Debian's source packages, stamped by version): the checkout's folder.
   LMCFG_WINDOWS_DIR="$root/build-windows" CCACHE_DISABLE=1 \
     LMCFG_WINDOWS_BUILD="$work/build-windows" LMCFG_WINDOWS_OUT="$work" \
-    LMCFG_WINDOWS_CXX_FLAGS="$map" "$src/scripts/build-windows.sh"
+    LMCFG_WINDOWS_CXX_FLAGS="$map" "$src/scripts/build-windows.sh" ||
+    die "the Windows build failed (its output is above)" 1
   cp "$work/$name-win64.zip" "$dist/"
 fi
 
