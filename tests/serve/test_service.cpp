@@ -241,6 +241,16 @@ TEST_CASE(
         "job " + *before +
             " ended before the service restarted: its record is not kept across a restart; the "
             "position's history lists what it did");
+  {
+    // The console's job page of it says so too, not "No such job".
+    Server server(*rig.service);
+    httplib::Client c("127.0.0.1", server.port);
+    auto page = c.Get("/job?id=" + *before);
+    REQUIRE(page);
+    CHECK(page->status == 404);
+    CHECK(page->body.find("Job no longer kept") != std::string::npos);
+    CHECK(page->body.find("ended before the service restarted") != std::string::npos);
+  }
   const std::string never = std::to_string(std::stoul(*after) + 1);
   CHECK(rig.service->job(never).error().message == "no job " + never);
   CHECK(rig.service->job("0").error().message == "no job 0");
