@@ -289,6 +289,8 @@ TEST_CASE(
     CHECK(page->body.find("2 automatic attempt(s) failed so far; the next is due at " +
                           serve::iso_time(rig.now + 15min)) != std::string::npos);
     CHECK(page->body.find("id=\"retry-failures\"") != std::string::npos);
+    CHECK(page->body.find("untouched") == std::string::npos);
+    CHECK(page->body.find("motion control is stopped") != std::string::npos);
     auto job_page = c.Get("/job?id=" + *first + "&name=press3%2Fz");
     REQUIRE(job_page);
     CHECK(job_page->body.find(" step(s) before it stopped") != std::string::npos);
