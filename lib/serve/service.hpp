@@ -13,7 +13,9 @@
 #include <functional>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
+#include <system_error>
 
 #include "common/result.hpp"
 #include "db/database.hpp"
