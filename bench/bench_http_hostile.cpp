@@ -10,7 +10,11 @@
 //   - four 128 MB chunked uploads without a token: what the service answered
 //     and how many bytes it took before closing;
 //   - the service's resident memory after each phase and its peak (VmHWM of
-//     /proc/PID/status).
+//     /proc/PID/status);
+//   - a hung line (a drive that never answers, hung_line.hpp): 12 live diffs
+//     and 4 plans of its position sent at once, how they were answered, and
+//     meanwhile the answer times of other clients' `GET /api/v1/drives` and
+//     `GET /metrics` (median, max).
 // usage: lmcfg_bench_http_hostile [LMCFG_BINARY]  (default: the build's lmcfg)
 // Not part of ctest; figures in docs/serve.md.
 #include <arpa/inet.h>
@@ -33,6 +37,8 @@
 #include <string>
 #include <thread>
 #include <vector>
+
+#include "hung_line.hpp"
 
 namespace fs = std::filesystem;
 using Steady = std::chrono::steady_clock;
@@ -158,6 +164,85 @@ void table_row(const char* what, int held, int port, pid_t pid, Hostile& h) {
               ms[10], ms.back(), failed, static_cast<double>(proc_kb(pid, "VmRSS:")) / 1024.0);
 }
 
+// One request on a new connection: milliseconds to the whole answer (-1: none
+// within 60 s) and its status (0: none).
+double timed_request(int port, const std::string& method, const std::string& path, int* status) {
+  const auto t0 = Steady::now();
+  *status = 0;
+  const int fd = connect_from(port, "127.0.0.1");
+  if (fd < 0) return -1;
+  std::string req = method + " " + path + " HTTP/1.1\r\nHost: 127.0.0.1:" + std::to_string(port) +
+                    "\r\nConnection: close\r\n";
+  if (method == "POST")
+    req += "Content-Type: application/json\r\nContent-Length: 2\r\n\r\n{}";
+  else
+    req += "\r\n";
+  ::send(fd, req.data(), req.size(), MSG_NOSIGNAL);
+  const std::string a = read_all(fd, 60000);
+  ::close(fd);
+  if (a.rfind("HTTP/1.1 ", 0) != 0) return -1;
+  *status = std::atoi(a.c_str() + 9);
+  return std::chrono::duration<double, std::milli>(Steady::now() - t0).count();
+}
+
+// `lmcfg fleet backup` of `inventory` into `archive` (the hung line's
+// position needs an archived file for a diff or a plan to read the drive).
+bool fleet_backup(const std::string& lmcfg, const fs::path& inventory, const fs::path& archive) {
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    const int devnull = ::open("/dev/null", O_WRONLY);
+    ::dup2(devnull, 1);
+    ::dup2(devnull, 2);
+    const std::string inv = inventory.string(), arc = archive.string();
+    ::execl(lmcfg.c_str(), lmcfg.c_str(), "fleet", "backup", inv.c_str(), "--archive", arc.c_str(),
+            "--db", LMCFG_DB_PATH, static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  return WIFEXITED(status) && WEXITSTATUS(status) == 0;
+}
+
+// The hung line's phase: 12 live diffs and 4 plans of press4/q at once, and
+// meanwhile 20 of each of the other clients' requests, timed.
+void hung_line_phase(int port) {
+  std::vector<std::thread> live;
+  std::vector<double> live_ms(16, -1);
+  std::vector<int> live_status(16, 0);
+  for (int i = 0; i < 16; ++i) {
+    live.emplace_back([&, i] {
+      live_ms[static_cast<std::size_t>(i)] =
+          i % 4 == 3
+              ? timed_request(port, "POST", "/api/v1/drives/press4%2Fq/plan",
+                              &live_status[static_cast<std::size_t>(i)])
+              : timed_request(port, "GET", "/api/v1/drives/press4%2Fq/diff?from=HEAD&to=live",
+                              &live_status[static_cast<std::size_t>(i)]);
+    });
+  }
+  std::printf("\na hung line: 12 live diffs and 4 plans of its position at once\n");
+  std::printf(
+      "| other client's request | n | median ms | max ms | not 200 |\n|---|---|---|---|---|\n");
+  for (const char* path : {"/api/v1/drives", "/metrics"}) {
+    std::vector<double> ms;
+    int bad = 0;
+    for (int i = 0; i < 20; ++i) {
+      int status = 0;
+      ms.push_back(timed_request(port, "GET", path, &status));
+      bad += status != 200;
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+    std::sort(ms.begin(), ms.end());
+    std::printf("| GET %-18s | %d | %9.1f | %6.1f | %7d |\n", path, 20, ms[10], ms.back(), bad);
+  }
+  for (auto& t : live) t.join();
+  std::sort(live_ms.begin(), live_ms.end());
+  const auto n503 = std::count(live_status.begin(), live_status.end(), 503);
+  std::printf(
+      "the 16 live requests: %ld answered 503 line busy, %ld other; answer time median %.1f ms, "
+      "max %.1f ms\n",
+      static_cast<long>(n503), static_cast<long>(16 - n503), live_ms[8], live_ms.back());
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -169,9 +254,25 @@ int main(int argc, char** argv) {
   const std::string fixture =
       std::string(LMCFG_SOURCE_DIR) + "/tests/fixtures/sim/commissioned-axis.json";
   fs::copy_file(fixture, dir / "a.json");
-  std::ofstream(dir / "plant.toml")
-      << "[[line]]\nname = \"line1\"\nport = \"sim:" + (dir / "a.json").string() +
-             "\"\n[[line.drive]]\nname = \"press3/z\"\nid = 0x11\n";
+  fs::copy_file(fixture, dir / "c.json");
+  // line2's drive never answers (its line timeout 60 s); its position archived
+  // first from a simulated drive.
+  lmcfg::test::HungLine hung;
+  auto plant = [&](const std::string& port2) {
+    std::ofstream(dir / "plant.toml")
+        << "[[line]]\nname = \"line1\"\nport = \"sim:" + (dir / "a.json").string() +
+               "\"\n[[line.drive]]\nname = \"press3/z\"\nid = 0x11\n[[line]]\nname = "
+               "\"line2\"\nport = \"" +
+               port2 +
+               "\"\ntimeout_ms = 60000\nretries = 0\n[[line.drive]]\nname = \"press4/q\"\nid = "
+               "0x11\n";
+  };
+  plant("sim:" + (dir / "c.json").string());
+  if (!fleet_backup(lmcfg, dir / "plant.toml", dir / "archive")) {
+    std::fprintf(stderr, "lmcfg fleet backup failed\n");
+    return 1;
+  }
+  plant("tcp://127.0.0.1:" + std::to_string(hung.port()));
   int out[2];
   if (::pipe(out) != 0) return 1;
   const pid_t pid = ::fork();
@@ -231,9 +332,11 @@ int main(int argc, char** argv) {
     std::printf("  upload %d: %zu bytes sent before the server closed, answer: %s\n", i + 1, sent,
                 a.substr(0, a.find("\r\n")).c_str());
   }
+  hung_line_phase(port);
   std::printf("\nservice memory: RSS %.1f MB now, peak (VmHWM) %.1f MB\n",
               static_cast<double>(proc_kb(pid, "VmRSS:")) / 1024.0,
               static_cast<double>(proc_kb(pid, "VmHWM:")) / 1024.0);
+  hung.release();
   ::kill(pid, SIGTERM);
   int status = 0;
   ::waitpid(pid, &status, 0);

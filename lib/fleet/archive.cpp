@@ -105,13 +105,19 @@ Result<Archive> Archive::open(const std::string& dir, bool create) {
   return Archive(dir, repo);
 }
 
-Archive::Archive(Archive&& o) noexcept : dir_(std::move(o.dir_)), repo_(o.repo_) {
+Archive::Archive(Archive&& o) noexcept
+    : dir_(std::move(o.dir_)),
+      author_name_(std::move(o.author_name_)),
+      author_email_(std::move(o.author_email_)),
+      repo_(o.repo_) {
   o.repo_ = nullptr;
 }
 Archive& Archive::operator=(Archive&& o) noexcept {
   if (this != &o) {
     if (repo_) git_repository_free(repo_);
     dir_ = std::move(o.dir_);
+    author_name_ = std::move(o.author_name_);
+    author_email_ = std::move(o.author_email_);
     repo_ = o.repo_;
     o.repo_ = nullptr;
   }
@@ -175,9 +181,13 @@ Result<std::optional<CommitInfo>> Archive::commit(const std::vector<std::string>
   Signature sig;
   // Without user.name/user.email in git's configuration the archive still
   // records who wrote it: the tool.
-  if (git_signature_default(&sig.p, repo_) != 0 &&
-      git_signature_now(&sig.p, "lmcfg fleet", "lmcfg@localhost") != 0)
+  if (!author_name_.empty()) {
+    if (git_signature_now(&sig.p, author_name_.c_str(), author_email_.c_str()) != 0)
+      return git_failure(Errc::file_error, where + ": signature");
+  } else if (git_signature_default(&sig.p, repo_) != 0 &&
+             git_signature_now(&sig.p, "lmcfg fleet", "lmcfg@localhost") != 0) {
     return git_failure(Errc::file_error, where + ": signature");
+  }
   const git_commit* parents[1] = {parent.p};
   git_oid id;
   if (git_commit_create(&id, repo_, "HEAD", sig.p, sig.p, nullptr, message.c_str(), tree.p,

@@ -79,8 +79,16 @@ class Archive {
   // Stages `paths` (files the caller wrote in the work tree) and commits them
   // with `message`. nullopt, and no commit, when the tree equals HEAD's,
   // unless allow_empty (a record such as "restored press3/z-axis").
+  // The author and committer: set_author's when set; otherwise git's
+  // configuration (user.name, user.email), else "lmcfg fleet".
   Result<std::optional<CommitInfo>> commit(const std::vector<std::string>& paths,
                                            const std::string& message, bool allow_empty = false);
+  // Who this archive's commits are by from now on ("lmcfg serve on HOST"): a
+  // program that commits for others, the person in the message's trailers.
+  void set_author(std::string name, std::string email) {
+    author_name_ = std::move(name);
+    author_email_ = std::move(email);
+  }
   // Points `ref` ("refs/lmcfg/approved/press3/z") at a new annotated tag
   // object naming commit `commit_id` (full hex), made by `who` at `time`
   // (seconds since the epoch) with `message`; an earlier value of the ref is
@@ -105,6 +113,7 @@ class Archive {
  private:
   Archive(std::string dir, git_repository* repo) : dir_(std::move(dir)), repo_(repo) {}
   std::string dir_;
+  std::string author_name_, author_email_;  // set_author; "" = git's configuration
   git_repository* repo_ = nullptr;
 };
 

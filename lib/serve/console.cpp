@@ -212,7 +212,7 @@ Page Console::failure_page(const ConsoleUser& u, const std::string& title, const
   if (e.code == Errc::not_found) status = 404;
   if (e.code == Errc::invalid_argument) status = 400;
   if (e.code == Errc::plan_refused) status = 409;
-  if (e.code == Errc::interrupted) status = 503;
+  if (e.code == Errc::interrupted || line_busy(e)) status = 503;
   // The drive or the link failed, not this server.
   for (Errc link :
        {Errc::timeout, Errc::link_closed, Errc::io_error, Errc::drive_refused, Errc::frame_short,
@@ -254,7 +254,11 @@ Page Console::position(const ConsoleUser& u, const std::string& name) const {
 
 Page Console::job_page(const ConsoleUser& u, const std::string& id, const std::string& name) const {
   auto j = impl_->service.job(id);
-  if (!j.ok()) return error_page(&u, 404, "No such job", j.error().message);
+  if (!j.ok()) {
+    // A job of an earlier run, or one no longer kept, is not "no such job".
+    const bool never = j.error().message.rfind("no job ", 0) == 0;
+    return error_page(&u, 404, never ? "No such job" : "Job no longer kept", j.error().message);
+  }
   return {200, pages::job(u, sign_in_needed(), *j, name)};
 }
 

@@ -353,6 +353,20 @@ std::string retry_section(const ConsoleUser& u, const fleet::DriveEntry& d, cons
          "&amp;name=" + esc(url_encode(d.name)) + "\">job " + esc(str(r, "of_job")) + "</a>";
   if (!str(r, "asked_by").empty()) b += " (asked by " + esc(str(r, "asked_by")) + ")";
   b += ". It will " + esc(str(r, "will")) + ".</p>";
+  // Each automatic attempt that failed (when, why) and when the next is due.
+  const Json& fails = member(r, "failures");
+  if (fails.is_array() && !fails.empty()) {
+    b += "<p>" + std::to_string(r.value("failed_attempts", fails.size())) +
+         " automatic attempt(s) failed so far" +
+         (member(r, "next_attempt").is_string()
+              ? "; the next is due at " + esc(str(r, "next_attempt"))
+              : std::string()) +
+         ":</p><ul id=\"retry-failures\">";
+    for (const auto& f : fails)
+      b += "<li>" + esc(str(f, "time")) + ", job " + esc(str(f, "job")) + ": " +
+           esc(str(f, "reason")) + "</li>";
+    b += "</ul>";
+  }
   if (u.role == Role::operator_ && !r.value("running", false))
     b += "<form method=\"post\" action=\"/cancel-retry\" class=\"inline\">" + csrf_field(u) +
          "<input type=\"hidden\" name=\"name\" value=\"" + esc(d.name) +
@@ -527,7 +541,10 @@ std::string job(const ConsoleUser& u, bool signed_in, const Json& j, const std::
   std::string b;
   if (!name.empty())
     b += "<p class=\"crumbs\"><a href=\"/\">Plant</a> / " + position_link(name) + "</p>\n";
-  std::string title = restore ? "Restore" : "Backup";
+  // A live read (the API's diff or plan that waited for its line) is a job too.
+  const std::string kind = str(j, "kind");
+  std::string title =
+      restore ? "Restore" : (kind == "diff" ? "Live diff" : (kind == "plan" ? "Plan" : "Backup"));
   if (!name.empty()) title += " of " + name;
   b += "<h1>" + esc(title) + " <span class=\"muted\">(job " + esc(str(j, "id")) + ")</span></h1>\n";
   // While the job runs the script reloads this section; without it, the
@@ -553,7 +570,7 @@ std::string job(const ConsoleUser& u, bool signed_in, const Json& j, const std::
   b += "<progress max=\"" + std::to_string(total ? total : 1) + "\" value=\"" +
        std::to_string(done) + "\">" + std::to_string(done) + " of " + std::to_string(total) +
        "</progress> " + std::to_string(done) + " of " + std::to_string(total) +
-       (restore ? " step(s)" : " drive(s)");
+       (restore ? " step(s)" : " drive(s)") + (state == "failed" ? " before it stopped" : "");
   if (!str(pr, "step").empty()) b += "<p>Now: " + esc(words::plain(str(pr, "step"))) + "</p>";
   if (member(j, "outcome").is_string()) {
     if (restore) {

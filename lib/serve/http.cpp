@@ -106,6 +106,7 @@ struct HttpServer::Impl {
   }
 
   static int status_of(const Error& e) {
+    if (line_busy(e)) return 503;  // a live read waits for its line: ask again
     if (e.code == Errc::not_found) return 404;
     if (e.code == Errc::interrupted) return 503;  // the service is stopping
     if (e.code == Errc::invalid_argument) return 400;
@@ -119,7 +120,18 @@ struct HttpServer::Impl {
                     "application/json");
   }
   void error(Response& res, const Error& e) const {
-    error(res, status_of(e), e.message, opt.exit_code ? opt.exit_code(e) : 70);
+    const int code = opt.exit_code ? opt.exit_code(e) : 70;
+    const auto busy = line_busy(e);
+    if (!busy) return error(res, status_of(e), e.message, code);
+    // RFC 9110 §10.2.3: when to ask again; the job that has the answer then.
+    res.status = 503;
+    res.set_header("Retry-After", std::to_string(busy->retry_after_s));
+    Json j{{"error", e.message}, {"exit_code", code}};
+    if (!busy->job.empty()) {
+      j["job"] = busy->job;
+      j["job_url"] = "/api/v1/jobs/" + busy->job;
+    }
+    res.set_content(dump(j, -1) + "\n", "application/json");
   }
   static void json(Response& res, const Json& j, int status = 200) {
     res.status = status;

@@ -5,9 +5,14 @@
 #include "serve/service.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <charconv>
+#include <cstdlib>
 #include <ctime>
 #include <random>
+#ifndef _WIN32
+#include <unistd.h>  // gethostname
+#endif
 
 #include "common/bytes.hpp"
 #include "common/text.hpp"
@@ -27,14 +32,32 @@ std::string iso_time(TimePoint t) {
   return buf;
 }
 
-namespace {
-
-std::string random_id() {
+std::string detail::random_plan_id() {
   std::random_device rd;
   std::string id;
   for (int i = 0; i < 4; ++i) id += hex(rd(), 8, "");
   for (char& c : id) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   return id;
+}
+
+namespace {
+
+// `n`, or this computer's name when empty, for the archive's author;
+// characters git does not take in a signature (and any but letters, digits,
+// '.', '-', '_') left out.
+std::string host_name(std::string n) {
+  if (n.empty()) {
+#ifdef _WIN32
+    if (const char* c = std::getenv("COMPUTERNAME")) n = c;
+#else
+    char buf[256] = {};
+    if (::gethostname(buf, sizeof buf - 1) == 0) n = buf;
+#endif
+  }
+  std::erase_if(n, [](char c) {
+    return !std::isalnum(static_cast<unsigned char>(c)) && c != '.' && c != '-' && c != '_';
+  });
+  return n.empty() ? "localhost" : n;
 }
 
 // The free text of a request, before it reaches a commit message, a job record
@@ -60,6 +83,8 @@ Result<std::unique_ptr<Service>> Service::create(ServiceOptions opt) {
   // files, and every later commit would fail on them. The archive is the
   // service's own (docs/serve.md): nobody else holds them now.
   LMCFG_ASSIGN_OR_RETURN(auto stale, archive.remove_stale_locks());
+  const std::string host = host_name(opt.host);
+  archive.set_author("lmcfg serve on " + host, "lmcfg-serve@" + host);
   for (const auto& f : stale)
     if (opt.log) opt.log("archive: removed the stale lock " + f + " (left by a stopped writer)");
   auto impl = std::make_unique<Impl>(std::move(opt), std::move(archive));
@@ -72,6 +97,7 @@ Result<std::unique_ptr<Service>> Service::create(ServiceOptions opt) {
                         ? std::filesystem::path(impl->opt.archive) / ".git" / "lmcfg-serve"
                         : std::filesystem::path(impl->opt.state_dir);
   Impl* p = impl.get();
+  p->load_job_numbers();
   p->load_pending();
   p->load_states();
   for (std::size_t l = 0; l < n; ++l) impl->workers.emplace_back([p, l] { p->worker(l); });
@@ -188,7 +214,10 @@ Result<Json> Service::job(const std::string& id) const {
   const auto [end, ec] = std::from_chars(id.data(), id.data() + id.size(), number);
   auto it = ec == std::errc() && end == id.data() + id.size() ? impl_->jobs.find(number)
                                                               : impl_->jobs.end();
-  if (it == impl_->jobs.end()) return Error(Errc::not_found, "no job " + id);
+  if (it == impl_->jobs.end())
+    return Error(
+        Errc::not_found,
+        impl_->missing_job(id, ec == std::errc() && end == id.data() + id.size() ? number : 0));
   return impl_->job_json(*it->second);
 }
 
@@ -231,7 +260,7 @@ Result<Json> Service::plan(const std::string& name, const std::string& rev,
                  "drive " + name + " is a DeviceNet controller on line " + line->name +
                      ": the service restores LinRS drives; use lmcfg fleet restore");
   }
-  StoredPlan sp;
+  fleet::ArchivedFile file;
   {
     std::lock_guard<std::mutex> lock(s.archive_mu);
     // No revision named: the position's approved configuration.
@@ -239,37 +268,18 @@ Result<Json> Service::plan(const std::string& name, const std::string& rev,
     if (from.empty()) {
       LMCFG_ASSIGN_OR_RETURN(from, s.restore_rev(*d));
     }
-    LMCFG_ASSIGN_OR_RETURN(sp.file, fleet::load_archived(s.opt.inventory, s.archive, name, from));
-    if (rev.empty() && from != "HEAD") sp.file.rev = "approved";
+    LMCFG_ASSIGN_OR_RETURN(file, fleet::load_archived(s.opt.inventory, s.archive, name, from));
+    if (rev.empty() && from != "HEAD") file.rev = "approved";
   }
-  sp.line = s.line_index(line);
-  // The plan of `lmcfg restore --dry-run`, the values the target cannot take
-  // listed apart (execute decides whether to leave them out).
-  LMCFG_ASSIGN_OR_RETURN(sp.plan, s.on_worker<ops::Plan>(sp.line, [&]() -> Result<ops::Plan> {
-    LMCFG_ASSIGN_OR_RETURN(auto session, link::open_session(s.link_for(sp.line, *d)));
-    ops::RestoreRunOptions ro;
-    ro.restore = s.restore_options(*line, *d, true);
-    ro.dry_run = true;
-    auto out = ops::run_restore(*session, sp.file.config, s.opt.db, ro);
-    auto closed = session->close();
-    if (out.stage == ops::RestoreOutcome::Stage::failed) return *out.error;
-    if (!closed.ok()) return closed.error();
-    return std::move(out.plan);
-  }));
-  sp.who = who;
-  sp.id = random_id();
-  sp.expires = s.opt.clock() + s.opt.plan_lifetime;
-  std::lock_guard<std::mutex> lock(s.mu);
-  // Expired plans go; a plan is small, but an API client looping on plan must not grow the map.
-  const TimePoint now = s.opt.clock();
-  std::erase_if(s.plans, [&](const auto& kv) { return kv.second.expires <= now; });
-  Json j = s.plan_to_json(sp);
-  s.log("plan " + sp.id + " for " + name + " <- " + sp.file.file_name + ": " +
-        std::to_string(sp.plan.steps.size()) + " step(s), " +
-        std::to_string(sp.plan.problems.size()) + " problem(s)" +
-        (who.empty() ? "" : ", asked by " + who));
-  s.plans.emplace(sp.id, std::move(sp));
-  return j;
+  // Read on the line's worker; the same plan asked again by the same person
+  // shares the read (service_live.cpp).
+  const std::size_t li = s.line_index(line);
+  auto f = std::make_shared<const fleet::ArchivedFile>(std::move(file));
+  Service::Impl* p = impl_.get();
+  LMCFG_ASSIGN_OR_RETURN(
+      auto job, s.live_read(Kind::plan, li, name, "plan\n" + name + "\n" + rev + "\n" + who, who,
+                            [p, li, d, f, who] { return p->make_plan(li, *d, *f, who); }));
+  return Impl::live_answer(*job);
 }
 
 Result<std::string> Service::execute(const ExecuteRequest& req) {
@@ -305,6 +315,18 @@ Result<std::string> Service::execute(const ExecuteRequest& req) {
                      " value(s) of the file (listed under \"incompatible\"): execute with "
                      "\"skip_incompatible\": true to restore the rest; nothing written");
   }
+  // Another technician's restore of the position, queued or running: this
+  // plan was made before it wrote, and would be refused then; say who now.
+  if (const Job* other = s.unfinished_restore(sp.file.drive->name)) {
+    const std::string by = !other->asked_by.empty() ? other->asked_by : other->who;
+    return Error(Errc::plan_refused,
+                 "another restore of drive " + sp.file.drive->name + " is " +
+                     (other->started ? "running" : "waiting for the line") + " as job " +
+                     other->id + (by.empty() ? "" : ", asked for by " + by) + " at " +
+                     iso_time(other->created) +
+                     "; nothing written: wait for it to end (GET /api/v1/jobs/" + other->id +
+                     "), then plan again");
+  }
   auto stored = std::make_shared<StoredPlan>(std::move(it->second));
   s.plans.erase(it);  // a plan executes once
   auto job = s.new_drive_job(Kind::restore, stored->file.drive->name);
@@ -339,6 +361,20 @@ struct DiffSides {
 
 }  // namespace
 
+// The diff of a position's two configurations: its live and volatile values
+// are never a difference (as in drift checks).
+static ops::DiffResult position_diff(const Service::Impl& s, const fleet::LineEntry& line,
+                                     const fleet::DriveEntry& d, const config::DriveConfig& a,
+                                     const config::DriveConfig& b) {
+  auto r = ops::diff(a, b, s.opt.db, nullptr, ops::DiffOptions{});
+  const auto ignored = fleet::ignored_upids(line, d);
+  std::erase_if(r.items, [&](const ops::DiffItem& it) {
+    return it.kind == ops::DiffItem::Kind::parameter &&
+           std::find(ignored.begin(), ignored.end(), it.key) != ignored.end();
+  });
+  return r;
+}
+
 static Result<DiffSides> diff_sides(Service::Impl& s, const std::string& name,
                                     const std::string& from, const std::string& to) {
   LMCFG_TRY(check_line("from", from, kMaxRevBytes));
@@ -353,32 +389,42 @@ static Result<DiffSides> diff_sides(Service::Impl& s, const std::string& name,
   DiffSides out;
   LMCFG_ASSIGN_OR_RETURN(out.a, archived(from));
   if (to == "live") {
+    // Read on the line's worker; diffs of the position asked for meanwhile
+    // share the read (service_live.cpp). The job's own answer is the diff
+    // against the revision of the request that began it.
     const std::size_t li = s.line_index(line);
+    auto a = std::make_shared<const fleet::ArchivedFile>(out.a);
+    Service::Impl* p = &s;
     LMCFG_ASSIGN_OR_RETURN(
-        out.b, s.on_worker<config::DriveConfig>(li, [&]() -> Result<config::DriveConfig> {
-          fleet::FleetOptions fo;
-          fo.db = s.opt.db;
-          fo.backup = s.opt.backup;
-          auto run = fleet::read_line(*line, s.opt.links[li], fo, {name});
-          if (run.configs.empty() || !run.configs[0]) {
-            if (!run.drives.empty() && run.drives[0].error) return *run.drives[0].error;
-            return Error(Errc::io_error, "drive " + name + " could not be read");
-          }
-          return std::move(*run.configs[0]);
-        }));
+        auto job,
+        s.live_read(
+            Kind::diff, li, name, "diff\n" + name, "", [p, li, line, d, a]() -> Result<LiveAnswer> {
+              fleet::FleetOptions fo;
+              fo.db = p->opt.db;
+              fo.backup = p->opt.backup;
+              auto run = fleet::read_line(*line, p->opt.links[li], fo, {d->name});
+              if (run.configs.empty() || !run.configs[0]) {
+                if (!run.drives.empty() && run.drives[0].error) return *run.drives[0].error;
+                return Error(Errc::io_error, "drive " + d->name + " could not be read");
+              }
+              LiveAnswer ans;
+              ans.live = std::make_shared<const config::DriveConfig>(std::move(*run.configs[0]));
+              const std::string b_name = "drive " + d->name + " (live)";
+              auto r = position_diff(*p, *line, *d, a->config, *ans.live);
+              ans.result = Json::parse(ops::render_json(r, a->file_name, b_name));
+              return ans;
+            }));
+    auto answered = Service::Impl::live_answer(*job);
+    if (!answered.ok()) return answered.error();
+    if (!job->live) return Error(Errc::io_error, "drive " + name + " could not be read");
+    out.b = *job->live;
     out.b_name = "drive " + name + " (live)";
   } else {
     LMCFG_ASSIGN_OR_RETURN(auto f, archived(to));
     out.b = std::move(f.config);
     out.b_name = f.file_name;
   }
-  out.r = ops::diff(out.a.config, out.b, s.opt.db, nullptr, ops::DiffOptions{});
-  // The position's live and volatile values are never a difference (as in drift checks).
-  const auto ignored = fleet::ignored_upids(*line, *d);
-  std::erase_if(out.r.items, [&](const ops::DiffItem& it) {
-    return it.kind == ops::DiffItem::Kind::parameter &&
-           std::find(ignored.begin(), ignored.end(), it.key) != ignored.end();
-  });
+  out.r = position_diff(s, *line, *d, out.a.config, out.b);
   return out;
 }
 

@@ -13,7 +13,9 @@
 #include <functional>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
+#include <system_error>
 
 #include "common/result.hpp"
 #include "db/database.hpp"
@@ -50,9 +52,33 @@ struct ServiceOptions {
   // restores in progress (resumed at the next start), the drives' recovery and
   // undo records. "" = <archive>/.git/lmcfg-serve.
   std::string state_dir;
+  // The archive's commits are by "lmcfg serve on HOST" (the person who asked
+  // is in the message's Operator trailer); "" = this computer's name.
+  std::string host;
   // How long a plan may wait for its execution.
   std::chrono::seconds plan_lifetime{300};
+  // Live reads (a diff to=live, a plan) run on the line's worker as jobs; the
+  // request waits for one at most live_wait, and only while fewer than
+  // live_waiters other requests wait (the HTTP server's other workers stay
+  // free); otherwise the answer is line_busy (HTTP 503, Retry-After).
+  std::chrono::milliseconds live_wait{1500};
+  std::size_t live_waiters = 2;
+  // Live reads queued on one line at most; more are refused as line_busy.
+  std::size_t live_queued = 8;
 };
+
+// A live read that did not end while its request waited (the line is busy
+// with other work, or the drive is slow to answer): its job (empty when the
+// line had too many queued to take another), how long to wait before asking
+// again. The same request asked again gets the job's answer once it has
+// ended; GET /api/v1/jobs/{job} shows it too.
+struct LineBusy {
+  std::string job;
+  int retry_after_s = 2;
+};
+// The error code of line_busy: its value is the job's number (0: none).
+const std::error_category& line_busy_category() noexcept;
+std::optional<LineBusy> line_busy(const Error& e);
 
 // "2026-11-24T17:20:15Z"
 std::string iso_time(TimePoint t);
@@ -89,7 +115,9 @@ class Service {
   Result<Json> job(const std::string& id) const;
 
   // Plans restoring `name`'s archived file at `rev` ("" = the archive's HEAD) onto the drive now at
-  // that position, reading the target on the line's worker (waits for it). Json:
+  // that position, reading the target on the line's worker (waits for it at most
+  // ServiceOptions::live_wait; then the line_busy error, and the same plan asked
+  // again, by the same `who`, gets the job's answer once it has ended). Json:
   // {"plan_id","drive","line","rev","commit","expires" (ISO
   // time),"steps":[{"kind","upid","name","old","new","unit",...}],
   //  "problems":[{"kind","message",...}],"incompatible":[...],"factory_fresh":bool}
@@ -104,8 +132,8 @@ class Service {
   // At execution the target is re-read and compared with what the plan saw; a change refuses.
   Result<std::string> execute(const ExecuteRequest& req);
   // The diff of `name`'s archived file at `from` and `to` (revisions; `to` may be "live": the
-  // drive read on the line's worker), as `lmcfg diff --json` writes it, the position's ignored
-  // UPIDs left out.
+  // drive read on the line's worker, waited for as plan() does), as `lmcfg diff --json` writes
+  // it, the position's ignored UPIDs left out.
   Result<Json> diff(const std::string& name, const std::string& from, const std::string& to) const;
   // The same diff as `lmcfg report A B` renders it (the console's diff pages).
   Result<std::string> diff_html(const std::string& name, const std::string& from,

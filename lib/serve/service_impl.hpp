@@ -7,7 +7,6 @@
 #include <condition_variable>
 #include <deque>
 #include <filesystem>
-#include <future>
 #include <map>
 #include <mutex>
 #include <optional>
@@ -24,9 +23,22 @@ namespace lmcfg::serve {
 
 namespace detail {
 
-enum class Kind { backup, status, restore };
+// diff, plan: a live read asked for through the API (service_live.cpp).
+enum class Kind { backup, status, restore, diff, plan };
 inline const char* kind_name(Kind k) {
-  return k == Kind::backup ? "backup" : (k == Kind::status ? "status" : "restore");
+  switch (k) {
+    case Kind::backup:
+      return "backup";
+    case Kind::status:
+      return "status";
+    case Kind::restore:
+      return "restore";
+    case Kind::diff:
+      return "diff";
+    case Kind::plan:
+      return "plan";
+  }
+  return "backup";
 }
 
 inline double epoch_seconds(TimePoint t) {
@@ -56,6 +68,22 @@ struct Job {
   std::vector<std::string> skipped;
   // After a failed restore: what the drive holds now, in plain words (drive_state_after).
   std::string drive_state;
+  // A live read (diff to=live, plan) for API requests: the requests asking the
+  // same question share it (`key`); what it read (a diff's drive), its answer
+  // (`result`, or `error`), and whether a request was given it (the next one
+  // reads the drive again).
+  std::string key;
+  std::shared_ptr<const config::DriveConfig> live;
+  Json result;
+  std::optional<Error> error;
+  bool handed = false;
+};
+
+// What a live read (service_live.cpp) answers: its JSON, and for a diff the
+// drive as read (each request compares it with its own revision).
+struct LiveAnswer {
+  Json result;
+  std::shared_ptr<const config::DriveConfig> live;
 };
 
 struct Task {
@@ -85,7 +113,15 @@ struct PendingRestore {
   // The job that began it (an automatic retry says "automatic retry of job N"),
   // and what the drive held when it stopped (drive_state_after).
   std::string origin_job, drive_state;
+  // The automatic retries that failed: the newest kRetryFailuresKept (when,
+  // which job, why), and how many in all.
+  struct Failure {
+    std::string time, job, reason;
+  };
+  std::vector<Failure> failures;
+  std::size_t failed_attempts = 0;
 };
+inline constexpr std::size_t kRetryFailuresKept = 10;
 
 // What the service knows about one position.
 struct DriveState {
@@ -102,6 +138,7 @@ struct DriveState {
   std::optional<fleet::Approval> approved;  // the position's approved configuration, when known
   // After a failed restore: what the drive holds (drive_state_after); "" otherwise.
   std::string drive_state;
+  std::uint64_t retries_failed = 0;  // automatic retries of a restore that failed (a counter)
 };
 
 struct LineMetrics {
@@ -116,12 +153,17 @@ bool factory_fresh(const config::DriveConfig& cfg, const db::Database& db,
 bool factory_fresh(const ops::TargetSeen& t, const db::Database& db,
                    const std::vector<std::uint16_t>& ignored);
 
+// A plan's id: 128 random bits in hex (service.cpp).
+std::string random_plan_id();
+
 // What a restore job did: the outcome, the error that ends it, the commit
 // that records it.
 struct RestoreAttempt {
   ops::RestoreOutcome out;
   std::optional<Error> err;
   std::optional<fleet::CommitInfo> record;
+  bool unopened = false;    // the line could not be opened: nothing reached the drive
+  std::string drive_state;  // after a failure: what the drive holds (drive_state_after)
 };
 
 // What archiving a line's run decided, per drive of the run.
@@ -152,9 +194,14 @@ struct Service::Impl {
   std::vector<LineMetrics> line_metrics;
   std::map<std::uint64_t, std::shared_ptr<Job>> jobs;  // by number: begin() is the oldest
   std::uint64_t next_job = 1;
+  // Job numbers outlive a restart (<state_dir>/jobs.json holds the first
+  // number the next start may use, reserved ahead in blocks): first_job is
+  // this run's first; the file is written when next_job reaches reserved_job.
+  std::uint64_t first_job = 1, reserved_job = 0;
   std::vector<std::deque<Task>> queues;  // one per line
   std::vector<bool> busy;
   bool stopping = false;
+  std::size_t live_waiting = 0;  // HTTP workers waiting for a live read now (under mu)
   std::vector<std::thread> workers;
 
   std::mutex archive_mu;      // libgit2's repository: one user at a time
@@ -188,36 +235,23 @@ struct Service::Impl {
     return opt.links[line].linrs.for_macid(d.id);
   }
 
-  // Runs `fn` on the line's worker (after what is queued there) and waits for it.
-  template <class T>
-  Result<T> on_worker(std::size_t line, std::function<Result<T>()> fn) {
-    auto promise = std::make_shared<std::promise<Result<T>>>();
-    auto future = promise->get_future();
-    {
-      std::lock_guard<std::mutex> lock(mu);
-      if (stopping) return Error(Errc::interrupted, "the service is stopping");
-      queues[line].push_back(Task{nullptr, {}, [this, line, promise, fn](bool run) {
-                                    if (!run) {
-                                      promise->set_value(
-                                          Error(Errc::interrupted, "the service is stopping"));
-                                      return;
-                                    }
-                                    // The caller waits on the promise: a throw answers it too.
-                                    std::optional<std::string> threw;
-                                    try {
-                                      promise->set_value(fn());
-                                      return;
-                                    } catch (const std::exception& e) {
-                                      threw = e.what();
-                                    } catch (...) {
-                                      threw = "an exception of unknown type";
-                                    }
-                                    promise->set_value(thrown_error(line, *threw));
-                                  }});
-      cv.notify_all();
-    }
-    return future.get();
-  }
+  // A live read for an API request (service_live.cpp): `read` runs on the
+  // line's worker as a job of `kind` (the drive read, the answer into the
+  // job); requests with the same `key` share one. The caller (an HTTP
+  // worker) waits at most opt.live_wait, and only while fewer than
+  // opt.live_waiters others wait: the finished job, or the line_busy error
+  // naming it (HTTP 503 with Retry-After). No lock is held while it waits.
+  Result<std::shared_ptr<Job>> live_read(Kind kind, std::size_t line, const std::string& name,
+                                         const std::string& key, const std::string& who,
+                                         std::function<Result<LiveAnswer>()> read);
+  // The line's worker: the live read of `job`, its end recorded.
+  void run_live(std::size_t line, Job& job, const std::function<Result<LiveAnswer>()>& read);
+  // A live read's answer to the request that waited for it: the job's result or error.
+  static Result<Json> live_answer(const Job& job);
+  // On the line's worker: the restore plan of `f` against the drive at `d`,
+  // stored for execute(); its JSON (plan_to_json).
+  Result<LiveAnswer> make_plan(std::size_t li, const fleet::DriveEntry& d,
+                               const fleet::ArchivedFile& f, const std::string& who);
 
   // What a task that threw fails with; logged.
   Error thrown_error(std::size_t line, const std::string& what) const {
@@ -242,12 +276,20 @@ struct Service::Impl {
 
   Result<void> save_pending(const fleet::LineEntry& line, const fleet::DriveEntry& d,
                             const PendingRestore& p);
+  // Caller holds mu. An automatic retry failed: listed on `p` and counted.
+  void note_retry_failed(const Job& job, const Error& e, PendingRestore& p);
   void remove_pending(const fleet::LineEntry& line, const fleet::DriveEntry& d);
   bool is_pending(const std::string& name) const {
     std::lock_guard<std::mutex> lock(mu);
     return pending.count(name) != 0;
   }
 
+  // Caller holds mu. A restore job on position `name` queued or running now, if any.
+  const Job* unfinished_restore(const std::string& name) const {
+    for (const auto& [num, job] : jobs)
+      if (job->kind == Kind::restore && !job->finished && job->position == name) return job.get();
+    return nullptr;
+  }
   // Caller holds mu. The restore job running on position `name` now, if any.
   const Job* running_restore(const std::string& name) const {
     for (const auto& [num, job] : jobs)
@@ -262,9 +304,11 @@ struct Service::Impl {
   }
   int exit_code(const Error& e) const { return opt.exit_code ? opt.exit_code(e) : 70; }
 
+  // Caller holds mu.
   std::shared_ptr<Job> new_job(Kind kind, std::string scope) {
     auto j = std::make_shared<Job>();
     const std::uint64_t number = next_job++;
+    if (number >= reserved_job) reserve_jobs(number);
     j->id = std::to_string(number);
     j->kind = kind;
     j->scope = std::move(scope);
@@ -274,6 +318,13 @@ struct Service::Impl {
     while (jobs.size() > 1000) jobs.erase(jobs.begin());
     return j;
   }
+  // Job numbers across restarts (service_jobs.cpp): read at start; the next
+  // block from `number` on written (caller holds mu; a failure is logged).
+  void load_job_numbers();
+  void reserve_jobs(std::uint64_t number);
+  // Caller holds mu. Why job `id` is not there: ended before the service
+  // restarted, no longer kept, or never made.
+  std::string missing_job(const std::string& id, std::uint64_t number) const;
   // A job about one position: its scope says "drive NAME", its position is NAME.
   std::shared_ptr<Job> new_drive_job(Kind kind, const std::string& name) {
     auto j = new_job(kind, "drive " + name);

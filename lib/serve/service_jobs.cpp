@@ -4,6 +4,7 @@
 #include <algorithm>
 
 #include "common/bytes.hpp"
+#include "config/atomic_file.hpp"
 #include "ops/diff.hpp"
 #include "serve/console.hpp"  // url_encode
 #include "serve/service_impl.hpp"
@@ -100,6 +101,9 @@ void Service::Impl::record(Kind kind, const fleet::DriveResult& r,
       }
     } else {
       if (kind == Kind::backup) st.last_backup = now;
+      // Read whole: what it holds is what this read says (no restore waits on
+      // it: those positions are not recorded here).
+      st.drive_state.clear();
       st.differing.clear();
       for (const auto& it : r.diff.items) st.differing.push_back(fleet::item_line(it));
       st.differences = r.diff.items.size();
@@ -290,6 +294,46 @@ void Service::Impl::count_run(std::size_t li, Job& job, const fleet::LineRun& ru
       " failed" + (la.commit ? ", committed " + la.commit->substr(0, 12) : std::string()));
 }
 
+namespace {
+// Job numbers reserved at a time: jobs.json is written once per block.
+constexpr std::uint64_t kJobBlock = 100;
+}  // namespace
+
+void Service::Impl::load_job_numbers() {
+  const auto path = state_dir / "jobs.json";
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) return;
+  auto text = config::read_text_file(path, 1 << 16);
+  const Json j = text.ok() ? Json::parse(*text, nullptr, false) : Json();
+  if (!j.is_object() || !j.contains("next") || !j["next"].is_number_unsigned() ||
+      j["next"].get<std::uint64_t>() == 0) {
+    log("jobs: " + path.string() + " is not a job numbers file of lmcfg serve; jobs start at 1");
+    return;
+  }
+  first_job = next_job = j["next"].get<std::uint64_t>();
+}
+
+void Service::Impl::reserve_jobs(std::uint64_t number) {
+  reserved_job = number + kJobBlock;
+  std::error_code ec;
+  std::filesystem::create_directories(state_dir, ec);
+  const Json file{{"format", "lmcfg-serve-jobs"}, {"version", 1}, {"next", reserved_job}};
+  // A failure costs the numbering after a restart (it starts again below), not the job.
+  if (auto w = config::write_file_atomic(state_dir / "jobs.json", file.dump(1) + "\n"); !w.ok())
+    log("jobs: " + w.error().message);
+}
+
+std::string Service::Impl::missing_job(const std::string& id, std::uint64_t number) const {
+  if (number == 0 || number >= next_job) return "no job " + id;
+  if (number < first_job)
+    return "job " + id +
+           " ended before the service restarted: its record is not kept across "
+           "a restart; the position's history lists what it did";
+  return "job " + id +
+         " is no longer kept (the service keeps its newest 1000 jobs); the "
+         "position's history lists what it did";
+}
+
 void Service::Impl::fail_job(Job& job, const Error& e, std::optional<int> code) {
   std::lock_guard<std::mutex> lock(mu);
   job.started = true;
@@ -377,6 +421,16 @@ Json Service::Impl::job_json(const Job& j) const {
     out["retry_pending"] = j.failed_job && !j.position.empty() && pending.count(j.position) != 0;
     return out;
   }
+  if (j.kind == Kind::diff || j.kind == Kind::plan) {
+    // A live read: its answer is what the request would have had (the diff,
+    // or the plan with its plan_id), or the error.
+    out["progress"] = {{"done", j.done}, {"total", j.total}, {"step", ""}};
+    out["outcome"] = j.outcome.empty() ? Json(nullptr) : Json(j.outcome);
+    out["message"] = j.message;
+    out["exit_code"] = j.exit_code ? Json(*j.exit_code) : Json(nullptr);
+    out["result"] = j.finished && !j.failed_job ? j.result : Json(nullptr);
+    return out;
+  }
   out["progress"] = {{"done", j.done}, {"total", j.total}, {"step", ""}};
   out["outcome"] = j.finished
                        ? Json(j.failed_job ? "failed" : (j.failed ? "some drives failed" : "done"))
@@ -435,6 +489,15 @@ Json Service::Impl::drive_json(const fleet::LineEntry& line, const fleet::DriveE
       r["running"] = true;
       r["job"] = running->id;
     }
+    // Each automatic retry that failed (the newest kept), and when the next runs.
+    Json failures = Json::array();
+    for (const auto& f : pr.failures)
+      failures.push_back({{"time", f.time}, {"job", f.job}, {"reason", f.reason}});
+    r["failed_attempts"] = pr.failed_attempts;
+    r["failures"] = std::move(failures);
+    std::optional<TimePoint> next = next_status;
+    if (next_backup && (!next || *next_backup < *next)) next = next_backup;
+    r["next_attempt"] = next ? Json(iso_time(*next)) : Json(nullptr);
     j["retry"] = std::move(r);
   }
   return j;

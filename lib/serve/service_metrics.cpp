@@ -166,6 +166,11 @@ std::string Service::metrics() const {
             [](const DriveState& st) -> std::optional<double> {
               return static_cast<double>(st.differences);
             });
+  per_drive("lmcfg_drive_restore_retries_failed_total", "counter",
+            "Automatic retries of a failed restore of the drive that failed again.",
+            [](const DriveState& st) -> std::optional<double> {
+              return static_cast<double>(st.retries_failed);
+            });
   head("lmcfg_drives", "gauge", "Positions per status against their approved configuration.");
   const Json counts = status_counts(s);  // named: items() refers to it
   for (const auto& [status, n] : counts.items())

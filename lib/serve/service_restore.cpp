@@ -80,8 +80,20 @@ std::string drive_state_after(const ops::RestoreOutcome& out, std::size_t in_fli
 
 }  // namespace
 
+// Caller holds mu. An automatic retry `job` failed with `e`: listed on the
+// waiting record and counted.
+void Service::Impl::note_retry_failed(const Job& job, const Error& e, PendingRestore& p) {
+  p.failures.push_back({iso_time(opt.clock()), job.id, e.message});
+  if (p.failures.size() > kRetryFailuresKept) p.failures.erase(p.failures.begin());
+  ++p.failed_attempts;
+  ++states[p.drive].retries_failed;
+}
+
 Result<void> Service::Impl::save_pending(const fleet::LineEntry& line, const fleet::DriveEntry& d,
                                          const PendingRestore& p) {
+  Json failures = Json::array();
+  for (const auto& f : p.failures)
+    failures.push_back({{"time", f.time}, {"job", f.job}, {"reason", f.reason}});
   const Json j{{"drive", p.drive},
                {"commit", p.commit},
                {"who", p.who},
@@ -90,7 +102,9 @@ Result<void> Service::Impl::save_pending(const fleet::LineEntry& line, const fle
                {"cause", p.cause},
                {"skip_incompatible", p.skip_incompatible},
                {"origin_job", p.origin_job},
-               {"drive_state", p.drive_state}};
+               {"drive_state", p.drive_state},
+               {"failures", failures},
+               {"failed_attempts", p.failed_attempts}};
   std::error_code ec;
   std::filesystem::create_directories(state_dir / "pending", ec);
   // The fields are checked UTF-8 (Service::execute); a resumed record's too.
@@ -126,14 +140,24 @@ void Service::Impl::run_restore_job(Job& job, std::size_t li, const fleet::Archi
   log("restore job " + job.id + ": " + d.name + " <- " + f.file_name + " started" +
       (audit.who.empty() ? "" : " for " + audit.who));
   RestoreAttempt a;
-  PendingRestore begun{d.name, f.source.id, audit.who, audit.reason, audit.ticket, cause,
-                       skip,   "",          ""};
+  PendingRestore begun{d.name, f.source.id, audit.who, audit.reason, audit.ticket, cause, skip, "",
+                       "",     {},          0};
   {
     std::lock_guard<std::mutex> lock(mu);
     begun.origin_job = job.retry_of.empty() ? job.id : job.retry_of;
     // A retry records the operator who asked for the first attempt, not itself.
     if (!job.asked_by.empty()) begun.who = job.asked_by;
+    // What the drive is known to hold before this attempt: the waiting
+    // retry's record, else the position's (a cancelled retry's).
+    if (auto w = pending.find(d.name); w != pending.end()) {
+      begun.drive_state = w->second.drive_state;
+      begun.failures = w->second.failures;
+      begun.failed_attempts = w->second.failed_attempts;
+    } else if (auto st = states.find(d.name); st != states.end()) {
+      begun.drive_state = st->second.drive_state;
+    }
   }
+  const std::string known = begun.drive_state;
   if (auto saved = save_pending(line, d, begun); !saved.ok())
     a.err = saved.error();
   else
@@ -141,19 +165,21 @@ void Service::Impl::run_restore_job(Job& job, std::size_t li, const fleet::Archi
   if (!a.err) a.err = restore_failure(a.out);
   // Stopped by SIGTERM/SIGINT: the record stays, the next start finishes it;
   // the drive did not answer (busy resetting or saving when a killed service
-  // left it): the next run of the line tries again (an automatic retry, a job
-  // of its own that an operator can cancel while it waits).
+  // left it) or its line could not be opened: the next run of the line tries
+  // again (an automatic retry, a job of its own that an operator can cancel
+  // while it waits).
   const bool interrupted = a.err && a.err->code == Errc::interrupted;
-  const bool stays = interrupted || (a.err && a.err->code == ErrorClass::link_failure);
+  const bool stays =
+      interrupted || (a.err && (a.err->code == ErrorClass::link_failure || a.unopened));
   if (a.err) {
-    std::size_t in_flight = 0;
-    {
-      std::lock_guard<std::mutex> lock(mu);
-      in_flight = job.step_done;
-    }
-    begun.drive_state = drive_state_after(a.out, in_flight);
     std::lock_guard<std::mutex> lock(mu);
-    job.drive_state = begun.drive_state;
+    // What reached the drive says what it holds: an attempt that wrote
+    // nothing (the line did not open, the drive did not answer) leaves the
+    // known state as it was.
+    begun.drive_state =
+        a.out.written || known.empty() ? drive_state_after(a.out, job.step_done) : known;
+    job.drive_state = a.drive_state = begun.drive_state;
+    if (!job.retry_of.empty() && !interrupted) note_retry_failed(job, *a.err, begun);
   }
   if (!stays)
     remove_pending(line, d);
@@ -170,6 +196,7 @@ void Service::Impl::attempt_restore(RestoreAttempt& a, Job& job, std::size_t li,
   auto session = link::open_session(link_for(li, *f.drive));
   if (!session.ok()) {
     a.err = session.error();
+    a.unopened = true;
     return;
   }
   a.out = ops::run_restore(**session, f.config, opt.db,
@@ -249,7 +276,9 @@ void Service::Impl::finish_restore_job(Job& job, std::size_t li, const fleet::Ar
     job.failed_job = err.has_value();
     job.outcome = outcome;
     job.exit_code = code;
-    if (out.stage != S::failed || out.written) job.step_done = job.step_total;
+    // A failure leaves the steps done before it (a bar short of its end);
+    // a read back that differs came after every step.
+    if (!err || out.stage == S::verify_mismatch) job.step_done = job.step_total;
     job.step = "";
     job.message = err ? err->message
                       : (out.stage == S::nothing_to_do
@@ -286,7 +315,8 @@ std::string Service::Impl::record_restore_state(const std::string& name, const R
   if (a.err) {
     st.status = "failed";
     st.message = a.err->message;
-    st.drive_state = waiting != pending.end() ? waiting->second.drive_state : "";
+    // What the drive holds, whether or not a retry waits.
+    st.drive_state = waiting != pending.end() ? waiting->second.drive_state : a.drive_state;
     event = "restore_failed";
     details["reason"] = a.err->message;
     details["exit_code"] = code;
@@ -375,7 +405,20 @@ void Service::Impl::load_pending() {
                        j.contains("skip_incompatible") && j["skip_incompatible"].is_boolean() &&
                            j["skip_incompatible"].get<bool>(),
                        text_of("origin_job"),
-                       text_of("drive_state")};
+                       text_of("drive_state"),
+                       {},
+                       j.contains("failed_attempts") && j["failed_attempts"].is_number_unsigned()
+                           ? j["failed_attempts"].get<std::size_t>()
+                           : 0};
+    if (j.contains("failures") && j["failures"].is_array()) {
+      for (const auto& f : j["failures"]) {
+        if (!f.is_object()) continue;
+        auto field = [&f](const char* key) {
+          return f.contains(key) && f[key].is_string() ? f[key].get<std::string>() : std::string();
+        };
+        pending[d->name].failures.push_back({field("time"), field("job"), field("reason")});
+      }
+    }
     const std::size_t li = line_index(line);
     const std::string name = d->name;
     queues[li].push_back(Task{nullptr, {}, [this, li, name](bool run) {

@@ -194,4 +194,25 @@ TEST_CASE("archive: a file is never written through a symbolic link or into .git
   CHECK(fs::is_empty(d.path / "outside"));
 }
 
+TEST_CASE("archive: set_author's name is the author of the commits after it, git's before",
+          "[fleet][archive]") {
+  test::ScratchDir d("archive-author");
+  auto a = open_new(d.path / "a");
+  test::spit(d.path / "a" / "x.json", "1");
+  REQUIRE(a.commit({"x.json"}, "first").value());
+  a.set_author("lmcfg serve on plant-pc", "lmcfg-serve@plant-pc");
+  test::spit(d.path / "a" / "x.json", "2");
+  REQUIRE(a.commit({"x.json"}, "second").value());
+  // Moved, the archive keeps it.
+  fleet::Archive moved = std::move(a);
+  test::spit(d.path / "a" / "x.json", "3");
+  REQUIRE(moved.commit({"x.json"}, "third").value());
+  auto h = moved.history("x.json");
+  REQUIRE(h.ok());
+  REQUIRE(h->size() == 3);
+  CHECK((*h)[0].author == "lmcfg serve on plant-pc <lmcfg-serve@plant-pc>");
+  CHECK((*h)[1].author == "lmcfg serve on plant-pc <lmcfg-serve@plant-pc>");
+  CHECK((*h)[2].author == "Test Op <op@example.com>");
+}
+
 }  // namespace fleet_test_archive

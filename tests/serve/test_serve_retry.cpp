@@ -201,4 +201,109 @@ TEST_CASE(
   CHECK(message.substr(message.find(' ', 20)) == " except 1 value(s) this drive cannot take");
 }
 
+namespace {
+
+constexpr const char* kStoppedState =
+    "partially configured, and its motion control is stopped: the axis does not move until a "
+    "restore completes";
+
+// press3/z with command table entry 2 changed behind the service's back (its
+// first position 80 84 1E 00 instead of 40 42 0F 00); `gone`: its flash saves
+// never answered and the drive deaf for days after one, gone during "save the
+// command table to flash".
+void changed_table(const fs::path& state, bool gone) {
+  write_axis(state, 0x11);
+  auto j = nlohmann::json::parse(slurp(state));
+  for (auto& e : j["command_table"]["flash"]) {
+    if (e["entry"] != 2) continue;
+    std::string data = e["data"];
+    data.replace(data.find("40 42 0F 00 20 A1"), 11, "80 84 1E 00");
+    e["data"] = data;
+  }
+  if (gone) {
+    j["options"]["unanswered_saves"] = true;
+    j["timing_us"]["flash_save"] = 1'000'000'000'000;
+  }
+  spit(state, j.dump(1));
+}
+
+}  // namespace
+
+TEST_CASE(
+    "serve: a drive gone during a flash save stays partially configured through the failed "
+    "automatic retries, each listed and counted, until the retry completes",
+    "[serve][retry][git-cli]") {
+  Rig rig;
+  rig.at(rig.now);  // the first backup approves itself (commissioning)
+  const auto state = rig.dir.path / "a.json";
+  changed_table(state, true);
+  auto planned = rig.service->plan("press3/z", "", "ops");
+  REQUIRE(planned.ok());
+  serve::Service::ExecuteRequest req;
+  req.plan_id = plain(*planned)["plan_id"];
+  req.audit = {"ops", "table entry 2 lost", ""};
+  auto first = rig.service->execute(req);
+  REQUIRE(first.ok());
+  rig.service->wait_idle();
+  auto job = plain(*rig.service->job(*first));
+  INFO(job.dump());
+  CHECK(job["state"] == "failed");
+  CHECK(job["outcome"] == "failed after writing");
+  CHECK(job["drive_state"] == kStoppedState);
+  CHECK(job["retry_pending"] == true);
+  // The bar stops where the restore stopped, not at its end.
+  CHECK(job["progress"]["done"].get<int>() < job["progress"]["total"].get<int>());
+
+  // The drive's line cannot be opened any more (the drive is gone): each
+  // automatic retry fails on the connection and learns nothing of the drive.
+  fs::remove(state);
+  for (int attempt = 1; attempt <= 2; ++attempt) {
+    rig.at(rig.now + 15min);
+    const auto d = plain(*rig.service->drive("press3/z"));
+    INFO(d.dump());
+    CHECK(d["status"] == "failed");
+    CHECK(d["drive_state"] == kStoppedState);
+    REQUIRE(d["retry"].is_object());
+    CHECK(d["retry"]["drive_state"] == kStoppedState);
+    CHECK(d["retry"]["of_job"] == *first);
+    CHECK(d["retry"]["failed_attempts"] == attempt);
+    REQUIRE(d["retry"]["failures"].size() == static_cast<std::size_t>(attempt));
+    const auto& last = d["retry"]["failures"].back();
+    CHECK(last["time"] == serve::iso_time(rig.now));
+    CHECK(last["reason"] == d["message"]);
+    CHECK(d["retry"]["next_attempt"] == serve::iso_time(rig.now + 15min));
+    const auto retry = plain(*rig.service->job(last["job"].get<std::string>()));
+    CHECK(retry["retry_of"] == *first);
+    CHECK(retry["state"] == "failed");
+    CHECK(retry["drive_state"] == kStoppedState);
+    CHECK(rig.service->metrics().find(
+              "lmcfg_drive_restore_retries_failed_total{drive=\"press3/z\",line=\"line1\"} " +
+              std::to_string(attempt) + "\n") != std::string::npos);
+  }
+  {
+    // The console's position page lists the failed attempts and what the drive holds.
+    Server server(*rig.service);
+    httplib::Client c("127.0.0.1", server.port);
+    auto page = c.Get("/position?name=press3%2Fz");
+    REQUIRE(page);
+    CHECK(page->body.find("2 automatic attempt(s) failed so far; the next is due at " +
+                          serve::iso_time(rig.now + 15min)) != std::string::npos);
+    CHECK(page->body.find("id=\"retry-failures\"") != std::string::npos);
+    CHECK(page->body.find("untouched") == std::string::npos);
+    CHECK(page->body.find("motion control is stopped") != std::string::npos);
+    auto job_page = c.Get("/job?id=" + *first + "&name=press3%2Fz");
+    REQUIRE(job_page);
+    CHECK(job_page->body.find(" step(s) before it stopped") != std::string::npos);
+  }
+
+  // The drive is back, its table as it was before the restore: the retry completes.
+  changed_table(state, false);
+  rig.at(rig.now + 15min);
+  const auto d = plain(*rig.service->drive("press3/z"));
+  INFO(d.dump());
+  CHECK(d["status"] == "ok");
+  CHECK(d["retry"].is_null());
+  CHECK(d["drive_state"].is_null());
+}
+
 }  // namespace serve_test_serve_retry

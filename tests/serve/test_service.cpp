@@ -221,4 +221,110 @@ TEST_CASE(
   CHECK(events[0]["line"] == "can");
 }
 
+TEST_CASE(
+    "serve: job numbers go on after a restart, and a job of the earlier run says it ended "
+    "before the restart",
+    "[serve][service][jobs]") {
+  Rig rig;
+  rig.at(rig.now);
+  auto before = rig.service->backup_drive("press3/z", "ops");
+  REQUIRE(before.ok());
+  rig.service->wait_idle();
+  rig.restart();
+  auto after = rig.service->backup_drive("press3/z", "ops");
+  REQUIRE(after.ok());
+  CHECK(std::stoul(*after) > std::stoul(*before));
+  auto old = rig.service->job(*before);
+  REQUIRE_FALSE(old.ok());
+  CHECK(old.error().code == Errc::not_found);
+  CHECK(old.error().message ==
+        "job " + *before +
+            " ended before the service restarted: its record is not kept across a restart; the "
+            "position's history lists what it did");
+  {
+    // The console's job page of it says so too, not "No such job".
+    Server server(*rig.service);
+    httplib::Client c("127.0.0.1", server.port);
+    auto page = c.Get("/job?id=" + *before);
+    REQUIRE(page);
+    CHECK(page->status == 404);
+    CHECK(page->body.find("Job no longer kept") != std::string::npos);
+    CHECK(page->body.find("ended before the service restarted") != std::string::npos);
+  }
+  const std::string never = std::to_string(std::stoul(*after) + 1);
+  CHECK(rig.service->job(never).error().message == "no job " + never);
+  CHECK(rig.service->job("0").error().message == "no job 0");
+  // A later restart does not give a number twice either.
+  rig.service->wait_idle();
+  rig.restart();
+  auto third = rig.service->backup_drive("press3/z", "ops");
+  REQUIRE(third.ok());
+  CHECK(std::stoul(*third) > std::stoul(*after));
+}
+
+TEST_CASE(
+    "serve: the archive's commits are by the service on its host, the person who asked in "
+    "the Operator trailer",
+    "[serve][service][git-cli]") {
+  Rig rig;
+  rig.tweaked_with = [](serve::ServiceOptions& o) {
+    o.exit_code = exit_code_of;
+    o.host = "plant-pc<1>";
+  };
+  rig.restart();
+  rig.at(rig.now);
+  write_axis(rig.dir.path / "a.json", 0x11, "0010", 9);
+  REQUIRE(rig.service->backup_drive("press3/z", "night-shift").ok());
+  rig.service->wait_idle();
+  const auto archive = rig.dir.path / "archive";
+  CHECK(git(archive, "log -1 '--format=%an <%ae>|%cn'") ==
+        "lmcfg serve on plant-pc1 <lmcfg-serve@plant-pc1>|lmcfg serve on plant-pc1\n");
+  CHECK(git(archive, "log -1 '--format=%(trailers)'") == "Operator: night-shift\n\n");
+}
+
+TEST_CASE(
+    "serve: a second technician's restore of a position another restore waits or runs on "
+    "is refused, naming that job, who asked and since when",
+    "[serve][service][restore]") {
+  // The line's worker can be held in the drift event (notify runs on it).
+  std::mutex gate;
+  std::unique_lock<std::mutex> held(gate, std::defer_lock);
+  Rig rig;
+  rig.tweaked_with = [&gate](serve::ServiceOptions& o) {
+    o.exit_code = exit_code_of;
+    o.notify = [&gate](const serve::Json& e) {
+      if (e["event"] == "drift") std::lock_guard<std::mutex> wait(gate);
+    };
+  };
+  rig.restart();
+  rig.at(rig.now);
+  write_axis(rig.dir.path / "a.json", 0x11, "0010", 9);
+  auto mine = rig.service->plan("press3/z", "", "day-shift");
+  auto theirs = rig.service->plan("press3/z", "", "night-shift");
+  REQUIRE(mine.ok());
+  REQUIRE(theirs.ok());
+  held.lock();
+  // A backup finds the change: its drift event holds the worker.
+  REQUIRE(rig.service->backup_drive("press3/z", "day-shift").ok());
+  serve::Service::ExecuteRequest req;
+  req.plan_id = (*mine)["plan_id"].get<std::string>();
+  req.audit = {"day-shift", "tuning lost", ""};
+  auto first = rig.service->execute(req);
+  INFO((first.ok() ? "" : first.error().message));
+  REQUIRE(first.ok());
+  req.plan_id = (*theirs)["plan_id"].get<std::string>();
+  req.audit = {"night-shift", "tuning lost", ""};
+  auto second = rig.service->execute(req);
+  REQUIRE_FALSE(second.ok());
+  CHECK(second.error().code == Errc::plan_refused);
+  CHECK(second.error().message ==
+        "another restore of drive press3/z is waiting for the line as job " + *first +
+            ", asked for by day-shift at " + serve::iso_time(rig.now) +
+            "; nothing written: wait for it to end (GET /api/v1/jobs/" + *first +
+            "), then plan again");
+  held.unlock();
+  rig.service->wait_idle();
+  CHECK((*rig.service->job(*first))["state"] == "done");
+}
+
 }  // namespace serve_test_service

@@ -133,6 +133,9 @@ struct ServiceRig {
       o.links.push_back(link);
     }
     o.clock = [this] { return now; };
+    // A live read (diff to=live, plan) on the simulator is waited for: the
+    // tests of its bounded wait set their own (test_service_live.cpp).
+    o.live_wait = std::chrono::minutes(1);
     o.notify = [this](const serve::Json& e) {
       std::lock_guard<std::mutex> lock(mu);
       events.push_back(nlohmann::json::parse(e.dump()));
