@@ -62,7 +62,7 @@ std::string state_words(const Json& info) {
     s = "The drive did not report its state.";
   }
   const std::string err = str(info, "actual_error");
-  s += err.empty() ? " No error." : " Error: " + err + ".";
+  s += err.empty() || err == "No Error" ? " No error." : " Error: " + err + ".";
   return s;
 }
 

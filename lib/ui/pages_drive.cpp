@@ -45,7 +45,8 @@ std::string identity_section(const Json& d) {
                                esc(str(st, "state_var_hex")) + "h)</span>"
                          : std::string("not reported")) +
          "</dd>";
-    const std::string err = str(info, "actual_error");
+    std::string err = str(info, "actual_error");
+    if (err == "No Error") err.clear();  // the drive's own text for none (LinRS §14.1)
     b += "<dt>Error</dt><dd id=\"error\">" +
          (err.empty() ? std::string("none") : "<span class=\"problem\">" + esc(err) + "</span>") +
          "</dd>";
@@ -164,7 +165,8 @@ std::string result_html(const Json& j) {
   if (kind == "backup")
     return "<p class=\"verdict\" id=\"outcome\">Backed up into <a href=\"/files/" +
            esc(serve::url_encode(str(r, "file"))) + "\" download id=\"file\">" +
-           esc(str(r, "file")) + "</a>.</p><p class=\"muted\">" + esc(str(r, "path")) + "</p>";
+           esc(str(r, "file")) + "</a>.</p><p class=\"muted\"><code class=\"wrap\">" +
+           esc(str(r, "path")) + "</code></p>";
   if (kind == "compare")
     return std::string("<p class=\"verdict\" id=\"outcome\">") +
            (r.value("identical", false)
@@ -203,7 +205,7 @@ std::string result_html(const Json& j) {
   }
   if (member(r, "undo_command").is_string())
     b += "<p class=\"muted\" id=\"undo-saved\">What it held before is kept as an undo record "
-         "(the drive's page offers Undo; on the command line: <code>" +
+         "(the drive's page offers Undo; on the command line: <code class=\"wrap\">" +
          esc(str(r, "undo_command")) + "</code>).</p>";
   return b;
 }

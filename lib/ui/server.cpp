@@ -171,7 +171,8 @@ struct UiServer::Impl {
 
   // The token in the address becomes the cookie; without either: 403.
   bool admitted(Request& req, Response& res) {
-    if (req.path == "/console.css" || req.path == "/console.js") return true;
+    if (req.path == "/console.css" || req.path == "/console.js" || req.path == "/favicon.ico")
+      return true;
     if (req.has_param("token")) {
       if (!same_secret(req.get_param_value("token"), opt.token)) {
         html(res, pages::need_token(), 403);
@@ -225,6 +226,11 @@ void UiServer::Impl::routes() {
   router.Get("/console.js", [](const Request&, Response& res) {
     res.set_header("Cache-Control", "no-cache");
     res.set_content(std::string(serve::Console::script()), "text/javascript; charset=utf-8");
+  });
+  // No icon: an empty answer rather than a 404 in the browser's console.
+  router.Get("/favicon.ico", [](const Request&, Response& res) {
+    res.status = 204;
+    res.set_header("Cache-Control", "max-age=86400");
   });
   router.Get("/", [this](const Request&, Response& res) {
     html(res,

@@ -2,10 +2,15 @@
 // and CSRF checks, and the whole flow against simulated drives: find, back
 // up, compare with factory defaults, restore onto a used spare through the
 // plan, the spare then identical, undo.
+#include <atomic>
 #include <catch2/catch.hpp>
 #include <filesystem>
+#include <mutex>
 
 #include "files.hpp"
+#include "link/port.hpp"
+#include "ops/recovery.hpp"
+#include "sim/state_file.hpp"
 #include "ui_rig.hpp"
 
 namespace ui_test_server {
@@ -200,6 +205,118 @@ TEST_CASE("ui server: Quit stops nothing half way", "[ui_server]") {
     CHECK(s.url().substr(s.url().size() - 9) == "/?token=T");
   }
   ::unsetenv("XDG_STATE_HOME");
+}
+
+// "simvanish:STATE.json": the simulated drive, whose link closes after
+// `fail_after` writes of one session (-1: never), as a drive unplugged or
+// switched off mid-write. Each session's write count is kept, so a test
+// can place the failure after the reads a plan makes.
+struct Vanish {
+  std::atomic<long> fail_after{-1};
+  std::mutex mu;
+  std::vector<long> counts;
+};
+Vanish& vanish() {
+  static Vanish v;
+  return v;
+}
+
+class VanishingLink final : public transport::Transport {
+ public:
+  explicit VanishingLink(std::unique_ptr<transport::Transport> inner)
+      : inner_(std::move(inner)), limit_(vanish().fail_after.load()) {}
+  ~VanishingLink() override {
+    std::lock_guard<std::mutex> lock(vanish().mu);
+    vanish().counts.push_back(writes_);
+  }
+  Result<void> write(ByteView bytes) override {
+    if (gone_ || (limit_ >= 0 && writes_ >= limit_)) {
+      gone_ = true;
+      return Error(Errc::link_closed, "the simulated drive vanished");
+    }
+    ++writes_;
+    return inner_->write(bytes);
+  }
+  Result<Bytes> read_some(transport::Millis timeout) override {
+    if (gone_) return Error(Errc::link_closed, "the simulated drive vanished");
+    return inner_->read_some(timeout);
+  }
+  void discard_input() override { inner_->discard_input(); }
+  std::string describe() const override { return "vanishing " + inner_->describe(); }
+  double byte_time_us() const override { return inner_->byte_time_us(); }
+  Result<void> reconfigure(const transport::SerialSettings& st) override {
+    return inner_->reconfigure(st);
+  }
+  std::int64_t now_ns() const override { return inner_->now_ns(); }
+
+ private:
+  std::unique_ptr<transport::Transport> inner_;
+  long limit_;
+  long writes_ = 0;
+  bool gone_ = false;
+};
+
+const bool kVanishRegistered = [] {
+  link::register_scheme("simvanish",
+                        [](const transport::LinkRequest& r) -> Result<transport::OpenedLink> {
+                          static const auto sim = sim::state_file_link_factory();
+                          auto opened = sim(r);
+                          if (!opened.ok()) return opened;
+                          opened->link = std::make_unique<VanishingLink>(std::move(opened->link));
+                          return opened;
+                        });
+  return true;
+}();
+
+TEST_CASE("ui server: a drive that vanishes mid-write: what it holds, and the way out",
+          "[ui_server][ui_flow]") {
+  UiRig rig("ui-vanish");
+  const std::string original = copy_fixture(rig, "commissioned-axis.json");
+  const std::string spare_file = copy_fixture(rig, "used-spare.json").substr(4);
+  const std::string spare = "simvanish:" + spare_file;
+  const auto find = [&](const std::string& port) {
+    return found_key(rig.finish(
+        rig.post("/find", {{"port", port}, {"baud", "57600"}, {"from", "16"}, {"to", "18"}})));
+  };
+  const std::string a = find(original);
+  const std::string file = rig.finish(rig.post("/backup", {{"key", a}}))["result"]["file"];
+  const std::string b = find(spare);
+  auto planned = rig.finish(rig.post("/plan", {{"key", b}, {"file", file}}));
+  REQUIRE(planned["state"] == "done");
+  long plan_writes = 0;
+  {
+    std::lock_guard<std::mutex> lock(vanish().mu);
+    plan_writes = vanish().counts.back();
+  }
+  // The execution re-reads what the plan read, saves the undo record, then
+  // writes: the link goes a few telegrams into the writes.
+  vanish().fail_after = plan_writes + 40;
+  auto failed =
+      rig.finish(rig.post("/execute", {{"plan", planned["result"]["plan_id"].get<std::string>()},
+                                       {"reason", "spare"},
+                                       {"skip_incompatible", "1"}}));
+  vanish().fail_after = -1;
+  INFO(failed.dump(2));
+  REQUIRE(failed["state"] == "failed");
+  CHECK(failed["message"].get<std::string>().find("vanished") != std::string::npos);
+  CHECK(failed["drive_state"].get<std::string>().rfind("partially configured", 0) == 0);
+  auto page = rig.get("/job?id=" + failed["id"].get<std::string>());
+  CHECK(page.body.find("The drive is partially configured") != std::string::npos);
+  CHECK(page.body.find("plan the restore again") != std::string::npos);
+  // The CLI's recovery record is there: `lmcfg restore` would finish it too.
+  CHECK(fs::exists(*ops::recovery_path("restore", spare, 0x11)));
+  // The way out: plan again, write again; the drive then reads identical.
+  auto again = rig.finish(rig.post("/plan", {{"key", b}, {"file", file}}));
+  REQUIRE(again["state"] == "done");
+  auto written =
+      rig.finish(rig.post("/execute", {{"plan", again["result"]["plan_id"].get<std::string>()},
+                                       {"reason", "spare, again"},
+                                       {"skip_incompatible", "1"}}));
+  INFO(written.dump(2));
+  REQUIRE(written["state"] == "done");
+  CHECK_FALSE(fs::exists(*ops::recovery_path("restore", spare, 0x11)));
+  auto same = rig.finish(rig.post("/compare", {{"key", b}, {"against", file}}));
+  CHECK(same["result"]["identical"] == true);
 }
 
 }  // namespace ui_test_server
