@@ -68,8 +68,8 @@ std::string state_words(const Json& info) {
 
 std::string drive_row(const Json& d) {
   const auto& l = member(d, "link");
-  return "<tr><td><a href=\"" + drive_href(str(d, "key")) + "\">" + esc(str(l, "port")) +
-         "</a></td><td class=\"id\">" + esc(link_words(l)) + "</td><td>" +
+  return "<tr><td><a href=\"" + drive_href(str(d, "key")) + "\"><code class=\"wrap\">" +
+         esc(str(l, "port")) + "</code>" + "</a></td><td>" + esc(link_words(l)) + "</td><td>" +
          esc(state_words(member(d, "info"))) + "</td></tr>\n";
 }
 
@@ -97,10 +97,12 @@ std::string ports_section(const Json& ports, const std::string& csrf) {
     b += "</tbody></table>";
   }
   if (member(ports, "practice").is_string())
-    b += "<p>No drive at hand? <span id=\"practice\">" +
+    // (A form cannot sit inside a <p>: the parser would close the paragraph.)
+    b += "<div id=\"practice\"><p>No drive at hand? Practise on a simulated one: it behaves "
+         "as a real drive and keeps what is written to it.</p>" +
          post_button("/find", "Find the practice drive (simulated)",
                      {{"port", str(ports, "practice")}, {"to", "63"}}, csrf) +
-         "</span> It behaves as a real drive and keeps what is written to it.</p>";
+         "</div>";
   return b + "</section>\n";
 }
 
@@ -127,7 +129,8 @@ std::string jobs_list(const Json& jobs, bool running_only) {
   for (const auto& j : jobs) {
     if (running_only && str(j, "state") != "running") continue;
     b += "<li><a href=\"/job?id=" + esc(str(j, "id")) + "\">" + esc(str(j, "kind")) + " on " +
-         esc(str(j, "port")) + "</a> (" + esc(str(j, "state")) + ")</li>";
+         "<code class=\"wrap\">" + esc(str(j, "port")) + "</code></a> (" + esc(str(j, "state")) +
+         ")</li>";
   }
   return b;
 }

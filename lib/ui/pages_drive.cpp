@@ -22,6 +22,10 @@ std::string hidden_field(const std::string& name, const std::string& value) {
   return "<input type=\"hidden\" name=\"" + esc(name) + "\" value=\"" + esc(value) + "\">";
 }
 
+// Names of ports and files are long and unbroken ("/dev/serial/by-id/usb-FTDI_..."):
+// shown where they may break anywhere, so that a 390 px page does not scroll sideways.
+std::string long_name(const std::string& s) { return "<code class=\"wrap\">" + esc(s) + "</code>"; }
+
 std::string key_link(const std::string& key, const std::string& text) {
   return "<a href=\"/drive?key=" + esc(serve::url_encode(key)) + "\">" + esc(text) + "</a>";
 }
@@ -159,7 +163,8 @@ std::string result_html(const Json& j) {
          " drive(s).</p><ul id=\"found\">";
     for (const auto& k : found)
       if (k.is_string())
-        b += "<li>" + key_link(k.get<std::string>(), k.get<std::string>()) + "</li>";
+        b += "<li><a href=\"/drive?key=" + esc(serve::url_encode(k.get<std::string>())) + "\">" +
+             long_name(k.get<std::string>()) + "</a></li>";
     return b + "</ul>";
   }
   if (kind == "backup")
@@ -214,8 +219,10 @@ std::string result_html(const Json& j) {
 
 std::string drive(const Json& d, const std::string& folder, const std::string& csrf) {
   const auto& l = member(d, "link");
-  std::string b = "<p class=\"crumbs\"><a href=\"/\">Drives</a> / " + esc(str(l, "port")) +
-                  "</p>\n<h1>Drive " + esc(str(d, "key")) + "</h1>\n";
+  char id[8];
+  std::snprintf(id, sizeof id, "%02Xh", l.value("id", 0u) & 0xFFu);
+  std::string b = "<p class=\"crumbs\"><a href=\"/\">Drives</a></p>\n<h1>Drive " + std::string(id) +
+                  " on " + long_name(str(l, "port")) + "</h1>\n";
   b += identity_section(d) + actions_section(d, csrf) + backups_section(d, folder) +
        journal_section(d);
   return frame("Drive " + str(d, "key"), b, csrf);
@@ -226,9 +233,9 @@ std::string job(const Json& j, const std::string& csrf) {
   const std::string kind = str(j, "kind");
   const bool write = kind == "restore" || kind == "undo";
   std::string b = "<p class=\"crumbs\"><a href=\"/\">Drives</a>";
-  if (!str(j, "drive").empty()) b += " / " + key_link(str(j, "drive"), str(j, "drive"));
-  b += "</p>\n<h1>" + esc(kind) + " on " + esc(str(j, "port")) + " <span class=\"muted\">(job " +
-       esc(str(j, "id")) + ")</span></h1>\n";
+  if (!str(j, "drive").empty()) b += " / " + key_link(str(j, "drive"), "the drive");
+  b += "</p>\n<h1>" + esc(kind) + " on " + long_name(str(j, "port")) +
+       " <span class=\"muted\">(job " + esc(str(j, "id")) + ")</span></h1>\n";
   b += std::string("<section id=\"live\" aria-live=\"polite\"") +
        (state == "running" ? " data-refresh=\"1\"" : "") + ">";
   b += "<p>State: <strong class=\"job-state\" data-state=\"" + esc(state) + "\">" +
@@ -264,9 +271,10 @@ std::string job(const Json& j, const std::string& csrf) {
 
 std::string plan(const Json& p, const std::string& csrf) {
   const std::string key = str(p, "drive");
-  std::string b = "<p class=\"crumbs\"><a href=\"/\">Drives</a> / " + key_link(key, key) + "</p>\n";
-  b += "<h1>" + std::string(p.value("undo", false) ? "Undo the last write to " : "Restore ") +
-       esc(str(p, "file")) + (p.value("undo", false) ? "" : " onto the drive") + "</h1>\n";
+  std::string b =
+      "<p class=\"crumbs\"><a href=\"/\">Drives</a> / " + key_link(key, "the drive") + "</p>\n";
+  b += "<h1>" + std::string(p.value("undo", false) ? "Undo: put back " : "Restore ") +
+       long_name(str(p, "file")) + " onto the drive</h1>\n";
   bool refused = false;
   const std::string verdict = words::verdict(p, refused);
   b += std::string("<p class=\"") + (refused ? "problem" : "verdict") + "\" id=\"verdict\">" +

@@ -68,7 +68,9 @@ inline std::string form_encode(const std::string& s) {
 
 class UiRig {
  public:
-  explicit UiRig(const std::string& name, const db::Database& db = db::Database::empty())
+  // `practice`: the practice drive's simulator state ("" = none).
+  explicit UiRig(const std::string& name, const db::Database& db = db::Database::empty(),
+                 const std::string& practice = "")
       : dir_(name) {
     ::setenv("XDG_STATE_HOME", (dir_.path / "state").string().c_str(), 1);
     ui::DeskOptions o;
@@ -77,6 +79,7 @@ class UiRig {
     o.exit_code = [](const Error& e) { return e.code == Errc::plan_refused ? 3 : 4; };
     o.exit_category = [](int c) { return c == 0 ? std::string("ok") : "error"; };
     o.who = "tester";
+    o.practice_state = practice;
     auto d = ui::Desk::create(std::move(o));
     if (!d.ok()) throw std::runtime_error(d.error().message);
     desk_ = std::move(d).value();

@@ -40,7 +40,8 @@ TEST_CASE("pages: connect lists ports, holders, the practice drive and the drive
   CHECK(has(html, "Find the practice drive (simulated)"));
   CHECK(has(html, "MACID 11h at 57600 8N1, checksum none"));
   CHECK(has(html, "State: Operation Enabled. No error."));
-  CHECK(has(html, "<a href=\"/job?id=3\">backup on sim:a</a> (running)"));
+  CHECK(
+      has(html, "<a href=\"/job?id=3\">backup on <code class=\"wrap\">sim:a</code></a> (running)"));
   CHECK(has(html, "name=\"csrf\" value=\"C5RF\""));
   CHECK(has(html, "action=\"/quit\""));
 }

@@ -1,6 +1,6 @@
 // lmcfg ui in headless Chromium (tests/browser/walk-console.js over the
 // DevTools protocol) against simulated drives, as a technician: open the
-// printed address, find the commissioned axis, back it up, compare it with
+// printed address, find the practice drive (the demo axis), back it up, compare it with
 // factory defaults, find a used spare, restore the backup onto it through
 // the plan page, compare again (identical), undo. Screenshots at 1280 and
 // 390 px are kept in build/tests/console-shots/ui-*.png.
@@ -33,9 +33,12 @@ std::string key_of(const std::string& port) {
 
 TEST_CASE("ui in Chromium: find, back up, compare, restore onto a used spare, undo",
           "[ui_browser][browser]") {
-  test::UiRig rig("ui-browser");
+  // The practice drive is the README demo axis, as lmcfg ui offers it.
+  test::UiRig rig(
+      "ui-browser", db::Database::empty(),
+      test::slurp(fs::path(LMCFG_SOURCE_DIR) / "tests/fixtures/sim/commissioned-axis.json"));
   rig.serve_in_background();
-  const std::string original = fixture_port(rig, "commissioned-axis.json");
+  const std::string original = rig.desk().practice_port();
   const std::string spare = fixture_port(rig, "used-spare.json");
   const std::string base = rig.base();
   const std::string drive_a = base + "/drive?key=" + test::form_encode(key_of(original));
@@ -71,8 +74,11 @@ TEST_CASE("ui in Chromium: find, back up, compare, restore onto a used spare, un
   read("connect");
   shot("connect-1280.png");
   narrow("connect");
-  find(original, "found-a");
+  step({{"op", "submit"}, {"selector", "#practice button"}});  // "Find the practice drive"
+  done("found-a");
   read("found");
+  step({{"op", "goto"}, {"url", base + "/"}});  // the drive found, on the connect page
+  narrow("connect-found");
   step({{"op", "goto"}, {"url", drive_a}});
   read("drive-a");
   shot("drive-1280.png");
@@ -140,7 +146,8 @@ TEST_CASE("ui in Chromium: find, back up, compare, restore onto a used spare, un
   CHECK(at("connect")["url"] == base + "/");  // the token left the address
   CHECK(at("connect")["value"]["h1"] == "Connect a drive");
   CHECK(at("connect")["value"]["scripts"] == 0);
-  for (const char* n : {"connect-390", "drive-390", "plan-390", "restore-done-390"}) {
+  for (const char* n :
+       {"connect-390", "connect-found-390", "drive-390", "plan-390", "restore-done-390"}) {
     INFO(n);
     CHECK(at(n)["value"]["width"].get<int>() <= 390);  // no sideways scrolling
   }
