@@ -1,4 +1,6 @@
 // The drive, job and plan pages of lmcfg ui (ui/pages.hpp).
+#include <map>
+
 #include "serve/console.hpp"
 #include "serve/console_pages.hpp"
 #include "serve/console_words.hpp"
@@ -234,8 +236,13 @@ std::string job(const Json& j, const std::string& csrf) {
   const bool write = kind == "restore" || kind == "undo";
   std::string b = "<p class=\"crumbs\"><a href=\"/\">Drives</a>";
   if (!str(j, "drive").empty()) b += " / " + key_link(str(j, "drive"), "the drive");
-  b += "</p>\n<h1>" + esc(kind) + " on " + long_name(str(j, "port")) +
-       " <span class=\"muted\">(job " + esc(str(j, "id")) + ")</span></h1>\n";
+  static const std::map<std::string, std::string> kTitle = {
+      {"find", "Find drives"}, {"connect", "Connect"}, {"backup", "Back up"},
+      {"compare", "Compare"},  {"plan", "Plan"},       {"restore", "Restore"},
+      {"undo", "Undo"}};
+  b += "</p>\n<h1>" + esc(kTitle.count(kind) ? kTitle.at(kind) : kind) + " on " +
+       long_name(str(j, "port")) + " <span class=\"muted\">(job " + esc(str(j, "id")) +
+       ")</span></h1>\n";
   b += std::string("<section id=\"live\" aria-live=\"polite\"") +
        (state == "running" ? " data-refresh=\"1\"" : "") + ">";
   b += "<p>State: <strong class=\"job-state\" data-state=\"" + esc(state) + "\">" +
