@@ -11,6 +11,7 @@
 #include "link/port.hpp"
 #include "ops/recovery.hpp"
 #include "sim/state_file.hpp"
+#include "subprocess.hpp"
 #include "ui_rig.hpp"
 
 namespace ui_test_server {
@@ -317,6 +318,26 @@ TEST_CASE("ui server: a drive that vanishes mid-write: what it holds, and the wa
   CHECK_FALSE(fs::exists(*ops::recovery_path("restore", spare, 0x11)));
   auto same = rig.finish(rig.post("/compare", {{"key", b}, {"against", file}}));
   CHECK(same["result"]["identical"] == true);
+}
+
+TEST_CASE("ui server: a drive over LinUDP is asked at its address, then backed up",
+          "[ui_server][ui_flow]") {
+  UiRig rig("ui-linudp");
+  const std::string state = copy_fixture(rig, "commissioned-axis.json").substr(4);
+  test::Child sim(std::vector<std::string>{LMCFG_TOOL_PATH, "sim", "--linudp", "--udp",
+                                           "127.0.0.1:0", "--state", state, "--fast"});
+  const std::string url = "linudp://127.0.0.1:" + sim.read_line();
+  (void)sim.read_line();
+  auto found = rig.finish(rig.post("/find", {{"port", url}}));
+  INFO(found.dump(2));
+  REQUIRE(found["kind"] == "connect");  // no scan: the address names the drive
+  const std::string key = found_key(found);
+  auto page = rig.get("/drive?key=" + test::form_encode(key));
+  CHECK(page.body.find("Operation Enabled") != std::string::npos);
+  auto backed = rig.finish(rig.post("/backup", {{"key", key}}));
+  INFO(backed.dump(2));
+  REQUIRE(backed["state"] == "done");
+  CHECK(fs::exists(rig.dir() / "backups" / backed["result"]["file"].get<std::string>()));
 }
 
 }  // namespace ui_test_server
