@@ -114,6 +114,9 @@ class Desk {
   // One drive: its backups in the folder ("backups", newest first), every
   // configuration file of the folder ("files") and its journal.
   Result<Json> drive(const std::string& key) const;
+  // `lmcfg report FILE` of a file of the folder: the HTML page (reads the
+  // file only, no drive).
+  Result<std::string> report_html(const std::string& name) const;
   // A file of the folder by its name (no path parts): for downloads.
   Result<std::filesystem::path> file(const std::string& name) const;
   // Whether a job runs now (Quit waits for none: the page asks first).

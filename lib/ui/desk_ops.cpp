@@ -208,4 +208,12 @@ void Desk::Impl::run_plan(const std::string& job, const DeskDrive& d, const std:
   plans[sp.id] = std::move(sp);
 }
 
+Result<std::string> Desk::report_html(const std::string& name) const {
+  LMCFG_ASSIGN_OR_RETURN(const auto path, file(name));
+  LMCFG_ASSIGN_OR_RETURN(const auto cfg, config::read_config_file(path));
+  report::ReportOptions ro;
+  ro.generated_at = iso_now();
+  return report::render_report(cfg, name, impl_->opt.db.get(), ro);
+}
+
 }  // namespace lmcfg::ui

@@ -125,8 +125,9 @@ std::string backups_section(const Json& d, const std::string& folder) {
   for (const auto& f : backups) {
     if (!f.is_string()) continue;
     const std::string n = f.get<std::string>();
-    b +=
-        "<li><a href=\"/files/" + esc(serve::url_encode(n)) + "\" download>" + esc(n) + "</a></li>";
+    b += "<li><a href=\"/files/" + esc(serve::url_encode(n)) + "\" download>" + esc(n) +
+         "</a> (<a class=\"report\" href=\"/report?file=" + esc(serve::url_encode(n)) +
+         "\">report</a>)</li>";
   }
   return b + "</ul><p class=\"muted\">In <code class=\"wrap\">" + esc(folder) +
          "</code>.</p></section>\n";

@@ -257,6 +257,12 @@ void UiServer::Impl::routes() {
     security_headers(res, serve::Console::report_security_policy());
     res.set_content(*page, "text/html; charset=utf-8");
   });
+  router.Get("/report", [this](const Request& req, Response& res) {
+    auto page = desk.report_html(req.get_param_value("file"));
+    if (!page.ok()) return fail_page(res, "No report", page.error());
+    security_headers(res, serve::Console::report_security_policy());
+    res.set_content(*page, "text/html; charset=utf-8");
+  });
   router.Get("/files/{any}", [this](const Request& req, Response& res) {
     auto path = desk.file(req.matches[1]);
     if (!path.ok()) return fail_page(res, "No such file", path.error());

@@ -10,6 +10,7 @@
 #include "files.hpp"
 #include "link/port.hpp"
 #include "ops/recovery.hpp"
+#include "serve/console.hpp"
 #include "sim/state_file.hpp"
 #include "subprocess.hpp"
 #include "ui_rig.hpp"
@@ -126,6 +127,12 @@ TEST_CASE("ui server: find, back up, compare, restore onto a used spare, undo",
   CHECK(download.header("content-disposition") == "attachment; filename=\"" + file + "\"");
   CHECK(download.body.find("\"format\"") != std::string::npos);
   CHECK(rig.get("/drive?key=" + test::form_encode(a)).body.find(file) != std::string::npos);
+  auto report = rig.get("/report?file=" + test::form_encode(file));
+  CHECK(report.status == 200);
+  CHECK(report.body.find("tr class=\"param\"") != std::string::npos);
+  CHECK(report.header("content-security-policy") ==
+        std::string(serve::Console::report_security_policy()));
+  CHECK(rig.get("/report?file=..%2Fx.json").status == 400);
 
   auto vs_defaults = rig.finish(rig.post("/compare", {{"key", a}, {"against", "defaults"}}));
   REQUIRE(vs_defaults["state"] == "done");
