@@ -51,6 +51,11 @@ std::string local_time(const std::string& iso);  // the browser's local time, UT
 // The CLI's wording, folded: <details>.
 std::string cli_details(const std::string& message, std::optional<int> exit_code);
 std::string help_html(const words::Help& h);
+// The plan page's parts (console_plan.cpp), also lmcfg ui's: the steps as a
+// table (name, UPID, now -> after in units) and a titled list of a plan's
+// items (problems, losses, notes), "" when `items` is empty.
+std::string steps_table(const Json& plan);
+std::string items_section(const char* id, const char* title, const Json& items, const char* cls);
 
 // The status a person reads: "never backed up" for a position without a
 // backup whose state is unknown, else the service's status.

@@ -18,6 +18,8 @@ std::string value_cell(const Json& st, const char* k) {
          "</span>";
 }
 
+}  // namespace
+
 std::string steps_table(const Json& p) {
   std::string b =
       "<table class=\"plan\"><thead><tr><th scope=\"col\">#</th><th "
@@ -54,6 +56,8 @@ std::string items_section(const char* id, const char* title, const Json& items, 
          "</li>";
   return b + "</ul></section>\n";
 }
+
+namespace {
 
 // What resolves a refused plan: another revision, the drive read now (is the
 // right one connected?), and, for values this drive cannot take, the restore

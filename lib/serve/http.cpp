@@ -9,6 +9,7 @@
 
 #include "common/bytes.hpp"
 #include "serve/console_http.hpp"
+#include "serve/request_checks.hpp"
 #include "serve/web_router.hpp"
 #include "serve/web_server.hpp"
 #include "serve/web_tls.hpp"
@@ -83,8 +84,6 @@ std::string lower(std::string s) {
   for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   return s;
 }
-
-bool safe_method(const std::string& m) { return m == "GET" || m == "HEAD" || m == "OPTIONS"; }
 
 }  // namespace
 
@@ -212,42 +211,16 @@ struct HttpServer::Impl {
   // are served.
   bool host_ok(const Request& req, Response& res) const {
     if (opt.tokens) return true;
-    const std::string host = lower(req.get_header_value("Host"));
-    if (std::find(hosts.begin(), hosts.end(), host) != hosts.end()) return true;
-    error(res, 421,
-          "the Host header '" + host + "' is not this service's address (" + hosts.front() +
-              "): without --tokens only requests to the listen address are served, so that a "
-              "web page cannot reach the drives through another name",
-          2);
-    return false;
+    const auto refused = check_host(req, hosts);
+    if (refused) error(res, refused->status, refused->message, 2);
+    return !refused;
   }
   // A state-changing request from a browser must come from a page of this
-  // service; curl and scripts send neither header and are served as before.
-  // Sec-Fetch-Site, which a page cannot set, decides where a browser sends
-  // it; otherwise Origin must be this service's. (The console's pages have
-  // Referrer-Policy: no-referrer, under which a browser's form POST carries
-  // "Origin: null": Sec-Fetch-Site says same-origin for it.)
+  // service (serve/request_checks.hpp).
   bool origin_ok(const Request& req, Response& res) const {
-    if (safe_method(req.method)) return true;
-    if (req.has_header("Sec-Fetch-Site")) {
-      const std::string site = lower(req.get_header_value("Sec-Fetch-Site"));
-      if (site == "same-origin" || site == "none") return true;
-      error(res, 403,
-            "cross-site request refused: Sec-Fetch-Site is '" + site +
-                "', a state-changing request must come from this service's own pages",
-            2);
-      return false;
-    }
-    const std::string own =
-        std::string(req.tls ? "https://" : "http://") + lower(req.get_header_value("Host"));
-    if (req.has_header("Origin") && lower(req.get_header_value("Origin")) != own) {
-      error(res, 403,
-            "cross-origin request refused: Origin '" + req.get_header_value("Origin") +
-                "' is not this service's origin '" + own + "'",
-            2);
-      return false;
-    }
-    return true;
+    const auto refused = check_origin(req);
+    if (refused) error(res, refused->status, refused->message, 2);
+    return !refused;
   }
 
   void handle(Request& req, Response& res) {

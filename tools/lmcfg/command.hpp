@@ -41,5 +41,6 @@ void add_link(CLI::App& app, int& exit_code);
 void add_sim(CLI::App& app, int& exit_code);
 void add_fleet(CLI::App& app, int& exit_code);
 void add_serve(CLI::App& app, int& exit_code);
+void add_ui(CLI::App& app, int& exit_code);
 
 }  // namespace lmcfg::cli

@@ -15,7 +15,7 @@ namespace {
 constexpr void (*kSubcommands[])(CLI::App&, int&) = {
     add_backup,  add_diff, add_report, add_restore, add_default, add_undo,
     add_journal, add_get,  add_set,    add_db,      add_info,    add_convert,
-    add_scan,    add_link, add_sim,    add_fleet,   add_serve,
+    add_scan,    add_link, add_sim,    add_fleet,   add_serve,   add_ui,
 };
 
 // The first word that is not an option must name a subcommand: "lmcfg fleet
