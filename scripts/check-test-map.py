@@ -52,14 +52,14 @@ ALLOWED = {
                                   "the service's restores"),
     # lmcfg ui's desk in three files over one private header, its pages in
     # two: the jobs' work and the drive's pages are driven through the server.
-    "ui/desk_ops.cpp": ("tests/ui/test_server.cpp tests/ui/test_desk.cpp",
+    "ui/desk_ops.cpp": ("tests/ui/test_ui_server.cpp tests/ui/test_desk.cpp",
                         "the desk's find, backup, compare and plan jobs"),
     # lmcfg serve's and lmcfg ui's shared checks, unit-tested beside the ui's
     # tests (the console's own run over HTTP in tests/serve/test_console.cpp).
     "serve/request_checks.cpp": ("tests/ui/test_request_checks.cpp tests/serve/test_console.cpp",
                                  "the Host and Origin checks both servers share"),
-    "ui/desk_write.cpp": ("tests/ui/test_server.cpp", "the desk's restore and undo writes"),
-    "ui/pages_drive.cpp": ("tests/ui/test_pages.cpp tests/ui/test_server.cpp",
+    "ui/desk_write.cpp": ("tests/ui/test_ui_server.cpp", "the desk's restore and undo writes"),
+    "ui/pages_drive.cpp": ("tests/ui/test_pages.cpp tests/ui/test_ui_server.cpp",
                            "the drive, job and plan pages"),
     # Platform files split out of the file whose tests cover them.
     "transport/serial_settings.cpp": ("tests/transport/test_serial.cpp",

@@ -2,15 +2,23 @@
 # `cmake --install` into a temporary prefix, then, from `/`: the installed
 # program finds its database, prints its versions, its man page renders, and
 # the consumer example (examples/backup-sim) builds against the prefix and
-# backs up a simulated drive. Uses the build in build/ (or $LMCFG_BUILD_DIR).
+# backs up a simulated drive. Installs the build in build/ (or $LMCFG_BUILD_DIR);
+# with LMCFG_INSTALL_PREFIX it checks that prefix instead, installed already
+# (CI: the README's own install, scripts/test-readme-install.sh, so the Release
+# build is not installed twice).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${LMCFG_BUILD_DIR:-$root/build}"
-prefix="$(mktemp -d /tmp/lmcfg-prefix.XXXXXX)"
-trap 'rm -rf "$prefix"' EXIT
 step() { echo "test-install: $*"; }
 
-cmake --install "$build" --prefix "$prefix" >/dev/null
+if [[ -n "${LMCFG_INSTALL_PREFIX:-}" ]]; then
+  prefix="$(cd "$LMCFG_INSTALL_PREFIX" && pwd)"
+  step "checking the install in $prefix"
+else
+  prefix="$(mktemp -d /tmp/lmcfg-prefix.XXXXXX)"
+  trap 'rm -rf "$prefix"' EXIT
+  cmake --install "$build" --prefix "$prefix" >/dev/null
+fi
 cd /
 unset LMCFG_UPID_DB
 for f in bin/lmcfg share/lmcfg/lmcfg-upid.sqlite share/lmcfg/schemas/lmcfg-config-v3.schema.json \

@@ -243,11 +243,15 @@ Result<Bytes> LinrsClient::read_block(const Telegram& setup, std::uint8_t setup_
 namespace {
 // A refusal in answer to a probe means "nothing there", except the states
 // that say the request itself did not arrive intact (C1, C2) or at the wrong
-// baud rate (C5).
+// baud rate (C5), and C3h: LinRS §16.1 "C3h Undefined Message Main ID" says
+// the drive does not know the message group at all (a B1100 has no curve or
+// command table group, LinRS 3V27 §11-§12), not that this ID is empty. It is
+// returned as the error, and backup and the restore plan take it as "no such
+// group" (ops/backup.hpp no_such_group).
 bool probe_refusal(const Error& e) {
   if (e.code.category() != comm_state_category()) return false;
   const int s = e.code.value();
-  return s != 0xC1 && s != 0xC2 && s != 0xC5;
+  return s != 0xC1 && s != 0xC2 && s != 0xC3 && s != 0xC5;
 }
 }  // namespace
 

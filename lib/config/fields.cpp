@@ -50,6 +50,12 @@ constexpr Field<Scope> kScope[] = {
     {{.key = "curves", .kind = Kind::flag, .use = Use::required}, member<Scope, &Scope::curves>},
     {{.key = "command_table", .kind = Kind::flag, .use = Use::required},
      member<Scope, &Scope::command_table>},
+    {{.key = "drive_lacks",
+      .kind = Kind::text_list,
+      .use = Use::nonempty,
+      .item = "group",
+      .since = 3},
+     member<Scope, &Scope::drive_lacks>},
 };
 
 constexpr Field<Parameter> kParameter[] = {

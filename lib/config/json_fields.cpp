@@ -391,9 +391,11 @@ void write_value(ojson& out, const fields::Spec& s, const fields::Ref& ref) {
       out[key] = std::move(a);
       return;
     }
-    case Kind::text_list:
-      out[key] = *std::get<std::vector<std::string>*>(ref);
+    case Kind::text_list: {
+      const auto& list = *std::get<std::vector<std::string>*>(ref);
+      if (s.use != Use::nonempty || !list.empty()) out[key] = list;
       return;
+    }
     case Kind::label_map: {
       ojson o = ojson::object();
       for (const auto& [k, v] : *std::get<std::map<std::string, std::string>*>(ref)) o[k] = v;

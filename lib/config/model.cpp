@@ -317,6 +317,19 @@ std::optional<Issue> find_issue(const DriveConfig& cfg) {
                      "type code " + std::to_string(*p.type) + " is not a type code (0..15)"};
     }
   }
+  for (std::size_t i = 0; i < cfg.scope.drive_lacks.size(); ++i) {
+    const std::string& g = cfg.scope.drive_lacks[i];
+    if (g != "curves" && g != "command_table")
+      return Issue{Issue::Where::scope, 0, 0, "drive_lacks",
+                   "'" + (is_clean_text(g) ? g : std::string("?")) +
+                       "' is not a group (expected curves or command_table)"};
+    if (std::find(cfg.scope.drive_lacks.begin(), cfg.scope.drive_lacks.begin() + i, g) !=
+        cfg.scope.drive_lacks.begin() + i)
+      return Issue{Issue::Where::scope, 0, 0, "drive_lacks", "'" + g + "' is listed twice"};
+    if (g == "curves" ? cfg.scope.curves : cfg.scope.command_table)
+      return Issue{Issue::Where::scope, 0, 0, "drive_lacks",
+                   "the drive lacks '" + g + "', but the scope says it was captured"};
+  }
   if (!cfg.curves.empty() && !cfg.scope.curves)
     return Issue{Issue::Where::scope, 0, 0, "curves",
                  "the file holds curves but its scope says curves were not captured"};

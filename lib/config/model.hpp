@@ -68,6 +68,11 @@ struct Scope {
   ParamSet parameters = ParamSet::modified;
   bool curves = true;         // curves captured: absent curve = none on the drive
   bool command_table = true;  // CT captured: absent entry = undefined entry
+  // Groups the drive does not have ("curves", "command_table"), so out of
+  // scope with nothing to capture: it answered the group's first request with
+  // C3h undefined message main ID (LinRS §16.1), or its family has none
+  // (B1100, LinRS 3V27 §11-§12). Empty for files that do not say.
+  std::vector<std::string> drive_lacks;
   bool operator==(const Scope&) const = default;
 };
 

@@ -361,9 +361,10 @@ void write_value(xml_node n, const fields::Spec& s, const fields::Ref& ref) {
           words(*std::get<std::vector<int>*>(ref), devicenet_motor_text).c_str();
       return;
     case Kind::text_list: {
+      const auto& list = *std::get<std::vector<std::string>*>(ref);
+      if (s.use == Use::nonempty && list.empty()) return;
       xml_node e = n.append_child(k);
-      for (const auto& t : *std::get<std::vector<std::string>*>(ref))
-        e.append_child(item.c_str()).text().set(t.c_str());
+      for (const auto& t : list) e.append_child(item.c_str()).text().set(t.c_str());
       return;
     }
     case Kind::label_map: {

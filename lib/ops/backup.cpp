@@ -209,22 +209,36 @@ void fill_report(const client::Client& c, const std::vector<std::string>& notes,
 
 }  // namespace
 
+bool no_such_group(const Error& e) { return e.code == make_comm_state_error(0xC3); }
+
 Result<std::vector<config::Curve>> read_curves(client::Client& c, std::uint16_t max_curve_id,
-                                               const Progress& progress, const std::string& phase) {
+                                               const Progress& progress, const std::string& phase,
+                                               bool* no_group) {
   std::vector<config::Curve> out;
   for (std::uint16_t id = 1; id <= max_curve_id; ++id) {
     report(progress, phase, id, max_curve_id);
-    LMCFG_ASSIGN_OR_RETURN(auto read, c.read_curve(id));
-    if (read) out.push_back(config::Curve{id, std::move(read->info), std::move(read->data)});
+    auto read = c.read_curve(id);
+    if (!read.ok() && id == 1 && no_group && no_such_group(read.error())) {
+      *no_group = true;  // the group's first request answered C3h
+      return out;
+    }
+    if (!read.ok()) return std::move(read).error();
+    if (*read) out.push_back(config::Curve{id, std::move((*read)->info), std::move((*read)->data)});
   }
   return out;
 }
 
 Result<std::vector<config::CtEntry>> read_command_table(client::Client& c, const Progress& progress,
                                                         const std::string& phase,
-                                                        std::vector<std::string>& notes) {
+                                                        std::vector<std::string>& notes,
+                                                        bool* no_group) {
   std::vector<config::CtEntry> out;
-  LMCFG_ASSIGN_OR_RETURN(auto entries, c.ct_defined_entries());
+  auto listed = c.ct_defined_entries();  // the group's first request: the list's first block
+  if (!listed.ok() && no_group && no_such_group(listed.error())) {
+    *no_group = true;
+    return out;
+  }
+  LMCFG_ASSIGN_OR_RETURN(auto entries, std::move(listed));
   std::size_t n = 0;
   for (auto e : entries) {
     report(progress, phase, ++n, entries.size());
@@ -272,6 +286,27 @@ std::vector<std::string> family_notes(const BackupOptions& opt, const families::
     n.push_back(name + " stores no default values (DCF p8): defaults not asked");
   return n;
 }
+
+// "--family B1100": the families without the group, for the note.
+std::string family_options_without(bool families::Family::*group) {
+  std::string out;
+  for (const auto& f : families::all())
+    if (!(f.*group)) out += (out.empty() ? "--family " : " or ") + std::string(f.name);
+  return out.empty() ? "--family" : out;
+}
+
+// A group the drive answered C3h for: out of scope, recorded, said.
+void lacks_group(config::DriveConfig& cfg, std::vector<std::string>& notes, bool curves) {
+  const std::string what = curves ? "curve" : "command table";
+  const std::string option =
+      family_options_without(curves ? &families::Family::curves : &families::Family::command_table);
+  (curves ? cfg.scope.curves : cfg.scope.command_table) = false;
+  cfg.scope.drive_lacks.push_back(curves ? "curves" : "command_table");
+  notes.push_back("the drive has no " + what +
+                  " group (it answers C3h undefined message main ID, LinRS §16.1): " +
+                  (curves ? "curves" : "the command table") + " not in the file; " + option +
+                  " says so up front");
+}
 }  // namespace
 
 Result<config::DriveConfig> backup(client::Client& c, const BackupOptions& opt,
@@ -285,6 +320,8 @@ Result<config::DriveConfig> backup(client::Client& c, const BackupOptions& opt,
   cfg.scope.curves = curves;
   cfg.scope.command_table = command_table;
   if (opt.family) cfg.identity.product = std::string(fam.name);
+  if (opt.curves && !fam.curves) cfg.scope.drive_lacks.push_back("curves");
+  if (opt.command_table && !fam.command_table) cfg.scope.drive_lacks.push_back("command_table");
 
   std::vector<client::UpidInfo> all_upids;
   std::vector<std::string> notes = family_notes(opt, fam);
@@ -296,11 +333,15 @@ Result<config::DriveConfig> backup(client::Client& c, const BackupOptions& opt,
   if (curves) {
     const auto limit =
         static_cast<std::uint16_t>(std::min<unsigned>(opt.max_curve_id, fam.curve_limit));
-    LMCFG_ASSIGN_OR_RETURN(cfg.curves, read_curves(c, limit, opt.progress, "curves"));
+    bool none = false;
+    LMCFG_ASSIGN_OR_RETURN(cfg.curves, read_curves(c, limit, opt.progress, "curves", &none));
+    if (none) lacks_group(cfg, notes, true);
   }
   if (command_table) {
+    bool none = false;
     LMCFG_ASSIGN_OR_RETURN(cfg.ct_entries,
-                           read_command_table(c, opt.progress, "command table", notes));
+                           read_command_table(c, opt.progress, "command table", notes, &none));
+    if (none) lacks_group(cfg, notes, false);
   }
   if (opt.report) fill_report(c, notes, *opt.report);
   if (!db.is_empty()) annotate(cfg, db);

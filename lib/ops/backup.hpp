@@ -53,7 +53,10 @@ struct BackupOptions {
   // curves, command table or stored defaults (B1100) is not asked for them: the
   // scope leaves them out and a note says so. Curves are probed up to the
   // family's storage limit. Its name goes into identity.product and its
-  // upid-db profile labels the values.
+  // upid-db profile labels the values. Not named, a drive that answers the
+  // curve or command table group's first request with C3h (no_such_group) has
+  // no such group: the backup goes on without it, the scope records it in
+  // drive_lacks and a note says so, naming --family.
   const families::Family* family = nullptr;
   Progress progress;
   BackupReport* report = nullptr;  // filled when given
@@ -65,17 +68,27 @@ struct BackupOptions {
 Result<config::DriveConfig> backup(client::Client& c, const BackupOptions& opt,
                                    const db::Database& db);
 
+// Whether a refusal says the drive has no such message group: LinRS §16.1
+// "C3h Undefined Message Main ID". A B1100 has no curve and no command table
+// group ("not on B1100", LinRS 3V27 §11-§12) and answers their requests so: a
+// drive that answers a group's first request with C3h has no such group.
+bool no_such_group(const Error& e);
+
 // backup's readers, also used by verify (ops/restore.hpp), each reporting
-// progress under `phase`:
-// the curves of IDs 1..max_curve_id ("read sizes" probes each, §11: no message
+// progress under `phase`. With `no_group` given, a group whose first request
+// is answered C3h (no_such_group) sets *no_group and reads as empty instead of
+// failing.
+// The curves of IDs 1..max_curve_id ("read sizes" probes each, §11: no message
 // lists curve IDs; the info and data blocks of those that exist);
 Result<std::vector<config::Curve>> read_curves(client::Client& c, std::uint16_t max_curve_id,
-                                               const Progress& progress, const std::string& phase);
+                                               const Progress& progress, const std::string& phase,
+                                               bool* no_group = nullptr);
 // every entry of the defined-entry list (§12); one listed as defined whose
 // query finds nothing is left out, with a sentence in `notes`.
 Result<std::vector<config::CtEntry>> read_command_table(client::Client& c, const Progress& progress,
                                                         const std::string& phase,
-                                                        std::vector<std::string>& notes);
+                                                        std::vector<std::string>& notes,
+                                                        bool* no_group = nullptr);
 
 // A capture of the drive behind `c` with its identity (MACID, capture time,
 // tool and database versions) and nothing in scope yet: what backup() and the

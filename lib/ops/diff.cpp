@@ -1,5 +1,6 @@
 #include "ops/diff.hpp"
 
+#include <algorithm>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <set>
@@ -229,17 +230,27 @@ std::string curve_changes(const config::Curve& a, const config::Curve& b) {
   return s;
 }
 
+// How one side's scope holds a group: captured, not captured, or a drive
+// that has no such group (config::Scope::drive_lacks).
+std::string held_as(const config::Scope& s, bool in, const char* group) {
+  if (in) return "captured";
+  const bool lacks =
+      std::find(s.drive_lacks.begin(), s.drive_lacks.end(), group) != s.drive_lacks.end();
+  return lacks ? "not captured: the drive has no such group" : "not captured";
+}
+
 // A part captured on one side only: a difference, never "identical".
-DiffItem scope_item(const char* what, bool in_a, bool in_b, const std::string& held) {
-  return make_item(DiffItem::Kind::scope, what, in_a ? "captured" : "not captured",
-                   in_b ? "captured" : "not captured",
+DiffItem scope_item(const char* what, const char* group, const config::DriveConfig& a,
+                    const config::DriveConfig& b, bool in_a, bool in_b, const std::string& held) {
+  return make_item(DiffItem::Kind::scope, what, held_as(a.scope, in_a, group),
+                   held_as(b.scope, in_b, group),
                    held + " on the " + (in_a ? "A" : "B") + " side not compared");
 }
 
 void diff_curves(const config::DriveConfig& a, const config::DriveConfig& b, DiffResult& r) {
   if (a.scope.curves != b.scope.curves) {
     const auto& holder = a.scope.curves ? a : b;
-    r.items.push_back(scope_item("curves", a.scope.curves, b.scope.curves,
+    r.items.push_back(scope_item("curves", "curves", a, b, a.scope.curves, b.scope.curves,
                                  std::to_string(holder.curves.size()) + " curve(s)"));
     return;
   }
@@ -297,7 +308,8 @@ void diff_ct(const config::DriveConfig& a, const config::DriveConfig& b, const d
              DiffResult& r) {
   if (a.scope.command_table != b.scope.command_table) {
     const auto& holder = a.scope.command_table ? a : b;
-    r.items.push_back(scope_item("command table", a.scope.command_table, b.scope.command_table,
+    r.items.push_back(scope_item("command table", "command_table", a, b, a.scope.command_table,
+                                 b.scope.command_table,
                                  std::to_string(holder.ct_entries.size()) + " entr(y/ies)"));
     return;
   }

@@ -544,6 +544,10 @@ Result<Plan> plan_restore(client::Client& c, const config::DriveConfig& file,
   const bool force_save = earlier.mc_was_stopped || recovered;
   if (tables.scope.command_table) LMCFG_TRY(plan_command_table(b, tables, force_save));
   if (tables.scope.curves) LMCFG_TRY(plan_curves(b, tables, force_save));
+  if (!plan.ok()) {  // a table the target has no group for (restore_tables.cpp)
+    plan.steps.clear();
+    return plan;
+  }
   if (earlier.mc_was_stopped || recovered) rom_changed = true;  // restart so every ROM value acts
   if (plan.steps.empty() && !earlier.mc_was_stopped && !recovered)
     return plan;  // nothing to do: MC keeps running

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <map>
 
+#include "ops/backup.hpp"
 #include "ops/compare.hpp"
 #include "ops/restore.hpp"
 #include "ops/restore_internal.hpp"
@@ -20,10 +21,47 @@ namespace {
 // no RAM-only change (field-facts.md §1).
 bool direct_flash(const Builder& b) { return b.opt.family && !b.opt.family->flash_save; }
 const char* where(const Builder& b) { return direct_flash(b) ? "on flash (C1100)" : "in RAM"; }
+
+// The target answered the group's first request with C3h: it has no such
+// group (ops::no_such_group; LinRS §16.1 "C3h Undefined Message Main ID", a
+// B1100 per LinRS 3V27 §11-§12). Nothing to write when the file holds none of
+// it; a file that holds some is refused, or with --skip-incompatible the table
+// is skipped. Either way the group leaves the expected scope (no verify).
+void target_lacks_group(Builder& b, bool curves, std::size_t in_file) {
+  const std::string what = curves ? "curve" : "command table";
+  const std::string why = "the target has no " + what +
+                          " group (it answers C3h undefined message main ID, LinRS §16.1)";
+  config::DriveConfig& want = b.plan.expected;
+  (curves ? want.scope.curves : want.scope.command_table) = false;
+  want.scope.drive_lacks.push_back(curves ? "curves" : "command_table");
+  if (curves) {
+    want.curves.clear();
+    b.plan.target.curves.reset();
+  } else {
+    want.ct_entries.clear();
+  }
+  const std::string held =
+      std::to_string(in_file) + " " +
+      (curves ? "curve(s)" : "command table entr" + std::string(in_file == 1 ? "y" : "ies"));
+  if (in_file == 0) {
+    b.plan.notes.push_back(why + "; the file holds no " + (curves ? "curves" : "entries") +
+                           ": nothing to write there");
+  } else if (b.opt.skip_incompatible) {
+    b.plan.skipped.push_back("the file's " + held + ": " + why);
+  } else {
+    b.plan.problems.push_back("the file holds " + held + ", but " + why +
+                              "; --skip-incompatible restores the rest");
+  }
+}
 }  // namespace
 
 Result<void> plan_command_table(Builder& b, const config::DriveConfig& file, bool force_save) {
-  LMCFG_ASSIGN_OR_RETURN(auto ids, b.c.ct_defined_entries());
+  auto listed = b.c.ct_defined_entries();  // the group's first request
+  if (!listed.ok() && no_such_group(listed.error())) {
+    target_lacks_group(b, false, file.ct_entries.size());
+    return {};
+  }
+  LMCFG_ASSIGN_OR_RETURN(auto ids, std::move(listed));
   std::map<std::uint32_t, Bytes> target;
   std::vector<config::CtEntry> on_target;
   std::size_t n = 0;
@@ -109,7 +147,13 @@ Result<std::vector<config::Curve>> read_target_curves(Builder& b, const config::
 // target deleted, one flash save when any is (§11 has per-curve delete and
 // add, but saving always covers every curve). Names come from info blocks.
 Result<void> plan_curves(Builder& b, const config::DriveConfig& file, bool force_save) {
-  LMCFG_ASSIGN_OR_RETURN(const auto on_target, read_target_curves(b, file));
+  auto read = read_target_curves(b, file);
+  if (!read.ok() && no_such_group(read.error()) && b.plan.target.curves &&
+      b.plan.target.curves->empty()) {  // C3h to the first probe
+    target_lacks_group(b, true, file.curves.size());
+    return {};
+  }
+  LMCFG_ASSIGN_OR_RETURN(const auto on_target, std::move(read));
   std::vector<const config::Curve*> writes;
   std::vector<std::pair<std::uint32_t, std::string>> deletes;
   for (const auto& row : compare_curves(on_target, file.curves)) {

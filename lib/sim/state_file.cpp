@@ -321,6 +321,14 @@ void read_options(const json& j, DriveState& s) {
     read_comm_param(*it, "stop_bits_param", O.stop_bits_param, {"1", "2"});
     O.silent_after_reset = bool_or(*it, "silent_after_reset", O.silent_after_reset);
     O.unanswered_saves = bool_or(*it, "unanswered_saves", O.unanswered_saves);
+    O.stale_block_padding = bool_or(*it, "stale_block_padding", O.stale_block_padding);
+    O.address_usage_request = bool_or(*it, "address_usage_request", O.address_usage_request);
+    if (auto f = it->find("family"); f != it->end()) {
+      const families::Family* fam =
+          f->is_string() ? families::find(f->get<std::string>()) : nullptr;
+      if (!fam) throw BadField("options.family: expected one of " + families::names());
+      O.family = std::string(fam->name);
+    }
   }
 }
 

@@ -1,5 +1,7 @@
 #include <catch2/catch.hpp>
 #include <cstdlib>
+#include <nlohmann/json.hpp>
+#include <pugixml.hpp>
 
 #include "config/config_io.hpp"
 #include "config/json_io.hpp"
@@ -97,6 +99,32 @@ TEST_CASE("config: JSON -> model -> XML -> model -> JSON is byte-identical for e
     CHECK(must(write_xml(m0, opts)) == x1);
   }
   CHECK(n >= 6);
+}
+
+TEST_CASE(
+    "config: scope.drive_lacks round-trips through JSON and XML, and is written only when not "
+    "empty",
+    "[config]") {
+  auto cfg = golden_sinrise();
+  CHECK(must(write_json(cfg)).find("drive_lacks") == std::string::npos);
+  CHECK(must(write_xml(cfg)).find("drive_lacks") == std::string::npos);
+  cfg.curves.clear();
+  cfg.ct_entries.clear();
+  cfg.scope.curves = false;
+  cfg.scope.command_table = false;
+  cfg.scope.drive_lacks = {"curves", "command_table"};
+  const std::string json = must(write_json(cfg));
+  CHECK(nlohmann::json::parse(json)["scope"]["drive_lacks"] ==
+        nlohmann::json::array({"curves", "command_table"}));
+  CHECK(must(read_json(json, "j")) == cfg);
+  const std::string xml = must(write_xml(cfg));
+  pugi::xml_document doc;
+  REQUIRE(doc.load_string(xml.c_str()));
+  std::vector<std::string> groups;
+  for (auto g : doc.document_element().child("scope").child("drive_lacks").children("group"))
+    groups.push_back(g.text().get());
+  CHECK(groups == cfg.scope.drive_lacks);
+  CHECK(must(read_xml(xml, "x")) == cfg);
 }
 
 TEST_CASE("config: writers are canonical whatever the model order", "[config]") {

@@ -59,6 +59,15 @@ TEST_CASE("config: writer output passes the JSON Schema and XSD", "[config][sche
   REQUIRE(write_config_file(empty, dir / "empty.xml").ok());
   written.push_back(dir / "empty.json");
   written.push_back(dir / "empty.xml");
+  // A drive without curve and command table groups (scope.drive_lacks).
+  DriveConfig lacks;
+  lacks.scope.curves = false;
+  lacks.scope.command_table = false;
+  lacks.scope.drive_lacks = {"curves", "command_table"};
+  for (const char* name : {"lacks.json", "lacks.xml"}) {
+    REQUIRE(write_config_file(lacks, dir / name).ok());
+    written.push_back(dir / name);
+  }
   // One validator run per format over every file (node starts once).
   std::string json_files, xml_files;
   for (const auto& p : written)

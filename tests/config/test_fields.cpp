@@ -197,7 +197,7 @@ TEST_CASE("fields: every field of every table round-trips alone through JSON and
   check_each_field(ct_entry_fields(), ct_entry_fields(), count);
   check_each_field(devicenet_fields(), devicenet_fields(), count);
   check_each_field(devicenet_value_fields(), devicenet_value_fields(), count);
-  CHECK(count == 14 + 4 + 7 + 3 + 2 + 5 + 6);
+  CHECK(count == 14 + 5 + 7 + 3 + 2 + 5 + 6);
 }
 
 // A structured binding names every member of a record: a member added to the
@@ -218,9 +218,9 @@ TEST_CASE("fields: the tables reach every member of the model", "[config][fields
   CHECK(in_identity.size() == 14);
 
   Scope scope;
-  auto& [layers, parameters, curves, command_table] = scope;
+  auto& [layers, parameters, curves, command_table, drive_lacks] = scope;
   CHECK(reached(scope_fields(), scope) ==
-        std::set<const void*>{&layers, &parameters, &curves, &command_table});
+        std::set<const void*>{&layers, &parameters, &curves, &command_table, &drive_lacks});
 
   Parameter p;
   auto& [upid, value, type, dflt, name, unit, scaled] = p;

@@ -187,6 +187,20 @@ TEST_CASE("config: model validation finds problems", "[config]") {
   }
   {
     auto c = golden_sinrise();
+    c.scope.drive_lacks = {"curves"};  // but the scope says curves were captured
+    CHECK(find_issue(c)->message == "the drive lacks 'curves', but the scope says it was captured");
+    c.curves.clear();
+    c.scope.curves = false;
+    CHECK_FALSE(find_issue(c));
+    c.scope.drive_lacks = {"curves", "curves"};
+    CHECK(find_issue(c)->message == "'curves' is listed twice");
+    c.scope.drive_lacks = {"parameters"};
+    CHECK(find_issue(c)->message ==
+          "'parameters' is not a group (expected curves or command_table)");
+    CHECK(find_issue(c)->field == "drive_lacks");
+  }
+  {
+    auto c = golden_sinrise();
     c.identity.labels["bad"] = "line\nbreak";
     auto is = find_issue(c);
     REQUIRE(is);

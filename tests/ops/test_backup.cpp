@@ -375,6 +375,7 @@ TEST_CASE(
   CHECK_FALSE(cfg->scope.curves);
   CHECK_FALSE(cfg->scope.command_table);
   CHECK(cfg->identity.product == "B1100");
+  CHECK(cfg->scope.drive_lacks == std::vector<std::string>{"curves", "command_table"});
   CHECK(requests_of(*rig.wire, 0x04) == 0);        // LinRS 3V27 §11 "not on B1100"
   CHECK(requests_of(*rig.wire, 0x08) == 0);        // 3V27 §12
   CHECK(requests_of(*rig.wire, 0x05, 0x07) == 0);  // DCF p8: no stored defaults
@@ -389,6 +390,55 @@ TEST_CASE(
                    "not in the file") == 1);
   CHECK(std::count(n.begin(), n.end(),
                    "B1100 stores no default values (DCF p8): defaults not asked") == 1);
+}
+
+TEST_CASE(
+    "LinRS §16.1 backup of a drive that answers C3h for the curve and command table groups, "
+    "family not named: it goes on without them, records and says so",
+    "[backup][families]") {
+  test::SimRig rig("commissioned-axis.json");
+  rig.drive->state().options.family = "B1100";  // C3h undefined main ID on groups 04h and 08h
+  ops::BackupReport report;
+  ops::BackupOptions bo;  // no family named: taken for an E1100 until it answers
+  bo.report = &report;
+  auto cfg = ops::backup(*rig.client, bo, db::Database::empty());
+  REQUIRE(cfg.ok());
+  CHECK_FALSE(cfg->scope.curves);
+  CHECK_FALSE(cfg->scope.command_table);
+  CHECK(cfg->scope.drive_lacks == std::vector<std::string>{"curves", "command_table"});
+  CHECK(cfg->curves.empty());
+  CHECK(cfg->ct_entries.empty());
+  CHECK(cfg->identity.product.empty());  // nobody named the family
+  CHECK_FALSE(cfg->layer(2).empty());    // the parameters are all there
+  // One curve probe (ID 1, until the reads agree), not one per curve ID.
+  CHECK(requests_of(*rig.wire, 0x04, 0x08) >= 1);
+  CHECK(requests_of(*rig.wire, 0x04, 0x08) <= 3);
+  CHECK(config::validate(*cfg).ok());
+  const auto& n = report.notes;
+  CHECK(std::count(n.begin(), n.end(),
+                   "the drive has no curve group (it answers C3h undefined message main ID, "
+                   "LinRS §16.1): curves not in the file; --family B1100 says so up front") == 1);
+  CHECK(std::count(n.begin(), n.end(),
+                   "the drive has no command table group (it answers C3h undefined message main "
+                   "ID, LinRS §16.1): the command table not in the file; --family B1100 says so "
+                   "up front") == 1);
+}
+
+TEST_CASE(
+    "LinRS §16.1 read_curves: a C3h answer to the first probe is the error, or no such group "
+    "where the caller asks",
+    "[backup][families]") {
+  test::SimRig rig("commissioned-axis.json");
+  rig.drive->state().options.family = "B1100";
+  auto curves = ops::read_curves(*rig.client, 100, {}, "verify curves");
+  REQUIRE_FALSE(curves.ok());
+  CHECK(ops::no_such_group(curves.error()));
+  CHECK(curves.error().code == ErrorClass::drive_refusal);
+  bool none = false;
+  auto again = ops::read_curves(*rig.client, 100, {}, "curves", &none);
+  REQUIRE(again.ok());
+  CHECK(none);
+  CHECK(again->empty());
 }
 
 TEST_CASE("C1250 notes: a C1100's curves are probed up to its limit of 50, an E1100's to 100",

@@ -107,6 +107,25 @@ TEST_CASE("seed003 §10.2 §11 §12 diff: a scope one side lacks is stated and i
   CHECK(d.identical());
 }
 
+TEST_CASE(
+    "LinRS §16.1 diff: a side whose drive has no curve or command table group says so, and two "
+    "such sides are identical",
+    "[diff][families]") {
+  DriveConfig e1100, b1100;
+  e1100.curves.push_back(Curve{1, sinrise_info(), sinrise_data()});
+  b1100.scope.curves = false;
+  b1100.scope.command_table = false;
+  b1100.scope.drive_lacks = {"curves", "command_table"};
+  auto r = ops::diff(e1100, b1100, db::Database::empty(), {}, {});
+  CHECK_FALSE(r.identical());
+  const auto text = ops::render_text(r, "e1100.json", "b1100.json");
+  CHECK(text.find("  curves: captured -> not captured: the drive has no such group (1 curve(s) "
+                  "on the A side not compared)\n") != std::string::npos);
+  CHECK(text.find("  command table: captured -> not captured: the drive has no such group") !=
+        std::string::npos);
+  CHECK(ops::diff(b1100, b1100, db::Database::empty(), {}, {}).identical());
+}
+
 TEST_CASE("seed003 §10.2 diff: a UPID one side does not list compares with its default", "[diff]") {
   DriveConfig a, b;
   Parameter p = param(0x13A2, 16);

@@ -441,6 +441,74 @@ TEST_CASE("LinRS 3V27 §11-§12 restore plan onto a B1100: a file's curves and C
 }
 
 TEST_CASE(
+    "LinRS §16.1 restore plan onto a drive that answers C3h for the table groups, family not "
+    "named: a file without tables plans nothing there, a file with tables is refused or skipped",
+    "[restore][families]") {
+  auto b1100 = fixture("commissioned-axis.json");
+  b1100.options.family = "B1100";  // C3h undefined main ID on groups 04h and 08h
+  // Its own backup (no curves, no command table: drive_lacks) goes back with
+  // nothing to write at all.
+  const auto own = backup_of(b1100);
+  REQUIRE(own.scope.drive_lacks == std::vector<std::string>{"curves", "command_table"});
+  {
+    Rig rig(b1100);
+    auto plan = ops::plan_restore(rig.client, own, db::Database::empty(), ops::RestoreOptions{});
+    REQUIRE(plan.ok());
+    CHECK(plan->ok());
+    CHECK(plan->steps.empty());
+    CHECK_FALSE(plan->expected.scope.curves);
+    CHECK(rig.client.stats().write_requests == 0);
+  }
+  // An E1100's file in scope with empty tables: nothing to write there, said.
+  auto empty = backup_of(fixture("commissioned-axis.json"));
+  empty.curves.clear();
+  empty.ct_entries.clear();
+  {
+    Rig rig(b1100);
+    auto plan = ops::plan_restore(rig.client, empty, db::Database::empty(), ops::RestoreOptions{});
+    REQUIRE(plan.ok());
+    CHECK(plan->ok());
+    CHECK(count(*plan, Action::save_curves) == 0);
+    CHECK(count(*plan, Action::save_ct) == 0);
+    CHECK(std::count(plan->notes.begin(), plan->notes.end(),
+                     "the target has no curve group (it answers C3h undefined message main ID, "
+                     "LinRS §16.1); the file holds no curves: nothing to write there") == 1);
+    CHECK(plan->expected.scope.drive_lacks == std::vector<std::string>{"command_table", "curves"});
+  }
+  // A file that holds curves and entries: refused, said; skipped on request.
+  const auto full = backup_of(fixture("commissioned-axis.json"));
+  REQUIRE_FALSE(full.curves.empty());
+  REQUIRE_FALSE(full.ct_entries.empty());
+  Rig rig(b1100);
+  auto plan = ops::plan_restore(rig.client, full, db::Database::empty(), ops::RestoreOptions{});
+  REQUIRE(plan.ok());
+  CHECK(plan->problems ==
+        std::vector<std::string>{
+            "the file holds " + std::to_string(full.ct_entries.size()) +
+                " command table entries, but the target has no command table group (it answers "
+                "C3h undefined message main ID, LinRS §16.1); --skip-incompatible restores the "
+                "rest",
+            "the file holds " + std::to_string(full.curves.size()) +
+                " curve(s), but the target has no curve group (it answers C3h undefined message "
+                "main ID, LinRS §16.1); --skip-incompatible restores the rest"});
+  CHECK(plan->steps.empty());
+  CHECK(rig.client.stats().write_requests == 0);
+  ops::RestoreOptions skip;
+  skip.skip_incompatible = true;
+  auto skipped = ops::plan_restore(rig.client, full, db::Database::empty(), skip);
+  REQUIRE(skipped.ok());
+  CHECK(skipped->ok());
+  CHECK(count(*skipped, Action::write_curve) == 0);
+  CHECK(count(*skipped, Action::write_ct) == 0);
+  CHECK(std::count(skipped->skipped.begin(), skipped->skipped.end(),
+                   "the file's " + std::to_string(full.curves.size()) +
+                       " curve(s): the target has no curve group (it answers C3h undefined "
+                       "message main ID, LinRS §16.1)") == 1);
+  CHECK_FALSE(skipped->expected.scope.curves);
+  CHECK_FALSE(skipped->expected.scope.command_table);
+}
+
+TEST_CASE(
     "LinRS 3V27 p27 restore plan: a target that answers 05h/03h is asked each address usage, "
     "one that does not has its UPID list walked",
     "[restore][families]") {

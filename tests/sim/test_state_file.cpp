@@ -69,6 +69,16 @@ TEST_CASE("sim: state file round trip and fixtures", "[sim]") {
   CHECK(b.ct_flash.count(3) == 1);
   CHECK(b.ct_flash.count(9) == 1);
 
+  // The family and the reading options that a state file holds only when set
+  // come back from it.
+  a.options.family = "B1100";
+  a.options.stale_block_padding = true;
+  a.options.address_usage_request = true;
+  auto set = sim::from_json(sim::to_json(a));
+  REQUIRE(set.ok());
+  CHECK(set->options == a.options);
+  a.options = load_fixture("commissioned-axis.json").options;
+
   // File save/load after changes made over the wire.
   SimHarness h(a);
   CHECK(h.ask_iv(make_cfg_write(kId, 0x3010, 4242), 0x51).state == 0x00);
@@ -108,6 +118,11 @@ TEST_CASE("sim state file: what it refuses is named with the field", "[sim][stat
       sim::from_json(nlohmann::json{{"format", "lmcfg-sim-state"}, {"version", 1}, {"macid", 256}});
   REQUIRE_FALSE(macid.ok());
   CHECK(macid.error().message == "sim state: macid: exceeds FFh");
+  auto family = sim::from_json(nlohmann::json::parse(
+      R"({"format":"lmcfg-sim-state","version":1,"options":{"family":"A1100"}})"));
+  REQUIRE_FALSE(family.ok());
+  CHECK(family.error().message ==
+        "sim state: options.family: expected one of E1100, B1100, C1100, E1200, E1400");
   // The defaults of a file that gives nothing but its format.
   auto bare = sim::from_json(nlohmann::json{{"format", "lmcfg-sim-state"}, {"version", 1}});
   REQUIRE(bare.ok());

@@ -15,7 +15,7 @@
 #include "subprocess.hpp"
 #include "ui_rig.hpp"
 
-namespace ui_test_server {
+namespace ui_test_ui_server {
 
 using namespace lmcfg;
 using test::UiRig;
@@ -347,4 +347,4 @@ TEST_CASE("ui server: a drive over LinUDP is asked at its address, then backed u
   CHECK(fs::exists(rig.dir() / "backups" / backed["result"]["file"].get<std::string>()));
 }
 
-}  // namespace ui_test_server
+}  // namespace ui_test_ui_server
