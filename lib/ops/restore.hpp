@@ -42,6 +42,7 @@
 #include "common/families.hpp"
 #include "config/model.hpp"
 #include "ops/backup.hpp"
+#include "ops/matching.hpp"
 
 namespace lmcfg::db {
 class Database;
@@ -175,6 +176,11 @@ struct Plan {
   // and not expected by verify (each one a problem without the option).
   std::vector<SkippedValue> skipped_incompatible;
   std::vector<std::string> notes;  // what the steps will also change (leftovers, defaults)
+  // The file's values the restore leaves as the target holds them, by the rule
+  // of what matches (ops/matching.hpp): a communication value the target keeps
+  // (without include_comm). `item.a` the file's, `item.b` the target's. Not a
+  // write, expected by verify as the target holds it, not drift afterwards.
+  std::vector<KeptValue> kept;
   // Expected state after the restore, for verify.
   config::DriveConfig expected;
   std::size_t write_telegrams = 0;  // estimate of write telegrams the steps send

@@ -108,6 +108,8 @@ std::string render_plan(const Plan& p) {
   for (const auto& s : p.steps) out += "  " + std::to_string(++n) + ". " + s.text + "\n";
   for (const auto& s : p.losses) out += "  the target loses: " + s + "\n";
   for (const auto& s : p.skipped) out += "  skip: " + s + "\n";
+  for (const auto& k : p.kept)
+    out += "  stays different: " + kept_text(k, "file") + " (" + kept_reason(k.by) + ")\n";
   for (const auto& s : p.notes) out += "  note: " + s + "\n";
   out += render_skipped_incompatible(p);
   return out;
@@ -153,6 +155,9 @@ nlohmann::ordered_json plan_json(const Plan& p) {
   j["steps"] = std::move(steps);
   j["losses"] = p.losses;
   j["skipped"] = p.skipped;
+  nlohmann::ordered_json kept = nlohmann::ordered_json::array();
+  for (const auto& k : p.kept) kept.push_back(kept_json(k, "file"));
+  j["kept"] = std::move(kept);
   nlohmann::ordered_json incompatible = nlohmann::ordered_json::array();
   for (const auto& v : p.skipped_incompatible) incompatible.push_back(skipped_json(v));
   j["skipped_incompatible"] = std::move(incompatible);
