@@ -54,6 +54,9 @@ struct Job {
   std::string retry_of, asked_by;
   // The values a restore left out (Plan::skipped_incompatible), each with its reason.
   std::vector<std::string> skipped;
+  // The values the restore left as the drive holds them by policy
+  // (ops::Plan::kept as ops::kept_json), each with its reason and remedy.
+  Json kept = Json::array();
   // After a failed restore: what the drive holds now, in plain words (drive_state_after).
   std::string drive_state;
 };
@@ -100,6 +103,9 @@ struct DriveState {
   std::vector<std::string> differing;       // the differences, as the commit message says them
   std::string notified;                     // the last state an event was sent for
   std::optional<fleet::Approval> approved;  // the position's approved configuration, when known
+  // What differs but is kept by policy (ops/matching.hpp), as ops::kept_json:
+  // not drift, said on the position.
+  Json kept = Json::array();
   // After a failed restore: what the drive holds (drive_state_after); "" otherwise.
   std::string drive_state;
 };
