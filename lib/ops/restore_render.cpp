@@ -97,6 +97,10 @@ std::string render_plan(const Plan& p) {
     out +=
         "plan: nothing to do: the target already matches the file except the skipped values "
         "(no write, MC keeps running)\n";
+  } else if (p.nothing_to_do() && !p.kept.empty()) {
+    out +=
+        "plan: nothing to do: the target already matches the file except the values it keeps "
+        "(no write, MC keeps running)\n";
   } else if (p.nothing_to_do()) {
     out +=
         "plan: nothing to do: the target already matches the file (no write, MC keeps running)\n";
@@ -155,13 +159,13 @@ nlohmann::ordered_json plan_json(const Plan& p) {
   j["steps"] = std::move(steps);
   j["losses"] = p.losses;
   j["skipped"] = p.skipped;
-  nlohmann::ordered_json kept = nlohmann::ordered_json::array();
-  for (const auto& k : p.kept) kept.push_back(kept_json(k, "file"));
-  j["kept"] = std::move(kept);
   nlohmann::ordered_json incompatible = nlohmann::ordered_json::array();
   for (const auto& v : p.skipped_incompatible) incompatible.push_back(skipped_json(v));
   j["skipped_incompatible"] = std::move(incompatible);
   j["notes"] = p.notes;
+  nlohmann::ordered_json kept = nlohmann::ordered_json::array();
+  for (const auto& k : p.kept) kept.push_back(kept_json(k, "file"));
+  j["kept"] = std::move(kept);
   return j;
 }
 
