@@ -51,6 +51,10 @@ std::string local_time(const std::string& iso);  // the browser's local time, UT
 // The CLI's wording, folded: <details>.
 std::string cli_details(const std::string& message, std::optional<int> exit_code);
 std::string help_html(const words::Help& h);
+// The values that stay as the drive holds them by policy (ops::kept_json
+// objects), each with the configuration's value, the drive's, why, and what
+// the technician can do; "" when there are none. `id`: the list's id.
+std::string kept_section(const Json& kept, const std::string& id, const std::string& intro);
 
 // The status a person reads: "never backed up" for a position without a
 // backup whose state is unknown, else the service's status.
