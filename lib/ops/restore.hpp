@@ -84,6 +84,11 @@ struct RestoreOptions {
   // tables in scope and restarts the drive even where RAM already matches.
   std::filesystem::path recovery_path;
   std::string port;  // for the record
+  // Types a capture of this drive recorded (UPID -> type code, §10 05h 04h)
+  // for values the database cannot type: the plan shows its writes and notes
+  // by them (a SINT32 keeps its sign), as the capture does; no telegram.
+  // lmcfg serve: the position's latest backup.
+  std::map<std::uint16_t, std::uint8_t> known_types;
 };
 
 // Why the plan writes a ROM value (PlanStep::reason).

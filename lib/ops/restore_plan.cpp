@@ -422,7 +422,8 @@ Result<bool> schedule_layer(Builder& b, const LayerWork& w, double tel_us) {
     b.add(std::move(s), 1);
     for (const auto* m : w.leftovers)
       plan.notes.push_back("leftover " + lname + " " + hex(m->upid, 4, "h") + " = " +
-                           display_value(b.db, m->upid, m->value) + " goes back to its default");
+                           display_value(b.db, m->upid, m->value, b.shown_type(m->upid, {})) +
+                           " goes back to its default");
     for (const auto& x : w.writes) b.add_write(w.layer, x);
     for (const auto& p : w.same)
       b.add_write(w.layer, Write{p, std::nullopt, "", WriteReason::again_after_defaulting});
@@ -513,9 +514,9 @@ void detail::Builder::add_write(int layer, const Write& w) {
   s.value = w.p.value;
   s.old_value = w.old;
   s.name = param_name(w.p.upid, d, &w.p);
-  s.new_display = display_value(db, w.p.upid, w.p.value, w.p.type);
-  s.old_display =
-      w.old ? display_value(db, w.p.upid, *w.old, w.p.type) + w.old_note : std::string("?");
+  const std::optional<std::uint8_t> type = shown_type(w.p.upid, w.p.type);
+  s.new_display = display_value(db, w.p.upid, w.p.value, type);
+  s.old_display = w.old ? display_value(db, w.p.upid, *w.old, type) + w.old_note : std::string("?");
   s.reason = w.reason;
   s.text =
       "write ROM " + param_label(layer, w.p.upid, d, &w.p) + ": " + s.old_display + " -> " +

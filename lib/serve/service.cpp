@@ -232,6 +232,7 @@ Result<Json> Service::plan(const std::string& name, const std::string& rev,
                      ": the service restores LinRS drives; use lmcfg fleet restore");
   }
   StoredPlan sp;
+  std::map<std::uint16_t, std::uint8_t> known_types;
   {
     std::lock_guard<std::mutex> lock(s.archive_mu);
     // No revision named: the position's approved configuration.
@@ -241,6 +242,12 @@ Result<Json> Service::plan(const std::string& name, const std::string& rev,
     }
     LMCFG_ASSIGN_OR_RETURN(sp.file, fleet::load_archived(s.opt.inventory, s.archive, name, from));
     if (rev.empty() && from != "HEAD") sp.file.rev = "approved";
+    // The types the position's latest backup recorded: the plan shows the
+    // drive's values by them (a SINT32 keeps its sign, as on the position).
+    if (auto head = fleet::load_archived(s.opt.inventory, s.archive, name, "HEAD"); head.ok())
+      for (const auto& layer : head->config.layers)
+        for (const auto& p : layer)
+          if (p.type) known_types[p.upid] = *p.type;
   }
   sp.line = s.line_index(line);
   // The plan of `lmcfg restore --dry-run`, the values the target cannot take
@@ -249,6 +256,7 @@ Result<Json> Service::plan(const std::string& name, const std::string& rev,
     LMCFG_ASSIGN_OR_RETURN(auto session, link::open_session(s.link_for(sp.line, *d)));
     ops::RestoreRunOptions ro;
     ro.restore = s.restore_options(*line, *d, true);
+    ro.restore.known_types = known_types;
     ro.dry_run = true;
     auto out = ops::run_restore(*session, sp.file.config, s.opt.db, ro);
     auto closed = session->close();

@@ -220,10 +220,18 @@ TEST_CASE(
   // their defaults), 2012h holds another code, OS 0010h another value.
   write_axis(rig.dir.path / "b.json", 0x12, "0010", 7);
   set_sim_values(rig.dir.path / "b.json", {{"200E", 1}, {"2012", 8}, {"206C", 1}});
+  // ... and Appl 3020h (SINT32) at -1000, which the plan writes back to its default.
+  {
+    auto j = nlohmann::json::parse(slurp(rig.dir.path / "b.json"));
+    for (auto& p : j["parameters"])
+      if (p["upid"] == "3020") p["rom"] = p["ram"] = 4294966296u;
+    spit(rig.dir.path / "b.json", j.dump(1));
+  }
   rig.at(t0 + 6h);
   auto x = drive(*rig.service, "press3/x");
   CHECK(x["status"] == "drift");
-  CHECK(x["differing"] == nlohmann::json::array({"OS 0010h: 5 -> 7"}));
+  CHECK(x["differing"] ==
+        nlohmann::json::array({"OS 0010h: 5 -> 7", "Appl 3020h: default 0 -> -1000"}));
   const std::vector<std::string> comm{"200E", "2012", "206C"};
   CHECK(upids_of(x["kept"]) == comm);
   rig.take_events();
@@ -234,6 +242,11 @@ TEST_CASE(
   const auto p = plain(*planned);
   CHECK(p["nothing_to_do"] == false);
   CHECK(upids_of(p["kept"]) == comm);
+  // The drive's -1000 keeps its sign on the plan, as on the position.
+  bool signed_shown = false;
+  for (const auto& st : p["steps"])
+    if (st.value("upid", "") == "3020") signed_shown = st["old"] == "-1000" && st["new"] == "0";
+  CHECK(signed_shown);
   // The database names no default here: the file's side says so (a real database knows it).
   CHECK(p["kept"][1]["configuration"] == "its default (not known)");
   CHECK(p["kept"][1]["drive"].get<std::string>().rfind("8", 0) == 0);
