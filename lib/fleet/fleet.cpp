@@ -33,7 +33,8 @@ std::vector<LineRun> read_all(const Inventory& inv, const FleetOptions& opt) {
 }
 
 Result<FleetRun> read_and_compare(const Inventory& inv, const Archive& archive,
-                                  const FleetOptions& opt, std::vector<LineRun>& reads) {
+                                  const FleetOptions& opt, std::vector<LineRun>& reads,
+                                  Compare how) {
   if (opt.links.size() != inv.lines.size())
     return Error(Errc::invalid_argument, "fleet: one link per inventory line is needed");
   FleetRun run;
@@ -42,7 +43,7 @@ Result<FleetRun> read_and_compare(const Inventory& inv, const Archive& archive,
   const auto start = Clock::now();
   reads = read_all(inv, opt);
   for (std::size_t l = 0; l < inv.lines.size(); ++l) {
-    LMCFG_TRY(compare_line(inv.lines[l], archive, opt.rev, opt.db, reads[l]));
+    LMCFG_TRY(compare_line(inv.lines[l], archive, opt.rev, opt.db, reads[l], how));
     for (const auto& r : reads[l].drives) run.drives.push_back(r);
   }
   run.seconds = seconds_since(start);
@@ -200,8 +201,10 @@ LineRun read_line(const LineEntry& line, const ops::LineLink& link, const FleetO
 
 Result<void> compare_drive(const LineEntry& line, const DriveEntry& d, const Archive& archive,
                            const std::string& rev, const db::Database& db,
-                           const std::optional<config::DriveConfig>& live, DriveResult& r) {
+                           const std::optional<config::DriveConfig>& live, DriveResult& r,
+                           Compare how) {
   r.diff.items.clear();
+  r.kept.clear();
   if (!live) {
     r.status = DriveResult::Status::failed;
     return {};
@@ -226,6 +229,13 @@ Result<void> compare_drive(const LineEntry& line, const DriveEntry& d, const Arc
     return {};
   }
   r.diff = ops::diff(*archived, *live, db, nullptr, ops::DiffOptions{});
+  if (how == Compare::drift) {
+    auto m = ops::match(r.diff, *live, db, match_policy(line, d));
+    r.status = m.matches() ? DriveResult::Status::unchanged : DriveResult::Status::changed;
+    r.diff.items = std::move(m.differences);
+    r.kept = std::move(m.kept);
+    return {};
+  }
   // Live and volatile values the inventory names are never a difference.
   const auto ignored = ignored_upids(line, d);
   std::erase_if(r.diff.items, [&](const ops::DiffItem& it) {
@@ -236,16 +246,26 @@ Result<void> compare_drive(const LineEntry& line, const DriveEntry& d, const Arc
   return {};
 }
 
+ops::MatchPolicy match_policy(const LineEntry& line, const DriveEntry& d) {
+  ops::MatchPolicy p;
+  p.ignored = ignored_upids(line, d);
+  if (!line.devicenet) {
+    p.macid = d.id;
+    if (line.baud && *line.baud > 0) p.baud = static_cast<unsigned>(*line.baud);
+  }
+  return p;
+}
+
 Result<void> compare_line(const LineEntry& line, const Archive& archive, const std::string& rev,
-                          const db::Database& db, LineRun& run) {
+                          const db::Database& db, LineRun& run, Compare how) {
   for (std::size_t i = 0; i < run.entries.size(); ++i) {
     // "" = each drive against its approved configuration (fleet/approved.hpp).
     std::string against = rev;
     if (against.empty()) {
       LMCFG_ASSIGN_OR_RETURN(against, approved_rev(archive, *run.entries[i]));
     }
-    LMCFG_TRY(
-        compare_drive(line, *run.entries[i], archive, against, db, run.configs[i], run.drives[i]));
+    LMCFG_TRY(compare_drive(line, *run.entries[i], archive, against, db, run.configs[i],
+                            run.drives[i], how));
   }
   return {};
 }
@@ -301,7 +321,7 @@ std::string archive_path(const DriveEntry& d) { return d.name + ".json"; }
 
 Result<FleetRun> fleet_backup(const Inventory& inv, Archive& archive, const FleetOptions& opt) {
   std::vector<LineRun> reads;
-  LMCFG_ASSIGN_OR_RETURN(auto run, read_and_compare(inv, archive, opt, reads));
+  LMCFG_ASSIGN_OR_RETURN(auto run, read_and_compare(inv, archive, opt, reads, Compare::exact));
   std::vector<std::string> paths;
   for (const auto& line : reads) {
     LMCFG_ASSIGN_OR_RETURN(auto written, write_line(archive, opt.db, line));
@@ -325,7 +345,7 @@ Result<FleetRun> fleet_backup(const Inventory& inv, Archive& archive, const Flee
 Result<FleetRun> fleet_status(const Inventory& inv, const Archive& archive,
                               const FleetOptions& opt) {
   std::vector<LineRun> reads;
-  return read_and_compare(inv, archive, opt, reads);
+  return read_and_compare(inv, archive, opt, reads, Compare::drift);
 }
 
 std::string commit_message(const FleetRun& run) {
@@ -364,6 +384,13 @@ std::string render_text(const FleetRun& run, bool status) {
   using S = DriveResult::Status;
   std::string s;
   for (const auto& r : run.drives) {
+    if (status && !r.kept.empty()) {
+      // What matches means (ops/matching.hpp): not drift, but said.
+      s += "kept: " + where(r) + ": " + plural(r.kept.size(), "value", "values") +
+           " the drive keeps by policy\n";
+      for (const auto& k : r.kept)
+        s += "    " + ops::kept_text(k) + " (" + ops::kept_reason(k.by) + ")\n";
+    }
     if (r.status == S::unchanged) continue;  // counted in the summary
     const char* word = status_name(r.status);
     if (status && r.status == S::changed) word = "drift";
@@ -420,6 +447,10 @@ std::string render_json(const FleetRun& run, bool status) {
       d["curves"] = r.curves;
       d["ct_entries"] = r.ct_entries;
       if (r.devicenet) d["devicenet_values"] = r.devicenet_values;
+    }
+    if (status && r.status != S::failed) {
+      auto& kept = d["kept"] = nlohmann::ordered_json::array();
+      for (const auto& k : r.kept) kept.push_back(ops::kept_json(k));
     }
     if (r.status == S::changed) {
       auto& items = d["differences"] = nlohmann::ordered_json::array();

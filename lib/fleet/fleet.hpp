@@ -18,6 +18,7 @@
 #include "ops/backup.hpp"
 #include "ops/diff.hpp"
 #include "ops/line.hpp"
+#include "ops/matching.hpp"
 #include "ops/restore_run.hpp"
 
 namespace lmcfg::fleet {
@@ -37,6 +38,9 @@ struct DriveResult {
   bool devicenet = false;                                  // a DeviceNet controller (a CAN line)
   std::size_t devicenet_values = 0;                        // its settable values in the live read
   ops::DiffResult diff;                                    // archived -> live
+  // Compare::drift: the values that differ but are kept by policy
+  // (ops/matching.hpp), not in `diff` and not a change.
+  std::vector<ops::KeptValue> kept;
   double seconds = 0;
   // Differences by kind (parameter, curve, ct_entry, other).
   std::size_t count(ops::DiffItem::Kind kind) const;
@@ -84,16 +88,26 @@ LineRun read_line(const LineEntry& line, const ops::LineLink& link, const FleetO
 // What the line's session needs of drive `d` (its MACID; DeviceNet: motors,
 // IO modules, module values).
 ops::LineDrive line_drive(const DriveEntry& d);
+// How a live read is compared with an archived file.
+enum class Compare {
+  exact,  // every difference but the ignored UPIDs: what a backup archives
+  drift,  // by the rule of what matches (ops/matching.hpp, docs/fleet.md "What matches
+          // means"): a value a restore keeps by policy goes to DriveResult::kept
+};
+// The rule's settings for drive `d`: its ignored UPIDs, the MACID and the baud
+// rate (when the line names one) the inventory has it answer at.
+ops::MatchPolicy match_policy(const LineEntry& line, const DriveEntry& d);
 // Compares the live read of drive `d` (nullopt: its read failed) with its
 // archived file at `rev`, leaving out the drive's ignored UPIDs
-// (ignored_upids); sets r's diff and status.
+// (ignored_upids); sets r's diff and status (and with Compare::drift r.kept).
 Result<void> compare_drive(const LineEntry& line, const DriveEntry& d, const Archive& archive,
                            const std::string& rev, const db::Database& db,
-                           const std::optional<config::DriveConfig>& live, DriveResult& r);
+                           const std::optional<config::DriveConfig>& live, DriveResult& r,
+                           Compare how = Compare::exact);
 // Compares each read of `run` with its archived file at `rev` ("" = each
 // drive's approved configuration) as compare_drive; sets each drive's status.
 Result<void> compare_line(const LineEntry& line, const Archive& archive, const std::string& rev,
-                          const db::Database& db, LineRun& run);
+                          const db::Database& db, LineRun& run, Compare how = Compare::exact);
 // Writes the files of the changed and new drives of `run` into the archive's
 // work tree; returns their archive paths (to commit).
 Result<std::vector<std::string>> write_line(Archive& archive, const db::Database& db,
@@ -104,7 +118,8 @@ Result<std::vector<std::string>> write_line(Archive& archive, const db::Database
 // commit_message(). A run where nothing changed makes no commit. A position
 // read without an approval gets one (fleet::commission: commissioning).
 Result<FleetRun> fleet_backup(const Inventory& inv, Archive& archive, const FleetOptions& opt);
-// Reads every drive and compares it with its file at opt.rev; writes nothing.
+// Reads every drive and compares it with its file at opt.rev by the rule of
+// what matches (Compare::drift); writes nothing.
 Result<FleetRun> fleet_status(const Inventory& inv, const Archive& archive,
                               const FleetOptions& opt);
 

@@ -42,6 +42,7 @@
 #include "common/families.hpp"
 #include "config/model.hpp"
 #include "ops/backup.hpp"
+#include "ops/matching.hpp"
 
 namespace lmcfg::db {
 class Database;
@@ -83,6 +84,11 @@ struct RestoreOptions {
   // tables in scope and restarts the drive even where RAM already matches.
   std::filesystem::path recovery_path;
   std::string port;  // for the record
+  // Types a capture of this drive recorded (UPID -> type code, §10 05h 04h)
+  // for values the database cannot type: the plan shows its writes and notes
+  // by them (a SINT32 keeps its sign), as the capture does; no telegram.
+  // lmcfg serve: the position's latest backup.
+  std::map<std::uint16_t, std::uint8_t> known_types;
 };
 
 // Why the plan writes a ROM value (PlanStep::reason).
@@ -175,6 +181,11 @@ struct Plan {
   // and not expected by verify (each one a problem without the option).
   std::vector<SkippedValue> skipped_incompatible;
   std::vector<std::string> notes;  // what the steps will also change (leftovers, defaults)
+  // The file's values the restore leaves as the target holds them, by the rule
+  // of what matches (ops/matching.hpp): a communication value the target keeps
+  // (without include_comm). `item.a` the file's, `item.b` the target's. Not a
+  // write, expected by verify as the target holds it, not drift afterwards.
+  std::vector<KeptValue> kept;
   // Expected state after the restore, for verify.
   config::DriveConfig expected;
   std::size_t write_telegrams = 0;  // estimate of write telegrams the steps send

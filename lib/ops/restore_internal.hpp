@@ -54,6 +54,14 @@ struct Builder {
     add(std::move(s), telegrams);
   }
   void add_write(int layer, const Write& w);  // restore_plan.cpp
+  // The type a value is shown by: `recorded` (the file's), else the one a
+  // capture of the target recorded (RestoreOptions::known_types).
+  std::optional<std::uint8_t> shown_type(std::uint16_t upid,
+                                         std::optional<std::uint8_t> recorded) const {
+    if (recorded) return recorded;
+    const auto it = opt.known_types.find(upid);
+    return it == opt.known_types.end() ? std::nullopt : std::optional<std::uint8_t>(it->second);
+  }
 };
 
 // restore_check.cpp: one parameter the restore will write checked against the

@@ -119,7 +119,7 @@ std::vector<config::Parameter> restored_params(Builder& b, const config::DriveCo
                                                LayerWork& w) {
   std::vector<config::Parameter> out;
   for (const auto& p : file.layer(w.layer)) {
-    if (is_comm(b.db, p.upid) && !b.opt.include_comm) {
+    if (kept_parameter(p.upid, b.db, b.opt.include_comm)) {
       b.plan.skipped.push_back(
           param_label(w.layer, p.upid, b.db.find(p.upid), &p) +
           ": communication parameter, the target keeps its own value (use --include-comm)");
@@ -179,7 +179,7 @@ Result<void> compare_parameters(Builder& b, const config::DriveConfig& file, Lay
 void sort_target_values(const Builder& b, LayerWork& w) {
   for (const auto& m : w.target) {
     if (w.restored.count(m.upid)) continue;
-    if (is_comm(b.db, m.upid) && !b.opt.include_comm) {
+    if (kept_parameter(m.upid, b.db, b.opt.include_comm)) {
       config::Parameter k{m.upid, m.value, std::nullopt, std::nullopt, {}, {}, {}};
       w.keep.push_back(k);
       w.expected.push_back(k);
@@ -187,6 +187,41 @@ void sort_target_values(const Builder& b, LayerWork& w) {
     }
     w.leftovers.push_back(&m);
   }
+}
+
+// Phase 1b': the values the restore keeps (ops/matching.hpp) where the file
+// holds others, each side resolved by the default rule: the plan lists them,
+// so that what stays different is said before the write.
+Result<void> note_kept(Builder& b, const config::DriveConfig& file, const LayerWork& w) {
+  std::vector<config::Parameter> in_file, on_target;
+  for (const auto& p : file.layer(w.layer))
+    if (kept_parameter(p.upid, b.db, b.opt.include_comm)) in_file.push_back(p);
+  for (const auto& m : w.target)
+    if (kept_parameter(m.upid, b.db, b.opt.include_comm))
+      on_target.push_back(
+          config::Parameter{m.upid, m.value, std::nullopt, std::nullopt, {}, {}, {}});
+  if (in_file.empty() && on_target.empty()) return {};
+  const ParamSide f{&in_file, config::ParamSet::modified, Resolve::rule_then_ask, {}};
+  const ParamSide t{&on_target, config::ParamSet::modified, Resolve::rule_then_ask, {}};
+  LMCFG_ASSIGN_OR_RETURN(const auto cmp, ops::compare_parameters(w.layer, f, t, b.db));
+  for (const auto& row : cmp.rows) {
+    if (row.reason == Reason::same) continue;
+    // Both sides shown by the file's recorded type where the database has none (the sign).
+    const std::optional<std::uint8_t> type = row.a.record ? row.a.record->type : std::nullopt;
+    auto text = [&](const ParamValue& v) {
+      return v.value ? display_value(b.db, row.upid, *v.value, type)
+                     : std::string("its default (not known)");
+    };
+    DiffItem it;
+    it.kind = DiffItem::Kind::parameter;
+    it.layer = w.layer;
+    it.key = row.upid;
+    it.name = param_name(row.upid, b.db.find(row.upid), row.a.record ? row.a.record : row.b.record);
+    it.a = text(row.a);
+    it.b = text(row.b);
+    b.plan.kept.push_back(KeptValue{std::move(it), *kept_parameter(row.upid, b.db, false)});
+  }
+  return {};
 }
 
 // Phase 1c: a layer defaulted by the unfinished run no longer lists the values
@@ -322,6 +357,7 @@ Result<void> compare_layer(Builder& b, const config::DriveConfig& file, const Ea
   for (const auto& m : w.target) w.on_target[m.upid] = m.value;
   LMCFG_TRY(compare_parameters(b, file, w, progress));
   sort_target_values(b, w);
+  LMCFG_TRY(note_kept(b, file, w));
   if (earlier.rec && !b.opt.include_comm) keep_recorded_values(*earlier.rec, w);
   LMCFG_ASSIGN_OR_RETURN(const auto cannot, check_writes(b, w));
   if (b.opt.skip_incompatible && !cannot.empty()) drop_incompatible(b, cannot, w);
@@ -386,7 +422,8 @@ Result<bool> schedule_layer(Builder& b, const LayerWork& w, double tel_us) {
     b.add(std::move(s), 1);
     for (const auto* m : w.leftovers)
       plan.notes.push_back("leftover " + lname + " " + hex(m->upid, 4, "h") + " = " +
-                           display_value(b.db, m->upid, m->value) + " goes back to its default");
+                           display_value(b.db, m->upid, m->value, b.shown_type(m->upid, {})) +
+                           " goes back to its default");
     for (const auto& x : w.writes) b.add_write(w.layer, x);
     for (const auto& p : w.same)
       b.add_write(w.layer, Write{p, std::nullopt, "", WriteReason::again_after_defaulting});
@@ -477,9 +514,9 @@ void detail::Builder::add_write(int layer, const Write& w) {
   s.value = w.p.value;
   s.old_value = w.old;
   s.name = param_name(w.p.upid, d, &w.p);
-  s.new_display = display_value(db, w.p.upid, w.p.value, w.p.type);
-  s.old_display =
-      w.old ? display_value(db, w.p.upid, *w.old, w.p.type) + w.old_note : std::string("?");
+  const std::optional<std::uint8_t> type = shown_type(w.p.upid, w.p.type);
+  s.new_display = display_value(db, w.p.upid, w.p.value, type);
+  s.old_display = w.old ? display_value(db, w.p.upid, *w.old, type) + w.old_note : std::string("?");
   s.reason = w.reason;
   s.text =
       "write ROM " + param_label(layer, w.p.upid, d, &w.p) + ": " + s.old_display + " -> " +

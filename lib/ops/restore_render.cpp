@@ -97,6 +97,10 @@ std::string render_plan(const Plan& p) {
     out +=
         "plan: nothing to do: the target already matches the file except the skipped values "
         "(no write, MC keeps running)\n";
+  } else if (p.nothing_to_do() && !p.kept.empty()) {
+    out +=
+        "plan: nothing to do: the target already matches the file except the values it keeps "
+        "(no write, MC keeps running)\n";
   } else if (p.nothing_to_do()) {
     out +=
         "plan: nothing to do: the target already matches the file (no write, MC keeps running)\n";
@@ -108,6 +112,8 @@ std::string render_plan(const Plan& p) {
   for (const auto& s : p.steps) out += "  " + std::to_string(++n) + ". " + s.text + "\n";
   for (const auto& s : p.losses) out += "  the target loses: " + s + "\n";
   for (const auto& s : p.skipped) out += "  skip: " + s + "\n";
+  for (const auto& k : p.kept)
+    out += "  stays different: " + kept_text(k, "file") + " (" + kept_reason(k.by) + ")\n";
   for (const auto& s : p.notes) out += "  note: " + s + "\n";
   out += render_skipped_incompatible(p);
   return out;
@@ -157,6 +163,9 @@ nlohmann::ordered_json plan_json(const Plan& p) {
   for (const auto& v : p.skipped_incompatible) incompatible.push_back(skipped_json(v));
   j["skipped_incompatible"] = std::move(incompatible);
   j["notes"] = p.notes;
+  nlohmann::ordered_json kept = nlohmann::ordered_json::array();
+  for (const auto& k : p.kept) kept.push_back(kept_json(k, "file"));
+  j["kept"] = std::move(kept);
   return j;
 }
 

@@ -163,7 +163,14 @@ Result<std::string> Console::start_restore(const ConsoleUser& u, const std::stri
   req.plan_id = plan_id;
   req.audit = {u.who, reason, ticket};
   req.skip_incompatible = skip_incompatible;
-  return impl_->service.execute(req);
+  auto id = impl_->service.execute(req);
+  if (id.ok()) {
+    // The plan's page, reopened (Back), says it ran instead of offering the write again.
+    std::lock_guard<std::mutex> lock(impl_->mu);
+    if (auto it = impl_->plans.find(plan_id); it != impl_->plans.end())
+      it->second["executed_job"] = *id;
+  }
+  return id;
 }
 
 Page Console::replace_page(const ConsoleUser& u, const std::string& name,

@@ -14,8 +14,8 @@ constexpr const char* kStyle = R"css(
 body { margin: 0; font: 15px/1.45 system-ui, -apple-system, "Segoe UI", sans-serif; color: var(--fg);
   background: var(--bg); }
 header { background: #24292f; color: #fff; }
-header nav { display: flex; align-items: center; gap: 1rem; max-width: 1200px; margin: 0 auto;
-  padding: .5rem 1rem; }
+header nav { display: flex; flex-wrap: wrap; align-items: center; gap: .25rem 1rem;
+  max-width: 1200px; margin: 0 auto; padding: .5rem 1rem; }
 header a, header .who { color: #fff; }
 header .brand { font-weight: 600; text-decoration: none; margin-right: auto; }
 main { max-width: 1200px; margin: 0 auto; padding: 1rem; }
@@ -46,7 +46,8 @@ form.filters, form.card { display: flex; flex-wrap: wrap; gap: .5rem; align-item
   margin: 1rem 0; }
 form.card { flex-direction: column; align-items: stretch; max-width: 28rem; }
 form.inline { display: inline; }
-button, select, input, textarea { font: inherit; padding: .3rem .6rem; min-height: 40px; }
+button, select, input, textarea { font: inherit; padding: .3rem .6rem; min-height: 40px;
+  max-width: 100%; }
 /* Touch targets of at least 40 px: buttons, fields, and the links people tap. */
 a.button, td a, .links a, .crumbs a, nav a, details > summary, ol.timeline a {
   display: inline-block; min-height: 40px; padding-top: .55rem; padding-bottom: .55rem; }
@@ -59,6 +60,8 @@ label.check input { width: 24px; height: 24px; min-height: 24px; margin: 0; flex
 ol.checklist li { margin: .25rem 0; }
 ul.resolve { list-style: none; padding: 0; } ul.resolve li { margin: .5rem 0; }
 details.cli { margin: 1rem 0; color: var(--muted); }
+/* The CLI's wording keeps its lines, but never wider than the page. */
+pre { white-space: pre-wrap; overflow-wrap: anywhere; }
 button:disabled, button.danger:disabled { background: #8c959f; cursor: not-allowed; }
 button { background: var(--accent); color: #fff; border: 0; border-radius: 4px; cursor: pointer; }
 header button { background: #57606a; }
@@ -71,15 +74,32 @@ ol.flow li[aria-current] { color: var(--fg); font-weight: 600; }
 .verdict { color: var(--ok); font-weight: 600; }
 .links { margin: .2rem 0 0; font-size: .9rem; }
 table.plan td:nth-child(4) { color: var(--muted); }
-dl.identity, dl.trailers { display: grid; grid-template-columns: max-content 1fr; gap: .2rem 1rem; }
+dl.identity, dl.trailers { display: grid; grid-template-columns: max-content minmax(0, 1fr);
+  gap: .2rem 1rem; }
 dl.trailers { margin: .25rem 0 0 1rem; }
-dt { font-weight: 600; } dd { margin: 0; overflow-wrap: break-word; }
+dt { font-weight: 600; } dd { margin: 0; overflow-wrap: anywhere; }
+ul.kept li { margin: .25rem 0; } .value { overflow-wrap: anywhere; }
 ol.timeline { list-style: none; padding: 0; border-left: 3px solid var(--line); }
 ol.timeline li { margin: 0 0 .75rem; padding-left: .75rem; }
 progress { width: 20rem; max-width: 100%; }
 @media (max-width: 900px) {
   main { padding: .5rem; }
   table.positions th:nth-child(3), table.positions td:nth-child(3) { display: none; }
+}
+/* A phone held upright (390 px): the positions and the plan's steps as one
+   card per row, each cell labelled, so no page scrolls sideways. */
+@media (max-width: 600px) {
+  table.positions thead, table.plan thead { position: absolute; width: 1px; height: 1px;
+    overflow: hidden; clip: rect(0 0 0 0); }
+  table.positions, table.positions tbody, table.positions tr, table.positions td,
+  table.plan, table.plan tbody, table.plan tr, table.plan td { display: block; }
+  table.positions tr, table.plan tr { border-bottom: 1px solid var(--line); padding: .35rem 0; }
+  table.positions td, table.plan td { border: 0; padding: .1rem .25rem; }
+  table.positions td[data-label]::before, table.plan td[data-label]::before {
+    content: attr(data-label) ": "; color: var(--muted); }
+  table.plan td[aria-hidden] { display: none; }
+  ol.flow { gap: .25rem 1rem; }
+  a.button { margin: .25rem .5rem .25rem 0; }
 }
 @media print {
   header, form, .skip { display: none; }

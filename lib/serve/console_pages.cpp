@@ -112,8 +112,15 @@ std::string help_html(const words::Help& h) {
 
 namespace {
 
+words::Help failed_help(const Json& state, const std::string& name);
+
+// The position's last event: a failure in a technician's words, the service's
+// message (the CLI's wording, which may name options, codes or paths) folded.
 std::string last_event(const Json& d, TimePoint now) {
   std::string o = esc(str(d, "message"));
+  if (str(d, "status") == "failed")
+    o = "<details class=\"event\"><summary>" + esc(failed_help(d, str(d, "name")).sentence) +
+        "</summary>" + o + "</details>";
   const auto& a = member(d, "last_attempt");
   if (a.is_object())
     o += " <span class=\"muted\">(" + esc(str(a, "job")) + ", " + time_cell(str(a, "time"), now) +
@@ -205,11 +212,21 @@ std::string signin(const std::string& message, const std::string& next, const st
   return frame(nullptr, true, "Sign in", b);
 }
 
+// No backup of the position yet, whatever its status (a first backup that
+// failed too): the rows then say "Last backup: never".
+static bool never_backed_up(const Json& d) { return !member(d, "last_backup").is_string(); }
+
 std::string overview(const ConsoleUser& u, bool signed_in, const fleet::Inventory& inv,
                      const Json& drives, const std::string& line, const std::string& status,
                      TimePoint now) {
+  // The counts agree with the rows: "never backed up" counts every position
+  // whose row says "Last backup: never", beside its status.
   std::map<std::string, std::size_t> counts;
-  for (const auto& d : drives) ++counts[shown_status(d)];
+  for (const auto& d : drives) {
+    const std::string st = shown_status(d);
+    if (st != "never backed up") ++counts[st];
+    counts["never backed up"] += never_backed_up(d);
+  }
   std::string b = "<h1>Plant overview</h1>\n";
   b += "<section id=\"live\" data-refresh=\"10\" aria-live=\"polite\">\n";
   b += "<ul class=\"counts\" aria-label=\"Positions by status\"><li><strong>" +
@@ -226,14 +243,17 @@ std::string overview(const ConsoleUser& u, bool signed_in, const fleet::Inventor
   for (const auto& d : drives) {
     const std::string st = shown_status(d);
     if (!line.empty() && str(d, "line") != line) continue;
-    if (!status.empty() && st != status) continue;
+    if (!status.empty() && st != status && !(status == "never backed up" && never_backed_up(d)))
+      continue;
     ++shown;
     char id[8];
     std::snprintf(id, sizeof id, "0x%02X", member(d, "id").get<unsigned>());
+    // data-label: each cell's heading where a narrow screen shows a row as a card.
     b += "<tr data-drive=\"" + esc(str(d, "name")) + "\" data-status=\"" + esc(st) + "\"><td>" +
-         position_link(str(d, "name")) + "</td><td>" + esc(str(d, "line")) + "</td><td>" + id +
-         "</td><td>" + badge(st) + "</td><td>" + time_cell(str(d, "last_backup"), now) +
-         "</td><td>" + last_event(d, now) + "</td></tr>\n";
+         position_link(str(d, "name")) + "</td><td data-label=\"Line\">" + esc(str(d, "line")) +
+         "</td><td data-label=\"ID\">" + id + "</td><td>" + badge(st) +
+         "</td><td data-label=\"Last backup\">" + time_cell(str(d, "last_backup"), now) +
+         "</td><td data-label=\"Last event\">" + last_event(d, now) + "</td></tr>\n";
   }
   if (shown == 0)
     b += "<tr><td colspan=\"6\" class=\"muted\">No position matches the filter.</td></tr>\n";
@@ -417,12 +437,15 @@ std::string position(const ConsoleUser& u, bool signed_in, const fleet::LineEntr
          esc(str(approved, "reason")) + "</p>";
   }
   if (state.contains("differing") && !member(state, "differing").empty()) {
-    b += "<p>Differences from the approved configuration at the last check:</p><ul "
-         "class=\"differing\">";
+    b += "<p>Differences at the last check (each as the approved configuration &rarr; the "
+         "drive):</p><ul class=\"differing\">";
     for (const auto& s : member(state, "differing"))
       b += "<li>" + esc(s.get<std::string>()) + "</li>";
     b += "</ul>";
   }
+  b += kept_section(member(state, "kept"), "kept",
+                    "These values differ from the approved configuration, but the drive keeps "
+                    "them by policy: the position is ok with them.");
   b += retry_section(u, d, state);
   b += "</section>\n";
 
@@ -529,6 +552,9 @@ std::string restore_outcome(const ConsoleUser& u, const Json& j, const std::stri
                                                   : "Restored and verified: the drive reads back "
                                                     "what was written.") +
          "</p>";
+    b += kept_section(member(j, "kept"), "kept",
+                      "Not written, by policy: the drive keeps its own values here, and the "
+                      "position is ok with them.");
   }
   return b;
 }
@@ -571,7 +597,10 @@ std::string job(const ConsoleUser& u, bool signed_in, const Json& j, const std::
        std::to_string(done) + "\">" + std::to_string(done) + " of " + std::to_string(total) +
        "</progress> " + std::to_string(done) + " of " + std::to_string(total) +
        (restore ? " step(s)" : " drive(s)") + (state == "failed" ? " before it stopped" : "");
-  if (!str(pr, "step").empty()) b += "<p>Now: " + esc(words::plain(str(pr, "step"))) + "</p>";
+  if (!str(pr, "step").empty())
+    b += "<p>Now: <span id=\"now\">" + esc(words::progress(str(pr, "step"))) +
+         "</span></p><details class=\"cli\"><summary>As the command line says it</summary><pre>" +
+         esc(str(pr, "step")) + "</pre></details>";
   if (member(j, "outcome").is_string()) {
     if (restore) {
       b += restore_outcome(u, j, name);

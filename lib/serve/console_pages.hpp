@@ -56,6 +56,10 @@ std::string help_html(const words::Help& h);
 // items (problems, losses, notes), "" when `items` is empty.
 std::string steps_table(const Json& plan);
 std::string items_section(const char* id, const char* title, const Json& items, const char* cls);
+// The values that stay as the drive holds them by policy (ops::kept_json
+// objects), each with the configuration's value, the drive's, why, and what
+// the technician can do; "" when there are none. `id`: the list's id.
+std::string kept_section(const Json& kept, const std::string& id, const std::string& intro);
 
 // The status a person reads: "never backed up" for a position without a
 // backup whose state is unknown, else the service's status.

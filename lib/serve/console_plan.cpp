@@ -2,6 +2,8 @@
 // the verdict first, in plain words; every write with the parameter's name
 // and old and new values in units; refused plans without an active write
 // button, with exactly what resolves them; the CLI's wording folded below.
+#include <algorithm>
+
 #include "serve/console_pages.hpp"
 
 namespace lmcfg::serve::pages {
@@ -23,8 +25,9 @@ std::string value_cell(const Json& st, const char* k) {
 std::string steps_table(const Json& p) {
   std::string b =
       "<table class=\"plan\"><thead><tr><th scope=\"col\">#</th><th "
-      "scope=\"col\">What</th><th scope=\"col\">Now</th><th scope=\"col\"><span "
-      "class=\"sr\">becomes</span></th><th scope=\"col\">After</th></tr></thead><tbody>\n";
+      "scope=\"col\">What</th><th scope=\"col\">Now (drive)</th><th scope=\"col\"><span "
+      "class=\"sr\">becomes</span></th><th scope=\"col\">After (configuration)</th></tr>"
+      "</thead><tbody>\n";
   std::size_t n = 0;
   for (const auto& st : member(p, "steps")) {
     ++n;
@@ -33,8 +36,9 @@ std::string steps_table(const Json& p) {
     if (st.contains("upid")) {
       const std::string name = str(st, "name");
       b += "<td><span class=\"pname\">" + esc(name.empty() ? "parameter" : name) +
-           "</span> <span class=\"muted id\">" + esc(str(st, "upid")) + "h</span></td><td>" +
-           value_cell(st, "old") + "</td><td aria-hidden=\"true\">&rarr;</td><td>" +
+           "</span> <span class=\"muted id\">" + esc(str(st, "upid")) +
+           "h</span></td><td data-label=\"Now (drive)\">" + value_cell(st, "old") +
+           "</td><td aria-hidden=\"true\">&rarr;</td><td data-label=\"After (configuration)\">" +
            value_cell(st, "new") + "</td>";
     } else {
       b += "<td colspan=\"4\">" + esc(words::step(st)) + "</td>";
@@ -71,6 +75,15 @@ std::string resolve_section(const ConsoleUser& u, const Json& p, bool problems, 
   if (u.role != Role::operator_)
     return b + "<p class=\"muted\">Signed in as a viewer: restoring needs role operator.</p>" +
            "</section>\n";
+  if (member(p, "executed_job").is_string()) {
+    const std::string job = str(p, "executed_job");
+    return b +
+           "<p id=\"executed\">This plan was written to the drive already. <a "
+           "class=\"button\" href=\"/job?id=" +
+           esc(url_encode(job)) + "&amp;name=" + enc +
+           "\">See how it went</a> <a class=\"button\" href=\"/replace?name=" + enc +
+           "\">Plan again</a></p></section>\n";
+  }
   if (p.value("nothing_to_do", false) && !incompatible && !problems)
     return b + "<p>Nothing to write. <a class=\"button\" href=\"/position?name=" + enc +
            "\">Back to the position</a> <a class=\"button\" href=\"/replace?name=" + enc +
@@ -115,6 +128,28 @@ std::string resolve_section(const ConsoleUser& u, const Json& p, bool problems, 
 
 }  // namespace
 
+std::string kept_section(const Json& kept, const std::string& id, const std::string& intro) {
+  if (!kept.is_array() || kept.empty()) return "";
+  std::string b = "<section aria-labelledby=\"h-" + id + "\"><h2 id=\"h-" + id +
+                  "\">What stays different</h2><p>" + esc(intro) + "</p><ul class=\"kept\" id=\"" +
+                  id + "\">";
+  std::vector<std::string> remedies;
+  for (const auto& k : kept) {
+    const std::string name = str(k, "name"), upid = str(k, "upid");
+    b += "<li><span class=\"pname\">" + esc(name.empty() ? "parameter" : name) + "</span>" +
+         (upid.empty() ? "" : " <span class=\"muted id\">" + esc(upid) + "h</span>") +
+         ": the configuration holds <span class=\"value\">" + esc(str(k, "configuration")) +
+         "</span>, the drive keeps <span class=\"value\">" + esc(str(k, "drive")) +
+         "</span>. <span class=\"muted\">Why: " + esc(str(k, "reason")) + ".</span></li>";
+    const std::string r = str(k, "remedy");
+    if (!r.empty() && std::find(remedies.begin(), remedies.end(), r) == remedies.end())
+      remedies.push_back(r);
+  }
+  b += "</ul>";
+  for (const auto& r : remedies) b += "<p class=\"remedy\">" + esc(r) + "</p>";
+  return b + "</section>\n";
+}
+
 std::string plan(const ConsoleUser& u, bool signed_in, const Json& p, TimePoint now) {
   const std::string name = str(p, "drive");
   std::string b = "<p class=\"crumbs\"><a href=\"/\">Plant</a> / " + position_link(name) +
@@ -152,12 +187,31 @@ std::string plan(const ConsoleUser& u, bool signed_in, const Json& p, TimePoint 
 
   b += "<section aria-labelledby=\"h-plan\"><h2 id=\"h-plan\">What will be written</h2>";
   if (p.value("nothing_to_do", false))
-    b += "<p id=\"nothing-to-do\">Nothing to do: the drive already holds this configuration.</p>";
+    b += "<p id=\"nothing-to-do\">Nothing to do: the drive already holds this configuration" +
+         std::string(member(p, "kept").empty() ? "" : ", except the values it keeps (below)") +
+         ".</p>";
   else
     b += steps_table(p);
   b += "</section>\n";
+  b += kept_section(member(p, "kept"), "kept",
+                    "The drive keeps these values of its own; they are not written, and the "
+                    "position is ok with them afterwards.");
   b += items_section("losses", "What the drive loses", member(p, "losses"), "");
-  b += items_section("notes", "Notes", member(p, "notes"), "muted");
+  // Notes in a technician's words; the CLI's wording folded below them.
+  const Json& notes = member(p, "notes");
+  if (notes.is_array() && !notes.empty()) {
+    b += "<section aria-labelledby=\"h-notes\"><h2 id=\"h-notes\">Notes</h2><ul class=\"muted\" "
+         "id=\"notes\">";
+    std::string cli;
+    for (const auto& n : notes) {
+      const std::string t = n.is_string() ? n.get<std::string>() : n.dump();
+      b += "<li>" + esc(words::note(t)) + "</li>";
+      cli += esc(t) + "\n";
+    }
+    b += "</ul><details class=\"cli\"><summary>The notes as the command line says them</summary>"
+         "<pre>" +
+         cli + "</pre></details></section>\n";
+  }
   b += resolve_section(u, p, problems, incompatible);
 
   // The CLI's plan, one click away: each step as `lmcfg restore --dry-run` names it.

@@ -1,5 +1,7 @@
 #include "serve/console_words.hpp"
 
+#include <cstring>
+
 namespace lmcfg::serve::words {
 
 namespace {
@@ -156,6 +158,69 @@ std::string plain(const std::string& text) {
   return out;
 }
 
+namespace {
+
+bool starts(const std::string& s, const char* prefix) { return s.rfind(prefix, 0) == 0; }
+
+std::string capital(std::string s) {
+  if (!s.empty() && s[0] >= 'a' && s[0] <= 'z') s[0] = static_cast<char>(s[0] - 'a' + 'A');
+  return s;
+}
+
+}  // namespace
+
+std::string note(const std::string& cli_note) {
+  const std::string n = cli_note;
+  if (has(n, "does not know the address usage"))
+    return "The parameter list does not say whether some of these values can be stored on the "
+           "drive, so the service asked the drive itself. Nothing to do.";
+  const std::string back = " goes back to its default";
+  if (starts(n, "leftover ") && n.size() > back.size() &&
+      n.compare(n.size() - back.size(), back.size(), back) == 0)
+    return n.substr(9, n.size() - 9 - back.size()) +
+           " is not set by the configuration: it goes back to its factory setting.";
+  if (starts(n, "found the recovery record"))
+    return "An earlier restore of this drive did not finish: the command table and curves are "
+           "saved again and the drive restarts at the end.";
+  if (starts(n, "the recovery record lists a step"))
+    return "An earlier restore got no answer from the drive for one step: that step is done "
+           "again.";
+  if (starts(n, "MC is stopped on the target"))
+    return "Motion control is stopped on the drive (an earlier restore stopped half way?): the "
+           "command table and curves are saved again and the drive restarts at the end.";
+  return capital(plain(n));
+}
+
+std::string progress(const std::string& cli_step) {
+  const std::string t = plain(cli_step);
+  static const std::pair<const char*, const char*> kPhases[] = {
+      {"plan: comparing parameters",
+       "Checking the drive: comparing its values with the "
+       "configuration"},
+      {"plan: command table", "Checking the drive: reading its command table"},
+      {"plan: curves", "Checking the drive: reading its curves"},
+      {"verify command table", "Reading back the command table"},
+      {"verify curves", "Reading back the curves"},
+      {"stop MC", "Stopping motion control (the axis stops)"},
+      {"default the ", "Setting parameters to their factory defaults"},
+      {"save the command table to flash",
+       "Saving the command table to the drive's flash (up to 10 s)"},
+      {"save curves to flash", "Saving the curves to the drive's flash (up to 10 s)"},
+      {"reset the drive", "Restarting the drive (it is silent for a few seconds)"},
+      {"start MC", "Starting motion control again"},
+  };
+  for (const auto& [prefix, words] : kPhases)
+    if (starts(t, prefix)) return words;
+  if (starts(t, "plan: ") && has(t, "UPID list"))
+    return "Checking the drive: reading its list of " + t.substr(6, t.find(" UPID list") - 6) +
+           " parameters";
+  if (starts(t, "write ROM ")) return "Writing " + t.substr(10);
+  for (const char* verb : {"write ", "delete "})
+    if (starts(t, verb))
+      return std::string(verb[0] == 'w' ? "Writing " : "Deleting ") + t.substr(std::strlen(verb));
+  return capital(t);
+}
+
 std::string step(const Json& st) {
   const std::string kind = str(st, "kind");
   const std::string layer = str(st, "layer");
@@ -224,8 +289,18 @@ std::string verdict(const Json& plan, bool& refused) {
            (nothing ? std::string("Nothing else differs.")
                     : "The rest would " + what + "." + effects);
   }
-  if (nothing) return "Nothing to write: the drive already holds this configuration.";
-  return "Will " + what + "." + effects;
+  // What matches means (docs/fleet.md): values kept by policy are said up front.
+  const std::string kept = count("kept") > 0
+                               ? " " + plural(count("kept"), "value stays", "values stay") +
+                                     " as the drive holds it (listed below)."
+                               : std::string();
+  if (nothing && kept.empty())
+    return "Nothing to write: the drive already holds this configuration.";
+  if (nothing)
+    return "Nothing to write: the drive holds this configuration, except values it keeps by "
+           "policy." +
+           kept;
+  return "Will " + what + "." + effects + kept;
 }
 
 }  // namespace lmcfg::serve::words

@@ -41,6 +41,15 @@ std::string plain(const std::string& text);
 // internal name or a section sign.
 std::string step(const Json& st);
 
+// A plan note (ops::Plan::notes, the CLI's wording) in a technician's words:
+// what it means for the drive, without UPID database terms, telegrams or paths.
+std::string note(const std::string& cli_note);
+
+// A restore job's progress line (a plan step's CLI text, or a phase such as
+// "plan: command table") in a technician's words: "Saving the command table to
+// the drive's flash (up to 10 s)".
+std::string progress(const std::string& cli_step);
+
 // The plan's verdict, first on the plan page: "Will write 12 values and
 // replace 3 curves; the axis stops during the restore." or "Cannot be
 // restored as it stands: ...". `refused`: set when nothing can be written.

@@ -261,6 +261,7 @@ Result<Json> Service::plan(const std::string& name, const std::string& rev,
                      ": the service restores LinRS drives; use lmcfg fleet restore");
   }
   fleet::ArchivedFile file;
+  std::map<std::uint16_t, std::uint8_t> known_types;
   {
     std::lock_guard<std::mutex> lock(s.archive_mu);
     // No revision named: the position's approved configuration.
@@ -270,15 +271,24 @@ Result<Json> Service::plan(const std::string& name, const std::string& rev,
     }
     LMCFG_ASSIGN_OR_RETURN(file, fleet::load_archived(s.opt.inventory, s.archive, name, from));
     if (rev.empty() && from != "HEAD") file.rev = "approved";
+    // The types the position's latest backup recorded: the plan shows the
+    // drive's values by them (a SINT32 keeps its sign, as on the position).
+    if (auto head = fleet::load_archived(s.opt.inventory, s.archive, name, "HEAD"); head.ok())
+      for (const auto& layer : head->config.layers)
+        for (const auto& p : layer)
+          if (p.type) known_types[p.upid] = *p.type;
   }
   // Read on the line's worker; the same plan asked again by the same person
   // shares the read (service_live.cpp).
   const std::size_t li = s.line_index(line);
   auto f = std::make_shared<const fleet::ArchivedFile>(std::move(file));
+  auto types =
+      std::make_shared<const std::map<std::uint16_t, std::uint8_t>>(std::move(known_types));
   Service::Impl* p = impl_.get();
   LMCFG_ASSIGN_OR_RETURN(
-      auto job, s.live_read(Kind::plan, li, name, "plan\n" + name + "\n" + rev + "\n" + who, who,
-                            [p, li, d, f, who] { return p->make_plan(li, *d, *f, who); }));
+      auto job,
+      s.live_read(Kind::plan, li, name, "plan\n" + name + "\n" + rev + "\n" + who, who,
+                  [p, li, d, f, types, who] { return p->make_plan(li, *d, *f, *types, who); }));
   return Impl::live_answer(*job);
 }
 

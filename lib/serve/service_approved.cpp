@@ -52,8 +52,9 @@ Result<void> Service::Impl::compare_approved(const fleet::LineEntry& line, const
     }
     if (!run.configs[i]) continue;
     fleet::DriveResult r = run.drives[i];
+    // The one meaning of "matches" (ops/matching.hpp): kept values are not drift.
     LMCFG_TRY(fleet::compare_drive(line, d, archive, approval ? approval->commit : "HEAD", opt.db,
-                                   run.configs[i], r));
+                                   run.configs[i], r, fleet::Compare::drift));
     la.against[i] = std::move(r);
   }
   return {};
@@ -129,7 +130,8 @@ void Service::Impl::save_states() {
                    {"differences", st.differences},
                    {"differing", st.differing},
                    {"notified", st.notified},
-                   {"drive_state", st.drive_state}};
+                   {"drive_state", st.drive_state},
+                   {"kept", st.kept}};
     }
   }
   std::error_code ec;
@@ -170,6 +172,7 @@ void Service::Impl::load_states() {
           for (const auto& t : j["differing"])
             if (t.is_string()) st.differing.push_back(t.get<std::string>());
         st.notified = j.value("notified", "");
+        if (j.contains("kept") && j["kept"].is_array()) st.kept = j["kept"];
         if (j.contains("drive_state") && j["drive_state"].is_string())
           st.drive_state = j["drive_state"].get<std::string>();
         continue;

@@ -66,6 +66,9 @@ struct Job {
   std::string retry_of, asked_by;
   // The values a restore left out (Plan::skipped_incompatible), each with its reason.
   std::vector<std::string> skipped;
+  // The values the restore left as the drive holds them by policy
+  // (ops::Plan::kept as ops::kept_json), each with its reason and remedy.
+  Json kept = Json::array();
   // After a failed restore: what the drive holds now, in plain words (drive_state_after).
   std::string drive_state;
   // A live read (diff to=live, plan) for API requests: the requests asking the
@@ -136,6 +139,9 @@ struct DriveState {
   std::vector<std::string> differing;       // the differences, as the commit message says them
   std::string notified;                     // the last state an event was sent for
   std::optional<fleet::Approval> approved;  // the position's approved configuration, when known
+  // What differs but is kept by policy (ops/matching.hpp), as ops::kept_json:
+  // not drift, said on the position.
+  Json kept = Json::array();
   // After a failed restore: what the drive holds (drive_state_after); "" otherwise.
   std::string drive_state;
   std::uint64_t retries_failed = 0;  // automatic retries of a restore that failed (a counter)
@@ -249,9 +255,12 @@ struct Service::Impl {
   // A live read's answer to the request that waited for it: the job's result or error.
   static Result<Json> live_answer(const Job& job);
   // On the line's worker: the restore plan of `f` against the drive at `d`,
-  // stored for execute(); its JSON (plan_to_json).
+  // stored for execute(); its JSON (plan_to_json). `known_types`: the types
+  // the position's latest backup recorded, for values the database cannot type.
   Result<LiveAnswer> make_plan(std::size_t li, const fleet::DriveEntry& d,
-                               const fleet::ArchivedFile& f, const std::string& who);
+                               const fleet::ArchivedFile& f,
+                               const std::map<std::uint16_t, std::uint8_t>& known_types,
+                               const std::string& who);
 
   // What a task that threw fails with; logged.
   Error thrown_error(std::size_t line, const std::string& what) const {

@@ -104,6 +104,8 @@ void Service::Impl::record(Kind kind, const fleet::DriveResult& r,
       // Read whole: what it holds is what this read says (no restore waits on
       // it: those positions are not recorded here).
       st.drive_state.clear();
+      st.kept = Json::array();
+      for (const auto& k : r.kept) st.kept.push_back(ops::kept_json(k));
       st.differing.clear();
       for (const auto& it : r.diff.items) st.differing.push_back(fleet::item_line(it));
       st.differences = r.diff.items.size();
@@ -126,6 +128,9 @@ void Service::Impl::record(Kind kind, const fleet::DriveResult& r,
             st.notified == "drift" || st.notified == "failed" || st.notified == "replaced";
         st.status = "ok";
         st.message = r.status == S::added ? "new, archived" : "matches the approved configuration";
+        if (!r.kept.empty())
+          st.message += "; " + std::to_string(r.kept.size()) +
+                        " value(s) differ that the drive keeps by policy (listed as kept)";
         st.differences = 0;
         if (was_off) {
           event = "recovered";
@@ -416,6 +421,7 @@ Json Service::Impl::job_json(const Job& j) const {
     out["retry_of"] = j.retry_of.empty() ? Json(nullptr) : Json(j.retry_of);
     out["asked_by"] = j.asked_by.empty() ? Json(nullptr) : Json(j.asked_by);
     out["skipped"] = j.skipped;
+    out["kept"] = j.kept;
     out["drive_state"] = j.drive_state.empty() ? Json(nullptr) : Json(j.drive_state);
     // The failed restore waits to be run again (an automatic retry, cancellable).
     out["retry_pending"] = j.failed_job && !j.position.empty() && pending.count(j.position) != 0;
@@ -470,6 +476,7 @@ Json Service::Impl::drive_json(const fleet::LineEntry& line, const fleet::DriveE
   j["differences"] = st->differences;
   j["message"] = st->message;
   if (st->status == "drift") j["differing"] = st->differing;
+  j["kept"] = st->kept;
   j["approved"] = fleet::approval_json(st->approved);
   j["drive_state"] = st->drive_state.empty() ? Json(nullptr) : Json(st->drive_state);
   // A failed restore the service will run again (before the line's next drift

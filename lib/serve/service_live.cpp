@@ -140,8 +140,9 @@ Result<Json> Service::Impl::live_answer(const Job& job) {
   return job.result;
 }
 
-Result<LiveAnswer> Service::Impl::make_plan(std::size_t li, const fleet::DriveEntry& d,
-                                            const fleet::ArchivedFile& f, const std::string& who) {
+Result<LiveAnswer> Service::Impl::make_plan(
+    std::size_t li, const fleet::DriveEntry& d, const fleet::ArchivedFile& f,
+    const std::map<std::uint16_t, std::uint8_t>& known_types, const std::string& who) {
   const auto& line = opt.inventory.lines[li];
   StoredPlan sp;
   sp.file = f;
@@ -152,6 +153,7 @@ Result<LiveAnswer> Service::Impl::make_plan(std::size_t li, const fleet::DriveEn
     LMCFG_ASSIGN_OR_RETURN(auto session, link::open_session(link_for(li, d)));
     ops::RestoreRunOptions ro;
     ro.restore = restore_options(line, d, true);
+    ro.restore.known_types = known_types;
     ro.dry_run = true;
     auto out = ops::run_restore(*session, f.config, opt.db, ro);
     auto closed = session->close();

@@ -289,6 +289,7 @@ void Service::Impl::finish_restore_job(Job& job, std::size_t li, const fleet::Ar
       job.commits.push_back(a.record->id);
     }
     for (const auto& sv : out.plan.skipped_incompatible) job.skipped.push_back(sv.text);
+    for (const auto& k : out.plan.kept) job.kept.push_back(ops::kept_json(k, "file"));
     if (!interrupted) event = record_restore_state(d.name, a, code, f.file_name, details);
     if (!interrupted && !err) note_unapproved(d.name, f);
   }
@@ -337,6 +338,9 @@ std::string Service::Impl::record_restore_state(const std::string& name, const R
     st.status = "ok";
     st.message =
         a.out.stage == S::nothing_to_do ? "matches the archive" : "restored from " + file_name;
+    // What the restore left as the drive holds it by policy: ok, and said.
+    st.kept = Json::array();
+    for (const auto& k : a.out.plan.kept) st.kept.push_back(ops::kept_json(k, "file"));
     st.differences = 0;
     st.differing.clear();
     if (a.out.written) event = "restored";
@@ -555,6 +559,7 @@ Json Service::Impl::plan_to_json(const StoredPlan& sp) const {
       {"nothing_to_do", sp.plan.nothing_to_do()},
       {"steps", steps},
       {"losses", items["losses"]},
+      {"kept", items["kept"]},
       {"notes", items["notes"]},
       {"problems", problems},
       {"incompatible", incompatible},

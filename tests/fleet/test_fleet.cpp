@@ -1,6 +1,7 @@
 // What a fleet run reports (lib/fleet/fleet.cpp): the commit message and the
 // status lines in docs/fleet.md's wording, the counts, the archive path. The
 // runs against drives are tested end to end in tests/tools/test_fleet_cli.cpp.
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
 
@@ -173,6 +174,50 @@ TEST_CASE("fleet: status names, the archive path, the summary lines", "[fleet]")
   CHECK_FALSE(j.contains("commit"));
   CHECK(j["drives"].size() == 9);
   CHECK(nlohmann::json::parse(fleet::render_json(run, false))["commit"].is_null());
+}
+
+}  // namespace fleet_test_fleet
+
+namespace fleet_test_fleet {
+
+TEST_CASE("fleet: what matches means, the rule's settings and status lines with kept values",
+          "[fleet][matching]") {
+  auto inv = fleet::parse_inventory(
+      "[[line]]\nname = \"l1\"\nport = \"/dev/ttyUSB0\"\nbaud = 115200\nignore = [\"0020h\"]\n"
+      "[[line.drive]]\nname = \"press3/x\"\nid = 0x12\nignore = [\"1037h\"]\n",
+      "plant.toml");
+  REQUIRE(inv.ok());
+  const auto p = fleet::match_policy(inv->lines[0], inv->lines[0].drives[0]);
+  CHECK(p.macid == std::uint8_t{0x12});
+  CHECK(p.baud == 115200u);
+  CHECK_FALSE(p.include_comm);
+  CHECK(std::find(p.ignored.begin(), p.ignored.end(), 0x0020) != p.ignored.end());
+  CHECK(std::find(p.ignored.begin(), p.ignored.end(), 0x1037) != p.ignored.end());
+
+  // An ok drive whose kept values are said, not counted as drift.
+  fleet::FleetRun run;
+  auto r = drive("l1", "press3/x", 0x12, S::unchanged);
+  ops::DiffItem baud;
+  baud.kind = K::parameter;
+  baud.layer = 3;
+  baud.key = 0x2012;
+  baud.a = "16";
+  baud.b = "8";
+  r.kept.push_back(ops::KeptValue{baud, ops::KeptBy::communication});
+  run.drives.push_back(r);
+  run.against_approved = true;
+  const std::string text = fleet::render_text(run, true);
+  CHECK(text.rfind("kept: press3/x (line l1, MACID 12h): 1 value the drive keeps by policy\n"
+                   "    Intf 2012h: approved 16, drive 8 (a communication setting: a restore "
+                   "keeps the drive's own value, so that the drive keeps answering on its line "
+                   "as it does now)\n"
+                   "1 drive(s): 1 as archived, 0 drifted",
+                   0) == 0);
+  const auto j = nlohmann::json::parse(fleet::render_json(run, true));
+  REQUIRE(j["drives"][0]["kept"].size() == 1);
+  CHECK(j["drives"][0]["kept"][0]["upid"] == "2012");
+  CHECK(j["drives"][0]["kept"][0]["by"] == "communication");
+  CHECK(j["counts"]["unchanged"] == 1);
 }
 
 }  // namespace fleet_test_fleet

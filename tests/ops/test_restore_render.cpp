@@ -199,9 +199,35 @@ TEST_CASE("restore render: plan_json's items per step kind and skipped value kin
     {"ct_entry": 7, "name": "Home", "reason_code": "ct_entry_size",
      "reason": "entry size 32 differs from the target's 64"}
   ],
-  "notes": ["a note"]
+  "notes": ["a note"],
+  "kept": []
 })json")
                         .dump());
+}
+
+TEST_CASE("restore render: the values the restore keeps, in the text plan and in JSON",
+          "[restore_render][matching]") {
+  ops::Plan p;
+  ops::DiffItem baud;
+  baud.kind = ops::DiffItem::Kind::parameter;
+  baud.layer = 3;
+  baud.key = 0x2012;
+  baud.name = "Baud Rate Parameter Def";
+  baud.a = "16";
+  baud.b = "8";
+  p.kept.push_back(ops::KeptValue{baud, ops::KeptBy::communication});
+  CHECK(ops::render_plan(p) ==
+        "plan: nothing to do: the target already matches the file except the values it keeps (no "
+        "write, MC keeps running)\n"
+        "  stays different: Intf 2012h Baud Rate Parameter Def: file 16, drive 8 (a "
+        "communication setting: a restore keeps the drive's own value, so that the drive keeps "
+        "answering on its line as it does now)\n");
+  const auto j = ops::plan_json(p);
+  REQUIRE(j["kept"].size() == 1);
+  CHECK(j["kept"][0]["upid"] == "2012");
+  CHECK(j["kept"][0]["configuration"] == "16");
+  CHECK(j["kept"][0]["drive"] == "8");
+  CHECK(j["kept"][0]["text"] == "Intf 2012h Baud Rate Parameter Def: file 16, drive 8");
 }
 
 }  // namespace ops_test_restore_render

@@ -311,7 +311,7 @@ TEST_CASE("console: hostile line names, labels and query text render as text", "
   auto res = b.get("/");
   REQUIRE(res);
   CHECK(res->body.find("<script>alert") == std::string::npos);
-  CHECK(res->body.find("<td>" + escaped + "</td>") != std::string::npos);
+  CHECK(res->body.find("<td data-label=\"Line\">" + escaped + "</td>") != std::string::npos);
   CHECK(res->body.find("<option value=\"" + escaped + "\">" + escaped + "</option>") !=
         std::string::npos);
 
@@ -371,8 +371,8 @@ TEST_CASE(
   auto page = b.get("/position?name=press3%2Fx");
   REQUIRE(page);
   const std::string& html = page->body;
-  CHECK(html.find("Differences from the approved configuration at the last check:") !=
-        std::string::npos);
+  CHECK(html.find("Differences at the last check (each as the approved configuration &rarr; "
+                  "the drive):") != std::string::npos);
   CHECK(html.find("<p id=\"approved\">Approved configuration: <code>") != std::string::npos);
   // The commissioned revision is marked, the spare's backup can be approved.
   CHECK(html.find("This is the approved configuration.") != std::string::npos);

@@ -139,15 +139,17 @@ TEST_CASE("console pages: the overview counts positions by status and filters th
   CHECK(has(html,
             "<tr data-drive=\"press3/z\" data-status=\"ok\"><td><a "
             "href=\"/position?name=press3%2Fz\"><span "
-            "class=\"name\">press3/<wbr>z</span></a></td><td>line1</td><td>0x11</"
-            "td><td><span class=\"status s-ok\">ok</span></td><td><time "
-            "datetime=\"2027-01-15T07:00:00Z\" title=\"2027-01-15T07:00:00Z\">1 h 0 min "
-            "ago</time></td><td>matches the archive <span class=\"muted\">(status, <time "
+            "class=\"name\">press3/<wbr>z</span></a></td><td data-label=\"Line\">line1</td><td "
+            "data-label=\"ID\">0x11</td><td><span class=\"status s-ok\">ok</span></td><td "
+            "data-label=\"Last backup\"><time datetime=\"2027-01-15T07:00:00Z\" "
+            "title=\"2027-01-15T07:00:00Z\">1 h 0 min ago</time></td><td data-label=\"Last "
+            "event\">matches the archive <span class=\"muted\">(status, <time "
             "datetime=\"2027-01-15T07:45:00Z\" title=\"2027-01-15T07:45:00Z\">15 min "
             "ago</time>)</span></td></tr>"));
   CHECK(has(html,
-            "<td>0x05</td><td><span class=\"status s-never-backed-up\">never backed "
-            "up</span></td><td><span class=\"muted\">never</span></td>"));
+            "<td data-label=\"ID\">0x05</td><td><span class=\"status s-never-backed-up\">never "
+            "backed up</span></td><td data-label=\"Last backup\"><span "
+            "class=\"muted\">never</span></td>"));
   CHECK(has(html, "<option value=\"line2\">line2</option>"));
   CHECK(has(html, "<option value=\"\" selected>all lines</option>"));
 
@@ -171,6 +173,35 @@ TEST_CASE("console pages: the overview counts positions by status and filters th
   html = pages::overview(kViewer, true, inv, Json::array(), "", "", kNow);
   CHECK(has(html, "<li><strong>0</strong> positions</li>"));
   CHECK(has(html, "No position matches the filter."));
+}
+
+TEST_CASE(
+    "console pages: the overview's never-backed-up count agrees with the rows, a failure in "
+    "words",
+    "[serve][console_pages]") {
+  fleet::Inventory inv;
+  inv.lines = {line1()};
+  // press3/z's first backup failed: its row says "Last backup: never".
+  const Json drives = Json::parse(R"J([
+    {"name": "press3/z", "line": "line1", "id": 17, "status": "failed", "last_backup": null,
+     "last_attempt": {"time": "2027-01-15T07:45:00Z", "job": "backup", "result": "failed",
+                      "exit_code": 4},
+     "differences": 0,
+     "message": "line 'line1' (/dev/ttyUSB0): no answer from drive 11h within 200.0 ms (main 05h sub 08h; raise --timeout-ms)"},
+    {"name": "press3/x", "line": "line1", "id": 18, "status": "unknown", "last_backup": null,
+     "last_attempt": null, "differences": 0, "message": "not read yet"}])J");
+  std::string html = pages::overview(kOperator, false, inv, drives, "", "", kNow);
+  CHECK(has(html, "<strong data-count=\"failed\">1</strong>"));
+  CHECK(has(html, "<strong data-count=\"never backed up\">2</strong>"));
+  CHECK(has(html, "<strong data-count=\"unknown\">0</strong>"));
+  // The last event: what happened in words first, the service's message folded.
+  CHECK(has(html,
+            "<td data-label=\"Last event\"><details class=\"event\"><summary>The drive at "
+            "press3/z did not answer.</summary>line &#39;line1&#39;"));
+  // Filtering by "never backed up" shows both rows the count counts.
+  html = pages::overview(kOperator, false, inv, drives, "", "never backed up", kNow);
+  CHECK(has(html, "data-drive=\"press3/z\""));
+  CHECK(has(html, "data-drive=\"press3/x\""));
 }
 
 TEST_CASE("console pages: a position's identity, state, actions by role and its history",
@@ -284,7 +315,10 @@ TEST_CASE("console pages: a job polls while it runs, shows its outcome in words 
             "<strong class=\"job-state\" data-state=\"running\">running</strong>, asked by "
             "anna"));
   CHECK(has(html, "<progress max=\"5\" value=\"2\">2 of 5</progress> 2 of 5 step(s)"));
-  CHECK(has(html, "<p>Now: stop MC: the axis stops</p>"));
+  // The step in words; the CLI's step folded below it.
+  CHECK(has(html,
+            "<p>Now: <span id=\"now\">Stopping motion control (the axis stops)</span></p><details "
+            "class=\"cli\"><summary>As the command line says it</summary><pre>stop MC ("));
   CHECK_FALSE(has(html, "id=\"what-happened\""));
 
   Json failed = running;
@@ -331,6 +365,22 @@ TEST_CASE("console pages: a job polls while it runs, shows its outcome in words 
             "was written.</p>"));
   CHECK(has(html, "<code id=\"commit\">cccccccccccccccc</code>"));
   CHECK_FALSE(has(html, "Plan the restore again"));
+  CHECK_FALSE(has(html, "What stays different"));
+  // After the write: the values the drive kept by policy, with why and what to do.
+  Json kept = done;
+  kept["kept"] =
+      Json::parse(R"([{"kind": "parameter", "upid": "206C", "name": "MACID Source Select",
+    "configuration": "3", "drive": "1", "reason": "a communication setting",
+    "remedy": "Nothing needs doing while the drive answers on its line."}])");
+  html = pages::job(kOperator, true, kept, "press3/z");
+  CHECK(has(html,
+            "was written.</p><section aria-labelledby=\"h-kept\"><h2 id=\"h-kept\">What stays "
+            "different</h2><p>Not written, by policy: the drive keeps its own values here, and "
+            "the position is ok with them.</p>"));
+  CHECK(has(html,
+            "<span class=\"pname\">MACID Source Select</span> <span class=\"muted "
+            "id\">206Ch</span>: the configuration holds <span class=\"value\">3</span>, the "
+            "drive keeps <span class=\"value\">1</span>."));
 
   // Values left out: amber, each listed, and what it means for the position.
   Json partial = done;

@@ -70,11 +70,13 @@ TEST_CASE("console plan: the verdict first, names and values in units, steps in 
   // The display already carries the unit: not said twice; the sign is kept.
   CHECK(has(html,
             "<td><span class=\"pname\">Maximal Current Set A</span> <span class=\"muted "
-            "id\">13A6h</span></td><td><span class=\"value\">1.000 A</span></td><td "
-            "aria-hidden=\"true\">&rarr;</td><td><span class=\"value\">2.500 A</span></td>"));
+            "id\">13A6h</span></td><td data-label=\"Now (drive)\"><span class=\"value\">1.000 "
+            "A</span></td><td aria-hidden=\"true\">&rarr;</td><td data-label=\"After "
+            "(configuration)\"><span class=\"value\">2.500 A</span></td>"));
   CHECK(has(html,
-            "<td><span class=\"muted\">not set</span></td><td "
-            "aria-hidden=\"true\">&rarr;</td><td><span class=\"value\">-3</span></td>"));
+            "<td data-label=\"Now (drive)\"><span class=\"muted\">not set</span></td><td "
+            "aria-hidden=\"true\">&rarr;</td><td data-label=\"After (configuration)\"><span "
+            "class=\"value\">-3</span></td>"));
   CHECK(has(html, "<span class=\"pname\">Mode &lt;x&gt;</span>"));
   CHECK(has(html,
             "<td colspan=\"4\">Stop motion control: the axis stops, and stays stopped until the "
@@ -149,7 +151,69 @@ TEST_CASE("console plan: a refused plan has no write button and says what resolv
   CHECK(has(nothing,
             "<p id=\"nothing-to-do\">Nothing to do: the drive already holds this "
             "configuration.</p>"));
-  CHECK(has(nothing, "<ul class=\"muted\" id=\"notes\"><li>a note</li></ul>"));
+  CHECK(has(nothing, "<ul class=\"muted\" id=\"notes\"><li>A note</li></ul>"));
+}
+
+TEST_CASE(
+    "console plan: what stays different before the write, notes in words, an executed plan "
+    "offers no write",
+    "[serve][console_plan][matching]") {
+  Json p = plan();
+  p["kept"] = Json::parse(R"([{"kind": "parameter", "layer": "Intf", "upid": "2012",
+    "name": "Baud Rate Parameter Def", "configuration": "16", "drive": "8",
+    "by": "communication", "reason": "a communication setting: a restore keeps the drive's own value",
+    "remedy": "Nothing needs doing while the drive answers on its line.",
+    "text": "Intf 2012h Baud Rate Parameter Def: file 16, drive 8"}])");
+  p["notes"] = Json::array(
+      {"MC: the UPID database does not know the address usage of 9 parameter(s); asked the "
+       "target for each (05h/03h, LinRS 3V27 p27) to check ROM write access",
+       "leftover Appl 3020h = -1000 goes back to its default"});
+  std::string html = pages::plan(kOperator, true, p, kNow);
+  CHECK(has(html,
+            "<p class=\"verdict\" id=\"verdict\">Will write 2 values. The axis stops during "
+            "the restore. The drive restarts at the end. 1 value stays as the drive holds it "
+            "(listed below).</p>"));
+  CHECK(has(html,
+            "<h2 id=\"h-kept\">What stays different</h2><p>The drive keeps these values of its "
+            "own; they are not written, and the position is ok with them afterwards.</p><ul "
+            "class=\"kept\" id=\"kept\"><li><span class=\"pname\">Baud Rate Parameter "
+            "Def</span> <span class=\"muted id\">2012h</span>: the configuration holds <span "
+            "class=\"value\">16</span>, the drive keeps <span class=\"value\">8</span>. <span "
+            "class=\"muted\">Why: a communication setting: a restore keeps the drive&#39;s own "
+            "value.</span></li></ul><p class=\"remedy\">Nothing needs doing while the drive "
+            "answers on its line.</p>"));
+  // The notes in a technician's words; the CLI's wording folded below them.
+  for (const char* developer : {"UPID database", "05h/03h", "leftover", "address usage"})
+    CHECK_FALSE(has(headline(html), developer));
+  CHECK(has(html,
+            "<li>The parameter list does not say whether some of these values can be stored on "
+            "the drive, so the service asked the drive itself. Nothing to do.</li>"));
+  CHECK(has(html,
+            "<li>Appl 3020h = -1000 is not set by the configuration: it goes back to its "
+            "factory setting.</li>"));
+  CHECK(has(html, "<summary>The notes as the command line says them</summary><pre>MC: the UPID"));
+
+  // Only kept values differ: nothing to write, and it says which stay.
+  p["steps"] = Json::array();
+  p["nothing_to_do"] = true;
+  html = pages::plan(kOperator, true, p, kNow);
+  CHECK(has(html,
+            "<p class=\"verdict\" id=\"verdict\">Nothing to write: the drive holds this "
+            "configuration, except values it keeps by policy. 1 value stays as the drive holds "
+            "it (listed below).</p>"));
+  CHECK(has(html,
+            "<p id=\"nothing-to-do\">Nothing to do: the drive already holds this configuration, "
+            "except the values it keeps (below).</p>"));
+
+  // Reopened after it ran (Back): no write button, the job instead.
+  p = plan();
+  p["executed_job"] = "42";
+  html = pages::plan(kOperator, true, p, kNow);
+  CHECK_FALSE(has(html, "id=\"execute\""));
+  CHECK_FALSE(has(html, "action=\"/execute\""));
+  CHECK(has(html,
+            "<p id=\"executed\">This plan was written to the drive already. <a "
+            "class=\"button\" href=\"/job?id=42&amp;name=press3%2Fz\">See how it went</a>"));
 }
 
 }  // namespace serve_test_console_plan

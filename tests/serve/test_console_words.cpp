@@ -131,4 +131,34 @@ TEST_CASE("console words: the plan's verdict first", "[console_words]") {
         "Nothing to write: the drive already holds this configuration.");
 }
 
+TEST_CASE("console words: plan notes and progress lines in a technician's words",
+          "[console_words]") {
+  CHECK(words::note("Intf: the UPID database does not know the address usage of 9 parameter(s); "
+                    "read the target's UPID list (412 UPIDs, \u00a710.3) to check ROM write "
+                    "access") ==
+        "The parameter list does not say whether some of these values can be stored on the "
+        "drive, so the service asked the drive itself. Nothing to do.");
+  CHECK(words::note("leftover MC 13A2h = 5 goes back to its default") ==
+        "MC 13A2h = 5 is not set by the configuration: it goes back to its factory setting.");
+  CHECK(words::note("found the recovery record /var/lib/lmcfg/restore-x.json of a restore that "
+                    "did not finish (2027-01-15T08:00:00Z): the command table ...") ==
+        "An earlier restore of this drive did not finish: the command table and curves are "
+        "saved again and the drive restarts at the end.");
+  CHECK(words::note("something else (\u00a712)") == "Something else");
+
+  CHECK(words::progress("plan: command table") == "Checking the drive: reading its command table");
+  CHECK(words::progress("plan: MC UPID list") ==
+        "Checking the drive: reading its list of MC parameters");
+  CHECK(words::progress("save the command table to flash (\u00a712 08h 00h saves every entry; up "
+                        "to 10 s)") ==
+        "Saving the command table to the drive's flash (up to 10 s)");
+  CHECK(words::progress("write ROM MC 13A2h P Gain: 5 -> 7") == "Writing MC 13A2h P Gain: 5 -> 7");
+  CHECK(words::progress("write curve 3 'Lift'") == "Writing curve 3 'Lift'");
+  CHECK(words::progress("stop MC and application software (\u00a713.3): the axis stops") ==
+        "Stopping motion control (the axis stops)");
+  CHECK(words::progress("verify curves") == "Reading back the curves");
+  for (const char* cli : {"plan: comparing parameters", "reset the drive so the ROM values act"})
+    CHECK(words::progress(cli).find("plan:") == std::string::npos);
+}
+
 }  // namespace serve_test_console_words

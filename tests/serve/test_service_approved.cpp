@@ -50,6 +50,22 @@ std::string inventory_text(const fs::path& dir) {
          "0x11\n[[line.drive]]\nname = \"press3/x\"\nid = 0x12\n";
 }
 
+// The simulated drive's ROM and RAM values `values` (UPID -> value), as a
+// used spare holds them.
+void set_sim_values(const fs::path& state, const std::map<std::string, int>& values) {
+  auto j = nlohmann::json::parse(slurp(state));
+  for (auto& p : j["parameters"])
+    if (auto it = values.find(p["upid"].get<std::string>()); it != values.end())
+      p["rom"] = p["ram"] = it->second;
+  spit(state, j.dump(1));
+}
+
+std::vector<std::string> upids_of(const nlohmann::json& kept) {
+  std::vector<std::string> out;
+  for (const auto& k : kept) out.push_back(k.value("upid", ""));
+  return out;
+}
+
 }  // namespace
 
 TEST_CASE(
@@ -191,6 +207,85 @@ TEST_CASE("serve: restoring the approved configuration over a used spare makes i
   x = drive(*rig.service, "press3/x");
   CHECK(x["status"] == "drift");
   CHECK(x["differences"] == 1);
+}
+
+TEST_CASE(
+    "serve: a used spare with other communication settings, restored from the approved "
+    "configuration, stays ok through two scheduled backups; the plan says what stays different",
+    "[serve][service_approved][matching][git-cli]") {
+  Rig rig;
+  const auto t0 = rig.now;
+  rig.at(t0);  // commissioned: baud rate and MACID by parameter (200Eh = 2, 206Ch = 3)
+  // The spare's switches choose its baud rate and MACID (200Eh, 206Ch at
+  // their defaults), 2012h holds another code, OS 0010h another value.
+  write_axis(rig.dir.path / "b.json", 0x12, "0010", 7);
+  set_sim_values(rig.dir.path / "b.json", {{"200E", 1}, {"2012", 8}, {"206C", 1}});
+  // ... and Appl 3020h (SINT32) at -1000, which the plan writes back to its default.
+  {
+    auto j = nlohmann::json::parse(slurp(rig.dir.path / "b.json"));
+    for (auto& p : j["parameters"])
+      if (p["upid"] == "3020") p["rom"] = p["ram"] = 4294966296u;
+    spit(rig.dir.path / "b.json", j.dump(1));
+  }
+  rig.at(t0 + 6h);
+  auto x = drive(*rig.service, "press3/x");
+  CHECK(x["status"] == "drift");
+  CHECK(x["differing"] ==
+        nlohmann::json::array({"OS 0010h: 5 -> 7", "Appl 3020h: default 0 -> -1000"}));
+  const std::vector<std::string> comm{"200E", "2012", "206C"};
+  CHECK(upids_of(x["kept"]) == comm);
+  rig.take_events();
+
+  // Before the write: the plan writes 0010h and says which values stay, and why.
+  auto planned = rig.service->plan("press3/x", "", "ops");
+  REQUIRE(planned.ok());
+  const auto p = plain(*planned);
+  CHECK(p["nothing_to_do"] == false);
+  CHECK(upids_of(p["kept"]) == comm);
+  // The drive's -1000 keeps its sign on the plan, as on the position.
+  bool signed_shown = false;
+  for (const auto& st : p["steps"])
+    if (st.value("upid", "") == "3020") signed_shown = st["old"] == "-1000" && st["new"] == "0";
+  CHECK(signed_shown);
+  // The database names no default here: the file's side says so (a real database knows it).
+  CHECK(p["kept"][1]["configuration"] == "its default (not known)");
+  CHECK(p["kept"][1]["drive"].get<std::string>().rfind("8", 0) == 0);
+  CHECK(p["kept"][1]["by"] == "communication");
+  CHECK(p["kept"][1]["remedy"].get<std::string>().rfind(
+            "Nothing needs doing while the drive answers on its line.", 0) == 0);
+  serve::Service::ExecuteRequest er;
+  er.plan_id = p["plan_id"];
+  er.audit = {"ops", "spare back to the commissioned tuning", ""};
+  auto job = rig.service->execute(er);
+  REQUIRE(job.ok());
+  rig.service->wait_idle();
+
+  // After it: restored and verified, the same three values listed as kept.
+  auto done = rig.service->job(*job);
+  REQUIRE(done.ok());
+  const auto j = plain(*done);
+  CHECK(j["outcome"] == "restored and verified");
+  CHECK(upids_of(j["kept"]) == comm);
+  x = drive(*rig.service, "press3/x");
+  CHECK(x["status"] == "ok");
+  CHECK(upids_of(x["kept"]) == comm);
+
+  // Two scheduled backups (each with its drift check): ok, never drift.
+  for (auto t : {t0 + 12h, t0 + 18h}) {
+    rig.at(t);
+    x = drive(*rig.service, "press3/x");
+    CHECK(x["status"] == "ok");
+    CHECK(x["message"] ==
+          "matches the approved configuration; 3 value(s) differ that the drive keeps by policy "
+          "(listed as kept)");
+    CHECK(upids_of(x["kept"]) == comm);
+    for (const auto& e : rig.take_events()) CHECK(e["event"] != "drift");
+  }
+  // Planning again agrees: nothing to write, the same values kept.
+  auto again = rig.service->plan("press3/x", "", "ops");
+  REQUIRE(again.ok());
+  CHECK(plain(*again)["nothing_to_do"] == true);
+  CHECK(upids_of(plain(*again)["kept"]) == comm);
 }
 
 TEST_CASE("serve: statuses and last backups survive a restart of the service",
