@@ -7,9 +7,11 @@
 #include <deque>
 #include <map>
 #include <mutex>
+#include <string_view>
 #include <thread>
 #include <vector>
 
+#include "common/text.hpp"
 #include "serve/web_socket.hpp"
 
 namespace lmcfg::serve::web {
@@ -69,7 +71,7 @@ struct Server::Impl {
   explicit Impl(ServerOptions o) : opt(std::move(o)) {}
 
   void log(const std::string& s) const {
-    if (opt.log) opt.log(s);
+    if (opt.log) opt.log(log_text(s));  // whatever a client sent, escaped (common/text.hpp)
   }
   void poke() const { waker.poke(); }
   template <typename F>
