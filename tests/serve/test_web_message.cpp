@@ -119,6 +119,37 @@ TEST_CASE("web message: the body limit holds for every transfer coding (RFC 9112
   refused(trailer, 431, "the chunked body's trailer is larger than 16384 bytes");
 }
 
+TEST_CASE("web message: a chunk size line holds 256 bytes however its bytes arrive",
+          "[serve][web_message]") {
+  const std::string head = "POST /x HTTP/1.1\r\nHost: h\r\nTransfer-Encoding: chunked\r\n\r\n";
+  // "1;" and an extension: 256 bytes of line pass, 257 do not (CRLF not counted).
+  const auto body = [&](std::size_t line) {
+    return head + "1;" + std::string(line - 2, 'e') + "\r\na\r\n0\r\n\r\n";
+  };
+  for (std::size_t step : {std::size_t(1), std::size_t(7), std::size_t(100000)}) {
+    INFO("pieces of " << step << " bytes");
+    const auto feed = [&](const std::string& bytes) {
+      RequestParser p(Limits{});
+      State s = State::need_more;
+      for (std::size_t i = 0; i < bytes.size() && s == State::need_more; i += step)
+        s = p.feed(std::string_view(bytes).substr(i, step));
+      return std::make_pair(s, p.error_message());
+    };
+    const auto fits = feed(body(256));
+    CHECK(fits.first == State::complete);
+    for (const std::string& bytes : {body(257), body(300), body(4000)}) {
+      const auto over = feed(bytes);
+      CHECK(over.first == State::error);
+      CHECK(over.second == "a chunk size line longer than 256 bytes");
+    }
+  }
+  // A line that ends in CR with its LF still to come is not over the limit by the CR.
+  RequestParser p(Limits{});
+  CHECK(p.feed(head + "1;" + std::string(254, 'e') + "\r") == State::need_more);
+  CHECK(p.feed("\na\r\n0\r\n\r\n") == State::complete);
+  CHECK(p.request().body == "a");
+}
+
 TEST_CASE("web message: smuggling shapes are refused (RFC 9112 §6.3, §5.2)",
           "[serve][web_message]") {
   refused("POST /x HTTP/1.1\r\nHost: h\r\nContent-Length: 3\r\nTransfer-Encoding: chunked\r\n\r\n",
