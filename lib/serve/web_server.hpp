@@ -11,11 +11,12 @@
 //     an idle keep-alive connection is closed after idle_timeout; an answer
 //     that the client does not take within write_timeout is dropped;
 //   - connections: max_connections in all, max_per_address per client
-//     address. A new connection over a limit evicts the oldest connection that
-//     has no request in progress (idle, or still sending its head) from the
-//     same address (per-address limit) or any (total), so held connections
-//     never lock a legitimate client out; when none can go, the new one is
-//     answered 503 and closed;
+//     address. A new connection over a limit evicts a connection that has no
+//     request with a worker (idle, or still sending its head or its body):
+//     the oldest from the same address (per-address limit), or the oldest
+//     from the address holding the most connections (total limit), so held
+//     connections never lock a legitimate client out and no address pushes
+//     out another's; when none can go, the new one is answered 503 and closed;
 //   - handlers: queued_max requests waiting for a worker, then 503.
 // A handler's exception answers 500 and is logged; it never ends the process.
 #include <atomic>

@@ -135,6 +135,55 @@ TEST_CASE("web server: over the per-address limit the oldest waiting connection 
   CHECK(held[1].closed(500));  // the oldest of all
 }
 
+TEST_CASE("web server: connections that announce a body and never send it make room too",
+          "[serve][web_server]") {
+  // The shape of the attack: every slot held by a complete head with
+  // Content-Length: 4096 and no body, from several addresses, each at its
+  // per-address limit; legitimate GETs from another address still answered.
+  ServerOptions o = quick();
+  o.head_timeout = 5s;
+  o.body_timeout = 5s;
+  o.idle_timeout = 5s;
+  o.max_per_address = 4;
+  o.max_connections = 8;
+  TestServer s(o);
+  std::vector<RawClient> held;
+  for (const char* from : {"127.0.0.2", "127.0.0.3", "127.0.0.4"}) {
+    for (int i = 0; i < 4; ++i) {
+      held.emplace_back(s.port, from);
+      REQUIRE(held.back().send("POST /held HTTP/1.1\r\nHost: h\r\nContent-Length: 4096\r\n\r\n"));
+      std::this_thread::sleep_for(10ms);
+    }
+  }
+  std::this_thread::sleep_for(50ms);
+  // 12 sent, 8 fit: the 4 oldest, from the addresses with the most, went.
+  CHECK(s.server->stats().evicted == 4);
+  CHECK(s.server->stats().open == 8);
+  CHECK(held[0].closed(500));
+  CHECK_FALSE(held.back().closed(50));
+  for (int i = 0; i < 10; ++i)
+    CHECK(starts_with(s.get("/legit", "127.0.0.9"), "HTTP/1.1 200 OK\r\n"));
+  CHECK(s.server->stats().refused == 0);
+  // The first GET made room (one held connection of 127.0.0.4, which had the
+  // most); each answered GET closed its own, so the next ones found room.
+  CHECK(s.server->stats().evicted == 5);
+  CHECK_FALSE(held.back().closed(50));
+  // A client with one connection keeps it: its idle connection is not the
+  // one to go while others hold more.
+  RawClient few(s.port, "127.0.0.9");
+  REQUIRE(few.send("GET /few HTTP/1.1\r\nHost: h\r\n\r\n"));
+  CHECK(few.response(1000).find("path /few") != std::string::npos);  // now idle, kept alive
+  std::vector<RawClient> more;
+  for (int i = 0; i < 3; ++i) {
+    more.emplace_back(s.port, "127.0.0.2");
+    REQUIRE(more.back().send("POST /held HTTP/1.1\r\nHost: h\r\nContent-Length: 4096\r\n\r\n"));
+    std::this_thread::sleep_for(20ms);
+  }
+  CHECK(s.server->stats().evicted == 8);
+  REQUIRE(few.send("GET /again HTTP/1.1\r\nHost: h\r\n\r\n"));
+  CHECK(few.response(1000).find("path /again") != std::string::npos);
+}
+
 TEST_CASE("web server: when every connection has a request in progress, a new one gets 503",
           "[serve][web_server]") {
   std::mutex mu;
