@@ -1,7 +1,7 @@
 #include "serve/console_http.hpp"
 
-#include "serve/web_message.hpp"
-#include "serve/web_router.hpp"
+#include "web/web_message.hpp"
+#include "web/web_router.hpp"
 
 namespace lmcfg::serve {
 

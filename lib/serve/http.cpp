@@ -10,9 +10,9 @@
 #include "common/bytes.hpp"
 #include "common/text.hpp"
 #include "serve/console_http.hpp"
-#include "serve/web_router.hpp"
-#include "serve/web_server.hpp"
-#include "serve/web_tls.hpp"
+#include "web/web_router.hpp"
+#include "web/web_server.hpp"
+#include "web/web_tls.hpp"
 
 namespace lmcfg::serve {
 

@@ -12,9 +12,9 @@
 #include "serve/console.hpp"
 #include "serve/console_http.hpp"
 #include "serve/tokens.hpp"
-#include "serve/web_router.hpp"
-#include "serve/web_server.hpp"
 #include "serve_rig.hpp"
+#include "web/web_router.hpp"
+#include "web/web_server.hpp"
 
 // This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
 namespace serve_test_console_http {
@@ -27,8 +27,8 @@ namespace {
 
 // register_console_routes on a router and server of their own, on 127.0.0.1, any port.
 struct ConsoleServer {
-  serve::web::Router router;
-  std::unique_ptr<serve::web::Server> server;
+  web::Router router;
+  std::unique_ptr<web::Server> server;
   std::unique_ptr<serve::Console> console;
   std::thread thread;
   int port = 0;
@@ -38,11 +38,11 @@ struct ConsoleServer {
     REQUIRE(c.ok());
     console = std::move(c).value();
     serve::register_console_routes(router, *console);
-    serve::web::ServerOptions so;
-    so.handle = [this](serve::web::Request& req, serve::web::Response& res) {
-      if (router.dispatch(req, res) != serve::web::Router::Outcome::handled) res.status = 404;
+    web::ServerOptions so;
+    so.handle = [this](web::Request& req, web::Response& res) {
+      if (router.dispatch(req, res) != web::Router::Outcome::handled) res.status = 404;
     };
-    server = std::make_unique<serve::web::Server>(std::move(so));
+    server = std::make_unique<web::Server>(std::move(so));
     auto p = server->bind("127.0.0.1", 0);
     REQUIRE(p.ok());
     port = *p;

@@ -1,4 +1,4 @@
-#include "serve/web_message.hpp"
+#include "web/web_message.hpp"
 
 #include <algorithm>
 #include <cstdio>
@@ -6,7 +6,7 @@
 #include "common/bytes.hpp"
 #include "common/text.hpp"
 
-namespace lmcfg::serve::web {
+namespace lmcfg::web {
 
 namespace {
 
@@ -526,4 +526,4 @@ RequestParser::State RequestParser::parse_body() {
   return State::complete;
 }
 
-}  // namespace lmcfg::serve::web
+}  // namespace lmcfg::web

@@ -1,4 +1,4 @@
-#include "serve/web_server.hpp"
+#include "web/web_server.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -12,9 +12,9 @@
 #include <vector>
 
 #include "common/text.hpp"
-#include "serve/web_socket.hpp"
+#include "web/web_socket.hpp"
 
-namespace lmcfg::serve::web {
+namespace lmcfg::web {
 
 namespace {
 
@@ -517,4 +517,4 @@ ServerStats Server::stats() const {
   return impl_->st;
 }
 
-}  // namespace lmcfg::serve::web
+}  // namespace lmcfg::web

@@ -1,5 +1,9 @@
 #pragma once
-// lmcfg serve's HTTP/1.1 server (docs/serve.md "Security model"): one event
+// The web layer's HTTP/1.1 server, lmcfg serve's (docs/serve.md "Security
+// model"). The layer (lib/web: messages, routes, sockets, TLS) uses common
+// only: the service, its routes and the console (lib/serve) use it, never
+// the other way round, and the build refuses an include of serve here
+// (tests/layering-test.py). One event
 // loop thread holds every connection (a held connection costs a buffer, not a
 // thread), a few worker threads run the handlers. Every resource a client can
 // make it spend is bounded:
@@ -26,10 +30,10 @@
 #include <string>
 
 #include "common/result.hpp"
-#include "serve/web_message.hpp"
-#include "serve/web_tls.hpp"
+#include "web/web_message.hpp"
+#include "web/web_tls.hpp"
 
-namespace lmcfg::serve::web {
+namespace lmcfg::web {
 
 struct ServerOptions {
   Limits limits;
@@ -80,4 +84,4 @@ class Server {
   std::unique_ptr<Impl> impl_;
 };
 
-}  // namespace lmcfg::serve::web
+}  // namespace lmcfg::web

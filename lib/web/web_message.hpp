@@ -18,7 +18,7 @@
 #include <utility>
 #include <vector>
 
-namespace lmcfg::serve::web {
+namespace lmcfg::web {
 
 // Header names compare without regard to case (RFC 9110 §5.1).
 struct CaseLess {
@@ -141,4 +141,4 @@ class RequestParser {
   std::string error_message_;
 };
 
-}  // namespace lmcfg::serve::web
+}  // namespace lmcfg::web
