@@ -33,7 +33,7 @@ lmcfg_windows_lib(PkgConfig::LIBGIT2
   SYSTEM z rpcrt4 crypt32 ole32 ws2_32 secur32 advapi32
   INCLUDES ${dep_inc})
 target_compile_definitions(PkgConfig::LIBGIT2 INTERFACE PCRE2_STATIC)
-# lmcfg serve's HTTPS (lib/serve/web_tls_win32.cpp); Mbed TLS 2.28 gathers
+# lmcfg serve's HTTPS (lib/web/web_tls_win32.cpp); Mbed TLS 2.28 gathers
 # entropy with CryptGenRandom (advapi32).
 lmcfg_windows_lib(MbedTLS::mbedtls
   FILES ${dep_lib}/libmbedtls.a ${dep_lib}/libmbedx509.a ${dep_lib}/libmbedcrypto.a

@@ -145,7 +145,7 @@ cmake_dep libgit2 "libgit2" "$libgit2" -DBUILD_TESTS=OFF \
   -DHTTP_PARSER_LIBRARY="$prefix/lib/libhttp_parser.a"
 
 # Mbed TLS: lmcfg serve's HTTPS (Debian builds no OpenSSL for MinGW-w64;
-# lib/serve/web_tls_win32.cpp). The library only: no programs, no tests.
+# lib/web/web_tls_win32.cpp). The library only: no programs, no tests.
 mbedtls=$(fetch mbedtls)
 cmake_dep mbedtls "Mbed TLS" "$mbedtls" -DENABLE_PROGRAMS=OFF \
   -DENABLE_TESTING=OFF -DMBEDTLS_FATAL_WARNINGS=OFF -DUSE_SHARED_MBEDTLS_LIBRARY=OFF \

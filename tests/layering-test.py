@@ -19,7 +19,9 @@ def declared_layers(cmake_text):
         for w in words[1:]:
             if w in ("LAYERS", "LIBS"):
                 mode = w
-            elif mode == "LAYERS":
+            elif mode == "LAYERS" and not w.startswith("${"):
+                # A variable holds the platform's extra layers (Windows'): the
+                # layering checked here is the Linux build's.
                 deps.add(w)
         allowed[layer] = deps
     return allowed
@@ -34,6 +36,17 @@ for layer in ALLOWED:
     hs = sorted(f for f in os.listdir(os.path.join(source, "lib", layer)) if f.endswith(".hpp"))
     header_of[layer] = f"{layer}/{hs[0]}"
 failures, checks = [], 0
+# Pairs refused whatever lib/CMakeLists.txt declares (the compile checks below
+# test the declaration, so a wrong one would pass them): the HTTP server
+# (lib/web) knows nothing of the service, its routes or its console.
+MUST_REFUSE = [("web", "serve")]
+for layer, other in MUST_REFUSE:
+    checks += 1
+    if layer not in ALLOWED or other not in ALLOWED:
+        failures.append(f"lib/CMakeLists.txt declares no layer {layer if layer not in ALLOWED else other}")
+    elif other in ALLOWED[layer]:
+        failures.append(f"lib/CMakeLists.txt lets lib/{layer} use {other}: it must not "
+                        f"(tests/layering-test.py MUST_REFUSE)")
 with tempfile.TemporaryDirectory() as tmp:
     for layer, allowed in ALLOWED.items():
         # A layer's own source, or (unity build, CMakeLists.txt) one of its

@@ -92,6 +92,23 @@ std::string one_line(std::string_view s) {
   return out;
 }
 
+std::string log_text(std::string_view s) {
+  std::string out;
+  out.reserve(s.size());
+  for (std::size_t i = 0; i < s.size();) {
+    const std::size_t n = sequence_at(s, i);
+    if (n == 0 || is_control(s, i)) {
+      for (std::size_t k = 0; k < (n == 0 ? 1 : n); ++k)
+        out += "\\x" + hex(static_cast<unsigned char>(s[i + k]), 2);
+      i += n == 0 ? 1 : n;
+      continue;
+    }
+    out.append(s.substr(i, n));
+    i += n;
+  }
+  return out;
+}
+
 Result<void> check_line(std::string_view field, std::string_view value, std::size_t max_bytes) {
   const std::string name(field);
   if (const auto bad = invalid_utf8_at(value); bad != std::string_view::npos) {

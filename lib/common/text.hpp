@@ -43,6 +43,13 @@ std::string escape_invalid_utf8(std::string_view s);
 // into a commit message or a log line that no check refused.
 std::string one_line(std::string_view s);
 
+// `s` for a log line: each byte that is a control character (C0, DEL, the two
+// bytes of a C1) or not part of well-formed UTF-8 written as "\xNN"
+// (upper-case hex); the rest unchanged. What a client sent can neither start
+// a line of its own in the log nor move the terminal's cursor. Applying it
+// twice changes nothing more.
+std::string log_text(std::string_view s);
+
 // One line of valid UTF-8 without control characters, at most `max_bytes`
 // bytes. Errc::invalid_argument otherwise, the message naming `field`:
 //   "reason is not valid UTF-8 (byte 0xFF at offset 3): send UTF-8 text"

@@ -1,5 +1,6 @@
 #include "fleet/approved.hpp"
 
+#include "common/text.hpp"
 #include "fleet/fleet.hpp"
 #include "fleet/history.hpp"
 #include "ops/audit.hpp"
@@ -25,6 +26,13 @@ Result<std::optional<Approval>> read_approval(const Archive& archive, const Driv
 }
 
 Result<Approval> approve(Archive& archive, const DriveEntry& d, const ApproveRequest& req) {
+  // The text rules of every free text that reaches a commit message
+  // (common/text.hpp), as for a restore's reason and ticket: one line of
+  // UTF-8 without control characters (a line break would forge a trailer).
+  if (req.kind == "operator") LMCFG_TRY(check_line("who", req.who, kMaxWhoBytes));
+  LMCFG_TRY(check_line("reason", req.reason, kMaxReasonBytes));
+  LMCFG_TRY(check_line("ticket", req.ticket, kMaxTicketBytes));
+  LMCFG_TRY(check_line("rev", req.rev, kMaxRevBytes));
   // Who changed what the position should hold, and why, is the record's point.
   if (req.reason.empty())
     return Error(Errc::invalid_argument,

@@ -7,6 +7,27 @@
 
 namespace lmcfg::fleet {
 
+namespace {
+
+// Windows drops a trailing dot or space from a file or folder name: there
+// ".git." is ".git" and "press3 " is "press3" (Microsoft, "Naming Files,
+// Paths, and Namespaces"), so such a segment would be another file, or git's
+// own folder, in a clone on Windows. The message for `quoted`'s segment
+// `seg`, "" when it does not end so.
+std::string trailing_dot_or_space(const std::string& quoted, std::string_view seg,
+                                  const char* rename) {
+  if (seg.empty() || (seg.back() != '.' && seg.back() != ' ')) return {};
+  std::string_view stripped = seg;
+  while (!stripped.empty() && (stripped.back() == '.' || stripped.back() == ' '))
+    stripped.remove_suffix(1);
+  return quoted + " has the segment '" + std::string(seg) + "', which ends in " +
+         (seg.back() == '.' ? "a dot" : "a space") +
+         ": Windows drops a trailing dot or space from a file or folder name (there it is '" +
+         std::string(stripped) + "'); " + rename;
+}
+
+}  // namespace
+
 Result<void> check_line_name(std::string_view name) {
   if (name.empty()) return Error(Errc::invalid_argument, "line name is empty");
   LMCFG_TRY(check_line("line name", name, kMaxSegmentBytes));
@@ -24,6 +45,8 @@ Result<void> check_line_name(std::string_view name) {
                                                " must be segments separated by '/', none empty, "
                                                "'.', '..' or '.git'");
     }
+    if (auto why = trailing_dot_or_space(quoted, seg, "rename the line"); !why.empty())
+      return Error(Errc::invalid_argument, why);
     if (slash == std::string_view::npos) return {};
     start = slash + 1;
   }
@@ -48,6 +71,8 @@ Result<void> check_position_name(std::string_view name) {
                    quoted + " has a '" + std::string(seg) +
                        "' segment: that is git's own folder in the archive; rename the drive");
     }
+    if (auto why = trailing_dot_or_space(quoted, seg, "rename the drive"); !why.empty())
+      return Error(Errc::invalid_argument, why);
     // NAME_MAX of Linux file systems (ext4, xfs): 255 bytes a file or folder name.
     if (seg.size() + (slash == std::string_view::npos ? 5 : 0) > kMaxSegmentBytes) {
       return Error(Errc::invalid_argument,

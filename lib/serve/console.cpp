@@ -31,9 +31,13 @@ struct Console::Impl {
     ConsoleUser user;
     TimePoint expires;
   };
+  struct Nonce {
+    TimePoint expires;
+    std::string addr;  // the client address it was issued to
+  };
   std::mutex mu;
   std::map<std::string, Session, std::less<>> sessions;
-  std::map<std::string, TimePoint, std::less<>> signin_nonces;  // value -> expiry
+  std::map<std::string, Nonce, std::less<>> signin_nonces;  // value -> expiry, address
   // The plans made here, until executed (the service checks their expiry;
   // the oldest go beyond kPlansKept).
   static constexpr std::size_t kPlansKept = 64;
@@ -59,17 +63,59 @@ bool Console::sign_in_needed() const { return impl_->tokens.has_value(); }
 
 const std::string& Console::anonymous_csrf() const { return impl_->anonymous_csrf; }
 
-Result<std::string> Console::signin_nonce(std::string_view current) {
+namespace {
+
+// The key in `m` to drop to make room, the one that goes first (`first`: a
+// comparison of two entries) among those of the owner (`owner_of(entry)`)
+// holding the most entries: whoever fills the pool pushes out their own
+// entries, never the few of another.
+template <class Map, class Owner, class First>
+typename Map::iterator console_room(Map& m, Owner owner_of, First first) {
+  std::map<std::string, std::size_t, std::less<>> held;
+  for (auto& kv : m) ++held[owner_of(kv.second)];
+  auto best = m.end();
+  std::size_t best_n = 0;
+  for (auto it = m.begin(); it != m.end(); ++it) {
+    const std::size_t n = held[owner_of(it->second)];
+    if (best == m.end() || n > best_n || (n == best_n && first(it->second, best->second))) {
+      best = it;
+      best_n = n;
+    }
+  }
+  return best;
+}
+
+// The key in `m` of `owner`'s entry that goes first; m.end() when it has none.
+template <class Map, class Owner, class First>
+typename Map::iterator console_own_first(Map& m, const std::string& owner, Owner owner_of,
+                                         First first) {
+  auto best = m.end();
+  for (auto it = m.begin(); it != m.end(); ++it)
+    if (owner_of(it->second) == owner && (best == m.end() || first(it->second, best->second)))
+      best = it;
+  return best;
+}
+
+}  // namespace
+
+Result<std::string> Console::signin_nonce(std::string_view current, const std::string& addr) {
   LMCFG_ASSIGN_OR_RETURN(std::string v, random_hex(32));
   const TimePoint now = impl_->opt.clock();
   std::lock_guard<std::mutex> lock(impl_->mu);
   auto& n = impl_->signin_nonces;
-  for (auto it = n.begin(); it != n.end();) it = it->second <= now ? n.erase(it) : std::next(it);
+  for (auto it = n.begin(); it != n.end();)
+    it = it->second.expires <= now ? n.erase(it) : std::next(it);
   if (auto it = n.find(current); !current.empty() && it != n.end()) return it->first;
-  while (n.size() >= kSigninNonces)
-    n.erase(
-        std::min_element(n.begin(), n.end(), [](auto& a, auto& b) { return a.second < b.second; }));
-  n[v] = now + std::chrono::minutes(10);
+  const auto addr_of = [](const Impl::Nonce& x) -> const std::string& { return x.addr; };
+  const auto first = [](const Impl::Nonce& a, const Impl::Nonce& b) {
+    return a.expires < b.expires;
+  };
+  // One address's values push out only its own; the pool, the most held.
+  const auto mine = static_cast<std::size_t>(
+      std::count_if(n.begin(), n.end(), [&](auto& kv) { return kv.second.addr == addr; }));
+  if (mine >= kSigninNoncesPerAddress) n.erase(console_own_first(n, addr, addr_of, first));
+  while (n.size() >= kSigninNonces) n.erase(console_room(n, addr_of, first));
+  n[v] = {now + std::chrono::minutes(10), addr};
   return v;
 }
 
@@ -78,7 +124,7 @@ bool Console::signin_nonce_ok(std::string_view cookie_value, std::string_view fo
   std::lock_guard<std::mutex> lock(impl_->mu);
   auto it = impl_->signin_nonces.find(form_value);
   if (it == impl_->signin_nonces.end()) return false;
-  const bool fresh = it->second > impl_->opt.clock();
+  const bool fresh = it->second.expires > impl_->opt.clock();
   impl_->signin_nonces.erase(it);
   return fresh;
 }
@@ -99,12 +145,19 @@ Result<ConsoleSession> Console::sign_in(std::string_view token) {
   // number of people signed in during one session's life.
   for (auto it = impl_->sessions.begin(); it != impl_->sessions.end();)
     it = it->second.expires <= now ? impl_->sessions.erase(it) : std::next(it);
-  // A bound whoever signs in: the session that expires first makes room.
-  while (impl_->sessions.size() >= kMaxSessions)
-    impl_->sessions.erase(
-        std::min_element(impl_->sessions.begin(), impl_->sessions.end(),
-                         [](auto& a, auto& b) { return a.second.expires < b.second.expires; }));
-  impl_->sessions[s.id] = {s.user, now + impl_->opt.session_ttl};
+  // Bounds per token and in all: a token's sign-ins beyond its bound end its
+  // own session that expires first; the pool makes room from the token that
+  // holds the most, so no one's sign-ins push out another person's session.
+  auto& ss = impl_->sessions;
+  const auto who_of = [](const Impl::Session& x) -> const std::string& { return x.user.who; };
+  const auto first = [](const Impl::Session& a, const Impl::Session& b) {
+    return a.expires < b.expires;
+  };
+  const auto mine = static_cast<std::size_t>(
+      std::count_if(ss.begin(), ss.end(), [&](auto& kv) { return kv.second.user.who == e->name; }));
+  if (mine >= kMaxSessionsPerToken) ss.erase(console_own_first(ss, e->name, who_of, first));
+  while (ss.size() >= kMaxSessions) ss.erase(console_room(ss, who_of, first));
+  ss[s.id] = {s.user, now + impl_->opt.session_ttl};
   return s;
 }
 

@@ -79,15 +79,24 @@ class Console {
   // The CSRF value for a sign-in form (nobody is signed in yet): `current`
   // (the visitor's cookie) while it is one this console issued and has not
   // taken, so that a reload or a second tab keeps the form that is already
-  // open valid; else a new one, valid for 10 minutes and one sign-in. The
-  // newest kSigninNonces are kept. Errc::io_error when no random bytes can be read.
-  Result<std::string> signin_nonce(std::string_view current = {});
+  // open valid; else a new one for client address `addr`, valid for 10
+  // minutes and one sign-in. An address holds at most kSigninNoncesPerAddress
+  // (its oldest goes), the console kSigninNonces (the oldest of the address
+  // holding the most goes): a client asking for many pushes out only its own.
+  // Errc::io_error when no random bytes can be read.
+  Result<std::string> signin_nonce(std::string_view current = {}, const std::string& addr = {});
   // Whether the sign-in form's value and its cookie's are equal and one this
   // console issued and has not yet taken (it is taken: one use).
   bool signin_nonce_ok(std::string_view cookie_value, std::string_view form_value);
   static constexpr std::size_t kSigninNonces = 256;
-  // Sessions kept at most; a sign-in beyond evicts the one that expires first.
+  static constexpr std::size_t kSigninNoncesPerAddress = 32;
+  // Sessions kept at most: kMaxSessionsPerToken per token (a sign-in beyond
+  // ends that token's session that expires first), kMaxSessions in all (a
+  // sign-in beyond ends the session that expires first of the token holding
+  // the most). Signing in with one token never ends another token's session
+  // while that token holds fewer.
   static constexpr std::size_t kMaxSessions = 256;
+  static constexpr std::size_t kMaxSessionsPerToken = 64;
 
   // Actions (the caller has checked the role and the CSRF token). The job id;
   // Errc::not_found for a name not in the inventory.

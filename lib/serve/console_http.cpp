@@ -1,7 +1,7 @@
 #include "serve/console_http.hpp"
 
-#include "serve/web_message.hpp"
-#include "serve/web_router.hpp"
+#include "web/web_message.hpp"
+#include "web/web_router.hpp"
 
 namespace lmcfg::serve {
 
@@ -160,7 +160,7 @@ void register_assets(web::Router& router) {
 void register_signin(web::Router& router, Console* c) {
   router.Get("/signin", [c](const web::Request& req, web::Response& res) {
     if (!c->sign_in_needed()) return see_other(res, "/");
-    auto nonce = c->signin_nonce(cookie(req, kSigninCookie));
+    auto nonce = c->signin_nonce(cookie(req, kSigninCookie), req.remote_addr);
     if (!nonce.ok())
       return page(res, c->error_page(nullptr, 503, "Sign-in unavailable", nonce.error().message));
     res.set_header("Set-Cookie", std::string(kSigninCookie) + "=" + *nonce +
@@ -173,7 +173,7 @@ void register_signin(web::Router& router, Console* c) {
     const std::string next = local_path(field(*f, "next"));
     if (!c->sign_in_needed()) return see_other(res, next);
     auto fresh = [&](const std::string& message, int status) {
-      auto nonce = c->signin_nonce();
+      auto nonce = c->signin_nonce({}, req.remote_addr);
       if (!nonce.ok())
         return page(res, c->error_page(nullptr, 503, "Sign-in unavailable", nonce.error().message));
       res.set_header("Set-Cookie", std::string(kSigninCookie) + "=" + *nonce +

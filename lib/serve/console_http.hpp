@@ -6,7 +6,7 @@
 // Secure over HTTPS.
 #include "serve/console.hpp"
 
-namespace lmcfg::serve::web {
+namespace lmcfg::web {
 class Router;
 }
 

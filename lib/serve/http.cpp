@@ -8,11 +8,12 @@
 #include <thread>
 
 #include "common/bytes.hpp"
+#include "common/text.hpp"
 #include "serve/console_http.hpp"
 #include "serve/request_checks.hpp"
-#include "serve/web_router.hpp"
-#include "serve/web_server.hpp"
-#include "serve/web_tls.hpp"
+#include "web/web_router.hpp"
+#include "web/web_server.hpp"
+#include "web/web_tls.hpp"
 
 namespace lmcfg::serve {
 
@@ -101,7 +102,7 @@ struct HttpServer::Impl {
   Impl(Service& s, HttpOptions o) : service(s), opt(std::move(o)) {}
 
   void log(const std::string& s) const {
-    if (opt.log) opt.log(s);
+    if (opt.log) opt.log(log_text(s));  // client text escaped (common/text.hpp)
   }
 
   static int status_of(const Error& e) {

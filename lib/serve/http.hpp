@@ -1,7 +1,7 @@
 #pragma once
 // The HTTP side of lmcfg serve (docs/serve.md "API", "Security model"): the
 // routes of the REST API and the console on lmcfg's own server
-// (serve/web_server.hpp), a thin adapter from routes to Service calls, and the
+// (web/web_server.hpp), a thin adapter from routes to Service calls, and the
 // checks every request passes first: without tokens only this service's own
 // Host names are served (421 otherwise); a state-changing request that a
 // browser marks as coming from another origin (Origin, Sec-Fetch-Site) is
@@ -19,7 +19,7 @@
 #include "serve/console.hpp"
 #include "serve/service.hpp"
 #include "serve/tokens.hpp"
-#include "serve/web_server.hpp"
+#include "web/web_server.hpp"
 
 namespace lmcfg::serve {
 
@@ -45,7 +45,7 @@ struct HttpOptions {
   std::vector<std::string> allowed_hosts;
   // The connection limits and timeouts (max_body above wins over server.limits).
   web::ServerOptions server;
-  // HTTPS (OpenSSL, serve/web_tls.hpp) with this PEM certificate (chain)
+  // HTTPS (OpenSSL, web/web_tls.hpp) with this PEM certificate (chain)
   // and private key; both empty: plain HTTP.
   std::string tls_cert, tls_key;
   ConsoleOptions console;  // the web console's sessions (docs/console.md)

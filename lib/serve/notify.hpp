@@ -11,6 +11,7 @@
 #include <thread>
 
 #include "common/result.hpp"
+#include "common/text.hpp"
 
 namespace lmcfg::serve {
 
@@ -48,7 +49,7 @@ class Notifier {
   // One event to the command and the webhook (with the webhook's retries).
   void deliver(const std::string& json);
   void log(const std::string& s) const {
-    if (opt_.log) opt_.log(s);
+    if (opt_.log) opt_.log(log_text(s));  // events quote peers' and drives' text
   }
   NotifyOptions opt_;
   std::mutex mu_;

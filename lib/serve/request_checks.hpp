@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "serve/web_message.hpp"
+#include "web/web_message.hpp"
 
 namespace lmcfg::serve {
 

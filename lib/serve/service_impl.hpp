@@ -308,8 +308,10 @@ struct Service::Impl {
     return nullptr;
   }
 
+  // Every line escaped (log_text): names, reasons and paths a client sent
+  // can neither start a line of their own nor reach the terminal raw.
   void log(const std::string& s) const {
-    if (opt.log) opt.log(s);
+    if (opt.log) opt.log(log_text(s));
   }
   int exit_code(const Error& e) const { return opt.exit_code ? opt.exit_code(e) : 70; }
 

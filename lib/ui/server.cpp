@@ -9,12 +9,11 @@
 #include "serve/http.hpp"
 #include "serve/request_checks.hpp"
 #include "serve/tokens.hpp"
-#include "serve/web_router.hpp"
 #include "ui/pages.hpp"
+#include "web/web_router.hpp"
 
 namespace lmcfg::ui {
 
-namespace web = serve::web;
 using web::Request;
 using web::Response;
 

@@ -15,8 +15,8 @@
 #include <string_view>
 
 #include "common/result.hpp"
-#include "serve/web_server.hpp"
 #include "ui/desk.hpp"
+#include "web/web_server.hpp"
 
 namespace lmcfg::ui {
 
@@ -29,7 +29,7 @@ struct UiOptions {
   std::function<void(const std::string&)> log;
   std::function<void()> on_quit;  // the page's Quit (the tool then stops the server)
   std::function<int(const Error&)> exit_code;
-  serve::web::ServerOptions server;  // limits and timeouts (handle, error_page are set here)
+  web::ServerOptions server;  // limits and timeouts (handle, error_page are set here)
 };
 
 class UiServer {

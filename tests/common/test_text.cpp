@@ -54,6 +54,16 @@ TEST_CASE("text: one_line leaves no line break and no invalid byte", "[common][t
   CHECK(one_line("plain") == "plain");
 }
 
+TEST_CASE("text: log_text escapes control characters and invalid bytes as \\xNN",
+          "[common][text]") {
+  CHECK(log_text("fix\r\nOperator: mallory") == "fix\\x0D\\x0AOperator: mallory");
+  CHECK(log_text(std::string("esc\x1B[2Jbel\x07nul\0end", 18)) == "esc\\x1B[2Jbel\\x07nul\\x00end");
+  CHECK(log_text("del\x7F c1\xC2\x9B bad\xFF") == "del\\x7F c1\\xC2\\x9B bad\\xFF");
+  CHECK(log_text("caf\xC3\xA9 \xC2\xA0 \\ plain") == "caf\xC3\xA9 \xC2\xA0 \\ plain");
+  const std::string once = log_text("a\nb\xFF");
+  CHECK(log_text(once) == once);
+}
+
 TEST_CASE("text: check_line's messages", "[common][text]") {
   CHECK(check_line("reason", "motor replaced", kMaxReasonBytes).ok());
   auto bad = check_line("reason", "abc\xFF", kMaxReasonBytes);

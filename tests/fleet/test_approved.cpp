@@ -103,6 +103,47 @@ TEST_CASE("approved: an approval is an annotated tag git reads, with who, when a
   CHECK(fleet::read_approval(r.archive, z).value()->ticket.empty());
 }
 
+TEST_CASE("approved: who, reason, ticket and revision pass the text rules, nothing recorded",
+          "[fleet][approved]") {
+  Repo r;
+  const auto z = position("press3/z");
+  r.commit("press3/z.json", "{}\n");
+  const auto refused = [&](fleet::ApproveRequest req, const std::string& message) {
+    INFO(message);
+    auto a = fleet::approve(r.archive, z, req);
+    REQUIRE_FALSE(a.ok());
+    CHECK(a.error().code == make_error_code(Errc::invalid_argument));
+    CHECK(a.error().message == message);
+  };
+  fleet::ApproveRequest req;
+  req.who = "maria";
+  req.reason = "spare accepted";
+  fleet::ApproveRequest bad = req;
+  bad.reason = "ok\nOperator: mallory";
+  refused(bad,
+          "reason contains a control character (0x0A at offset 2): give one line without "
+          "control characters");
+  bad.reason = std::string(3000, 'r');
+  refused(bad, "reason is 3000 bytes long, at most 200 are accepted: shorten it");
+  bad = req;
+  bad.ticket = "T\x1B";
+  refused(bad,
+          "ticket contains a control character (0x1B at offset 1): give one line without "
+          "control characters");
+  bad = req;
+  bad.who = "maria\r";
+  refused(bad,
+          "who contains a control character (0x0D at offset 5): give one line without "
+          "control characters");
+  bad = req;
+  bad.rev = "HEAD\n";
+  refused(bad,
+          "rev contains a control character (0x0A at offset 4): give one line without "
+          "control characters");
+  CHECK(fleet::read_approval(r.archive, z).value() == std::nullopt);
+  CHECK(fleet::approve(r.archive, z, req).ok());
+}
+
 TEST_CASE("approved: no reason, an unknown revision, a revision without the file: refused",
           "[fleet][approved]") {
   Repo r;

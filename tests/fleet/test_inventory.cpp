@@ -153,6 +153,19 @@ labels = { note = "a\u0007b" }
   CHECK(problems("[[line]]\nname = \"a\\\\b\"\nport = \"/dev/null\"\n[[line.drive]]\nname = "
                  "\"x\"\nid = 1\n") ==
         "plant.toml:2:8: line name 'a\\b' contains '\\': use '/' or another character");
+  // A trailing dot or space: another file, or git's folder, on Windows.
+  CHECK(problems(R"([[line]]
+name = "press3 /z"
+port = "/dev/ttyUSB0"
+[[line.drive]]
+name = "p/.git."
+id = 0x11
+)") == "plant.toml:2:8: line name 'press3 /z' has the segment 'press3 ', which ends in a space: "
+       "Windows drops a trailing dot or space from a file or folder name (there it is "
+       "'press3'); rename the line\n"
+       "plant.toml:5:8: drive name 'p/.git.' has the segment '.git.', which ends in a dot: "
+       "Windows drops a trailing dot or space from a file or folder name (there it is '.git'); "
+       "rename the drive");
 }
 
 TEST_CASE("fleet inventory: drive or line names that differ only in case are refused",

@@ -82,4 +82,39 @@ TEST_CASE("fleet names: line names are one line of UTF-8 text", "[fleet][names]"
         "line name is 256 bytes long, at most 255 are accepted: shorten it");
 }
 
+TEST_CASE("fleet names: no segment ends in a dot or a space (Windows drops them)",
+          "[fleet][names]") {
+  CHECK(position_problem(".git.") ==
+        "drive name '.git.' has the segment '.git.', which ends in a dot: Windows drops a "
+        "trailing dot or space from a file or folder name (there it is '.git'); rename the drive");
+  CHECK(position_problem("p/.git.") ==
+        "drive name 'p/.git.' has the segment '.git.', which ends in a dot: Windows drops a "
+        "trailing dot or space from a file or folder name (there it is '.git'); rename the drive");
+  CHECK(position_problem("press3./z") ==
+        "drive name 'press3./z' has the segment 'press3.', which ends in a dot: Windows drops a "
+        "trailing dot or space from a file or folder name (there it is 'press3'); rename the "
+        "drive");
+  CHECK(position_problem("press3 /z") ==
+        "drive name 'press3 /z' has the segment 'press3 ', which ends in a space: Windows drops "
+        "a trailing dot or space from a file or folder name (there it is 'press3'); rename the "
+        "drive");
+  CHECK(position_problem("press3/z.") ==
+        "drive name 'press3/z.' has the segment 'z.', which ends in a dot: Windows drops a "
+        "trailing dot or space from a file or folder name (there it is 'z'); rename the drive");
+  CHECK(fleet::check_position_name("press3/.z").ok());  // a leading dot is kept
+  CHECK(fleet::check_position_name("a.b.c/d").ok());
+  CHECK(line_problem("press3 /z") ==
+        "line name 'press3 /z' has the segment 'press3 ', which ends in a space: Windows drops "
+        "a trailing dot or space from a file or folder name (there it is 'press3'); rename the "
+        "line");
+  CHECK(line_problem("hall 2/.git.") ==
+        "line name 'hall 2/.git.' has the segment '.git.', which ends in a dot: Windows drops a "
+        "trailing dot or space from a file or folder name (there it is '.git'); rename the line");
+  CHECK(line_problem("line 1 ") ==
+        "line name 'line 1 ' has the segment 'line 1 ', which ends in a space: Windows drops a "
+        "trailing dot or space from a file or folder name (there it is 'line 1'); rename the "
+        "line");
+  CHECK(fleet::check_line_name("hall 2/line 1").ok());
+}
+
 }  // namespace fleet_test_names

@@ -387,6 +387,16 @@ TEST_CASE(
   CHECK(res->body.find("<h1>Not approved</h1>") != std::string::npos);
   CHECK(res->body.find("approving press3/x needs a reason") != std::string::npos);
   CHECK((*rig.service->drive("press3/x"))["status"] == "drift");
+  // A form's text may carry line breaks; a reason may not.
+  res = b.post("/approve", {{"name", "press3/x"},
+                            {"rev", spare},
+                            {"reason", "ok\r\nOperator: mallory"},
+                            {"csrf", csrf}});
+  REQUIRE(res);
+  CHECK(res->status == 400);
+  CHECK(res->body.find("<h1>Not approved</h1>") != std::string::npos);
+  CHECK(res->body.find("reason contains a control character (0x0D at offset 2): give one line "
+                       "without control characters") != std::string::npos);
 
   res = b.post("/approve", {{"name", "press3/x"},
                             {"rev", spare},

@@ -8,12 +8,13 @@
 #include <catch2/catch.hpp>
 #include <regex>
 
+#include "raw_http.hpp"
 #include "serve/console.hpp"
 #include "serve/console_http.hpp"
 #include "serve/tokens.hpp"
-#include "serve/web_router.hpp"
-#include "serve/web_server.hpp"
 #include "serve_rig.hpp"
+#include "web/web_router.hpp"
+#include "web/web_server.hpp"
 
 // This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
 namespace serve_test_console_http {
@@ -26,8 +27,8 @@ namespace {
 
 // register_console_routes on a router and server of their own, on 127.0.0.1, any port.
 struct ConsoleServer {
-  serve::web::Router router;
-  std::unique_ptr<serve::web::Server> server;
+  web::Router router;
+  std::unique_ptr<web::Server> server;
   std::unique_ptr<serve::Console> console;
   std::thread thread;
   int port = 0;
@@ -37,11 +38,11 @@ struct ConsoleServer {
     REQUIRE(c.ok());
     console = std::move(c).value();
     serve::register_console_routes(router, *console);
-    serve::web::ServerOptions so;
-    so.handle = [this](serve::web::Request& req, serve::web::Response& res) {
-      if (router.dispatch(req, res) != serve::web::Router::Outcome::handled) res.status = 404;
+    web::ServerOptions so;
+    so.handle = [this](web::Request& req, web::Response& res) {
+      if (router.dispatch(req, res) != web::Router::Outcome::handled) res.status = 404;
     };
-    server = std::make_unique<serve::web::Server>(std::move(so));
+    server = std::make_unique<web::Server>(std::move(so));
     auto p = server->bind("127.0.0.1", 0);
     REQUIRE(p.ok());
     port = *p;
@@ -284,25 +285,116 @@ TEST_CASE("console http: the sign-in form's CSRF value is the visitor's own, use
                        "has a control character") != std::string::npos);
 }
 
-TEST_CASE("console http: sessions are bounded, the one that expires first makes room",
+TEST_CASE("console http: sessions are bounded per token, no one's sign-ins end another's session",
           "[serve][console_http]") {
   Rig rig;
   const std::string file = (rig.dir.path / "tokens").string();
   const auto op = *serve::add_token(file, "night-shift", serve::Role::operator_);
+  std::vector<std::string> viewers;
+  for (int i = 1; i <= 5; ++i)
+    viewers.push_back(*serve::add_token(file, "screen-" + std::to_string(i), serve::Role::viewer));
   serve::TimePoint now = serve::Clock::from_time_t(1'800'000'000);
   serve::ConsoleOptions copt;
   copt.clock = [&] { return now; };
   auto console = serve::Console::create(*rig.service, *serve::load_tokens(file), copt);
   REQUIRE(console.ok());
-  std::vector<std::string> ids;
-  for (std::size_t i = 0; i < serve::Console::kMaxSessions + 10; ++i) {
+  auto sign_in = [&](const std::string& token) {
     now += 1s;
-    auto session = (*console)->sign_in(op);
+    auto session = (*console)->sign_in(token);
     REQUIRE(session.ok());
-    ids.push_back(session->id);
+    return session->id;
+  };
+  auto alive = [&](const std::vector<std::string>& ids) {
+    return std::count_if(ids.begin(), ids.end(),
+                         [&](const std::string& id) { return (*console)->user(id).has_value(); });
+  };
+  const std::string operator_session = sign_in(op);
+  // 260 sign-ins with one viewer token: that token keeps its newest 64, the
+  // operator's session (older than all of them) lives on.
+  std::vector<std::string> first;
+  for (int i = 0; i < 260; ++i) first.push_back(sign_in(viewers[0]));
+  CHECK((*console)->user(operator_session)->who == "night-shift");
+  CHECK(alive(first) == static_cast<long>(serve::Console::kMaxSessionsPerToken));
+  CHECK_FALSE((*console)->user(first[260 - 65]).has_value());
+  CHECK((*console)->user(first[260 - 64]).has_value());
+  // Four more tokens fill the pool (256); beyond it the token holding the
+  // most makes room, never the operator's one session.
+  std::vector<std::string> all = first;
+  for (std::size_t v = 1; v < viewers.size(); ++v)
+    for (int i = 0; i < 64; ++i) all.push_back(sign_in(viewers[v]));
+  CHECK((*console)->user(operator_session).has_value());
+  CHECK(alive(all) + 1 == static_cast<long>(serve::Console::kMaxSessions));
+  // The 255 viewer sessions end up shared nearly evenly (50 to 52 a token),
+  // each token keeping its newest: the first token its last 50.
+  CHECK(alive(first) == 50);
+  CHECK_FALSE((*console)->user(first[260 - 51]).has_value());
+  CHECK((*console)->user(first[260 - 50]).has_value());
+  CHECK((*console)->user(all.back()).has_value());
+}
+
+TEST_CASE("console http: sign-in values are bounded per address, one address pushes out its own",
+          "[serve][console_http]") {
+  Rig rig;
+  const std::string file = (rig.dir.path / "tokens").string();
+  const auto op = *serve::add_token(file, "night-shift", serve::Role::operator_);
+  ConsoleServer s(*rig.service, *serve::load_tokens(file));
+  httplib::Client c("127.0.0.1", s.port);
+  const SigninForm waiting = signin_form(c);  // a user with the form open
+  // 300 anonymous GET /signin from another address ...
+  std::string flood_first, flood_last;
+  for (int i = 0; i < 300; ++i) {
+    RawClient flood(s.port, "127.0.0.2");
+    REQUIRE(flood.send("GET /signin HTTP/1.1\r\nHost: 127.0.0.1:" + std::to_string(s.port) +
+                       "\r\nConnection: close\r\n\r\n"));
+    const std::string answer = flood.response(2000);
+    REQUIRE(answer.rfind("HTTP/1.1 200 OK\r\n", 0) == 0);
+    std::smatch m;
+    REQUIRE(std::regex_search(answer, m, std::regex("lmcfg_signin=([0-9A-F]{64});")));
+    (i == 0 ? flood_first : flood_last) = m[1];
   }
-  for (std::size_t i = 0; i < 10; ++i) CHECK_FALSE((*console)->user(ids[i]).has_value());
-  for (std::size_t i = 10; i < ids.size(); ++i) CHECK((*console)->user(ids[i]).has_value());
+  // ... leave the waiting user's value valid: the submit signs in.
+  auto res =
+      c.Post("/signin", waiting.cookie, httplib::Params{{"csrf", waiting.csrf}, {"token", op}});
+  REQUIRE(res);
+  CHECK(res->status == 303);
+  CHECK(res->get_header_value("Set-Cookie").rfind("lmcfg_session=", 0) == 0);
+  // The flood's own oldest went (32 kept per address), its newest is valid.
+  CHECK_FALSE(s.console->signin_nonce_ok(flood_first, flood_first));
+  CHECK(s.console->signin_nonce_ok(flood_last, flood_last));
+}
+
+TEST_CASE("console: the sign-in pool makes room from the address holding the most",
+          "[serve][console_http]") {
+  Rig rig;
+  const std::string file = (rig.dir.path / "tokens").string();
+  (void)*serve::add_token(file, "night-shift", serve::Role::operator_);
+  serve::TimePoint now = serve::Clock::from_time_t(1'800'000'000);
+  serve::ConsoleOptions copt;
+  copt.clock = [&] { return now; };
+  auto console = serve::Console::create(*rig.service, *serve::load_tokens(file), copt);
+  REQUIRE(console.ok());
+  auto& c = **console;
+  const std::string mine = *c.signin_nonce({}, "10.0.0.1");
+  const std::string yours = *c.signin_nonce({}, "10.0.0.2");
+  // 20 addresses of 32 values each: 640 issued, 256 kept, the two single
+  // values older than all of them among those kept.
+  std::vector<std::string> flood;
+  for (int a = 0; a < 20; ++a)
+    for (int i = 0; i < 32; ++i) {
+      now += 100ms;
+      flood.push_back(*c.signin_nonce({}, "10.1.0." + std::to_string(a)));
+    }
+  CHECK(c.signin_nonce_ok(mine, mine));
+  CHECK(c.signin_nonce_ok(yours, yours));
+  CHECK(std::count_if(flood.begin(), flood.end(), [&](const std::string& v) {
+          return c.signin_nonce_ok(v, v);
+        }) == static_cast<long>(serve::Console::kSigninNonces) - 2);
+  // A value still shows again for its cookie, from any address.
+  const std::string again = *c.signin_nonce({}, "10.0.0.3");
+  CHECK(*c.signin_nonce(again, "10.0.0.4") == again);
+  // Expired ones go: 10 minutes.
+  now += std::chrono::minutes(10);
+  CHECK_FALSE(c.signin_nonce_ok(again, again));
 }
 
 TEST_CASE("console http: forms answer with a redirect, failures as pages with their status",

@@ -234,7 +234,7 @@ TEST_CASE("http: check_exposure: loopback alone, other hosts need tokens and TLS
   }
 }
 
-// HTTPS: OpenSSL's; the Windows build has none (lib/serve/web_tls_win32.cpp).
+// HTTPS: OpenSSL's; the Windows build has none (lib/web/web_tls_win32.cpp).
 #ifndef _WIN32
 // A self-signed certificate for 127.0.0.1 and its key, made by openssl as an
 // operator would (an EC key: quick to make); NAME-cert.pem, NAME-key.pem.
@@ -629,7 +629,7 @@ TEST_CASE(
       RawClient c(server.port);
       c.send(request);
       const std::string a = c.response(5000);
-      INFO(serve::web::printable(request) << " -> " << serve::web::printable(a));
+      INFO(web::printable(request) << " -> " << web::printable(a));
       REQUIRE(a.rfind("HTTP/1.1 ", 0) == 0);
       ++answered;
     }

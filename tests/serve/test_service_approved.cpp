@@ -335,6 +335,42 @@ TEST_CASE(
   CHECK(z["approved"]["kind"] == "commissioning");
 }
 
+TEST_CASE("http: approve's reason and ticket pass the text rules: 400 naming the field",
+          "[serve][service_approved][http][git-cli]") {
+  Rig rig;
+  rig.at(rig.now);
+  const std::string commissioned = head_of(rig.dir.path / "archive");
+  Server server(*rig.service);
+  httplib::Client c("127.0.0.1", server.port);
+  const std::string path = "/api/v1/drives/press3/z/approve";
+  const std::string rest = "): give one line without control characters";
+  const std::vector<std::pair<nlohmann::json, std::string>> refused{
+      {{{"reason", "fix\r\nOperator: mallory"}},
+       "reason contains a control character (0x0D at offset 3" + rest},
+      {{{"reason", "red \x1B[31m"}},
+       "reason contains a control character (0x1B at offset 4" + rest},
+      {{{"reason", "bell\x07"}}, "reason contains a control character (0x07 at offset 4" + rest},
+      {{{"reason", std::string("nul\0x", 5)}},
+       "reason contains a control character (0x00 at offset 3" + rest},
+      {{{"reason", std::string(3000, 'r')}},
+       "reason is 3000 bytes long, at most 200 are accepted: shorten it"},
+      {{{"reason", "r"}, {"ticket", "T-1\nOperator: mallory"}},
+       "ticket contains a control character (0x0A at offset 3" + rest},
+      {{{"reason", "r"}, {"ticket", std::string(65, 't')}},
+       "ticket is 65 bytes long, at most 64 are accepted: shorten it"},
+  };
+  for (const auto& [body, message] : refused) {
+    INFO(body.dump());
+    auto res = c.Post(path.c_str(), body.dump(), "application/json");
+    REQUIRE(res);
+    CHECK(res->status == 400);
+    CHECK(nlohmann::json::parse(res->body) == nlohmann::json{{"error", message}, {"exit_code", 2}});
+  }
+  // Nothing recorded: the commissioning approval stands.
+  CHECK((*rig.service->drive("press3/z"))["approved"]["rev"] == commissioned);
+  CHECK((*rig.service->drive("press3/z"))["approved"]["kind"] == "commissioning");
+}
+
 TEST_CASE(
     "http: POST /api/v1/drives/{name}/approve: viewer 403, reason required 400, bad revision "
     "404, approved 200, then GET shows it",

@@ -7,6 +7,7 @@
 #include <thread>
 
 #include "command.hpp"
+#include "common/text.hpp"
 #include "fleet_cli.hpp"
 #include "ops/interrupt.hpp"
 #include "serve/http.hpp"
@@ -25,12 +26,14 @@ struct ServeCli {
   std::vector<std::string> allow_hosts;
 };
 
-// One line per event on stderr, with the time (several threads log).
+// One line per event on stderr, with the time (several threads log); every
+// control character and invalid byte escaped (log_text), whoever wrote it.
 void log_line(const std::string& what) {
   static std::mutex mu;
+  const std::string line = log_text(what);
   std::lock_guard<std::mutex> lock(mu);
   std::fprintf(stderr, "%s lmcfg serve: %s\n", serve::iso_time(serve::Clock::now()).c_str(),
-               what.c_str());
+               line.c_str());
 }
 
 int run_serve(const ServeCli& o) {

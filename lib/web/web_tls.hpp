@@ -6,9 +6,9 @@
 #include <string>
 
 #include "common/result.hpp"
-#include "serve/web_socket.hpp"
+#include "web/web_socket.hpp"
 
-namespace lmcfg::serve::web {
+namespace lmcfg::web {
 
 class TlsContext {
  public:
@@ -46,4 +46,4 @@ class TlsStream {
   void* ssl_ = nullptr;
 };
 
-}  // namespace lmcfg::serve::web
+}  // namespace lmcfg::web

@@ -1,10 +1,10 @@
 // Windows: Winsock 2.2. WSAPoll is the wait: transport/winsock_win32.hpp's
 // reason for select() (WSAPoll not reporting a failed connect before Windows
 // 10 2004) concerns connecting sockets, which a server never has.
-#include "serve/web_socket.hpp"
 #include "transport/winsock_win32.hpp"
+#include "web/web_socket.hpp"
 
-namespace lmcfg::serve::web {
+namespace lmcfg::web {
 
 namespace w32 = lmcfg::transport::win32;
 
@@ -219,4 +219,4 @@ bool wait_sockets(std::vector<Watch>& watches, int timeout_ms) {
   return n != SOCKET_ERROR;
 }
 
-}  // namespace lmcfg::serve::web
+}  // namespace lmcfg::web

@@ -1,4 +1,4 @@
-#include "serve/web_message.hpp"
+#include "web/web_message.hpp"
 
 #include <algorithm>
 #include <cstdio>
@@ -6,7 +6,7 @@
 #include "common/bytes.hpp"
 #include "common/text.hpp"
 
-namespace lmcfg::serve::web {
+namespace lmcfg::web {
 
 namespace {
 
@@ -463,13 +463,16 @@ RequestParser::State RequestParser::parse_body() {
         break;
       }
       case Stage::chunk_size: {
+        // The line (size and extensions, without its CRLF) holds at most
+        // kMaxChunkLine bytes, whether it arrives whole or in pieces.
         const auto nl = buf_.find('\n', pos_);
-        if (nl == std::string::npos) {
-          if (avail > 256) return fail(400, "a chunk size line longer than 256 bytes");
-          return State::need_more;
-        }
-        std::string_view line(buf_.data() + pos_, nl - pos_);
+        std::string_view line(buf_.data() + pos_,
+                              (nl == std::string::npos ? buf_.size() : nl) - pos_);
         if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+        if (line.size() > kMaxChunkLine)
+          return fail(400,
+                      "a chunk size line longer than " + std::to_string(kMaxChunkLine) + " bytes");
+        if (nl == std::string::npos) return State::need_more;
         pos_ = nl + 1;
         const std::string_view size = trim_ows(line.substr(0, line.find(';')));
         if (size.empty() || size.size() > 8 ||
@@ -523,4 +526,4 @@ RequestParser::State RequestParser::parse_body() {
   return State::complete;
 }
 
-}  // namespace lmcfg::serve::web
+}  // namespace lmcfg::web

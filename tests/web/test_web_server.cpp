@@ -1,4 +1,4 @@
-// lmcfg serve's HTTP server (lib/serve/web_server.cpp) over real sockets on
+// lmcfg serve's HTTP server (lib/web/web_server.cpp) over real sockets on
 // 127.0.0.1: slow, idle and silent clients, connection limits with eviction,
 // refusals on the wire, a handler's exception, 100-continue, pipelining, stop.
 // Timeouts are shortened so that the tests take well under a second each.
@@ -9,13 +9,13 @@
 #include <thread>
 
 #include "raw_http.hpp"
-#include "serve/web_server.hpp"
+#include "web/web_server.hpp"
 
 // This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
-namespace serve_test_web_server {
+namespace web_test_web_server {
 
 using namespace lmcfg;
-using namespace lmcfg::serve::web;
+using namespace lmcfg::web;
 using lmcfg::test::RawClient;
 using namespace std::chrono_literals;
 
@@ -67,7 +67,7 @@ bool starts_with(const std::string& s, const std::string& p) { return s.rfind(p,
 }  // namespace
 
 TEST_CASE("web server: a slow client gets 408 and is closed, others are answered meanwhile",
-          "[serve][web_server]") {
+          "[web][web_server]") {
   TestServer s(quick());
   RawClient slow(s.port);
   REQUIRE(slow.send("GET /a HTTP/1.1\r\nHo"));
@@ -90,7 +90,7 @@ TEST_CASE("web server: a slow client gets 408 and is closed, others are answered
 }
 
 TEST_CASE("web server: idle and silent connections are closed without an answer",
-          "[serve][web_server]") {
+          "[web][web_server]") {
   TestServer s(quick());
   RawClient idle(s.port);
   REQUIRE(idle.send("GET /a HTTP/1.1\r\nHost: h\r\n\r\n"));
@@ -107,7 +107,7 @@ TEST_CASE("web server: idle and silent connections are closed without an answer"
 }
 
 TEST_CASE("web server: over the per-address limit the oldest waiting connection makes room",
-          "[serve][web_server]") {
+          "[web][web_server]") {
   ServerOptions o = quick();
   o.head_timeout = 5s;
   o.idle_timeout = 5s;
@@ -135,8 +135,57 @@ TEST_CASE("web server: over the per-address limit the oldest waiting connection 
   CHECK(held[1].closed(500));  // the oldest of all
 }
 
+TEST_CASE("web server: connections that announce a body and never send it make room too",
+          "[web][web_server]") {
+  // The shape of the attack: every slot held by a complete head with
+  // Content-Length: 4096 and no body, from several addresses, each at its
+  // per-address limit; legitimate GETs from another address still answered.
+  ServerOptions o = quick();
+  o.head_timeout = 5s;
+  o.body_timeout = 5s;
+  o.idle_timeout = 5s;
+  o.max_per_address = 4;
+  o.max_connections = 8;
+  TestServer s(o);
+  std::vector<RawClient> held;
+  for (const char* from : {"127.0.0.2", "127.0.0.3", "127.0.0.4"}) {
+    for (int i = 0; i < 4; ++i) {
+      held.emplace_back(s.port, from);
+      REQUIRE(held.back().send("POST /held HTTP/1.1\r\nHost: h\r\nContent-Length: 4096\r\n\r\n"));
+      std::this_thread::sleep_for(10ms);
+    }
+  }
+  std::this_thread::sleep_for(50ms);
+  // 12 sent, 8 fit: the 4 oldest, from the addresses with the most, went.
+  CHECK(s.server->stats().evicted == 4);
+  CHECK(s.server->stats().open == 8);
+  CHECK(held[0].closed(500));
+  CHECK_FALSE(held.back().closed(50));
+  for (int i = 0; i < 10; ++i)
+    CHECK(starts_with(s.get("/legit", "127.0.0.9"), "HTTP/1.1 200 OK\r\n"));
+  CHECK(s.server->stats().refused == 0);
+  // The first GET made room (one held connection of 127.0.0.4, which had the
+  // most); each answered GET closed its own, so the next ones found room.
+  CHECK(s.server->stats().evicted == 5);
+  CHECK_FALSE(held.back().closed(50));
+  // A client with one connection keeps it: its idle connection is not the
+  // one to go while others hold more.
+  RawClient few(s.port, "127.0.0.9");
+  REQUIRE(few.send("GET /few HTTP/1.1\r\nHost: h\r\n\r\n"));
+  CHECK(few.response(1000).find("path /few") != std::string::npos);  // now idle, kept alive
+  std::vector<RawClient> more;
+  for (int i = 0; i < 3; ++i) {
+    more.emplace_back(s.port, "127.0.0.2");
+    REQUIRE(more.back().send("POST /held HTTP/1.1\r\nHost: h\r\nContent-Length: 4096\r\n\r\n"));
+    std::this_thread::sleep_for(20ms);
+  }
+  CHECK(s.server->stats().evicted == 8);
+  REQUIRE(few.send("GET /again HTTP/1.1\r\nHost: h\r\n\r\n"));
+  CHECK(few.response(1000).find("path /again") != std::string::npos);
+}
+
 TEST_CASE("web server: when every connection has a request in progress, a new one gets 503",
-          "[serve][web_server]") {
+          "[web][web_server]") {
   std::mutex mu;
   std::condition_variable cv;
   bool release = false;
@@ -171,7 +220,7 @@ TEST_CASE("web server: when every connection has a request in progress, a new on
 }
 
 TEST_CASE("web server: refusals go on the wire with their status, and the connection closes",
-          "[serve][web_server]") {
+          "[web][web_server]") {
   TestServer s(quick());
   RawClient big(s.port);
   big.send("POST /x HTTP/1.1\r\nHost: h\r\nTransfer-Encoding: chunked\r\n\r\n8000000\r\n");
@@ -191,7 +240,7 @@ TEST_CASE("web server: refusals go on the wire with their status, and the connec
 }
 
 TEST_CASE("web server: a handler's exception is a 500 and the server goes on",
-          "[serve][web_server]") {
+          "[web][web_server]") {
   ServerOptions o = quick();
   o.handle = [](Request& req, Response& res) {
     if (req.path == "/throw") throw std::runtime_error("boom\n\xFF");
@@ -209,7 +258,7 @@ TEST_CASE("web server: a handler's exception is a 500 and the server goes on",
                   "http 127.0.0.1 GET /throw: internal error: boom\\x0A\\xFF") != s.log.end());
 }
 
-TEST_CASE("web server: 100-continue, pipelining, HEAD, HTTP/1.0", "[serve][web_server]") {
+TEST_CASE("web server: 100-continue, pipelining, HEAD, HTTP/1.0", "[web][web_server]") {
   TestServer s(quick());
   RawClient c(s.port);
   c.send("POST /p HTTP/1.1\r\nHost: h\r\nContent-Length: 3\r\nExpect: 100-continue\r\n\r\n");
@@ -229,7 +278,7 @@ TEST_CASE("web server: 100-continue, pipelining, HEAD, HTTP/1.0", "[serve][web_s
   CHECK(old.closed(500));
 }
 
-TEST_CASE("web server: stop before serve, and stop with connections open", "[serve][web_server]") {
+TEST_CASE("web server: stop before serve, and stop with connections open", "[web][web_server]") {
   Server early(quick());
   REQUIRE(early.bind("127.0.0.1", 0).ok());
   early.stop();
@@ -241,7 +290,7 @@ TEST_CASE("web server: stop before serve, and stop with connections open", "[ser
   CHECK(held.closed(500));
 }
 
-TEST_CASE("web server: a port in use is refused with the address", "[serve][web_server]") {
+TEST_CASE("web server: a port in use is refused with the address", "[web][web_server]") {
   TestServer s(quick());
   Server second(quick());
   auto r = second.bind("127.0.0.1", s.port);
@@ -250,4 +299,4 @@ TEST_CASE("web server: a port in use is refused with the address", "[serve][web_
                                  " (address in use or not on this host)");
 }
 
-}  // namespace serve_test_web_server
+}  // namespace web_test_web_server

@@ -1,4 +1,4 @@
-#include "serve/web_socket.hpp"
+#include "web/web_socket.hpp"
 
 #include <arpa/inet.h>
 #include <fcntl.h>
@@ -13,7 +13,7 @@
 #include <cerrno>
 #include <cstring>
 
-namespace lmcfg::serve::web {
+namespace lmcfg::web {
 
 namespace {
 
@@ -176,4 +176,4 @@ bool wait_sockets(std::vector<Watch>& watches, int timeout_ms) {
   return ok;
 }
 
-}  // namespace lmcfg::serve::web
+}  // namespace lmcfg::web

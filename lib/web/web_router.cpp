@@ -1,6 +1,6 @@
-#include "serve/web_router.hpp"
+#include "web/web_router.hpp"
 
-namespace lmcfg::serve::web {
+namespace lmcfg::web {
 
 namespace {
 
@@ -67,4 +67,4 @@ Router::Outcome Router::dispatch(Request& req, Response& res, std::string* allow
   return Outcome::method_not_allowed;
 }
 
-}  // namespace lmcfg::serve::web
+}  // namespace lmcfg::web

@@ -1,4 +1,4 @@
-#include "serve/web_server.hpp"
+#include "web/web_server.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -7,12 +7,14 @@
 #include <deque>
 #include <map>
 #include <mutex>
+#include <string_view>
 #include <thread>
 #include <vector>
 
-#include "serve/web_socket.hpp"
+#include "common/text.hpp"
+#include "web/web_socket.hpp"
 
-namespace lmcfg::serve::web {
+namespace lmcfg::web {
 
 namespace {
 
@@ -69,7 +71,7 @@ struct Server::Impl {
   explicit Impl(ServerOptions o) : opt(std::move(o)) {}
 
   void log(const std::string& s) const {
-    if (opt.log) opt.log(s);
+    if (opt.log) opt.log(log_text(s));  // whatever a client sent, escaped (common/text.hpp)
   }
   void poke() const { waker.poke(); }
   template <typename F>
@@ -152,16 +154,32 @@ struct Server::Impl {
     conns.erase(it);
   }
 
-  // The oldest connection without a request in progress (waiting for its
-  // first byte, idle between requests, or still sending its head or TLS
-  // handshake), from `addr` or, with "", from anyone.
+  // Whether `c` holds a slot without a request in progress: waiting for its
+  // first byte, idle between requests, in its TLS handshake, sending its head,
+  // or sending the body its head announced. A client that announces a body
+  // and never sends it holds a slot as surely as one that never ends its head.
+  static bool evictable(const Connection& c) {
+    return c.phase == Phase::handshake || c.phase == Phase::reading;
+  }
+
+  // The connection that makes room for a new one: with `addr`, the oldest
+  // evictable one from that address; with "", one from the address that
+  // holds the most connections (the oldest among equals), so that no address
+  // pushes out the few of another. nullptr when none can go.
   Connection* victim(const std::string& addr) {
+    std::map<std::string_view, std::size_t> per_addr;
+    if (addr.empty())
+      for (auto& kv : conns) ++per_addr[kv.second->addr];
     Connection* best = nullptr;
-    for (auto& [id, c] : conns) {
-      const bool waiting = c->phase == Phase::handshake ||
-                           (c->phase == Phase::reading && !c->parser.head_complete());
-      if (!waiting || (!addr.empty() && c->addr != addr)) continue;
-      if (!best || c->since < best->since) best = c.get();
+    std::size_t best_n = 0;
+    for (auto& kv : conns) {
+      Connection* c = kv.second.get();
+      if (!evictable(*c) || (!addr.empty() && c->addr != addr)) continue;
+      const std::size_t n = addr.empty() ? per_addr[c->addr] : 0;
+      if (!best || n > best_n || (n == best_n && c->since < best->since)) {
+        best = c;
+        best_n = n;
+      }
     }
     return best;
   }
@@ -499,4 +517,4 @@ ServerStats Server::stats() const {
   return impl_->st;
 }
 
-}  // namespace lmcfg::serve::web
+}  // namespace lmcfg::web

@@ -1,9 +1,9 @@
-#include "serve/web_tls.hpp"
+#include "web/web_tls.hpp"
 
 #include <openssl/err.h>
 #include <openssl/ssl.h>
 
-namespace lmcfg::serve::web {
+namespace lmcfg::web {
 
 namespace {
 SSL* ssl_of(void* p) { return static_cast<SSL*>(p); }
@@ -106,4 +106,4 @@ IoStep TlsStream::write(const char* buf, std::size_t size) {
 
 bool TlsStream::has_buffered() const { return SSL_pending(ssl_of(ssl_)) > 0; }
 
-}  // namespace lmcfg::serve::web
+}  // namespace lmcfg::web

@@ -1,15 +1,15 @@
-// lmcfg serve's HTTP messages (lib/serve/web_message.cpp): the request
+// lmcfg serve's HTTP messages (lib/web/web_message.cpp): the request
 // parser's limits and refusals with their exact statuses and messages (RFC
 // 9112), percent-decoding, UTF-8, the log-safe form of client text, and the
 // response on the wire.
 #include <catch2/catch.hpp>
 
-#include "serve/web_message.hpp"
+#include "web/web_message.hpp"
 
 // This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
-namespace serve_test_web_message {
+namespace web_test_web_message {
 
-using namespace lmcfg::serve::web;
+using namespace lmcfg::web;
 using State = RequestParser::State;
 
 namespace {
@@ -41,7 +41,7 @@ void refused(const std::string& bytes, int status, const std::string& message, L
 
 }  // namespace
 
-TEST_CASE("web message: a GET with its path, query and headers", "[serve][web_message]") {
+TEST_CASE("web message: a GET with its path, query and headers", "[web][web_message]") {
   const Parsed r = parse(
       "GET /api/v1/drives/press3%2Fz/diff?from=HEAD~1&to=live&x=a+b HTTP/1.1\r\n"
       "Host: 127.0.0.1:8470\r\nUser-Agent:  curl/7.88  \r\nhost-extra: 1\r\n\r\n");
@@ -58,7 +58,7 @@ TEST_CASE("web message: a GET with its path, query and headers", "[serve][web_me
 }
 
 TEST_CASE("web message: bodies by Content-Length and chunked, in pieces of any size",
-          "[serve][web_message]") {
+          "[web][web_message]") {
   const std::string plain =
       "POST /x HTTP/1.1\r\nHost: h\r\nContent-Length: 11\r\n\r\n{\"rev\": 1}\n";
   const std::string chunked =
@@ -78,7 +78,7 @@ TEST_CASE("web message: bodies by Content-Length and chunked, in pieces of any s
   }
 }
 
-TEST_CASE("web message: pipelined requests come one at a time", "[serve][web_message]") {
+TEST_CASE("web message: pipelined requests come one at a time", "[web][web_message]") {
   RequestParser p(Limits{});
   REQUIRE(p.feed("GET /a HTTP/1.1\r\nHost: h\r\n\r\n\r\nGET /b HTTP/1.1\r\nHost: h\r\n\r\nGET") ==
           State::complete);
@@ -95,7 +95,7 @@ TEST_CASE("web message: pipelined requests come one at a time", "[serve][web_mes
 }
 
 TEST_CASE("web message: the body limit holds for every transfer coding (RFC 9112 §6)",
-          "[serve][web_message]") {
+          "[web][web_message]") {
   refused("POST /x HTTP/1.1\r\nHost: h\r\nContent-Length: 4097\r\n\r\n", 413,
           "the request body has 4097 bytes, more than the 4096 this service accepts");
   refused("POST /x HTTP/1.1\r\nHost: h\r\nContent-Length: 99999999999999999999\r\n\r\n", 400,
@@ -119,8 +119,38 @@ TEST_CASE("web message: the body limit holds for every transfer coding (RFC 9112
   refused(trailer, 431, "the chunked body's trailer is larger than 16384 bytes");
 }
 
-TEST_CASE("web message: smuggling shapes are refused (RFC 9112 §6.3, §5.2)",
-          "[serve][web_message]") {
+TEST_CASE("web message: a chunk size line holds 256 bytes however its bytes arrive",
+          "[web][web_message]") {
+  const std::string head = "POST /x HTTP/1.1\r\nHost: h\r\nTransfer-Encoding: chunked\r\n\r\n";
+  // "1;" and an extension: 256 bytes of line pass, 257 do not (CRLF not counted).
+  const auto body = [&](std::size_t line) {
+    return head + "1;" + std::string(line - 2, 'e') + "\r\na\r\n0\r\n\r\n";
+  };
+  for (std::size_t step : {std::size_t(1), std::size_t(7), std::size_t(100000)}) {
+    INFO("pieces of " << step << " bytes");
+    const auto feed = [&](const std::string& bytes) {
+      RequestParser p(Limits{});
+      State s = State::need_more;
+      for (std::size_t i = 0; i < bytes.size() && s == State::need_more; i += step)
+        s = p.feed(std::string_view(bytes).substr(i, step));
+      return std::make_pair(s, p.error_message());
+    };
+    const auto fits = feed(body(256));
+    CHECK(fits.first == State::complete);
+    for (const std::string& bytes : {body(257), body(300), body(4000)}) {
+      const auto over = feed(bytes);
+      CHECK(over.first == State::error);
+      CHECK(over.second == "a chunk size line longer than 256 bytes");
+    }
+  }
+  // A line that ends in CR with its LF still to come is not over the limit by the CR.
+  RequestParser p(Limits{});
+  CHECK(p.feed(head + "1;" + std::string(254, 'e') + "\r") == State::need_more);
+  CHECK(p.feed("\na\r\n0\r\n\r\n") == State::complete);
+  CHECK(p.request().body == "a");
+}
+
+TEST_CASE("web message: smuggling shapes are refused (RFC 9112 §6.3, §5.2)", "[web][web_message]") {
   refused("POST /x HTTP/1.1\r\nHost: h\r\nContent-Length: 3\r\nTransfer-Encoding: chunked\r\n\r\n",
           400, "both Transfer-Encoding and Content-Length (RFC 9112 §6.3)");
   refused("POST /x HTTP/1.1\r\nHost: h\r\nContent-Length: 3\r\nContent-Length: 4\r\n\r\n", 400,
@@ -142,7 +172,7 @@ TEST_CASE("web message: smuggling shapes are refused (RFC 9112 §6.3, §5.2)",
           "Expect: '200-ok' is not supported (only 100-continue)");
 }
 
-TEST_CASE("web message: the request line", "[serve][web_message]") {
+TEST_CASE("web message: the request line", "[web][web_message]") {
   refused("GET /x\r\n\r\n", 400, "the request line is not METHOD TARGET HTTP/1.1: 'GET /x'");
   refused("G(T /x HTTP/1.1\r\n\r\n", 400, "the request method 'G(T' is not a method name");
   refused("GET /x HTTP/2.0\r\n\r\n", 505,
@@ -165,8 +195,7 @@ TEST_CASE("web message: the request line", "[serve][web_message]") {
           "character");
 }
 
-TEST_CASE("web message: head limits: request line, head size, header count",
-          "[serve][web_message]") {
+TEST_CASE("web message: head limits: request line, head size, header count", "[web][web_message]") {
   refused("GET /" + std::string(9000, 'a'), 414, "the request line is longer than 8192 bytes");
   refused("GET /" + std::string(9000, 'a') + " HTTP/1.1\r\n", 414,
           "the request line is longer than 8192 bytes");
@@ -185,7 +214,7 @@ TEST_CASE("web message: head limits: request line, head size, header count",
 }
 
 TEST_CASE("web message: every byte 0x00-0xFF in a path, a header and a query value",
-          "[serve][web_message]") {
+          "[web][web_message]") {
   // Whatever the byte, the parser answers complete or a 4xx/5xx with a
   // message that is one line of valid UTF-8: never an exception, never raw bytes.
   for (int b = 0; b < 256; ++b) {
@@ -213,7 +242,7 @@ TEST_CASE("web message: every byte 0x00-0xFF in a path, a header and a query val
   }
 }
 
-TEST_CASE("web message: UTF-8 per RFC 3629", "[serve][web_message]") {
+TEST_CASE("web message: UTF-8 per RFC 3629", "[web][web_message]") {
   CHECK(valid_utf8(""));
   CHECK(valid_utf8("press3/z-axis"));
   CHECK(
@@ -230,7 +259,7 @@ TEST_CASE("web message: UTF-8 per RFC 3629", "[serve][web_message]") {
   CHECK(printable("GET /a\n\xFF\\") == "GET /a\\x0A\\xFF\\\\");
 }
 
-TEST_CASE("web message: percent-decoding and queries", "[serve][web_message]") {
+TEST_CASE("web message: percent-decoding and queries", "[web][web_message]") {
   std::string out;
   CHECK(url_decode("a%2Fb+c", out, false));
   CHECK(out == "a/b+c");
@@ -250,7 +279,7 @@ TEST_CASE("web message: percent-decoding and queries", "[serve][web_message]") {
   CHECK_FALSE(parse_query("x=%00", p, bad, true));
 }
 
-TEST_CASE("web message: the response on the wire", "[serve][web_message]") {
+TEST_CASE("web message: the response on the wire", "[web][web_message]") {
   Response r;
   r.status = 404;
   r.set_content("{}\n", "application/json");
@@ -272,4 +301,4 @@ TEST_CASE("web message: the response on the wire", "[serve][web_message]") {
   CHECK(serialize(none, false) == "HTTP/1.1 204 No Content\r\n\r\n");
 }
 
-}  // namespace serve_test_web_message
+}  // namespace web_test_web_message

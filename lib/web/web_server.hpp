@@ -1,5 +1,9 @@
 #pragma once
-// lmcfg serve's HTTP/1.1 server (docs/serve.md "Security model"): one event
+// The web layer's HTTP/1.1 server, lmcfg serve's (docs/serve.md "Security
+// model"). The layer (lib/web: messages, routes, sockets, TLS) uses common
+// only: the service, its routes and the console (lib/serve) use it, never
+// the other way round, and the build refuses an include of serve here
+// (tests/layering-test.py). One event
 // loop thread holds every connection (a held connection costs a buffer, not a
 // thread), a few worker threads run the handlers. Every resource a client can
 // make it spend is bounded:
@@ -11,11 +15,12 @@
 //     an idle keep-alive connection is closed after idle_timeout; an answer
 //     that the client does not take within write_timeout is dropped;
 //   - connections: max_connections in all, max_per_address per client
-//     address. A new connection over a limit evicts the oldest connection that
-//     has no request in progress (idle, or still sending its head) from the
-//     same address (per-address limit) or any (total), so held connections
-//     never lock a legitimate client out; when none can go, the new one is
-//     answered 503 and closed;
+//     address. A new connection over a limit evicts a connection that has no
+//     request with a worker (idle, or still sending its head or its body):
+//     the oldest from the same address (per-address limit), or the oldest
+//     from the address holding the most connections (total limit), so held
+//     connections never lock a legitimate client out and no address pushes
+//     out another's; when none can go, the new one is answered 503 and closed;
 //   - handlers: queued_max requests waiting for a worker, then 503.
 // A handler's exception answers 500 and is logged; it never ends the process.
 #include <atomic>
@@ -25,10 +30,10 @@
 #include <string>
 
 #include "common/result.hpp"
-#include "serve/web_message.hpp"
-#include "serve/web_tls.hpp"
+#include "web/web_message.hpp"
+#include "web/web_tls.hpp"
 
-namespace lmcfg::serve::web {
+namespace lmcfg::web {
 
 struct ServerOptions {
   Limits limits;
@@ -79,4 +84,4 @@ class Server {
   std::unique_ptr<Impl> impl_;
 };
 
-}  // namespace lmcfg::serve::web
+}  // namespace lmcfg::web

@@ -1,4 +1,4 @@
-// HTTPS of lmcfg serve (lib/serve/web_tls.cpp): the files' loading with its
+// HTTPS of lmcfg serve (lib/web/web_tls.cpp): the files' loading with its
 // message, and the protocol policy checked with the real `openssl s_client`:
 // TLS 1.3 and TLS 1.2 with forward-secret AEAD suites are accepted, older
 // protocols and other TLS 1.2 suites are refused.
@@ -8,14 +8,14 @@
 #include <thread>
 
 #include "files.hpp"
-#include "serve/web_server.hpp"
-#include "serve/web_tls.hpp"
+#include "web/web_server.hpp"
+#include "web/web_tls.hpp"
 
 // This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
-namespace serve_test_web_tls {
+namespace web_test_web_tls {
 
 using namespace lmcfg;
-using namespace lmcfg::serve::web;
+using namespace lmcfg::web;
 namespace fs = std::filesystem;
 
 namespace {
@@ -38,7 +38,7 @@ bool handshake(int port, const std::string& args) {
 
 }  // namespace
 
-TEST_CASE("web tls: files that do not load are named, with what is expected", "[serve][web_tls]") {
+TEST_CASE("web tls: files that do not load are named, with what is expected", "[web][web_tls]") {
   test::ScratchDir dir("web-tls-files");
   make_certificate(dir.path);
   const std::string cert = (dir.path / "cert.pem").string(), key = (dir.path / "key.pem").string();
@@ -55,7 +55,7 @@ TEST_CASE("web tls: files that do not load are named, with what is expected", "[
 }
 
 TEST_CASE("web tls: TLS 1.3, TLS 1.2 with ECDHE and AEAD only (checked with openssl s_client)",
-          "[serve][web_tls]") {
+          "[web][web_tls]") {
   test::ScratchDir dir("web-tls-policy");
   make_certificate(dir.path);
   auto ctx = TlsContext::load((dir.path / "cert.pem").string(), (dir.path / "key.pem").string());
@@ -83,4 +83,4 @@ TEST_CASE("web tls: TLS 1.3, TLS 1.2 with ECDHE and AEAD only (checked with open
   t.join();
 }
 
-}  // namespace serve_test_web_tls
+}  // namespace web_test_web_tls

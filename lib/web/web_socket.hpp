@@ -3,7 +3,7 @@
 // (web_socket.cpp: POSIX poll and a wake-up pipe; web_socket_win32.cpp:
 // Winsock's WSAPoll and a loopback datagram socket that wakes it): a
 // non-blocking listener, its accepted connections, their reads and writes,
-// and one wait over all of them. Private to the serve layer.
+// and one wait over all of them. Private to the web layer.
 //
 // A socket is an int on both platforms: a POSIX descriptor, or a Winsock
 // SOCKET kept as transport/winsock_win32.hpp keeps it (Windows handles have
@@ -14,7 +14,7 @@
 
 #include "common/result.hpp"
 
-namespace lmcfg::serve::web {
+namespace lmcfg::web {
 
 // What a non-blocking step did: `n` bytes moved (0 with want_*: try again
 // when the socket is readable/writable); `closed`: the peer closed or the
@@ -84,4 +84,4 @@ class Waker {
 // failed (not when it was interrupted by a signal).
 bool wait_sockets(std::vector<Watch>& watches, int timeout_ms);
 
-}  // namespace lmcfg::serve::web
+}  // namespace lmcfg::web

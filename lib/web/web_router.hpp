@@ -11,9 +11,9 @@
 #include <string>
 #include <vector>
 
-#include "serve/web_message.hpp"
+#include "web/web_message.hpp"
 
-namespace lmcfg::serve::web {
+namespace lmcfg::web {
 
 using Handler = std::function<void(const Request&, Response&)>;
 
@@ -42,4 +42,4 @@ class Router {
   std::vector<Route> routes_;
 };
 
-}  // namespace lmcfg::serve::web
+}  // namespace lmcfg::web

@@ -1,15 +1,15 @@
-// lmcfg serve's routes (lib/serve/web_router.cpp): placeholders without
+// lmcfg serve's routes (lib/web/web_router.cpp): placeholders without
 // regular expressions, first match wins, 404 and 405 with the methods allowed.
 #include <catch2/catch.hpp>
 
-#include "serve/web_router.hpp"
+#include "web/web_router.hpp"
 
 // This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
-namespace serve_test_web_router {
+namespace web_test_web_router {
 
-using namespace lmcfg::serve::web;
+using namespace lmcfg::web;
 
-TEST_CASE("web router: placeholders match as the routes need them", "[serve][web_router]") {
+TEST_CASE("web router: placeholders match as the routes need them", "[web][web_router]") {
   std::vector<std::string> g;
   CHECK(match_pattern("/api/v1/drives", "/api/v1/drives", g));
   CHECK(g == std::vector<std::string>{"/api/v1/drives"});
@@ -32,7 +32,7 @@ TEST_CASE("web router: placeholders match as the routes need them", "[serve][web
   CHECK_FALSE(match_pattern("/d/{any}/history", "/d/" + long_name, g));
 }
 
-TEST_CASE("web router: first match, HEAD as GET, 404 and 405", "[serve][web_router]") {
+TEST_CASE("web router: first match, HEAD as GET, 404 and 405", "[web][web_router]") {
   Router r;
   std::string ran;
   r.Get("/d/{any}/history", [&](const Request& q, Response&) { ran = "history " + q.matches[1]; });
@@ -60,4 +60,4 @@ TEST_CASE("web router: first match, HEAD as GET, 404 and 405", "[serve][web_rout
   CHECK(r.dispatch(q, res) == Router::Outcome::not_found);
 }
 
-}  // namespace serve_test_web_router
+}  // namespace web_test_web_router

@@ -18,7 +18,7 @@
 #include <utility>
 #include <vector>
 
-namespace lmcfg::serve::web {
+namespace lmcfg::web {
 
 // Header names compare without regard to case (RFC 9110 §5.1).
 struct CaseLess {
@@ -79,6 +79,10 @@ bool valid_utf8(std::string_view s, std::size_t* where = nullptr) noexcept;
 // one line that is valid UTF-8 and valid in JSON, whatever a client sent.
 std::string printable(std::string_view s);
 
+// A chunked body's chunk-size line (the size and any extensions, RFC 9112
+// §7.1.1) holds at most this many bytes; 400 above.
+inline constexpr std::size_t kMaxChunkLine = 256;
+
 struct Limits {
   std::size_t max_request_line = 8192;  // 414 above
   std::size_t max_head = 16384;         // request line and headers; 431 above
@@ -137,4 +141,4 @@ class RequestParser {
   std::string error_message_;
 };
 
-}  // namespace lmcfg::serve::web
+}  // namespace lmcfg::web

@@ -14,9 +14,9 @@
 #include <mbedtls/ssl_ciphersuites.h>
 #include <mbedtls/x509_crt.h>
 
-#include "serve/web_tls.hpp"
+#include "web/web_tls.hpp"
 
-namespace lmcfg::serve::web {
+namespace lmcfg::web {
 
 namespace {
 
@@ -183,4 +183,4 @@ bool TlsStream::has_buffered() const {
   return mbedtls_ssl_get_bytes_avail(&session_of(ssl_)->ssl) > 0;
 }
 
-}  // namespace lmcfg::serve::web
+}  // namespace lmcfg::web

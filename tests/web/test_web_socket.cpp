@@ -9,13 +9,13 @@
 #include <vector>
 
 #include "raw_http.hpp"
-#include "serve/web_socket.hpp"
+#include "web/web_socket.hpp"
 
 // This file's own namespace: the test binary is a unity build (tests/CMakeLists.txt).
-namespace serve_test_web_socket {
+namespace web_test_web_socket {
 
 using namespace lmcfg;
-using namespace lmcfg::serve::web;
+using namespace lmcfg::web;
 using lmcfg::test::RawClient;
 
 namespace {
@@ -31,7 +31,7 @@ int accept_within(int listener, std::string& peer) {
 }  // namespace
 
 TEST_CASE("web socket: a listener on any free port, its port not shared with a second",
-          "[serve][web_socket]") {
+          "[web][web_socket]") {
   auto a = listen_on("127.0.0.1", 0);
   REQUIRE(a.ok());
   CHECK(a->port > 0);
@@ -49,7 +49,7 @@ TEST_CASE("web socket: a listener on any free port, its port not shared with a s
 }
 
 TEST_CASE("web socket: accepted connections name their peer, bytes both ways, the peer's close",
-          "[serve][web_socket]") {
+          "[web][web_socket]") {
   auto l = listen_on("127.0.0.1", 0);
   REQUIRE(l.ok());
   std::optional<RawClient> client;
@@ -98,7 +98,7 @@ TEST_CASE("web socket: accepted connections name their peer, bytes both ways, th
 }
 
 TEST_CASE("web socket: the waker ends a wait from another thread, drained it is quiet again",
-          "[serve][web_socket]") {
+          "[web][web_socket]") {
   Waker waker;
   REQUIRE(waker.open().ok());
   std::vector<Watch> w{{waker.socket(), true, false}};
@@ -122,7 +122,7 @@ TEST_CASE("web socket: the waker ends a wait from another thread, drained it is 
 }
 
 TEST_CASE("web socket: loopback addresses are 127.0.0.0/8 and ::1, written as numbers",
-          "[serve][web_socket]") {
+          "[web][web_socket]") {
   for (const char* yes : {"127.0.0.1", "127.255.0.9", "::1", "0:0:0:0:0:0:0:1"})
     CHECK(is_loopback_address(yes));
   for (const char* no : {"10.0.0.1", "0.0.0.0", "::", "::2", "localhost", "127.example.com",
@@ -130,4 +130,4 @@ TEST_CASE("web socket: loopback addresses are 127.0.0.0/8 and ::1, written as nu
     CHECK_FALSE(is_loopback_address(no));
 }
 
-}  // namespace serve_test_web_socket
+}  // namespace web_test_web_socket
