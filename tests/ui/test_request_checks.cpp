@@ -6,6 +6,7 @@
 
 namespace ui_test_request_checks {
 
+using namespace lmcfg;
 using namespace lmcfg::serve;
 
 web::Request request(const std::string& method,
