@@ -59,6 +59,7 @@ ALLOWED = {
     "serve/request_checks.cpp": ("tests/ui/test_request_checks.cpp tests/serve/test_console.cpp",
                                  "the Host and Origin checks both servers share"),
     "ui/desk_write.cpp": ("tests/ui/test_ui_server.cpp", "the desk's restore and undo writes"),
+    "ui/server.cpp": ("tests/ui/test_ui_server.cpp", "the page's HTTP API end to end (test_server is sim's)"),
     "ui/pages_drive.cpp": ("tests/ui/test_pages.cpp tests/ui/test_ui_server.cpp",
                            "the drive, job and plan pages"),
     # Platform files split out of the file whose tests cover them.

@@ -54,7 +54,7 @@ TEST_CASE("text: one_line leaves no line break and no invalid byte", "[common][t
   CHECK(one_line("plain") == "plain");
 }
 
-TEST_CASE("text: log_text escapes control characters and invalid bytes as \\xNN",
+TEST_CASE("text: log_text escapes control characters and invalid bytes as hex (xNN)",
           "[common][text]") {
   CHECK(log_text("fix\r\nOperator: mallory") == "fix\\x0D\\x0AOperator: mallory");
   CHECK(log_text(std::string("esc\x1B[2Jbel\x07nul\0end", 18)) == "esc\\x1B[2Jbel\\x07nul\\x00end");

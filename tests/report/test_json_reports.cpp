@@ -160,7 +160,7 @@ TEST_CASE("json reports: restore --json and the journal's steps, with a second p
         R"({"file":"axis.json","outcome":"verify mismatch","problems":[],"nothing_to_do":false,)"
         R"("steps":[{"step":1,"action":"stop_mc","text":"stop motion control"},)"
         R"({"step":2,"action":"start_mc","text":"start motion control"}],)"
-        R"("losses":[],"skipped":[],"skipped_incompatible":[],"notes":[],)"
+        R"("losses":[],"skipped":[],"skipped_incompatible":[],"notes":[],"kept":[],)"
         R"("second_pass":[{"step":1,"action":"save_ct","text":"save the command table"}],)"
         R"("mismatches":["command table entry 3 differs"],)"
         R"("undo":{"path":"/u/rec.json","command":"lmcfg undo --port /dev/ttyS0"},)"

@@ -39,7 +39,7 @@ void used_spare(const fs::path& state) {
 }  // namespace
 
 TEST_CASE(
-    "console in Chromium at 390 px: no page is wider than the screen; the plan and the "
+    "console in Chromium at 390 px: no page is wider than the screen, and the plan and the "
     "outcome list the values the drive keeps",
     "[serve][console][browser][matching]") {
   test::Rig rig;

@@ -191,7 +191,7 @@ TEST_CASE(
   CHECK(plain(*rig.service->job(*restore))["state"] == "done");
 }
 
-TEST_CASE("serve: a line takes a bounded number of live reads; more are refused as busy",
+TEST_CASE("serve: a line takes a bounded number of live reads, more are refused as busy",
           "[serve][live]") {
   HungLine hung;
   REQUIRE(hung.port() != 0);

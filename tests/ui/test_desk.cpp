@@ -59,7 +59,7 @@ TEST_CASE("desk: names, link options and file names", "[ui_desk]") {
   CHECK_FALSE(ui::plain_file_name(""));
 }
 
-TEST_CASE("desk: refusals say what and what to do; nothing starts", "[ui_desk]") {
+TEST_CASE("desk: refusals say what and what to do, and nothing starts", "[ui_desk]") {
   DeskRig rig;
   auto b = rig.desk->backup("nope");
   REQUIRE_FALSE(b.ok());

@@ -65,7 +65,7 @@ TEST_CASE("pages: a failed write says what the drive holds and how to go on", "[
   CHECK_FALSE(has(html, "data-refresh"));
 }
 
-TEST_CASE("pages: a running job refreshes itself; a write says closing the tab stops nothing",
+TEST_CASE("pages: a running job refreshes itself, and a write says closing the tab stops nothing",
           "[ui_pages]") {
   Json j{{"id", "8"},
          {"kind", "restore"},

@@ -57,7 +57,7 @@ TEST_CASE("ports: by-id names with the adapter's USB descriptors, then bare ttys
   CHECK(ports[1].held_by == "minicom (PID 77)");
 }
 
-TEST_CASE("ports: no adapter, no list; a dangling by-id name is left out", "[ui_ports]") {
+TEST_CASE("ports: no adapter, no list, and a dangling by-id name is left out", "[ui_ports]") {
   test::ScratchDir dir("ui-ports-none");
   ui::PortRoots roots{dir.path / "dev", dir.path / "sys", dir.path / "proc"};
   CHECK(ui::list_ports(roots).empty());
