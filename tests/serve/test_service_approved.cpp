@@ -211,7 +211,7 @@ TEST_CASE("serve: restoring the approved configuration over a used spare makes i
 
 TEST_CASE(
     "serve: a used spare with other communication settings, restored from the approved "
-    "configuration, stays ok through two scheduled backups; the plan says what stays different",
+    "configuration, stays ok through two scheduled backups, and the plan says what stays different",
     "[serve][service_approved][matching][git-cli]") {
   Rig rig;
   const auto t0 = rig.now;

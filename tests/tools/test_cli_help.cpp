@@ -37,8 +37,8 @@ std::vector<std::string> subcommand_lines(const std::string& text) {
 }
 
 const std::vector<std::string> kNames = {
-    "backup", "diff", "report",  "restore", "default", "undo", "journal", "get",  "set",
-    "db",     "info", "convert", "scan",    "link",    "sim",  "fleet",   "serve"};
+    "backup", "diff", "report",  "restore", "default", "undo", "journal", "get",   "set",
+    "db",     "info", "convert", "scan",    "link",    "sim",  "fleet",   "serve", "ui"};
 
 }  // namespace
 
@@ -100,7 +100,7 @@ TEST_CASE("first ten minutes: lmcfg help with an unknown subcommand names it, ex
   CHECK(r.exit_code == 2);
   CHECK(r.err ==
         "lmcfg: unknown subcommand 'bakup' (one of: backup, diff, report, restore, default, undo, "
-        "journal, get, set, db, info, convert, scan, link, sim, fleet, serve; see lmcfg "
+        "journal, get, set, db, info, convert, scan, link, sim, fleet, serve, ui; see lmcfg "
         "--help)\n");
 }
 

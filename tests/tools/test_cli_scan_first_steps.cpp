@@ -208,7 +208,7 @@ TEST_CASE("first steps: unknown subcommands and stray words are errors naming th
   CHECK(fleet.exit_code == 2);
   CHECK(fleet.err ==
         "lmcfg: unknown subcommand 'fleat' (one of: backup, diff, report, restore, default, undo, "
-        "journal, get, set, db, info, convert, scan, link, sim, fleet, serve; see lmcfg "
+        "journal, get, set, db, info, convert, scan, link, sim, fleet, serve, ui; see lmcfg "
         "--help)\n");
   auto stray = tool(d.path, "info stray --port sim:none.json");
   CHECK(stray.exit_code == 2);
