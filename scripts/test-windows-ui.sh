@@ -188,21 +188,26 @@ else
 fi
 
 # 8. Without --folder: the default folder is Documents\lmcfg of the user;
-# `lmcfg.exe` alone from a script (no console of its own) prints the usage.
+# SIGINT (Wine's Ctrl-C) with nothing running ends it, exit 0. `lmcfg.exe`
+# alone from a script (no console of its own) prints the usage, exit 2.
 t0=$(date +%s)
-win ui --no-browser --no-practice --listen 127.0.0.1:0 >def.out 2>def.err &
+"$wine" "$exe" ui --no-browser --no-practice --listen 127.0.0.1:0 >def.out 2>def.err </dev/null &
 def_pid=$!
+pids+=("$def_pid")
 for _ in $(seq 300); do grep -q 'backups go to' def.err && break; sleep 0.1; done
 folder_line=$(grep -o 'backups go to .*' def.err | tr -d '\r')
-kill "$def_pid" 2>/dev/null
+kill -INT "$def_pid" 2>/dev/null
+for _ in $(seq 200); do kill -0 "$def_pid" 2>/dev/null || break; sleep 0.1; done
+kill -0 "$def_pid" 2>/dev/null && kill -KILL "$def_pid"
 wait "$def_pid" 2>/dev/null
+int_rc=$?
 win >usage.out 2>usage.err
 rc=$?
-if [[ $folder_line =~ backups\ go\ to\ C:\\users\\[^\\]+\\Documents\\lmcfg$ ]] && ((rc == 2)) &&
+if [[ $folder_line =~ backups\ go\ to\ C:\\users\\[^\\]+\\Documents\\lmcfg$ ]] && ((int_rc == 0 && rc == 2)) &&
   grep -q 'Usage: lmcfg SUBCOMMAND' usage.err; then
-  ok "the default folder: '$folder_line'; lmcfg.exe alone from a script: the usage, exit 2"
+  ok "the default folder: '$folder_line'; SIGINT: exit 0; lmcfg.exe alone from a script: the usage, exit 2"
 else
-  bad "default folder '$folder_line' ($(tail -2 def.err)); lmcfg.exe alone: exit $rc"
+  bad "default folder '$folder_line' ($(tail -2 def.err)); SIGINT: exit $int_rc; lmcfg.exe alone: exit $rc"
 fi
 
 echo "test-windows-ui: $passed passed, $failed failed ($(($(date +%s) - start_all)) s)"
