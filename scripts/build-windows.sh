@@ -218,6 +218,8 @@ cp "$build/lmcfg.exe" "$build/lmcfg-upid.sqlite" "$stage/"
 $triple-strip "$stage/lmcfg.exe"
 cp "$root/README.md" "$stage/README.md"
 cp "$root/docs/windows.md" "$stage/WINDOWS.md"
+# The technicians' first page: double-click, or `lmcfg ui`; CRLF for Notepad.
+sed 's/$/\r/' "$root/tools/lmcfg/windows/README.txt" >"$stage/README.txt"
 licence() { [[ -f $2 ]] && cp "$2" "$stage/licences/$1"; }
 licence sqlite.txt "$sqlite/debian/copyright"
 licence pugixml.txt "$pugixml/LICENSE.md" || licence pugixml.txt "$pugixml/debian/copyright"

@@ -5,12 +5,14 @@
 // (what a file in the user's own profile has, without inheriting more).
 #include "serve/token_file.hpp"
 
-// windows.h (win32_util.hpp) before the headers that need its types.
+// windows.h (win32_util.hpp, lean: without winsock.h, which a Winsock file
+// after this one in the same unity batch would meet) before the headers that
+// need its types.
+#include "transport/win32_util.hpp"
+// (a block of its own: clang-format keeps it first)
 #include <aclapi.h>
 #include <bcrypt.h>
 #include <sddl.h>
-
-#include "transport/win32_util.hpp"
 
 namespace lmcfg::serve {
 

@@ -4,6 +4,7 @@
 #include "serve/console.hpp"
 #include "serve/console_pages.hpp"
 #include "serve/console_words.hpp"
+#include "ui/ports.hpp"
 
 namespace lmcfg::ui::pages {
 
@@ -79,8 +80,8 @@ std::string ports_section(const Json& ports, const std::string& csrf) {
       "computer</h2>";
   const auto& list = member(ports, "ports");
   if (!list.is_array() || list.empty())
-    b += "<p id=\"no-ports\">No USB serial adapter is plugged in (none under /dev/serial/by-id, "
-         "/dev/ttyUSB* or /dev/ttyACM*). Plug one in and reload, or type a port below.</p>";
+    b += std::string("<p id=\"no-ports\">No USB serial adapter is plugged in (none ") +
+         where_ports_are_looked_for() + "). Plug one in and reload, or type a port below.</p>";
   else {
     b += "<table id=\"ports\"><thead><tr><th scope=\"col\">Port</th><th scope=\"col\">Adapter</th>"
          "<th scope=\"col\">In use</th><th scope=\"col\"></th></tr></thead><tbody>";

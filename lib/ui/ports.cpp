@@ -78,6 +78,10 @@ std::string port_user(const std::string& device, const PortRoots& roots) {
   return "";
 }
 
+const char* where_ports_are_looked_for() {
+  return "under /dev/serial/by-id, /dev/ttyUSB* or /dev/ttyACM*";
+}
+
 std::vector<SerialPortInfo> list_ports(const PortRoots& roots) {
   std::vector<SerialPortInfo> out;
   std::set<std::string> covered;  // devices a by-id name lists

@@ -32,6 +32,11 @@ struct PortRoots {
 // listed without them.
 std::vector<SerialPortInfo> list_ports(const PortRoots& roots = {});
 
+// Where list_ports looked, for a page that found no port: "under
+// /dev/serial/by-id, /dev/ttyUSB* or /dev/ttyACM*" (Windows: "among the COM
+// ports Windows knows").
+const char* where_ports_are_looked_for();
+
 // The program that has `device` open, from its lock (transport::port_holder)
 // or, on Linux, from the processes' open files: "minicom (PID 77)"; "" when
 // none is found (another user's process cannot be seen).

@@ -6,4 +6,11 @@ namespace lmcfg::cli {
 
 void init_console();
 
+// True when the program was started with a console of its own that nobody
+// else shares and that it writes to: on Windows, a double-click in Explorer
+// (the console was made for this process alone), where `lmcfg` without
+// arguments opens the page (lmcfg ui) instead of printing the usage into a
+// window that closes at once. Never on POSIX.
+bool started_by_double_click();
+
 }  // namespace lmcfg::cli

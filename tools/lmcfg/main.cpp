@@ -83,7 +83,13 @@ int main(int argc, char** argv) {
   // `lmcfg help SUBCOMMAND...` is `lmcfg SUBCOMMAND... --help`.
   std::vector<char*> args(argv, argv + argc);
   static char help_flag[] = "--help";
-  if (argc == 1) {
+  static char ui_word[] = "ui";
+  if (argc == 1 && started_by_double_click()) {
+    // A double-click on lmcfg.exe opens the page (docs/ui.md "Windows").
+    args.push_back(ui_word);
+    argc = static_cast<int>(args.size());
+    argv = args.data();
+  } else if (argc == 1) {
     std::fputs(overview(app).c_str(), stderr);
     return kInvalidInput;  // a subcommand is required, as before
   }
