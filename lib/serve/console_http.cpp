@@ -7,22 +7,6 @@ namespace lmcfg::serve {
 
 namespace {
 
-std::string cookie(const web::Request& req, std::string_view name) {
-  const std::string header = req.get_header_value("Cookie");
-  std::size_t pos = 0;
-  while (pos < header.size()) {
-    auto end = header.find(';', pos);
-    if (end == std::string::npos) end = header.size();
-    std::string_view part(header.data() + pos, end - pos);
-    while (!part.empty() && part.front() == ' ') part.remove_prefix(1);
-    if (part.size() > name.size() && part.substr(0, name.size()) == name &&
-        part[name.size()] == '=')
-      return std::string(part.substr(name.size() + 1));
-    pos = end + 1;
-  }
-  return "";
-}
-
 // (httplib's set_header adds a header: each is set once, two CSPs would both apply)
 void headers(web::Response& res, std::string_view csp = Console::content_security_policy(),
              const char* cache = "no-store") {
@@ -108,7 +92,7 @@ std::string field(const web::Params& p, const char* key) {
 
 // The signed-in user, or the answer that sends the browser to sign in.
 std::optional<ConsoleUser> signed_in(Console* c, const web::Request& req, web::Response& res) {
-  auto u = c->user(cookie(req, kSessionCookie));
+  auto u = c->user(req.cookie(kSessionCookie));
   // After signing in, back to the page asked for (a form's POST: the overview).
   if (!u)
     see_other(res, "/signin?next=" + url_encode(req.method == "GET" ? path_and_query(req) : "/"));
@@ -160,7 +144,7 @@ void register_assets(web::Router& router) {
 void register_signin(web::Router& router, Console* c) {
   router.Get("/signin", [c](const web::Request& req, web::Response& res) {
     if (!c->sign_in_needed()) return see_other(res, "/");
-    auto nonce = c->signin_nonce(cookie(req, kSigninCookie), req.remote_addr);
+    auto nonce = c->signin_nonce(req.cookie(kSigninCookie), req.remote_addr);
     if (!nonce.ok())
       return page(res, c->error_page(nullptr, 503, "Sign-in unavailable", nonce.error().message));
     res.set_header("Set-Cookie", std::string(kSigninCookie) + "=" + *nonce +
@@ -180,7 +164,7 @@ void register_signin(web::Router& router, Console* c) {
                                        cookie_attributes(req, "/signin", 600));
       page(res, c->signin_page(message, next, *nonce, status));
     };
-    if (!c->signin_nonce_ok(cookie(req, kSigninCookie), field(*f, "csrf")))
+    if (!c->signin_nonce_ok(req.cookie(kSigninCookie), field(*f, "csrf")))
       return fresh("the form is out of date: sign in again", 403);
     auto s = c->sign_in(field(*f, "token"));
     if (!s.ok()) return fresh(s.error().message, 401);
@@ -196,7 +180,7 @@ void register_signin(web::Router& router, Console* c) {
     if (!Console::csrf_ok(*u, field(*f, "csrf")))
       return page(res, c->error_page(&*u, 403, "Refused",
                                      "the form's CSRF token is missing or not this session's"));
-    c->sign_out(cookie(req, kSessionCookie));
+    c->sign_out(req.cookie(kSessionCookie));
     res.set_header("Set-Cookie",
                    std::string(kSessionCookie) + "=" + cookie_attributes(req, "/", 0));
     see_other(res, "/signin");

@@ -14,8 +14,6 @@ using cp::esc;
 using cp::member;
 using cp::str;
 
-namespace {
-
 std::string csrf_input(const std::string& csrf) {
   return "<input type=\"hidden\" name=\"csrf\" value=\"" + esc(csrf) + "\">";
 }
@@ -23,6 +21,8 @@ std::string csrf_input(const std::string& csrf) {
 std::string hidden(const std::string& name, const std::string& value) {
   return "<input type=\"hidden\" name=\"" + esc(name) + "\" value=\"" + esc(value) + "\">";
 }
+
+namespace {
 
 std::string post_button(const std::string& action, const std::string& label,
                         const std::vector<std::pair<std::string, std::string>>& fields,

@@ -30,6 +30,10 @@ std::string failure(const std::string& title, const Error& e, int exit_code,
                     const std::string& back, const std::string& csrf);
 // After Quit.
 std::string stopped();
+
+// Hidden form fields of every page's forms: the CSRF value, and one named value.
+std::string csrf_input(const std::string& csrf);
+std::string hidden(const std::string& name, const std::string& value);
 // Before the token: how to open the page.
 std::string need_token();
 

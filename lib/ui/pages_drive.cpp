@@ -16,14 +16,6 @@ using cp::str;
 
 namespace {
 
-std::string csrf_field(const std::string& csrf) {
-  return "<input type=\"hidden\" name=\"csrf\" value=\"" + esc(csrf) + "\">";
-}
-
-std::string hidden_field(const std::string& name, const std::string& value) {
-  return "<input type=\"hidden\" name=\"" + esc(name) + "\" value=\"" + esc(value) + "\">";
-}
-
 // Names of ports and files are long and unbroken ("/dev/serial/by-id/usb-FTDI_..."):
 // shown where they may break anywhere, so that a 390 px page does not scroll sideways.
 std::string long_name(const std::string& s) { return "<code class=\"wrap\">" + esc(s) + "</code>"; }
@@ -87,27 +79,27 @@ std::string actions_section(const Json& d, const std::string& csrf) {
   if (member(d, "busy_job").is_string())
     b += "<p class=\"amber\" id=\"busy\">An operation runs on this port now: <a href=\"/job?id=" +
          esc(str(d, "busy_job")) + "\">see its progress</a>. The next one waits for it.</p>";
-  b += "<form method=\"post\" action=\"/backup\" class=\"card\">" + csrf_field(csrf) +
-       hidden_field("key", key) +
+  b += "<form method=\"post\" action=\"/backup\" class=\"card\">" + csrf_input(csrf) +
+       hidden("key", key) +
        "<p>Read the whole configuration into a file of the folder.</p><button type=\"submit\" "
        "id=\"backup\">Back up</button></form>";
-  b += "<form method=\"post\" action=\"/compare\" class=\"card\">" + csrf_field(csrf) +
-       hidden_field("key", key) +
+  b += "<form method=\"post\" action=\"/compare\" class=\"card\">" + csrf_input(csrf) +
+       hidden("key", key) +
        "<label for=\"against\">Compare the drive with</label><select id=\"against\" "
        "name=\"against\"><option value=\"defaults\">factory defaults</option>" +
        file_options(files) +
        "</select><button type=\"submit\" id=\"compare\">Compare</button>"
        "</form>";
   if (has_files)
-    b += "<form method=\"post\" action=\"/plan\" class=\"card\">" + csrf_field(csrf) +
-         hidden_field("key", key) +
+    b += "<form method=\"post\" action=\"/plan\" class=\"card\">" + csrf_input(csrf) +
+         hidden("key", key) +
          "<label for=\"file\">Restore a file onto this drive</label><select id=\"file\" "
          "name=\"file\">" +
          file_options(files) +
          "</select><p class=\"muted\">First a plan: nothing is written before you confirm "
          "it.</p><button type=\"submit\" id=\"plan\">Check the drive and plan</button></form>";
-  b += "<form method=\"post\" action=\"/undo\" class=\"card\">" + csrf_field(csrf) +
-       hidden_field("key", key) +
+  b += "<form method=\"post\" action=\"/undo\" class=\"card\">" + csrf_input(csrf) +
+       hidden("key", key) +
        "<p>Put back what the last write from this computer changed (its undo record).</p>"
        "<button type=\"submit\" id=\"undo\">Plan the undo</button></form>";
   return b + "</section>\n";
@@ -318,7 +310,7 @@ std::string plan(const Json& p, const std::string& csrf) {
     b += "<p>Nothing to write. " + key_link(key, "Back to the drive") + "</p>";
   } else {
     b += "<form method=\"post\" action=\"/execute\" class=\"card\" id=\"confirm\">" +
-         csrf_field(csrf) + hidden_field("plan", str(p, "plan_id"));
+         csrf_input(csrf) + hidden("plan", str(p, "plan_id"));
     if (incompatible)
       b += "<label class=\"check\"><input type=\"checkbox\" name=\"skip_incompatible\" value=\"1\" "
            "id=\"skip-incompatible\" required> Restore everything else, without the " +

@@ -24,22 +24,6 @@ std::string lower_text(std::string s) {
   return s;
 }
 
-std::string cookie_value(const Request& req, std::string_view name) {
-  const std::string header = req.get_header_value("Cookie");
-  std::size_t pos = 0;
-  while (pos < header.size()) {
-    auto end = header.find(';', pos);
-    if (end == std::string::npos) end = header.size();
-    std::string_view part(header.data() + pos, end - pos);
-    while (!part.empty() && part.front() == ' ') part.remove_prefix(1);
-    if (part.size() > name.size() && part.substr(0, name.size()) == name &&
-        part[name.size()] == '=')
-      return std::string(part.substr(name.size() + 1));
-    pos = end + 1;
-  }
-  return "";
-}
-
 // Equal without telling by its time where they differ.
 bool same_secret(std::string_view a, std::string_view b) {
   if (a.size() != b.size() || a.empty()) return false;
@@ -182,7 +166,7 @@ struct UiServer::Impl {
       redirect(res, without_token(req));
       return false;
     }
-    if (same_secret(cookie_value(req, kUiCookie), session)) return true;
+    if (same_secret(req.cookie(kUiCookie), session)) return true;
     html(res, pages::need_token(), 403);
     return false;
   }

@@ -62,6 +62,22 @@ std::string Request::get_param_value(const std::string& key) const {
   return it == params.end() ? "" : it->second;
 }
 
+std::string Request::cookie(std::string_view name) const {
+  const std::string header = get_header_value("Cookie");
+  std::size_t pos = 0;
+  while (pos < header.size()) {
+    auto end = header.find(';', pos);
+    if (end == std::string::npos) end = header.size();
+    std::string_view part(header.data() + pos, end - pos);
+    while (!part.empty() && part.front() == ' ') part.remove_prefix(1);
+    if (part.size() > name.size() && part.substr(0, name.size()) == name &&
+        part[name.size()] == '=')
+      return std::string(part.substr(name.size() + 1));
+    pos = end + 1;
+  }
+  return "";
+}
+
 void Response::set_header(const std::string& name, const std::string& value) {
   headers.emplace(name, value);
 }

@@ -45,6 +45,9 @@ struct Request {
   bool has_param(const std::string& key) const { return params.count(key) != 0; }
   // The first value of the parameter, "" when absent.
   std::string get_param_value(const std::string& key) const;
+  // The value of cookie `name` in the Cookie header (RFC 6265 §5.4: pairs
+  // separated by "; "), "" when absent.
+  std::string cookie(std::string_view name) const;
 };
 
 struct Response {

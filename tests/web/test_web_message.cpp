@@ -301,4 +301,16 @@ TEST_CASE("web message: the response on the wire", "[web][web_message]") {
   CHECK(serialize(none, false) == "HTTP/1.1 204 No Content\r\n\r\n");
 }
 
+TEST_CASE("web: a request's cookie by name (RFC 6265 §5.4 pairs), absent is empty",
+          "[web][web_message]") {
+  lmcfg::web::Request r;
+  CHECK(r.cookie("a").empty());
+  r.headers.emplace("Cookie", "lmcfg_session=abc; lmcfg_signin=x=y;  other=1");
+  CHECK(r.cookie("lmcfg_session") == "abc");
+  CHECK(r.cookie("lmcfg_signin") == "x=y");
+  CHECK(r.cookie("other") == "1");
+  CHECK(r.cookie("lmcfg") == "");
+  CHECK(r.cookie("session") == "");
+}
+
 }  // namespace web_test_web_message
