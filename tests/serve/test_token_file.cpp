@@ -8,10 +8,12 @@
 #include "serve/token_file.hpp"
 
 #ifdef _WIN32
+// windows.h lean (win32_util.hpp) before aclapi.h: a Winsock test file after
+// this one in the same unity batch must not meet winsock.h.
+#include "transport/win32_util.hpp"
+// (a block of its own: clang-format keeps it first)
 #include <aclapi.h>
 #include <sddl.h>
-
-#include "transport/win32_util.hpp"
 #else
 #include <sys/stat.h>
 #endif
