@@ -125,7 +125,14 @@ fi
 
 # 3. Plan and execute the approved configuration back onto the drive.
 t0=$(date +%s)
-api POST "/api/v1/drives/cell1%2Faxis/plan" '{}' >/dev/null
+# A plan reads the drive on the line's worker: while that takes longer than
+# the service's bounded wait (Wine is slow) the answer is 503 "line busy" with
+# Retry-After, and asking again gets the read's answer (docs/serve.md "Live reads").
+for _ in $(seq 60); do
+  api POST "/api/v1/drives/cell1%2Faxis/plan" '{}' >/dev/null
+  [[ $status == 503 ]] || break
+  sleep 2
+done
 plan=$(json '["plan_id"]')
 api POST "/api/v1/plans/$plan/execute" '{"reason":"put back after a test change","ticket":"T-1"}' >/dev/null
 job=$(json '["job"]')
