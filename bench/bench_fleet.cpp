@@ -3,7 +3,7 @@
 // and the drives' modelled turnaround). Prints the wall time of one line alone
 // (three sample lines; all lines are identical), of `fleet backup` over all 32
 // lines, the commit phase of that run, and a commit of 256 changed files.
-// Not part of ctest; figures in docs/performance.md.
+// Not part of ctest; figures in docs/measurements.md.
 #include <atomic>
 #include <chrono>
 #include <cstdio>

@@ -3,7 +3,7 @@
 // file size of the one-configuration page and of the diff page against a
 // changed copy, then (when Chromium and node are installed) the time the page
 // takes to open in headless Chromium, through tests/browser/check-report.js.
-// Prints the figures of docs/performance.md "Reports". Not part of ctest.
+// Prints the figures of docs/measurements.md. Not part of ctest.
 //   lmcfg_bench_report [OUT_DIR]   (default: the current directory)
 #include <algorithm>
 #include <chrono>

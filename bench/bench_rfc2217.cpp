@@ -1,6 +1,6 @@
 // lmcfg_bench_rfc2217: the cost of one LinRS exchange through ser2net's RFC 2217
 // accepter against the same exchange on the pseudo-terminal directly
-// (docs/performance.md "RFC 2217"). A simulated drive (lib/sim, real time: it
+// (docs/measurements.md, docs/transport.md "RFC 2217"). A simulated drive (lib/sim, real time: it
 // answers after its modelled turnaround plus the answer's wire time at
 // 57600 Bd) is served on a pty; N read-RAM exchanges of LinRS §9.1
 // (01 11 05 02 00 03 A2 13 04, a 20-byte answer) run first with open_serial on

@@ -10,7 +10,7 @@
 //   - the time from a drift (a parameter of the last drive of a line changed
 //     in its state file right after a drift check) to its `drift` event, and
 //     the bound one status_every plus that line's read time.
-// Not part of ctest; figures in docs/performance.md and docs/serve.md.
+// Not part of ctest; figures in docs/measurements.md.
 #include <sys/resource.h>
 #include <unistd.h>
 

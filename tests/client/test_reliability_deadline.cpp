@@ -120,7 +120,7 @@ TEST_CASE("adaptive deadline: wire-time floor, adapted to measured round trips, 
     // deadline (floor, whole ms) + settle (at most 2 round trips or the
     // deadline, whole ms) + the retry's exchange: far below 200 + 500 ms.
     CHECK(lost_us < 3 * (floor + 1000) + exchange_us);
-    // The figures docs/performance.md quotes (virtual time, deterministic).
+    // The figures docs/measurements.md quotes (virtual time, deterministic).
     WARN("57600 8N1, CRC, ROM read: exchange " << exchange_us << " us, deadline floor " << floor
                                                << " us, a read with one lost answer " << lost_us
                                                << " us (fixed timing: 200 + 500 ms + exchange)");

@@ -47,7 +47,7 @@ TEST_CASE("report of a large configuration: size, time, every setpoint, in a bro
   const json j = load_in_browser(w, html, "large.png", false);
   if (j.is_null()) return;
   // The < 2 s load goal is measured by build/bench/lmcfg_bench_report, which
-  // prints its figures (docs/performance.md); a timed check here failed on a
+  // prints its figures (docs/measurements.md); a timed check here failed on a
   // loaded CI-like machine (2.3 s best of five) and speed is not a unit test's verdict.
   WARN("large report in Chromium: load event " << j["load_ms"] << " ms, rendered " << j["render_ms"]
                                                << " ms");
