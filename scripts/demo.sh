@@ -16,7 +16,7 @@ t1=$(date +%s)
 export LMCFG_BUILD_DIR="${LMCFG_DEMO_BUILD_DIR:-$root/build-demo}"
 # -O1 and no debug information: the demo's steps run in about a second and
 # never under a debugger, while -O2 and debug information are a good part of a
-# fresh machine's compile time (docs/ci.md "Unity builds").
+# fresh machine's compile time (docs/ci.md "Decisions that keep it within budget").
 LMCFG_TARGETS=lmcfg_cli "$root/scripts/build.sh" -DLMCFG_BUILD_TESTS=OFF -DLMCFG_BUILD_BENCH=OFF \
   -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -DNDEBUG" -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O1 -DNDEBUG"
 t2=$(date +%s)

@@ -219,7 +219,7 @@ std::string render_plan(const Plan& p);
 // "skipped (the target cannot take them):" and one line per skipped value;
 // "" when none.
 std::string render_skipped_incompatible(const Plan& p);
-// The plan as structured items (docs/restore.md "JSON report").
+// The plan as structured items (docs/json-reports.md "lmcfg restore --json").
 nlohmann::ordered_json plan_json(const Plan& p);
 
 // A long step (defaulting, flash save, MC start, reset) whose answer never

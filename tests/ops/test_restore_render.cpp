@@ -1,7 +1,7 @@
 // The restore plan for people and as JSON items (lib/ops/restore_render.cpp),
 // on plans built here: a refused plan, nothing to do (with and without
 // skipped values), steps with losses, skips and notes, and every step kind's
-// JSON members (docs/restore.md "JSON report").
+// JSON members (docs/json-reports.md "lmcfg restore --json").
 #include <catch2/catch.hpp>
 
 #include "ops/restore.hpp"
