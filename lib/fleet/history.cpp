@@ -1,5 +1,6 @@
 #include "fleet/history.hpp"
 
+#include <cstdio>
 #include <ctime>
 
 #include "common/utc_time.hpp"
@@ -14,7 +15,37 @@ std::string iso_utc(std::int64_t seconds) {
   return buf;
 }
 
+std::optional<std::int64_t> parse_iso_utc(const std::string& text) {
+  std::tm tm{};
+  char zone = 0;
+  int used = 0;
+  if (std::sscanf(text.c_str(), "%4d-%2d-%2dT%2d:%2d:%2d%c%n", &tm.tm_year, &tm.tm_mon, &tm.tm_mday,
+                  &tm.tm_hour, &tm.tm_min, &tm.tm_sec, &zone, &used) != 7 ||
+      zone != 'Z' || static_cast<std::size_t>(used) != text.size() || tm.tm_mon < 1 ||
+      tm.tm_mon > 12 || tm.tm_mday < 1 || tm.tm_mday > 31 || tm.tm_hour > 23 || tm.tm_min > 59 ||
+      tm.tm_sec > 60)
+    return std::nullopt;
+  tm.tm_year -= 1900;
+  tm.tm_mon -= 1;
+  return static_cast<std::int64_t>(utc_time_t(tm));
+}
+
 namespace {
+
+// The value of the first "captured_at" member in `text`, a drive
+// configuration file as the archive keeps it (config/fields.cpp writes
+// identity.captured_at among the first members): found without parsing the
+// whole file, since only this one time is wanted of each.
+std::optional<std::int64_t> captured_at(const std::string& text) {
+  static const std::string key = "\"captured_at\"";
+  const auto at = text.find(key);
+  if (at == std::string::npos) return std::nullopt;
+  const auto open = text.find('"', text.find(':', at + key.size()));
+  if (open == std::string::npos) return std::nullopt;
+  const auto close = text.find('"', open + 1);
+  if (close == std::string::npos || close - open > 40) return std::nullopt;
+  return parse_iso_utc(text.substr(open + 1, close - open - 1));
+}
 
 // "Name <email>" -> "Name" (the email stays in the JSON's author).
 std::string author_name(const std::string& author) {
@@ -44,6 +75,20 @@ Result<std::vector<PositionEvent>> position_history(const Archive& archive, cons
     if (ev.who.empty()) ev.who = author_name(e.author);
     ev.entry = std::move(e);
     out.push_back(std::move(ev));
+  }
+  return out;
+}
+
+Result<std::map<std::string, std::int64_t>> last_backup_times(const Archive& archive,
+                                                              const std::vector<DriveEntry>& drives,
+                                                              const std::string& rev) {
+  std::map<std::string, std::int64_t> out;
+  LMCFG_ASSIGN_OR_RETURN(auto commit, archive.resolve(rev));
+  if (!commit) return out;  // no commit yet
+  for (const auto& d : drives) {
+    LMCFG_ASSIGN_OR_RETURN(auto text, archive.read(archive_path(d), commit->id));
+    if (!text) continue;
+    if (auto t = captured_at(*text)) out[d.name] = *t;
   }
   return out;
 }

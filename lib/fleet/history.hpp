@@ -5,7 +5,9 @@
 // trailers (ops/audit.hpp). `lmcfg fleet log` prints it; the service's
 // GET /api/v1/drives/{name}/history returns history_json.
 #include <cstdint>
+#include <map>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -28,6 +30,19 @@ std::string iso_utc(std::int64_t seconds);
 // The history of position `d`, newest first, at most `limit` entries.
 Result<std::vector<PositionEvent>> position_history(const Archive& archive, const DriveEntry& d,
                                                     std::size_t limit = 100);
+
+// When each of `drives` was last backed up with a change, as its file at
+// `rev` says: the file's identity.captured_at (the time the backup that wrote
+// it read the drive), in seconds since the epoch. A position without a file
+// at `rev`, or whose file names no such time, is left out. One read of each
+// file and none of the history, so the cost grows with the positions, not
+// with the archive's age (the service's start without saved states).
+Result<std::map<std::string, std::int64_t>> last_backup_times(const Archive& archive,
+                                                              const std::vector<DriveEntry>& drives,
+                                                              const std::string& rev = "HEAD");
+
+// "2026-11-24T20:30:00Z" as seconds since the epoch; nullopt for anything else.
+std::optional<std::int64_t> parse_iso_utc(const std::string& text);
 
 // [{commit, time (ISO 8601 UTC), kind, who, reason, ticket, subject, author, message}],
 // reason and ticket null when absent.

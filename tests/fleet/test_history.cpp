@@ -140,4 +140,55 @@ TEST_CASE("history: a message or author that is not UTF-8 is shown escaped, neve
   CHECK(j[0]["message"] == "fleet backup: caf\\xE9\n\nOperator: Jos\\xE9\n");
 }
 
+TEST_CASE("history: the last backups' times come from the files at HEAD, not from a walk",
+          "[fleet][history]") {
+  test::ScratchDir d("history-times");
+  const auto dir = d.path / "arch";
+  auto archive = fleet::Archive::open(dir.string(), true);
+  REQUIRE(archive.ok());
+  test::set_git_identity(dir);
+  fleet::DriveEntry a, b, c, e;
+  a.name = "press3/a";
+  b.name = "press3/b";
+  c.name = "press3/c";  // never archived
+  e.name = "press3/e";  // a file without a capture time
+  CHECK(fleet::last_backup_times(*archive, {a, b}).value().empty());  // no commit yet
+  auto file = [](const char* when) {
+    return std::string(
+               "{\n  \"format\": \"lmcfg-drive-config\",\n  \"identity\": {\n"
+               "    \"captured_at\": \"") +
+           when + "\"\n  }\n}\n";
+  };
+  fs::create_directories(dir / "press3");
+  test::spit(dir / "press3" / "a.json", file("2026-11-24T20:30:00Z"));
+  test::spit(dir / "press3" / "b.json", file("2026-11-24T20:30:01Z"));
+  test::spit(dir / "press3" / "e.json", "{}\n");
+  REQUIRE(
+      archive->commit({"press3/a.json", "press3/b.json", "press3/e.json"}, "fleet backup: 3 new")
+          .value());
+  test::spit(dir / "press3" / "b.json", file("2026-11-25T06:00:00Z"));
+  REQUIRE(archive->commit({"press3/b.json"}, "fleet backup: 1 changed").value());
+  REQUIRE(archive->commit({}, "fleet restore: press3/b <- press3/b.json at HEAD: restored", true)
+              .value());
+
+  const auto times = fleet::last_backup_times(*archive, {a, b, c, e}).value();
+  CHECK(times.size() == 2);
+  CHECK(times.at("press3/a") == 1795552200);  // 2026-11-24T20:30:00Z
+  CHECK(times.at("press3/b") == 1795586400);  // 2026-11-25T06:00:00Z
+  CHECK(fleet::last_backup_times(*archive, {b}, "HEAD~2").value().at("press3/b") == 1795552201);
+  // The same answer as the history walk gives for the commit that changed it.
+  CHECK(fleet::iso_utc(times.at("press3/b")) == "2026-11-25T06:00:00Z");
+}
+
+TEST_CASE("history: ISO 8601 UTC times read back, anything else refused", "[fleet][history]") {
+  CHECK(fleet::parse_iso_utc("1970-01-01T00:00:00Z") == 0);
+  CHECK(fleet::parse_iso_utc("2026-11-24T20:30:00Z") == 1795552200);
+  CHECK(fleet::iso_utc(*fleet::parse_iso_utc("2024-02-29T23:59:59Z")) == "2024-02-29T23:59:59Z");
+  CHECK_FALSE(fleet::parse_iso_utc("2026-11-24T20:30:00").has_value());  // no zone
+  CHECK_FALSE(fleet::parse_iso_utc("2026-11-24T20:30:00+01").has_value());
+  CHECK_FALSE(fleet::parse_iso_utc("2026-13-24T20:30:00Z").has_value());
+  CHECK_FALSE(fleet::parse_iso_utc("2026-11-24T20:30:00Zjunk").has_value());
+  CHECK_FALSE(fleet::parse_iso_utc("").has_value());
+}
+
 }  // namespace fleet_test_history
