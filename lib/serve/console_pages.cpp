@@ -598,7 +598,8 @@ std::string job(const ConsoleUser& u, bool signed_in, const Json& j, const std::
        "</progress> " + std::to_string(done) + " of " + std::to_string(total) +
        (restore ? " step(s)" : " drive(s)") + (state == "failed" ? " before it stopped" : "");
   if (!str(pr, "step").empty())
-    b += "<p>Now: <span id=\"now\">" + esc(words::progress(str(pr, "step"))) +
+    b += std::string(state == "failed" ? "<p>It stopped during: " : "<p>Now: ") +
+         "<span id=\"now\">" + esc(words::progress(str(pr, "step"))) +
          "</span></p><details class=\"cli\"><summary>As the command line says it</summary><pre>" +
          esc(str(pr, "step")) + "</pre></details>";
   if (member(j, "outcome").is_string()) {

@@ -276,10 +276,13 @@ void Service::Impl::finish_restore_job(Job& job, std::size_t li, const fleet::Ar
     job.failed_job = err.has_value();
     job.outcome = outcome;
     job.exit_code = code;
-    // A failure leaves the steps done before it (a bar short of its end);
+    // A failure leaves the steps done before it (a bar short of its end)
+    // and the step it stopped in (the drive vanished during a flash save);
     // a read back that differs came after every step.
-    if (!err || out.stage == S::verify_mismatch) job.step_done = job.step_total;
-    job.step = "";
+    if (!err || out.stage == S::verify_mismatch) {
+      job.step_done = job.step_total;
+      job.step = "";
+    }
     job.message = err ? err->message
                       : (out.stage == S::nothing_to_do
                              ? "nothing to do: the drive already matches " + f.file_name

@@ -253,6 +253,9 @@ TEST_CASE(
   CHECK(job["retry_pending"] == true);
   // The bar stops where the restore stopped, not at its end.
   CHECK(job["progress"]["done"].get<int>() < job["progress"]["total"].get<int>());
+  // ... and names the step it stopped in.
+  CHECK(job["progress"]["step"].get<std::string>().rfind("save the command table to flash", 0) ==
+        0);
 
   // The drive's line cannot be opened any more (the drive is gone): each
   // automatic retry fails on the connection and learns nothing of the drive.
@@ -294,6 +297,8 @@ TEST_CASE(
     auto job_page = c.Get("/job?id=" + *first + "&name=press3%2Fz");
     REQUIRE(job_page);
     CHECK(job_page->body.find(" step(s) before it stopped") != std::string::npos);
+    CHECK(job_page->body.find("It stopped during: <span id=\"now\">Saving the command table") !=
+          std::string::npos);
   }
 
   // The drive is back, its table as it was before the restore: the retry completes.
