@@ -204,8 +204,11 @@ std::string progress(const std::string& cli_step) {
       {"stop MC", "Stopping motion control (the axis stops)"},
       {"default the ", "Setting parameters to their factory defaults"},
       {"save the command table to flash",
-       "Saving the command table to the drive's flash (up to 10 s)"},
-      {"save curves to flash", "Saving the curves to the drive's flash (up to 10 s)"},
+       "Saving the command table to the drive's flash (10 s by the manual; some drives take a "
+       "minute or more)"},
+      {"save curves to flash",
+       "Saving the curves to the drive's flash (10 s by the manual; some drives take a minute or "
+       "more)"},
       {"reset the drive", "Restarting the drive (it is silent for a few seconds)"},
       {"start MC", "Starting motion control again"},
   };

@@ -47,7 +47,10 @@ std::string note(const std::string& cli_note);
 
 // A restore job's progress line (a plan step's CLI text, or a phase such as
 // "plan: command table") in a technician's words: "Saving the command table to
-// the drive's flash (up to 10 s)".
+// the drive's flash (10 s by the manual; some drives take a minute or more)".
+// The manual's example allows 10 s (LinRS §12); real drives took 39 s for a
+// command table and did not answer meanwhile (field reports, docs/field.md),
+// so the page names both rather than promise the shorter one.
 std::string progress(const std::string& cli_step);
 
 // The plan's verdict, first on the plan page: "Will write 12 values and

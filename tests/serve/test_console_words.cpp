@@ -151,7 +151,8 @@ TEST_CASE("console words: plan notes and progress lines in a technician's words"
         "Checking the drive: reading its list of MC parameters");
   CHECK(words::progress("save the command table to flash (\u00a712 08h 00h saves every entry; up "
                         "to 10 s)") ==
-        "Saving the command table to the drive's flash (up to 10 s)");
+        "Saving the command table to the drive's flash (10 s by the manual; some drives take a "
+        "minute or more)");
   CHECK(words::progress("write ROM MC 13A2h P Gain: 5 -> 7") == "Writing MC 13A2h P Gain: 5 -> 7");
   CHECK(words::progress("write curve 3 'Lift'") == "Writing curve 3 'Lift'");
   CHECK(words::progress("stop MC and application software (\u00a713.3): the axis stops") ==
