@@ -100,7 +100,7 @@ struct ClientOptions {
   // empty layer) and accept it only if all agree. Lists with entries are
   // confirmed by a second pass when their C6 carries a UPID outside the layer.
   bool confirm_empty_lists = true;
-  bool pad_ct_list = true;  // §12 example pads the defined-list request (erratum 3)
+  bool pad_ct_list = true;  // §12 example pads the defined-list request (the table: an erratum)
   bool skip_echo = true;    // 2-wire RS485 adapters may echo our own request
   // A default response whose length does not fit `layout` (the content is
   // configurable on the drive, §6.1.1.1, §15): true = take the layout of that

@@ -35,8 +35,7 @@ Layer layer_of(std::uint16_t upid);
 std::uint16_t layer_base(Layer l);  // 0000h, 1000h, 2000h, 3000h
 const char* layer_name(Layer l);    // "OS", "MC", "Intf", "Appl", "none"
 
-// Address usage word bits (LinRS §10; bit 7 or 8 for "live" unresolved): only the resolved bits
-// act.
+// Address usage word bits (LinRS §10; "live" is bit 7 or 8, unresolved): resolved bits act.
 namespace au {
 inline constexpr std::uint16_t ram_read = 0x0001;
 inline constexpr std::uint16_t ram_write = 0x0002;
