@@ -59,22 +59,22 @@ std::vector<Reading> readings() {
   r.push_back({"lost save requests, silent while saving", f, 39});
   f = {};
   f.end_on_extra_read = true;
-  r.push_back({"§6 point 2 00h on one more read", f, 0});
+  r.push_back({"open in LinUDP V2: 00h on one more read", f, 0});
   f = {};
   f.list_spans_layers = true;
-  r.push_back({"§6 point 3 lists span the layers", f, 0});
+  r.push_back({"open in LinUDP V2: lists span the layers", f, 0});
   f = {};
   f.curve_start_gives_sizes = false;
-  r.push_back({"§6 point 4 60h without sizes", f, 0});
+  r.push_back({"open in LinUDP V2: 60h without sizes", f, 0});
   f = {};
   f.strict_counts = true;
-  r.push_back({"§6 point 5 counts 1 and 15 refused", f, 0});
+  r.push_back({"open in LinUDP V2: counts 1 and 15 refused", f, 0});
   f = {};
   f.running_status = 0x05;
-  r.push_back({"§6 point 6 05h while running", f, 5});
+  r.push_back({"open in LinUDP V2: 05h while running", f, 5});
   f = {};
   f.running_status = 0;
-  r.push_back({"§6 point 6 silent while running", f, 5});
+  r.push_back({"open in LinUDP V2: silent while running", f, 5});
   return r;
 }
 
