@@ -262,7 +262,7 @@ class WireModel {
     }
     return c;
   }
-  // 8 defined-list telegrams in the table's LEN 05 form (§12, erratum 3) + per
+  // 8 defined-list telegrams in the table's LEN 05 form (§12, a seed erratum) + per
   // entry a setup read and its 4-byte chunks.
   Cost read_ct(const std::vector<std::size_t>& entry_sizes) const {
     Cost c;

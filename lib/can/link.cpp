@@ -19,7 +19,8 @@ class SlcanLink final : public Link {
   // "C" first (an open channel from an earlier run refuses "Sn"); its answer
   // does not matter. "V" (the version, when the adapter tells it). Then the
   // bit rate and "O": a BEL is a refusal; an adapter that answered neither
-  // "C" nor "V" is one that answers no command (field-facts.md §6), so its
+  // "C" nor "V" is one that answers no command (slcan leaves open whether an
+  // adapter acknowledges), so its
   // silence is not waited for.
   Result<void> open() {
     LMCFG_TRY(serial_->write(as_bytes(slcan::kClose)));
@@ -45,8 +46,8 @@ class SlcanLink final : public Link {
   }
 
   // Not waited for unless expect_transmit_ack: the Linux slcan driver and
-  // python-can never wait, and adapters differ (CR, "z", or nothing;
-  // field-facts.md §6). Acknowledgements that come are read and dropped.
+  // python-can never wait, and adapters differ (CR, "z", or nothing; slcan
+  // leaves it open). Acknowledgements that come are read and dropped.
   Result<void> send(const Frame& f) override {
     LMCFG_TRY(validate(f));
     const std::string line = slcan::encode(f);

@@ -36,7 +36,7 @@ class Link {
 struct SlcanOptions {
   unsigned bitrate = 125000;
   // Lawicel adapters acknowledge each transmitted frame ("z\r", some "\r"),
-  // others send nothing (field-facts.md §6). false (the default, as the
+  // others send nothing (slcan leaves it open). false (the default, as the
   // Linux slcan driver and python-can): do not wait, drop the acknowledgements
   // that come; true: wait for each (never for an adapter that answered
   // neither "C" nor "V" when opened).

@@ -41,7 +41,7 @@ struct LinrsClient::BlockVotes {
   bool stop_early_allowed = true;
   // The bytes of the last chunk that belong to the block. The rest is padding
   // (a 70-byte curve info block ends 2 bytes into its 18th chunk), and real
-  // drives leave stale data there (field-facts.md §4: "the two bytes after the
+  // drives leave stale data there (EtherCAT curves: "the two bytes after the
   // 70-byte info block are not zero (stale data) and must not be taken as part
   // of the block or compared"): masked before a read is kept or compared.
   std::uint32_t last_mask = 0xFFFFFFFFu;

@@ -62,7 +62,7 @@ struct ClientOptions {
   double deadline_margin_ms = 2.0;
   // Long operations: their answer deadlines. The manual gives §10.4 "could be
   // more than 1 s" (no upper bound), §11/§12 "timeout 10s", §13.1 "ca. 3 s";
-  // real drives took longer (field-facts.md §5): "A command table flash save
+  // real drives took longer (field reports, C1250 notes): "A command table flash save
   // took about 39 s and was never acknowledged", and "ROM writes and flash
   // saves left drives unresponsive for 30-90 s". 120 s covers the longest
   // silence measured (90 s) with a third to spare, for every long operation
@@ -78,7 +78,7 @@ struct ClientOptions {
   Millis relink_reset_timeout{6000};
   // After a long operation whose answer never came: how long find_again()
   // polls for the drive to answer again. 180 s: with the 120 s deadline the
-  // 5 minutes the C1250 notes' client polls (field-facts.md §5.2). 0: no
+  // 5 minutes the C1250 notes' client polls. 0: no
   // polling (the long operation's timeout is final).
   Millis recover_timeout{180000};
   int read_retries = 2;
@@ -100,7 +100,7 @@ struct ClientOptions {
   // empty layer) and accept it only if all agree. Lists with entries are
   // confirmed by a second pass when their C6 carries a UPID outside the layer.
   bool confirm_empty_lists = true;
-  bool pad_ct_list = true;  // §12 example pads the defined-list request (erratum 3)
+  bool pad_ct_list = true;  // §12 example pads the defined-list request (the table: an erratum)
   bool skip_echo = true;    // 2-wire RS485 adapters may echo our own request
   // A default response whose length does not fit `layout` (the content is
   // configurable on the drive, §6.1.1.1, §15): true = take the layout of that
@@ -190,10 +190,10 @@ struct CurveSizes {
 };
 
 // What a protocol can do that the operations ask before planning (LinUDP
-// lacks some LinRS requests, linudp-facts.md §3).
+// lacks some LinRS requests, LinUDP V2 p13-p19).
 struct Capabilities {
-  bool delete_one_curve = true;    // LinRS 04h 02h; LinUDP has none (facts §2.4, §3)
-  bool parameter_type = true;      // LinRS 05h 04h; LinUDP has none (facts §3)
+  bool delete_one_curve = true;    // LinRS 04h 02h; LinUDP has none (LinUDP V2 p13-p15)
+  bool parameter_type = true;      // LinRS 05h 04h; LinUDP has none (LinUDP V2 p14)
   std::string protocol = "LinRS";  // "LinRS", "LinUDP"
 };
 
@@ -332,7 +332,8 @@ class LinrsClient final : public Client {
   Result<std::optional<std::uint16_t>> read_address_usage(std::uint16_t upid) override;
   // Modified-UPID list of a layer (§10.2). C6 ends the list; its UPID counts
   // once, only if it lies in the layer's range and was not already received
-  // (facts note erratum 5).
+  // (LinRS §10.2-§10.3, erratum: §10.2's C6 answer carries a UPID not listed
+  // before, §10.3's repeats the previous one).
   Result<std::vector<ModifiedParam>> modified_list(int layer) override;
   // UPID list of a layer with address usage and type (§10.3), same C6 rule.
   Result<std::vector<UpidInfo>> upid_list(
@@ -342,7 +343,7 @@ class LinrsClient final : public Client {
 
   // After a long operation (default_layer, save_curves, save_ct, start_mc,
   // reset) failed with Errc::timeout: its answer never came, which a slow
-  // drive does (field-facts.md §5.1, §5.2), so the drive is looked for again.
+  // drive does (field reports, C1250 notes), so the drive is looked for again.
   // Polls with the cheapest read (§6 default response request, one attempt
   // each, input settled between) until the drive answers (any valid answer,
   // a refusal included) or `recover_timeout` of link time has passed, calling

@@ -1,5 +1,5 @@
-// LinUDP V2 drive client (linudp_client.hpp). Sections cited are those of
-// the fact sheet linudp-facts.md ("facts").
+// LinUDP V2 drive client (linudp_client.hpp). Sources by the short names of
+// docs/references.md (LinUDP V2, LinUDP DLL, C1250 notes, field reports).
 #include "client/linudp_client.hpp"
 
 #include <algorithm>
@@ -27,17 +27,17 @@ std::string upid_subject(std::uint16_t upid) { return "UPID " + hex(upid, 4, "h"
 
 std::int64_t ms_to_ns(Millis m) { return static_cast<std::int64_t>(m.count()) * 1'000'000; }
 
-// Poll interval while the drive reports 02h/05h (facts §2.2: Go's TX tick is
+// Poll interval while the drive reports 02h/05h (C1250 notes: the TX tick is
 // 5 ms; 50 ms keeps a long operation's polls at 20 a second).
 constexpr Millis kBusyPoll{50};
-// A long operation (30h-36h) is resent, same count, this often (facts §2.2:
+// A long operation (30h-36h) is resent, same count, this often (LinUDP V2 §7:
 // a resend is not executed again).
 constexpr Millis kLongResend{1000};
-// facts §4 #1: flash saves of 39-75 s; §4 #4: silences of 30-90 s after
+// Field reports, C1250 notes: flash saves of 39-75 s, silences of 30-90 s after
 // saves. This long after a save was sent, no save it started still runs.
 constexpr Millis kSaveOver{90000};
 // How long the answer to a save's resend is waited for before the drive is
-// looked for again (facts §4 #4: Go polls every 5 s).
+// looked for again (C1250 notes: their client polls every 5 s).
 constexpr Millis kSaveResendWait{5000};
 
 }  // namespace
@@ -45,7 +45,7 @@ constexpr Millis kSaveResendWait{5000};
 std::string held_by_other_master_message(const std::string& where) {
   return "the LinUDP drive at " + where +
          " answers with all-zero telegrams: it is held by another master (LinMot-Talk or "
-         "another LinUDP client, linudp-facts.md §4 #6); disconnect that master and try again";
+         "another LinUDP client, LinUDP V2 §5); disconnect that master and try again";
 }
 
 LinudpClient::LinudpClient(transport::Transport& link, ClientOptions opt)
@@ -53,8 +53,8 @@ LinudpClient::LinudpClient(transport::Transport& link, ClientOptions opt)
 
 Capabilities LinudpClient::capabilities() const {
   Capabilities c;
-  c.delete_one_curve = false;  // facts §2.4 curve service, §3: no single-curve delete
-  c.parameter_type = false;    // facts §3: no request for the type
+  c.delete_one_curve = false;  // LinUDP V2 p13-p15 curve service: no single-curve delete
+  c.parameter_type = false;    // LinUDP V2 p14: no request for the type
   c.protocol = "LinUDP";
   return c;
 }
@@ -64,7 +64,7 @@ Error LinudpClient::refused(std::uint8_t id, const std::string& subject, std::ui
   return Error(Errc::drive_refused,
                "the LinUDP drive at " + where() + " refused " + linudp::cmd_name(id) +
                    (subject.empty() ? "" : " for " + subject) + ": status " + hex(code, 2, "h") +
-                   " " + (text ? text : "(not in the status table)") + " (linudp-facts.md §2.3)");
+                   " " + (text ? text : "(not in the status table)") + " (LinUDP V2 p14)");
 }
 
 Result<void> LinudpClient::expect_ok(const Reply& r, std::uint8_t id, const std::string& subject,
@@ -76,8 +76,9 @@ Result<void> LinudpClient::expect_ok(const Reply& r, std::uint8_t id, const std:
 
 Result<void> LinudpClient::seed() {
   seeded_ = true;
-  // facts §2.2: the drive runs a command only when the count changes. A NOP
-  // (00h) does nothing either way and tells the drive's count (Go "seeding").
+  // LinUDP V2 §7: the drive runs a command only when the count changes. A NOP
+  // (00h) does nothing either way and tells the drive's count (as the C1250
+  // notes' client seeds its count).
   LMCFG_ASSIGN_OR_RETURN(auto r, command(rtc_of(Cmd::nop), Kind::ordinary, opt_.timeout));
   (void)r;
   return {};
@@ -99,7 +100,7 @@ Result<LinudpClient::Reply> LinudpClient::command(RtcBlock req, Kind kind, Milli
   if (!seeded_) LMCFG_TRY(seed());
   const bool restart = req.id == static_cast<std::uint8_t>(Cmd::restart);
   if (restart && last_echo_ == 0) {
-    // The restart goes with count 0 (facts §2.2, DLL); it must differ from
+    // The restart goes with count 0 (LinUDP DLL); it must differ from
     // the drive's count to run.
     LMCFG_TRY(command(rtc_of(Cmd::nop), Kind::ordinary, opt_.timeout));
   }
@@ -133,7 +134,7 @@ Result<LinudpClient::Reply> LinudpClient::command(RtcBlock req, Kind kind, Milli
     }
     const bool busy = busy_since >= 0;
     // While the drive reports "running", the budget is that of a long
-    // operation (facts §2.3: 02h/05h keep polling).
+    // operation (LinUDP V2 p14: 02h/05h keep polling).
     const std::int64_t total = busy ? std::max(budget, ms_to_ns(opt_.reset_timeout)) : budget;
     const std::int64_t total_left =
         kind == Kind::ordinary && !busy ? slice - (now - slice_start) : total - (now - start);
@@ -142,13 +143,13 @@ Result<LinudpClient::Reply> LinudpClient::command(RtcBlock req, Kind kind, Milli
     if (total_left <= 0 || (kind == Kind::ordinary && !busy && slice_left <= 0)) {
       if (kind == Kind::ordinary && !busy && sent < attempts_) {
         ++stats_.timeouts;
-        LMCFG_TRY(send());  // same bytes, same count (facts §2.2)
+        LMCFG_TRY(send());  // same bytes, same count (LinUDP V2 §7)
         slice_start = link_.now_ns();
         continue;
       }
       if (kind == Kind::ordinary && !busy && quiet_expected_ &&
           now - start < ms_to_ns(opt_.recover_timeout)) {
-        // facts §4 #4: after ROM writes and saves drives were silent for
+        // C1250 notes: after ROM writes and saves drives were silent for
         // 30-90 s. The same datagram, once a second, up to recover_timeout.
         ++stats_.timeouts;
         if (opt_.on_long_wait)
@@ -194,12 +195,12 @@ Result<std::optional<LinudpClient::Reply>> LinudpClient::match(const Bytes& got,
   }
   if (resp->all_zero) return Error(Errc::io_error, held_by_other_master_message(where()));
   if (!resp->rtc) {
-    ++stats_.bad_frames;  // no RTC part: not an answer to an RTC request (facts §1.3)
+    ++stats_.bad_frames;  // no RTC part: not an answer to an RTC request (LinUDP V2 §4.4.2)
     return std::optional<Reply>{};
   }
   last_echo_ = resp->rtc->count;
   if (resp->rtc->count != count) {
-    ++stats_.stale_answers;  // facts §4 #9: stale echoes are ignored, no resync
+    ++stats_.stale_answers;  // C1250 notes: stale echoes are ignored, no resync
     return std::optional<Reply>{};
   }
   ++stats_.answers;
@@ -215,7 +216,7 @@ Error LinudpClient::no_answer(const std::string& what, std::uint8_t count, int s
                    (sent == 1 ? "" : "s") + ", " + std::to_string(waited_ns / 1'000'000) +
                    " ms in all): check the address and port (linudp://HOST[:PORT], drive "
                    "port 49360), that the drive is powered and on this network, and that "
-                   "LinUDP V2 is its interface (linudp-facts.md §1.1)");
+                   "LinUDP V2 is its interface (LinUDP V2 §3.2, §4.3)");
 }
 
 Result<LinudpClient::Reply> LinudpClient::simple(Cmd id, std::uint16_t w2, std::uint32_t value,
@@ -224,7 +225,7 @@ Result<LinudpClient::Reply> LinudpClient::simple(Cmd id, std::uint16_t w2, std::
 }
 
 Result<codec::DefaultResponse> LinudpClient::default_response(codec::ResponseRequest) {
-  // The state words come with every reply (facts §1.3); a NOP asks nothing else.
+  // The state words come with every reply (LinUDP V2 §4.4.2); a NOP asks nothing else.
   LMCFG_ASSIGN_OR_RETURN(auto r, simple(Cmd::nop));
   codec::DefaultResponse d;
   d.id = opt_.id;
@@ -240,7 +241,7 @@ Result<codec::DefaultResponse> LinudpClient::default_response(codec::ResponseReq
 Result<std::uint32_t> LinudpClient::read_value(Cmd id, std::uint16_t upid) {
   LMCFG_ASSIGN_OR_RETURN(auto r, simple(id, upid, 0, upid_subject(upid)));
   LMCFG_TRY(expect_ok(r, static_cast<std::uint8_t>(id), upid_subject(upid)));
-  // facts §2.4 field note: some drives echo a stale UPID in w2; the UPID sent
+  // C1250 notes: some drives echo a stale UPID in w2; the UPID sent
   // is trusted, the value is w3/w4.
   return r.rtc.value();
 }
@@ -249,7 +250,7 @@ Result<void> LinudpClient::write_value(Cmd id, std::uint16_t upid, std::uint32_t
   LMCFG_ASSIGN_OR_RETURN(auto r, simple(id, upid, value, upid_subject(upid)));
   LMCFG_TRY(expect_ok(r, static_cast<std::uint8_t>(id), upid_subject(upid)));
   if (id != Cmd::write_ram) {
-    quiet_expected_ = true;  // facts §4 #4: ROM writes may leave the drive silent
+    quiet_expected_ = true;  // C1250 notes: ROM writes may leave the drive silent
     quiet_after_ = "a ROM write";
   }
   return {};
@@ -284,8 +285,8 @@ Result<void> LinudpClient::write_rom_confirmed(std::uint16_t upid, std::uint32_t
   return w;
 }
 Result<std::uint16_t> LinudpClient::get_type(std::uint16_t upid) {
-  return Error(Errc::drive_refused, "LinUDP has no request for the type of " + upid_subject(upid) +
-                                        " (linudp-facts.md §3)");
+  return Error(Errc::drive_refused,
+               "LinUDP has no request for the type of " + upid_subject(upid) + " (LinUDP V2 p14)");
 }
 Result<std::uint32_t> LinudpClient::get_min(std::uint16_t upid) {
   return read_value(Cmd::get_min, upid);
@@ -297,14 +298,15 @@ Result<std::uint32_t> LinudpClient::get_default(std::uint16_t upid) {
   return read_value(Cmd::get_default, upid);
 }
 Result<std::optional<std::uint16_t>> LinudpClient::read_address_usage(std::uint16_t) {
-  return std::optional<std::uint16_t>{};  // facts §3: only through the UPID list (21h w3)
+  return std::optional<std::uint16_t>{};  // LinUDP V2 p16: only through the UPID list (21h w3)
 }
 
 template <class F>
 Result<std::vector<std::uint16_t>> LinudpClient::walk_list(Cmd start, Cmd next, int layer,
                                                            F&& on_item) {
-  // facts §6 point 3: a list may stop with C6h at the end of the starting
-  // layer or run on into the next layers. One pass per layer from its base
+  // Open in LinUDP V2 (p16): a list may stop with C6h at the end of the starting
+  // layer (as in LinRS §10.2) or run on into the next layers (as the LinUDP DLL
+  // assumes). One pass per layer from its base
   // UPID, stopping at C6h or at the first UPID past the layer, serves both.
   const std::uint16_t lo = linudp::layer_start(layer);
   const std::string lname = "the " + std::string(layers::name(layer)) + " layer";
@@ -314,7 +316,7 @@ Result<std::vector<std::uint16_t>> LinudpClient::walk_list(Cmd start, Cmd next, 
   std::set<std::uint16_t> have;
   for (std::size_t i = 0; i <= 0x10000; ++i) {
     LMCFG_ASSIGN_OR_RETURN(auto r, simple(next, 0, 0, lname));
-    if (r.rtc.id == udp_status::end_of_list) break;  // facts §2.4: payload of C6h ignored
+    if (r.rtc.id == udp_status::end_of_list) break;  // payload of C6h ignored (LinRS §10.2-10.3)
     LMCFG_TRY(expect_ok(r, static_cast<std::uint8_t>(next), lname));
     const std::uint16_t upid = r.rtc.w2;
     if (layers::of_upid(upid) != layer) {
@@ -331,7 +333,7 @@ Result<std::vector<std::uint16_t>> LinudpClient::walk_list(Cmd start, Cmd next, 
 Result<std::vector<ModifiedParam>> LinudpClient::modified_list(int layer) {
   std::vector<ModifiedParam> out;
   LMCFG_TRY(walk_list(Cmd::modified_start, Cmd::modified_next, layer, [&](const RtcBlock& r) {
-    out.push_back(ModifiedParam{r.w2, r.value()});  // facts §2.4: w3/w4 = the data value
+    out.push_back(ModifiedParam{r.w2, r.value()});  // LinUDP V2 p16: w3/w4 = the data value
   }));
   return out;
 }
@@ -340,7 +342,7 @@ Result<std::vector<UpidInfo>> LinudpClient::upid_list(
     int layer, const std::function<void(std::size_t)>& progress) {
   std::vector<UpidInfo> out;
   LMCFG_TRY(walk_list(Cmd::upid_list_start, Cmd::upid_list_next, layer, [&](const RtcBlock& r) {
-    // facts §2.4: w3 = address usage; w4 unknown (§6 point 4): no type.
+    // LinUDP V2 p16: w3 = address usage; w4 left open there: no type.
     out.push_back(UpidInfo{r.w2, r.w3, 0});
     if (progress) progress(out.size());
   }));
@@ -357,11 +359,11 @@ Result<void> LinudpClient::long_command(Cmd id, Kind kind, Millis timeout,
     start = link_.now_ns();  // a save the resend started: its own budget
   }
   LMCFG_ASSIGN_OR_RETURN(auto r, std::move(sent));
-  quiet_expected_ = true;  // facts §4 #4: and after saves, defaulting, restarts
+  quiet_expected_ = true;  // C1250 notes: and after saves, defaulting, restarts
   quiet_after_ = what;
   if (kind == Kind::once && linudp::is_busy(r.rtc.id)) {
-    // A save reported running: it is never resent (facts §4 #2); its end is
-    // polled with NOPs of new counts, as the DLL does for 40h (facts §2.4).
+    // A save reported running: it is never resent (C1250 notes); its end is
+    // polled with NOPs of new counts, as the LinUDP DLL does for 40h.
     for (;;) {
       const auto waited = Millis((link_.now_ns() - start) / 1'000'000);
       if (waited >= timeout) {
@@ -381,8 +383,8 @@ Result<LinudpClient::Reply> LinudpClient::resend_save(Cmd id, const std::string&
                                                       std::int64_t start, Error silence) {
   const auto count = counter_.last();
   if (!count) return silence;
-  // facts §4 #2: "Resending 80h while a save is running restarts the save".
-  // So not before kSaveOver (facts §4 #1, #4); a late acknowledgement that
+  // C1250 notes: resending 80h while a save is running restarts the save.
+  // So not before kSaveOver (field reports, C1250 notes); a late acknowledgement that
   // comes meanwhile is taken.
   for (;;) {
     const std::int64_t left = ms_to_ns(kSaveOver) - (link_.now_ns() - start);
@@ -392,9 +394,9 @@ Result<LinudpClient::Reply> LinudpClient::resend_save(Cmd id, const std::string&
     LMCFG_ASSIGN_OR_RETURN(auto late, match(got, *count));
     if (late) return std::move(*late);
   }
-  // facts §2.2: "Resending the same telegram (same count) does not execute
-  // the command again": a drive that carried the save out answers (or stays
-  // silent, §4 #1) without saving twice; a drive the request never reached
+  // LinUDP V2 §7: a command runs only when the count changes, so the same
+  // telegram again: a drive that carried the save out answers (or stays
+  // silent, field reports) without saving twice; a drive the request never reached
   // takes the count as new and saves now.
   resend_count_ = count;
   auto r = command(rtc_of(id), Kind::once, kSaveResendWait, what + " (sent again, same count)");
@@ -406,14 +408,14 @@ Result<LinudpClient::Reply> LinudpClient::resend_save(Cmd id, const std::string&
 Result<void> LinudpClient::default_layer(int layer) {
   if (layer < 1 || layer > 4)
     return Error(Errc::invalid_argument, "layer " + std::to_string(layer) + " is not 1..4");
-  const auto id = static_cast<Cmd>(0x30 + layer);  // facts §2.4: 31h..34h
+  const auto id = static_cast<Cmd>(0x30 + layer);  // LinUDP V2 p13: 31h..34h
   return long_command(id, Kind::long_op, opt_.defaulting_timeout,
                       "defaulting layer " + std::string(layers::name(layer)));
 }
 
 Result<Millis> LinudpClient::find_again(const std::string& what) {
   const auto start = link_.now_ns();
-  // facts §4 #4: silent for 30-90 s after saves and ROM writes. A NOP, resent
+  // C1250 notes: silent for 30-90 s after saves and ROM writes. A NOP, resent
   // with its count every second, until the drive answers.
   auto r = command(rtc_of(Cmd::nop), Kind::long_op, opt_.recover_timeout,
                    "waiting for the drive to answer again after " + what);
@@ -446,7 +448,7 @@ Result<Bytes> LinudpClient::read_chunks(RtcBlock, Cmd chunk, std::uint16_t key, 
     last = r.rtc.id;
   }
   if (last == udp_status::block_more) {
-    // facts §6 point 2: 00h on one more read (the DLL's reading).
+    // Open in LinUDP V2: 00h on one more read (the LinUDP DLL's reading).
     LMCFG_ASSIGN_OR_RETURN(auto r, simple(chunk, key, 0, subject));
     LMCFG_TRY(expect_ok(r, cid, subject));
   }
@@ -479,12 +481,12 @@ Result<std::optional<CurveSizes>> LinudpClient::curve_sizes(std::uint16_t curve)
   const std::string subject = "curve " + std::to_string(curve);
   LMCFG_ASSIGN_OR_RETURN(auto r, simple(Cmd::curve_get_start, curve, 0, subject));
   if (r.rtc.id == udp_status::curve_presence)
-    return std::optional<CurveSizes>{};  // facts §2.4: absent
+    return std::optional<CurveSizes>{};  // LinUDP V2 p13-p15: D4h, absent
   LMCFG_TRY(expect_ok(r, static_cast<std::uint8_t>(Cmd::curve_get_start), subject));
   if (r.rtc.w3 != 0 && r.rtc.w4 != 0)
     return std::optional<CurveSizes>(CurveSizes{r.rtc.w3, r.rtc.w4});
-  // facts §6 point 4: the 60h reply may lack the sizes. The info block says
-  // them (facts §2.5: UINT16 size at 0, setpoint count at 4).
+  // Open in LinUDP V2: the 60h reply may lack the sizes. The info block says
+  // them (LinRS §11.1: UINT16 size at 0, setpoint count at 4).
   LMCFG_ASSIGN_OR_RETURN(auto info, read_chunks(r.rtc, Cmd::curve_get_info, curve, 70, subject));
   CurveSizes s;
   s.info = get_u16le(info, 0);
@@ -518,7 +520,7 @@ Result<std::optional<Client::CurveBlocks>> LinudpClient::read_curve(std::uint16_
 
 Result<void> LinudpClient::write_curve(std::uint16_t curve, ByteView info, ByteView data) {
   const std::string subject = "curve " + std::to_string(curve);
-  // facts §2.4: 50h w2 = ID, w3 = info size, w4 = data size.
+  // LinUDP V2 p13-p15: 50h w2 = ID, w3 = info size, w4 = data size.
   RtcBlock s = rtc_of(Cmd::curve_add_start, curve);
   s.w3 = static_cast<std::uint16_t>(info.size());
   s.w4 = static_cast<std::uint16_t>(data.size());
@@ -531,7 +533,7 @@ Result<void> LinudpClient::write_curve(std::uint16_t curve, ByteView info, ByteV
 Result<void> LinudpClient::delete_curve(std::uint16_t curve) {
   return Error(Errc::not_supported, "LinUDP has no request to delete curve " +
                                         std::to_string(curve) +
-                                        " alone (linudp-facts.md §2.4, §3): delete all curves and "
+                                        " alone (LinUDP V2 p13-p15): delete all curves and "
                                         "write the ones to keep");
 }
 
@@ -582,7 +584,7 @@ Result<Bytes> LinudpClient::read_ct_entry(std::uint16_t entry) {
 
 Result<void> LinudpClient::write_ct_entry(std::uint16_t entry, ByteView bytes) {
   const std::string subject = "command table entry " + std::to_string(entry);
-  // facts §4 #11: the block size goes in w3 (w4 gives D1h).
+  // C1250 notes: the block size goes in w3 (w4 gives D1h).
   RtcBlock s = rtc_of(Cmd::ct_write_start, entry);
   s.w3 = static_cast<std::uint16_t>(bytes.size());
   LMCFG_ASSIGN_OR_RETURN(auto r, command(s, Kind::ordinary, opt_.timeout, subject));
@@ -614,13 +616,13 @@ Result<void> LinudpClient::start_mc() {
 }
 Result<void> LinudpClient::reset() { return reset(opt_.reset_timeout); }
 Result<void> LinudpClient::reset(Millis timeout) {
-  // Sent once: after the reboot the drive's count is unknown (facts §6 point
-  // 6), and a resend that met another count would restart it again.
+  // Sent once: after the reboot the drive's count is unknown (open in LinUDP
+  // V2), and a resend that met another count would restart it again.
   return long_command(Cmd::restart, Kind::once, timeout, "resetting the drive");
 }
 
 Result<std::string> LinudpClient::error_text(std::uint16_t code) {
-  // facts §2.4 error log: 74h, 8 stringlets of 4 characters.
+  // LinUDP V2 p17 error log: 74h, 8 stringlets of 4 characters.
   std::string text;
   const std::string subject = "error " + hex(code, 4, "h");
   for (std::uint16_t s = 0; s < 8; ++s) {
@@ -637,7 +639,7 @@ Result<std::string> LinudpClient::error_text(std::uint16_t code) {
 }
 
 Result<std::string> LinudpClient::actual_error_text() {
-  // facts §3: no "actual error text" request; the code comes in every reply.
+  // LinUDP V2 p17: no "actual error text" request; the code comes in every reply.
   LMCFG_ASSIGN_OR_RETURN(auto r, simple(Cmd::nop));
   return error_text(r.response.error_code.value_or(0));
 }
@@ -645,7 +647,7 @@ Result<std::string> LinudpClient::actual_error_text() {
 Result<codec::ErrorCounters> LinudpClient::error_counters() {
   LMCFG_ASSIGN_OR_RETURN(auto r, simple(Cmd::errlog_counts, 0, 0, "the error log"));
   LMCFG_TRY(expect_ok(r, static_cast<std::uint8_t>(Cmd::errlog_counts), "the error log"));
-  return codec::ErrorCounters{r.rtc.w3, r.rtc.w4};  // facts §2.4: w3 logged, w4 occurred
+  return codec::ErrorCounters{r.rtc.w3, r.rtc.w4};  // LinUDP V2 p17: w3 logged, w4 occurred
 }
 
 Result<codec::ErrorLogEntry> LinudpClient::error_log_entry(std::uint16_t index) {

@@ -1,29 +1,29 @@
 #pragma once
 // The drive client over LinUDP V2's configuration (RTC) channel: the same
 // interface as LinrsClient (client.hpp), so every operation runs unchanged.
-// Each rule is cited to the fact sheet (linudp-facts.md, "facts") by section;
+// Each rule cites its source (docs/references.md: LinUDP V2, LinUDP DLL, C1250 notes);
 // docs/linudp.md lists the choices and what only a real drive can confirm.
 //
-// Contract (safety on a shared network, facts §1.4, §2.2):
+// Contract (safety on a shared network, LinUDP V2 §4.4, §7):
 // - Only the RTC part is ever sent (request definition 04h, response 1FFh):
 //   never a control word, never an MC command, so nothing moves an axis.
 // - One command in flight. Each command takes a new count (2..14, never the
 //   drive's last echo); a resend repeats the same bytes with the same count,
-//   which the drive does not execute again (facts §2.2), so lost datagrams are
+//   which the drive does not execute again (LinUDP V2 §7), so lost datagrams are
 //   resent for writes as well as reads.
 // - The first exchange of a session is a NOP (00h): it learns the drive's
 //   count, so no later command can carry the count the drive already holds.
 // - A reply counts only when its echo equals the count sent; other echoes
-//   (stale replies, facts §4 #9) are ignored. Status 02h/05h: still running,
+//   (stale replies, C1250 notes) are ignored. Status 02h/05h: still running,
 //   polled by resending. Any other status is final; 00h (and 04h inside block
 //   transfers) is success, the rest a refusal (Errc::drive_refused) naming the
-//   command, its subject and the status of facts §2.3.
-// - Flash saves (40h, 80h) are never resent while they may run (facts §4 #2:
-//   a resend restarts the save). Unacknowledged (§4 #1), the same datagram
+//   command, its subject and the status of LinUDP V2 p14.
+// - Flash saves (40h, 80h) are never resent while they may run (C1250 notes:
+//   a resend restarts the save). Unacknowledged (field reports), the same datagram
 //   (same count) goes once more when no save can still run (90 s after it,
-//   §4 #1, #4): a drive that had it does not save again (§2.2), one whose
+//   C1250 notes): a drive that had it does not save again (LinUDP V2 §7), one whose
 //   request was lost saves now. Still no answer: ops::long_step's find_again().
-// - An all-zero datagram means another master holds the drive (facts §4 #6):
+// - An all-zero datagram means another master holds the drive (C1250 notes):
 //   Errc::io_error with held_by_other_master_message().
 #include <memory>
 #include <optional>
@@ -34,7 +34,7 @@
 
 namespace lmcfg::client {
 
-// facts §2.2: Go's client makes at most 6 retries of a lost exchange.
+// The C1250 notes' client makes at most 6 retries of a lost exchange.
 inline constexpr int kLinudpAttempts = 7;
 
 // The message for a drive that answers with all-zero telegrams.
@@ -89,7 +89,7 @@ class LinudpClient final : public Client {
   Result<codec::ErrorCounters> error_counters() override;
   Result<codec::ErrorLogEntry> error_log_entry(std::uint16_t index) override;
 
-  // One command (facts §2.2): the RTC reply with its final status, or the
+  // One command (LinUDP V2 §7): the RTC reply with its final status, or the
   // error. Public for tests of the count rule.
   enum class Kind : std::uint8_t {
     ordinary,  // resent after `timeout` without a reply, up to kLinudpAttempts
@@ -103,8 +103,8 @@ class LinudpClient final : public Client {
   Result<Reply> command(linudp::RtcBlock req, Kind kind, Millis timeout,
                         const std::string& subject = {});
   // A scan's probe (lmcfg scan, link/linudp_scan.hpp): the session's first
-  // exchange, a NOP (facts §2.2: it runs nothing whichever count the drive
-  // holds), sent at most `attempts` times (the same count, facts §2.2) and
+  // exchange, a NOP (LinUDP V2 §7: it runs nothing whichever count the drive
+  // holds), sent at most `attempts` times (the same count, §7) and
   // waited `deadline` each. The reply, Errc::timeout, or Errc::io_error with
   // held_by_other_master_message().
   Result<Reply> probe(Millis deadline, int attempts);
@@ -126,15 +126,15 @@ class LinudpClient final : public Client {
   Error refused(std::uint8_t id, const std::string& subject, std::uint8_t st) const;
   Result<std::uint32_t> read_value(linudp::Cmd id, std::uint16_t upid);
   Result<void> write_value(linudp::Cmd id, std::uint16_t upid, std::uint32_t value);
-  // Reads `size` bytes in 4-byte chunks with `chunk` after `setup` (facts §2.4,
-  // §6 point 2: the 00h may come with the last chunk or on one more read).
+  // Reads `size` bytes in 4-byte chunks with `chunk` after `setup` (LinUDP V2
+  // p13-p19; open there: the 00h may come with the last chunk or on one more read).
   Result<Bytes> read_chunks(linudp::RtcBlock setup, linudp::Cmd chunk, std::uint16_t key,
                             std::size_t size, const std::string& subject);
   Result<void> write_chunks(linudp::Cmd chunk, std::uint16_t key, ByteView bytes,
                             const std::string& subject);
   Result<void> long_command(linudp::Cmd id, Kind kind, Millis timeout, const std::string& what);
   // A flash save (40h, 80h) sent at `start` and not acknowledged: once no
-  // save can still run, the same datagram again, with its count (facts §2.2:
+  // save can still run, the same datagram again, with its count (LinUDP V2 §7:
   // not carried out again if the drive had it; carried out if it was lost).
   Result<Reply> resend_save(linudp::Cmd id, const std::string& what, std::int64_t start,
                             Error silence);
@@ -150,7 +150,7 @@ class LinudpClient final : public Client {
   linudp::Counter counter_;
   std::optional<std::uint8_t> last_echo_;
   bool seeded_ = false;
-  // The last command was one after which drives fall silent (facts §4 #4):
+  // The last command was one after which drives fall silent (C1250 notes):
   // an unanswered next command is resent for up to recover_timeout.
   bool quiet_expected_ = false;
   std::string quiet_after_;

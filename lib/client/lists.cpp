@@ -75,7 +75,7 @@ Result<std::optional<Error>> LinrsClient::modified_pass(int layer, ModifiedPass&
                                                   std::string(lmcfg::layers::name(layer)) +
                                                   " did not end (no C6 after 3840 entries)");
     }
-    // §10.2 sends the layer base with "get next" in one example and 0000 in another (erratum 4).
+    // §10.2 sends the layer base with "get next" in one example and 0000 in another (erratum).
     auto next = cfg(CfgOp::next_modified, base, false, opt_.timeout);
     if (!next.ok()) return std::optional<Error>(std::move(next).error());
     reached = pass.params.size() + 1;
@@ -94,7 +94,7 @@ Result<std::optional<Error>> LinrsClient::modified_pass(int layer, ModifiedPass&
       continue;
     }
     // C6 ends the list; its UPID counts once, only if it lies in the layer
-    // and was not already received (erratum 5). A drive may end an empty list
+    // and was not already received (§10.2 vs §10.3, a seed erratum). A drive may end an empty list
     // with a UPID of the layer that is no modified parameter (e.g. 0000h, or
     // the UPID of the request): when the C6 is the first answer or names the
     // requested UPID, it counts only if the drive's default differs from it.

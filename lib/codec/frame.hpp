@@ -25,7 +25,7 @@ enum class ChecksumMode : std::uint8_t { none, add, crc_ccitt, crc_kermit };
 
 // Which bytes the checksum covers. LinRS §4 places "Checksum Calculation"
 // under ID..last data byte; that is the default. The other readings stay
-// selectable because the manual does not settle them (facts note, "unresolved").
+// selectable because the manual does not settle them (LinRS §4, §15: unresolved).
 enum class ChecksumCoverage : std::uint8_t { id_through_data, start_through_data, data_only };
 
 struct ChecksumConfig {

@@ -131,7 +131,7 @@ Telegram make_ct(std::uint8_t id, CtOp op, std::uint16_t entry);  // 02, 05, 06
 Telegram make_ct_setup_write(std::uint8_t id, std::uint16_t entry, std::uint32_t size);
 Telegram make_ct_write(std::uint8_t id, std::uint16_t entry, std::array<std::uint8_t, 4> chunk);
 // 07: block 0..7 (32 entries each). The §12 example pads with 4 dummy bytes (LEN 09);
-// the table says LEN 05 (erratum 3). pad=true reproduces the example.
+// the table says LEN 05 (a seed erratum). pad=true reproduces the example.
 Telegram make_ct_defined_list(std::uint8_t id, std::uint16_t block, bool pad = true);
 
 // §13 program handling (main 06).

@@ -50,7 +50,7 @@ std::optional<RequestSpec> request_spec(std::uint8_t main, std::uint8_t sub) {
         case CfgOp::start_modified:
         case CfgOp::start_upid_list:
           return answer(a, false, false, 2);
-        case CfgOp::next_modified:  // the UPID field is not used (§10.3, erratum 4)
+        case CfgOp::next_modified:  // the UPID field is not used (§10.3; a seed erratum)
         case CfgOp::next_upid:
           return answer(a, false, false, 0);
         case CfgOp::default_os:

@@ -5,7 +5,7 @@
 namespace lmcfg::families {
 
 namespace {
-// The MACID of a LinRS drive (seed 003 §10.2 example; field-facts.md §2: MACID
+// The MACID of a LinRS drive (seed 003 §10.2 example; LinRS 3.23 p8: MACID
 // source 206Ch, value 2076h, or the hex switches S1/S2, S1 the high nibble).
 constexpr std::string_view kLinRsMacid =
     "LinRS: MACID Source Select 206Ch (hex switches S1/S2 or parameter), MACID Parameter Value "

@@ -1,8 +1,8 @@
 #pragma once
 // Drive families that speak LinRS, and what each has: the one table every part
 // of lmcfg (backup, restore plan, the simulator, the CLI) consults. Sources:
-// field-facts.md §1 (LinRS 3V27 §11-§12, p26, p32; LinRS 3.23 p53; DCF p8;
-// the C1250 notes), seed 003 for E1100. The seeds' drive is E1100: a drive
+// LinRS 3V27 §11-§12, p26, p32; LinRS 3.23 p53; DCF p8;
+// the C1250 notes; seed 003 for E1100. The seeds' drive is E1100: a drive
 // whose family nobody names is taken for one.
 #include <string>
 #include <string_view>

@@ -59,8 +59,8 @@ class LmcfgCategory final : public std::error_category {
 
 // The error communication states and their texts: one table. LinRS §16.1 (seed
 // 003) lists C1..C5, C8, C9. Newer firmware answers states the seed does not
-// list (field-facts.md §3: "a drive may answer states the seed does not list,
-// and each is a refusal with its own text"); those a later manual names are
+// list (LinRS 3V27 p32 names D7h; each such state is a refusal with its own
+// text); those a later manual names are
 // here with the page that names them.
 struct CommStateText {
   unsigned state;

@@ -93,7 +93,7 @@ struct Parameter {
 };
 
 // ---------------------------------------------------------------------------
-// Curves (§11). Info block layout: docs/config-files.md and linrs-facts.md.
+// Curves (§11). Info block layout: docs/config-files.md (LinRS §11.1, DCF).
 struct Curve {
   std::uint32_t id = 0;  // 1..100 on current drives; 16 bit on the wire
   Bytes info;            // info block, as read (info size bytes, no padding)

@@ -1,8 +1,8 @@
 #pragma once
 // Decoding a command table entry (LinRS §12.1; offsets from seed 001
-// §4.3.143 and linrs-facts.md) with the motion command catalogue.
-//   off 0..1   entry version, fixed A701h (DCF; field-facts.md §4: "offset 0
-//              is the entry version, fixed A701h"); another value: nothing
+// §4.3.143) with the motion command catalogue.
+//   off 0..1   entry version, fixed A701h (DCF: offset 0
+//              is the entry version, fixed A701h); another value: nothing
 //              else is decoded (version_note says why), the bytes stay raw
 //   off 2..3   link ID (FFFFh: no successor)
 //   off 4..5   motion command header (master<<8 | sub<<4 | count)

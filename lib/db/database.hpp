@@ -44,7 +44,7 @@ std::optional<Layer> layer_from_name(std::string_view name) noexcept;  // case-i
 std::optional<Layer> layer_of_upid(std::uint16_t upid) noexcept;       // nullopt between the ranges
 std::uint16_t layer_base_upid(Layer l) noexcept;  // 0000, 1000, 2000, 3000; FFFF for Other
 
-// Address usage word (LinRS §10; resolved bits only, see linrs-facts.md).
+// Address usage word (LinRS §10; resolved bits only: its drawing is misaligned).
 // Bit 7 vs 8 ("live parameter") is unresolved: use raw.
 struct AddressUsage {
   std::uint16_t raw = 0;
@@ -219,8 +219,8 @@ class Database {
 
   // First parameter with this UPID that applies to `profile`. Without a
   // profile, the reference profile kReferenceProfile (the seeds' E1100): a
-  // name seen only for another family (field-facts.md §7: "never let a name
-  // from another family label a value of this one") labels nothing here, so a
+  // name seen only for another family (UPIDs differ between families, LinRS
+  // 3V27 p26: a name from another family never labels a value) labels nothing here, so a
   // caller that does not know the drive's family gets the seeds' rows only.
   // A database without that profile (built from a scan, or a test's) answers
   // with the UPID's first row.

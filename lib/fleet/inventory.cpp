@@ -257,7 +257,7 @@ void read_drive(Checker& c, const toml::table& t, LineEntry& line) {
   if (line.devicenet) {
     read_devicenet_drive(c, t, d);
   } else if (linudp) {
-    // A LinUDP drive is addressed by its IP (linudp-facts.md §1.1): no MACID.
+    // A LinUDP drive is addressed by its IP (LinUDP V2 §3.2): no MACID.
     if (t.get("id"))
       c.problem(t.get("id")->source(), "drive '" + d.name + "': a " + line.port +
                                            " line reaches its drive by address; remove 'id'");
@@ -356,7 +356,7 @@ void read_line(Checker& c, const toml::table& t, std::size_t index, Inventory& i
              link::scheme_of(line.port).protocol == link::Protocol::linudp) {
     c.problem(t.source(), "line '" + line.name +
                               "': a linudp:// port reaches one drive (its IP "
-                              "address, linudp-facts.md §1.1); give each drive a line of its own");
+                              "address, LinUDP V2 §3.2); give each drive a line of its own");
   }
   inv.lines.push_back(std::move(line));
 }

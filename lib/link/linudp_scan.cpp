@@ -1,5 +1,5 @@
-// Finding LinUDP V2 drives in an address range (linudp_scan.hpp). Sections
-// cited are those of the fact sheet linudp-facts.md ("facts").
+// Finding LinUDP V2 drives in an address range (linudp_scan.hpp). Sources by
+// the short names of docs/references.md.
 #include "link/linudp_scan.hpp"
 
 #include <algorithm>
@@ -130,7 +130,7 @@ Result<LinudpScanReport> scan_linudp(const LinudpRange& range, const UdpOpener& 
       s.status_word = reply->response.status_word;
       s.state_var = reply->response.state_var;
       s.error_code = reply->response.error_code;
-      // facts §2.4: firmware version = (RAM 0034h << 8) + RAM 0035h.
+      // LinUDP DLL: firmware version = (RAM 0034h << 8) + RAM 0035h.
       auto hi = c.read_ram(0x0034);
       auto lo = hi.ok() ? c.read_ram(0x0035) : hi;
       if (hi.ok() && lo.ok()) {

@@ -65,7 +65,7 @@ Result<transport::OpenedLink> open_serial_row(const PortSpec& spec, const OpenRe
   return opened;
 }
 
-// linudp://HOST[:PORT]: the drive port 49360 unless given (linudp-facts.md §1.1).
+// linudp://HOST[:PORT]: the drive port 49360 unless given (LinUDP V2 §4.3).
 Result<void> parse_linudp(PortSpec& spec) {
   const std::string expected = "linudp://HOST[:PORT] (an IPv4 address or name, PORT 1..65535)";
   const std::string_view a = spec.address;

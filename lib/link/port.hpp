@@ -11,7 +11,7 @@
 //   rfc2217://HOST:PORT    RFC 2217 gateway, LinRS (the client sets the line)
 //   sim:STATE.json         registered at start-up (the simulated drive), LinRS
 //   linudp://HOST[:PORT]   a LinUDP V2 drive over UDP/IPv4 (port 49360 unless
-//                          given; linudp-facts.md §1.1), LinUDP
+//                          given; LinUDP V2 §4.3), LinUDP
 //   slcan:/dev/ttyACM0     serial-line CAN adapter (slcan/Lawicel), CAN
 //   slcan:tcp://HOST:PORT  the same adapter protocol over TCP (a gateway, or
 //                          `lmcfg sim --devicenet --tcp`), CAN

@@ -78,7 +78,7 @@ struct RelinkReport {
 // cannot take (another baud rate on a TCP gateway) are skipped and named.
 // reconnect, repeated while no setting is answered until `budget` of link
 // time has passed since the call: a drive may stay silent for 30-90 s after
-// ROM writes (field-facts.md §5.2), longer than its reset's answer deadline.
+// ROM writes (field reports, C1250 notes), longer than its reset's answer deadline.
 // A round that took no link time (no setting could be tried) is final.
 Result<RelinkReport> reconnect_within(Session& session, const ExpectedLink& expected,
                                       const RelinkOverrides& overrides, transport::Millis budget);

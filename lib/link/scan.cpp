@@ -144,7 +144,7 @@ std::string link_options_of(const FoundDrive& d) {
 
 Result<ScanReport> scan(Session& session, const ScanOptions& o) {
   // A scan sends LinRS telegrams at MACIDs and rates: nothing a LinUDP drive
-  // on Ethernet should receive (linudp-facts.md §1.1: addressed by IP).
+  // on Ethernet should receive (LinUDP V2 §3.2: addressed by IP).
   if (session.spec().port.scheme && session.spec().port.protocol() == Protocol::linudp) {
     return Error(Errc::not_supported, "port " + session.spec().port.text +
                                           ": a LinUDP drive is not scanned for LinRS settings");

@@ -102,7 +102,7 @@ client::ClientOptions client_options(const LinkSpec& spec, const transport::Seri
   client::ClientOptions c = spec.client;
   c.link_has_parity = line.parity != transport::Parity::none;
   // UDP/IP over Ethernet: the frame check sequence and the UDP checksum
-  // detect a flipped bit (linudp-facts.md §1.1: plain UDP/IPv4), as parity does.
+  // detect a flipped bit (LinUDP V2 §4.3: plain UDP/IPv4), as parity does.
   if (spec.port.scheme && spec.port.protocol() == Protocol::linudp) c.link_has_parity = true;
   c.agreeing_reads = spec.agreeing_reads;
   c.adaptive_deadline = true;
@@ -161,7 +161,7 @@ config::LinkSettings Session::link_settings() const {
   config::LinkSettings s;
   s.port = spec_.port.text;
   if (spec_.port.scheme && spec_.port.protocol() == Protocol::linudp) {
-    s.checksum = "none";  // UDP/IP carries no serial line (linudp-facts.md §3)
+    s.checksum = "none";  // UDP/IP carries no serial line (LinUDP V2 §4.3)
     return s;
   }
   s.baud = std::to_string(line_.baud);

@@ -5,7 +5,8 @@
 namespace lmcfg::linudp {
 
 const char* status_text(std::uint8_t code) noexcept {
-  // facts §2.3 (with the DLLdoc errata applied: C5h/C6h by their hex codes).
+  // LinUDP V2 p14 (where the LinUDP DLL manual's decimal column is off by one for
+  // C5h/C6h, the hex codes win).
   switch (code) {
     case status::ok:
       return "OK, done";
@@ -43,7 +44,7 @@ struct CmdRow {
   Cmd id;
   const char* name;
 };
-// facts §2.4, the names of its tables.
+// LinUDP V2 p13-p19, the names of its tables.
 constexpr CmdRow kCmdNames[] = {
     {Cmd::nop, "no operation"},
     {Cmd::read_rom, "read ROM value"},
@@ -125,7 +126,7 @@ bool is_write_command(std::uint8_t id) noexcept {
 
 namespace {
 void put_rtc(Bytes& out, const RtcBlock& r) {
-  out.push_back(static_cast<std::uint8_t>(r.count & 0x0F));  // bits 4-7 reserved: 0 (§2.1)
+  out.push_back(static_cast<std::uint8_t>(r.count & 0x0F));  // bits 4-7 reserved: 0 (LinUDP V2 §7)
   out.push_back(r.id);
   put_u16le(out, r.w2);
   put_u16le(out, r.w3);
@@ -143,7 +144,7 @@ RtcBlock get_rtc(ByteView b, std::size_t off) {
 Error short_datagram(const char* what, std::size_t need, std::size_t have) {
   return Error(Errc::frame_short, std::string("LinUDP datagram of ") + std::to_string(have) +
                                       " bytes ends before its " + what + " (needs " +
-                                      std::to_string(need) + " bytes, facts §1.2-§1.3)");
+                                      std::to_string(need) + " bytes, LinUDP V2 §4.4)");
 }
 }  // namespace
 
@@ -233,7 +234,7 @@ Result<Response> decode_response(ByteView b) {
     r.monitoring = m;
     off += 16;
   }
-  // facts §1.3 RTC rule: present only when request bit 2 and response bit 8.
+  // LinUDP V2 §4.4.2: present only when request bit 2 and response bit 8.
   if ((d & resp::rtc) && (r.request_def & req::rtc)) {
     LMCFG_TRY(need(8, "RTC reply"));
     r.rtc = get_rtc(b, off);
@@ -260,7 +261,7 @@ Bytes encode_response(const Response& r) {
     for (auto v : m) put_u32le(out, v);
   }
   if ((d & resp::rtc) && (r.request_def & req::rtc)) put_rtc(out, r.rtc.value_or(RtcBlock{}));
-  if (out.size() < kPaddedSize) out.resize(kPaddedSize, 0);  // facts §1.3 padding
+  if (out.size() < kPaddedSize) out.resize(kPaddedSize, 0);  // LinUDP V2 §4.4.2 padding
   return out;
 }
 
@@ -275,7 +276,8 @@ std::uint8_t Counter::next(std::optional<std::uint8_t> avoid) {
 }
 
 std::uint16_t layer_start(int layer) {
-  // facts §2.4 (31h-34h rows, [RS §10.4]): OS 0000h, MC 1000h, Intf 2000h, Appl 3000h.
+  // LinRS §10.2, §10.4 (the layers of LinUDP V2's 31h-34h): OS 0000h, MC 1000h, Intf 2000h,
+  // Appl 3000h.
   return static_cast<std::uint16_t>((layer - 1) * 0x1000);
 }
 

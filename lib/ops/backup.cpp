@@ -99,7 +99,7 @@ Result<void> describe_from_drive(client::Client& c, const db::Database& db, int 
                                  const std::set<std::uint16_t>* modified,
                                  const BackupOptions& opt) {
   const Progress& progress = opt.progress;
-  // DCF p8: a B1100 stores no defaults, so none is asked (field-facts.md §1).
+  // DCF p8: a B1100 stores no defaults, so none is asked.
   const bool defaults = !opt.family || opt.family->stored_defaults;
   const std::string phase = "types and defaults " + std::string(lmcfg::layers::name(layer));
   std::size_t n = 0;
@@ -272,7 +272,7 @@ config::DriveConfig new_capture(const client::Client& c, const db::Database& db)
 }
 
 namespace {
-// What the family leaves out, said (field-facts.md §1).
+// What the family leaves out, said (LinRS 3V27 §11-§12, p32; DCF p8; C1250 notes).
 std::vector<std::string> family_notes(const BackupOptions& opt, const families::Family& f) {
   std::vector<std::string> n;
   const std::string name(f.name);

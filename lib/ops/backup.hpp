@@ -47,7 +47,7 @@ struct BackupOptions {
   // capture takes types from the UPID list and the default of an unmodified
   // UPID from its value). false: only what the database knows, fewer telegrams.
   bool ask_drive = true;
-  std::uint16_t max_curve_id = 100;  // storage limit of 100 curves (facts note)
+  std::uint16_t max_curve_id = 100;  // storage limit of 100 curves (C1250 notes)
   // The drive's family (common/families.hpp; --family, the inventory's
   // `family`). nullptr: not named, taken for the seeds' E1100. A family without
   // curves, command table or stored defaults (B1100) is not asked for them: the

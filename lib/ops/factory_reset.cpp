@@ -100,7 +100,7 @@ Result<void> DefaultRun::read_back_tables() {
                    ids.ok() ? Result<void>() : Result<void>(std::move(ids).error())));
   }
   if (curves_unacked_) {
-    for (std::uint16_t id = 1; id <= 100; ++id) {  // the storage limit (field-facts.md §1)
+    for (std::uint16_t id = 1; id <= 100; ++id) {  // the storage limit (C1250 notes)
       auto sizes = c_.curve_sizes(id);
       if (sizes.ok() && *sizes)
         sizes = Error(Errc::verify_mismatch,
@@ -123,7 +123,7 @@ Result<void> DefaultRun::read_before() {
     seen[static_cast<std::size_t>(layer - 1)] = mods;
     for (const auto& m : mods) {
       if (!is_comm_parameter(db_, m.upid)) continue;
-      if (opt_.include_comm)  // LinUDP: UDP/IP whatever they hold (linudp-facts.md §3)
+      if (opt_.include_comm)  // LinUDP: UDP/IP whatever they hold (LinUDP V2 §3.2)
         rep_.link_may_change = c_.capabilities().protocol == "LinRS";
       else
         keep_[m.upid] = m.value;

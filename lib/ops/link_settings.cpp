@@ -448,7 +448,7 @@ Result<void> find_again(link::Session& session, const LinkPlan& plan,
   o.checksum = plan.after.checksum;
   o.parity = plan.after.line.parity;
   o.stop_bits = plan.after.line.stop_bits;
-  // A drive silent for a while after its reset (field-facts.md §5.2) is
+  // A drive silent for a while after its reset (field reports, C1250 notes) is
   // looked for again until recover_timeout, before the scan.
   auto found =
       link::reconnect_within(session, expected, o, session.client().options().recover_timeout);

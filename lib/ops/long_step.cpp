@@ -22,7 +22,7 @@ Result<LongStep> long_step(client::Client& c, const std::string& what,
   }
   Error e = std::move(back).error();
   if (e.code != make_error_code(Errc::timeout)) return e;
-  // field-facts.md §5.2: a drive may be silent for 30-90 s after a save or a
+  // Field reports, C1250 notes: a drive may be silent for 30-90 s after a save or a
   // ROM write; one silent longer than both waits is slow or gone, which the
   // tool cannot tell apart: say what was waited and how to wait longer.
   e.message = "no answer within " + std::to_string(deadline_s) + " s, and " + e.message +

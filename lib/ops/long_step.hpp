@@ -3,10 +3,10 @@
 // answer never comes: one rule for every command that sends them (restore,
 // default, link, undo, fleet restore, the service). Real drives took "about
 // 39 s" for a command table flash save that "was never acknowledged", and "ROM
-// writes and flash saves left drives unresponsive for 30-90 s" (field-facts.md
-// §5.1, §5.2). "What follows for lmcfg: ... an operation whose answer never
-// comes is followed by finding the drive again and reading back what it
-// holds" (field-facts.md §5). So a missing answer is not a failure: the drive
+// writes and flash saves left drives unresponsive for 30-90 s" (field reports,
+// C1250 notes). So an operation whose answer never comes is followed by
+// finding the drive again and reading back what it holds (our reading of
+// those reports): a missing answer is not a failure: the drive
 // is looked for again (Client::find_again), and the caller reads back what the
 // drive holds and lets that decide (docs/field.md "Slow saves").
 #include <functional>

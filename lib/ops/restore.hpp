@@ -55,8 +55,8 @@ namespace lmcfg::ops {
 // database, so that --include-comm is never needed to keep a drive reachable.
 inline constexpr std::uint16_t kBaudRateSource = 0x200E, kBaudRateCode = 0x2012,
                                kMacidSource = 0x206C, kMacidValue = 0x2076;
-// LinRS 3V27 §4.4 (p11): "Checksum selection is UPID 2080h" on newer firmware
-// (field-facts.md §2). No source gives its raw values.
+// LinRS 3V27 §4.4 (p11): the checksum selection is UPID 2080h on newer
+// firmware. No source gives its raw values.
 inline constexpr std::uint16_t kChecksumUpid = 0x2080;
 // "By Parameter" values of the two source selects (LinRS §10.2 example).
 inline constexpr std::uint32_t kBaudRateByParameter = 2, kMacidByParameter = 3;
@@ -69,9 +69,10 @@ struct RestoreOptions {
   bool include_comm = false;         // --include-comm
   bool skip_incompatible = false;    // --skip-incompatible
   bool reset_after = true;           // reset so ROM values become active (§9.2)
-  std::uint16_t max_curve_id = 100;  // storage limit of 100 curves (facts note)
-  std::size_t curve_memory = 65280;  // 70 B per curve + 4 B per setpoint (facts note)
-  std::size_t ct_entry_size = 64;    // LinRS §12.1
+  std::uint16_t max_curve_id = 100;  // storage limit of 100 curves (C1250 notes)
+  std::size_t curve_memory =
+      65280;  // 70 B per curve + 4 B per setpoint (public descriptions of the curve format)
+  std::size_t ct_entry_size = 64;  // LinRS §12.1
   // The target's family (common/families.hpp); nullptr: the seeds' E1100.
   // C1100: curve/CT deletes and writes act on flash, no save step (LinRS 3V27
   // p32). B1100: no curve or CT group (a file with them in scope is refused)

@@ -92,7 +92,7 @@ Result<bool> target_range(client::Client& c, db::TypeCode code, std::uint16_t up
 }  // namespace
 
 namespace {
-// LinUDP has no type request (linudp-facts.md §3): the file's type, else the
+// LinUDP has no type request (LinUDP V2 p14): the file's type, else the
 // database's; without either the range cannot be checked (a 16-bit value's
 // sign is unknown) and the drive's refusal is what stops a bad write.
 std::uint16_t type_without_request(const config::Parameter& p, const db::Parameter* d,
@@ -186,7 +186,7 @@ Result<bool> check_parameter(client::Client& c, const db::Database& db, const Re
   }
   if (type_unknown) {
     plan.notes.push_back(label + ": type unknown (" + c.capabilities().protocol +
-                         " cannot ask it, linudp-facts.md §3; not in the file or the UPID "
+                         " cannot ask it, LinUDP V2 p14; not in the file or the UPID "
                          "database): range not checked before writing");
     return true;
   }

@@ -102,7 +102,7 @@ Result<void> execute_plan(client::Client& c, const Plan& p, const RestoreOptions
       long_what.clear();
     }
     // A long step whose answer never came: find the drive again, go on, and
-    // let the verify decide (ops/long_step.hpp, field-facts.md §5).
+    // let the verify decide (ops/long_step.hpp; field reports, C1250 notes).
     bool long_timed_out = false;
     if (!long_what.empty() && !r.ok() && r.error().code == make_error_code(Errc::timeout)) {
       Error first = std::move(r).error();

@@ -344,7 +344,7 @@ void note_link_change(Builder& b, const LayerWork& w) {
   for (const auto& x : w.same)
     if (is_comm(b.db, x.upid)) after[x.upid] = x.value;
   // The LinRS settings select the link only on a LinRS link (a LinUDP drive
-  // is reached over UDP/IP whatever they hold, linudp-facts.md §3).
+  // is reached over UDP/IP whatever they hold, LinUDP V2 §3.2).
   if (b.c.capabilities().protocol != "LinRS") return;
   b.plan.link_may_change = b.plan.link_may_change || now != after;
 }

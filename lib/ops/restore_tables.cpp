@@ -18,7 +18,7 @@ using Action = PlanStep::Action;
 namespace {
 // LinRS 3V27 p32: on a C1100 curve and command table add/delete act on flash
 // directly and "save to flash" has no function: no save step, and a delete is
-// no RAM-only change (field-facts.md §1).
+// no RAM-only change.
 bool direct_flash(const Builder& b) { return b.opt.family && !b.opt.family->flash_save; }
 const char* where(const Builder& b) { return direct_flash(b) ? "on flash (C1100)" : "in RAM"; }
 
@@ -171,7 +171,7 @@ Result<void> plan_curves(Builder& b, const config::DriveConfig& file, bool force
   }
   if (writes.empty() && deletes.empty() && !force_save) return {};
   if (!deletes.empty() && !b.c.capabilities().delete_one_curve) {
-    // LinUDP has no single-curve delete (linudp-facts.md §2.4, §3): every
+    // LinUDP has no single-curve delete (LinUDP V2 p13-p15; LinRS §11 has one): every
     // curve is deleted and the file's curves are all written again.
     b.add(Action::delete_all_curves, 0,
           std::string("delete all curves ") + where(b) + " (" + b.c.capabilities().protocol +

@@ -417,7 +417,7 @@ std::optional<Answer> Drive::on_param_config(const Telegram& t, std::int64_t now
     default_layer(static_cast<Layer>(layer));
     return finish_long(id_value(sub, st::ok, key, layer), s_.timing.defaulting_us, now);
   }
-  // 09h/0Bh: the UPID field is ignored (erratum 4, §10.3 "not used").
+  // 09h/0Bh: the UPID field is ignored (a seed erratum; §10.3 "not used").
   if (op == CfgOp::next_modified) {
     auto& c = modified_;
     auto empty = [&] {

@@ -35,7 +35,7 @@ Layer layer_of(std::uint16_t upid);
 std::uint16_t layer_base(Layer l);  // 0000h, 1000h, 2000h, 3000h
 const char* layer_name(Layer l);    // "OS", "MC", "Intf", "Appl", "none"
 
-// Address usage word bits (§10, facts note): only the resolved bits act.
+// Address usage word bits (LinRS §10; "live" is bit 7 or 8, unresolved): resolved bits act.
 namespace au {
 inline constexpr std::uint16_t ram_read = 0x0001;
 inline constexpr std::uint16_t ram_write = 0x0002;
@@ -176,12 +176,12 @@ struct Options {
   // Flash saves (§11, §12) and layer defaulting (§10.4) are done, the drive
   // is deaf for their duration (Timing::flash_save_us, defaulting_us), and
   // never answers them: "A command table flash save took about 39 s and was
-  // never acknowledged" (field-facts.md §5.1). Answers late (false, the
+  // never acknowledged" (field reports). Answers late (false, the
   // default) is the other reading: set Timing to 40 s for that.
   bool unanswered_saves = false;
   // The padding bytes of a block read's last chunk (after a 70-byte curve info
   // block: 2 bytes). false = zero (seed 003 §11.1's capture); true = stale
-  // data that differs from read to read (field-facts.md §4: real drives leave
+  // data that differs from read to read (EtherCAT curves: real drives leave
   // "not zero (stale data)" there).
   bool stale_block_padding = false;
   // ---- docs/families.md: the drive family this simulator plays ----

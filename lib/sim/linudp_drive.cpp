@@ -1,4 +1,4 @@
-// sim::LinudpDrive (linudp_drive.hpp). "facts" = linudp-facts.md.
+// sim::LinudpDrive (linudp_drive.hpp). Sources by the short names of docs/references.md.
 #include "sim/linudp_drive.hpp"
 
 #include <algorithm>
@@ -30,8 +30,8 @@ bool is_table_read(std::uint8_t id) {
   return (id >= 0x60 && id <= 0x62) || (id >= 0x85 && id <= 0x8E);
 }
 
-// A LinRS error state as the LinUDP status of the same meaning (facts §2.3,
-// §3: the LinRS codes C1h-C9h mean other things).
+// A LinRS error state as the LinUDP status of the same meaning (LinUDP V2
+// p14; LinRS §16.1's codes C1h-C9h mean other things).
 std::uint8_t linudp_status_of(std::uint8_t linrs, std::uint8_t id) {
   if (linrs == codec::state::last_in_list) return lst::end_of_list;
   const bool curve = id >= 0x40 && id <= 0x62;
@@ -46,20 +46,20 @@ struct FieldRow {
   const char* help;
 };
 constexpr FieldRow kFieldRows[] = {
-    {"unacknowledged_saves", "flash saves never acknowledged, drive deaf while saving (§4 #1)"},
-    {"save_s", "duration of a flash save in seconds (field: 39-75, §4 #1)"},
-    {"silent_after_rom_write_s", "silence after each ROM write, seconds (§4 #4)"},
-    {"stale_echo_every", "every Nth reply preceded by a stale one (§4 #9)"},
+    {"unacknowledged_saves", "flash saves never acknowledged, drive deaf while saving"},
+    {"save_s", "duration of a flash save in seconds (field reports: 39-75)"},
+    {"silent_after_rom_write_s", "silence after each ROM write, seconds"},
+    {"stale_echo_every", "every Nth reply preceded by a stale one"},
     {"lose_request_every", "every Nth request lost"},
     {"lose_reply_every", "every Nth reply lost"},
-    {"held_by_other_master", "all-zero replies (§4 #6)"},
-    {"table_reads_need_mc_stopped", "curve/CT reads refused with D1h while MC runs (§6.1)"},
-    {"end_on_extra_read", "block reads end with 00h on one more read (§6.2)"},
-    {"list_spans_layers", "lists run on through the later layers (§6.3)"},
-    {"curve_start_gives_sizes", "60h reply carries the sizes (§6.4)"},
-    {"strict_counts", "counts 1, 15 (and 0 but for 30h) ignored (§6.5)"},
-    {"running_status", "reply while a long command runs: 2, 5 or 0 = none (§6.6)"},
-    {"filter_source_port", "only datagrams from port 41136 answered (§6.8)"},
+    {"held_by_other_master", "all-zero replies"},
+    {"table_reads_need_mc_stopped", "curve/CT reads refused with D1h while MC runs"},
+    {"end_on_extra_read", "block reads end with 00h on one more read"},
+    {"list_spans_layers", "lists run on through the later layers"},
+    {"curve_start_gives_sizes", "60h reply carries the sizes"},
+    {"strict_counts", "counts 1, 15 (and 0 but for 30h) ignored"},
+    {"running_status", "reply while a long command runs: 2, 5 or 0 = none"},
+    {"filter_source_port", "only datagrams from port 41136 answered"},
     {"lose_save_requests", "the first N flash save requests (40h, 80h) lost"},
     {"lose_save_replies", "the replies to the first N flash saves lost"},
     {"silent_after_writes", "the connection cut after N writing commands"},
@@ -165,7 +165,7 @@ LinudpDrive::LinudpDrive(std::shared_ptr<Drive> drive, LinudpField field)
 Bytes LinudpDrive::reply_bytes(const linudp::Request& req, const RtcBlock& rtc) const {
   const DriveState& s = drive_->state();
   linudp::Response r;
-  r.request_def = req.request_def;  // echoed (facts §1.3)
+  r.request_def = req.request_def;  // echoed (C1250 notes)
   r.response_def = req.response_def;
   // MC stopped: status word and state var read 0, as the LinRS simulator's.
   r.status_word = s.mc_running ? s.live.status_word : 0;
@@ -205,7 +205,7 @@ std::vector<Answer> LinudpDrive::receive(ByteView datagram, std::int64_t now,
     if (field_.lose_reply_every && replies_made_ % field_.lose_reply_every == 0) return v;
     if (field_.stale_echo_every && replies_made_ % field_.stale_echo_every == 0 &&
         !previous_reply_.empty())
-      v.push_back(Answer{previous_reply_, delay});  // facts §4 #9: the old count first
+      v.push_back(Answer{previous_reply_, delay});  // C1250 notes: the old count first
     v.push_back(Answer{b, delay});
     previous_reply_ = std::move(b);
     return v;
@@ -219,7 +219,7 @@ std::vector<Answer> LinudpDrive::receive(ByteView datagram, std::int64_t now,
   if (!req->rtc) return out(reply_bytes(*req, RtcBlock{}), turnaround);
   const RtcBlock& rtc = *req->rtc;
   if (last_count_ && rtc.count == *last_count_ && cached_) {
-    // facts §2.2: the same count is not executed again; the reply is repeated.
+    // LinUDP V2 §7: the same count is not executed again; the reply is repeated.
     ++stats_.resends;
     if (cached_unanswered_) return {};
     if (now < ready_at_ns_) {
@@ -366,14 +366,14 @@ LinudpDrive::Outcome LinudpDrive::execute(const RtcBlock& rtc, std::int64_t now)
   Outcome o;
   o.reply.w2 = rtc.w2;
   if (owed_end_ && rtc.id == *owed_end_) {
-    owed_end_.reset();  // §6 point 2, the DLL's reading: 00h on one more read
+    owed_end_.reset();  // the LinUDP DLL's reading: 00h on one more read
     o.reply.id = lst::ok;
     return o;
   }
   owed_end_.reset();
   if (rtc.id == static_cast<std::uint8_t>(linudp::Cmd::nop)) return o;
   if (field_.table_reads_need_mc_stopped && is_table_read(rtc.id) && drive_->state().mc_running) {
-    o.reply.id = lst::size_error;  // facts §2.6: the Go mock's D1h
+    o.reply.id = lst::size_error;  // the C1250 notes' mock drive's D1h
     return o;
   }
   if (rtc.id == 0x21 || rtc.id == 0x23) return list_next(rtc, rtc.id == 0x23, now);
@@ -385,7 +385,7 @@ LinudpDrive::Outcome LinudpDrive::execute(const RtcBlock& rtc, std::int64_t now)
   }
   const auto t = linrs_request(rtc);
   if (!t) {
-    o.reply.id = lst::type_error;  // an ID facts §2.4 does not list
+    o.reply.id = lst::type_error;  // an ID LinUDP V2 p13-p19 does not list
     return o;
   }
   return from_linrs(rtc, drive_->handle(*t, now), now);
@@ -420,7 +420,7 @@ LinudpDrive::Outcome LinudpDrive::from_linrs(const RtcBlock& rtc, const std::opt
     return o;
   }
   if (save && field_.unacknowledged_saves) {
-    o.unanswered = true;  // facts §4 #1: done, never acknowledged
+    o.unanswered = true;  // field reports: done, never acknowledged
     return o;
   }
   fill(rtc, *t, o);
@@ -449,7 +449,7 @@ void LinudpDrive::fill(const RtcBlock& rtc, const codec::Telegram& answer, Outco
       break;
     case 0x60:
       if (value == 0) {
-        o.reply.id = lst::curve_presence;  // facts §2.4: D4h = absent
+        o.reply.id = lst::curve_presence;  // LinUDP V2 p13-p15: D4h = absent
       } else if (field_.curve_start_gives_sizes) {
         o.reply.w3 = static_cast<std::uint16_t>(value & 0xFFFF);
         o.reply.w4 = static_cast<std::uint16_t>(value >> 16);
@@ -517,10 +517,10 @@ LinudpDrive::Outcome LinudpDrive::list_next(const RtcBlock& rtc, bool modified, 
     o.reply.id = lst::ok;
     o.reply.w2 = get_u16le(tg.data, 1);
     if (modified) {
-      o.reply.set_value(get_u32le(tg.data, 3));  // facts §2.4 23h: w3/w4 = the value
+      o.reply.set_value(get_u32le(tg.data, 3));  // LinUDP V2 p16, 23h: w3/w4 = the value
     } else {
       o.reply.w3 = get_u16le(tg.data, 3);  // address usage
-      o.reply.w4 = get_u16le(tg.data, 5);  // the type, as on LinRS (§6 point 4)
+      o.reply.w4 = get_u16le(tg.data, 5);  // the type, as on LinRS (open in LinUDP V2)
     }
     return o;
   };
@@ -547,12 +547,12 @@ LinudpDrive::Outcome LinudpDrive::list_next(const RtcBlock& rtc, bool modified, 
         return item(*tg);
       }
       // The LinRS list's C6 answer may carry an entry not listed yet (seed
-      // 003 §10.2); on LinUDP the end is a C6h of its own (facts §2.4).
+      // 003 §10.2); on LinUDP the end is a C6h of its own (LinUDP V2 p16).
       list_ended_ = true;
       if (layers::of_upid(upid) == list_layer_ && list_seen_.insert(upid).second) return item(*tg);
     }
     if (field_.list_spans_layers && list_layer_ < layers::kCount) {
-      // §6 point 3, the DLL's reading: the list runs on into the next layer.
+      // The LinUDP DLL's reading: the list runs on into the next layer.
       ++list_layer_;
       list_ended_ = false;
       const auto base = layers::base_upid(list_layer_);

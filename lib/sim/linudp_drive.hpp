@@ -1,11 +1,12 @@
 #pragma once
 // sim::LinudpDrive: the simulated drive (sim::Drive, its DriveState and its
 // LinRS logic) answering LinUDP V2's configuration channel. Each RTC command
-// (linudp-facts.md §2.4, "facts") is carried out as the LinRS request of the
-// same function (facts §3 table) on the same sim::Drive, so a drive simulated
+// (LinUDP V2 p13-p19) is carried out as the LinRS request of the same
+// function (LinRS §9-§14) on the same sim::Drive, so a drive simulated
 // over LinUDP holds exactly what the LinRS simulator holds; the LinUDP layer
-// adds the count rule (§2.2), the reply layout (§1.3), the status codes
-// (§2.3) and the field behaviours (§4) and open points (§6) as options.
+// adds the count rule (LinUDP V2 §7), the reply layout (§4.4.2), the status
+// codes (p14) and the field behaviours (C1250 notes, field reports) and the
+// points LinUDP V2 leaves open as options.
 // No clock of its own: datagrams in with their arrival time, answers out
 // with their delay (as sim::Drive).
 #include <cstdint>
@@ -21,48 +22,50 @@
 
 namespace lmcfg::sim {
 
-// The field behaviours (facts §4) and both readings of the open points
-// (facts §6) the client must cope with. Defaults: the manual's reading.
+// The field behaviours (C1250 notes, field reports) and both readings of the
+// points LinUDP V2 leaves open, which the client must cope with. Defaults:
+// the manual's reading.
 struct LinudpField {
-  // §4 #1, §6 point 7: a flash save (40h, 80h) is never acknowledged; the
+  // C1250 notes (open in LinUDP V2): a flash save (40h, 80h) is never acknowledged; the
   // drive is deaf while it runs (DriveState::timing.flash_save_us).
   bool unacknowledged_saves = false;
-  // The duration of a flash save (field: 39-75 s, §4 #1); 0 keeps the
+  // The duration of a flash save (field reports: 39-75 s); 0 keeps the
   // state's Timing::flash_save_us.
   std::int64_t save_us = 0;
-  // §4 #4: after a ROM write (12h, 14h) the drive is silent this long.
+  // C1250 notes: after a ROM write (12h, 14h) the drive is silent this long.
   std::int64_t silent_after_rom_write_us = 0;
-  // §4 #9: every Nth reply is preceded by a copy of the previous reply
+  // C1250 notes: every Nth reply is preceded by a copy of the previous reply
   // (a stale echo, old count). 0: never.
   unsigned stale_echo_every = 0;
   // Lost datagrams: every Nth request / every Nth reply is dropped. 0: none.
   unsigned lose_request_every = 0;
   unsigned lose_reply_every = 0;
-  // §4 #6: another master holds the drive: every reply is 64 zero bytes.
+  // C1250 notes: another master holds the drive: every reply is 64 zero bytes.
   bool held_by_other_master = false;
-  // §6 point 1: curve and CT reads (60h-62h, 85h-8Eh) refused with D1h while MC runs.
+  // Open (C1250 notes vs LinUDP DLL): curve and CT reads (60h-62h, 85h-8Eh)
+  // refused with D1h while MC runs.
   bool table_reads_need_mc_stopped = false;
-  // §6 point 2: true = the last chunk of a block read comes with 04h and 00h
+  // Open in LinUDP V2: true = the last chunk of a block read comes with 04h and 00h
   // on one more read (the DLL's reading); false = 00h with the last data (LinRS's).
   bool end_on_extra_read = false;
-  // §6 point 3: true = a list started at a layer's base runs on through the
+  // Open in LinUDP V2: true = a list started at a layer's base runs on through the
   // later layers (the DLL's reading); false = C6h at the end of the layer.
   bool list_spans_layers = false;
-  // §6 point 4: the 60h reply carries the info/data sizes in w3/w4.
+  // Open in LinUDP V2: the 60h reply carries the info/data sizes in w3/w4.
   bool curve_start_gives_sizes = true;
-  // §6 point 6: what a resend gets while a long command runs: 02h, 05h, or
+  // Open in LinUDP V2: what a resend gets while a long command runs: 02h, 05h, or
   // 0 = no reply at all.
   std::uint8_t running_status = linudp::status::running;
-  // §6 point 5: counts 1 and 15 (and 0 outside a restart) are ignored.
+  // Open in LinUDP V2 §7: counts 1 and 15 (and 0 outside a restart) are ignored.
   bool strict_counts = false;
-  // §6 point 8: datagrams from a source port other than 41136 are ignored
+  // Open (a C1250 notes claim): datagrams from a source port other than 41136 are ignored
   // (only where the port is known: the UDP server).
   bool filter_source_port = false;
-  // A lost flash-save datagram (facts §4 #2 and §2.2 decide what a resend
+  // A lost flash-save datagram (C1250 notes and LinUDP V2 §7 decide what a resend
   // does): the first N save requests (40h, 80h with a new count; not their
   // resends with the same count) are lost,
   // or the replies to the first N saves (the save runs; a resend with its
-  // count gets the reply, facts §2.2).
+  // count gets the reply, LinUDP V2 §7).
   unsigned lose_save_requests = 0;
   unsigned lose_save_replies = 0;
   // A connection cut: after this many writing commands (restore, default)
@@ -105,7 +108,7 @@ class LinudpDrive {
   struct Outcome {
     linudp::RtcBlock reply;
     std::int64_t duration_ns = 0;  // a long command: its reply is ready after this
-    bool unanswered = false;       // a save never acknowledged (§4 #1)
+    bool unanswered = false;       // a save never acknowledged (field reports)
   };
   Outcome execute(const linudp::RtcBlock& rtc, std::int64_t now_ns);
   // The LinRS request for `rtc`, nullopt for commands the layer answers itself.
@@ -129,12 +132,12 @@ class LinudpDrive {
   std::uint64_t requests_seen_ = 0, replies_made_ = 0, writes_ = 0;
   unsigned save_requests_lost_ = 0, save_replies_lost_ = 0;
   int lost_save_count_ = -1;  // the count of the save request lost last
-  // Lists (§6 point 3 "spans layers"): the layer the LinRS list is in.
+  // Lists (the "spans layers" reading): the layer the LinRS list is in.
   int list_layer_ = 0;
   bool list_modified_ = false;
   bool list_ended_ = false;            // the LinRS list answered C6
   std::set<std::uint16_t> list_seen_;  // UPIDs listed since the start
-  // Block reads (§6 point 2 "extra read"): the chunk command owing its 00h.
+  // Block reads (the "extra read" reading): the chunk command owing its 00h.
   std::optional<std::uint8_t> owed_end_;
 };
 

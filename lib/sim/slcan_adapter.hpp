@@ -14,7 +14,7 @@ struct SlcanAdapterOptions {
   transport::Millis poll{20};
   std::function<bool()> should_stop;  // nullptr: until the transport fails
   bool transmit_ack = true;           // "z\r" after each transmitted frame
-  // An adapter that answers no command at all (field-facts.md §6: whether an
+  // An adapter that answers no command at all (slcan: whether an
   // adapter acknowledges is open; the Linux slcan driver and python-can never
   // wait for it): no CR/BEL to C, Sn, O, no "z", no answer to V or F. It
   // still takes the commands.

@@ -1,6 +1,6 @@
 #pragma once
 // UDP datagrams as a transport (POSIX sockets): LinUDP V2 drives are reached
-// over plain UDP/IPv4 between fixed ports (linudp-facts.md §1.1). One
+// over plain UDP/IPv4 between fixed ports (LinUDP V2 §4.3). One
 // write() is one datagram; one read_some() returns at most one datagram,
 // whole, so the framing above can rely on datagram boundaries.
 #include <cstdint>
@@ -14,7 +14,7 @@ namespace lmcfg::transport {
 
 struct UdpOptions {
   // The local port the datagrams come from: LinUDP's master port 41136
-  // (linudp-facts.md §1.1; whether a drive filters on it is open, §6 point 8).
+  // (LinUDP V2 §4.3; whether a drive filters on it is open: a C1250 notes claim).
   // Bound with SO_REUSEADDR/SO_REUSEPORT: several connected sockets (one per
   // drive, fleet lines in parallel) share it, the kernel hands each the
   // datagrams of its own peer. 0: any free port.

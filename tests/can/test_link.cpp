@@ -163,7 +163,7 @@ void send_and_receive(can::Link& link) {
 }  // namespace
 
 TEST_CASE(
-    "can: field-facts.md §6 adapters that do not acknowledge transmitted frames, or answer "
+    "can: slcan adapters that do not acknowledge transmitted frames, or answer "
     "nothing at all, carry frames, the version is used when given",
     "[can][pty]") {
   {

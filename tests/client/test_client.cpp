@@ -162,7 +162,7 @@ TEST_CASE("LinRS 3V27 p32 a flash save refused with D7h MC SW not stopped: a ref
 }
 
 TEST_CASE(
-    "field-facts.md §4 the two bytes after the 70-byte curve info block hold stale data: not part "
+    "EtherCAT curves: the two bytes after the 70-byte curve info block hold stale data: not part "
     "of the block, never compared",
     "[client][blocks]") {
   // The simulator's stale_block_padding: the padding of the 18th chunk changes

@@ -1,7 +1,7 @@
 // The LinUDP client (lib/client/linudp_client.*) against the simulated drive
 // over the in-process datagram link (virtual clock): the count rule and
-// resends of linudp-facts.md §2.2, the configuration channel only (§1.4),
-// the messages of no answer, another master (§4 #6) and a refusal (§2.3),
+// resends of LinUDP V2 §7, the configuration channel only (§4.4.1),
+// the messages of no answer, another master (§5) and a refusal (p14),
 // and the same backup over LinUDP as over LinRS.
 #include <catch2/catch.hpp>
 
@@ -24,7 +24,7 @@ config::DriveConfig backup_of(client::Client& c) {
 }
 
 // Link metadata aside (identity: port, time, link settings), and the types
-// of parameters: LinUDP has no type request (linudp-facts.md §3); with the
+// of parameters: LinUDP has no type request (LinUDP V2 p14); with the
 // UPID database (the tools load it) the types come from there.
 void require_same_configuration(config::DriveConfig a, config::DriveConfig b) {
   a.identity = {};
@@ -62,7 +62,7 @@ TEST_CASE("LinUDP client: a backup over LinUDP equals one over LinRS of the same
   require_same_configuration(a, b);
 }
 
-TEST_CASE("LinUDP client facts §1.4 and §2.2: RTC only, a new count per command, a NOP first",
+TEST_CASE("LinUDP client V2 §4.4.1 and §7: RTC only, a new count per command, a NOP first",
           "[linudp][client]") {
   test::LinudpRig rig(test::load_sim_drive("commissioned-axis.json"));
   (void)backup_of(rig.client());
@@ -80,7 +80,7 @@ TEST_CASE("LinUDP client facts §1.4 and §2.2: RTC only, a new count per comman
   }
 }
 
-TEST_CASE("LinUDP client facts §2.2: a lost datagram is resent with the same count and bytes",
+TEST_CASE("LinUDP client V2 §7: a lost datagram is resent with the same count and bytes",
           "[linudp][client]") {
   sim::LinudpField f;
   f.lose_reply_every = 5;
@@ -107,7 +107,7 @@ TEST_CASE("LinUDP client facts §2.2: a lost datagram is resent with the same co
         lossy.udp->stats().datagrams);
 }
 
-TEST_CASE("LinUDP client facts §4 #9: stale echoes are ignored", "[linudp][client]") {
+TEST_CASE("LinUDP client C1250 notes: stale echoes are ignored", "[linudp][client]") {
   sim::LinudpField f;
   f.stale_echo_every = 3;
   test::LinudpRig stale(test::load_sim_drive("commissioned-axis.json"), f);
@@ -128,12 +128,11 @@ TEST_CASE("LinUDP client: the exact message of a drive that does not answer", "[
         "no answer from the LinUDP drive at linudp-sim to no operation (00h) (count 2, sent 7 "
         "times, 1400 ms in all): check the address and port (linudp://HOST[:PORT], drive port "
         "49360), that the drive is powered and on this network, and that LinUDP V2 is its "
-        "interface (linudp-facts.md §1.1)");
+        "interface (LinUDP V2 §3.2, §4.3)");
   CHECK(rig.wire->tx.size() == 7);
 }
 
-TEST_CASE("LinUDP client facts §4 #6: a drive held by another master is said so",
-          "[linudp][client]") {
+TEST_CASE("LinUDP client V2 §5: a drive held by another master is said so", "[linudp][client]") {
   sim::LinudpField f;
   f.held_by_other_master = true;
   test::LinudpRig rig(test::load_sim_drive("commissioned-axis.json"), f);
@@ -143,12 +142,12 @@ TEST_CASE("LinUDP client facts §4 #6: a drive held by another master is said so
   CHECK(r.error().message == client::held_by_other_master_message("linudp-sim"));
   CHECK(r.error().message ==
         "the LinUDP drive at linudp-sim answers with all-zero telegrams: it is held by another "
-        "master (LinMot-Talk or another LinUDP client, linudp-facts.md §4 #6); disconnect that "
+        "master (LinMot-Talk or another LinUDP client, LinUDP V2 §5); disconnect that "
         "master and try again");
   CHECK(rig.wire->tx.size() == 1);  // not resent: another master's drive is left alone
 }
 
-TEST_CASE("LinUDP client facts §2.3: a refused command names the command, UPID and status",
+TEST_CASE("LinUDP client V2 p14: a refused command names the command, UPID and status",
           "[linudp][client]") {
   test::LinudpRig rig(test::load_sim_drive("commissioned-axis.json"));
   auto r = rig.client().read_rom(0x5555);
@@ -156,11 +155,11 @@ TEST_CASE("LinUDP client facts §2.3: a refused command names the command, UPID 
   CHECK(r.error().code == make_error_code(Errc::drive_refused));
   CHECK(r.error().message ==
         "the LinUDP drive at linudp-sim refused read ROM value (10h) for UPID 5555h: status C0h "
-        "UPID error (linudp-facts.md §2.3)");
+        "UPID error (LinUDP V2 p14)");
   CHECK(r.error().code == ErrorClass::drive_refusal);
 }
 
-TEST_CASE("LinUDP client facts §3: no type request, no single-curve delete, said as such",
+TEST_CASE("LinUDP client V2 p13-p15: no type request, no single-curve delete, said as such",
           "[linudp][client]") {
   test::LinudpRig rig(test::load_sim_drive("commissioned-axis.json"));
   auto& c = rig.client();
@@ -169,15 +168,14 @@ TEST_CASE("LinUDP client facts §3: no type request, no single-curve delete, sai
   auto t = c.get_type(0x13A2);
   REQUIRE_FALSE(t.ok());
   CHECK(t.error().code == ErrorClass::drive_refusal);
-  CHECK(t.error().message ==
-        "LinUDP has no request for the type of UPID 13A2h (linudp-facts.md §3)");
+  CHECK(t.error().message == "LinUDP has no request for the type of UPID 13A2h (LinUDP V2 p14)");
   auto d = c.delete_curve(1);
   REQUIRE_FALSE(d.ok());
   CHECK(d.error().code == make_error_code(Errc::not_supported));
   CHECK(rig.wire->tx.empty());  // nothing was sent for either
 }
 
-TEST_CASE("LinUDP client: values, lists and blocks under each reading of facts §6 points 2-4",
+TEST_CASE("LinUDP client: values, lists and blocks under each reading LinUDP V2 leaves open",
           "[linudp][client]") {
   test::LinudpRig clean(test::load_sim_drive("commissioned-axis.json"));
   const auto want = backup_of(clean.client());
@@ -193,7 +191,7 @@ TEST_CASE("LinUDP client: values, lists and blocks under each reading of facts �
   }
 }
 
-TEST_CASE("LinUDP client facts §6 point 5: the tools never send counts 1 and 15",
+TEST_CASE("LinUDP client (counts 1 and 15 open in V2 §7): the tools never send them",
           "[linudp][client]") {
   sim::LinudpField f;
   f.strict_counts = true;
@@ -207,13 +205,13 @@ TEST_CASE("LinUDP client facts §6 point 5: the tools never send counts 1 and 15
 
 namespace client_test_linudp_client {
 
-// facts §4 #2 "Resending 80h while a save is running restarts the save";
-// facts §2.2 "Resending the same telegram (same count) does not execute the
-// command again". A save with no answer is sent again, with its count, once
-// no save can still run (90 s: facts §4 #1 39-75 s saves, §4 #4 30-90 s
-// silences): the drive saves exactly once whether the request or the reply
+// C1250 notes: resending 80h while a save is running restarts the save;
+// LinUDP V2 §7: the same telegram (same count) does not execute the
+// command again. A save with no answer is sent again, with its count, once
+// no save can still run (90 s: field reports and C1250 notes, 39-75 s saves,
+// 30-90 s silences): the drive saves exactly once whether the request or the reply
 // was lost.
-TEST_CASE("LinUDP client facts §2.2 and §4 #2: a lost save request or reply, one save either way",
+TEST_CASE("LinUDP client V2 §7, C1250 notes: a lost save request or reply, one save either way",
           "[linudp][client][save]") {
   struct Case {
     const char* name;
@@ -229,7 +227,7 @@ TEST_CASE("LinUDP client facts §2.2 and §4 #2: a lost save request or reply, o
         Case{"nothing lost, saves never acknowledged", false, true, 0x02}}) {
     DYNAMIC_SECTION(k.name) {
       sim::LinudpField f;
-      f.save_us = 39'000'000;  // facts §4 #1
+      f.save_us = 39'000'000;  // field reports: about 39 s
       f.unacknowledged_saves = k.unacknowledged;
       f.running_status = k.running;
       (k.lose_request ? f.lose_save_requests : f.lose_save_replies) = 1;

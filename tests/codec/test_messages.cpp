@@ -1,7 +1,7 @@
 // Golden vectors: every Tx/Rx capture of seed 003 (LinRS manual V3.6).
 // Requests must encode to exactly the manual's bytes through the typed
 // builders; responses must decode to typed answers. Captures that are not
-// self-consistent (facts note, erratum 1) are listed in
+// self-consistent (LinRS erratum: bytes lost in the transcription) are listed in
 // tests/golden/seed003-inconsistent.txt with the decoder's expected verdict.
 #include <catch2/catch.hpp>
 #include <cstdio>
@@ -171,7 +171,7 @@ TEST_CASE("seed003 captures file matches the seed", "[codec][golden]") {
 }
 
 // ---- LinRS 3V27 (January 2020): lines the seed printed short or lacks ----
-// field-facts.md §3 quotes them from the newer manual, page by page. Each is
+// Quoted from the newer manual (LinRS 3V27), page by page. Each is
 // decoded through the real codec (frame, then the typed decoder of its sub).
 
 namespace {
@@ -214,7 +214,8 @@ TEST_CASE("LinRS 3V27 p27 read a parameter's address usage (05h sub 03h, answer 
 
 TEST_CASE("LinRS 3V27 p36 curve data, position 1: state 04h, more data follows",
           "[codec][golden]") {
-  // The seed's §11.2 line lost a value byte (linrs-facts.md erratum 1).
+  // The seed's §11.2 line lost a value byte (LinRS §11.2, erratum: a
+  // transcription loss; 3V27 p36 prints it whole).
   const Telegram t = frame_3v27("01 11 0A 02 40 00 04 01 00 00 00 00 00 04");
   auto r = decode_id_value(t, 0x40);
   REQUIRE(r.ok());

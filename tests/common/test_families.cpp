@@ -1,4 +1,5 @@
-// The drive family table (lib/common/families.cpp): field-facts.md §1.
+// The drive family table (lib/common/families.cpp): LinRS 3V27 §11-§12, p26,
+// p32; LinRS 3.23 p53; DCF p8; the C1250 notes.
 #include <catch2/catch.hpp>
 
 #include "common/families.hpp"
@@ -8,7 +9,7 @@ namespace common_test_families {
 
 using namespace lmcfg;
 
-TEST_CASE("field-facts.md §1 drive families: what each has", "[families]") {
+TEST_CASE("drive families: what each has", "[families]") {
   CHECK(families::names() == "E1100, B1100, C1100, E1200, E1400");
   const auto& e = families::reference();
   CHECK(e.name == "E1100");

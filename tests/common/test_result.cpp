@@ -129,7 +129,7 @@ TEST_CASE("result: lmcfg error codes say what went wrong", "[error_class][result
 
 TEST_CASE("LinRS 3V27 p32 communication state D7h is a refusal with its own text", "[result]") {
   // 3V27 p32, the answer to "save curves to flash": "MC SW not stopped". Not in
-  // seed 003 §16.1 (field-facts.md §3).
+  // seed 003 §16.1.
   CHECK(make_comm_state_error(0xD7).message() ==
         "D7h MC SW not stopped (LinRS 3V27 p32): stop the motion control software first");
   CHECK(class_of(make_comm_state_error(0xD7)) == ErrorClass::drive_refusal);

@@ -46,7 +46,7 @@ TEST_CASE("config: fixture curve and CT bytes agree with the seed 003 transcript
   REQUIRE(info.size() == 72);
   info.resize(70);
   CHECK(info == sinrise_info());
-  // Data: setpoint 1's line lost a byte (errata 1), so the regex finds 20 of 21.
+  // Data: setpoint 1's line lost a byte (a transcription erratum), so the regex finds 20 of 21.
   Bytes data =
       transcript_block(seed, "Reading Curve data 21 Position values", "11.2 Write Curve", "40");
   REQUIRE(data.size() == 80);

@@ -105,7 +105,7 @@ TEST_CASE("ct entry: summary labels in lower case, maximal/minimal and target sh
 
 TEST_CASE("DCF command table entry version: A701h decodes, another version is said, not misdecoded",
           "[db][ct_entry]") {
-  // field-facts.md §4 (DCF): "offset 0 is the entry version, fixed A701h".
+  // DCF: offset 0 is the entry version, fixed A701h.
   Bytes entry = seed_ct_entry();
   REQUIRE(get_u16le(entry, 0) == kCtEntryVersion);
   entry[0] = 0x34;

@@ -26,7 +26,7 @@ TEST_CASE("upid-db: row counts of the extraction from seeds 001 and 003", "[db][
   // 3 of the seeds; c1100, e1200, c1250 and a1100 for the public names (docs/upid-db.md).
   CHECK(counts.at("profiles") == 7);
   // 83 from seed 001 (6300h in layer Other), 10 from seed 003; 74 rows of public
-  // names (field-facts.md §7, peer-upids.tsv: 86 of its 90 rows imported).
+  // names (public parameter names, docs/references.md: 86 of its 90 rows imported).
   CHECK(counts.at("parameters") == 167);
   CHECK(counts.at("errors") == 113);  // 85 MC codes 0000-008A, 8 LinRS states, 20 DeviceNet codes
   CHECK(counts.at("motion_commands") == 215);
@@ -58,7 +58,7 @@ TEST_CASE("upid-db: seed 001 §3.7 6300h lies outside the seed 003 §10.2 ranges
   for (auto l : {Layer::OS, Layer::MC, Layer::Intf, Layer::Appl})
     for (const Parameter* q : real_db().in_layer(l)) CHECK(q->upid != 0x6300);
   // In layer Other besides it: 6085h, a B1100 trigger a public source names
-  // (peer-upids.tsv), in the b1100-mc profile only.
+  // (Smart-Vision-Works/linmot_client's LinMot-Talk manual copy), in the b1100-mc profile only.
   std::vector<std::uint16_t> other;
   for (const Parameter* q : real_db().in_layer(Layer::Other)) other.push_back(q->upid);
   CHECK(other == std::vector<std::uint16_t>{0x6085, 0x6300});
@@ -230,7 +230,7 @@ TEST_CASE("upid-db: seed 001 §10 error classes are a field, fatal ones say so",
                                                 {"User Err", 11}});
 }
 
-TEST_CASE("upid-db: field-facts.md §7 public names, each in the profile its source names",
+TEST_CASE("upid-db: public parameter names, each in the profile its source names",
           "[db][seed][families]") {
   const Database& db = real_db();
   // Seed 001 §6 says 13A6h is the maximal current of position controller set A

@@ -477,7 +477,7 @@ name = "cell4/b"
 )") == "plant.toml:6:6: drive 'cell4/a': a linudp://10.8.7.232:49360 line reaches its drive by "
        "address; remove 'id'\n"
        "plant.toml:1:1: line 'cell4': a linudp:// port reaches one drive (its IP address, "
-       "linudp-facts.md §1.1); give each drive a line of its own");
+       "LinUDP V2 §3.2); give each drive a line of its own");
 }
 
 }  // namespace fleet_test_inventory

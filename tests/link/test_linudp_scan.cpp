@@ -1,8 +1,8 @@
 // Finding LinUDP drives in an address range (lib/link/linudp_scan.*): the
 // range syntax and its bound, and a scan of simulated drives over in-process
 // datagram links on the virtual clock: what answered, what is held by another
-// master (linudp-facts.md §4 #6), what is silent, and that only NOPs and RAM
-// reads of the RTC part went out (facts §1.4, §2.2, §2.4).
+// master (LinUDP V2 §5, C1250 notes), what is silent, and that only NOPs and RAM
+// reads of the RTC part went out (LinUDP V2 §4.4.1, §7, p14).
 #include <catch2/catch.hpp>
 #include <map>
 
@@ -17,7 +17,7 @@ using namespace lmcfg;
 TEST_CASE("LinUDP scan: address ranges and their bound", "[linudp][scan]") {
   auto net = link::parse_linudp_range("10.8.7.0/24");
   REQUIRE(net.ok());
-  CHECK(net->port == 49360);  // facts §1.1 drive port
+  CHECK(net->port == 49360);  // LinUDP V2 §4.3 drive port
   REQUIRE(net->hosts.size() == 254);
   CHECK(net->hosts.front() == "10.8.7.1");
   CHECK(net->hosts.back() == "10.8.7.254");
@@ -60,7 +60,7 @@ TEST_CASE("LinUDP scan: address ranges and their bound", "[linudp][scan]") {
 
 namespace {
 
-// The firmware version UPIDs (facts §2.4: RAM 0034h, 0035h), read-only.
+// The firmware version UPIDs (LinUDP DLL: RAM 0034h, 0035h), read-only.
 void add_firmware(sim::Drive& d, std::uint32_t major, std::uint32_t minor) {
   for (auto [upid, v] : {std::pair<std::uint16_t, std::uint32_t>{0x0034, major}, {0x0035, minor}}) {
     sim::Parameter p;
@@ -97,11 +97,11 @@ struct Net {
 
 }  // namespace
 
-TEST_CASE("LinUDP scan: answered, held by another master (facts §4 #6) and silent addresses",
+TEST_CASE("LinUDP scan: answered, held by another master (V2 §5) and silent addresses",
           "[linudp][scan]") {
   Net net;
   auto axis = test::load_sim_drive("commissioned-axis.json");
-  add_firmware(*axis, 0x06, 0x0A);  // facts §2.4: 060Ah = LT 6.10
+  add_firmware(*axis, 0x06, 0x0A);  // LinUDP DLL: 060Ah = LT 6.10
   net.drives["10.8.7.1"] = std::make_shared<sim::LinudpDrive>(axis);
   net.drives["10.8.7.3"] =
       std::make_shared<sim::LinudpDrive>(test::load_sim_drive("used-spare.json"));
@@ -131,18 +131,18 @@ TEST_CASE("LinUDP scan: answered, held by another master (facts §4 #6) and sile
   CHECK(a[0].datagrams == 3);  // NOP, 11h 0034h, 11h 0035h
   CHECK(a[1].answer == link::LinudpAnswer::silent);
   CHECK(a[1].datagrams == 1);
-  CHECK(a[1].ms == Approx(200.1));  // one attempt of 200 ms (facts §2.2), 0.1 ms on the wire
+  CHECK(a[1].ms == Approx(200.1));  // one attempt of 200 ms (C1250 notes), 0.1 ms on the wire
   CHECK(a[2].answer == link::LinudpAnswer::answered);
   CHECK_FALSE(a[2].firmware);
   CHECK(a[2].firmware_note == "firmware version not readable (RAM 0034h/0035h refused)");
   CHECK(a[3].answer == link::LinudpAnswer::held);
   CHECK(a[3].datagrams == 1);
-  CHECK(a[3].ms >= 10.0);  // the 10 ms gap (facts §1.1)
+  CHECK(a[3].ms >= 10.0);  // the 10 ms gap (LinUDP DLL)
   CHECK(rep->count(link::LinudpAnswer::answered) == 2);
   CHECK(rep->count(link::LinudpAnswer::held) == 1);
   CHECK(rep->count(link::LinudpAnswer::silent) == 1);
 
-  // Only the RTC part (request definition 04h, facts §1.4), and only NOPs
+  // Only the RTC part (request definition 04h, LinUDP V2 §4.4.1), and only NOPs
   // and RAM reads (00h, 11h): nothing that writes or moves.
   std::uint64_t datagrams = 0;
   for (const auto& [host, wire] : net.wires) {
@@ -162,7 +162,7 @@ TEST_CASE("LinUDP scan: answered, held by another master (facts §4 #6) and sile
   CHECK(net.drives["10.8.7.1"]->stats().commands == 3);
 }
 
-TEST_CASE("LinUDP scan: --retries resends the NOP with its count (facts §2.2)", "[linudp][scan]") {
+TEST_CASE("LinUDP scan: --retries resends the NOP with its count (V2 §7)", "[linudp][scan]") {
   Net net;
   sim::LinudpField lossy;
   lossy.lose_request_every = 1;  // nobody answers: both attempts go out

@@ -147,7 +147,7 @@ TEST_CASE("port table: linudp://HOST[:PORT] with the drive port 49360 by default
   CHECK(a->scheme_name() == "linudp");
   CHECK(a->protocol() == link::Protocol::linudp);
   CHECK(a->host == "10.8.7.232");
-  CHECK(a->tcp_port == 49360);  // linudp-facts.md §1.1
+  CHECK(a->tcp_port == 49360);  // LinUDP V2 §4.3
   CHECK_FALSE(a->sets_line_rate());
   CHECK(a->kind() == link::Kind::byte_link);
   auto b = link::parse_port("linudp://drive7.plant:50000");

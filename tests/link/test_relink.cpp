@@ -308,12 +308,12 @@ TEST_CASE(
   CHECK(rig.drive->state().link.baud == 57600);
 }
 
-// field-facts.md §5.2: "ROM writes and flash saves left drives unresponsive
+// Field reports, C1250 notes: "ROM writes and flash saves left drives unresponsive
 // for 30-90 s". A drive whose restart after the restored link settings takes
 // 90 s: one round of reconnect finds nothing, reconnect_within keeps trying
 // until it answers (docs/field.md "Slow saves"), and gives up only after its
 // budget, saying so.
-TEST_CASE("field-facts.md §5.2 relink: a drive silent 90 s after its reset is found again",
+TEST_CASE("field reports: relink: a drive silent 90 s after its reset is found again",
           "[relink][slow_saves]") {
   auto db = test::built_database();
   REQUIRE(db);

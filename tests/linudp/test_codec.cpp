@@ -1,6 +1,6 @@
-// LinUDP V2 framing (lib/linudp/codec.*) against the byte examples of the
-// fact sheet linudp-facts.md ("facts"): §5.3's probe telegrams and the repo
-// tests' exact bytes, §1.2/§1.3's offsets, §2.2's count rule, §2.3's codes.
+// LinUDP V2 framing (lib/linudp/codec.*) against byte examples: the telegrams
+// of the C1250 notes' mock drive (served over UDP by the project) and their
+// tests' exact bytes, LinUDP V2 §4.4's offsets, §7's count rule, p14's codes.
 #include <catch2/catch.hpp>
 
 #include "linudp/codec.hpp"
@@ -23,13 +23,13 @@ RtcBlock rtc(std::uint8_t count, std::uint8_t id, std::uint16_t w2, std::uint32_
 }
 }  // namespace
 
-TEST_CASE("LinUDP facts §5.3 probe: write RAM request bytes", "[linudp][codec][golden]") {
+TEST_CASE("LinUDP C1250 notes mock: write RAM request bytes", "[linudp][codec][golden]") {
   // "write RAM TX 04000000 ff010000 | 01 13 5a14 a0860100 (count 1, 13h, UPID 145Ah, 100000)"
   CHECK(encode_request(rtc(1, 0x13, 0x145A, 100000)) ==
         hexb("04000000 ff010000 01 13 5a14 a0860100"));
 }
 
-TEST_CASE("LinUDP facts §5.3 probe: read RAM, modified list, CT presence requests",
+TEST_CASE("LinUDP C1250 notes mock: read RAM, modified list, CT presence requests",
           "[linudp][codec][golden]") {
   CHECK(encode_request(rtc(2, 0x11, 0x145A)) == hexb("04000000 ff010000 02 11 5a14 00000000"));
   CHECK(encode_request(rtc(3, 0x22, 0)) == hexb("04000000 ff010000 03 22 0000 00000000"));
@@ -37,7 +37,7 @@ TEST_CASE("LinUDP facts §5.3 probe: read RAM, modified list, CT presence reques
   CHECK(encode_request(rtc(5, 0x87, 0)) == hexb("04000000 ff010000 05 87 0000 00000000"));
 }
 
-TEST_CASE("LinUDP facts §5.3 repo test: CT write 83h puts the size 64 in word 3",
+TEST_CASE("LinUDP C1250 notes test: CT write 83h puts the size 64 in word 3",
           "[linudp][codec][golden]") {
   // "for 83h with entry 1 and size 64, bytes 12-15 = 40000000, bytes 10-11 = 0100"
   RtcBlock r = rtc(1, 0x83, 1);
@@ -48,7 +48,7 @@ TEST_CASE("LinUDP facts §5.3 repo test: CT write 83h puts the size 64 in word 3
   CHECK(Bytes(b.begin() + 12, b.begin() + 16) == hexb("40000000"));
 }
 
-TEST_CASE("LinUDP facts §5.3 probe: status reply of 26 bytes decoded from its definition",
+TEST_CASE("LinUDP C1250 notes mock: status reply of 26 bytes decoded from its definition",
           "[linudp][codec][golden]") {
   // "RX (26 B) 00000000 7f000000 0000 0001 a0860100 a0860100 6400 0000 0000"
   auto r = decode_response(hexb("00000000 7f000000 0000 0001 a0860100 a0860100 6400 0000 0000"));
@@ -62,19 +62,19 @@ TEST_CASE("LinUDP facts §5.3 probe: status reply of 26 bytes decoded from its d
   CHECK(r->warn_word == 0);
   CHECK(r->error_code == 0);
   CHECK_FALSE(r->monitoring);
-  CHECK_FALSE(r->rtc);  // request bit 2 not echoed: no RTC part (facts §1.3 RTC rule)
+  CHECK_FALSE(r->rtc);  // request bit 2 not echoed: no RTC part (LinUDP V2 §4.4.2)
   CHECK_FALSE(r->all_zero);
 }
 
 TEST_CASE(
-    "LinUDP facts §1.3: with response definition 1FFh the RTC reply sits at 42-49, padded "
+    "LinUDP V2 §4.4.2: with response definition 1FFh the RTC reply sits at 42-49, padded "
     "to 64",
     "[linudp][codec][golden]") {
   Response r;
   r.request_def = req::rtc;
   r.response_def = resp::all;
   r.status_word = 0x4C37;
-  r.rtc = rtc(5, 0x00, 0, 0xFFFFFFFF);  // facts §5.3 "CT pres 0 ... RX 05 00 0000 ffffffff"
+  r.rtc = rtc(5, 0x00, 0, 0xFFFFFFFF);  // the mock's "CT pres 0 ... RX 05 00 0000 ffffffff"
   const Bytes b = encode_response(r);
   REQUIRE(b.size() == 64);
   CHECK(get_u16le(b, 8) == 0x4C37);
@@ -87,7 +87,7 @@ TEST_CASE(
   CHECK(back->rtc->value() == 0xFFFFFFFF);
 }
 
-TEST_CASE("LinUDP facts §1.2 and §5.3: a combined telegram (reqdef 7) locates CW, MC and RTC",
+TEST_CASE("LinUDP V2 §4.4.1 and the mock: a combined telegram (reqdef 7) locates CW, MC and RTC",
           "[linudp][codec][golden]") {
   // "combined TX 07000000 ff010000 0000 <32 B zeros> | 06 11 5a14 00000000"
   Bytes b = hexb("07000000 ff010000 0000");
@@ -105,7 +105,7 @@ TEST_CASE("LinUDP facts §1.2 and §5.3: a combined telegram (reqdef 7) locates 
   CHECK(r->rtc->w2 == 0x145A);
 }
 
-TEST_CASE("LinUDP facts §5.3 repo test: control word telegrams carry no RTC part",
+TEST_CASE("LinUDP C1250 notes test: control word telegrams carry no RTC part",
           "[linudp][codec][golden]") {
   // "CW telegrams 01000000 01000000 0F00 (enable)": what lmcfg never sends
   auto r = decode_request(hexb("01000000 01000000 0F00"));
@@ -114,7 +114,7 @@ TEST_CASE("LinUDP facts §5.3 repo test: control word telegrams carry no RTC par
   CHECK_FALSE(r->rtc);
 }
 
-TEST_CASE("LinUDP facts §1.4: every request lmcfg encodes is RTC only (reqdef 04h)",
+TEST_CASE("LinUDP V2 §4.4.1: every request lmcfg encodes is RTC only (reqdef 04h)",
           "[linudp][codec]") {
   for (int id = 0; id < 256; ++id) {
     const Bytes b = encode_request(rtc(7, static_cast<std::uint8_t>(id), 0x1234, 0xDEADBEEF));
@@ -123,21 +123,21 @@ TEST_CASE("LinUDP facts §1.4: every request lmcfg encodes is RTC only (reqdef 0
   }
 }
 
-TEST_CASE("LinUDP facts §4 #6: an all-zero datagram is recognised", "[linudp][codec]") {
+TEST_CASE("LinUDP C1250 notes: an all-zero datagram is recognised", "[linudp][codec]") {
   auto r = decode_response(Bytes(64, 0));
   REQUIRE(r.ok());
   CHECK(r->all_zero);
   CHECK_FALSE(r->rtc);
 }
 
-TEST_CASE("LinUDP facts §1.3: a datagram cut short names the missing part", "[linudp][codec]") {
+TEST_CASE("LinUDP V2 §4.4.2: a datagram cut short names the missing part", "[linudp][codec]") {
   auto r = decode_response(hexb("04000000 ff010000 0000"));
   REQUIRE_FALSE(r.ok());
   CHECK(r.error().message ==
-        "LinUDP datagram of 10 bytes ends before its state var (needs 12 bytes, facts §1.2-§1.3)");
+        "LinUDP datagram of 10 bytes ends before its state var (needs 12 bytes, LinUDP V2 §4.4)");
 }
 
-TEST_CASE("LinUDP facts §2.2 and §6 point 5: counts run 2..14, forward, never the drive's echo",
+TEST_CASE("LinUDP V2 §7 (15 and backward steps open): counts run 2..14, forward, never the echo",
           "[linudp][codec]") {
   Counter c;
   std::vector<int> seen;
@@ -147,15 +147,15 @@ TEST_CASE("LinUDP facts §2.2 and §6 point 5: counts run 2..14, forward, never 
   CHECK(d.next(std::uint8_t{2}) == 3);  // the drive holds 2: skip it
   d.seed(14);
   CHECK(d.next() == 2);
-  d.seed(0);  // after a restart (count 0, facts §2.2 DLL)
+  d.seed(0);  // after a restart (count 0, LinUDP DLL)
   CHECK(d.next() == 2);
 }
 
-TEST_CASE("LinUDP facts §2.3: status codes and their meaning", "[linudp][codec]") {
+TEST_CASE("LinUDP V2 p14: status codes and their meaning", "[linudp][codec]") {
   CHECK(std::string(status_text(0xC0)) == "UPID error");
   CHECK(std::string(status_text(0xC6)) == "end of UPID list");
   CHECK(std::string(status_text(0xD4)) == "curve already defined or not present");
-  CHECK(status_text(0xD7) == nullptr);  // facts §2.3: D7h known from LinRS only
+  CHECK(status_text(0xD7) == nullptr);  // not in LinUDP V2 p14: D7h is LinRS 3V27 p32's
   CHECK(is_busy(0x02));
   CHECK(is_busy(0x05));
   CHECK_FALSE(is_busy(0x04));

@@ -362,7 +362,8 @@ std::size_t requests_of(const test::WireRecorder& w, std::uint8_t main, std::uin
 }  // namespace
 
 TEST_CASE(
-    "field-facts.md §1 backup of a B1100: no curves, command table or defaults asked, and said",
+    "DCF p8, LinRS 3V27 §11-§12: backup of a B1100: no curves, command table or defaults asked, "
+    "and said",
     "[backup][families]") {
   test::SimRig rig("commissioned-axis.json");
   rig.drive->state().options.family = "B1100";  // the simulator plays a B1100

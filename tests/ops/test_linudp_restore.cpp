@@ -1,7 +1,7 @@
 // One restore path for LinRS and LinUDP: ops::run_restore (plan, execute,
 // verify) over a LinUDP session to the simulated drive (virtual clock), under
-// the field behaviours of linudp-facts.md §4 and both readings of its §6
-// open points; and a restore cut in the middle.
+// the field behaviours of the C1250 notes and field reports and both readings
+// of the points LinUDP V2 leaves open; and a restore cut in the middle.
 #include <catch2/catch.hpp>
 
 #include "db/database.hpp"
@@ -30,21 +30,21 @@ std::vector<Reading> readings() {
   r.push_back({"the manual's reading", {}, 0});
   sim::LinudpField f;
   f.unacknowledged_saves = true;
-  r.push_back({"§4 #1 unacknowledged 39 s saves", f, 39});
-  r.push_back({"§4 #1 unacknowledged 75 s saves", f, 75});
+  r.push_back({"field reports: unacknowledged 39 s saves", f, 39});
+  r.push_back({"C1250 notes: unacknowledged 75 s saves", f, 75});
   f = {};
-  r.push_back({"§4 #1 acknowledged 75 s saves", f, 75});
+  r.push_back({"C1250 notes: acknowledged 75 s saves", f, 75});
   f = {};
   f.silent_after_rom_write_us = 30 * kSeconds;
-  r.push_back({"§4 #4 silent 30 s after ROM writes", f, 0});
+  r.push_back({"C1250 notes: silent 30 s after ROM writes", f, 0});
   f = {};
   f.stale_echo_every = 2;
-  r.push_back({"§4 #9 stale echoes", f, 0});
+  r.push_back({"C1250 notes: stale echoes", f, 0});
   f = {};
   f.lose_reply_every = 7;
   r.push_back({"lost replies", f, 0});
   f = {};
-  f.lose_save_requests = 2;  // both saves (CT, curves): facts §2.2 and §4 #2
+  f.lose_save_requests = 2;  // both saves (CT, curves): LinUDP V2 §7, C1250 notes
   r.push_back({"lost save requests", f, 39});
   f = {};
   f.lose_save_replies = 2;
@@ -59,22 +59,22 @@ std::vector<Reading> readings() {
   r.push_back({"lost save requests, silent while saving", f, 39});
   f = {};
   f.end_on_extra_read = true;
-  r.push_back({"§6 point 2 00h on one more read", f, 0});
+  r.push_back({"open in LinUDP V2: 00h on one more read", f, 0});
   f = {};
   f.list_spans_layers = true;
-  r.push_back({"§6 point 3 lists span the layers", f, 0});
+  r.push_back({"open in LinUDP V2: lists span the layers", f, 0});
   f = {};
   f.curve_start_gives_sizes = false;
-  r.push_back({"§6 point 4 60h without sizes", f, 0});
+  r.push_back({"open in LinUDP V2: 60h without sizes", f, 0});
   f = {};
   f.strict_counts = true;
-  r.push_back({"§6 point 5 counts 1 and 15 refused", f, 0});
+  r.push_back({"open in LinUDP V2: counts 1 and 15 refused", f, 0});
   f = {};
   f.running_status = 0x05;
-  r.push_back({"§6 point 6 05h while running", f, 5});
+  r.push_back({"open in LinUDP V2: 05h while running", f, 5});
   f = {};
   f.running_status = 0;
-  r.push_back({"§6 point 6 silent while running", f, 5});
+  r.push_back({"open in LinUDP V2: silent while running", f, 5});
   return r;
 }
 
@@ -104,7 +104,7 @@ TEST_CASE("LinUDP restore: plan, execute and verify onto a used spare under each
       CHECK(drive->state().ct_flash == drive->state().ct_ram);
       CHECK(drive->state().curves_flash == drive->state().curves_ram);
       if (rd.field.unacknowledged_saves) CHECK_FALSE(out.unacknowledged.empty());
-      // Each save carried out once: none lost for good, none twice (facts §4 #2).
+      // Each save carried out once: none lost for good, none twice (C1250 notes).
       CHECK(rig.udp->stats().saves == 2);
       // The same file again: nothing to do.
       const auto again = ops::run_restore(*rig.session, file, db::Database::empty(), o);

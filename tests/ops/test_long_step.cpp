@@ -1,8 +1,8 @@
 // Long operations whose answer comes late or never (lib/ops/long_step.cpp,
 // Client::find_again, docs/field.md "Slow saves") against the simulated
-// drive on its virtual clock (40 s saves cost no real time): field-facts.md
-// §5.1 "A command table flash save took about 39 s and was never
-// acknowledged", §5.2 "ROM writes and flash saves left drives unresponsive
+// drive on its virtual clock (40 s saves cost no real time): field reports,
+// "A command table flash save took about 39 s and was never
+// acknowledged", C1250 notes, "ROM writes and flash saves left drives unresponsive
 // for 30-90 s". Restore and default succeed under both readings (answered
 // late, never answered); a drive silent past both waits gets a message that
 // says what was waited and which options wait longer.
@@ -56,7 +56,7 @@ std::size_t count_steps(const ops::Plan& p, ops::PlanStep::Action a) {
 
 }  // namespace
 
-TEST_CASE("field-facts.md §5.1 a 40 s command table save answered late is waited for",
+TEST_CASE("field reports: a 40 s command table save answered late is waited for",
           "[long_step][slow_saves]") {
   test::SimRig rig("commissioned-axis.json");
   slow_saves(*rig.drive, 40, true);
@@ -81,7 +81,7 @@ TEST_CASE("field-facts.md §5.1 a 40 s command table save answered late is waite
   CHECK(progress.back() == 40000);
 }
 
-TEST_CASE("field-facts.md §5.1 a 40 s save never answered: the drive is found again",
+TEST_CASE("field reports: a 40 s save never answered: the drive is found again",
           "[long_step][slow_saves]") {
   test::SimRig rig("commissioned-axis.json");
   slow_saves(*rig.drive, 40, false);
@@ -104,7 +104,7 @@ TEST_CASE("field-facts.md §5.1 a 40 s save never answered: the drive is found a
   CHECK(waits.back() == "saving the command table to flash");
 }
 
-TEST_CASE("field-facts.md §5.2 a drive silent 150 s after a save is polled until it answers",
+TEST_CASE("field reports: a drive silent 150 s after a save is polled until it answers",
           "[long_step][slow_saves]") {
   test::SimRig rig("commissioned-axis.json");
   slow_saves(*rig.drive, 150, false);
@@ -127,7 +127,7 @@ TEST_CASE("field-facts.md §5.2 a drive silent 150 s after a save is polled unti
                    "waiting for drive 11h to answer again after saving the curves to flash") >= 29);
 }
 
-TEST_CASE("field-facts.md §5.2 a drive silent past both waits: what was waited, how to wait longer",
+TEST_CASE("field reports: a drive silent past both waits: what was waited, how to wait longer",
           "[long_step][slow_saves]") {
   test::SimRig rig("commissioned-axis.json");
   slow_saves(*rig.drive, 400, false);
@@ -157,7 +157,7 @@ TEST_CASE("long step: a refusal is no missing answer (nothing polled)", "[long_s
   CHECK(rig.wire->tx.size() == before + 1);
 }
 
-TEST_CASE("field-facts.md §5 restore onto a drive whose saves take 40 s: answered late or never",
+TEST_CASE("field reports: restore onto a drive whose saves take 40 s: answered late or never",
           "[long_step][slow_saves][restore_run]") {
   const auto file = demo_backup();
   for (const bool answered : {true, false}) {
@@ -195,7 +195,7 @@ TEST_CASE("field-facts.md §5 restore onto a drive whose saves take 40 s: answer
   }
 }
 
-TEST_CASE("field-facts.md §5 restore: the recovery record lists an unacknowledged save",
+TEST_CASE("field reports: restore: the recovery record lists an unacknowledged save",
           "[long_step][slow_saves][recovery]") {
   const auto file = demo_backup();
   test::ScratchDir dir("slowrec");
@@ -229,7 +229,7 @@ TEST_CASE("field-facts.md §5 restore: the recovery record lists an unacknowledg
   CHECK((*rec)->unacknowledged.empty());  // the save was never found acknowledged nor answered
 }
 
-TEST_CASE("field-facts.md §5 default with 40 s defaulting and saves: answered late or never",
+TEST_CASE("field reports: default with 40 s defaulting and saves: answered late or never",
           "[long_step][slow_saves][default]") {
   for (const bool answered : {true, false}) {
     DYNAMIC_SECTION((answered ? "answered late" : "never answered")) {

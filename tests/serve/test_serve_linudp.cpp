@@ -1,6 +1,6 @@
 // lmcfg serve over LinUDP: two inventory lines whose ports are
 // linudp://127.0.0.1:PORT (one drive each, named and labelled, no id:
-// linudp-facts.md §1.1, a drive is reached by its address), each served by
+// LinUDP V2 §3.2, a drive is reached by its address), each served by
 // `lmcfg sim --linudp --udp` in its own process. The service's API runs the
 // backups of both lines in parallel, finds a change made behind its back
 // (drift), restores the archived file through plan and execute, and finds the
@@ -87,7 +87,7 @@ TEST_CASE("serve over LinUDP: backup, drift and restore through the API, two lin
   CHECK(events[0]["line"] == "cell4");
   REQUIRE(events[0]["upids"].size() == 1);
   CHECK(events[0]["upids"][0]["upid"] == "0010h");
-  // Shown with their hex: LinUDP cannot report a type (linudp-facts.md §3) and
+  // Shown with their hex: LinUDP cannot report a type (LinUDP V2 p14) and
   // this service has no UPID database that knows 0010h.
   CHECK(events[0]["upids"][0]["archived"] == "5 (0005h)");
   CHECK(events[0]["upids"][0]["live"] == "9 (0009h)");

@@ -1,6 +1,6 @@
 // lmcfg serve's automatic restore (on_replaced = "restore") onto a drive whose
 // saves take 40 s, answered late or never (docs/field.md "Slow saves";
-// field-facts.md §5.1 "A command table flash save took about 39 s and was
+// field reports: "A command table flash save took about 39 s and was
 // never acknowledged"). The service runs ops::run_restore: the same rule as
 // the tool, so the restore succeeds under both readings.
 #include <catch2/catch.hpp>
@@ -31,7 +31,7 @@ void write_slow_fresh_axis(const fs::path& path, int id, bool answered) {
 
 }  // namespace
 
-TEST_CASE("field-facts.md §5.1 serve: the automatic restore onto a drive with 40 s saves",
+TEST_CASE("field reports: serve: the automatic restore onto a drive with 40 s saves",
           "[serve][replaced][slow_saves]") {
   for (const bool answered : {true, false}) {
     DYNAMIC_SECTION((answered ? "answered late" : "never answered")) {

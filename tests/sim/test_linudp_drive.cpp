@@ -1,5 +1,5 @@
 // sim::LinudpDrive (lib/sim/linudp_drive.*): the count rule of
-// linudp-facts.md §2.2 as a drive keeps it, the reply layout of §1.3, and the
+// LinUDP V2 §7 as a drive keeps it, the reply layout of §4.4.2, and the
 // field options' names.
 #include <catch2/catch.hpp>
 
@@ -22,7 +22,7 @@ linudp::Response ask(sim::LinudpDrive& d, std::uint8_t count, std::uint8_t id, s
   r.set_value(value);
   auto answers = d.receive(linudp::encode_request(r), now);
   REQUIRE(answers.size() == 1);
-  CHECK(answers[0].bytes.size() == 64);  // facts §1.3: padded to 64
+  CHECK(answers[0].bytes.size() == 64);  // LinUDP V2 §4.4.2: padded to 64
   auto resp = linudp::decode_response(answers[0].bytes);
   REQUIRE(resp.ok());
   REQUIRE(resp->rtc);
@@ -30,7 +30,7 @@ linudp::Response ask(sim::LinudpDrive& d, std::uint8_t count, std::uint8_t id, s
 }
 }  // namespace
 
-TEST_CASE("LinUDP sim facts §2.2: a command runs once per count, a resend repeats its reply",
+TEST_CASE("LinUDP sim V2 §7: a command runs once per count, a resend repeats its reply",
           "[linudp][sim]") {
   auto drive = test::load_sim_drive("commissioned-axis.json");
   sim::LinudpDrive d(drive);
@@ -46,11 +46,11 @@ TEST_CASE("LinUDP sim facts §2.2: a command runs once per count, a resend repea
   CHECK(d.stats().resends == 1);
   auto r = ask(d, 4, 0x11, upid);  // a new count: read RAM
   CHECK(r.rtc->value() == 99);
-  CHECK(r.request_def == linudp::req::rtc);  // echoed (facts §1.3)
+  CHECK(r.request_def == linudp::req::rtc);  // echoed (C1250 notes)
   CHECK(r.response_def == linudp::resp::all);
 }
 
-TEST_CASE("LinUDP sim facts §5.3: the reply to a control word telegram is counted as motion",
+TEST_CASE("LinUDP sim V2 §4.4.1: the reply to a control word telegram is counted as motion",
           "[linudp][sim]") {
   sim::LinudpDrive d(test::load_sim_drive("commissioned-axis.json"));
   auto answers = d.receive(*from_hex("01000000 01000000 0F00"), 0);
@@ -61,7 +61,7 @@ TEST_CASE("LinUDP sim facts §5.3: the reply to a control word telegram is count
   CHECK_FALSE(resp->rtc);
 }
 
-TEST_CASE("LinUDP sim facts §2.4: an absent curve is D4h, the end of a list C6h", "[linudp][sim]") {
+TEST_CASE("LinUDP sim V2 p13-p16: an absent curve is D4h, the end of a list C6h", "[linudp][sim]") {
   sim::LinudpDrive d(test::load_sim_drive("commissioned-axis.json"));
   CHECK(ask(d, 2, 0x60, 99).rtc->id == 0xD4);
   CHECK(ask(d, 3, 0x23, 0).rtc->id == 0xC5);  // next without start

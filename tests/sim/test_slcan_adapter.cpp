@@ -118,7 +118,7 @@ TEST_CASE("sim slcan adapter: V reports the version", "[sim][slcan]") {
 }
 
 TEST_CASE(
-    "sim slcan adapter: field-facts.md §6 a silent adapter takes its commands and carries frames, "
+    "sim slcan adapter: a silent adapter takes its commands and carries frames, "
     "answering nothing itself",
     "[sim][slcan]") {
   Rig rig(true);

@@ -36,7 +36,7 @@ inline Bytes sinrise_info() {
       "00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 00");
 }
 inline Bytes sinrise_data() {
-  // Setpoint 1's Rx line lost a byte in the transcription (linrs-facts errata 1);
+  // Setpoint 1's Rx line lost a byte in the transcription (LinRS §11.1 erratum);
   // a sine rise from 0 starts at 0.
   return hex(
       "00 00 00 00 0C 18 00 00 98 5F 00 00 E1 D4 00 00 04 75 01 00 0F 3C 02 00"

@@ -358,7 +358,7 @@ TEST_CASE(
 }
 
 TEST_CASE(
-    "devicenet: field-facts.md §6 an slcan adapter that answers no command: backup, diff and "
+    "devicenet: an slcan adapter that answers no command: backup, diff and "
     "restore",
     "[devicenet][cli][pty][slcan]") {
   {

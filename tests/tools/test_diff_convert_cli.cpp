@@ -234,7 +234,7 @@ TEST_CASE(
 }
 
 TEST_CASE(
-    "field-facts.md §7 db show prints where a public name comes from and which family it was "
+    "public parameter names: db show prints where a public name comes from and which family it was "
     "seen for",
     "[db][cli][families]") {
   Dir d;

@@ -113,7 +113,7 @@ TEST_CASE("linudp cli: the exact messages and exit codes of the link failures",
     CHECK(r.exit_code == 4);
     CHECK(contains(r.err, "the LinUDP drive at udp 127.0.0.1:" + held.port +
                               " answers with all-zero telegrams: it is held by another master "
-                              "(LinMot-Talk or another LinUDP client, linudp-facts.md §4 #6); "
+                              "(LinMot-Talk or another LinUDP client, LinUDP V2 §5); "
                               "disconnect that master and try again"));
     CHECK_FALSE(fs::exists(dir.path / "x.json"));
   }
@@ -131,7 +131,7 @@ TEST_CASE("linudp cli: the exact messages and exit codes of the link failures",
     CHECK(r.exit_code == 5);
     CHECK(contains(r.err,
                    "refused read ROM value (10h) for UPID 5555h: status C0h UPID error "
-                   "(linudp-facts.md §2.3)"));
+                   "(LinUDP V2 p14)"));
   }
   SECTION("a restore cut in the middle: exit 4") {
     fs::copy_file(test::sim_fixture("used-spare.json"), dir.path / "spare.sim.json");

@@ -1,7 +1,7 @@
 // `lmcfg scan --port linudp://RANGE` end to end: simulated LinUDP drives
 // (`lmcfg sim --linudp --udp 127.0.0.N:PORT`, 127.0.0.0/8 all loop back) on
-// several loopback addresses, one held by another master (linudp-facts.md §4
-// #6), one address with nobody; the exact report, the bound on the range and
+// several loopback addresses, one held by another master (LinUDP V2 §5,
+// C1250 notes), one address with nobody; the exact report, the bound on the range and
 // the options a LinUDP scan refuses (docs/linudp.md "Scan").
 #include <catch2/catch.hpp>
 #include <filesystem>
@@ -36,7 +36,7 @@ struct UdpSim {
   }
 };
 
-// The firmware version UPIDs (facts §2.4: RAM 0034h, 0035h) added to a state file.
+// The firmware version UPIDs (LinUDP DLL: RAM 0034h, 0035h) added to a state file.
 void add_firmware(const fs::path& state, unsigned major, unsigned minor) {
   auto j = nlohmann::json::parse(test::slurp(state));
   for (auto [upid, v] : {std::pair<const char*, unsigned>{"0034", major}, {"0035", minor}}) {
@@ -61,7 +61,7 @@ TEST_CASE("linudp scan cli: drives on 127.0.0.1-4, one held by another master, o
   fs::copy_file(test::sim_fixture("commissioned-axis.json"), dir.path / "axis.sim.json");
   fs::copy_file(test::sim_fixture("used-spare.json"), dir.path / "spare.sim.json");
   fs::copy_file(test::sim_fixture("used-spare.json"), dir.path / "held.sim.json");
-  add_firmware(dir.path / "axis.sim.json", 0x06, 0x0A);  // facts §2.4: 060Ah = LT 6.10
+  add_firmware(dir.path / "axis.sim.json", 0x06, 0x0A);  // LinUDP DLL: 060Ah = LT 6.10
   UdpSim axis(dir.path / "axis.sim.json", "127.0.0.1:0");
   REQUIRE_FALSE(axis.port.empty());
   const std::string p = axis.port;
@@ -81,7 +81,7 @@ TEST_CASE("linudp scan cli: drives on 127.0.0.1-4, one held by another master, o
             "\n"
             "drive at 127.0.0.3:" +
             p +
-            ": held by another master (all-zero replies, linudp-facts.md §4 #6)\n"
+            ": held by another master (all-zero replies, LinUDP V2 §5)\n"
             "drive at 127.0.0.4:" +
             p +
             ": state 8 Operation Enabled (state var 08C2h), status word 4C37h, error 0000h, "

@@ -1,7 +1,7 @@
 // docs/field.md "Slow saves" through the real tool binary and the built-in
 // simulated drive (--port sim:STATE.json, virtual time: a 40 s save costs no
-// real time). field-facts.md §5.1: "A command table flash save took about 39 s
-// and was never acknowledged"; §5.2: "ROM writes and flash saves left drives
+// real time). Field reports: "A command table flash save took about 39 s
+// and was never acknowledged"; C1250 notes: "ROM writes and flash saves left drives
 // unresponsive for 30-90 s". restore and default succeed with the default
 // options whether such a save is answered late or never; a drive silent past
 // both waits gets exit 4 and a message naming the options that wait longer.
@@ -58,7 +58,7 @@ std::vector<std::string> lines_starting(const std::string& text, const std::stri
 
 }  // namespace
 
-TEST_CASE("field-facts.md §5.1 cli: restore onto a drive whose saves take 40 s, answered late",
+TEST_CASE("field reports: cli: restore onto a drive whose saves take 40 s, answered late",
           "[slow_saves][cli]") {
   Dir d;
   const auto file = backup_axis(d);
@@ -70,7 +70,7 @@ TEST_CASE("field-facts.md §5.1 cli: restore onto a drive whose saves take 40 s,
   CHECK(r.err.find("verified: the drive matches axis-backup.json") != std::string::npos);
 }
 
-TEST_CASE("field-facts.md §5.1 cli: restore onto a drive whose saves are never answered",
+TEST_CASE("field reports: cli: restore onto a drive whose saves are never answered",
           "[slow_saves][cli]") {
   Dir d;
   const auto file = backup_axis(d);
@@ -98,7 +98,7 @@ TEST_CASE("field-facts.md §5.1 cli: restore onto a drive whose saves are never 
   CHECK(again.out.find("nothing to do") != std::string::npos);
 }
 
-TEST_CASE("field-facts.md §5.2 cli: a drive silent past both waits: exit 4, how to wait longer",
+TEST_CASE("field reports: cli: a drive silent past both waits: exit 4, how to wait longer",
           "[slow_saves][cli]") {
   Dir d;
   const auto file = backup_axis(d);
@@ -132,7 +132,7 @@ TEST_CASE("field-facts.md §5.2 cli: a drive silent past both waits: exit 4, how
   CHECK(bad.err == "lmcfg restore: --recover-timeout-s 9999 is outside 1..3600\n");
 }
 
-TEST_CASE("field-facts.md §5.2 cli: default with defaulting and saves never answered",
+TEST_CASE("field reports: cli: default with defaulting and saves never answered",
           "[slow_saves][cli]") {
   Dir d;
   make_slow(d.path / "axis.json", 40, false);

@@ -1,6 +1,6 @@
 // UDP datagrams (lib/transport/udp.*): one write is one datagram, one
 // read_some one datagram whole; two sockets share the LinUDP master port
-// 41136 (linudp-facts.md §1.1) and each gets its own peer's replies.
+// 41136 (LinUDP V2 §4.3) and each gets its own peer's replies.
 #include <catch2/catch.hpp>
 
 #include "transport/udp.hpp"

@@ -81,10 +81,8 @@ int run_linudp(ScanCli& o) {
         std::printf("drive at %s: %s; link options: --port linudp://%s\n", at.c_str(),
                     linudp_drive_line(d).c_str(), at.c_str());
       else if (d.answer == link::LinudpAnswer::held)
-        std::printf(
-            "drive at %s: held by another master (all-zero replies, linudp-facts.md §4 "
-            "#6)\n",
-            at.c_str());
+        std::printf("drive at %s: held by another master (all-zero replies, LinUDP V2 §5)\n",
+                    at.c_str());
     }
     std::printf("%zu address(es) probed: %zu answered, %zu held by another master, %zu silent\n",
                 r.addresses.size(), answered, held, r.count(link::LinudpAnswer::silent));

@@ -73,7 +73,7 @@ Result<std::vector<std::unique_ptr<sim::Drive>>> load_drives(
   return drives;
 }
 
-// --linudp: one drive per UDP address (linudp-facts.md §1.1: addressing by IP).
+// --linudp: one drive per UDP address (LinUDP V2 §3.2: addressing by IP).
 int run_linudp(const SimArgs& a, const std::vector<sim::Drive*>& line) {
   if (line.size() > 1) {
     std::fprintf(stderr, "lmcfg sim: --linudp serves one drive (one --state)\n");

@@ -16,7 +16,7 @@ void add_linudp_sim_options(CLI::App* sim, CLI::Option* linudp_flag, LinudpSimAr
                   "127.0.0.1:0); prints the port")
       ->needs(linudp_flag);
   sim->add_option("--linudp-field", a.fields,
-                  "With --linudp: a field behaviour or open-point reading of linudp-facts.md, "
+                  "With --linudp: a field behaviour or a reading LinUDP V2 leaves open, "
                   "NAME[=VALUE] (repeat; docs/linudp.md lists them):\n" +
                       sim::field_names())
       ->needs(linudp_flag);

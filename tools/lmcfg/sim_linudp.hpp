@@ -1,7 +1,8 @@
 #pragma once
 // `lmcfg sim --linudp --udp HOST:PORT`: the simulated drive (the same state
 // as the LinRS simulator's) answering LinUDP V2 on a UDP port, with the field
-// behaviours and open points of linudp-facts.md as --linudp-field options.
+// behaviours (C1250 notes, field reports) and the points LinUDP V2 leaves
+// open as --linudp-field options.
 // docs/linudp.md.
 #include <CLI/CLI.hpp>
 #include <functional>

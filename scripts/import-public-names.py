@@ -1,14 +1,19 @@
 #!/usr/bin/env python3
-"""Imports the public parameter names of field-facts.md §7 (peer-upids.tsv) into
+"""Imports public parameter names (docs/references.md "public parameter names") into
 upid-db/parameters.tsv, each row into the profile its source names (docs/upid-db.md
 "Names from public sources" has the rules and the counts).
 
-Usage: scripts/import-peer-upids.py PEER_TSV UPID_DB_DIR   (rewrites parameters.tsv)
+Usage: scripts/import-public-names.py NAMES_TSV UPID_DB_DIR   (rewrites parameters.tsv)
+
+NAMES_TSV: a header line, then one row per name: upid_hex, name, type,
+unit_or_scale, series_or_firmware (the family or firmware it was seen for),
+source_repo, source_path (the public repository and file it came from).
 
 A row whose series names no family this project has a profile for is skipped and
 listed. A row for a UPID the E1100 profile already has fills only empty fields of
-that row (the seed's fields win), and only where field-facts.md's rule allows it:
-the source names E1100, or the seed gives the same meaning for the same UPID.
+that row (the seed's fields win), and only where a name from another family cannot
+label a value of this one (B1100 UPIDs differ, LinRS 3V27 p26): the source names
+E1100, or the seed gives the same meaning for the same UPID.
 """
 import csv
 import sys
