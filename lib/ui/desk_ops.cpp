@@ -46,6 +46,9 @@ void Desk::Impl::run_find(const std::string& job, const FindRequest& req) {
   so.progress = progress_of(job);
   auto scanned = link::scan(**session, so);
   auto closed = (*session)->close();
+  // The port and its lock let go before each drive found is opened again to
+  // read its state (a serial port stays open and locked while its session lives).
+  session->reset();
   if (!scanned.ok()) return fail(job, scanned.error());
   if (!closed.ok()) return fail(job, closed.error());
   Json found = Json::array();
