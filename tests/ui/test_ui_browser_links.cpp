@@ -137,10 +137,29 @@ TEST_CASE("ui in Chromium: a drive on a pty and one over LinUDP: back up, restor
   const std::string udp = "linudp://127.0.0.1:" + udp_sim.read_line();
   (void)udp_sim.read_line();
   const std::string pty_key = link_key(pty.tty), udp_key = link_key(udp);
+  // The pty: typed into the port field, found with "Find drives". A scan
+  // waits some 6 ms per MACID for the answer (LinRS §6.1.1.1's 1.5 ms and a
+  // margin, link/scan.hpp); the simulator, a process of its own on a loaded
+  // 2-core test machine, can miss that, and then the technician presses
+  // "Find drives" again, as the page says to: up to three times here.
+  std::string found_url;
+  int presses = 0;
+  while (found_url.empty() && presses < 3) {
+    ++presses;
+    Walk f(rig.base());
+    f.go(f.base + "/?token=T0KEN");
+    f.find(pty.tty, "done");
+    f.read("found");
+    if (!f.run(rig.dir())) return;
+    REQUIRE(f.reached("done"));
+    if (f.text("found").find("Found 1 drive(s).") != std::string::npos)
+      found_url = f.at("found")["url"].get<std::string>();
+  }
+  if (presses > 1) WARN("the pty's drive answered at press " << presses << " of Find drives");
+  REQUIRE_FALSE(found_url.empty());
   Walk w(rig.base());
   w.go(w.base + "/?token=T0KEN");
-  // The pty: typed into the port field, found with "Find drives".
-  w.find(pty.tty, "pty-found-done");
+  w.go(found_url);
   w.read("pty-found");
   w.shot("pty-found-1280.png");
   w.drive(pty_key);
@@ -211,7 +230,6 @@ TEST_CASE("ui in Chromium: a drive on a pty and one over LinUDP: back up, restor
   w.read("differs");
   if (!w.run(rig.dir())) return;
 
-  CHECK(w.reached("pty-found-done"));
   w.says("pty-found", "Found 1 drive(s).");
   w.says("pty-found", pty_key);
   w.says("pty-drive", pty.tty);
