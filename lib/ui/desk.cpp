@@ -1,6 +1,7 @@
 // The desk's jobs, drives, plans and files (ui/desk.hpp); what each job does
 // is desk_ops.cpp's.
 #include <algorithm>
+#include <cctype>
 #include <cstdio>
 #include <fstream>
 

@@ -359,7 +359,11 @@ void UiServer::Impl::action_routes() {
     const std::string back = "/drive?key=" + serve::url_encode(key);
     if (then != "compare" && then != "plan")
       return fail_page(res, "Cannot take the file",
-                       Error(Errc::invalid_argument, "then must be 'compare' or 'plan'"), back);
+                       Error(Errc::invalid_argument,
+                             "the form asks for '" + then +
+                                 "' after the upload, not 'compare' or 'plan': send the file "
+                                 "from the drive's page"),
+                       back);
     if (up->file_field != "file")
       return fail_page(res, "Cannot take the file",
                        Error(Errc::invalid_argument,

@@ -411,6 +411,11 @@ TEST_CASE("ui server: a file from this computer that cannot be taken: what is wr
     auto cross = rig.upload({{"key", key}, {"then", "compare"}}, "a.json", "{}",
                             "Origin: http://evil.example\r\n");
     CHECK(cross.status == 403);
+    auto odd = rig.upload({{"key", key}, {"then", "delete"}}, "a.json", "{}");
+    CHECK(odd.status == 400);
+    says(odd,
+         "the form asks for 'delete' after the upload, not 'compare' or 'plan': send the "
+         "file from the drive's page");
     auto plain = rig.post("/upload", {{"key", key}});
     CHECK(plain.status == 415);
     says(plain, "a file must be sent as multipart/form-data");
