@@ -1,14 +1,18 @@
 // The desk's jobs, drives, plans and files (ui/desk.hpp); what each job does
 // is desk_ops.cpp's.
 #include <algorithm>
+#include <cctype>
 #include <cstdio>
 #include <fstream>
 
 #include "common/text.hpp"
+#include "config/atomic_file.hpp"
+#include "config/config_io.hpp"
 #include "ops/backup.hpp"
 #include "ops/journal.hpp"
 #include "ops/recovery.hpp"
 #include "ui/desk_impl.hpp"
+#include "ui/upload.hpp"
 
 namespace lmcfg::ui {
 
@@ -88,13 +92,16 @@ std::string Desk::Impl::who() const { return opt.who.empty() ? ops::current_user
 
 Result<std::string> Desk::Impl::start(const std::string& kind, const std::string& drive,
                                       const std::string& port,
-                                      std::function<void(const std::string&)> work) {
+                                      std::function<void(const std::string&)> work,
+                                      const std::string& also) {
   std::lock_guard<std::mutex> lock(mu);
   if (stopping) return Error(Errc::interrupted, "lmcfg ui is stopping: it takes no new work");
-  if (auto b = busy.find(port); b != busy.end()) {
+  for (const std::string& p : {port, also}) {
+    auto b = busy.find(p);
+    if (p.empty() || b == busy.end()) continue;
     const DeskJob& other = jobs.at(b->second);
-    return Error(Errc::plan_refused, "port " + port + " is busy: " + other.kind + " (job " +
-                                         other.id + ", since " + other.created +
+    return Error(Errc::plan_refused, "port " + p + " is busy: " + other.kind + " (job " + other.id +
+                                         ", since " + other.created +
                                          ") runs on it; wait until it ends");
   }
   DeskJob j;
@@ -107,7 +114,8 @@ Result<std::string> Desk::Impl::start(const std::string& kind, const std::string
   jobs[id] = std::move(j);
   order.push_back(id);
   busy[port] = id;
-  threads.emplace_back([this, id, port, work = std::move(work)] {
+  if (!also.empty()) busy[also] = id;
+  threads.emplace_back([this, id, port, also, work = std::move(work)] {
     try {
       work(id);
     } catch (const std::exception& e) {
@@ -117,7 +125,8 @@ Result<std::string> Desk::Impl::start(const std::string& kind, const std::string
     auto& done = jobs.at(id);
     if (done.state == "running") done.state = "done";
     done.finished = iso_now();
-    if (busy.count(port) && busy[port] == id) busy.erase(port);
+    for (const std::string& p : {port, also})
+      if (busy.count(p) && busy[p] == id) busy.erase(p);
   });
   return id;
 }
@@ -267,10 +276,25 @@ Result<std::string> Desk::backup(const std::string& drive) {
 Result<std::string> Desk::compare(const std::string& drive, const std::string& against) {
   auto d = impl_->find_drive(drive);
   if (!d) return unknown_drive(drive);
-  if (against != "defaults") LMCFG_TRY(file(against));
+  std::optional<DeskDrive> other;
+  if (against.rfind("drive:", 0) == 0) {
+    other = impl_->find_drive(against.substr(6));
+    if (!other) return unknown_drive(against.substr(6));
+    if (against.substr(6) == drive)
+      return Error(Errc::invalid_argument,
+                   "a drive compared with itself: choose another drive, a file or factory "
+                   "defaults");
+  } else if (against != "defaults") {
+    LMCFG_TRY(file(against));
+  }
+  const std::string also =
+      other && other->link.port != d->link.port ? other->link.port : std::string();
   return impl_->start(
       "compare", drive, d->link.port,
-      [this, d = *d, against](const std::string& id) { impl_->run_compare(id, d, against); });
+      [this, d = *d, against, other](const std::string& id) {
+        impl_->run_compare(id, d, against, other);
+      },
+      also);
 }
 
 Result<std::string> Desk::plan(const std::string& drive, const std::string& name) {
@@ -387,6 +411,10 @@ Result<Json> Desk::drive(const std::string& key) const {
   j["journal_error"] = records.ok() ? "" : records.error().message;
   {
     std::lock_guard<std::mutex> lock(impl_->mu);
+    Json others = Json::array();  // the other drives found, to compare with
+    for (const auto& [k, other] : impl_->drive_list)
+      if (k != key) others.push_back(k);
+    j["drives"] = others;
     auto b = impl_->busy.find(d->link.port);
     j["busy_job"] = b == impl_->busy.end() ? Json(nullptr) : Json(b->second);
   }
@@ -402,6 +430,64 @@ Result<fs::path> Desk::file(const std::string& name) const {
   if (!fs::is_regular_file(p, ec))
     return Error(Errc::not_found, "no file '" + name + "' in " + impl_->opt.folder.string());
   return p;
+}
+
+namespace {
+
+// The name an upload gets in the folder: its own, or "stem-N.ext" past the
+// files of that name that hold other bytes; `same` when one holds these.
+fs::path upload_target(const fs::path& folder, const std::string& name, std::string_view content,
+                       bool& same) {
+  const fs::path n(name);
+  for (int i = 1; i < 1000; ++i) {
+    const fs::path p =
+        folder /
+        (i == 1 ? name : n.stem().string() + "-" + std::to_string(i) + n.extension().string());
+    std::error_code ec;
+    if (!fs::exists(p, ec)) return p;
+    auto held = config::read_text_file(p);
+    if (held.ok() && *held == content) {
+      same = true;
+      return p;
+    }
+  }
+  return {};
+}
+
+}  // namespace
+
+Result<std::string> Desk::store_upload(const std::string& name, std::string_view content) {
+  const std::string shown = one_line(name);
+  std::string ext = fs::path(name).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (name.empty() && content.empty())
+    return Error(Errc::invalid_argument,
+                 "no file chosen: choose a configuration file (.json or .xml) on this computer");
+  if (!valid_utf8(name) || !plain_file_name(name) || (ext != ".json" && ext != ".xml"))
+    return Error(Errc::invalid_argument,
+                 "'" + shown +
+                     "' is not a name lmcfg ui keeps in the backup folder: a file name ending "
+                     "in .json or .xml, without folders, ':' or a leading dot; rename the file "
+                     "and choose it again");
+  if (content.size() > kMaxUpload)
+    return Error(Errc::invalid_argument,
+                 "'" + shown + "' has " + std::to_string(content.size()) +
+                     " bytes, more than lmcfg ui takes (" + std::to_string(kMaxUpload) +
+                     " bytes): a drive's configuration file is far smaller; check that this "
+                     "is one");
+  LMCFG_ASSIGN_OR_RETURN(const auto format, config::format_from_path(name));
+  auto cfg = config::read_config_text(content, shown, format);
+  if (!cfg.ok())
+    return Error(Errc::invalid_argument,
+                 "'" + shown + "' is not a configuration file lmcfg reads (" + cfg.error().message +
+                     "); choose a file that lmcfg backup or this page wrote (JSON or XML)");
+  bool same = false;
+  const fs::path to = upload_target(impl_->opt.folder, name, content, same);
+  if (to.empty())
+    return Error(Errc::invalid_argument, "the backup folder holds 999 files named like '" + shown +
+                                             "': rename the file and choose it again");
+  if (!same) LMCFG_TRY(config::write_file_atomic(to, content));
+  return to.filename().string();
 }
 
 bool Desk::busy() const {

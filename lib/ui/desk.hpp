@@ -19,6 +19,7 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "common/result.hpp"
@@ -85,7 +86,8 @@ class Desk {
   // A drive at known link settings (a LinUDP address, a drive found before).
   Result<std::string> connect(const DriveLink& link);
   Result<std::string> backup(const std::string& drive);
-  // `against`: "defaults" or the name of a file in the folder.
+  // `against`: "defaults", the name of a file in the folder or "drive:KEY",
+  // another drive found (both ports are taken while it runs).
   Result<std::string> compare(const std::string& drive, const std::string& against);
   // The plan of restoring `file` (a name in the folder) onto the drive; the
   // job's result has the plan's id.
@@ -117,6 +119,13 @@ class Desk {
   // `lmcfg report FILE` of a file of the folder: the HTML page (reads the
   // file only, no drive).
   Result<std::string> report_html(const std::string& name) const;
+  // An uploaded file into the folder: `name` as the browser gave it (a
+  // plain file name ending in .json or .xml), `content` at most kMaxUpload
+  // bytes (ui/upload.hpp) and read as a configuration file. Kept under its
+  // own name, or NAME-2.json, NAME-3.json ... when the folder holds another
+  // file of that name (the same bytes: that file). The name in the folder;
+  // Errc::invalid_argument saying what is wrong, nothing written.
+  Result<std::string> store_upload(const std::string& name, std::string_view content);
   // A file of the folder by its name (no path parts): for downloads.
   Result<std::filesystem::path> file(const std::string& name) const;
   // Whether a job runs now (Quit waits for none: the page asks first).

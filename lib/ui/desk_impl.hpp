@@ -58,10 +58,12 @@ struct Desk::Impl {
 
   explicit Impl(DeskOptions o) : opt(std::move(o)) {}
 
-  // Starts `work` on a thread of its own as job `kind` on `port`;
-  // Errc::plan_refused when the port is busy.
+  // Starts `work` on a thread of its own as job `kind` on `port` (and
+  // `also`, a second port it uses: a comparison of two drives);
+  // Errc::plan_refused when a port is busy.
   Result<std::string> start(const std::string& kind, const std::string& drive,
-                            const std::string& port, std::function<void(const std::string&)> work);
+                            const std::string& port, std::function<void(const std::string&)> work,
+                            const std::string& also = "");
   // Updates a job under the lock.
   void update(const std::string& id, const std::function<void(DeskJob&)>& f);
   Progress progress_of(const std::string& id);
@@ -75,7 +77,13 @@ struct Desk::Impl {
   void run_find(const std::string& job, const FindRequest& req);
   void run_connect(const std::string& job, const DriveLink& link);
   void run_backup(const std::string& job, const DeskDrive& d);
-  void run_compare(const std::string& job, const DeskDrive& d, const std::string& against);
+  void run_compare(const std::string& job, const DeskDrive& d, const std::string& against,
+                   const std::optional<DeskDrive>& other);
+  // The configuration `against` names for a comparison: a file of the
+  // folder, or another drive read now; unset for factory defaults.
+  Result<std::optional<config::DriveConfig>> compare_side(const std::string& job,
+                                                          const std::string& against,
+                                                          const std::optional<DeskDrive>& other);
   void run_plan(const std::string& job, const DeskDrive& d, const std::string& file, bool undo);
   void run_execute(const std::string& job, const StoredPlan& sp, const ops::Audit& audit,
                    bool skip);

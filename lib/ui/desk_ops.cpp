@@ -46,6 +46,9 @@ void Desk::Impl::run_find(const std::string& job, const FindRequest& req) {
   so.progress = progress_of(job);
   auto scanned = link::scan(**session, so);
   auto closed = (*session)->close();
+  // The port and its lock let go before each drive found is opened again to
+  // read its state (a serial port stays open and locked while its session lives).
+  session->reset();
   if (!scanned.ok()) return fail(job, scanned.error());
   if (!closed.ok()) return fail(job, closed.error());
   Json found = Json::array();
@@ -113,14 +116,31 @@ void Desk::Impl::run_backup(const std::string& job, const DeskDrive& d) {
   });
 }
 
-void Desk::Impl::run_compare(const std::string& job, const DeskDrive& d,
-                             const std::string& against) {
-  config::DriveConfig file;
-  if (against != "defaults") {
-    auto f = config::read_config_file(opt.folder / against);
-    if (!f.ok()) return fail(job, f.error());
-    file = std::move(f).value();
+Result<std::optional<config::DriveConfig>> Desk::Impl::compare_side(
+    const std::string& job, const std::string& against, const std::optional<DeskDrive>& other) {
+  if (against == "defaults") return std::optional<config::DriveConfig>();
+  if (!other) {
+    LMCFG_ASSIGN_OR_RETURN(auto f, config::read_config_file(opt.folder / against));
+    return std::optional<config::DriveConfig>(std::move(f));
   }
+  // The other drive, read as `lmcfg backup` reads it; its port is this job's too.
+  update(job, [](DeskJob& j) { j.step = "reading the other drive"; });
+  LMCFG_ASSIGN_OR_RETURN(auto session, open(other->link));
+  ops::BackupOptions bo;
+  bo.progress = progress_of(job);
+  auto cfg = ops::backup(session->client(), bo, opt.db.get());
+  auto closed = session->close();
+  if (!cfg.ok()) return cfg.error();
+  LMCFG_TRY(closed);
+  cfg->identity.link = session->link_settings();
+  return std::optional<config::DriveConfig>(std::move(cfg).value());
+}
+
+void Desk::Impl::run_compare(const std::string& job, const DeskDrive& d, const std::string& against,
+                             const std::optional<DeskDrive>& other) {
+  auto side = compare_side(job, against, other);
+  if (!side.ok()) return fail(job, side.error());
+  config::DriveConfig file = side->value_or(config::DriveConfig{});
   auto session = open(d.link);
   if (!session.ok()) return fail(job, session.error());
   ops::BackupOptions bo;
@@ -154,7 +174,9 @@ void Desk::Impl::run_compare(const std::string& job, const DeskDrive& d,
   const auto r = ops::diff(file, *live, opt.db.get(), defaults, o);
   auto closed = (*session)->close();
   if (!closed.ok()) return fail(job, closed.error());
-  const std::string a_name = against == "defaults" ? "factory defaults" : against;
+  const std::string a_name = against == "defaults" ? "factory defaults"
+                             : other               ? "drive " + drive_key(other->link)
+                                                   : against;
   report::ReportOptions ro;
   ro.generated_at = iso_now();
   std::string html = report::render_diff_report(file, a_name, *live, "drive", r, opt.db.get(), ro);

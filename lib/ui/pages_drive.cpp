@@ -71,6 +71,30 @@ std::string file_options(const Json& backups) {
   return o;
 }
 
+// The other drives found, as "drive:KEY" (the desk reads both).
+std::string drive_options(const Json& drives) {
+  std::string o;
+  for (const auto& k : drives)
+    if (k.is_string())
+      o += "<option value=\"drive:" + esc(k.get<std::string>()) + "\">the drive " +
+           esc(k.get<std::string>()) + "</option>";
+  return o.empty() ? o : "<optgroup label=\"Another drive found\">" + o + "</optgroup>";
+}
+
+// A file from this computer: kept in the folder, then compared or planned.
+std::string upload_form(const std::string& key, const std::string& csrf) {
+  return "<form method=\"post\" action=\"/upload\" enctype=\"multipart/form-data\" "
+         "class=\"card\" id=\"upload-form\">" +
+         csrf_input(csrf) + hidden("key", key) +
+         "<label for=\"upload\">A configuration file from this computer (.json or "
+         ".xml)</label><input type=\"file\" id=\"upload\" name=\"file\" "
+         "accept=\".json,.xml\" required><p class=\"muted\">It is kept in the backup folder "
+         "first (under its own name, or NAME-2 when the folder holds another file of that "
+         "name).</p><button type=\"submit\" name=\"then\" value=\"compare\" "
+         "id=\"upload-compare\">Compare the drive with it</button> <button type=\"submit\" "
+         "name=\"then\" value=\"plan\" id=\"upload-plan\">Plan restoring it</button></form>";
+}
+
 std::string actions_section(const Json& d, const std::string& csrf) {
   const std::string key = str(d, "key");
   const auto& files = member(d, "files");
@@ -87,9 +111,10 @@ std::string actions_section(const Json& d, const std::string& csrf) {
        hidden("key", key) +
        "<label for=\"against\">Compare the drive with</label><select id=\"against\" "
        "name=\"against\"><option value=\"defaults\">factory defaults</option>" +
-       file_options(files) +
+       file_options(files) + drive_options(member(d, "drives")) +
        "</select><button type=\"submit\" id=\"compare\">Compare</button>"
        "</form>";
+  b += upload_form(key, csrf);
   if (has_files)
     b += "<form method=\"post\" action=\"/plan\" class=\"card\">" + csrf_input(csrf) +
          hidden("key", key) +
@@ -254,7 +279,7 @@ std::string job(const Json& j, const std::string& csrf) {
     if (write) {
       b += cp::help_html(words::restore_failure_help(j, ""));
       b += "<p>To go on: plan the restore again from the drive's page (a restore run again "
-           "converges), or on the command line <code>lmcfg restore FILE " +
+           "converges), or on the command line <code class=\"wrap\">lmcfg restore FILE " +
            esc(str(j, "port")) + " ...</code>, which finishes what this one began.</p>";
     } else {
       b += cp::help_html(words::help_for(

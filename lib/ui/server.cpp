@@ -1,6 +1,7 @@
 // lmcfg ui's routes on lmcfg's own HTTP server (ui/server.hpp).
 #include "ui/server.hpp"
 
+#include <algorithm>
 #include <fstream>
 #include <iterator>
 #include <mutex>
@@ -10,6 +11,7 @@
 #include "serve/request_checks.hpp"
 #include "serve/tokens.hpp"
 #include "ui/pages.hpp"
+#include "ui/upload.hpp"
 #include "web/web_router.hpp"
 
 namespace lmcfg::ui {
@@ -143,6 +145,28 @@ struct UiServer::Impl {
       return std::nullopt;
     }
     return p;
+  }
+
+  // The drive page's file form (multipart/form-data, ui/upload.hpp) with
+  // this process's CSRF value; nullopt with the refusal written.
+  std::optional<UploadForm> upload_form(const Request& req, Response& res) {
+    auto up = parse_upload(req.get_header_value("Content-Type"), req.body);
+    if (!up.ok()) {
+      const bool not_multipart = up.error().message.rfind("a file must be sent as", 0) == 0;
+      fail_page(res, "Refused", up.error());
+      if (not_multipart) res.status = 415;
+      return std::nullopt;
+    }
+    auto csrf_it = up->fields.find("csrf");
+    if (csrf_it == up->fields.end() || !same_secret(csrf_it->second, csrf)) {
+      fail_page(res, "Refused",
+                Error(Errc::invalid_argument,
+                      "the form's CSRF token is missing or not this page's: "
+                      "reload the page and try again"));
+      res.status = 403;
+      return std::nullopt;
+    }
+    return std::move(up).value();
   }
 
   // A job started: its page; refused: the failure page.
@@ -326,6 +350,33 @@ void UiServer::Impl::action_routes() {
     started(res, desk.execute(field_of(*f, "plan"), a, field_of(*f, "skip_incompatible") == "1"),
             "Cannot write the plan", "/plan?id=" + serve::url_encode(field_of(*f, "plan")));
   });
+  // A file from this computer: kept in the folder, then the comparison or
+  // the plan, as with a file that was there.
+  router.Post("/upload", [this](const Request& req, Response& res) {
+    auto up = upload_form(req, res);
+    if (!up) return;
+    const std::string key = up->fields["key"], then = up->fields["then"];
+    const std::string back = "/drive?key=" + serve::url_encode(key);
+    if (then != "compare" && then != "plan")
+      return fail_page(res, "Cannot take the file",
+                       Error(Errc::invalid_argument,
+                             "the form asks for '" + then +
+                                 "' after the upload, not 'compare' or 'plan': send the file "
+                                 "from the drive's page"),
+                       back);
+    if (up->file_field != "file")
+      return fail_page(res, "Cannot take the file",
+                       Error(Errc::invalid_argument,
+                             "no file chosen: choose a configuration "
+                             "file (.json or .xml) on this computer"),
+                       back);
+    auto stored = desk.store_upload(up->file_name, up->file);
+    if (!stored.ok()) return fail_page(res, "Cannot take the file", stored.error(), back);
+    log("upload " + web::printable(*stored) + " (" + std::to_string(up->file.size()) + " bytes)");
+    if (then == "plan")
+      return started(res, desk.plan(key, *stored), "Cannot plan the restore", back);
+    started(res, desk.compare(key, *stored), "Cannot compare", back);
+  });
   router.Post("/quit", [this](const Request& req, Response& res) {
     auto f = form(req, res);
     if (!f) return;
@@ -360,6 +411,7 @@ Result<int> UiServer::bind() {
   LMCFG_ASSIGN_OR_RETURN(im.session, serve::random_hex(32));
   LMCFG_ASSIGN_OR_RETURN(im.csrf, serve::random_hex(32));
   web::ServerOptions so = im.opt.server;
+  so.limits.max_body = std::max(so.limits.max_body, kMaxUpload + kUploadFraming);
   so.handle = [&im](Request& req, Response& res) { im.handle(req, res); };
   so.log = im.opt.log;
   {
@@ -406,6 +458,7 @@ void UiServer::stop() {
 
 std::string UiServer::answer(std::string_view bytes, const std::string& remote_addr) {
   web::Limits limits = impl_->opt.server.limits;
+  limits.max_body = std::max(limits.max_body, kMaxUpload + kUploadFraming);
   web::RequestParser parser(limits);
   std::string out;
   auto state = parser.feed(bytes);

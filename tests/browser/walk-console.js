@@ -12,6 +12,7 @@
 //   submit {selector}: clicks it and waits for the page it loads
 //   wait {selector, timeout_ms}   read: url, title, h1, the body's text
 //   eval {expression}             tab {count}: the focused element afterwards
+//   file {selector, path}: the file chosen in a file input
 //   shot {file, full_page}
 'use strict';
 const fs = require('fs');
@@ -87,6 +88,15 @@ async function main() {
       case 'eval':
         value = await ev(step.expression);
         break;
+      case 'file': {
+        // A file chosen in a file input, as the file dialog would choose it.
+        const { root } = await s('DOM.getDocument', { depth: 0 });
+        const { nodeId } = await s('DOM.querySelector', { nodeId: root.nodeId, selector: step.selector });
+        if (!nodeId) throw new Error(`no element ${step.selector}`);
+        await s('DOM.setFileInputFiles', { nodeId, files: [step.path] });
+        value = step.path;
+        break;
+      }
       case 'tab':
         for (let i = 0; i < (step.count || 1); ++i) {
           await s('Input.dispatchKeyEvent', { type: 'keyDown', key: 'Tab', code: 'Tab', windowsVirtualKeyCode: 9 });

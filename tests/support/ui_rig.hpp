@@ -133,6 +133,24 @@ class UiRig {
                "\r\nContent-Type: application/x-www-form-urlencoded\r\n" + extra_headers +
                "Content-Length: " + std::to_string(body.size()) + "\r\n\r\n" + body);
   }
+  // The drive page's file form as a browser sends it (multipart/form-data):
+  // `fields` (the CSRF value added unless given) and one file part.
+  UiAnswer upload(std::map<std::string, std::string> fields, const std::string& file_name,
+                  const std::string& content, const std::string& extra_headers = "") {
+    if (!fields.count("csrf")) fields["csrf"] = csrf_;
+    const std::string boundary = "----lmcfgTestBoundary7MA4YWxkTrZu0gW";
+    std::string body;
+    for (const auto& [k, v] : fields)
+      body += "--" + boundary + "\r\nContent-Disposition: form-data; name=\"" + k + "\"\r\n\r\n" +
+              v + "\r\n";
+    body += "--" + boundary + "\r\nContent-Disposition: form-data; name=\"file\"; filename=\"" +
+            file_name + "\"\r\nContent-Type: application/json\r\n\r\n" + content + "\r\n--" +
+            boundary + "--\r\n";
+    return raw("POST /upload HTTP/1.1\r\nHost: " + host_ + "\r\nCookie: " + cookie_ +
+               "\r\nContent-Type: multipart/form-data; boundary=" + boundary + "\r\n" +
+               extra_headers + "Content-Length: " + std::to_string(body.size()) + "\r\n\r\n" +
+               body);
+  }
   // The job a form started (its 303 to /job?id=N), waited for; its JSON.
   ui::Json finish(const UiAnswer& started) {
     if (started.status != 303) throw std::runtime_error("no job started: " + started.body);

@@ -2,18 +2,17 @@
 // and CSRF checks, and the whole flow against simulated drives: find, back
 // up, compare with factory defaults, restore onto a used spare through the
 // plan, the spare then identical, undo.
-#include <atomic>
 #include <catch2/catch.hpp>
 #include <filesystem>
-#include <mutex>
 
 #include "files.hpp"
-#include "link/port.hpp"
 #include "ops/recovery.hpp"
+#include "report/report.hpp"
 #include "serve/console.hpp"
-#include "sim/state_file.hpp"
 #include "subprocess.hpp"
+#include "ui/upload.hpp"
 #include "ui_rig.hpp"
+#include "vanish_link.hpp"
 
 namespace ui_test_ui_server {
 
@@ -215,67 +214,6 @@ TEST_CASE("ui server: Quit stops nothing half way", "[ui_server]") {
   ::unsetenv("XDG_STATE_HOME");
 }
 
-// "simvanish:STATE.json": the simulated drive, whose link closes after
-// `fail_after` writes of one session (-1: never), as a drive unplugged or
-// switched off mid-write. Each session's write count is kept, so a test
-// can place the failure after the reads a plan makes.
-struct Vanish {
-  std::atomic<long> fail_after{-1};
-  std::mutex mu;
-  std::vector<long> counts;
-};
-Vanish& vanish() {
-  static Vanish v;
-  return v;
-}
-
-class VanishingLink final : public transport::Transport {
- public:
-  explicit VanishingLink(std::unique_ptr<transport::Transport> inner)
-      : inner_(std::move(inner)), limit_(vanish().fail_after.load()) {}
-  ~VanishingLink() override {
-    std::lock_guard<std::mutex> lock(vanish().mu);
-    vanish().counts.push_back(writes_);
-  }
-  Result<void> write(ByteView bytes) override {
-    if (gone_ || (limit_ >= 0 && writes_ >= limit_)) {
-      gone_ = true;
-      return Error(Errc::link_closed, "the simulated drive vanished");
-    }
-    ++writes_;
-    return inner_->write(bytes);
-  }
-  Result<Bytes> read_some(transport::Millis timeout) override {
-    if (gone_) return Error(Errc::link_closed, "the simulated drive vanished");
-    return inner_->read_some(timeout);
-  }
-  void discard_input() override { inner_->discard_input(); }
-  std::string describe() const override { return "vanishing " + inner_->describe(); }
-  double byte_time_us() const override { return inner_->byte_time_us(); }
-  Result<void> reconfigure(const transport::SerialSettings& st) override {
-    return inner_->reconfigure(st);
-  }
-  std::int64_t now_ns() const override { return inner_->now_ns(); }
-
- private:
-  std::unique_ptr<transport::Transport> inner_;
-  long limit_;
-  long writes_ = 0;
-  bool gone_ = false;
-};
-
-const bool kVanishRegistered = [] {
-  link::register_scheme("simvanish",
-                        [](const transport::LinkRequest& r) -> Result<transport::OpenedLink> {
-                          static const auto sim = sim::state_file_link_factory();
-                          auto opened = sim(r);
-                          if (!opened.ok()) return opened;
-                          opened->link = std::make_unique<VanishingLink>(std::move(opened->link));
-                          return opened;
-                        });
-  return true;
-}();
-
 TEST_CASE("ui server: a drive that vanishes mid-write: what it holds, and the way out",
           "[ui_server][ui_flow]") {
   UiRig rig("ui-vanish");
@@ -291,19 +229,15 @@ TEST_CASE("ui server: a drive that vanishes mid-write: what it holds, and the wa
   const std::string b = find(spare);
   auto planned = rig.finish(rig.post("/plan", {{"key", b}, {"file", file}}));
   REQUIRE(planned["state"] == "done");
-  long plan_writes = 0;
-  {
-    std::lock_guard<std::mutex> lock(vanish().mu);
-    plan_writes = vanish().counts.back();
-  }
+  const long plan_writes = test::last_session_writes();
   // The execution re-reads what the plan read, saves the undo record, then
   // writes: the link goes a few telegrams into the writes.
-  vanish().fail_after = plan_writes + 40;
+  test::vanish().fail_after = plan_writes + 40;
   auto failed =
       rig.finish(rig.post("/execute", {{"plan", planned["result"]["plan_id"].get<std::string>()},
                                        {"reason", "spare"},
                                        {"skip_incompatible", "1"}}));
-  vanish().fail_after = -1;
+  test::vanish().fail_after = -1;
   INFO(failed.dump(2));
   REQUIRE(failed["state"] == "failed");
   CHECK(failed["message"].get<std::string>().find("vanished") != std::string::npos);
@@ -345,6 +279,156 @@ TEST_CASE("ui server: a drive over LinUDP is asked at its address, then backed u
   INFO(backed.dump(2));
   REQUIRE(backed["state"] == "done");
   CHECK(fs::exists(rig.dir() / "backups" / backed["result"]["file"].get<std::string>()));
+}
+
+}  // namespace ui_test_ui_server
+
+namespace ui_test_ui_server {
+
+// The failure page's text of a message (the page escapes it).
+void says(const test::UiAnswer& a, const std::string& message) {
+  INFO(a.body);
+  CHECK(a.body.find(report::html_escape(message)) != std::string::npos);
+}
+
+TEST_CASE("ui server: a file from this computer: kept in the folder, compared, restored",
+          "[ui_server][ui_flow][ui_upload]") {
+  UiRig rig("ui-upload");
+  const std::string original = copy_fixture(rig, "commissioned-axis.json");
+  const std::string spare = copy_fixture(rig, "used-spare.json");
+  const auto find = [&](const std::string& port) {
+    return found_key(rig.finish(
+        rig.post("/find", {{"port", port}, {"baud", "57600"}, {"from", "16"}, {"to", "18"}})));
+  };
+  const std::string a = find(original);
+  const std::string b = find(spare);
+  const std::string backup = rig.finish(rig.post("/backup", {{"key", a}}))["result"]["file"];
+  // The backup, as if carried over on a stick and chosen in the file field.
+  const std::string content = test::slurp(rig.dir() / "backups" / backup);
+  fs::remove(rig.dir() / "backups" / backup);
+
+  auto page = rig.get("/drive?key=" + test::form_encode(b));
+  CHECK(page.body.find("enctype=\"multipart/form-data\"") != std::string::npos);
+  CHECK(page.body.find("<option value=\"drive:" + report::html_escape(a) + "\">") !=
+        std::string::npos);
+
+  auto compared = rig.finish(rig.upload({{"key", b}, {"then", "compare"}}, "axis 1.json", content));
+  INFO(compared.dump(2));
+  REQUIRE(compared["state"] == "done");
+  CHECK(compared["result"]["against"] == "axis 1.json");
+  CHECK(compared["result"]["identical"] == false);
+  CHECK(test::slurp(rig.dir() / "backups" / "axis 1.json") == content);
+
+  auto planned = rig.finish(rig.upload({{"key", b}, {"then", "plan"}}, "axis 1.json", content));
+  REQUIRE(planned["state"] == "done");
+  CHECK(planned["result"]["file"] == "axis 1.json");  // the same bytes: the same file
+  auto plan_page = rig.get("/plan?id=" + planned["result"]["plan_id"].get<std::string>());
+  CHECK(plan_page.body.find("Restore <code class=\"wrap\">axis 1.json</code>") !=
+        std::string::npos);
+  auto written =
+      rig.finish(rig.post("/execute", {{"plan", planned["result"]["plan_id"].get<std::string>()},
+                                       {"reason", "from the laptop"},
+                                       {"skip_incompatible", "1"}}));
+  INFO(written.dump(2));
+  REQUIRE(written["state"] == "done");
+  auto same = rig.finish(rig.post("/compare", {{"key", b}, {"against", "axis 1.json"}}));
+  CHECK(same["result"]["identical"] == true);
+  // Another drive found: the spare now holds what the original holds.
+  auto drives = rig.finish(rig.post("/compare", {{"key", b}, {"against", "drive:" + a}}));
+  INFO(drives.dump(2));
+  REQUIRE(drives["state"] == "done");
+  CHECK(drives["result"]["identical"] == true);
+  CHECK(rig.get("/compare?job=" + drives["id"].get<std::string>()).body.find("drive " + a) !=
+        std::string::npos);
+
+  // Other bytes under a name the folder holds: kept beside it.
+  std::string changed = content;
+  changed += "\n";
+  auto beside = rig.finish(rig.upload({{"key", b}, {"then", "compare"}}, "axis 1.json", changed));
+  REQUIRE(beside["state"] == "done");
+  CHECK(beside["result"]["against"] == "axis 1-2.json");
+  CHECK(test::slurp(rig.dir() / "backups" / "axis 1.json") == content);
+}
+
+TEST_CASE("ui server: a file from this computer that cannot be taken: what is wrong",
+          "[ui_server][ui_upload]") {
+  UiRig rig("ui-upload-bad");
+  const std::string key = "sim__x-11h";
+  const std::string drive = "/drive?key=" + key;
+  const auto files = [&] {
+    std::vector<std::string> n;
+    for (const auto& e : fs::directory_iterator(rig.dir() / "backups"))
+      n.push_back(e.path().filename().string());
+    return n;
+  };
+  SECTION("not a configuration file") {
+    auto a = rig.upload({{"key", key}, {"then", "compare"}}, "notes.json", "shopping list\n");
+    CHECK(a.status == 400);
+    says(a,
+         "'notes.json' is not a configuration file lmcfg reads (notes.json:1:1: syntax error while "
+         "parsing value - invalid literal; last read: 's'); choose a file "
+         "that lmcfg backup or this page wrote (JSON or XML)");
+    auto x = rig.upload({{"key", key}, {"then", "plan"}}, "axis.xml", "{\"format\": 2}");
+    CHECK(x.status == 400);
+    says(x,
+         "'axis.xml' is not a configuration file lmcfg reads (axis.xml:1:14: XML syntax error: No "
+         "document element found); choose a file "
+         "that lmcfg backup or this page wrote (JSON or XML)");
+  }
+  SECTION("too large") {
+    auto a = rig.upload({{"key", key}, {"then", "compare"}}, "big.json",
+                        std::string(ui::kMaxUpload + 1, ' '));
+    CHECK(a.status == 400);
+    says(a,
+         "'big.json' has 4194305 bytes, more than lmcfg ui takes (4194304 bytes): a "
+         "drive's configuration file is far smaller; check that this is one");
+    auto huge = rig.upload({{"key", key}, {"then", "compare"}}, "huge.json",
+                           std::string(ui::kMaxUpload + ui::kUploadFraming, ' '));
+    CHECK(huge.status == 413);
+  }
+  SECTION("a name that is not one file name of the folder") {
+    for (const std::string n : {"../state/x.json", ".hidden.json", "axis.txt", "C:\\x.json", ""}) {
+      INFO(n);
+      auto a = rig.upload({{"key", key}, {"then", "compare"}}, n, "{}");
+      CHECK(a.status == 400);
+      says(a, "'" + n +
+                  "' is not a name lmcfg ui keeps in the backup folder: a file name ending "
+                  "in .json or .xml, without folders, ':' or a leading dot; rename the file "
+                  "and choose it again");
+    }
+  }
+  SECTION("no file, or a form that is not the page's") {
+    auto none = rig.upload({{"key", key}, {"then", "compare"}}, "", "");
+    CHECK(none.status == 400);
+    says(none,
+         "no file chosen: choose a configuration file (.json or .xml) on this "
+         "computer");
+    auto forged = rig.upload({{"key", key}, {"then", "compare"}, {"csrf", "nope"}}, "a.json", "{}");
+    CHECK(forged.status == 403);
+    says(forged,
+         "the form's CSRF token is missing or not this page's: reload the page and "
+         "try again");
+    auto cross = rig.upload({{"key", key}, {"then", "compare"}}, "a.json", "{}",
+                            "Origin: http://evil.example\r\n");
+    CHECK(cross.status == 403);
+    auto odd = rig.upload({{"key", key}, {"then", "delete"}}, "a.json", "{}");
+    CHECK(odd.status == 400);
+    says(odd,
+         "the form asks for 'delete' after the upload, not 'compare' or 'plan': send the "
+         "file from the drive's page");
+    auto plain = rig.post("/upload", {{"key", key}});
+    CHECK(plain.status == 415);
+    says(plain, "a file must be sent as multipart/form-data");
+    auto cut =
+        rig.raw("POST /upload HTTP/1.1\r\nHost: " + rig.host() + "\r\nCookie: " + rig.cookie() +
+                "\r\nContent-Type: multipart/form-data; boundary=b\r\nContent-Length: "
+                "12\r\n\r\n--b\r\nabcdefg");
+    CHECK(cut.status == 400);
+    says(cut,
+         "the upload is not a form the page sends (no closing boundary): choose the "
+         "file again on the drive's page and send it from there");
+  }
+  CHECK(files().empty());  // nothing kept
 }
 
 }  // namespace ui_test_ui_server
