@@ -293,11 +293,16 @@ Page Console::signin_page(const std::string& message, const std::string& next,
   return {status, pages::signin(message, next, csrf)};
 }
 
-Page Console::overview(const ConsoleUser& u, const std::string& line,
-                       const std::string& status) const {
+Page Console::overview(const ConsoleUser& u, const std::string& line, const std::string& status,
+                       const std::string& page) const {
+  // Digits only, at most 6 of them: anything else is the first page.
+  std::size_t n = 1;
+  if (!page.empty() && page.size() <= 6 &&
+      page.find_first_not_of("0123456789") == std::string::npos)
+    n = std::max<std::size_t>(1, std::stoul(page));
   const Json drives = impl_->service.drives();
   return {200, pages::overview(u, sign_in_needed(), impl_->service.inventory(), drives, line,
-                               status, impl_->opt.clock())};
+                               status, impl_->opt.clock(), n)};
 }
 
 Page Console::position(const ConsoleUser& u, const std::string& name) const {

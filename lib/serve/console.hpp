@@ -120,7 +120,9 @@ class Console {
   // Pages. `next` is where to go after signing in (a path of this console).
   Page signin_page(const std::string& message, const std::string& next, const std::string& csrf,
                    int status = 200) const;
-  Page overview(const ConsoleUser& u, const std::string& line, const std::string& status) const;
+  // `page`: the overview's page as the query gives it ("" = the first).
+  Page overview(const ConsoleUser& u, const std::string& line, const std::string& status,
+                const std::string& page = "") const;
   Page position(const ConsoleUser& u, const std::string& name) const;
   // The replace/restore flow's first page: which revision, then "check and plan".
   Page replace_page(const ConsoleUser& u, const std::string& name, const std::string& rev) const;

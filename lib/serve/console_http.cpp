@@ -191,7 +191,8 @@ void register_signin(web::Router& router, Console* c) {
 void register_pages(web::Router& router, Console* c) {
   router.Get("/", [c](const web::Request& req, web::Response& res) {
     if (auto u = signed_in(c, req, res))
-      page(res, c->overview(*u, req.get_param_value("line"), req.get_param_value("status")));
+      page(res, c->overview(*u, req.get_param_value("line"), req.get_param_value("status"),
+                            req.get_param_value("page")));
   });
   router.Get("/position", [c](const web::Request& req, web::Response& res) {
     if (auto u = signed_in(c, req, res)) page(res, c->position(*u, req.get_param_value("name")));

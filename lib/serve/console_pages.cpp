@@ -218,7 +218,7 @@ static bool never_backed_up(const Json& d) { return !member(d, "last_backup").is
 
 std::string overview(const ConsoleUser& u, bool signed_in, const fleet::Inventory& inv,
                      const Json& drives, const std::string& line, const std::string& status,
-                     TimePoint now) {
+                     TimePoint now, std::size_t page) {
   // The counts agree with the rows: "never backed up" counts every position
   // whose row says "Last backup: never", beside its status.
   std::map<std::string, std::size_t> counts;
@@ -239,13 +239,16 @@ std::string overview(const ConsoleUser& u, bool signed_in, const fleet::Inventor
   b += "<table class=\"positions\"><thead><tr><th scope=\"col\">Position</th><th "
        "scope=\"col\">Line</th><th scope=\"col\">ID</th><th scope=\"col\">Status</th><th "
        "scope=\"col\">Last backup</th><th scope=\"col\">Last event</th></tr></thead><tbody>\n";
-  std::size_t shown = 0;
+  // A page of kOverviewRows positions of those the filter matches: a plant
+  // of thousands stays a page a browser draws at once.
+  const std::size_t first = (std::max<std::size_t>(page, 1) - 1) * kOverviewRows;
+  std::size_t matched = 0;
   for (const auto& d : drives) {
     const std::string st = shown_status(d);
     if (!line.empty() && str(d, "line") != line) continue;
     if (!status.empty() && st != status && !(status == "never backed up" && never_backed_up(d)))
       continue;
-    ++shown;
+    if (matched++ < first || matched > first + kOverviewRows) continue;
     char id[8];
     std::snprintf(id, sizeof id, "0x%02X", member(d, "id").get<unsigned>());
     // data-label: each cell's heading where a narrow screen shows a row as a card.
@@ -255,9 +258,28 @@ std::string overview(const ConsoleUser& u, bool signed_in, const fleet::Inventor
          "</td><td data-label=\"Last backup\">" + time_cell(str(d, "last_backup"), now) +
          "</td><td data-label=\"Last event\">" + last_event(d, now) + "</td></tr>\n";
   }
-  if (shown == 0)
-    b += "<tr><td colspan=\"6\" class=\"muted\">No position matches the filter.</td></tr>\n";
-  b += "</tbody></table>\n</section>\n";
+  if (matched <= first)
+    b += "<tr><td colspan=\"6\" class=\"muted\">" +
+         std::string(matched ? "No position on this page." : "No position matches the filter.") +
+         "</td></tr>\n";
+  b += "</tbody></table>\n";
+  if (matched > kOverviewRows) {
+    const std::size_t pages = (matched + kOverviewRows - 1) / kOverviewRows,
+                      at = first / kOverviewRows + 1;
+    auto link = [&](std::size_t to, const char* text) {
+      return "<a href=\"/?line=" + esc(url_encode(line)) +
+             "&amp;status=" + esc(url_encode(status)) + "&amp;page=" + std::to_string(to) + "\">" +
+             text + "</a>";
+    };
+    b += "<nav class=\"pages\" aria-label=\"Pages\"><p>Positions " + std::to_string(first + 1) +
+         "-" + std::to_string(std::min(matched, first + kOverviewRows)) + " of " +
+         std::to_string(matched) + " (page " + std::to_string(at) + " of " + std::to_string(pages) +
+         ")";
+    if (at > 1) b += " &middot; " + link(std::min(at, pages + 1) - 1, "Previous page");
+    if (at < pages) b += " &middot; " + link(at + 1, "Next page");
+    b += "</p></nav>\n";
+  }
+  b += "</section>\n";
   // The filter is a plain GET form: it works without the script, and the
   // filtered view is a link one can keep.
   b += "<form method=\"get\" action=\"/\" class=\"filters\" aria-label=\"Filter\">"

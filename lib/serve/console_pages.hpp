@@ -13,9 +13,13 @@
 namespace lmcfg::serve::pages {
 
 std::string signin(const std::string& message, const std::string& next, const std::string& csrf);
+// Positions shown on one page of the overview.
+inline constexpr std::size_t kOverviewRows = 100;
+// The overview: counts of every position, then page `page` (from 1) of the
+// rows the line and status filters match, with links to the pages beside it.
 std::string overview(const ConsoleUser& u, bool signed_in, const fleet::Inventory& inv,
                      const Json& drives, const std::string& line, const std::string& status,
-                     TimePoint now);
+                     TimePoint now, std::size_t page = 1);
 std::string position(const ConsoleUser& u, bool signed_in, const fleet::LineEntry& line,
                      const fleet::DriveEntry& d, const Json& state, const Result<Json>& history,
                      TimePoint now);

@@ -175,6 +175,65 @@ TEST_CASE("console pages: the overview counts positions by status and filters th
   CHECK(has(html, "No position matches the filter."));
 }
 
+TEST_CASE("console pages: the overview shows 100 positions a page, the filter kept in its links",
+          "[serve][console_pages]") {
+  fleet::Inventory inv;
+  inv.lines = {line1()};
+  Json drives = Json::array();
+  for (int i = 1; i <= 250; ++i)
+    drives.push_back({{"name", "p/" + std::to_string(i)},
+                      {"line", "line1"},
+                      {"id", 17},
+                      {"status", i % 2 ? "ok" : "drift"},
+                      {"last_backup", "2027-01-15T07:00:00Z"},
+                      {"last_attempt", nullptr},
+                      {"differences", 0},
+                      {"message", ""}});
+  auto rows = [](const std::string& html) {
+    std::size_t n = 0;
+    for (auto at = html.find("<tr data-drive="); at != std::string::npos;
+         at = html.find("<tr data-drive=", at + 1))
+      ++n;
+    return n;
+  };
+  std::string html = pages::overview(kViewer, true, inv, drives, "", "", kNow);
+  CHECK(rows(html) == 100);
+  CHECK(has(html, "<li><strong>250</strong> positions</li>"));  // the counts: every position
+  CHECK(has(html, "data-drive=\"p/1\""));
+  CHECK(has(html, "data-drive=\"p/100\""));
+  CHECK_FALSE(has(html, "data-drive=\"p/101\""));
+  CHECK(has(html,
+            "<p>Positions 1-100 of 250 (page 1 of 3) &middot; <a "
+            "href=\"/?line=&amp;status=&amp;page=2\">Next page</a></p>"));
+  CHECK_FALSE(has(html, "Previous page"));
+
+  html = pages::overview(kViewer, true, inv, drives, "", "", kNow, 3);
+  CHECK(rows(html) == 50);
+  CHECK(has(html, "data-drive=\"p/201\""));
+  CHECK(has(html, "data-drive=\"p/250\""));
+  CHECK(has(html,
+            "<p>Positions 201-250 of 250 (page 3 of 3) &middot; <a "
+            "href=\"/?line=&amp;status=&amp;page=2\">Previous page</a></p>"));
+
+  // The filter counts its own matches: 125 in drift, the second page of them.
+  html = pages::overview(kViewer, true, inv, drives, "line1", "drift", kNow, 2);
+  CHECK(rows(html) == 25);
+  CHECK(has(html, "data-drive=\"p/202\""));
+  CHECK_FALSE(has(html, "data-drive=\"p/201\""));
+  CHECK(has(html,
+            "Positions 101-125 of 125 (page 2 of 2) &middot; <a "
+            "href=\"/?line=line1&amp;status=drift&amp;page=1\">Previous page</a>"));
+
+  // A page past the end says so and leads back to the last one.
+  html = pages::overview(kViewer, true, inv, drives, "", "", kNow, 9);
+  CHECK(rows(html) == 0);
+  CHECK(has(html, "No position on this page."));
+  CHECK(has(html, "href=\"/?line=&amp;status=&amp;page=3\">Previous page</a>"));
+  // A plant of 100 positions or fewer has no page links.
+  drives.erase(drives.begin() + 100, drives.end());
+  CHECK_FALSE(has(pages::overview(kViewer, true, inv, drives, "", "", kNow), "class=\"pages\""));
+}
+
 TEST_CASE(
     "console pages: the overview's never-backed-up count agrees with the rows, a failure in "
     "words",
