@@ -1,5 +1,5 @@
 #pragma once
-// The names of the fleet inventory (docs/fleet.md "Inventory"): a drive's name
+// The names of the fleet inventory (docs/fleet.md "The inventory"): a drive's name
 // is its file's path in the archive ("press3/z" -> press3/z.json), so it must
 // be a path that stays inside the archive's work tree on every file system a
 // clone may land on; a line's name is shown on pages and in commit messages.

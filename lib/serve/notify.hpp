@@ -1,5 +1,5 @@
 #pragma once
-// Delivery of the service's events (docs/serve.md "Events"): the inventory's
+// Delivery of the service's events (docs/serve.md "States and events"): the inventory's
 // [notify] command gets each event's JSON on stdin, its webhook a POST of it.
 // Delivery runs on its own thread, so a slow receiver never holds up a line;
 // a webhook that fails is retried with back-off and logged when given up.

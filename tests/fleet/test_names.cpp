@@ -1,4 +1,4 @@
-// The inventory's names (lib/fleet/names.cpp, docs/fleet.md "Inventory"): a
+// The inventory's names (lib/fleet/names.cpp, docs/fleet.md "The inventory"): a
 // drive's name is its file's path in the archive, a line's name one line of
 // text; each refusal with its exact message.
 #include <catch2/catch.hpp>
