@@ -15,7 +15,7 @@ root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 secs="${1:-60}"
 shift || true
 targets=("$@")
-if [[ ${#targets[@]} -eq 0 ]]; then targets=(decoder json_config xml_config client http); fi
+if [[ ${#targets[@]} -eq 0 ]]; then targets=(decoder json_config xml_config client http upload); fi
 build="${LMCFG_FUZZ_BUILD:-$root/build-fuzz}"
 jobs="${LMCFG_JOBS:-2}"
 
@@ -38,6 +38,7 @@ seed() {  # seed corpus per target from the fixtures
     decoder) [[ -e "$dir/seed-read-rom" ]] || printf '\x00\x07\x01\x11\x0a\x02\x50\x00\x00\xa2\x13\x09\x00\x00\x00\x04' >"$dir/seed-read-rom" ;;
     client) [[ -e "$dir/seed-read-rom" ]] || printf '\x00\x00\x01\x11\x0a\x02\x50\x00\x00\xa2\x13\x09\x00\x00\x00\x04' >"$dir/seed-read-rom" ;;
     http) find "$root/tests/fixtures/fuzz-http" -type f -exec cp -n {} "$dir/" \; ;;
+    upload) find "$root/tests/fixtures/fuzz-upload" -type f -exec cp -n {} "$dir/" \; ;;
   esac
   if [[ -d "$root/tests/fixtures/fuzz-regressions/$t" ]]; then
     find "$root/tests/fixtures/fuzz-regressions/$t" -type f ! -name '*.md' -exec cp -n {} "$dir/" \;

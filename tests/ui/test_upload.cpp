@@ -1,6 +1,9 @@
 // ui/upload.hpp: the drive page's file form taken apart as a browser sends
 // it (multipart/form-data), and what is refused.
 #include <catch2/catch.hpp>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
 
 #include "ui/upload.hpp"
 
@@ -73,6 +76,45 @@ TEST_CASE("upload: what is refused, and why", "[ui_upload]") {
   for (int i = 0; i < 17; ++i) many += part("form-data; name=\"f" + std::to_string(i) + "\"", "x");
   CHECK(refused(kType, many + kEnd) ==
         "the upload is not a form the page sends (more than 16 parts" + how);
+}
+
+// The fuzz target's seeds and every input it ever failed on
+// (fuzz/fuzz_upload.cpp: the first line the Content-Type, the rest the
+// body), read again here with gcc: each gives a form or an error.
+TEST_CASE("upload: the fuzz target's seeds and regressions read back", "[ui_upload]") {
+  namespace fs = std::filesystem;
+  std::size_t inputs = 0;
+  for (const char* dir : {"tests/fixtures/fuzz-upload", "tests/fixtures/fuzz-regressions/upload"}) {
+    const fs::path at = fs::path(LMCFG_SOURCE_DIR) / dir;
+    if (!fs::exists(at)) continue;
+    for (const auto& e : fs::directory_iterator(at)) {
+      if (!e.is_regular_file() || e.path().extension() == ".md") continue;
+      std::ifstream in(e.path(), std::ios::binary);
+      std::stringstream text;
+      text << in.rdbuf();
+      const std::string input = text.str();
+      const auto eol = input.find('\n');
+      const std::string type = input.substr(0, eol);
+      const std::string body = eol == std::string::npos ? "" : input.substr(eol + 1);
+      INFO(e.path().string());
+      const auto form = ui::parse_upload(type, body);
+      CHECK((form.ok() || !form.error().message.empty()));
+      ++inputs;
+    }
+  }
+  CHECK(inputs >= 1);
+  // The seed is a form the page sends: its file comes out whole.
+  std::ifstream in(fs::path(LMCFG_SOURCE_DIR) / "tests/fixtures/fuzz-upload/two-parts",
+                   std::ios::binary);
+  std::stringstream text;
+  text << in.rdbuf();
+  const std::string seed = text.str();
+  const auto form =
+      ui::parse_upload(seed.substr(0, seed.find('\n')), seed.substr(seed.find('\n') + 1));
+  REQUIRE(form.ok());
+  CHECK(form->file_name == "axis.json");
+  CHECK(form->file == "{\"format\": \"lmcfg-drive-config\"}");
+  CHECK(form->fields.at("csrf") == "ABC");
 }
 
 }  // namespace ui_test_upload
