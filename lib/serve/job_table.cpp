@@ -105,9 +105,12 @@ Result<JobTable::Shared> JobTable::share(const std::string& key,
   return Shared{add_locked(kind, "drive " + position, position, init), true};
 }
 
-bool JobTable::wait_finished(Job& job, std::chrono::milliseconds wait, std::size_t max_waiters) {
+bool JobTable::wait_finished(Job& job, std::chrono::milliseconds wait, std::size_t max_waiters,
+                             bool made) {
   std::unique_lock<std::mutex> lock(mu_);
-  if (!job.finished && waiting_ < max_waiters && !stopping_) {
+  const bool may_wait = waiting_ < max_waiters && !stopping_;
+  if (made && !may_wait) return false;
+  if (!job.finished && may_wait) {
     ++waiting_;
     cv_.wait_for(lock, wait, [&] { return job.finished.has_value() || stopping_; });
     --waiting_;

@@ -142,8 +142,11 @@ class JobTable {
 
   // Waits at most `wait` for `job` to finish, and only while fewer than
   // `max_waiters` others wait here (the HTTP server's workers stay free);
-  // true when it has finished (it is then marked handed).
-  bool wait_finished(Job& job, std::chrono::milliseconds wait, std::size_t max_waiters);
+  // true when it has finished (it is then marked handed). A job the caller
+  // has just `made` is its answer only when the caller may wait for it: one
+  // that may not is told "busy" however fast the read, and its answer goes to
+  // the same request asked again.
+  bool wait_finished(Job& job, std::chrono::milliseconds wait, std::size_t max_waiters, bool made);
   // Waiters give up now: the service stops.
   void stop();
 

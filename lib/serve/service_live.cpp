@@ -86,7 +86,7 @@ Result<std::shared_ptr<Job>> Service::Impl::live_read(Kind kind, std::size_t li,
   }
   // A bounded wait, by a bounded number of requests at once: the HTTP
   // server's other workers stay free for everything else.
-  if (jobs.wait_finished(*job, opt.live_wait, opt.live_waiters)) return job;
+  if (jobs.wait_finished(*job, opt.live_wait, opt.live_waiters, shared.made)) return job;
   const std::uint64_t number = std::stoull(job->id);
   return busy_error("drive " + name + ": line " + line.name + " is busy (job " + job->id +
                         " reads the drive after the work queued before it, or the drive is "

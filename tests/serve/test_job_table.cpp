@@ -174,10 +174,10 @@ TEST_CASE("serve job table: a wait for a job is bounded in time and in waiters",
   Table t;
   auto job = t.jobs.add(Kind::diff, "drive press/a", "press/a");
   // No waiter allowed: the answer at once.
-  CHECK_FALSE(t.jobs.wait_finished(*job, 10s, 0));
+  CHECK_FALSE(t.jobs.wait_finished(*job, 10s, 0, false));
   // Not finished within the wait.
   const auto t0 = std::chrono::steady_clock::now();
-  CHECK_FALSE(t.jobs.wait_finished(*job, 50ms, 1));
+  CHECK_FALSE(t.jobs.wait_finished(*job, 50ms, 1, false));
   CHECK(std::chrono::steady_clock::now() - t0 >= 50ms);
   // Finished meanwhile by another thread: the waiter wakes, the job is handed.
   auto done = std::async(std::launch::async, [&] {
@@ -185,19 +185,36 @@ TEST_CASE("serve job table: a wait for a job is bounded in time and in waiters",
     t.jobs.update(*job, [&](Job& j) { j.finished = t.now; });
   });
   const auto t1 = std::chrono::steady_clock::now();
-  CHECK(t.jobs.wait_finished(*job, 10s, 1));
+  CHECK(t.jobs.wait_finished(*job, 10s, 1, false));
   CHECK(std::chrono::steady_clock::now() - t1 < 5s);
   done.get();
   CHECK(t.jobs.read(*job, [](const Job& j) { return j.handed; }));
   // A stop wakes the waiters of a job that never ends.
   auto never = t.jobs.add(Kind::plan, "drive press/a", "press/a");
   auto waiting =
-      std::async(std::launch::async, [&] { return t.jobs.wait_finished(*never, 30s, 2); });
+      std::async(std::launch::async, [&] { return t.jobs.wait_finished(*never, 30s, 2, false); });
   std::this_thread::sleep_for(50ms);
   const auto t2 = std::chrono::steady_clock::now();
   t.jobs.stop();
   CHECK_FALSE(waiting.get());
   CHECK(std::chrono::steady_clock::now() - t2 < 5s);
+}
+
+TEST_CASE("serve job table: a job just made is its maker's answer only when it may wait",
+          "[serve][jobs]") {
+  Table t;
+  auto job = t.jobs.add(Kind::diff, "drive press/a", "press/a");
+  t.jobs.update(*job, [&](Job& j) { j.finished = t.now; });  // a read faster than the request
+  // The maker may not wait (no waiter allowed): "busy", the answer kept.
+  CHECK_FALSE(t.jobs.wait_finished(*job, 10s, 0, true));
+  CHECK_FALSE(t.jobs.read(*job, [](const Job& j) { return j.handed; }));
+  // The same request asked again (not the maker) takes it.
+  CHECK(t.jobs.wait_finished(*job, 10s, 0, false));
+  CHECK(t.jobs.read(*job, [](const Job& j) { return j.handed; }));
+  // A maker that may wait has it at once.
+  auto fast = t.jobs.add(Kind::plan, "drive press/a", "press/a");
+  t.jobs.update(*fast, [&](Job& j) { j.finished = t.now; });
+  CHECK(t.jobs.wait_finished(*fast, 10s, 1, true));
 }
 
 TEST_CASE("serve job table: job_json of a backup, a live read and a restore", "[serve][jobs]") {
