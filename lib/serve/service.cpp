@@ -87,59 +87,56 @@ Result<std::unique_ptr<Service>> Service::create(ServiceOptions opt) {
   archive.set_author("lmcfg serve on " + host, "lmcfg-serve@" + host);
   for (const auto& f : stale)
     if (opt.log) opt.log("archive: removed the stale lock " + f + " (left by a stopped writer)");
-  auto impl = std::make_unique<Impl>(std::move(opt), std::move(archive));
-  impl->started = impl->opt.clock();
-  const std::size_t n = impl->opt.inventory.lines.size();
-  impl->queues.resize(n);
-  impl->busy.assign(n, false);
-  impl->line_metrics.resize(n);
-  impl->state_dir = impl->opt.state_dir.empty()
-                        ? std::filesystem::path(impl->opt.archive) / ".git" / "lmcfg-serve"
-                        : std::filesystem::path(impl->opt.state_dir);
+  std::filesystem::path dir = opt.state_dir.empty()
+                                  ? std::filesystem::path(opt.archive) / ".git" / "lmcfg-serve"
+                                  : std::filesystem::path(opt.state_dir);
+  auto impl = std::make_unique<Impl>(std::move(opt), std::move(archive), std::move(dir));
   Impl* p = impl.get();
-  p->load_job_numbers();
-  p->load_pending();
-  p->load_states();
-  for (std::size_t l = 0; l < n; ++l) impl->workers.emplace_back([p, l] { p->worker(l); });
-  if (!impl->opt.inventory.archive.push.empty()) {
+  p->started = p->opt.clock();
+  p->jobs.load();
+  p->queue_pending();
+  p->store.load(p->opt.inventory, p->archive);
+  p->lines.start([p](std::size_t l, Task& t) { p->run_on_line(l, t); },
+                 [p](std::deque<Task>& left) { p->drop_tasks(left); });
+  if (!p->opt.inventory.archive.push.empty()) {
+    Pusher::Options po;
+    po.archive = p->opt.archive;
+    po.remote = p->opt.inventory.archive.push;
+    po.retry_first = p->opt.push_retry_first;
+    po.retry_max = p->opt.push_retry_max;
+    po.clock = p->opt.clock;
+    po.log = [p](const std::string& s) { p->log(s); };
+    po.emit = [p](const std::string& event, Json details) {
+      p->emit_archive(event, std::move(details));
+    };
+    p->pusher = std::make_unique<Pusher>(std::move(po));
     // Commits of an earlier run that were not pushed yet (a failed push, a
     // stop or a kill before it went) go with the first push.
-    auto head = impl->archive.resolve("HEAD");
-    if (head.ok() && *head) impl->push.wanted = 1;
-    impl->pusher = std::thread([p] { p->push_loop(); });
+    auto head = p->archive.resolve("HEAD");
+    p->pusher->start(head.ok() && *head);
   }
   return std::unique_ptr<Service>(new Service(std::move(impl)));
 }
 
 Service::~Service() {
   stop();
-  for (auto& w : impl_->workers) w.join();
-  if (impl_->pusher.joinable()) impl_->pusher.join();
+  impl_->lines.join();
+  impl_->pusher.reset();  // its thread joined
 }
 
 void Service::stop() {
-  std::lock_guard<std::mutex> lock(impl_->mu);
-  impl_->stopping = true;
-  impl_->cv.notify_all();
-  impl_->push_cv.notify_all();
+  impl_->lines.stop();
+  impl_->jobs.stop();
+  if (impl_->pusher) impl_->pusher->stop();
 }
 
-void Service::wait_idle() {
-  std::unique_lock<std::mutex> lock(impl_->mu);
-  impl_->cv.wait(lock, [&] {
-    if (impl_->stopping) return true;
-    for (std::size_t l = 0; l < impl_->queues.size(); ++l)
-      if (!impl_->queues[l].empty() || impl_->busy[l]) return false;
-    return true;
-  });
-}
+void Service::wait_idle() { impl_->lines.wait_idle(); }
 
 void Service::tick(TimePoint now) {
   summarize(now);
   auto& s = *impl_;
   const auto& sched = s.opt.inventory.schedule;
-  std::lock_guard<std::mutex> lock(s.mu);
-  if (s.stopping) return;
+  if (s.lines.stopping()) return;
   auto due = [&](const std::optional<std::chrono::seconds>& every, std::optional<TimePoint>& next) {
     if (!every) return false;
     if (!next) next = now;  // the first tick
@@ -148,24 +145,28 @@ void Service::tick(TimePoint now) {
     return true;
   };
   for (Kind kind : {Kind::backup, Kind::status}) {
-    if (!due(kind == Kind::backup ? sched.backup_every : sched.status_every,
-             kind == Kind::backup ? s.next_backup : s.next_status))
-      continue;
+    {
+      std::lock_guard<std::mutex> lock(s.mu);
+      if (!due(kind == Kind::backup ? sched.backup_every : sched.status_every,
+               kind == Kind::backup ? s.next_backup : s.next_status))
+        continue;
+    }
     // A line still busy with a long job (a restore) gets one waiting run of a
     // kind, not one per period missed.
     std::vector<std::size_t> lines;
     for (std::size_t l = 0; l < s.opt.inventory.lines.size(); ++l) {
-      const bool waiting = std::any_of(s.queues[l].begin(), s.queues[l].end(), [&](const Task& t) {
+      const std::size_t waiting = s.lines.queued(l, [&](const Task& t) {
         return t.job && t.job->kind == kind && t.job->scope == "scheduled";
       });
-      if (!waiting) lines.push_back(l);
+      if (waiting == 0) lines.push_back(l);
     }
     if (lines.empty()) continue;
-    auto job = s.new_job(kind, "scheduled");
+    auto job = s.jobs.add(kind, "scheduled");
     for (std::size_t l : lines) s.enqueue(l, job, {});
+    const std::size_t total = s.jobs.read(*job, [](const Job& j) { return j.total; });
     s.log(std::string("scheduled ") + kind_name(kind) + " job " + job->id + ": " +
-          std::to_string(job->total) + " drive(s) on " +
-          std::to_string(s.opt.inventory.lines.size()) + " line(s)");
+          std::to_string(total) + " drive(s) on " + std::to_string(s.opt.inventory.lines.size()) +
+          " line(s)");
   }
 }
 
@@ -183,11 +184,10 @@ Result<std::string> Service::backup_drive(const std::string& name, const std::st
   const fleet::LineEntry* line = nullptr;
   if (!impl_->opt.inventory.find_drive(name, &line))
     return Error(Errc::not_found, "no drive named '" + name + "' in the inventory");
-  std::lock_guard<std::mutex> lock(impl_->mu);
-  if (impl_->stopping) return Error(Errc::interrupted, "the service is stopping");
-  auto job = impl_->new_drive_job(Kind::backup, name);
-  job->who = who;
-  impl_->enqueue(static_cast<std::size_t>(line - impl_->opt.inventory.lines.data()), job, {name});
+  if (impl_->lines.stopping()) return Error(Errc::interrupted, "the service is stopping");
+  auto job = impl_->jobs.add(Kind::backup, "drive " + name, name, [&](Job& j) { j.who = who; });
+  if (!impl_->enqueue(impl_->line_index(line), job, {name}))
+    return Error(Errc::interrupted, "the service is stopping");
   impl_->log("backup job " + job->id + " asked for: drive " + name);
   return job->id;
 }
@@ -197,11 +197,9 @@ Result<std::string> Service::backup_line(const std::string& name, const std::str
   const auto& lines = impl_->opt.inventory.lines;
   for (std::size_t l = 0; l < lines.size(); ++l) {
     if (lines[l].name != name) continue;
-    std::lock_guard<std::mutex> lock(impl_->mu);
-    if (impl_->stopping) return Error(Errc::interrupted, "the service is stopping");
-    auto job = impl_->new_job(Kind::backup, "line " + name);
-    job->who = who;
-    impl_->enqueue(l, job, {});
+    if (impl_->lines.stopping()) return Error(Errc::interrupted, "the service is stopping");
+    auto job = impl_->jobs.add(Kind::backup, "line " + name, "", [&](Job& j) { j.who = who; });
+    if (!impl_->enqueue(l, job, {})) return Error(Errc::interrupted, "the service is stopping");
     impl_->log("backup job " + job->id + " asked for: line " + name);
     return job->id;
   }
@@ -209,20 +207,15 @@ Result<std::string> Service::backup_line(const std::string& name, const std::str
 }
 
 Result<Json> Service::job(const std::string& id) const {
-  std::lock_guard<std::mutex> lock(impl_->mu);
-  std::uint64_t number = 0;
-  const auto [end, ec] = std::from_chars(id.data(), id.data() + id.size(), number);
-  auto it = ec == std::errc() && end == id.data() + id.size() ? impl_->jobs.find(number)
-                                                              : impl_->jobs.end();
-  if (it == impl_->jobs.end())
-    return Error(
-        Errc::not_found,
-        impl_->missing_job(id, ec == std::errc() && end == id.data() + id.size() ? number : 0));
-  return impl_->job_json(*it->second);
+  LMCFG_ASSIGN_OR_RETURN(auto shown, impl_->jobs.show(id));
+  // The failed restore waits to be run again (an automatic retry, cancellable).
+  if (shown.kind == Kind::restore)
+    shown.json["retry_pending"] =
+        shown.failed && !shown.position.empty() && impl_->store.is_pending(shown.position);
+  return shown.json;
 }
 
 Json Service::drives() const {
-  std::lock_guard<std::mutex> lock(impl_->mu);
   Json all = Json::array();
   for (const auto& line : impl_->opt.inventory.lines)
     for (const auto& d : line.drives) all.push_back(impl_->drive_json(line, d));
@@ -233,7 +226,6 @@ Result<Json> Service::drive(const std::string& name) const {
   const fleet::LineEntry* line = nullptr;
   const auto* d = impl_->opt.inventory.find_drive(name, &line);
   if (!d) return Error(Errc::not_found, "no drive named '" + name + "' in the inventory");
-  std::lock_guard<std::mutex> lock(impl_->mu);
   return impl_->drive_json(*line, *d);
 }
 
@@ -295,64 +287,48 @@ Result<Json> Service::plan(const std::string& name, const std::string& rev,
 Result<std::string> Service::execute(const ExecuteRequest& req) {
   LMCFG_TRY(check_audit(req.audit));
   auto& s = *impl_;
-  std::lock_guard<std::mutex> lock(s.mu);
-  if (s.stopping) return Error(Errc::interrupted, "the service is stopping");
-  auto it = s.plans.find(req.plan_id);
-  if (it == s.plans.end()) return Error(Errc::not_found, "no plan '" + req.plan_id + "'");
-  const TimePoint now = s.opt.clock();
-  if (it->second.expires <= now) {
-    const std::string when = iso_time(it->second.expires);
-    s.plans.erase(it);
-    return Error(Errc::not_found,
-                 "plan '" + req.plan_id + "' expired at " + when + " (a plan is valid for " +
-                     std::to_string(s.opt.plan_lifetime.count()) + " s): make a new one");
-  }
-  if (s.opt.inventory.require_reason && req.audit.reason.empty()) {
-    return Error(Errc::invalid_argument,
-                 "a reason is required (the inventory sets require_reason = true): give "
-                 "\"reason\"");
-  }
-  const StoredPlan& sp = it->second;
-  if (!sp.plan.ok()) {
-    return Error(Errc::plan_refused, "plan '" + req.plan_id + "' has " +
-                                         std::to_string(sp.plan.problems.size()) +
-                                         " problem(s) (listed under \"problems\"); nothing "
-                                         "written");
-  }
-  if (!sp.plan.skipped_incompatible.empty() && !req.skip_incompatible) {
-    return Error(Errc::plan_refused,
-                 "the target cannot take " + std::to_string(sp.plan.skipped_incompatible.size()) +
-                     " value(s) of the file (listed under \"incompatible\"): execute with "
-                     "\"skip_incompatible\": true to restore the rest; nothing written");
-  }
-  // Another technician's restore of the position, queued or running: this
-  // plan was made before it wrote, and would be refused then; say who now.
-  if (const Job* other = s.unfinished_restore(sp.file.drive->name)) {
-    const std::string by = !other->asked_by.empty() ? other->asked_by : other->who;
-    return Error(Errc::plan_refused,
-                 "another restore of drive " + sp.file.drive->name + " is " +
-                     (other->started ? "running" : "waiting for the line") + " as job " +
-                     other->id + (by.empty() ? "" : ", asked for by " + by) + " at " +
-                     iso_time(other->created) +
-                     "; nothing written: wait for it to end (GET /api/v1/jobs/" + other->id +
-                     "), then plan again");
-  }
-  auto stored = std::make_shared<StoredPlan>(std::move(it->second));
-  s.plans.erase(it);  // a plan executes once
-  auto job = s.new_drive_job(Kind::restore, stored->file.drive->name);
-  job->who = req.audit.who;
-  job->total = 1;
-  job->step_total = stored->plan.steps.size();
+  if (s.lines.stopping()) return Error(Errc::interrupted, "the service is stopping");
+  // The plan is taken and its restore job made at once (PlanStore, then
+  // JobTable): of two plans of one position executed together, one runs.
+  std::shared_ptr<Job> job;
+  auto taken = s.plans.take(req.plan_id, [&](const StoredPlan& sp) -> Result<void> {
+    if (s.opt.inventory.require_reason && req.audit.reason.empty()) {
+      return Error(Errc::invalid_argument,
+                   "a reason is required (the inventory sets require_reason = true): give "
+                   "\"reason\"");
+    }
+    if (!sp.plan.ok()) {
+      return Error(Errc::plan_refused, "plan '" + req.plan_id + "' has " +
+                                           std::to_string(sp.plan.problems.size()) +
+                                           " problem(s) (listed under \"problems\"); nothing "
+                                           "written");
+    }
+    if (!sp.plan.skipped_incompatible.empty() && !req.skip_incompatible) {
+      return Error(Errc::plan_refused,
+                   "the target cannot take " + std::to_string(sp.plan.skipped_incompatible.size()) +
+                       " value(s) of the file (listed under \"incompatible\"): execute with "
+                       "\"skip_incompatible\": true to restore the rest; nothing written");
+    }
+    // Another technician's restore of the position, queued or running: this
+    // plan was made before it wrote, and would be refused then; say who now.
+    LMCFG_ASSIGN_OR_RETURN(job, s.jobs.add_restore(sp.file.drive->name, [&](Job& j) {
+      j.who = req.audit.who;
+      j.total = 1;
+      j.step_total = sp.plan.steps.size();
+    }));
+    return {};
+  });
+  if (!taken.ok()) return taken.error();
+  std::shared_ptr<StoredPlan> stored = *taken;
   Service::Impl* p = impl_.get();
   const ops::Audit audit = req.audit;
   const bool skip = req.skip_incompatible;
-  s.queues[stored->line].push_back(Task{job, {}, [p, job, stored, audit, skip](bool run) {
-                                          if (!run) return;
-                                          p->run_restore_job(*job, stored->line, stored->file,
-                                                             audit, skip, "", &stored->plan,
-                                                             stored->id);
-                                        }});
-  s.cv.notify_all();
+  if (!s.enqueue_fn(stored->line, job, [p, job, stored, audit, skip](bool run) {
+        if (!run) return;
+        p->run_restore_job(*job, stored->line, stored->file, audit, skip, "", &stored->plan,
+                           stored->id);
+      }))
+    return Error(Errc::interrupted, "the service is stopping");
   s.log("restore job " + job->id + " asked for: plan " + stored->id + ", " +
         stored->file.drive->name + (audit.who.empty() ? "" : " by " + audit.who));
   return job->id;

@@ -4,7 +4,6 @@
 #include <algorithm>
 
 #include "common/bytes.hpp"
-#include "config/atomic_file.hpp"
 #include "ops/diff.hpp"
 #include "serve/console.hpp"  // url_encode
 #include "serve/service_impl.hpp"
@@ -52,10 +51,8 @@ bool factory_fresh(const ops::TargetSeen& t, const db::Database& db,
 // A factory-fresh drive where the archive holds a file: state `replaced`,
 // the event once.
 void Service::Impl::record_replaced(Kind kind, const fleet::DriveResult& r, bool restoring) {
-  bool send = false;
-  {
-    std::lock_guard<std::mutex> lock(mu);
-    auto& st = states[r.name];
+  const bool send = store.with([&](StateStore::Data& data) {
+    auto& st = data.states[r.name];
     st.last_attempt = opt.clock();
     st.last_kind = kind_name(kind);
     st.last_ok = true;
@@ -65,9 +62,10 @@ void Service::Impl::record_replaced(Kind kind, const fleet::DriveResult& r, bool
     st.differences = r.diff.items.size();
     st.differing.clear();
     for (const auto& it : r.diff.items) st.differing.push_back(fleet::item_line(it));
-    send = st.notified != "replaced";
+    const bool changed = st.notified != "replaced";
     st.notified = "replaced";
-  }
+    return changed;
+  });
   if (send) {
     emit("replaced", r,
          {{"job", kind_name(kind)},
@@ -79,13 +77,26 @@ void Service::Impl::record_replaced(Kind kind, const fleet::DriveResult& r, bool
 // One drive's outcome: its state, and an event when the state changed.
 void Service::Impl::record(Kind kind, const fleet::DriveResult& r,
                            const std::optional<std::string>& commit) {
-  using S = fleet::DriveResult::Status;
   const TimePoint now = opt.clock();
   std::string event;
   Json details;
-  {
+  const std::string url = [&] {
     std::lock_guard<std::mutex> lock(mu);
-    auto& st = states[r.name];
+    return base_url;
+  }();
+  store.with([&](StateStore::Data& data) {
+    record_state(data.states[r.name], kind, r, commit, now, url, event, details);
+  });
+  if (!event.empty()) emit(event, r, details);
+}
+
+// Caller holds store's lock. One drive's outcome into its state `st`; the
+// event to send (and its details) when the state changed.
+void Service::Impl::record_state(DriveState& st, Kind kind, const fleet::DriveResult& r,
+                                 const std::optional<std::string>& commit, TimePoint now,
+                                 const std::string& url, std::string& event, Json& details) const {
+  using S = fleet::DriveResult::Status;
+  {
     st.last_attempt = now;
     st.last_kind = kind_name(kind);
     st.last_ok = r.status != S::failed;
@@ -157,12 +168,11 @@ void Service::Impl::record(Kind kind, const fleet::DriveResult& r,
         // The diff rendered as lmcfg report does it: the archive against the
         // drive now, or (a backup committed it) the commit against its parent.
         const std::string from = st.approved ? st.approved->commit : std::string("HEAD");
-        details["report"] = base_url + "/diff?name=" + url_encode(r.name) + "&from=" + from +
+        details["report"] = url + "/diff?name=" + url_encode(r.name) + "&from=" + from +
                             "&to=" + (commit && kind == Kind::backup ? *commit : "live");
       }
     }
   }
-  if (!event.empty()) emit(event, r, details);
 }
 
 void Service::Impl::run_task(std::size_t line_index, Task& task) {
@@ -172,8 +182,7 @@ void Service::Impl::run_task(std::size_t line_index, Task& task) {
   fo.db = opt.db;
   fo.backup = opt.backup;
   fo.on_drive = [this, &job](const fleet::DriveResult&, std::size_t, std::size_t) {
-    std::lock_guard<std::mutex> lock(mu);
-    ++job.done;
+    jobs.update(job, [](Job& j) { ++j.done; });
   };
   resume_waiting(line_index, task.only);
   log(std::string(kind_name(job.kind)) + " job " + job.id + ": line " + line.name + " started");
@@ -187,7 +196,7 @@ void Service::Impl::run_task(std::size_t line_index, Task& task) {
   const std::size_t failed = record_run(line, job.kind, run, la, to_restore);
   if (la.commit) want_push();
   count_run(line_index, job, run, la, failed);
-  save_states();
+  store.save();
   for (std::size_t i : to_restore) restore_replaced(line_index, *run.entries[i]);
 }
 
@@ -196,7 +205,7 @@ void Service::Impl::resume_waiting(std::size_t li, const std::vector<std::string
   std::vector<std::string> waiting;
   for (const auto& d : opt.inventory.lines[li].drives) {
     const bool in_scope = only.empty() || std::find(only.begin(), only.end(), d.name) != only.end();
-    if (in_scope && is_pending(d.name)) waiting.push_back(d.name);
+    if (in_scope && store.is_pending(d.name)) waiting.push_back(d.name);
   }
   resume(li, waiting);
 }
@@ -215,7 +224,7 @@ Result<void> Service::Impl::archive_run(const fleet::LineEntry& line, const Job&
         !line.devicenet && run.drives[i].status == S::changed && run.configs[i] &&
         factory_fresh(*run.configs[i], opt.db, fleet::ignored_upids(line, *run.entries[i]));
     // A drive a restore has not finished on is half configured: never archived.
-    la.unfinished[i] = is_pending(run.entries[i]->name);
+    la.unfinished[i] = store.is_pending(run.entries[i]->name);
   }
   if (job.kind != Kind::backup) return compare_approved(line, job, before, run, la);
   // A replaced drive's factory state never overwrites the archived file.
@@ -270,17 +279,29 @@ std::size_t Service::Impl::record_run(const fleet::LineEntry& line, Kind kind, f
 
 void Service::Impl::count_run(std::size_t li, Job& job, const fleet::LineRun& run,
                               const LineArchived& la, std::size_t failed) {
-  using S = fleet::DriveResult::Status;
   const auto& line = opt.inventory.lines[li];
-  std::lock_guard<std::mutex> lock(mu);
-  auto& m = line_metrics[li];
-  m.telegrams += run.stats.requests;
-  m.retries += run.stats.retries;
-  m.timeouts += run.stats.timeouts;
-  m.errors += failed;
-  ++m.runs;
-  m.run_seconds += run.seconds;
-  m.last_run_seconds = run.seconds;
+  LineMetrics m;
+  m.telegrams = run.stats.requests;
+  m.retries = run.stats.retries;
+  m.timeouts = run.stats.timeouts;
+  m.errors = failed;
+  m.runs = 1;
+  m.run_seconds = m.last_run_seconds = run.seconds;
+  lines.count(li, m);
+  const TimePoint now = opt.clock();
+  jobs.update(job, [&](Job& j) { count_job(j, run, la, now); });
+  char secs[32];
+  std::snprintf(secs, sizeof secs, "%.1f", run.seconds);
+  log(std::string(kind_name(job.kind)) + " job " + job.id + ": line " + line.name + " done in " +
+      secs + " s: " + std::to_string(run.drives.size()) + " drive(s), " + std::to_string(failed) +
+      " failed" + (la.commit ? ", committed " + la.commit->substr(0, 12) : std::string()));
+}
+
+// Caller holds jobs' lock. A line's run into its job's counts; the job ends
+// with its last line.
+void Service::Impl::count_job(Job& job, const fleet::LineRun& run, const LineArchived& la,
+                              TimePoint now) {
+  using S = fleet::DriveResult::Status;
   for (std::size_t i = 0; i < run.drives.size(); ++i) {
     const auto& r = run.drives[i];
     job.changed += r.status == S::changed && !la.replaced[i];
@@ -291,62 +312,20 @@ void Service::Impl::count_run(std::size_t li, Job& job, const fleet::LineRun& ru
     if (r.error) job.errors.push_back(r.name + ": " + r.error->message);
   }
   if (la.commit) job.commits.push_back(*la.commit);
-  if (--job.lines_left == 0) job.finished = opt.clock();
-  char secs[32];
-  std::snprintf(secs, sizeof secs, "%.1f", run.seconds);
-  log(std::string(kind_name(job.kind)) + " job " + job.id + ": line " + line.name + " done in " +
-      secs + " s: " + std::to_string(run.drives.size()) + " drive(s), " + std::to_string(failed) +
-      " failed" + (la.commit ? ", committed " + la.commit->substr(0, 12) : std::string()));
-}
-
-namespace {
-// Job numbers reserved at a time: jobs.json is written once per block.
-constexpr std::uint64_t kJobBlock = 100;
-}  // namespace
-
-void Service::Impl::load_job_numbers() {
-  const auto path = state_dir / "jobs.json";
-  std::error_code ec;
-  if (!std::filesystem::exists(path, ec)) return;
-  auto text = config::read_text_file(path, 1 << 16);
-  const Json j = text.ok() ? Json::parse(*text, nullptr, false) : Json();
-  if (!j.is_object() || !j.contains("next") || !j["next"].is_number_unsigned() ||
-      j["next"].get<std::uint64_t>() == 0) {
-    log("jobs: " + path.string() + " is not a job numbers file of lmcfg serve; jobs start at 1");
-    return;
-  }
-  first_job = next_job = j["next"].get<std::uint64_t>();
-}
-
-void Service::Impl::reserve_jobs(std::uint64_t number) {
-  reserved_job = number + kJobBlock;
-  std::error_code ec;
-  std::filesystem::create_directories(state_dir, ec);
-  const Json file{{"format", "lmcfg-serve-jobs"}, {"version", 1}, {"next", reserved_job}};
-  // A failure costs the numbering after a restart (it starts again below), not the job.
-  if (auto w = config::write_file_atomic(state_dir / "jobs.json", file.dump(1) + "\n"); !w.ok())
-    log("jobs: " + w.error().message);
-}
-
-std::string Service::Impl::missing_job(const std::string& id, std::uint64_t number) const {
-  if (number == 0 || number >= next_job) return "no job " + id;
-  if (number < first_job)
-    return "job " + id +
-           " ended before the service restarted: its record is not kept across "
-           "a restart; the position's history lists what it did";
-  return "job " + id +
-         " is no longer kept (the service keeps its newest 1000 jobs); the "
-         "position's history lists what it did";
+  if (--job.lines_left == 0) job.finished = now;
 }
 
 void Service::Impl::fail_job(Job& job, const Error& e, std::optional<int> code) {
-  std::lock_guard<std::mutex> lock(mu);
-  job.started = true;
-  job.finished = opt.clock();
-  job.failed_job = true;
-  job.outcome = "failed";
-  job.message = e.message;
-  job.exit_code = code ? *code : exit_code(e);
+  const TimePoint now = opt.clock();
+  const int exit = code ? *code : exit_code(e);
+  jobs.update(job, [&](Job& j) {
+    j.started = true;
+    j.finished = now;
+    j.failed_job = true;
+    j.outcome = "failed";
+    j.message = e.message;
+    j.exit_code = exit;
+  });
   log(std::string(kind_name(job.kind)) + " job " + job.id + ": failed: " + e.message);
 }
 
@@ -356,158 +335,116 @@ void Service::Impl::task_threw(std::size_t line, Task& task, const std::string& 
   if (task.job) fail_job(*task.job, e, 70);
 }
 
-void Service::Impl::worker(std::size_t line) {
-  std::unique_lock<std::mutex> lock(mu);
-  for (;;) {
-    cv.wait(lock, [&] { return stopping || !queues[line].empty(); });
-    if (stopping) {
-      // Waiting callers learn that nothing will run; queued jobs say so.
-      std::deque<Task> left = std::move(queues[line]);
-      queues[line].clear();
-      for (auto& t : left) {
-        if (t.job && !t.job->finished) {
-          t.job->finished = opt.clock();
-          t.job->failed_job = true;
-          t.job->message = "the service stopped before the job ran";
-        }
-      }
-      lock.unlock();
-      for (auto& t : left)
-        if (t.fn) t.fn(false);
-      return;
-    }
-    Task task = std::move(queues[line].front());
-    queues[line].pop_front();
-    busy[line] = true;
-    if (task.job && !task.fn) task.job->started = true;
-    lock.unlock();
-    // Nothing a job throws ends the process: the job fails and says why, the
-    // line's next job runs.
-    try {
-      if (task.fn)
-        task.fn(true);
-      else
-        run_task(line, task);
-    } catch (const std::exception& e) {
-      task_threw(line, task, e.what());
-    } catch (...) {
-      task_threw(line, task, "an exception of unknown type");
-    }
-    lock.lock();
-    busy[line] = false;
-    cv.notify_all();
+bool Service::Impl::enqueue(std::size_t line, const std::shared_ptr<Job>& job,
+                            std::vector<std::string> only) {
+  const auto& l = opt.inventory.lines[line];
+  jobs.update(*job, [&](Job& j) {
+    j.total += only.empty() ? l.drives.size() : only.size();
+    ++j.lines_left;
+  });
+  if (lines.push(line, Task{job, std::move(only), {}})) return true;
+  stopped_before(*job);
+  return false;
+}
+
+bool Service::Impl::enqueue_fn(std::size_t line, const std::shared_ptr<Job>& job,
+                               std::function<void(bool run)> fn) {
+  if (lines.push(line, Task{job, {}, std::move(fn)})) return true;
+  if (job) stopped_before(*job);
+  return false;
+}
+
+void Service::Impl::stopped_before(Job& job) {
+  const TimePoint now = opt.clock();
+  jobs.update(job, [&](Job& j) {
+    if (j.finished) return;
+    j.finished = now;
+    j.failed_job = true;
+    j.message = "the service stopped before the job ran";
+  });
+}
+
+void Service::Impl::run_on_line(std::size_t line, Task& task) {
+  if (task.job && !task.fn) jobs.update(*task.job, [](Job& j) { j.started = true; });
+  // Nothing a job throws ends the process: the job fails and says why, the
+  // line's next job runs.
+  try {
+    if (task.fn)
+      task.fn(true);
+    else
+      run_task(line, task);
+  } catch (const std::exception& e) {
+    task_threw(line, task, e.what());
+  } catch (...) {
+    task_threw(line, task, "an exception of unknown type");
   }
 }
 
-Json Service::Impl::job_json(const Job& j) const {
-  const char* state =
-      j.finished ? (j.failed_job ? "failed" : "done") : (j.started ? "running" : "queued");
-  Json out{{"id", j.id},
-           {"kind", kind_name(j.kind)},
-           {"scope", j.scope},
-           {"position", j.position.empty() ? Json(nullptr) : Json(j.position)},
-           {"state", state},
-           {"created", iso_time(j.created)},
-           {"finished", j.finished ? Json(iso_time(*j.finished)) : Json(nullptr)},
-           {"who", j.who.empty() ? Json(nullptr) : Json(j.who)}};
-  if (j.kind == Kind::restore) {
-    out["progress"] = {{"done", j.step_done}, {"total", j.step_total}, {"step", j.step}};
-    out["outcome"] = j.outcome.empty() ? Json(nullptr) : Json(j.outcome);
-    out["message"] = j.message;
-    out["exit_code"] = j.exit_code ? Json(*j.exit_code) : Json(nullptr);
-    out["commit"] = j.commit.empty() ? Json(nullptr) : Json(j.commit);
-    out["automatic"] =
-        !j.retry_of.empty() || (!j.who.empty() && j.who.rfind("lmcfg serve", 0) == 0);
-    out["retry_of"] = j.retry_of.empty() ? Json(nullptr) : Json(j.retry_of);
-    out["asked_by"] = j.asked_by.empty() ? Json(nullptr) : Json(j.asked_by);
-    out["skipped"] = j.skipped;
-    out["kept"] = j.kept;
-    out["drive_state"] = j.drive_state.empty() ? Json(nullptr) : Json(j.drive_state);
-    // The failed restore waits to be run again (an automatic retry, cancellable).
-    out["retry_pending"] = j.failed_job && !j.position.empty() && pending.count(j.position) != 0;
-    return out;
-  }
-  if (j.kind == Kind::diff || j.kind == Kind::plan) {
-    // A live read: its answer is what the request would have had (the diff,
-    // or the plan with its plan_id), or the error.
-    out["progress"] = {{"done", j.done}, {"total", j.total}, {"step", ""}};
-    out["outcome"] = j.outcome.empty() ? Json(nullptr) : Json(j.outcome);
-    out["message"] = j.message;
-    out["exit_code"] = j.exit_code ? Json(*j.exit_code) : Json(nullptr);
-    out["result"] = j.finished && !j.failed_job ? j.result : Json(nullptr);
-    return out;
-  }
-  out["progress"] = {{"done", j.done}, {"total", j.total}, {"step", ""}};
-  out["outcome"] = j.finished
-                       ? Json(j.failed_job ? "failed" : (j.failed ? "some drives failed" : "done"))
-                       : Json(nullptr);
-  out["message"] = j.message;
-  out["commit"] = j.commits.empty() ? Json(nullptr) : Json(j.commits.back());
-  out["drives"] = j.total;
-  out["done"] = j.done;
-  out["counts"] = {{"unchanged", j.unchanged},
-                   {"changed", j.changed},
-                   {"new", j.added},
-                   {"failed", j.failed},
-                   {"replaced", j.replaced}};
-  out["commits"] = j.commits;
-  out["errors"] = j.errors;
-  return out;
+// Waiting callers learn that nothing will run; queued jobs say so.
+void Service::Impl::drop_tasks(std::deque<Task>& left) {
+  for (auto& t : left)
+    if (t.job) stopped_before(*t.job);
+  for (auto& t : left)
+    if (t.fn) t.fn(false);
 }
 
 Json Service::Impl::drive_json(const fleet::LineEntry& line, const fleet::DriveEntry& d) const {
-  const DriveState* st = nullptr;
-  static const DriveState kUnknown;
-  auto it = states.find(d.name);
-  st = it == states.end() ? &kUnknown : &it->second;
+  // Each part read in turn, under its own lock (none held together).
+  const DriveState st = store.state(d.name);
+  const std::optional<PendingRestore> pending = store.pending(d.name);
   Json j{{"name", d.name},
          {"line", line.name},
          {"id", d.id},
-         {"status", st->status},
-         {"last_backup", st->last_backup ? Json(iso_time(*st->last_backup)) : Json(nullptr)}};
-  if (st->last_attempt) {
-    j["last_attempt"] = {{"time", iso_time(*st->last_attempt)},
-                         {"job", st->last_kind},
-                         {"result", st->last_ok ? "ok" : "failed"},
-                         {"exit_code", st->last_exit_code}};
+         {"status", st.status},
+         {"last_backup", st.last_backup ? Json(iso_time(*st.last_backup)) : Json(nullptr)}};
+  if (st.last_attempt) {
+    j["last_attempt"] = {{"time", iso_time(*st.last_attempt)},
+                         {"job", st.last_kind},
+                         {"result", st.last_ok ? "ok" : "failed"},
+                         {"exit_code", st.last_exit_code}};
   } else {
     j["last_attempt"] = nullptr;
   }
-  j["differences"] = st->differences;
-  j["message"] = st->message;
-  if (st->status == "drift") j["differing"] = st->differing;
-  j["kept"] = st->kept;
-  j["approved"] = fleet::approval_json(st->approved);
-  j["drive_state"] = st->drive_state.empty() ? Json(nullptr) : Json(st->drive_state);
+  j["differences"] = st.differences;
+  j["message"] = st.message;
+  if (st.status == "drift") j["differing"] = st.differing;
+  j["kept"] = st.kept;
+  j["approved"] = fleet::approval_json(st.approved);
+  j["drive_state"] = st.drive_state.empty() ? Json(nullptr) : Json(st.drive_state);
   // A failed restore the service will run again (before the line's next drift
   // check or backup) until an operator cancels it.
-  j["retry"] = nullptr;
-  if (auto p = pending.find(d.name); p != pending.end()) {
-    const auto& pr = p->second;
-    Json r{{"of_job", pr.origin_job.empty() ? Json(nullptr) : Json(pr.origin_job)},
-           {"asked_by", pr.who},
-           {"commit", pr.commit},
-           {"drive_state", pr.drive_state.empty() ? Json(nullptr) : Json(pr.drive_state)},
-           {"running", false},
-           {"will",
-            "restore the same revision again when the drive answers, before the line's next "
-            "drift check or backup (a restore run again converges)"}};
-    if (const Job* running = running_restore(d.name)) {
-      r["running"] = true;
-      r["job"] = running->id;
-    }
-    // Each automatic retry that failed (the newest kept), and when the next runs.
-    Json failures = Json::array();
-    for (const auto& f : pr.failures)
-      failures.push_back({{"time", f.time}, {"job", f.job}, {"reason", f.reason}});
-    r["failed_attempts"] = pr.failed_attempts;
-    r["failures"] = std::move(failures);
-    std::optional<TimePoint> next = next_status;
-    if (next_backup && (!next || *next_backup < *next)) next = next_backup;
-    r["next_attempt"] = next ? Json(iso_time(*next)) : Json(nullptr);
-    j["retry"] = std::move(r);
-  }
+  j["retry"] = pending ? retry_json(d.name, *pending) : Json(nullptr);
   return j;
+}
+
+// A restore waiting to run again, as a position shows it.
+Json Service::Impl::retry_json(const std::string& name, const PendingRestore& pr) const {
+  Json r{{"of_job", pr.origin_job.empty() ? Json(nullptr) : Json(pr.origin_job)},
+         {"asked_by", pr.who},
+         {"commit", pr.commit},
+         {"drive_state", pr.drive_state.empty() ? Json(nullptr) : Json(pr.drive_state)},
+         {"running", false},
+         {"will",
+          "restore the same revision again when the drive answers, before the line's next "
+          "drift check or backup (a restore run again converges)"}};
+  if (const std::string running = jobs.running_restore(name); !running.empty()) {
+    r["running"] = true;
+    r["job"] = running;
+  }
+  // Each automatic retry that failed (the newest kept), and when the next runs.
+  Json failures = Json::array();
+  for (const auto& f : pr.failures)
+    failures.push_back({{"time", f.time}, {"job", f.job}, {"reason", f.reason}});
+  r["failed_attempts"] = pr.failed_attempts;
+  r["failures"] = std::move(failures);
+  std::optional<TimePoint> next;
+  {
+    std::lock_guard<std::mutex> lock(mu);
+    next = next_status;
+    if (next_backup && (!next || *next_backup < *next)) next = next_backup;
+  }
+  r["next_attempt"] = next ? Json(iso_time(*next)) : Json(nullptr);
+  return r;
 }
 
 }  // namespace lmcfg::serve

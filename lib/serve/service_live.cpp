@@ -3,8 +3,6 @@
 // jobs of their own. The HTTP worker that asked waits a bounded time and never
 // holds a lock meanwhile: a drive that does not answer keeps its line's
 // worker, never the service's other clients.
-#include <algorithm>
-
 #include "serve/service_impl.hpp"
 
 namespace lmcfg::serve {
@@ -48,50 +46,47 @@ Result<std::shared_ptr<Job>> Service::Impl::live_read(Kind kind, std::size_t li,
                                                       const std::string& who,
                                                       std::function<Result<LiveAnswer>()> read) {
   const auto& line = opt.inventory.lines[li];
-  std::unique_lock<std::mutex> lock(mu);
-  if (stopping) return Error(Errc::interrupted, "the service is stopping");
+  if (lines.stopping()) return Error(Errc::interrupted, "the service is stopping");
   // The newest job asking the same question: still to end, or ended and its
-  // answer not given yet (the request that asked comes back for it).
-  std::shared_ptr<Job> job;
+  // answer not given yet (the request that asked comes back for it). Else a
+  // new one, unless the line has too many live reads queued (JobTable's lock,
+  // then LineWorkers': the order in service_impl.hpp).
   const TimePoint now = opt.clock();
-  for (auto it = jobs.rbegin(); it != jobs.rend(); ++it) {
-    const auto& j = it->second;
-    if (j->key != key) continue;
-    if (!j->finished || (!j->handed && *j->finished + kLiveAnswerKept > now)) job = j;
-    break;
-  }
-  if (!job) {
-    const auto queued = std::count_if(queues[li].begin(), queues[li].end(), [](const Task& t) {
-      return t.job && (t.job->kind == Kind::diff || t.job->kind == Kind::plan);
-    });
-    if (static_cast<std::size_t>(queued) >= opt.live_queued) {
-      return busy_error("line " + line.name + " is busy: " + std::to_string(queued) +
-                            " live reads wait for it already; ask again in 2 s",
-                        0);
-    }
-    job = new_drive_job(kind, name);
-    job->key = key;
-    job->who = who;
-    job->total = 1;
+  LMCFG_ASSIGN_OR_RETURN(
+      auto shared, jobs.share(
+                       key,
+                       [&](const Job& j) {
+                         return !j.finished || (!j.handed && *j.finished + kLiveAnswerKept > now);
+                       },
+                       [&]() -> Result<void> {
+                         const std::size_t queued = lines.queued(li, [](const Task& t) {
+                           return t.job && (t.job->kind == Kind::diff || t.job->kind == Kind::plan);
+                         });
+                         if (queued < opt.live_queued) return {};
+                         return busy_error("line " + line.name +
+                                               " is busy: " + std::to_string(queued) +
+                                               " live reads wait for it already; ask again in 2 s",
+                                           0);
+                       },
+                       kind, name,
+                       [&](Job& j) {
+                         j.key = key;
+                         j.who = who;
+                         j.total = 1;
+                       }));
+  std::shared_ptr<Job> job = shared.job;
+  if (shared.made) {
     Service::Impl* p = this;
-    queues[li].push_back(Task{job, {}, [p, li, job, read = std::move(read)](bool run) {
-                                if (run) p->run_live(li, *job, read);
-                              }});
-    cv.notify_all();
+    if (!enqueue_fn(li, job, [p, li, job, read = std::move(read)](bool run) {
+          if (run) p->run_live(li, *job, read);
+        }))
+      return Error(Errc::interrupted, "the service is stopping");
     log(std::string(kind_name(kind)) + " job " + job->id + " asked for: drive " + name +
         (who.empty() ? "" : " by " + who));
   }
   // A bounded wait, by a bounded number of requests at once: the HTTP
   // server's other workers stay free for everything else.
-  if (!job->finished && live_waiting < opt.live_waiters) {
-    ++live_waiting;
-    cv.wait_for(lock, opt.live_wait, [&] { return job->finished.has_value() || stopping; });
-    --live_waiting;
-  }
-  if (job->finished) {
-    job->handed = true;
-    return job;
-  }
+  if (jobs.wait_finished(*job, opt.live_wait, opt.live_waiters, shared.made)) return job;
   const std::uint64_t number = std::stoull(job->id);
   return busy_error("drive " + name + ": line " + line.name + " is busy (job " + job->id +
                         " reads the drive after the work queued before it, or the drive is "
@@ -102,10 +97,7 @@ Result<std::shared_ptr<Job>> Service::Impl::live_read(Kind kind, std::size_t li,
 
 void Service::Impl::run_live(std::size_t li, Job& job,
                              const std::function<Result<LiveAnswer>()>& read) {
-  {
-    std::lock_guard<std::mutex> lock(mu);
-    job.started = true;
-  }
+  jobs.update(job, [](Job& j) { j.started = true; });
   std::optional<Result<LiveAnswer>> got;
   std::optional<std::string> threw;
   try {
@@ -116,21 +108,23 @@ void Service::Impl::run_live(std::size_t li, Job& job,
     threw = "an exception of unknown type";
   }
   if (threw) got.emplace(thrown_error(li, *threw));
-  std::lock_guard<std::mutex> lock(mu);
-  if (got->ok()) {
-    job.result = std::move(got->value().result);
-    job.live = std::move(got->value().live);
-    job.outcome = "done";
-  } else {
-    job.error = got->error();
-    job.failed_job = true;
-    job.outcome = "failed";
-    job.message = job.error->message;
-    job.exit_code = threw ? 70 : exit_code(*job.error);
-  }
-  job.done = 1;
-  job.finished = opt.clock();
-  cv.notify_all();
+  const TimePoint now = opt.clock();
+  const int code = got->ok() ? 0 : (threw ? 70 : exit_code(got->error()));
+  jobs.update(job, [&](Job& j) {
+    if (got->ok()) {
+      j.result = std::move(got->value().result);
+      j.live = std::move(got->value().live);
+      j.outcome = "done";
+    } else {
+      j.error = got->error();
+      j.failed_job = true;
+      j.outcome = "failed";
+      j.message = j.error->message;
+      j.exit_code = code;
+    }
+    j.done = 1;
+    j.finished = now;
+  });
 }
 
 Result<Json> Service::Impl::live_answer(const Job& job) {
@@ -164,17 +158,13 @@ Result<LiveAnswer> Service::Impl::make_plan(
   sp.who = who;
   sp.id = random_plan_id();
   sp.expires = opt.clock() + opt.plan_lifetime;
-  std::lock_guard<std::mutex> lock(mu);
-  // Expired plans go; a plan is small, but an API client looping on plan must not grow the map.
-  const TimePoint now = opt.clock();
-  std::erase_if(plans, [&](const auto& kv) { return kv.second.expires <= now; });
   LiveAnswer a;
   a.result = plan_to_json(sp);
   log("plan " + sp.id + " for " + d.name + " <- " + sp.file.file_name + ": " +
       std::to_string(sp.plan.steps.size()) + " step(s), " +
       std::to_string(sp.plan.problems.size()) + " problem(s)" +
       (who.empty() ? "" : ", asked by " + who));
-  plans.emplace(sp.id, std::move(sp));
+  plans.add(std::move(sp));
   return a;
 }
 

@@ -1,5 +1,5 @@
 // What the service tells about itself: Prometheus /metrics, the daily summary
-// event, and the push thread of [archive] push with its events.
+// event, and the events of [archive] push (its thread: archive_push.cpp).
 #include <algorithm>
 #include <cstdio>
 
@@ -30,13 +30,14 @@ std::string number(double v) {
 }
 
 // Positions per status (the summary event and /metrics, one list): ok, drift,
-// failed, replaced, unknown. Caller holds s.mu.
-Json status_counts(const Service::Impl& s) {
+// failed, replaced, unknown.
+Json status_counts(const fleet::Inventory& inventory,
+                   const std::map<std::string, DriveState>& states) {
   Json counts{{"ok", 0}, {"drift", 0}, {"failed", 0}, {"replaced", 0}, {"unknown", 0}};
-  for (const auto& line : s.opt.inventory.lines) {
+  for (const auto& line : inventory.lines) {
     for (const auto& d : line.drives) {
-      auto it = s.states.find(d.name);
-      const std::string st = it == s.states.end() ? "unknown" : it->second.status;
+      auto it = states.find(d.name);
+      const std::string st = it == states.end() ? "unknown" : it->second.status;
       counts[st] = counts.value(st, 0) + 1;
     }
   }
@@ -53,50 +54,6 @@ void Service::Impl::emit_archive(const std::string& event, Json details) {
   notify(j);
 }
 
-// The push thread. Its own handle on the repository: a slow or unreachable
-// remote holds neither archive_mu nor a line's worker, so backups and
-// commits go on and only the push waits.
-void Service::Impl::push_loop() {
-  const std::string& remote = opt.inventory.archive.push;
-  auto repo = fleet::Archive::open(opt.archive, false);
-  std::chrono::milliseconds wait = opt.push_retry_first;
-  std::unique_lock<std::mutex> lock(mu);
-  for (;;) {
-    push_cv.wait(lock, [&] { return stopping || push.wanted > push.done; });
-    if (stopping) return;
-    const std::uint64_t asked = push.wanted;
-    lock.unlock();
-    Result<void> pushed = repo.ok() ? Result<void>() : Result<void>(repo.error());
-    // A throw on this thread would end the process: it is a failed push.
-    try {
-      if (repo.ok()) pushed = repo->push(remote);
-    } catch (const std::exception& e) {
-      pushed = Error(Errc::io_error, std::string("push: internal error: ") + e.what());
-    }
-    lock.lock();
-    if (pushed.ok()) {
-      push.done = std::max(push.done, asked);
-      push.last_success = opt.clock();
-      wait = opt.push_retry_first;
-      const bool recovered = std::exchange(push.failing, false);
-      lock.unlock();
-      log("pushed the archive to " + remote);
-      if (recovered) emit_archive("push_recovered", {});
-      lock.lock();
-      continue;
-    }
-    ++push.failures;
-    const bool first = !std::exchange(push.failing, true);
-    lock.unlock();
-    log("push to " + remote + " failed, next try in " + std::to_string(wait.count()) +
-        " ms: " + pushed.error().message);
-    if (first) emit_archive("push_failed", {{"reason", pushed.error().message}});
-    lock.lock();
-    push_cv.wait_for(lock, wait, [&] { return stopping; });
-    wait = std::min(wait * 2, opt.push_retry_max);
-  }
-}
-
 void Service::summarize(TimePoint now) {
   auto& s = *impl_;
   const std::int64_t day =
@@ -110,15 +67,18 @@ void Service::summarize(TimePoint now) {
     }
     if (day <= *s.summary_day) return;
     s.summary_day = day;
-    counts = status_counts(s);
   }
+  counts = s.store.read(
+      [&](const StateStore::Data& data) { return status_counts(s.opt.inventory, data.states); });
   s.emit("summary", "", "",
          {{"period", "day"}, {"drives", s.opt.inventory.drive_count()}, {"counts", counts}});
 }
 
 std::string Service::metrics() const {
   const auto& s = *impl_;
-  std::lock_guard<std::mutex> lock(s.mu);
+  // Each part's numbers copied under its own lock, then written out with none.
+  const auto states = s.store.read([](const StateStore::Data& data) { return data.states; });
+  const auto line_metrics = s.lines.metrics();
   std::string o;
   auto head = [&](const char* name, const char* type, const char* help) {
     o += std::string("# HELP ") + name + " " + help + "\n# TYPE " + name + " " + type + "\n";
@@ -130,9 +90,9 @@ std::string Service::metrics() const {
     head(name, type, help);
     for (const auto& line : s.opt.inventory.lines) {
       for (const auto& d : line.drives) {
-        auto it = s.states.find(d.name);
+        auto it = states.find(d.name);
         static const DriveState kUnknown;
-        const DriveState& st = it == s.states.end() ? kUnknown : it->second;
+        const DriveState& st = it == states.end() ? kUnknown : it->second;
         auto v = value(st);
         if (!v) continue;
         o += std::string(name) + "{drive=\"" + label(d.name) + "\",line=\"" + label(line.name) +
@@ -172,14 +132,14 @@ std::string Service::metrics() const {
               return static_cast<double>(st.retries_failed);
             });
   head("lmcfg_drives", "gauge", "Positions per status against their approved configuration.");
-  const Json counts = status_counts(s);  // named: items() refers to it
+  const Json counts = status_counts(s.opt.inventory, states);  // named: items() refers to it
   for (const auto& [status, n] : counts.items())
     o += "lmcfg_drives{status=\"" + status + "\"} " + number(n.get<double>()) + "\n";
   auto per_line = [&](const char* name, const char* type, const char* help, auto value) {
     head(name, type, help);
     for (std::size_t l = 0; l < s.opt.inventory.lines.size(); ++l)
       o += std::string(name) + "{line=\"" + label(s.opt.inventory.lines[l].name) + "\"} " +
-           number(value(s.line_metrics[l])) + "\n";
+           number(value(line_metrics[l])) + "\n";
   };
   per_line("lmcfg_line_telegrams_total", "counter", "Telegrams sent on the line.",
            [](const LineMetrics& m) { return static_cast<double>(m.telegrams); });
@@ -195,17 +155,18 @@ std::string Service::metrics() const {
            [](const LineMetrics& m) { return m.run_seconds; });
   per_line("lmcfg_line_last_run_seconds", "gauge", "Seconds the line's last job took.",
            [](const LineMetrics& m) { return m.last_run_seconds; });
-  if (s.opt.inventory.archive.push.empty()) return o;
+  if (!s.pusher) return o;
+  const Pusher::Stats push = s.pusher->stats();
   head("lmcfg_archive_push_pending", "gauge",
        "1 while a commit of the archive is not pushed to [archive] push yet, else 0.");
-  o += "lmcfg_archive_push_pending " + number(s.push.wanted > s.push.done ? 1 : 0) + "\n";
+  o += "lmcfg_archive_push_pending " + number(push.pending ? 1 : 0) + "\n";
   head("lmcfg_archive_push_failures_total", "counter", "Pushes of the archive that failed.");
-  o += "lmcfg_archive_push_failures_total " + number(static_cast<double>(s.push.failures)) + "\n";
+  o += "lmcfg_archive_push_failures_total " + number(static_cast<double>(push.failures)) + "\n";
   head("lmcfg_archive_push_last_success_timestamp_seconds", "gauge",
        "Time of the last successful push of the archive (Unix time).");
-  if (s.push.last_success)
+  if (push.last_success)
     o += "lmcfg_archive_push_last_success_timestamp_seconds " +
-         number(epoch_seconds(*s.push.last_success)) + "\n";
+         number(epoch_seconds(*push.last_success)) + "\n";
   return o;
 }
 

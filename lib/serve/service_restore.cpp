@@ -4,7 +4,6 @@
 #include <algorithm>
 
 #include "common/bytes.hpp"
-#include "config/atomic_file.hpp"
 #include "config/config_io.hpp"
 #include "fleet/history.hpp"
 #include "ops/recovery.hpp"
@@ -22,15 +21,6 @@ constexpr const char* kReplacedCause = "factory-fresh drive found at the positio
 // Who an automatic retry of a failed restore runs as (the job's `asked_by`
 // names the operator of the first attempt).
 constexpr const char* kRetry = "lmcfg serve (automatic retry)";
-
-// "press3/z" and MACID 11h on line "line1": "line1-11h.json" (names are
-// archive paths, so '/' cannot be in a file name; a line's MACIDs are unique).
-std::string pending_name(const fleet::LineEntry& line, const fleet::DriveEntry& d) {
-  std::string n = line.name + "-" + hex(d.id, 2, "h") + ".json";
-  for (char& c : n)
-    if (c == '/') c = '_';
-  return n;
-}
 
 // The plan the API showed and the target as a restore reads it now: the
 // error that refuses the restore when they differ.
@@ -80,47 +70,14 @@ std::string drive_state_after(const ops::RestoreOutcome& out, std::size_t in_fli
 
 }  // namespace
 
-// Caller holds mu. An automatic retry `job` failed with `e`: listed on the
-// waiting record and counted.
-void Service::Impl::note_retry_failed(const Job& job, const Error& e, PendingRestore& p) {
+// Caller holds store's lock. An automatic retry `job` failed with `e`:
+// listed on the waiting record and counted.
+void Service::Impl::note_retry_failed(const Job& job, const Error& e, PendingRestore& p,
+                                      StateStore::Data& data) const {
   p.failures.push_back({iso_time(opt.clock()), job.id, e.message});
   if (p.failures.size() > kRetryFailuresKept) p.failures.erase(p.failures.begin());
   ++p.failed_attempts;
-  ++states[p.drive].retries_failed;
-}
-
-Result<void> Service::Impl::save_pending(const fleet::LineEntry& line, const fleet::DriveEntry& d,
-                                         const PendingRestore& p) {
-  Json failures = Json::array();
-  for (const auto& f : p.failures)
-    failures.push_back({{"time", f.time}, {"job", f.job}, {"reason", f.reason}});
-  const Json j{{"drive", p.drive},
-               {"commit", p.commit},
-               {"who", p.who},
-               {"reason", p.reason},
-               {"ticket", p.ticket},
-               {"cause", p.cause},
-               {"skip_incompatible", p.skip_incompatible},
-               {"origin_job", p.origin_job},
-               {"drive_state", p.drive_state},
-               {"failures", failures},
-               {"failed_attempts", p.failed_attempts}};
-  std::error_code ec;
-  std::filesystem::create_directories(state_dir / "pending", ec);
-  // The fields are checked UTF-8 (Service::execute); a resumed record's too.
-  // Should one not be, U+FFFD stands for its bad bytes rather than a throw.
-  LMCFG_TRY(
-      config::write_file_atomic(state_dir / "pending" / pending_name(line, d),
-                                j.dump(-1, ' ', false, Json::error_handler_t::replace) + "\n"));
-  std::lock_guard<std::mutex> lock(mu);
-  pending[d.name] = p;
-  return {};
-}
-void Service::Impl::remove_pending(const fleet::LineEntry& line, const fleet::DriveEntry& d) {
-  std::error_code ec;
-  std::filesystem::remove(state_dir / "pending" / pending_name(line, d), ec);
-  std::lock_guard<std::mutex> lock(mu);
-  pending.erase(d.name);
+  ++data.states[p.drive].retries_failed;
 }
 
 // Runs a restore of `f` on this line's worker thread (the caller is it):
@@ -132,33 +89,31 @@ void Service::Impl::run_restore_job(Job& job, std::size_t li, const fleet::Archi
                                     const ops::Plan* planned, const std::string& plan_id) {
   const auto& line = opt.inventory.lines[li];
   const auto& d = *f.drive;
-  {
-    std::lock_guard<std::mutex> lock(mu);
-    job.started = true;
-    if (planned) job.step_total = planned->steps.size();
-  }
+  jobs.update(job, [&](Job& j) {
+    j.started = true;
+    if (planned) j.step_total = planned->steps.size();
+  });
   log("restore job " + job.id + ": " + d.name + " <- " + f.file_name + " started" +
       (audit.who.empty() ? "" : " for " + audit.who));
   RestoreAttempt a;
   PendingRestore begun{d.name, f.source.id, audit.who, audit.reason, audit.ticket, cause, skip, "",
                        "",     {},          0};
-  {
-    std::lock_guard<std::mutex> lock(mu);
-    begun.origin_job = job.retry_of.empty() ? job.id : job.retry_of;
-    // A retry records the operator who asked for the first attempt, not itself.
-    if (!job.asked_by.empty()) begun.who = job.asked_by;
-    // What the drive is known to hold before this attempt: the waiting
-    // retry's record, else the position's (a cancelled retry's).
-    if (auto w = pending.find(d.name); w != pending.end()) {
+  begun.origin_job = job.retry_of.empty() ? job.id : job.retry_of;
+  // A retry records the operator who asked for the first attempt, not itself.
+  if (!job.asked_by.empty()) begun.who = job.asked_by;
+  // What the drive is known to hold before this attempt: the waiting
+  // retry's record, else the position's (a cancelled retry's).
+  store.read([&](const StateStore::Data& data) {
+    if (auto w = data.pending.find(d.name); w != data.pending.end()) {
       begun.drive_state = w->second.drive_state;
       begun.failures = w->second.failures;
       begun.failed_attempts = w->second.failed_attempts;
-    } else if (auto st = states.find(d.name); st != states.end()) {
+    } else if (auto st = data.states.find(d.name); st != data.states.end()) {
       begun.drive_state = st->second.drive_state;
     }
-  }
+  });
   const std::string known = begun.drive_state;
-  if (auto saved = save_pending(line, d, begun); !saved.ok())
+  if (auto saved = store.save_pending(line, d, begun); !saved.ok())
     a.err = saved.error();
   else
     attempt_restore(a, job, li, f, audit, skip, cause, planned, plan_id);
@@ -172,18 +127,20 @@ void Service::Impl::run_restore_job(Job& job, std::size_t li, const fleet::Archi
   const bool stays =
       interrupted || (a.err && (a.err->code == ErrorClass::link_failure || a.unopened));
   if (a.err) {
-    std::lock_guard<std::mutex> lock(mu);
     // What reached the drive says what it holds: an attempt that wrote
     // nothing (the line did not open, the drive did not answer) leaves the
     // known state as it was.
+    const std::size_t in_flight = jobs.read(job, [](const Job& j) { return j.step_done; });
     begun.drive_state =
-        a.out.written || known.empty() ? drive_state_after(a.out, job.step_done) : known;
-    job.drive_state = a.drive_state = begun.drive_state;
-    if (!job.retry_of.empty() && !interrupted) note_retry_failed(job, *a.err, begun);
+        a.out.written || known.empty() ? drive_state_after(a.out, in_flight) : known;
+    a.drive_state = begun.drive_state;
+    jobs.update(job, [&](Job& j) { j.drive_state = begun.drive_state; });
+    if (!job.retry_of.empty() && !interrupted)
+      store.with([&](StateStore::Data& data) { note_retry_failed(job, *a.err, begun, data); });
   }
   if (!stays)
-    remove_pending(line, d);
-  else if (auto saved = save_pending(line, d, begun); !saved.ok())
+    store.remove_pending(line, d);
+  else if (auto saved = store.save_pending(line, d, begun); !saved.ok())
     log("restore job " + job.id + ": " + saved.error().message);
   finish_restore_job(job, li, f, audit, cause, a, interrupted);
 }
@@ -217,7 +174,7 @@ void Service::Impl::attempt_restore(RestoreAttempt& a, Job& job, std::size_t li,
     else
       a.err = made.error();
   }
-  if (a.record) want_push();  // outside archive_mu: want_push takes mu
+  if (a.record) want_push();  // outside archive_mu: the pusher's lock is a leaf
 }
 
 ops::RestoreRunOptions Service::Impl::restore_run_options(Job& job, std::size_t li,
@@ -229,17 +186,18 @@ ops::RestoreRunOptions Service::Impl::restore_run_options(Job& job, std::size_t 
   ro.restore = restore_options(line, d, skip);
   ro.restore.progress = [this, &job, planned](const std::string& phase, std::size_t done,
                                               std::size_t total) {
-    std::lock_guard<std::mutex> lock(mu);
-    if (phase != "restore") {
-      job.step = phase;
-      return;
-    }
-    // Called as step `done` (1-based) begins.
-    job.step_done = done > 0 ? done - 1 : 0;
-    job.step_total = total;
-    job.step = planned && done > 0 && done <= planned->steps.size()
+    jobs.update(job, [&](Job& j) {
+      if (phase != "restore") {
+        j.step = phase;
+        return;
+      }
+      // Called as step `done` (1-based) begins.
+      j.step_done = done > 0 ? done - 1 : 0;
+      j.step_total = total;
+      j.step = planned && done > 0 && done <= planned->steps.size()
                    ? planned->steps[done - 1].text
                    : "step " + std::to_string(done) + " of " + std::to_string(total);
+    });
   };
   ro.undo = ops::UndoOptions{
       true, state_dir / "lmcfg" / "undo", line.port, d.id, "serve-restore", ops::kUndoKeep};
@@ -270,61 +228,66 @@ void Service::Impl::finish_restore_job(Job& job, std::size_t li, const fleet::Ar
                {"automatic", !cause.empty()},
                {"operator", audit.who}};
   if (a.record) details["commit"] = a.record->id;
-  {
-    std::lock_guard<std::mutex> lock(mu);
-    job.finished = opt.clock();
-    job.failed_job = err.has_value();
-    job.outcome = outcome;
-    job.exit_code = code;
+  const TimePoint now = opt.clock();
+  jobs.update(job, [&](Job& j) {
+    j.finished = now;
+    j.failed_job = err.has_value();
+    j.outcome = outcome;
+    j.exit_code = code;
     // A failure leaves the steps done before it (a bar short of its end)
     // and the step it stopped in (the drive vanished during a flash save);
     // a read back that differs came after every step.
     if (!err || out.stage == S::verify_mismatch) {
-      job.step_done = job.step_total;
-      job.step = "";
+      j.step_done = j.step_total;
+      j.step = "";
     }
-    job.message = err ? err->message
-                      : (out.stage == S::nothing_to_do
-                             ? "nothing to do: the drive already matches " + f.file_name
-                             : "restored " + f.file_name + " onto " + d.name + " and verified");
+    j.message = err ? err->message
+                    : (out.stage == S::nothing_to_do
+                           ? "nothing to do: the drive already matches " + f.file_name
+                           : "restored " + f.file_name + " onto " + d.name + " and verified");
     if (a.record) {
-      job.commit = a.record->id;
-      job.commits.push_back(a.record->id);
+      j.commit = a.record->id;
+      j.commits.push_back(a.record->id);
     }
-    for (const auto& sv : out.plan.skipped_incompatible) job.skipped.push_back(sv.text);
-    for (const auto& k : out.plan.kept) job.kept.push_back(ops::kept_json(k, "file"));
-    if (!interrupted) event = record_restore_state(d.name, a, code, f.file_name, details);
-    if (!interrupted && !err) note_unapproved(d.name, f);
+    for (const auto& sv : out.plan.skipped_incompatible) j.skipped.push_back(sv.text);
+    for (const auto& k : out.plan.kept) j.kept.push_back(ops::kept_json(k, "file"));
+  });
+  if (!interrupted) {
+    store.with([&](StateStore::Data& data) {
+      event = record_restore_state(data, d.name, a, code, f.file_name, details);
+      if (!err) note_unapproved(data, d.name, f);
+    });
   }
   log("restore job " + job.id + ": " + d.name + ": " + outcome +
       (err ? ": " + err->message : std::string()) +
       (a.record ? ", committed " + a.record->id.substr(0, 12) : std::string()));
-  if (!interrupted) save_states();
+  if (!interrupted) store.save();
   if (!event.empty()) emit(event, d.name, line.name, details);
 }
 
-// Caller holds mu. The position's state after a restore; the event to send, if any.
-std::string Service::Impl::record_restore_state(const std::string& name, const RestoreAttempt& a,
-                                                int code, const std::string& file_name,
-                                                Json& details) {
+// Caller holds store's lock. The position's state after a restore; the event
+// to send, if any.
+std::string Service::Impl::record_restore_state(StateStore::Data& data, const std::string& name,
+                                                const RestoreAttempt& a, int code,
+                                                const std::string& file_name, Json& details) {
   using S = ops::RestoreOutcome::Stage;
   std::string event;
-  auto& st = states[name];
+  auto& st = data.states[name];
   st.last_attempt = opt.clock();
   st.last_kind = "restore";
   st.last_ok = !a.err;
   st.last_exit_code = code;
-  const auto waiting = pending.find(name);
+  const auto waiting = data.pending.find(name);
   st.drive_state.clear();
   if (a.err) {
     st.status = "failed";
     st.message = a.err->message;
     // What the drive holds, whether or not a retry waits.
-    st.drive_state = waiting != pending.end() ? waiting->second.drive_state : a.drive_state;
+    st.drive_state = waiting != data.pending.end() ? waiting->second.drive_state : a.drive_state;
     event = "restore_failed";
     details["reason"] = a.err->message;
     details["exit_code"] = code;
-    if (waiting != pending.end()) details["retry"] = true;
+    if (waiting != data.pending.end()) details["retry"] = true;
     st.notified = "failed";
   } else if (a.out.skipped_any()) {
     // Not what the approved configuration holds: drift, with the values left
@@ -355,14 +318,11 @@ std::string Service::Impl::record_restore_state(const std::string& name, const R
 // on_replaced = "restore": the approved configuration (HEAD when none), restored
 // at once on this worker.
 void Service::Impl::restore_replaced(std::size_t li, const fleet::DriveEntry& d) {
-  std::shared_ptr<Job> job;
-  {
-    std::lock_guard<std::mutex> lock(mu);
-    if (stopping) return;
-    job = new_drive_job(Kind::restore, d.name);
-    job->who = kAutomatic;
-    job->total = 1;
-  }
+  if (lines.stopping()) return;
+  auto job = jobs.add(Kind::restore, "drive " + d.name, d.name, [](Job& j) {
+    j.who = kAutomatic;
+    j.total = 1;
+  });
   Result<fleet::ArchivedFile> f = [&] {
     std::lock_guard<std::mutex> lock(archive_mu);
     auto rev = restore_rev(d);
@@ -381,56 +341,14 @@ void Service::Impl::restore_replaced(std::size_t li, const fleet::DriveEntry& d)
 
 // Restores a previous run began and did not finish (killed, or stopped by a
 // signal mid-restore): loaded at start and queued first on their lines.
-void Service::Impl::load_pending() {
-  std::error_code ec;
-  for (const auto& entry : std::filesystem::directory_iterator(state_dir / "pending", ec)) {
-    const auto path = entry.path();
-    if (path.extension() != ".json") continue;
-    auto text = config::read_text_file(path, 1 << 16);
-    Json j = text.ok() ? Json::parse(*text, nullptr, false) : Json();
+void Service::Impl::queue_pending() {
+  for (const std::string& name : store.load_pending(opt.inventory)) {
     const fleet::LineEntry* line = nullptr;
-    const fleet::DriveEntry* d =
-        j.is_object() && j["drive"].is_string()
-            ? opt.inventory.find_drive(j["drive"].get<std::string>(), &line)
-            : nullptr;
-    if (!d) {
-      log("unfinished restore record " + path.string() +
-          " names no drive of the inventory; left as it is");
-      continue;
-    }
-    // A record edited by hand: a field of another type reads as empty, not a throw at start.
-    auto text_of = [&j](const char* key) {
-      return j.contains(key) && j[key].is_string() ? j[key].get<std::string>() : std::string();
-    };
-    pending[d->name] =
-        PendingRestore{text_of("drive"),
-                       text_of("commit"),
-                       text_of("who"),
-                       text_of("reason"),
-                       text_of("ticket"),
-                       text_of("cause"),
-                       j.contains("skip_incompatible") && j["skip_incompatible"].is_boolean() &&
-                           j["skip_incompatible"].get<bool>(),
-                       text_of("origin_job"),
-                       text_of("drive_state"),
-                       {},
-                       j.contains("failed_attempts") && j["failed_attempts"].is_number_unsigned()
-                           ? j["failed_attempts"].get<std::size_t>()
-                           : 0};
-    if (j.contains("failures") && j["failures"].is_array()) {
-      for (const auto& f : j["failures"]) {
-        if (!f.is_object()) continue;
-        auto field = [&f](const char* key) {
-          return f.contains(key) && f[key].is_string() ? f[key].get<std::string>() : std::string();
-        };
-        pending[d->name].failures.push_back({field("time"), field("job"), field("reason")});
-      }
-    }
+    opt.inventory.find_drive(name, &line);
     const std::size_t li = line_index(line);
-    const std::string name = d->name;
-    queues[li].push_back(Task{nullptr, {}, [this, li, name](bool run) {
-                                if (run) resume(li, {name});
-                              }});
+    lines.push(li, Task{nullptr, {}, [this, li, name](bool run) {
+                          if (run) resume(li, {name});
+                        }});
   }
 }
 
@@ -440,19 +358,14 @@ void Service::Impl::load_pending() {
 // or saving to flash when the service died) stays pending for the next run.
 void Service::Impl::resume(std::size_t li, const std::vector<std::string>& names) {
   for (const auto& name : names) {
-    std::optional<PendingRestore> pr;
-    std::shared_ptr<Job> job;
-    {
-      std::lock_guard<std::mutex> lock(mu);
-      auto it = pending.find(name);
-      if (it == pending.end() || stopping) continue;
-      pr = it->second;
-      job = new_drive_job(Kind::restore, name);
-      job->who = kRetry;
-      job->asked_by = pr->who;
-      job->retry_of = pr->origin_job;
-      job->total = 1;
-    }
+    const std::optional<PendingRestore> pr = store.pending(name);
+    if (!pr || lines.stopping()) continue;
+    auto job = jobs.add(Kind::restore, "drive " + name, name, [&](Job& j) {
+      j.who = kRetry;
+      j.asked_by = pr->who;
+      j.retry_of = pr->origin_job;
+      j.total = 1;
+    });
     Result<fleet::ArchivedFile> f = [&] {
       std::lock_guard<std::mutex> lock(archive_mu);
       return fleet::load_archived(opt.inventory, archive, name, pr->commit);
@@ -481,30 +394,24 @@ Result<Json> Service::cancel_retry(const std::string& name, const std::string& w
   const fleet::LineEntry* line = nullptr;
   const auto* d = s.opt.inventory.find_drive(name, &line);
   if (!d) return Error(Errc::not_found, "no drive named '" + name + "' in the inventory");
-  PendingRestore pr;
-  {
-    std::lock_guard<std::mutex> lock(s.mu);
-    auto it = s.pending.find(name);
-    if (it == s.pending.end())
-      return Error(Errc::not_found, "no automatic retry is waiting for drive " + name);
-    if (const Job* running = s.running_restore(name))
-      return Error(Errc::plan_refused,
-                   "the restore of drive " + name + " is running as job " + running->id +
-                       ": it is not stopped between its writes; wait for it to end");
-    pr = it->second;
-  }
-  s.remove_pending(*line, *d);
+  const std::optional<PendingRestore> waiting = s.store.pending(name);
+  if (!waiting) return Error(Errc::not_found, "no automatic retry is waiting for drive " + name);
+  if (const std::string running = s.jobs.running_restore(name); !running.empty())
+    return Error(Errc::plan_refused,
+                 "the restore of drive " + name + " is running as job " + running +
+                     ": it is not stopped between its writes; wait for it to end");
+  const PendingRestore pr = *waiting;
+  s.store.remove_pending(*line, *d);
   std::string state_words;
-  {
-    std::lock_guard<std::mutex> lock(s.mu);
-    auto& st = s.states[name];
+  s.store.with([&](StateStore::Data& data) {
+    auto& st = data.states[name];
     st.drive_state = pr.drive_state;
     state_words = pr.drive_state.empty() ? "as the failed restore left it" : pr.drive_state;
     st.message = "automatic retry cancelled by " + (who.empty() ? "an operator" : who) +
                  "; the drive is " + state_words +
                  ": plan a restore to configure it, or check the drive";
-  }
-  s.save_states();
+  });
+  s.store.save();
   s.log("automatic retry of the restore of " + name +
         (pr.origin_job.empty() ? "" : " (job " + pr.origin_job + ")") + " cancelled" +
         (who.empty() ? "" : " by " + who));

@@ -230,4 +230,70 @@ TEST_CASE("serve: a line takes a bounded number of live reads, more are refused 
   rig.service->wait_idle();
 }
 
+TEST_CASE(
+    "serve: while a line's worker is stuck in a drive read, every read of the service's state "
+    "answers at once (no lock is held across the read)",
+    "[serve][live]") {
+  HungLine hung;
+  REQUIRE(hung.port() != 0);
+  ServiceRig rig("serve-live");
+  start_archived(rig, "tcp://127.0.0.1:" + std::to_string(hung.port()),
+                 [](serve::ServiceOptions& o) { o.exit_code = exit_code_of; });
+  auto& s = *rig.service;
+  // A backup of the line whose drive never answers: its worker is in the read
+  // (the job runs, the drive's port has its connection) for a minute.
+  auto stuck = s.backup_line("line2", "ops");
+  REQUIRE(stuck.ok());
+  for (int i = 0; i < 500 && (hung.connections() == 0 || (*s.job(*stuck))["state"] != "running");
+       ++i)
+    std::this_thread::sleep_for(10ms);
+  REQUIRE(hung.connections() > 0);
+  REQUIRE((*s.job(*stuck))["state"] == "running");
+
+  // Each of the service's parts, read and written meanwhile: the positions
+  // (the stuck one too), the job table, the metrics, the plans, the schedule
+  // and the other line's worker.
+  double slowest = 0;
+  std::string slowest_call;
+  auto timed = [&](const std::string& what, const std::function<void()>& call) {
+    const auto t0 = std::chrono::steady_clock::now();
+    call();
+    if (ms_since(t0) > slowest) {
+      slowest = ms_since(t0);
+      slowest_call = what;
+    }
+  };
+  timed("drives", [&] { CHECK(s.drives().size() == 2); });
+  timed("drive", [&] { CHECK((*s.drive("press4/q"))["name"] == "press4/q"); });
+  timed("job", [&] { CHECK((*s.job(*stuck))["state"] == "running"); });
+  timed("metrics", [&] {
+    CHECK(s.metrics().find("lmcfg_line_runs_total{line=\"line2\"}") != std::string::npos);
+  });
+  timed("history", [&] { CHECK(s.history("press4/q").ok()); });
+  timed("execute", [&] {
+    serve::Service::ExecuteRequest req;
+    req.plan_id = "0123";
+    CHECK(s.execute(req).error().message == "no plan '0123'");
+  });
+  timed("tick", [&] { s.tick(serve::Clock::now()); });
+  INFO("slowest: " << slowest_call << ", " << slowest << " ms");
+  CHECK(slowest < 1000);
+  // The other line's worker goes on: a plan and a backup of line1 end while
+  // line2's read is still stuck.
+  auto planned = s.plan("press3/z", "", "ops");
+  for (int i = 0; i < 20 && !planned.ok() && serve::line_busy(planned.error()); ++i)
+    planned = s.plan("press3/z", "", "ops");  // a slow machine: the same plan's answer
+  CHECK(planned.ok());
+  auto other = s.backup_line("line1", "ops");
+  REQUIRE(other.ok());
+  for (int i = 0; i < 2000 && (*s.job(*other))["state"] != "done"; ++i)
+    std::this_thread::sleep_for(10ms);
+  CHECK((*s.job(*other))["state"] == "done");
+  CHECK((*s.job(*stuck))["state"] == "running");
+  hung.release();
+  s.wait_idle();
+  CHECK((*s.job(*stuck))["state"] == "done");
+  CHECK((*s.job(*stuck))["outcome"] == "some drives failed");
+}
+
 }  // namespace serve_test_service_live
