@@ -53,6 +53,23 @@ std::string outcome_name(const RestoreOutcome& out) {
   return stage_name(out.stage);
 }
 
+std::optional<Error> outcome_error(const RestoreOutcome& out) {
+  using S = RestoreOutcome::Stage;
+  if (out.stage == S::failed && out.error) return out.error;
+  auto joined = [](const std::vector<std::string>& items) {
+    std::string all;
+    for (const auto& i : items) all += (all.empty() ? "" : "; ") + i;
+    return all;
+  };
+  if (out.stage == S::plan_refused)
+    return Error(Errc::plan_refused,
+                 "restore refused: " + joined(out.plan.problems) + "; nothing written");
+  if (out.stage == S::verify_mismatch)
+    return Error(Errc::verify_mismatch,
+                 "written, but the drive reads back differently: " + joined(out.mismatches));
+  return std::nullopt;
+}
+
 RestoreOutcome run_restore(link::Session& session, const config::DriveConfig& file,
                            const db::Database& db, const RestoreRunOptions& o) {
   using S = RestoreOutcome::Stage;

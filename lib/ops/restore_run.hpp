@@ -67,5 +67,10 @@ const char* stage_name(RestoreOutcome::Stage s);  // "restored and verified", ..
 // stage_name, except where values were skipped: "restored except the listed
 // values, verified", "nothing to do except the listed values".
 std::string outcome_name(const RestoreOutcome& out);
+// The error a finished restore ends with: its failure, the plan's refusal
+// (every problem, "nothing written") or the read-back that differs (every
+// mismatch); nullopt when it ended well (restored, nothing to do, dry run,
+// declined). The service's and the ui's jobs record it.
+std::optional<Error> outcome_error(const RestoreOutcome& out);
 
 }  // namespace lmcfg::ops

@@ -306,4 +306,21 @@ std::string verdict(const Json& plan, bool& refused) {
   return "Will " + what + "." + effects + kept;
 }
 
+std::string drive_state_after(const ops::RestoreOutcome& out, std::size_t in_flight) {
+  using A = ops::PlanStep::Action;
+  if (!out.written) return "untouched: nothing was written to it";
+  const auto& steps = out.plan.steps;
+  if (in_flight >= steps.size() || steps[in_flight].action == A::reset)
+    return "written, but it has not answered since its restart: whether it holds the whole "
+           "configuration is known when it answers again (a restore then reads it back)";
+  bool stopped = false;
+  for (std::size_t i = 0; i < steps.size() && i <= in_flight; ++i) {
+    if (steps[i].action == A::stop_mc) stopped = true;
+    if (steps[i].action == A::start_mc && i < in_flight) stopped = false;
+  }
+  return stopped ? "partially configured, and its motion control is stopped: the axis does not "
+                   "move until a restore completes"
+                 : "partially configured: some values were written, others not";
+}
+
 }  // namespace lmcfg::serve::words

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "common/result.hpp"
+#include "ops/restore_run.hpp"
 #include "serve/service.hpp"
 
 namespace lmcfg::serve::words {
@@ -30,6 +31,12 @@ Help help_for(const Error& e, const std::string& position);
 // what the drive holds now (`drive_state`, the job's) and whether the service
 // retries by itself.
 Help restore_failure_help(const Json& job, const std::string& position);
+
+// What the drive holds after a restore that stopped at plan step `in_flight`
+// (the steps before it done), in the words the position and job pages show:
+// "untouched: ...", "partially configured, and its motion control is stopped:
+// ...", "written, but it has not answered since its restart: ...".
+std::string drive_state_after(const ops::RestoreOutcome& out, std::size_t in_flight);
 
 // A message of the library without its citations: "(§13.3)" groups and
 // "§12"-like references removed, for the page's headline (the CLI's wording

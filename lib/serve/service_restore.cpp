@@ -32,42 +32,6 @@ std::optional<Error> plan_changed(const ops::Plan& planned, const ops::Plan& now
                                        what + "); nothing written: make a new plan");
 }
 
-// The error a finished restore ends with: failed, refused, or read back different.
-std::optional<Error> restore_failure(const ops::RestoreOutcome& out) {
-  using S = ops::RestoreOutcome::Stage;
-  if (out.stage == S::failed && out.error) return out.error;
-  if (out.stage == S::plan_refused) {
-    std::string all;
-    for (const auto& p : out.plan.problems) all += (all.empty() ? "" : "; ") + p;
-    return Error(Errc::plan_refused, "restore refused: " + all + "; nothing written");
-  }
-  if (out.stage == S::verify_mismatch) {
-    std::string all;
-    for (const auto& m : out.mismatches) all += (all.empty() ? "" : "; ") + m;
-    return Error(Errc::verify_mismatch, "written, but the drive reads back differently: " + all);
-  }
-  return std::nullopt;
-}
-
-// Steps [0, in_flight) done, step in_flight begun when the restore stopped.
-// What the drive holds, in the words a technician reads on the position.
-std::string drive_state_after(const ops::RestoreOutcome& out, std::size_t in_flight) {
-  using A = ops::PlanStep::Action;
-  if (!out.written) return "untouched: nothing was written to it";
-  const auto& steps = out.plan.steps;
-  if (in_flight >= steps.size() || steps[in_flight].action == A::reset)
-    return "written, but it has not answered since its restart: whether it holds the whole "
-           "configuration is known when it answers again (a restore then reads it back)";
-  bool stopped = false;
-  for (std::size_t i = 0; i < steps.size() && i <= in_flight; ++i) {
-    if (steps[i].action == A::stop_mc) stopped = true;
-    if (steps[i].action == A::start_mc && i < in_flight) stopped = false;
-  }
-  return stopped ? "partially configured, and its motion control is stopped: the axis does not "
-                   "move until a restore completes"
-                 : "partially configured: some values were written, others not";
-}
-
 }  // namespace
 
 // Caller holds store's lock. An automatic retry `job` failed with `e`:
@@ -117,7 +81,7 @@ void Service::Impl::run_restore_job(Job& job, std::size_t li, const fleet::Archi
     a.err = saved.error();
   else
     attempt_restore(a, job, li, f, audit, skip, cause, planned, plan_id);
-  if (!a.err) a.err = restore_failure(a.out);
+  if (!a.err) a.err = ops::outcome_error(a.out);
   // Stopped by SIGTERM/SIGINT: the record stays, the next start finishes it;
   // the drive did not answer (busy resetting or saving when a killed service
   // left it) or its line could not be opened: the next run of the line tries
@@ -132,7 +96,7 @@ void Service::Impl::run_restore_job(Job& job, std::size_t li, const fleet::Archi
     // known state as it was.
     const std::size_t in_flight = jobs.read(job, [](const Job& j) { return j.step_done; });
     begun.drive_state =
-        a.out.written || known.empty() ? drive_state_after(a.out, in_flight) : known;
+        a.out.written || known.empty() ? words::drive_state_after(a.out, in_flight) : known;
     a.drive_state = begun.drive_state;
     jobs.update(job, [&](Job& j) { j.drive_state = begun.drive_state; });
     if (!job.retry_of.empty() && !interrupted)

@@ -6,46 +6,12 @@
 #include "ops/restore_run.hpp"
 #include "ops/undo.hpp"
 #include "report/json_reports.hpp"
+#include "serve/console_words.hpp"
 #include "ui/desk_impl.hpp"
 
 namespace lmcfg::ui {
 
 namespace {
-
-// What the drive holds after a write that stopped at step `in_flight`
-// (steps before it done), as the console's job page words it.
-std::string drive_after(const ops::RestoreOutcome& out, std::size_t in_flight) {
-  using A = ops::PlanStep::Action;
-  if (!out.written) return "untouched: nothing was written to it";
-  const auto& steps = out.plan.steps;
-  if (in_flight >= steps.size() || steps[in_flight].action == A::reset)
-    return "written, but it has not answered since its restart: whether it holds the whole "
-           "configuration is known when it answers again (a restore then reads it back)";
-  bool stopped = false;
-  for (std::size_t i = 0; i < steps.size() && i <= in_flight; ++i) {
-    if (steps[i].action == A::stop_mc) stopped = true;
-    if (steps[i].action == A::start_mc && i < in_flight) stopped = false;
-  }
-  return stopped ? "partially configured, and its motion control is stopped: the axis does not "
-                   "move until a restore completes"
-                 : "partially configured: some values were written, others not";
-}
-
-std::optional<Error> outcome_error(const ops::RestoreOutcome& out) {
-  using S = ops::RestoreOutcome::Stage;
-  if (out.stage == S::failed && out.error) return out.error;
-  if (out.stage == S::plan_refused) {
-    std::string all;
-    for (const auto& p : out.plan.problems) all += (all.empty() ? "" : "; ") + p;
-    return Error(Errc::plan_refused, "restore refused: " + all + "; nothing written");
-  }
-  if (out.stage == S::verify_mismatch) {
-    std::string all;
-    for (const auto& m : out.mismatches) all += (all.empty() ? "" : "; ") + m;
-    return Error(Errc::verify_mismatch, "written, but the drive reads back differently: " + all);
-  }
-  return std::nullopt;
-}
 
 bool fresh(const ops::TargetSeen& t, const db::Database& db) {
   if ((t.ct_entries && !t.ct_entries->empty()) || (t.curves && !t.curves->empty())) return false;
@@ -99,7 +65,7 @@ void Desk::Impl::run_execute(const std::string& job, const StoredPlan& sp, const
   if (!session.ok()) return fail(job, session.error());
   const auto out = ops::run_restore(**session, sp.file, opt.db.get(), ro);
   auto closed = (*session)->close();
-  auto err = outcome_error(out);
+  auto err = ops::outcome_error(out);
   if (!err && !closed.ok() && out.written) err = closed.error();
   int code = err ? code_of(*err) : (out.skipped_any() ? 7 : 0);
   Json skipped = Json::array();
@@ -119,7 +85,7 @@ void Desk::Impl::run_execute(const std::string& job, const StoredPlan& sp, const
       j.state = "failed";
       j.message = err->message;
       j.exit_code = code;
-      j.drive_state = drive_after(out, in_flight);
+      j.drive_state = serve::words::drive_state_after(out, in_flight);
     }
   });
   if (!out.written) return;

@@ -248,4 +248,27 @@ TEST_CASE(
   CHECK(drive->state().mc_running);
 }
 
+TEST_CASE("restore run: the error each way a restore ends with", "[restore_run]") {
+  using S = ops::RestoreOutcome::Stage;
+  ops::RestoreOutcome out;
+  for (S s : {S::dry_run, S::declined, S::nothing_to_do, S::restored}) {
+    out.stage = s;
+    CHECK_FALSE(ops::outcome_error(out).has_value());
+  }
+  out.stage = S::failed;
+  out.error = Error(Errc::timeout, "no answer to step 3");
+  CHECK(ops::outcome_error(out)->message == "no answer to step 3");
+  out.stage = S::plan_refused;
+  out.plan.problems = {"2012h: 9 is above the target's max 8", "no curve 4"};
+  const auto refused = ops::outcome_error(out);
+  CHECK(refused->code == make_error_code(Errc::plan_refused));
+  CHECK(refused->message ==
+        "restore refused: 2012h: 9 is above the target's max 8; no curve 4; nothing written");
+  out.stage = S::verify_mismatch;
+  out.mismatches = {"13A2h: 7 != 5"};
+  const auto differs = ops::outcome_error(out);
+  CHECK(differs->code == make_error_code(Errc::verify_mismatch));
+  CHECK(differs->message == "written, but the drive reads back differently: 13A2h: 7 != 5");
+}
+
 }  // namespace ops_test_restore_run

@@ -162,4 +162,28 @@ TEST_CASE("console words: plan notes and progress lines in a technician's words"
     CHECK(words::progress(cli).find("plan:") == std::string::npos);
 }
 
+TEST_CASE("console words: what the drive holds after a restore stopped at a step",
+          "[console_words]") {
+  using A = ops::PlanStep::Action;
+  ops::RestoreOutcome out;
+  for (A a : {A::stop_mc, A::write_rom, A::save_ct, A::start_mc, A::reset}) {
+    ops::PlanStep st;
+    st.action = a;
+    out.plan.steps.push_back(st);
+  }
+  CHECK(words::drive_state_after(out, 1) == "untouched: nothing was written to it");
+  out.written = true;
+  CHECK(words::drive_state_after(out, 2) ==
+        "partially configured, and its motion control is stopped: the axis does not move until "
+        "a restore completes");
+  // Motion control started again before the step in hand.
+  out.plan.steps.insert(out.plan.steps.begin() + 4, out.plan.steps[1]);  // a write after start_mc
+  CHECK(words::drive_state_after(out, 4) ==
+        "partially configured: some values were written, others not");
+  CHECK(words::drive_state_after(out, 5) ==
+        "written, but it has not answered since its restart: whether it holds the whole "
+        "configuration is known when it answers again (a restore then reads it back)");
+  CHECK(words::drive_state_after(out, 9).rfind("written, but it has not answered", 0) == 0);
+}
+
 }  // namespace serve_test_console_words
