@@ -9,6 +9,7 @@
 #include "ops/recovery.hpp"
 #include "ops/undo.hpp"
 #include "report/report.hpp"
+#include "serve/console_words.hpp"
 #include "serve/service_impl.hpp"
 
 namespace lmcfg::serve {
