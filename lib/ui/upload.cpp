@@ -56,6 +56,9 @@ std::optional<std::string> header_param(std::string_view value, std::string_view
       out = std::string(trim_ws(v.substr(0, used)));
     }
     if (key == name) return out;
+    // Nothing after this parameter: no other. (Also keeps GCC's -O2 from
+    // warning of a search from npos, which `used` never is.)
+    if (used >= v.size()) return std::nullopt;
     const std::size_t next = v.find(';', used);
     if (next == std::string_view::npos) return std::nullopt;
     pos = static_cast<std::size_t>(v.data() + next - value.data());

@@ -120,7 +120,7 @@ TEST_CASE("serve job table: a job's fields are set under the lock and shown as t
   CHECK(t.jobs.running_restore("press/a").empty());
 }
 
-TEST_CASE("serve job table: one unfinished restore per position; the refusal names it",
+TEST_CASE("serve job table: one unfinished restore per position, the refusal names it",
           "[serve][jobs]") {
   Table t;
   auto first = t.jobs.add_restore("press/a", [](Job& j) { j.who = "day-shift"; });
