@@ -136,15 +136,19 @@ struct UiServer::Impl {
                                                   "control character"));
       return std::nullopt;
     }
-    if (!same_secret(field_of(p, "csrf"), csrf)) {
-      fail_page(res, "Refused",
-                Error(Errc::invalid_argument,
-                      "the form's CSRF token is missing or not this page's: "
-                      "reload the page and try again"));
-      res.status = 403;
-      return std::nullopt;
-    }
+    if (!csrf_ok(field_of(p, "csrf"), res)) return std::nullopt;
     return p;
+  }
+
+  // Whether a form's CSRF value is this process's; the refusal (403) written when not.
+  bool csrf_ok(const std::string& sent, Response& res) {
+    if (same_secret(sent, csrf)) return true;
+    fail_page(res, "Refused",
+              Error(Errc::invalid_argument,
+                    "the form's CSRF token is missing or not this page's: "
+                    "reload the page and try again"));
+    res.status = 403;
+    return false;
   }
 
   // The drive page's file form (multipart/form-data, ui/upload.hpp) with
@@ -157,15 +161,9 @@ struct UiServer::Impl {
       if (not_multipart) res.status = 415;
       return std::nullopt;
     }
-    auto csrf_it = up->fields.find("csrf");
-    if (csrf_it == up->fields.end() || !same_secret(csrf_it->second, csrf)) {
-      fail_page(res, "Refused",
-                Error(Errc::invalid_argument,
-                      "the form's CSRF token is missing or not this page's: "
-                      "reload the page and try again"));
-      res.status = 403;
+    const auto csrf_it = up->fields.find("csrf");
+    if (!csrf_ok(csrf_it == up->fields.end() ? std::string() : csrf_it->second, res))
       return std::nullopt;
-    }
     return std::move(up).value();
   }
 
