@@ -119,6 +119,9 @@ def serve(lmcfg, inventory, archive):
     while True:
         if p.poll() is not None:
             raise SystemExit(f"lmcfg serve exited with {p.returncode} before answering")
+        if time.monotonic() - t0 > 600:
+            stop(p)
+            raise SystemExit("lmcfg serve did not answer within 600 s")
         try:
             if get(port, "/api/v1/drives")[0] == 200:
                 break
@@ -126,18 +129,22 @@ def serve(lmcfg, inventory, archive):
             time.sleep(0.02)
     started = time.monotonic() - t0
     p.port = port
-    time.sleep(1)
-    rss = rss_mb(p.pid)
-    lat = {}
-    for name, path, count in (("drives", "/api/v1/drives", 20),
-                              ("one", "/api/v1/drives/line1/axis1", 50), ("overview", "/", 20)):
-        times = []
-        for _ in range(count):
-            status, t, _ = get(port, path)
-            if status != 200:
-                raise SystemExit(f"GET {path}: status {status}")
-            times.append(t)
-        lat[name] = (statistics.median(times) * 1000, max(times) * 1000)
+    try:
+        time.sleep(1)
+        rss = rss_mb(p.pid)
+        lat = {}
+        for name, path, count in (("drives", "/api/v1/drives", 20),
+                                  ("one", "/api/v1/drives/line1/axis1", 50), ("overview", "/", 20)):
+            times = []
+            for _ in range(count):
+                status, t, _ = get(port, path)
+                if status != 200:
+                    raise SystemExit(f"GET {path}: status {status}")
+                times.append(t)
+            lat[name] = (statistics.median(times) * 1000, max(times) * 1000)
+    except BaseException:
+        stop(p)  # never leave the service running behind a failed measurement
+        raise
     return started, rss, lat, p
 
 
@@ -192,8 +199,10 @@ def main(argv):
             if os.path.exists(state):
                 os.remove(state)
             first, _, _, p = serve(lmcfg, inventory, archive)
-            backup_line(p.port, "line1")
-            stop(p)
+            try:
+                backup_line(p.port, "line1")
+            finally:
+                stop(p)
             if not os.path.exists(state):
                 raise SystemExit(f"no {state} after the first start")
             again, rss, lat, p = serve(lmcfg, inventory, archive)
