@@ -1,6 +1,5 @@
 #include "fleet/history.hpp"
 
-#include <cstdio>
 #include <ctime>
 
 #include "common/utc_time.hpp"
@@ -13,21 +12,6 @@ std::string iso_utc(std::int64_t seconds) {
   char buf[32];
   std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
   return buf;
-}
-
-std::optional<std::int64_t> parse_iso_utc(const std::string& text) {
-  std::tm tm{};
-  char zone = 0;
-  int used = 0;
-  if (std::sscanf(text.c_str(), "%4d-%2d-%2dT%2d:%2d:%2d%c%n", &tm.tm_year, &tm.tm_mon, &tm.tm_mday,
-                  &tm.tm_hour, &tm.tm_min, &tm.tm_sec, &zone, &used) != 7 ||
-      zone != 'Z' || static_cast<std::size_t>(used) != text.size() || tm.tm_mon < 1 ||
-      tm.tm_mon > 12 || tm.tm_mday < 1 || tm.tm_mday > 31 || tm.tm_hour > 23 || tm.tm_min > 59 ||
-      tm.tm_sec > 60)
-    return std::nullopt;
-  tm.tm_year -= 1900;
-  tm.tm_mon -= 1;
-  return static_cast<std::int64_t>(utc_time_t(tm));
 }
 
 namespace {

@@ -41,9 +41,6 @@ Result<std::map<std::string, std::int64_t>> last_backup_times(const Archive& arc
                                                               const std::vector<DriveEntry>& drives,
                                                               const std::string& rev = "HEAD");
 
-// "2026-11-24T20:30:00Z" as seconds since the epoch; nullopt for anything else.
-std::optional<std::int64_t> parse_iso_utc(const std::string& text);
-
 // [{commit, time (ISO 8601 UTC), kind, who, reason, ticket, subject, author, message}],
 // reason and ticket null when absent.
 nlohmann::ordered_json history_json(const std::vector<PositionEvent>& events);

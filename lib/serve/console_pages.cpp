@@ -171,17 +171,9 @@ std::string shown_status(const Json& d) {
 }
 
 std::string age(const std::string& iso, TimePoint now) {
-  std::tm tm{};
-  // sscanf counts conversions only: without %n a missing 'Z' (a local time,
-  // "+02:00") or text after it would pass and be read as UTC.
-  int end = -1;
-  if (std::sscanf(iso.c_str(), "%4d-%2d-%2dT%2d:%2d:%2dZ%n", &tm.tm_year, &tm.tm_mon, &tm.tm_mday,
-                  &tm.tm_hour, &tm.tm_min, &tm.tm_sec, &end) != 6 ||
-      end != static_cast<int>(iso.size()))
-    return "";
-  tm.tm_year -= 1900;
-  tm.tm_mon -= 1;
-  const auto t = Clock::from_time_t(utc_time_t(tm));
+  const auto seconds = parse_iso_utc(iso);
+  if (!seconds) return "";
+  const auto t = Clock::from_time_t(static_cast<std::time_t>(*seconds));
   const long long s = std::chrono::duration_cast<std::chrono::seconds>(now - t).count();
   if (s < 0) {  // a deadline (a plan's expiry)
     const long long f = -s;

@@ -1,4 +1,5 @@
 #include <catch2/catch.hpp>
+#include <string>
 
 #include "common/utc_time.hpp"
 
@@ -34,6 +35,25 @@ TEST_CASE("utc_time_t: reads a calendar time as UTC, whatever the local zone",
   CHECK(lmcfg::utc_time_t(tm) == 1000000000);
   CHECK(lmcfg::utc_time_t(lmcfg::utc_tm(0)) == 0);
   CHECK(lmcfg::utc_time_t(lmcfg::utc_tm(1798761599)) == 1798761599);  // 2026-12-31T23:59:59Z
+}
+
+TEST_CASE("parse_iso_utc: ISO 8601 UTC times read back, anything else refused",
+          "[common][utc_time]") {
+  using lmcfg::parse_iso_utc;
+  CHECK(parse_iso_utc("1970-01-01T00:00:00Z") == 0);
+  CHECK(parse_iso_utc("2001-09-09T01:46:40Z") == 1000000000);
+  CHECK(parse_iso_utc("2026-11-24T20:30:00Z") == 1795552200);
+  const std::tm leap =
+      lmcfg::utc_tm(static_cast<std::time_t>(*parse_iso_utc("2024-02-29T23:59:59Z")));
+  CHECK(leap.tm_mon == 1);
+  CHECK(leap.tm_mday == 29);
+  CHECK(leap.tm_sec == 59);
+  for (const std::string bad :
+       {"2026-11-24T20:30:00", "2026-11-24T20:30:00+01", "2026-13-24T20:30:00Z",
+        "2026-11-24T20:30:00Zjunk", "2026-11-24 20:30:00Z", ""}) {
+    INFO(bad);
+    CHECK_FALSE(parse_iso_utc(bad).has_value());
+  }
 }
 
 }  // namespace common_test_utc_time

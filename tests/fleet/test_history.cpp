@@ -180,15 +180,4 @@ TEST_CASE("history: the last backups' times come from the files at HEAD, not fro
   CHECK(fleet::iso_utc(times.at("press3/b")) == "2026-11-25T06:00:00Z");
 }
 
-TEST_CASE("history: ISO 8601 UTC times read back, anything else refused", "[fleet][history]") {
-  CHECK(fleet::parse_iso_utc("1970-01-01T00:00:00Z") == 0);
-  CHECK(fleet::parse_iso_utc("2026-11-24T20:30:00Z") == 1795552200);
-  CHECK(fleet::iso_utc(*fleet::parse_iso_utc("2024-02-29T23:59:59Z")) == "2024-02-29T23:59:59Z");
-  CHECK_FALSE(fleet::parse_iso_utc("2026-11-24T20:30:00").has_value());  // no zone
-  CHECK_FALSE(fleet::parse_iso_utc("2026-11-24T20:30:00+01").has_value());
-  CHECK_FALSE(fleet::parse_iso_utc("2026-13-24T20:30:00Z").has_value());
-  CHECK_FALSE(fleet::parse_iso_utc("2026-11-24T20:30:00Zjunk").has_value());
-  CHECK_FALSE(fleet::parse_iso_utc("").has_value());
-}
-
 }  // namespace fleet_test_history
