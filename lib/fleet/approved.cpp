@@ -93,17 +93,46 @@ Result<std::vector<Approval>> commission(Archive& archive,
   return made;
 }
 
-nlohmann::ordered_json approval_json(const std::optional<Approval>& a) {
-  if (!a) return nullptr;
-  auto text_or_null = [](const std::string& s) {
-    return s.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(s);
+namespace {
+
+template <class W>
+void write_approval_to(W& w, const std::optional<Approval>& a) {
+  if (!a) {
+    w.value(nullptr);
+    return;
+  }
+  auto text_or_null = [&w](const std::string& s) {
+    if (s.empty())
+      w.value(nullptr);
+    else
+      w.value(s);
   };
-  return {{"rev", a->commit},
-          {"time", iso_utc(a->time)},
-          {"who", a->who},
-          {"reason", text_or_null(a->reason)},
-          {"ticket", text_or_null(a->ticket)},
-          {"kind", a->kind}};
+  w.begin_object();
+  w.key("rev");
+  w.value(a->commit);
+  w.key("time");
+  w.value(iso_utc(a->time));
+  w.key("who");
+  w.value(a->who);
+  w.key("reason");
+  text_or_null(a->reason);
+  w.key("ticket");
+  text_or_null(a->ticket);
+  w.key("kind");
+  w.value(a->kind);
+  w.end_object();
+}
+
+}  // namespace
+
+nlohmann::ordered_json approval_json(const std::optional<Approval>& a) {
+  config::JsonBuilder b;
+  write_approval_to(b, a);
+  return b.take();
+}
+
+void write_approval(config::JsonTextWriter& w, const std::optional<Approval>& a) {
+  write_approval_to(w, a);
 }
 
 }  // namespace lmcfg::fleet

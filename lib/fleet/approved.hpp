@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "config/json_writer.hpp"
 #include "fleet/archive.hpp"
 #include "fleet/inventory.hpp"
 
@@ -63,5 +64,7 @@ Result<std::vector<Approval>> commission(Archive& archive,
 
 // {rev, time (ISO 8601 UTC), who, reason, ticket, kind}; null without an approval.
 nlohmann::ordered_json approval_json(const std::optional<Approval>& a);
+// The same, written as text where the writer stands.
+void write_approval(config::JsonTextWriter& w, const std::optional<Approval>& a);
 
 }  // namespace lmcfg::fleet

@@ -269,8 +269,11 @@ void HttpServer::Impl::routes() {
   router.Get("/metrics", guard([this](const Request&, Response& res) {
                res.set_content(service.metrics(), "text/plain; version=0.0.4; charset=utf-8");
              }));
-  router.Get("/api/v1/drives",
-             guard([this](const Request&, Response& res) { json(res, service.drives()); }));
+  router.Get("/api/v1/drives", guard([this](const Request&, Response& res) {
+               std::string text = service.drives_text();
+               text += '\n';  // as json() ends its answers
+               res.set_content(std::move(text), "application/json");
+             }));
   // Drive names contain '/', so {name} is the rest of the path; the
   // /history and /backup endpoints are the same path with a suffix.
   router.Get("/api/v1/drives/{any}/history", guard([this](const Request& req, Response& res) {

@@ -222,6 +222,8 @@ Json Service::drives() const {
   return all;
 }
 
+std::string Service::drives_text() const { return impl_->drives_text(); }
+
 Result<Json> Service::drive(const std::string& name) const {
   const fleet::LineEntry* line = nullptr;
   const auto* d = impl_->opt.inventory.find_drive(name, &line);

@@ -304,8 +304,17 @@ struct Service::Impl {
   // each step with its `kind` and the old and new values for people.
   Json plan_to_json(const StoredPlan& sp) const;
 
+  // A position's state, as GET /api/v1/drives/NAME answers it.
   Json drive_json(const fleet::LineEntry& line, const fleet::DriveEntry& d) const;
-  Json retry_json(const std::string& name, const PendingRestore& pr) const;
+  // Every position's, as the text of dump(2) of the array of them, written
+  // without the objects (config/json_writer.hpp).
+  std::string drives_text() const;
+  // Both through one statement of the members: W is config::JsonBuilder or
+  // config::JsonTextWriter.
+  template <class W>
+  void write_drive(W& w, const fleet::LineEntry& line, const fleet::DriveEntry& d) const;
+  template <class W>
+  void write_retry(W& w, const std::string& name, const PendingRestore& pr) const;
 };
 
 }  // namespace lmcfg::serve

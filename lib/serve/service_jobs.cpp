@@ -4,6 +4,7 @@
 #include <algorithm>
 
 #include "common/bytes.hpp"
+#include "config/json_writer.hpp"
 #include "ops/diff.hpp"
 #include "serve/console.hpp"  // url_encode
 #include "serve/service_impl.hpp"
@@ -388,63 +389,149 @@ void Service::Impl::drop_tasks(std::deque<Task>& left) {
     if (t.fn) t.fn(false);
 }
 
-Json Service::Impl::drive_json(const fleet::LineEntry& line, const fleet::DriveEntry& d) const {
+template <class W>
+void Service::Impl::write_drive(W& w, const fleet::LineEntry& line,
+                                const fleet::DriveEntry& d) const {
   // Each part read in turn, under its own lock (none held together).
   const DriveState st = store.state(d.name);
   const std::optional<PendingRestore> pending = store.pending(d.name);
-  Json j{{"name", d.name},
-         {"line", line.name},
-         {"id", d.id},
-         {"status", st.status},
-         {"last_backup", st.last_backup ? Json(iso_time(*st.last_backup)) : Json(nullptr)}};
+  w.begin_object();
+  w.key("name");
+  w.value(d.name);
+  w.key("line");
+  w.value(line.name);
+  w.key("id");
+  w.value(d.id);
+  w.key("status");
+  w.value(st.status);
+  w.key("last_backup");
+  if (st.last_backup)
+    w.value(iso_time(*st.last_backup));
+  else
+    w.value(nullptr);
+  w.key("last_attempt");
   if (st.last_attempt) {
-    j["last_attempt"] = {{"time", iso_time(*st.last_attempt)},
-                         {"job", st.last_kind},
-                         {"result", st.last_ok ? "ok" : "failed"},
-                         {"exit_code", st.last_exit_code}};
+    w.begin_object();
+    w.key("time");
+    w.value(iso_time(*st.last_attempt));
+    w.key("job");
+    w.value(st.last_kind);
+    w.key("result");
+    w.value(st.last_ok ? "ok" : "failed");
+    w.key("exit_code");
+    w.value(st.last_exit_code);
+    w.end_object();
   } else {
-    j["last_attempt"] = nullptr;
+    w.value(nullptr);
   }
-  j["differences"] = st.differences;
-  j["message"] = st.message;
-  if (st.status == "drift") j["differing"] = st.differing;
-  j["kept"] = st.kept;
-  j["approved"] = fleet::approval_json(st.approved);
-  j["drive_state"] = st.drive_state.empty() ? Json(nullptr) : Json(st.drive_state);
+  w.key("differences");
+  w.value(static_cast<std::uint64_t>(st.differences));
+  w.key("message");
+  w.value(st.message);
+  if (st.status == "drift") {
+    w.key("differing");
+    w.begin_array();
+    for (const auto& line_text : st.differing) w.value(line_text);
+    w.end_array();
+  }
+  w.key("kept");
+  w.value(st.kept);
+  w.key("approved");
+  if constexpr (std::is_same_v<W, config::JsonTextWriter>)
+    fleet::write_approval(w, st.approved);
+  else
+    w.value(fleet::approval_json(st.approved));
+  w.key("drive_state");
+  if (st.drive_state.empty())
+    w.value(nullptr);
+  else
+    w.value(st.drive_state);
   // A failed restore the service will run again (before the line's next drift
   // check or backup) until an operator cancels it.
-  j["retry"] = pending ? retry_json(d.name, *pending) : Json(nullptr);
-  return j;
+  w.key("retry");
+  if (pending)
+    write_retry(w, d.name, *pending);
+  else
+    w.value(nullptr);
+  w.end_object();
 }
 
 // A restore waiting to run again, as a position shows it.
-Json Service::Impl::retry_json(const std::string& name, const PendingRestore& pr) const {
-  Json r{{"of_job", pr.origin_job.empty() ? Json(nullptr) : Json(pr.origin_job)},
-         {"asked_by", pr.who},
-         {"commit", pr.commit},
-         {"drive_state", pr.drive_state.empty() ? Json(nullptr) : Json(pr.drive_state)},
-         {"running", false},
-         {"will",
-          "restore the same revision again when the drive answers, before the line's next "
-          "drift check or backup (a restore run again converges)"}};
-  if (const std::string running = jobs.running_restore(name); !running.empty()) {
-    r["running"] = true;
-    r["job"] = running;
-  }
-  // Each automatic retry that failed (the newest kept), and when the next runs.
-  Json failures = Json::array();
-  for (const auto& f : pr.failures)
-    failures.push_back({{"time", f.time}, {"job", f.job}, {"reason", f.reason}});
-  r["failed_attempts"] = pr.failed_attempts;
-  r["failures"] = std::move(failures);
+template <class W>
+void Service::Impl::write_retry(W& w, const std::string& name, const PendingRestore& pr) const {
+  const std::string running = jobs.running_restore(name);
   std::optional<TimePoint> next;
   {
     std::lock_guard<std::mutex> lock(mu);
     next = next_status;
     if (next_backup && (!next || *next_backup < *next)) next = next_backup;
   }
-  r["next_attempt"] = next ? Json(iso_time(*next)) : Json(nullptr);
-  return r;
+  w.begin_object();
+  w.key("of_job");
+  if (pr.origin_job.empty())
+    w.value(nullptr);
+  else
+    w.value(pr.origin_job);
+  w.key("asked_by");
+  w.value(pr.who);
+  w.key("commit");
+  w.value(pr.commit);
+  w.key("drive_state");
+  if (pr.drive_state.empty())
+    w.value(nullptr);
+  else
+    w.value(pr.drive_state);
+  w.key("running");
+  w.value(!running.empty());
+  w.key("will");
+  w.value(
+      "restore the same revision again when the drive answers, before the line's next "
+      "drift check or backup (a restore run again converges)");
+  if (!running.empty()) {
+    w.key("job");
+    w.value(running);
+  }
+  // Each automatic retry that failed (the newest kept), and when the next runs.
+  w.key("failed_attempts");
+  w.value(static_cast<std::uint64_t>(pr.failed_attempts));
+  w.key("failures");
+  w.begin_array();
+  for (const auto& f : pr.failures) {
+    w.begin_object();
+    w.key("time");
+    w.value(f.time);
+    w.key("job");
+    w.value(f.job);
+    w.key("reason");
+    w.value(f.reason);
+    w.end_object();
+  }
+  w.end_array();
+  w.key("next_attempt");
+  if (next)
+    w.value(iso_time(*next));
+  else
+    w.value(nullptr);
+  w.end_object();
+}
+
+Json Service::Impl::drive_json(const fleet::LineEntry& line, const fleet::DriveEntry& d) const {
+  config::JsonBuilder b;
+  write_drive(b, line, d);
+  return b.take();
+}
+
+std::string Service::Impl::drives_text() const {
+  std::string out;
+  // About 560 bytes a position (a backed-up one, approved, no retry): one
+  // allocation instead of the string's doublings at thousands of positions.
+  out.reserve(opt.inventory.drive_count() * 600);
+  config::JsonTextWriter w(out, 2);
+  w.begin_array();
+  for (const auto& line : opt.inventory.lines)
+    for (const auto& d : line.drives) write_drive(w, line, d);
+  w.end_array();
+  return out;
 }
 
 }  // namespace lmcfg::serve

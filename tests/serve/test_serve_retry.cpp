@@ -69,6 +69,11 @@ TEST_CASE(
   CHECK(d["retry"]["asked_by"] == "ops");
   CHECK(d["retry"]["running"] == false);
   CHECK(d["retry"]["drive_state"] == kSilentState);
+  // The list's text, written without building it, is the built list's dump
+  // with the retry in it (Service::drives_text).
+  CHECK(
+      rig.service->drives_text() ==
+      rig.service->drives().dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace));
   CHECK(d["retry"]["will"] ==
         "restore the same revision again when the drive answers, before the line's next drift "
         "check or backup (a restore run again converges)");

@@ -25,6 +25,12 @@ using namespace lmcfg::test;
 namespace fs = std::filesystem;
 using namespace std::chrono_literals;
 
+// GET /api/v1/drives writes the list's text without building it
+// (Service::drives_text): the same bytes as the built list's dump.
+std::string built_list_text(const serve::Service& s) {
+  return s.drives().dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace);
+}
+
 TEST_CASE(
     "serve: the schedule is due at start, then every period, drift notified once, "
     "recovered once",
@@ -40,6 +46,7 @@ TEST_CASE(
   CHECK(drives[0]["status"] == "ok");
   CHECK(drives[0]["last_backup"] == "2027-01-15T08:00:00Z");
   CHECK(drives[1]["last_attempt"]["job"] == "status");
+  CHECK(rig.service->drives_text() == built_list_text(*rig.service));
   REQUIRE(rig.service->job("1").ok());
   CHECK((*rig.service->job("1"))["commits"].size() == 1);
   CHECK((*rig.service->job("2"))["kind"] == "status");
@@ -72,6 +79,8 @@ TEST_CASE(
   CHECK(events[0]["upids"][0]["live"] == "7");
   CHECK((*rig.service->drive("press3/x"))["status"] == "drift");
   CHECK((*rig.service->drive("press3/x"))["differences"] == 1);
+  CHECK(rig.service->drives()[1]["differing"].size() == 1);
+  CHECK(rig.service->drives_text() == built_list_text(*rig.service));
   CHECK((*rig.service->drive("press3/z"))["status"] == "ok");
   CHECK(rig.service->next_status() == t0 + 30min);
 
@@ -100,6 +109,7 @@ TEST_CASE(
   CHECK(events[0]["exit_code"] == 4);
   CHECK(events[0]["reason"].get<std::string>().find("line 'line1'") == 0);
   CHECK((*rig.service->drive("press3/z"))["status"] == "failed");
+  CHECK(rig.service->drives_text() == built_list_text(*rig.service));
   write_axis(rig.dir.path / "b.json", 0x12);
   rig.at(t0 + 105min);
   events = rig.take_events();
