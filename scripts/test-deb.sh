@@ -4,12 +4,32 @@
 # into a fresh Debian 12 (debootstrap --variant=minbase into BUILD/deb-test/,
 # chroot), where `lmcfg --version` and `lmcfg db show 13A2` must work. Needs
 # root and network access to the Debian mirror ($LMCFG_DEBIAN_MIRROR).
+# usage: test-deb.sh [--prepare]
+#   --prepare: only the fresh Debian 12 (debootstrap, mostly waiting on the
+#   mirror), so that CI runs it beside the build (.ci/run); a later run without
+#   it finds the system there and goes on from the package.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${LMCFG_BUILD_DIR:-$root/build}"
 mirror="${LMCFG_DEBIAN_MIRROR:-http://deb.debian.org/debian}"
 start=$(date +%s)
 step() { echo "test-deb: [$(($(date +%s) - start)) s] $*"; }
+
+chroot_dir="$build/deb-test/root"
+bootstrap() {  # a minimal Debian 12 in $chroot_dir, unless one is there
+  if [[ ! -x "$chroot_dir/usr/bin/apt-get" ]]; then
+    step "debootstrap --variant=minbase bookworm $chroot_dir"
+    rm -rf "$chroot_dir"
+    mkdir -p "$chroot_dir"
+    debootstrap --variant=minbase bookworm "$chroot_dir" "$mirror" >"$build/deb-test/debootstrap.log" 2>&1 ||
+      { tail -20 "$build/deb-test/debootstrap.log"; exit 1; }
+  fi
+}
+if [[ ${1:-} == --prepare ]]; then
+  bootstrap
+  step "ok (prepared)"
+  exit 0
+fi
 
 step "cpack -G DEB"
 (cd "$build" && rm -f lmcfg_*.deb && cpack -G DEB >/dev/null)
@@ -22,17 +42,10 @@ for f in ./usr/bin/lmcfg ./usr/share/lmcfg/lmcfg-upid.sqlite ./usr/share/lmcfg/s
   grep -q " $f\$" "$build/deb-contents.txt" || { echo "test-deb: $f not in $deb"; exit 1; }
 done
 
-chroot_dir="$build/deb-test/root"
 mounted=0
 cleanup() { if ((mounted)); then umount "$chroot_dir/proc" || true; fi; }
 trap cleanup EXIT
-if [[ ! -x "$chroot_dir/usr/bin/apt-get" ]]; then
-  step "debootstrap --variant=minbase bookworm $chroot_dir"
-  rm -rf "$chroot_dir"
-  mkdir -p "$chroot_dir"
-  debootstrap --variant=minbase bookworm "$chroot_dir" "$mirror" >"$build/deb-test/debootstrap.log" 2>&1 ||
-    { tail -20 "$build/deb-test/debootstrap.log"; exit 1; }
-fi
+bootstrap
 # A fresh system each time: remove what an earlier run installed.
 chroot "$chroot_dir" dpkg --purge lmcfg >/dev/null 2>&1 || true
 cp "$deb" "$chroot_dir/tmp/"
