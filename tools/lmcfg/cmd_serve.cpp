@@ -13,6 +13,7 @@
 #include "serve/http.hpp"
 #include "serve/notify.hpp"
 #include "serve/service.hpp"
+#include "serve/task_limit.hpp"
 #include "serve/tokens.hpp"
 
 namespace lmcfg::cli {
@@ -64,6 +65,10 @@ int run_serve(const ServeCli& o) {
   if (!inv.ok()) return fail("serve", inv.error());
   if (auto hook = serve::check_webhook(inv->notify.webhook); !hook.ok())
     return fail("serve", hook.error());
+  // Under systemd (TasksMax=) or another cgroup's pids.max: every thread fits.
+  if (auto tasks = serve::check_task_limit(*inv, http.server.workers, serve::own_task_limit());
+      !tasks.ok())
+    return fail("serve", tasks.error());
   ops::install_interrupt_handlers();
   serve::ServiceOptions so;
   so.inventory = *inv;
