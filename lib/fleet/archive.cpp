@@ -137,16 +137,25 @@ Result<std::optional<CommitInfo>> Archive::resolve(const std::string& rev) const
 
 Result<std::optional<std::string>> Archive::read(const std::string& path,
                                                  const std::string& rev) const {
-  LMCFG_ASSIGN_OR_RETURN(auto commit, resolve(rev));
-  if (!commit) return std::optional<std::string>();
-  Object blob;
-  const std::string spec = commit->id + ":" + path;
-  const int rc = git_revparse_single(&blob.p, repo_, spec.c_str());
+  // The commit's tree only: resolve() would copy and check its whole message
+  // (a first backup's lists every position), once per file read.
+  if (rev == "HEAD" && unborn(repo_)) return std::optional<std::string>();
+  Object obj;
+  if (git_revparse_single(&obj.p, repo_, (rev + "^{commit}").c_str()) != 0)
+    return git_failure(Errc::not_found, "archive " + dir_ + ": revision '" + rev + "'");
+  const std::string where = "archive " + dir_ + ": " + path + " at " + rev;
+  Tree tree;
+  if (git_commit_tree(&tree.p, reinterpret_cast<git_commit*>(obj.p)) != 0)
+    return git_failure(Errc::file_error, where);
+  Entry e;
+  const int rc = git_tree_entry_bypath(&e.p, tree.p, path.c_str());
   if (rc == GIT_ENOTFOUND) return std::optional<std::string>();
-  if (rc != 0) return git_failure(Errc::file_error, "archive " + dir_ + ": " + path + " at " + rev);
-  if (git_object_type(blob.p) != GIT_OBJECT_BLOB)
-    return Error(Errc::file_error,
-                 "archive " + dir_ + ": " + path + " at " + rev + " is not a file");
+  if (rc != 0) return git_failure(Errc::file_error, where);
+  if (git_tree_entry_type(e.p) != GIT_OBJECT_BLOB)
+    return Error(Errc::file_error, where + " is not a file");
+  Object blob;
+  if (git_tree_entry_to_object(&blob.p, repo_, e.p) != 0)
+    return git_failure(Errc::file_error, where);
   auto* b = reinterpret_cast<git_blob*>(blob.p);
   return std::optional<std::string>(
       std::string(static_cast<const char*>(git_blob_rawcontent(b)), git_blob_rawsize(b)));

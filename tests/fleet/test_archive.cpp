@@ -62,6 +62,26 @@ TEST_CASE("archive: a new or empty directory becomes a repository, anything else
                                  "(push to the bare one with --push)");
 }
 
+TEST_CASE("archive: a file read names the revision it cannot find; a folder is not a file",
+          "[fleet][archive]") {
+  test::ScratchDir d("archive-read");
+  const auto dir = d.path / "arch";
+  auto a = open_new(dir);
+  fs::create_directories(dir / "line2");
+  test::spit(dir / "line2" / "a.json", "{}\n");
+  REQUIRE(a.commit({"line2/a.json"}, "fleet backup: line2").ok());
+  auto unknown_read = a.read("line2/a.json", "no-such-rev");
+  REQUIRE_FALSE(unknown_read.ok());
+  CHECK(unknown_read.error().code == make_error_code(Errc::not_found));
+  CHECK(unknown_read.error().message.rfind("archive " + dir.string() + ": revision 'no-such-rev': ",
+                                           0) == 0);
+  CHECK(a.read("line2/a.json").value() == std::optional<std::string>("{}\n"));
+  CHECK_FALSE(a.read("line2/b.json").value());
+  auto folder = a.read("line2");
+  REQUIRE_FALSE(folder.ok());
+  CHECK(folder.error().message == "archive " + dir.string() + ": line2 at HEAD is not a file");
+}
+
 TEST_CASE("archive: commits only on change, reads any revision, git log agrees",
           "[fleet][archive]") {
   test::ScratchDir d("archive-commit");
