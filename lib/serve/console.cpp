@@ -300,9 +300,15 @@ Page Console::overview(const ConsoleUser& u, const std::string& line, const std:
   if (!page.empty() && page.size() <= 6 &&
       page.find_first_not_of("0123456789") == std::string::npos)
     n = std::max<std::size_t>(1, std::stoul(page));
-  const Json drives = impl_->service.drives();
+  // Every position's status for the counts and the filter; the whole state
+  // only of the rows shown (a page of kOverviewRows).
+  const Json drives = impl_->service.drive_summaries();
+  auto row = [this](const Json& summary) {
+    auto whole = impl_->service.drive(summary["name"].get<std::string>());
+    return whole.ok() ? *whole : summary;
+  };
   return {200, pages::overview(u, sign_in_needed(), impl_->service.inventory(), drives, line,
-                               status, impl_->opt.clock(), n)};
+                               status, impl_->opt.clock(), n, row)};
 }
 
 Page Console::position(const ConsoleUser& u, const std::string& name) const {

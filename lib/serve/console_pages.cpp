@@ -210,7 +210,7 @@ static bool never_backed_up(const Json& d) { return !member(d, "last_backup").is
 
 std::string overview(const ConsoleUser& u, bool signed_in, const fleet::Inventory& inv,
                      const Json& drives, const std::string& line, const std::string& status,
-                     TimePoint now, std::size_t page) {
+                     TimePoint now, std::size_t page, const std::function<Json(const Json&)>& row) {
   // The counts agree with the rows: "never backed up" counts every position
   // whose row says "Last backup: never", beside its status.
   std::map<std::string, std::size_t> counts;
@@ -235,12 +235,15 @@ std::string overview(const ConsoleUser& u, bool signed_in, const fleet::Inventor
   // of thousands stays a page a browser draws at once.
   const std::size_t first = (std::max<std::size_t>(page, 1) - 1) * kOverviewRows;
   std::size_t matched = 0;
-  for (const auto& d : drives) {
-    const std::string st = shown_status(d);
-    if (!line.empty() && str(d, "line") != line) continue;
-    if (!status.empty() && st != status && !(status == "never backed up" && never_backed_up(d)))
+  for (const auto& summary : drives) {
+    const std::string st = shown_status(summary);
+    if (!line.empty() && str(summary, "line") != line) continue;
+    if (!status.empty() && st != status &&
+        !(status == "never backed up" && never_backed_up(summary)))
       continue;
     if (matched++ < first || matched > first + kOverviewRows) continue;
+    const Json whole = row ? row(summary) : Json();
+    const Json& d = row ? whole : summary;
     char id[8];
     std::snprintf(id, sizeof id, "0x%02X", member(d, "id").get<unsigned>());
     // data-label: each cell's heading where a narrow screen shows a row as a card.

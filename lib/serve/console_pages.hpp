@@ -1,4 +1,5 @@
 #pragma once
+#include <functional>
 // The console's HTML (serve/console.hpp): one function per page, from the
 // Service's JSON answers. Every text from the inventory, a drive or the
 // archive goes through report::html_escape (attributes too), names in URLs
@@ -17,9 +18,13 @@ std::string signin(const std::string& message, const std::string& next, const st
 inline constexpr std::size_t kOverviewRows = 100;
 // The overview: counts of every position, then page `page` (from 1) of the
 // rows the line and status filters match, with links to the pages beside it.
+// `drives` needs name, line, id, status and last_backup of each position
+// (Service::drive_summaries); `row`, when given, gives the whole state of
+// each position shown (Service::drive), else `drives` holds it.
 std::string overview(const ConsoleUser& u, bool signed_in, const fleet::Inventory& inv,
                      const Json& drives, const std::string& line, const std::string& status,
-                     TimePoint now, std::size_t page = 1);
+                     TimePoint now, std::size_t page = 1,
+                     const std::function<Json(const Json&)>& row = {});
 std::string position(const ConsoleUser& u, bool signed_in, const fleet::LineEntry& line,
                      const fleet::DriveEntry& d, const Json& state, const Result<Json>& history,
                      TimePoint now);

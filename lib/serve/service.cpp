@@ -224,6 +224,23 @@ Json Service::drives() const {
 
 std::string Service::drives_text() const { return impl_->drives_text(); }
 
+Json Service::drive_summaries() const {
+  Json all = Json::array();
+  for (const auto& line : impl_->opt.inventory.lines)
+    for (const auto& d : line.drives) {
+      Json j{{"name", d.name}, {"line", line.name}, {"id", d.id}};
+      impl_->store.read([&](const detail::StateStore::Data& data) {
+        const auto it = data.states.find(d.name);
+        const detail::DriveState unknown;
+        const detail::DriveState& st = it == data.states.end() ? unknown : it->second;
+        j["status"] = st.status;
+        j["last_backup"] = st.last_backup ? Json(iso_time(*st.last_backup)) : Json(nullptr);
+      });
+      all.push_back(std::move(j));
+    }
+  return all;
+}
+
 Result<Json> Service::drive(const std::string& name) const {
   const fleet::LineEntry* line = nullptr;
   const auto* d = impl_->opt.inventory.find_drive(name, &line);

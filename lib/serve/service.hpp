@@ -169,6 +169,9 @@ class Service {
   // The same as the text of drives().dump(2), written without building the
   // array: at thousands of positions the objects were most of the time.
   std::string drives_text() const;
+  // Each position's name, line, id, status and last_backup only, as in
+  // drives(): what the overview counts and filters by.
+  Json drive_summaries() const;
   Result<Json> drive(const std::string& name) const;
   Result<Json> history(const std::string& name) const;
   // The inventory served (positions, labels), for the console's pages.

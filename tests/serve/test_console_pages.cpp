@@ -123,6 +123,28 @@ TEST_CASE("console pages: the overview counts positions by status and filters th
      "last_attempt": null, "differences": 0, "message": ""}])");
 
   std::string html = pages::overview(kOperator, false, inv, drives, "", "", kNow);
+  // As the console draws it: the summaries counted and filtered, the whole
+  // state asked for of each row shown; the same page.
+  Json summaries = Json::array();
+  for (const auto& d : drives)
+    summaries.push_back({{"name", d["name"]},
+                         {"line", d["line"]},
+                         {"id", d["id"]},
+                         {"status", d["status"]},
+                         {"last_backup", d["last_backup"]}});
+  std::vector<std::string> asked;
+  auto whole = [&](const Json& summary) {
+    asked.push_back(summary["name"].get<std::string>());
+    for (const auto& d : drives)
+      if (d["name"] == summary["name"]) return d;
+    return Json();
+  };
+  CHECK(pages::overview(kOperator, false, inv, summaries, "", "", kNow, 1, whole) == html);
+  CHECK(asked == std::vector<std::string>{"press3/z", "press3/x", "saw/a"});
+  asked.clear();
+  CHECK(pages::overview(kOperator, false, inv, summaries, "line1", "drift", kNow, 1, whole) ==
+        pages::overview(kOperator, false, inv, drives, "line1", "drift", kNow));
+  CHECK(asked == std::vector<std::string>{"press3/x"});  // only the row shown
   CHECK(has(html, "<title>Plant overview - lmcfg</title>"));
   CHECK(has(html, "<span class=\"who\">night-shift (operator)</span>"));
   CHECK_FALSE(has(html, "Sign out"));  // without tokens there is no signing out
