@@ -15,7 +15,8 @@ line, each line a `sim:` port of its drives' state files; then
     <archive>/.git/lmcfg-serve/states.json (a first start) and with it (a
     restart); the service's resident memory (VmRSS) after the start; the
     median and longest answer time of GET /api/v1/drives, of one position
-    (GET /api/v1/drives/NAME) and of the console's overview (GET /).
+    (GET /api/v1/drives/NAME) and of the console's overview (GET /), and
+    its peak resident memory (VmHWM) after them.
 Prints one table row per N.
 
 usage: bench_plant.py LMCFG_BINARY [N ...] [--history H] [--keep]
@@ -91,21 +92,22 @@ def get(port, path, method="GET"):
     s = socket.create_connection(("127.0.0.1", port), timeout=60)
     s.sendall(f"{method} {path} HTTP/1.1\r\nHost: 127.0.0.1:{port}\r\nContent-Length: 0\r\n"
               "Connection: close\r\n\r\n".encode())
-    data = b""
+    chunks = []  # joined once: adding each to the last copies megabytes per answer
     while True:
         chunk = s.recv(1 << 16)
         if not chunk:
             break
-        data += chunk
+        chunks.append(chunk)
     s.close()
+    data = b"".join(chunks)
     status = int(data.split(b" ", 2)[1]) if data.startswith(b"HTTP/1.1 ") else 0
     return status, time.monotonic() - t0, data.split(b"\r\n\r\n", 1)[-1]
 
 
-def rss_mb(pid):
+def rss_mb(pid, field="VmRSS"):
     with open(f"/proc/{pid}/status") as f:
         for line in f:
-            if line.startswith("VmRSS:"):
+            if line.startswith(field + ":"):
                 return int(line.split()[1]) / 1024
     return -1
 
@@ -142,6 +144,7 @@ def serve(lmcfg, inventory, archive):
                     raise SystemExit(f"GET {path}: status {status}")
                 times.append(t)
             lat[name] = (statistics.median(times) * 1000, max(times) * 1000)
+        p.peak = rss_mb(p.pid, "VmHWM")  # after the requests (their answers built)
     except BaseException:
         stop(p)  # never leave the service running behind a failed measurement
         raise
@@ -182,7 +185,7 @@ def main(argv):
     print(f"lmcfg at plant size: {PER_LINE} simulated drives per line (sim: ports), "
           f"{commits} backups in the history")
     print(f"{'N':>6} {'first':>7} {'repeat':>7} {'status':>7} {'start':>7} {'restart':>8} "
-          f"{'RSS MB':>7} {'drives ms':>14} {'one ms':>12} {'overview ms':>14}")
+          f"{'RSS MB':>7} {'peak MB':>8} {'drives ms':>14} {'one ms':>12} {'overview ms':>14}")
     for n in sizes:
         folder = tempfile.mkdtemp(prefix=f"lmcfg-bench-plant-{n}-")
         try:
@@ -209,7 +212,7 @@ def main(argv):
             stop(p)
             fmt = lambda ms: f"{ms[0]:.1f} / {ms[1]:.1f}"
             print(f"{n:>6} {figures[0]:>6.1f}s {figures[1]:>6.1f}s {figures[2]:>6.1f}s {first:>6.2f}s "
-                  f"{again:>7.2f}s {rss:>7.1f} {fmt(lat['drives']):>14} {fmt(lat['one']):>12} "
+                  f"{again:>7.2f}s {rss:>7.1f} {p.peak:>8.1f} {fmt(lat['drives']):>14} {fmt(lat['one']):>12} "
                   f"{fmt(lat['overview']):>14}", flush=True)
         finally:
             if keep:
