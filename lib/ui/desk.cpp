@@ -123,7 +123,7 @@ Result<std::string> Desk::Impl::start(const std::string& kind, const std::string
     }
     std::lock_guard<std::mutex> l(mu);
     auto& done = jobs.at(id);
-    if (done.state == "running") done.state = "done";
+    done.state = done.failed ? "failed" : "done";
     done.finished = iso_now();
     for (const std::string& p : {port, also})
       if (busy.count(p) && busy[p] == id) busy.erase(p);
@@ -150,7 +150,7 @@ Progress Desk::Impl::progress_of(const std::string& id) {
 void Desk::Impl::fail(const std::string& id, const Error& e) {
   const int code = code_of(e);
   update(id, [&](DeskJob& j) {
-    j.state = "failed";
+    j.failed = true;
     j.message = e.message;
     j.exit_code = code;
   });

@@ -22,7 +22,10 @@ struct DeskJob {
   std::string step;
   std::size_t done = 0, total = 0;
   std::size_t step_done = 0;  // restore: steps finished before the one in hand
-  std::string message;        // the CLI's message of a failure
+  // Failed, said as the job's state only when it has ended and its ports are
+  // free: a page that sees "failed" may start the way out at once.
+  bool failed = false;
+  std::string message;  // the CLI's message of a failure
   int exit_code = 0;
   std::string drive_state;  // a failed write: what the drive holds now
   Json result = Json::object();

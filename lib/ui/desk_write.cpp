@@ -82,7 +82,7 @@ void Desk::Impl::run_execute(const std::string& job, const StoredPlan& sp, const
                     {"undo", out.undo ? Json(out.undo->path.string()) : Json(nullptr)},
                     {"undo_command", out.undo ? Json(out.undo->command) : Json(nullptr)}};
     if (err) {
-      j.state = "failed";
+      j.failed = true;
       j.message = err->message;
       j.exit_code = code;
       j.drive_state = serve::words::drive_state_after(out, in_flight);
