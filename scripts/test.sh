@@ -51,6 +51,11 @@ if [[ "${LMCFG_SANITIZE:-0}" == 1 ]]; then
   # phase's run time (docs/ci.md). LMCFG_SANITIZE_ALL=1 runs them too.
   if [[ "${LMCFG_SANITIZE_ALL:-0}" != 1 ]]; then
     exclude+=(-LE external)
+    # The two statistical runs (tests/ops/test_reliability_soak.cpp,
+    # tests/client/test_reliability_link.cpp) take a tenth of their cycles and
+    # one fault sequence: the same code paths, which is what the sanitizers
+    # check; the regular build ran them whole and checked their statistics.
+    export LMCFG_SOAK_CYCLES="${LMCFG_SOAK_CYCLES:-100}" LMCFG_SEED="${LMCFG_SEED:-20261123}"
   fi
 fi
 ctest --output-on-failure -j"$(nproc)" --timeout 600 "${exclude[@]}"
