@@ -45,20 +45,33 @@ seed() {  # seed corpus per target from the fixtures
   fi
 }
 
-status=0
-for t in "${targets[@]}"; do
-  corpus="$build/corpus/$t"
-  artifacts="$build/artifacts/$t"
-  seed "$t" "$corpus"
-  mkdir -p "$artifacts"
-  echo "== fuzz_$t for ${secs}s (corpus $corpus)"
-  budget=(-max_total_time="$secs")
+# Each target is one process on one core: $jobs of them at a time, each with
+# its own log; the results are printed in the targets' order.
+run_one() {  # run_one TARGET: its exit status into fuzz_TARGET.rc (0: no crash)
+  local t=$1 corpus="$build/corpus/$1" artifacts="$build/artifacts/$1" rc=0
+  local budget=(-max_total_time="$secs")
   if [[ -n "${LMCFG_FUZZ_RUNS:-}" ]]; then
     budget+=(-runs="$LMCFG_FUZZ_RUNS" -seed="${LMCFG_FUZZ_SEED:-1}")
-    echo "   ${LMCFG_FUZZ_RUNS} runs from seed ${LMCFG_FUZZ_SEED:-1}, at most ${secs}s"
   fi
-  if ! "$build/fuzz/fuzz_$t" "${budget[@]}" -timeout=10 -rss_limit_mb=2048 -max_len=8192 \
-       -print_final_stats=1 -artifact_prefix="$artifacts/" "$corpus" 2>"$build/fuzz_$t.log"; then
+  "$build/fuzz/fuzz_$t" "${budget[@]}" -timeout=10 -rss_limit_mb=2048 -max_len=8192 \
+    -print_final_stats=1 -artifact_prefix="$artifacts/" "$corpus" 2>"$build/fuzz_$t.log" || rc=$?
+  echo "$rc" >"$build/fuzz_$t.rc"
+}
+for t in "${targets[@]}"; do
+  seed "$t" "$build/corpus/$t"
+  mkdir -p "$build/artifacts/$t"
+  echo "== fuzz_$t for ${secs}s (corpus $build/corpus/$t)"
+  [[ -n "${LMCFG_FUZZ_RUNS:-}" ]] &&
+    echo "   ${LMCFG_FUZZ_RUNS} runs from seed ${LMCFG_FUZZ_SEED:-1}, at most ${secs}s"
+  rm -f "$build/fuzz_$t.rc"
+  while (($(jobs -rp | wc -l) >= jobs)); do sleep 1; done
+  run_one "$t" &
+done
+wait
+status=0
+for t in "${targets[@]}"; do
+  artifacts="$build/artifacts/$t"
+  if [[ $(cat "$build/fuzz_$t.rc" 2>/dev/null) != 0 ]]; then
     status=1
     echo "fuzz_$t FAILED; see $build/fuzz_$t.log" >&2
     tail -40 "$build/fuzz_$t.log" >&2
