@@ -40,6 +40,21 @@ class JsonTextWriter {
   // Any value, as dump() writes it at this depth.
   void value(const nlohmann::ordered_json& j);
 
+  // A member of an object: its key, then its value.
+  template <class T>
+  void member(std::string_view k, T&& v) {
+    key(k);
+    value(std::forward<T>(v));
+  }
+  // The same, null for an empty text.
+  void member_or_null(std::string_view k, const std::string& s) {
+    key(k);
+    if (s.empty())
+      value(nullptr);
+    else
+      value(s);
+  }
+
  private:
   void before_value();
   void newline_indent(std::size_t depth);
@@ -64,6 +79,21 @@ class JsonBuilder {
   void value(std::string_view s) { place(nlohmann::ordered_json(std::string(s))); }
   // The document built (after the outermost end).
   nlohmann::ordered_json take() { return std::move(root_); }
+
+  // A member of an object: its key, then its value.
+  template <class T>
+  void member(std::string_view k, T&& v) {
+    key(k);
+    value(std::forward<T>(v));
+  }
+  // The same, null for an empty text.
+  void member_or_null(std::string_view k, const std::string& s) {
+    key(k);
+    if (s.empty())
+      value(nullptr);
+    else
+      value(s);
+  }
 
  private:
   nlohmann::ordered_json* place(nlohmann::ordered_json v);

@@ -101,25 +101,13 @@ void write_approval_to(W& w, const std::optional<Approval>& a) {
     w.value(nullptr);
     return;
   }
-  auto text_or_null = [&w](const std::string& s) {
-    if (s.empty())
-      w.value(nullptr);
-    else
-      w.value(s);
-  };
   w.begin_object();
-  w.key("rev");
-  w.value(a->commit);
-  w.key("time");
-  w.value(iso_utc(a->time));
-  w.key("who");
-  w.value(a->who);
-  w.key("reason");
-  text_or_null(a->reason);
-  w.key("ticket");
-  text_or_null(a->ticket);
-  w.key("kind");
-  w.value(a->kind);
+  w.member("rev", a->commit);
+  w.member("time", iso_utc(a->time));
+  w.member("who", a->who);
+  w.member_or_null("reason", a->reason);
+  w.member_or_null("ticket", a->ticket);
+  w.member("kind", a->kind);
   w.end_object();
 }
 

@@ -396,14 +396,10 @@ void Service::Impl::write_drive(W& w, const fleet::LineEntry& line,
   const DriveState st = store.state(d.name);
   const std::optional<PendingRestore> pending = store.pending(d.name);
   w.begin_object();
-  w.key("name");
-  w.value(d.name);
-  w.key("line");
-  w.value(line.name);
-  w.key("id");
-  w.value(d.id);
-  w.key("status");
-  w.value(st.status);
+  w.member("name", d.name);
+  w.member("line", line.name);
+  w.member("id", d.id);
+  w.member("status", st.status);
   w.key("last_backup");
   if (st.last_backup)
     w.value(iso_time(*st.last_backup));
@@ -412,40 +408,29 @@ void Service::Impl::write_drive(W& w, const fleet::LineEntry& line,
   w.key("last_attempt");
   if (st.last_attempt) {
     w.begin_object();
-    w.key("time");
-    w.value(iso_time(*st.last_attempt));
-    w.key("job");
-    w.value(st.last_kind);
-    w.key("result");
-    w.value(st.last_ok ? "ok" : "failed");
-    w.key("exit_code");
-    w.value(st.last_exit_code);
+    w.member("time", iso_time(*st.last_attempt));
+    w.member("job", st.last_kind);
+    w.member("result", st.last_ok ? "ok" : "failed");
+    w.member("exit_code", st.last_exit_code);
     w.end_object();
   } else {
     w.value(nullptr);
   }
-  w.key("differences");
-  w.value(static_cast<std::uint64_t>(st.differences));
-  w.key("message");
-  w.value(st.message);
+  w.member("differences", static_cast<std::uint64_t>(st.differences));
+  w.member("message", st.message);
   if (st.status == "drift") {
     w.key("differing");
     w.begin_array();
     for (const auto& line_text : st.differing) w.value(line_text);
     w.end_array();
   }
-  w.key("kept");
-  w.value(st.kept);
+  w.member("kept", st.kept);
   w.key("approved");
   if constexpr (std::is_same_v<W, config::JsonTextWriter>)
     fleet::write_approval(w, st.approved);
   else
     w.value(fleet::approval_json(st.approved));
-  w.key("drive_state");
-  if (st.drive_state.empty())
-    w.value(nullptr);
-  else
-    w.value(st.drive_state);
+  w.member_or_null("drive_state", st.drive_state);
   // A failed restore the service will run again (before the line's next drift
   // check or backup) until an operator cancels it.
   w.key("retry");
@@ -467,43 +452,26 @@ void Service::Impl::write_retry(W& w, const std::string& name, const PendingRest
     if (next_backup && (!next || *next_backup < *next)) next = next_backup;
   }
   w.begin_object();
-  w.key("of_job");
-  if (pr.origin_job.empty())
-    w.value(nullptr);
-  else
-    w.value(pr.origin_job);
-  w.key("asked_by");
-  w.value(pr.who);
-  w.key("commit");
-  w.value(pr.commit);
-  w.key("drive_state");
-  if (pr.drive_state.empty())
-    w.value(nullptr);
-  else
-    w.value(pr.drive_state);
-  w.key("running");
-  w.value(!running.empty());
-  w.key("will");
-  w.value(
-      "restore the same revision again when the drive answers, before the line's next "
-      "drift check or backup (a restore run again converges)");
+  w.member_or_null("of_job", pr.origin_job);
+  w.member("asked_by", pr.who);
+  w.member("commit", pr.commit);
+  w.member_or_null("drive_state", pr.drive_state);
+  w.member("running", !running.empty());
+  w.member("will",
+           "restore the same revision again when the drive answers, before the line's next "
+           "drift check or backup (a restore run again converges)");
   if (!running.empty()) {
-    w.key("job");
-    w.value(running);
+    w.member("job", running);
   }
   // Each automatic retry that failed (the newest kept), and when the next runs.
-  w.key("failed_attempts");
-  w.value(static_cast<std::uint64_t>(pr.failed_attempts));
+  w.member("failed_attempts", static_cast<std::uint64_t>(pr.failed_attempts));
   w.key("failures");
   w.begin_array();
   for (const auto& f : pr.failures) {
     w.begin_object();
-    w.key("time");
-    w.value(f.time);
-    w.key("job");
-    w.value(f.job);
-    w.key("reason");
-    w.value(f.reason);
+    w.member("time", f.time);
+    w.member("job", f.job);
+    w.member("reason", f.reason);
     w.end_object();
   }
   w.end_array();
