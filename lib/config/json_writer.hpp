@@ -18,7 +18,30 @@
 
 namespace lmcfg::config {
 
-class JsonTextWriter {
+// What both writers add to their calls (CRTP: W is the writer).
+template <class W>
+class JsonMembers {
+ public:
+  // A member of an object: its key, then its value.
+  template <class T>
+  void member(std::string_view k, T&& v) {
+    self().key(k);
+    self().value(std::forward<T>(v));
+  }
+  // The same, null for an empty text.
+  void member_or_null(std::string_view k, const std::string& s) {
+    self().key(k);
+    if (s.empty())
+      self().value(nullptr);
+    else
+      self().value(s);
+  }
+
+ private:
+  W& self() { return static_cast<W&>(*this); }
+};
+
+class JsonTextWriter : public JsonMembers<JsonTextWriter> {
  public:
   // Appends to `out`; `indent` spaces a level, as dump(indent).
   explicit JsonTextWriter(std::string& out, int indent = 2) : out_(out), indent_(indent) {}
@@ -40,21 +63,6 @@ class JsonTextWriter {
   // Any value, as dump() writes it at this depth.
   void value(const nlohmann::ordered_json& j);
 
-  // A member of an object: its key, then its value.
-  template <class T>
-  void member(std::string_view k, T&& v) {
-    key(k);
-    value(std::forward<T>(v));
-  }
-  // The same, null for an empty text.
-  void member_or_null(std::string_view k, const std::string& s) {
-    key(k);
-    if (s.empty())
-      value(nullptr);
-    else
-      value(s);
-  }
-
  private:
   void before_value();
   void newline_indent(std::size_t depth);
@@ -65,7 +73,7 @@ class JsonTextWriter {
   bool after_key_ = false;
 };
 
-class JsonBuilder {
+class JsonBuilder : public JsonMembers<JsonBuilder> {
  public:
   void begin_object() { open(nlohmann::ordered_json::object()); }
   void end_object() { stack_.pop_back(); }
@@ -79,21 +87,6 @@ class JsonBuilder {
   void value(std::string_view s) { place(nlohmann::ordered_json(std::string(s))); }
   // The document built (after the outermost end).
   nlohmann::ordered_json take() { return std::move(root_); }
-
-  // A member of an object: its key, then its value.
-  template <class T>
-  void member(std::string_view k, T&& v) {
-    key(k);
-    value(std::forward<T>(v));
-  }
-  // The same, null for an empty text.
-  void member_or_null(std::string_view k, const std::string& s) {
-    key(k);
-    if (s.empty())
-      value(nullptr);
-    else
-      value(s);
-  }
 
  private:
   nlohmann::ordered_json* place(nlohmann::ordered_json v);
