@@ -62,7 +62,7 @@ TEST_CASE("archive: a new or empty directory becomes a repository, anything else
                                  "(push to the bare one with --push)");
 }
 
-TEST_CASE("archive: a file read names the revision it cannot find; a folder is not a file",
+TEST_CASE("archive: a file read names the revision it cannot find, and a folder is not a file",
           "[fleet][archive]") {
   test::ScratchDir d("archive-read");
   const auto dir = d.path / "arch";
