@@ -1,21 +1,10 @@
 #include "serve/task_limit.hpp"
 
-#include <fstream>
-#include <sstream>
+#include <algorithm>
+
+#include "config/atomic_file.hpp"
 
 namespace lmcfg::serve {
-
-namespace {
-
-std::optional<std::string> read_text(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return std::nullopt;
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-}  // namespace
 
 std::size_t tasks_needed(const fleet::Inventory& inv, int http_workers) {
   const std::size_t fixed = 1 /* main: the schedule */ + 1 /* HTTP event loop */ +
@@ -62,12 +51,14 @@ std::optional<std::uint64_t> parse_pids_max(std::string_view text) {
 }
 
 std::optional<TaskLimit> own_task_limit() {
-  const auto cgroup = read_text("/proc/self/cgroup");
-  if (!cgroup) return std::nullopt;
+  // Both are pseudo-files of a few bytes, read as streams.
+  constexpr std::size_t kMax = 64 * 1024;
+  const auto cgroup = config::read_text_file("/proc/self/cgroup", kMax);
+  if (!cgroup.ok()) return std::nullopt;
   const std::string file = pids_max_path(*cgroup);
   if (file.empty()) return std::nullopt;
-  const auto text = read_text(file);
-  if (!text) return std::nullopt;
+  const auto text = config::read_text_file(file, kMax);
+  if (!text.ok()) return std::nullopt;
   const auto limit = parse_pids_max(*text);
   if (!limit) return std::nullopt;
   return TaskLimit{*limit, file};
