@@ -33,50 +33,38 @@ void JsonTextWriter::newline_indent(std::size_t depth) {
   out_.append(depth * static_cast<std::size_t>(indent_), ' ');
 }
 
+void JsonTextWriter::separate() {
+  if (!empty_.back()) out_ += ',';
+  empty_.back() = false;
+  newline_indent(empty_.size());
+}
+
 void JsonTextWriter::before_value() {
   if (after_key_) {  // the member's key wrote the separator
     after_key_ = false;
     return;
   }
-  if (empty_.empty()) return;  // the document itself
-  if (!empty_.back()) out_ += ',';
-  empty_.back() = false;
-  newline_indent(empty_.size());
+  if (!empty_.empty()) separate();  // else the document itself
 }
 
 void JsonTextWriter::key(std::string_view k) {
-  if (!empty_.back()) out_ += ',';
-  empty_.back() = false;
-  newline_indent(empty_.size());
+  separate();
   append_string(out_, k);
   out_ += ": ";
   after_key_ = true;
 }
 
-void JsonTextWriter::begin_object() {
+void JsonTextWriter::open(char bracket) {
   before_value();
-  out_ += '{';
+  out_ += bracket;
   empty_.push_back(true);
 }
 
-void JsonTextWriter::end_object() {
+void JsonTextWriter::close(char bracket) {
   const bool was_empty = empty_.back();
   empty_.pop_back();
   if (!was_empty) newline_indent(empty_.size());
-  out_ += '}';
-}
-
-void JsonTextWriter::begin_array() {
-  before_value();
-  out_ += '[';
-  empty_.push_back(true);
-}
-
-void JsonTextWriter::end_array() {
-  const bool was_empty = empty_.back();
-  empty_.pop_back();
-  if (!was_empty) newline_indent(empty_.size());
-  out_ += ']';
+  out_ += bracket;
 }
 
 void JsonTextWriter::value(std::string_view s) {

@@ -46,10 +46,10 @@ class JsonTextWriter : public JsonMembers<JsonTextWriter> {
   // Appends to `out`; `indent` spaces a level, as dump(indent).
   explicit JsonTextWriter(std::string& out, int indent = 2) : out_(out), indent_(indent) {}
 
-  void begin_object();
-  void end_object();
-  void begin_array();
-  void end_array();
+  void begin_object() { open('{'); }
+  void end_object() { close('}'); }
+  void begin_array() { open('['); }
+  void end_array() { close(']'); }
   void key(std::string_view k);
   void value(std::string_view s);
   void value(const char* s) { value(std::string_view(s)); }
@@ -65,6 +65,9 @@ class JsonTextWriter : public JsonMembers<JsonTextWriter> {
 
  private:
   void before_value();
+  void separate();  // ",", newline and indent, as the open container needs
+  void open(char bracket);
+  void close(char bracket);
   void newline_indent(std::size_t depth);
 
   std::string& out_;
