@@ -1,19 +1,17 @@
 #!/usr/bin/env bash
 # Installs dependencies, builds, and runs every test (ctest). With
 # LMCFG_SANITIZE=1 the build uses AddressSanitizer and UBSan (in build-asan/).
-#   --build-only  install and build, run no test
-#   --no-build    run the tests of the build made before (CI runs the two
-#                 halves apart, so that a build goes on beside another's tests)
+#   --build-only  install and build, run no test (CI builds ahead in a lane
+#                 of its own, then runs this script whole: docs/ci.md)
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-build_step=1 test_step=1
+test_step=1
 case ${1:-} in
   "") ;;
   --build-only) test_step=0 ;;
-  --no-build) build_step=0 ;;
-  *) echo "test.sh: unknown option $1 (expected --build-only or --no-build)" >&2; exit 2 ;;
+  *) echo "test.sh: unknown option $1 (expected --build-only)" >&2; exit 2 ;;
 esac
-((build_step)) && "$root/scripts/install-deps.sh"
+"$root/scripts/install-deps.sh"
 # Debug information is most of the compile time at -O2 (docs/ci.md "Where
 # the compile time goes"): the test builds carry line tables only, enough for
 # a backtrace or a sanitizer report with file:line. LMCFG_DEBUG_INFO=-g for a
@@ -39,15 +37,9 @@ else
   debug="${debug:--g1}"
   build_args=()
 fi
-if ((build_step)); then
-  "$root/scripts/build.sh" "${build_args[@]}" -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 $debug -DNDEBUG" \
-    -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O2 $debug -DNDEBUG"
-fi
+"$root/scripts/build.sh" "${build_args[@]}" -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 $debug -DNDEBUG" \
+  -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O2 $debug -DNDEBUG"
 ((test_step)) || exit 0
-if [[ ! -x $LMCFG_BUILD_DIR/tests/lmcfg_tests ]]; then
-  echo "test.sh: $LMCFG_BUILD_DIR/tests/lmcfg_tests not built: run scripts/test.sh without --no-build" >&2
-  exit 2
-fi
 cd "$LMCFG_BUILD_DIR"
 # install-deps.sh installed Chromium: the report pages' browser checks must run, not skip.
 export LMCFG_REQUIRE_BROWSER=1
