@@ -11,7 +11,7 @@
 # with SOURCE_DATE_EPOCH set (scripts/release.sh) its entries carry that time
 # and are written in sorted order, so the same sources give the same zip.
 # $LMCFG_WINDOWS_CXX_FLAGS: extra compiler flags (release.sh maps the source
-# path away with them).
+# path away with them). $LMCFG_TEST_UNITY_BATCH_SIZE: as for scripts/build.sh.
 # Installs nothing: scripts/install-deps.sh --windows does (the cross compiler,
 # Wine, libz-mingw-w64-dev, dpkg-dev and the deb-src entries). Every dependency
 # comes from Debian's archive; nothing is downloaded from elsewhere.
@@ -201,6 +201,7 @@ cmake -S "$root" -B "$build" -DCMAKE_TOOLCHAIN_FILE="$root/cmake/mingw-w64-x86_6
   -DLMCFG_WINDOWS_DEPS="$prefix" -DLMCFG_WINDOWS_HEADERS="$deps/headers" \
   -DCMAKE_BUILD_TYPE="${LMCFG_BUILD_TYPE:-Release}" -DLMCFG_WERROR=ON -DLMCFG_BUILD_BENCH=OFF \
   -DLMCFG_PYTHON=OFF -DLMCFG_BUILD_TESTS="$tests" "${launcher[@]}" \
+  ${LMCFG_TEST_UNITY_BATCH_SIZE:+-DLMCFG_TEST_UNITY_BATCH_SIZE="$LMCFG_TEST_UNITY_BATCH_SIZE"} \
   -DLMCFG_WINDOWS_EXTRA_FLAGS="${LMCFG_WINDOWS_CXX_FLAGS:-}" >/dev/null
 targets=()
 for t in ${LMCFG_TARGETS:-$default_targets}; do targets+=(--target "$t"); done

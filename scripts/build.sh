@@ -16,8 +16,11 @@ if command -v ccache >/dev/null; then
   export CCACHE_SLOPPINESS="${CCACHE_SLOPPINESS:-pch_defines,time_macros,include_file_mtime,include_file_ctime}"
 fi
 # The project's own builds treat warnings as errors (LMCFG_WERROR; off by default for users).
+# $LMCFG_TEST_UNITY_BATCH_SIZE: test files per unity batch (tests/CMakeLists.txt).
+batch=()
+[[ -n ${LMCFG_TEST_UNITY_BATCH_SIZE:-} ]] && batch=(-DLMCFG_TEST_UNITY_BATCH_SIZE="$LMCFG_TEST_UNITY_BATCH_SIZE")
 cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE="${LMCFG_BUILD_TYPE:-RelWithDebInfo}" -DLMCFG_WERROR=ON \
-  "${launcher[@]}" "$@" >/dev/null
+  "${launcher[@]}" "${batch[@]}" "$@" >/dev/null
 # LMCFG_TARGETS: build only these targets (default: all).
 targets=()
 for t in ${LMCFG_TARGETS:-}; do targets+=(--target "$t"); done
