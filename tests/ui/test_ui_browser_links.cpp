@@ -63,10 +63,10 @@ struct Walk {
     shot(name + "-390.png");
     step({{"op", "viewport"}, {"width", 1280}, {"height", 900}});
   }
-  // A job's end, however long it takes a loaded machine: a restore over
-  // LinUDP that takes 45 s alone once stood at step 30 of 34 after 90 s in
-  // CI, with builds beside it. A wait is no place for a deadline (ctest's
-  // timeout, 600 s, ends a job that truly hangs).
+  // A job's end, waited for long enough that only a hang fails it (ctest's
+  // 600 s bounds the whole case): a restore over LinUDP that takes 45 s
+  // alone once stood at step 30 of 34 after a 90 s wait in a CI run with
+  // builds beside it, and was not seen slow again.
   void ended(const std::string& name, const std::string& state = "done") {
     step({{"op", "wait"},
           {"selector", ".job-state[data-state=" + state + "]"},
